@@ -1,0 +1,224 @@
+"""cffi binding of the C plant (``golden/plant/src``).
+
+The struct layouts come from ``plant_api.h`` itself (cffi parses it), so the C header is the only
+place they are written. Parameters are nested dicts keyed by the C field names
+(:func:`golden.plant.defaults.default_params`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cffi
+import numpy as np
+
+_HERE = Path(__file__).resolve().parent
+HEADER = _HERE / "src" / "plant_api.h"
+LIBRARY = _HERE / "libhfiplant.so"
+
+ffi = cffi.FFI()
+ffi.cdef(HEADER.read_text())
+_lib = None
+
+MAG_KINDS = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3}
+GATE_BITS = {"a_hi": 0, "a_lo": 1, "b_hi": 2, "b_lo": 3, "c_hi": 4, "c_lo": 5}
+"""Gate mask layout: bit 2k is the high switch of leg k (a, b, c), bit 2k+1 its low switch."""
+
+
+class PlantError(ValueError):
+    """A parameter or input the plant refuses (the message says which and why)."""
+
+
+class ShootThroughError(RuntimeError):
+    """Both switches of an inverter leg were commanded on: the hardware must never do this."""
+
+
+def library():
+    """The loaded C library; a clear error if it was not built."""
+    global _lib
+    if _lib is None:
+        if not LIBRARY.exists():
+            raise PlantError(f"plant library {LIBRARY} is missing: run `make setup` (scripts/setup.sh) first")
+        if LIBRARY.stat().st_mtime < max(p.stat().st_mtime for p in (_HERE / "src").iterdir()):
+            raise PlantError(f"plant library {LIBRARY} is older than its sources: run `make setup`")
+        _lib = ffi.dlopen(str(LIBRARY))
+    return _lib
+
+
+def _numpy_dtype(ctype) -> np.dtype:
+    """numpy structured dtype with the exact layout of a cffi struct type."""
+    scalar = {"double": np.float64, "int": np.int32, "long long": np.int64}
+    names, formats, offsets = [], [], []
+    for name, field in ctype.fields:
+        t = field.type
+        if t.kind == "array":
+            formats.append((scalar[t.item.cname], t.length))
+        else:
+            formats.append(scalar[t.cname])
+        names.append(name)
+        offsets.append(field.offset)
+    return np.dtype({"names": names, "formats": formats, "offsets": offsets, "itemsize": ffi.sizeof(ctype)})
+
+
+STATE_DTYPE = _numpy_dtype(ffi.typeof("struct plant_state"))
+"""dtype of the true-state records returned by :meth:`Plant.run` (fields of ``struct plant_state``)."""
+
+
+def _fill(cstruct, values: dict, keep: list, path: str) -> None:
+    """Copy a nested dict into a cffi struct; arrays behind pointers are allocated and kept alive."""
+    fields = dict(ffi.typeof(cstruct).fields)
+    for key, value in values.items():
+        where = f"{path}{key}"
+        if key not in fields:
+            raise PlantError(f"{where}: not a plant parameter (valid: {', '.join(fields)})")
+        ftype = fields[key].type
+        if ftype.kind == "struct":
+            if not isinstance(value, dict):
+                raise PlantError(f"{where}: expected a table of fields")
+            if ftype.cname == "struct profile":
+                value = dict(value)
+                t, v = value.pop("t", []), value.pop("v", [])
+                if len(t) != len(v):
+                    raise PlantError(f"{where}: t and v have different lengths")
+                value["n"] = len(t)
+                for name, arr in (("t", t), ("v", v)):
+                    buf = ffi.new("double[]", [float(x) for x in arr]) if len(arr) else ffi.NULL
+                    keep.append(buf)
+                    setattr(getattr(cstruct, key), name, buf)
+            _fill(getattr(cstruct, key), value, keep, where + ".")
+        elif ftype.kind == "pointer":
+            if value is None:
+                setattr(cstruct, key, ffi.NULL)
+            else:
+                buf = ffi.new("double[]", [float(x) for x in np.ravel(value)])
+                keep.append(buf)
+                setattr(cstruct, key, buf)
+        elif ftype.kind == "array":
+            if len(value) != ftype.length:
+                raise PlantError(f"{where}: expected {ftype.length} values")
+            setattr(cstruct, key, [float(x) for x in value])
+        else:
+            try:
+                setattr(cstruct, key, value)
+            except (TypeError, OverflowError) as exc:
+                raise PlantError(f"{where}: {exc}") from None
+
+
+class Plant:
+    """One motor + inverter + sensors, advanced in integer FPGA clock ticks.
+
+    Parameters
+    ----------
+    params : dict
+        Complete parameter tree (see :func:`golden.plant.defaults.default_params`).
+    """
+
+    def __init__(self, params: dict):
+        lib = library()
+        keep: list = []
+        cparams = ffi.new("struct plant_params *")
+        _fill(cparams[0], params, keep, "")
+        err = ffi.new("char[]", 256)
+        handle = lib.plant_create(cparams, err, 256)
+        if handle == ffi.NULL:
+            raise PlantError(ffi.string(err).decode())
+        self._lib = lib
+        self._p = ffi.gc(handle, lib.plant_free)
+        self.params = params
+
+    # ---- per-event API ---------------------------------------------------------------------------
+    @property
+    def tick(self) -> int:
+        """Current time in ticks."""
+        return int(self.state()["tick"])
+
+    def advance(self, tick: int) -> None:
+        """Integrate up to ``tick`` with the present gate state or ideal voltages."""
+        if self._lib.plant_advance(self._p, int(tick)) != 0:
+            raise PlantError(f"tick {tick} is before the plant's time {self.tick}")
+
+    def set_gates(self, gates: int) -> None:
+        """Apply a 6-bit gate mask (see ``GATE_BITS``) at the present tick."""
+        if not 0 <= int(gates) < 64:
+            raise PlantError(f"gate mask {gates} is not a 6-bit value")
+        if self._lib.plant_set_gates(self._p, int(gates)) == -2:
+            raise ShootThroughError(f"gate mask {int(gates):#04x} turns on both switches of a leg")
+
+    def set_voltage(self, v_abc) -> None:
+        """Drive the machine with ideal phase voltages (averaged inverter) from the present tick."""
+        v = ffi.new("double[3]", [float(x) for x in v_abc])
+        self._lib.plant_set_voltage(self._p, v)
+
+    def sample(self):
+        """Sample the three sensor channels now: (ADC codes, analog values [A])."""
+        adc = ffi.new("int[3]")
+        analog = ffi.new("double[3]")
+        self._lib.plant_sample(self._p, adc, analog)
+        return np.array(list(adc), dtype=np.int32), np.array(list(analog))
+
+    def state(self) -> np.void:
+        """True state now, as a record of ``STATE_DTYPE``."""
+        out = np.zeros(1, dtype=STATE_DTYPE)
+        self._lib.plant_get_state(self._p, ffi.cast("struct plant_state *", ffi.from_buffer(out)))
+        return out[0]
+
+    # ---- batch API -------------------------------------------------------------------------------
+    def run(self, edge_ticks, sample_ticks, gates=None, volts=None, analog=False, truth=False) -> dict:
+        """Apply input changes and take samples, merged by tick, in one C call.
+
+        Parameters
+        ----------
+        edge_ticks : array of int
+            Ticks of the input changes (non-decreasing).
+        sample_ticks : array of int
+            Sample ticks (non-decreasing); at equal ticks, an input change comes first.
+        gates : array of int, optional
+            Gate mask after each edge.
+        volts : array (n, 3), optional
+            Ideal phase voltages after each edge (instead of ``gates``).
+        analog, truth : bool
+            Also return the analog sensor values / the true state at each sample.
+
+        Returns
+        -------
+        dict with ``adc`` (n, 3) int32, and ``analog`` (n, 3), ``truth`` (n,) ``STATE_DTYPE`` if asked.
+        """
+        edge_ticks = np.ascontiguousarray(edge_ticks, dtype=np.int64)
+        sample_ticks = np.ascontiguousarray(sample_ticks, dtype=np.int64)
+        n_e, n_s = len(edge_ticks), len(sample_ticks)
+        if (gates is None) == (volts is None) and n_e:
+            raise PlantError("give exactly one of gates and volts")
+        if gates is not None:
+            gates = np.ascontiguousarray(gates, dtype=np.int32)
+            if len(gates) != n_e or np.any((gates < 0) | (gates > 63)):
+                raise PlantError("gates must hold one 6-bit mask per edge")
+        if volts is not None:
+            volts = np.ascontiguousarray(volts, dtype=np.float64).reshape(n_e, 3)
+        out = {"adc": np.zeros((n_s, 3), dtype=np.int32)}
+        if analog:
+            out["analog"] = np.zeros((n_s, 3))
+        if truth:
+            out["truth"] = np.zeros(n_s, dtype=STATE_DTYPE)
+
+        def ptr(ctype, arr):
+            return ffi.NULL if arr is None else ffi.cast(ctype, ffi.from_buffer(arr))
+
+        status = self._lib.plant_run(
+            self._p, n_e, ptr("long long *", edge_ticks), ptr("int *", gates), ptr("double *", volts),
+            n_s, ptr("long long *", sample_ticks), ptr("int *", out["adc"]),
+            ptr("double *", out.get("analog")), ptr("struct plant_state *", out.get("truth")))
+        if status == -1:
+            raise PlantError("edge and sample ticks must be non-decreasing and not before the plant's time")
+        if status == -2:
+            raise ShootThroughError("a gate mask turned on both switches of a leg")
+        return out
+
+
+def mag_eval(mag: dict, psi_d: float, psi_q: float) -> np.ndarray:
+    """Magnetic model: ``[i_d, i_q, di_d/dpsi_d, di_d/dpsi_q, di_q/dpsi_d, di_q/dpsi_q]``."""
+    keep: list = []
+    m = ffi.new("struct mag_params *")
+    _fill(m[0], mag, keep, "mag.")
+    out = ffi.new("double[6]")
+    library().plant_mag_eval(m, float(psi_d), float(psi_q), out)
+    return np.array(list(out))

@@ -1,0 +1,828 @@
+/* hfi-sensorless plant: PMSM / SyRM machine, 2-level inverter with dead time, current sensors, ADC.
+ *
+ * One library shared by every backend (golden closed loop, Verilator co-simulation). The model and
+ * its assumptions are documented in docs/plant.md; the API and every parameter in plant_api.h.
+ *
+ * Integration: classic RK4 on the state vector below, with steps of at most max_substep_ticks,
+ * split at every gate edge, voltage step and sample instant (so no step straddles an input change).
+ * The rotor angle inside a step is handled with a small-angle rotation of the step's sin/cos, so
+ * one sincos() per step suffices.
+ *
+ * Build with -ffp-contract=off and without -ffast-math: results must be reproducible bit for bit.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plant_api.h"
+
+#define TWO_PI 6.283185307179586476925
+#define SQRT3_2 0.866025403784438646764
+#define INV_SQRT3 0.577350269189625764509
+#define GAUSS_BLOCK 64
+
+/* state vector indices */
+enum { X_PSID, X_PSIQ, X_OMM, X_THM, X_VNA, X_VNB, X_VNC, X_EIN, X_ECU, X_EMECH, NX };
+
+/* leg switch states */
+enum { LEG_OFF = 0, LEG_HIGH = 1, LEG_LOW = 2, LEG_SHORT = 3 };
+
+/* A magnetic model with its derived constants. */
+struct mag_model {
+    struct mag_params m;
+    double inv_L_d, inv_L_q; /* MAG_LINEAR; MAG_DSAT: inv_L_q only */
+    double inv_L_d0;         /* MAG_DSAT: 1/unsaturated slope of h() */
+    double inv_psi_f;        /* MAG_DSAT */
+    double h_psif;           /* MAG_DSAT: h(psi_f), so that i_d = 0 at psi_d = psi_f */
+};
+
+
+struct plant {
+    struct plant_params p;
+    double *owned;            /* copies of profile and table arrays */
+    struct mag_model mag;
+    long long tick;
+    double x[NX];
+    int gates;
+    int legs[3];
+    int voltage_mode;
+    double v_ideal[3];
+    double v_hold[3];         /* last node voltage per leg (ideal commutation at zero current) */
+    uint64_t rng[4];
+    double gauss_buf[GAUSS_BLOCK];
+    int gauss_next;
+    double ring_re[3], ring_im[3]; /* ringing phasor per leg: sum of sign*exp(lambda*(t - t_edge)) */
+    long long ring_tick;           /* time of the phasors */
+    long long ring_dt_cached;      /* cached phasor rotation for this many ticks */
+    double ring_rot_re, ring_rot_im;
+    long long shoot_through_ticks;
+    int cursor_load, cursor_speed;
+    double y[3];              /* sensor outputs (first-order filter of the phase currents) */
+    double inv_J;             /* 1/J */
+    double adc_full, adc_inv_lsb; /* 2^adc_bits, codes per ampere */
+    double filt_h, filt_decay; /* sensor filter: last step length [s] and exp(-h/tau) */
+};
+
+/* quantities computed along with the derivative, for outputs */
+struct aux {
+    double i_d, i_q, i_abc[3], v_node[3], v_d, v_q, v_dc, torque, load_torque, omega_m;
+};
+
+/* ------------------------------------------------------------------------------------------------ */
+/* random numbers: xoshiro256** seeded by splitmix64; Gaussian by Box-Muller                         */
+
+static uint64_t splitmix64(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+static uint64_t xoshiro_next(uint64_t s[4])
+{
+    uint64_t result = rotl(s[1] * 5, 7) * 9;
+    uint64_t t = s[1] << 17;
+    s[2] ^= s[0];
+    s[3] ^= s[1];
+    s[1] ^= s[2];
+    s[0] ^= s[3];
+    s[2] ^= t;
+    s[3] = rotl(s[3], 45);
+    return result;
+}
+
+static double uniform_open(uint64_t s[4]) /* in (0, 1) */
+{
+    return ((double)(xoshiro_next(s) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+/* Standard normal numbers by Marsaglia's polar method, generated GAUSS_BLOCK at a time so that the
+ * independent log/sqrt computations overlap; the sequence does not depend on when blocks are made. */
+static double gauss(struct plant *p)
+{
+    if (p->gauss_next == GAUSS_BLOCK) {
+        for (int k = 0; k < GAUSS_BLOCK; k += 2) {
+            double u, v, r2;
+            do {
+                u = 2.0 * uniform_open(p->rng) - 1.0;
+                v = 2.0 * uniform_open(p->rng) - 1.0;
+                r2 = u * u + v * v;
+            } while (r2 >= 1.0 || r2 == 0.0);
+            double m = sqrt(-2.0 * log(r2) / r2);
+            p->gauss_buf[k] = u * m;
+            p->gauss_buf[k + 1] = v * m;
+        }
+        p->gauss_next = 0;
+    }
+    return p->gauss_buf[p->gauss_next++];
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* magnetic models                                                                                  */
+
+static inline double ipow(double x, int n) /* x^n, n >= 0, by squaring */
+{
+    double r = 1.0;
+    while (n) {
+        if (n & 1)
+            r *= x;
+        x *= x;
+        n >>= 1;
+    }
+    return r;
+}
+
+static void mag_init(struct mag_model *mm, const struct mag_params *m)
+{
+    memset(mm, 0, sizeof *mm);
+    mm->m = *m;
+    if (m->kind == MAG_LINEAR || m->kind == MAG_DSAT) {
+        mm->inv_L_d = 1.0 / m->L_d;
+        mm->inv_L_q = 1.0 / m->L_q;
+    }
+    if (m->kind == MAG_DSAT) {
+        /* h'(psi_f) = (1 + a(S+1))/L_d0 = 1/L_d */
+        mm->inv_L_d0 = 1.0 / (m->L_d * (1.0 + m->dsat_a * (m->dsat_S + 1)));
+        mm->inv_psi_f = 1.0 / m->psi_f;
+        mm->h_psif = m->psi_f * mm->inv_L_d0 * (1.0 + m->dsat_a);
+    }
+}
+
+/* Currents from flux linkages; jac (may be NULL): di_d/dpsi_d, di_d/dpsi_q, di_q/dpsi_d, di_q/dpsi_q. */
+static inline void mag_currents(const struct mag_model *mm, double psi_d, double psi_q, double *i_d, double *i_q,
+                         double *jac)
+{
+    const struct mag_params *m = &mm->m;
+    switch (m->kind) {
+    case MAG_LINEAR:
+        *i_d = (psi_d - m->psi_f) * mm->inv_L_d;
+        *i_q = psi_q * mm->inv_L_q;
+        if (jac) {
+            jac[0] = mm->inv_L_d;
+            jac[1] = jac[2] = 0.0;
+            jac[3] = mm->inv_L_q;
+        }
+        return;
+    case MAG_DSAT: {
+        double rs = ipow(fabs(psi_d * mm->inv_psi_f), m->dsat_S);
+        *i_d = psi_d * mm->inv_L_d0 * (1.0 + m->dsat_a * rs) - mm->h_psif;
+        *i_q = psi_q * mm->inv_L_q;
+        if (jac) {
+            jac[0] = (1.0 + m->dsat_a * (m->dsat_S + 1) * rs) * mm->inv_L_d0;
+            jac[1] = jac[2] = 0.0;
+            jac[3] = mm->inv_L_q;
+        }
+        return;
+    }
+    case MAG_ALGEBRAIC: {
+        double x = psi_d - m->psi_f, y = psi_q, ax = fabs(x), ay = fabs(y);
+        double xS = ipow(ax, m->S), yT = ipow(ay, m->T), xU = ipow(ax, m->U), yV = ipow(ay, m->V);
+        double xU2 = xU * ax * ax, yV2 = yV * ay * ay;
+        double kd = m->a_dq / (m->V + 2), kq = m->a_dq / (m->U + 2);
+        *i_d = (m->a_d0 + m->a_dd * xS + kd * xU * yV2) * x;
+        *i_q = (m->a_q0 + m->a_qq * yT + kq * xU2 * yV) * y;
+        if (jac) {
+            jac[0] = m->a_d0 + m->a_dd * (m->S + 1) * xS + kd * (m->U + 1) * xU * yV2;
+            jac[3] = m->a_q0 + m->a_qq * (m->T + 1) * yT + kq * (m->V + 1) * xU2 * yV;
+            /* mixed second derivative of the energy a_dq/((U+2)(V+2)) |x|^(U+2) |y|^(V+2) */
+            jac[1] = jac[2] = m->a_dq * xU * x * yV * y;
+        }
+        return;
+    }
+    case MAG_TABLE: {
+        double fd = (psi_d - m->tab_psid0) / m->tab_dpsid, fq = (psi_q - m->tab_psiq0) / m->tab_dpsiq;
+        int kd = (int)floor(fd), kq = (int)floor(fq);
+        kd = kd < 0 ? 0 : (kd > m->tab_nd - 2 ? m->tab_nd - 2 : kd);
+        kq = kq < 0 ? 0 : (kq > m->tab_nq - 2 ? m->tab_nq - 2 : kq);
+        double u = fd - kd, w = fq - kq; /* outside the grid: linear extrapolation of the edge cell */
+        for (int k = 0; k < 2; k++) {
+            const double *tab = k == 0 ? m->tab_id : m->tab_iq;
+            double f00 = tab[kq * m->tab_nd + kd], f10 = tab[kq * m->tab_nd + kd + 1];
+            double f01 = tab[(kq + 1) * m->tab_nd + kd], f11 = tab[(kq + 1) * m->tab_nd + kd + 1];
+            double val = f00 * (1 - u) * (1 - w) + f10 * u * (1 - w) + f01 * (1 - u) * w + f11 * u * w;
+            *(k == 0 ? i_d : i_q) = val;
+            if (jac) {
+                jac[2 * k] = ((f10 - f00) * (1 - w) + (f11 - f01) * w) / m->tab_dpsid;
+                jac[2 * k + 1] = ((f01 - f00) * (1 - u) + (f11 - f10) * u) / m->tab_dpsiq;
+            }
+        }
+        return;
+    }
+    }
+}
+
+void plant_mag_eval(const struct mag_params *m, double psi_d, double psi_q, double out[6])
+{
+    struct mag_model mm;
+    mag_init(&mm, m);
+    mag_currents(&mm, psi_d, psi_q, &out[0], &out[1], &out[2]);
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* profiles                                                                                         */
+
+static double profile_eval(const struct profile *pr, int *cursor, double t)
+{
+    if (pr->n <= 0)
+        return 0.0;
+    int k = *cursor;
+    while (k > 0 && pr->t[k] > t)
+        k--;
+    while (k + 1 < pr->n && pr->t[k + 1] <= t)
+        k++;
+    *cursor = k;
+    double v;
+    if (t < pr->t[0])
+        v = pr->v[0];
+    else if (k + 1 >= pr->n)
+        v = pr->v[pr->n - 1];
+    else
+        v = pr->v[k] + (pr->v[k + 1] - pr->v[k]) * (t - pr->t[k]) / (pr->t[k + 1] - pr->t[k]);
+    if (pr->puls_depth != 0.0)
+        v *= 1.0 + pr->puls_depth * sin(TWO_PI * pr->puls_freq * t);
+    return v;
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* dynamics                                                                                         */
+
+static double leg_voltage(const struct plant *p, int leg, double i, double v_dc, double v_node_state,
+                          double *dv_node)
+{
+    const struct inverter_params *inv = &p->p.inv;
+    double ai = fabs(i);
+    *dv_node = 0.0;
+    switch (p->legs[leg]) {
+    case LEG_HIGH: /* i > 0 through the upper switch, i < 0 through the upper diode */
+        return i >= 0.0 ? v_dc - inv->v_sw - inv->r_sw * ai : v_dc + inv->v_diode + inv->r_diode * ai;
+    case LEG_LOW:
+        return i <= 0.0 ? inv->v_sw + inv->r_sw * ai : -inv->v_diode - inv->r_diode * ai;
+    case LEG_OFF:
+        if (inv->C_node > 0.0) {
+            /* the phase current charges the node capacitance until a diode clamps it */
+            if (i > 0.0 && v_node_state <= -inv->v_diode)
+                return -inv->v_diode - inv->r_diode * ai;
+            if (i < 0.0 && v_node_state >= v_dc + inv->v_diode)
+                return v_dc + inv->v_diode + inv->r_diode * ai;
+            *dv_node = -i / inv->C_node;
+            return v_node_state;
+        }
+        if (i > 0.0)
+            return -inv->v_diode - inv->r_diode * ai;
+        if (i < 0.0)
+            return v_dc + inv->v_diode + inv->r_diode * ai;
+        return p->v_hold[leg];
+    default: /* shoot-through: a hardware fault, flagged; the node is taken at mid-bus */
+        return 0.5 * v_dc;
+    }
+}
+
+/* Derivative of the state at time t (s). c, s: cos/sin of the electrical angle of this state.
+ * v_ab: the machine's alpha-beta voltage when it is known not to depend on the state (NULL if not). */
+static void deriv(struct plant *p, double t, const double *x, double c, double s, const double *v_ab, double *dx,
+                  struct aux *a)
+{
+    const struct plant_params *pp = &p->p;
+    double i_d, i_q;
+    mag_currents(&p->mag, x[X_PSID], x[X_PSIQ], &i_d, &i_q, NULL);
+    double i_abc[3] = {0.0, 0.0, 0.0};
+    if (!v_ab || a) {
+        double i_al = c * i_d - s * i_q, i_be = s * i_d + c * i_q;
+        i_abc[0] = i_al;
+        i_abc[1] = -0.5 * i_al + SQRT3_2 * i_be;
+        i_abc[2] = -0.5 * i_al - SQRT3_2 * i_be;
+    }
+
+    double omega_m = pp->mech.imposed_speed ? profile_eval(&pp->speed, &p->cursor_speed, t) : x[X_OMM];
+
+    double v[3] = {0.0, 0.0, 0.0}, dvn[3] = {0.0, 0.0, 0.0}, v_dc = pp->inv.V_dc, v_al, v_be;
+    if (v_ab) {
+        v_al = v_ab[0];
+        v_be = v_ab[1];
+    } else if (p->voltage_mode) {
+        for (int k = 0; k < 3; k++)
+            v[k] = p->v_ideal[k];
+    } else {
+        if (pp->inv.ripple_amp != 0.0)
+            v_dc += pp->inv.ripple_amp * sin(TWO_PI * pp->inv.ripple_freq * t);
+        if (pp->inv.R_dc != 0.0) {
+            /* dc current: phases whose node sits on the positive rail (switch or diode) */
+            double i_dc = 0.0;
+            for (int k = 0; k < 3; k++)
+                if (p->legs[k] == LEG_HIGH || (p->legs[k] == LEG_OFF && i_abc[k] < 0.0 && pp->inv.C_node == 0.0))
+                    i_dc += i_abc[k];
+            v_dc -= pp->inv.R_dc * i_dc;
+        }
+        for (int k = 0; k < 3; k++)
+            v[k] = leg_voltage(p, k, i_abc[k], v_dc, x[X_VNA + k], &dvn[k]);
+    }
+    if (!v_ab) {
+        v_al = (2.0 / 3.0) * (v[0] - 0.5 * (v[1] + v[2]));
+        v_be = (v[1] - v[2]) * INV_SQRT3;
+    }
+    double v_d = c * v_al + s * v_be, v_q = -s * v_al + c * v_be;
+
+    int pz = pp->mech.pole_pairs;
+    double omega_e = pz * omega_m;
+    double torque = 1.5 * pz * (x[X_PSID] * i_q - x[X_PSIQ] * i_d);
+
+    dx[X_PSID] = v_d - pp->R_s * i_d + omega_e * x[X_PSIQ];
+    dx[X_PSIQ] = v_q - pp->R_s * i_q - omega_e * x[X_PSID];
+    double load = 0.0;
+    if (pp->mech.imposed_speed) {
+        dx[X_OMM] = 0.0;
+    } else {
+        load = pp->load.n ? profile_eval(&pp->load, &p->cursor_load, t) : 0.0;
+        double fric = pp->mech.B * omega_m;
+        if (pp->mech.T_c != 0.0) {
+            double r = omega_m / pp->mech.w_stick;
+            fric += pp->mech.T_c * (r > 1.0 ? 1.0 : (r < -1.0 ? -1.0 : r));
+        }
+        dx[X_OMM] = (torque - load - fric) * p->inv_J;
+    }
+    dx[X_THM] = omega_m;
+    for (int k = 0; k < 3; k++)
+        dx[X_VNA + k] = dvn[k];
+    dx[X_EIN] = 1.5 * (v_d * i_d + v_q * i_q);
+    dx[X_ECU] = 1.5 * pp->R_s * (i_d * i_d + i_q * i_q);
+    dx[X_EMECH] = torque * omega_m;
+
+    if (a) {
+        a->i_d = i_d;
+        a->i_q = i_q;
+        for (int k = 0; k < 3; k++) {
+            a->i_abc[k] = i_abc[k];
+            a->v_node[k] = v[k];
+        }
+        a->v_d = v_d;
+        a->v_q = v_q;
+        a->v_dc = v_dc;
+        a->torque = torque;
+        a->load_torque = load;
+        a->omega_m = omega_m;
+    }
+}
+
+/* cos/sin of th0 + delta from c0 = cos(th0), s0 = sin(th0) */
+static void rotate(double c0, double s0, double th0, double delta, double *c, double *s)
+{
+    if (fabs(delta) < 1e-2) { /* Taylor series; truncation below 2e-17 */
+        double d2 = delta * delta;
+        double cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0)));
+        double sd = delta * (1.0 - d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0))));
+        *c = c0 * cd - s0 * sd;
+        *s = s0 * cd + c0 * sd;
+    } else {
+        *c = cos(th0 + delta);
+        *s = sin(th0 + delta);
+    }
+}
+
+static double tick_time(const struct plant *p, long long tick) { return (double)tick / p->p.tick_hz; }
+
+static void state_trig(const struct plant *p, double *c, double *s, double *th)
+{
+    *th = p->p.mech.pole_pairs * p->x[X_THM];
+    *c = cos(*th);
+    *s = sin(*th);
+}
+
+/* After an input change: make the algebraic states consistent with the state (imposed speed, node
+ * voltages of conducting legs, held voltage of idle legs, sensor output without filter). */
+static void settle(struct plant *p)
+{
+    double c, s, th;
+    struct aux a;
+    double dx[NX];
+    state_trig(p, &c, &s, &th);
+    deriv(p, tick_time(p, p->tick), p->x, c, s, NULL, dx, &a);
+    if (p->p.mech.imposed_speed)
+        p->x[X_OMM] = a.omega_m;
+    for (int k = 0; k < 3; k++) {
+        if (p->p.sens.bandwidth_hz <= 0.0)
+            p->y[k] = a.i_abc[k];
+        p->x[X_VNA + k] = a.v_node[k];
+        if (!p->voltage_mode && p->legs[k] != LEG_OFF)
+            p->v_hold[k] = a.v_node[k];
+    }
+}
+
+/* phase currents of state x at electrical angle (c, s) */
+static void phase_currents(const struct plant *p, const double *x, double c, double s, double i_abc[3])
+{
+    double i_d, i_q;
+    mag_currents(&p->mag, x[X_PSID], x[X_PSIQ], &i_d, &i_q, NULL);
+    double i_al = c * i_d - s * i_q, i_be = s * i_d + c * i_q;
+    i_abc[0] = i_al;
+    i_abc[1] = -0.5 * i_al + SQRT3_2 * i_be;
+    i_abc[2] = -0.5 * i_al - SQRT3_2 * i_be;
+}
+
+/* First-order sensor over one step, exact for a phase current that is linear over the step:
+ * y(h) = i1 - k*tau + (y0 - i0 + k*tau)*exp(-h/tau), k = (i1 - i0)/h. */
+static void sensor_step(struct plant *p, double h, const double i0[3], const double i1[3])
+{
+    if (p->p.sens.bandwidth_hz <= 0.0) {
+        for (int k = 0; k < 3; k++)
+            p->y[k] = i1[k];
+        return;
+    }
+    double tau = 1.0 / (TWO_PI * p->p.sens.bandwidth_hz);
+    if (h != p->filt_h) {
+        p->filt_h = h;
+        p->filt_decay = exp(-h / tau);
+    }
+    for (int k = 0; k < 3; k++) {
+        double ktau = (i1[k] - i0[k]) / h * tau;
+        p->y[k] = i1[k] - ktau + (p->y[k] - i0[k] + ktau) * p->filt_decay;
+    }
+}
+
+/* One RK4 step of nticks. Inside the step the electrical angle follows th0 + omega_e0*t (the speed
+ * changes by far less than 1e-3 rad/s within a microsecond step), so the stage angles come from one
+ * small rotation. The intermediate stages update the machine and mechanical states, and the node
+ * voltages only while a node capacitance commutates; the energies are quadratures of the stages. */
+static void rk4_step(struct plant *p, long long nticks)
+{
+    double h = (double)nticks / p->p.tick_hz, t = tick_time(p, p->tick);
+    double k1[NX], k2[NX], k3[NX], k4[NX], xs[NX], i1[3];
+    double *x = p->x;
+    int pz = p->p.mech.pole_pairs;
+    int nstage = X_THM + 1;
+    if (p->p.inv.C_node > 0.0 && !p->voltage_mode)
+        for (int k = 0; k < 3; k++)
+            if (p->legs[k] == LEG_OFF)
+                nstage = X_VNC + 1;
+    double th0 = pz * x[X_THM], c0 = cos(th0), s0 = sin(th0), ch, sh, c1, s1;
+    rotate(c0, s0, th0, 0.5 * h * pz * x[X_OMM], &ch, &sh);
+    rotate(ch, sh, th0 + 0.5 * h * pz * x[X_OMM], 0.5 * h * pz * x[X_OMM], &c1, &s1);
+    struct aux a0;
+
+    memcpy(xs, x, sizeof xs);
+    deriv(p, t, x, c0, s0, NULL, k1, &a0);
+    /* With every leg conducting on a stiff, ripple-free bus without device drops (or with ideal
+     * voltages), the terminal voltage does not depend on the state: compute it once per step. */
+    const struct inverter_params *inv = &p->p.inv;
+    double v_ab_fixed[2], *v_ab = NULL;
+    int fixed = p->voltage_mode;
+    if (!fixed && inv->R_dc == 0.0 && inv->ripple_amp == 0.0 && inv->v_sw == 0.0 && inv->r_sw == 0.0 &&
+        inv->v_diode == 0.0 && inv->r_diode == 0.0) {
+        fixed = 1;
+        for (int k = 0; k < 3; k++)
+            if (p->legs[k] != LEG_HIGH && p->legs[k] != LEG_LOW)
+                fixed = 0;
+    }
+    if (fixed) {
+        v_ab_fixed[0] = (2.0 / 3.0) * (a0.v_node[0] - 0.5 * (a0.v_node[1] + a0.v_node[2]));
+        v_ab_fixed[1] = (a0.v_node[1] - a0.v_node[2]) * INV_SQRT3;
+        v_ab = v_ab_fixed;
+    }
+    for (int k = 0; k < nstage; k++)
+        xs[k] = x[k] + 0.5 * h * k1[k];
+    deriv(p, t + 0.5 * h, xs, ch, sh, v_ab, k2, NULL);
+    for (int k = 0; k < nstage; k++)
+        xs[k] = x[k] + 0.5 * h * k2[k];
+    deriv(p, t + 0.5 * h, xs, ch, sh, v_ab, k3, NULL);
+    for (int k = 0; k < nstage; k++)
+        xs[k] = x[k] + h * k3[k];
+    deriv(p, t + h, xs, c1, s1, v_ab, k4, NULL);
+    for (int k = 0; k < NX; k++)
+        x[k] += h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
+    p->tick += nticks;
+
+    phase_currents(p, x, c1, s1, i1);
+    sensor_step(p, h, a0.i_abc, i1);
+
+    if (nstage > X_THM + 1) {
+        double hi = inv->V_dc + inv->ripple_amp + inv->v_diode;
+        for (int leg = 0; leg < 3; leg++) {
+            double *vn = &x[X_VNA + leg];
+            *vn = *vn < -inv->v_diode ? -inv->v_diode : (*vn > hi ? hi : *vn);
+        }
+    }
+    if (x[X_THM] >= TWO_PI || x[X_THM] < 0.0)
+        x[X_THM] -= TWO_PI * floor(x[X_THM] / TWO_PI);
+    if (p->p.mech.imposed_speed)
+        x[X_OMM] = profile_eval(&p->p.speed, &p->cursor_speed, tick_time(p, p->tick));
+}
+
+/* longest step now: shorter while a leg's node capacitance is being charged in dead time */
+static long long max_step(const struct plant *p)
+{
+    if (p->p.inv.C_node > 0.0 && !p->voltage_mode)
+        for (int k = 0; k < 3; k++)
+            if (p->legs[k] == LEG_OFF)
+                return p->p.max_substep_commutation_ticks;
+    return p->p.max_substep_ticks;
+}
+
+int plant_advance(struct plant *p, long long tick)
+{
+    if (tick < p->tick)
+        return -1;
+    long long rem = tick - p->tick, start = p->tick, step = max_step(p);
+    if (rem == 0)
+        return 0;
+    long long nsteps = (rem + step - 1) / step;
+    for (long long k = 0; k < nsteps; k++)
+        rk4_step(p, start + rem * (k + 1) / nsteps - p->tick);
+    if (!p->voltage_mode)
+        for (int k = 0; k < 3; k++)
+            if (p->legs[k] == LEG_SHORT)
+                p->shoot_through_ticks += rem;
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* inputs and outputs                                                                               */
+
+/* Ringing after every switch turn-on: amp*sign*exp(-dt/tau)*sin(2*pi*f*dt) on the switched phase
+ * (ring_cross times that on the others), summed over edges as one phasor per leg:
+ * z <- z*exp(lambda*dt) between events, z += sign at an edge, ringing = Im(z). */
+static void ring_advance(struct plant *p)
+{
+    const struct sensor_params *sp = &p->p.sens;
+    long long dt = p->tick - p->ring_tick;
+    p->ring_tick = p->tick;
+    if (dt == 0)
+        return;
+    if (dt != p->ring_dt_cached) {
+        double d = tick_time(p, dt), mag = exp(-d / sp->ring_tau);
+        p->ring_dt_cached = dt;
+        p->ring_rot_re = mag * cos(TWO_PI * sp->ring_freq * d);
+        p->ring_rot_im = mag * sin(TWO_PI * sp->ring_freq * d);
+    }
+    for (int k = 0; k < 3; k++) {
+        double re = p->ring_re[k], im = p->ring_im[k];
+        p->ring_re[k] = re * p->ring_rot_re - im * p->ring_rot_im;
+        p->ring_im[k] = re * p->ring_rot_im + im * p->ring_rot_re;
+        if (fabs(p->ring_re[k]) + fabs(p->ring_im[k]) < 1e-12) /* decayed: stop denormals */
+            p->ring_re[k] = p->ring_im[k] = 0.0;
+    }
+}
+
+int plant_set_gates(struct plant *p, int gates)
+{
+    int status = 0;
+    for (int k = 0; k < 3; k++) {
+        int hi = (gates >> (2 * k)) & 1, lo = (gates >> (2 * k + 1)) & 1;
+        int leg = hi && lo ? LEG_SHORT : (hi ? LEG_HIGH : (lo ? LEG_LOW : LEG_OFF));
+        int was = p->voltage_mode ? LEG_OFF : p->legs[k];
+        if ((leg == LEG_HIGH || leg == LEG_LOW) && leg != was && p->p.sens.ring_amp > 0.0) {
+            ring_advance(p);
+            p->ring_re[k] += leg == LEG_HIGH ? 1.0 : -1.0;
+        }
+        if (leg == LEG_SHORT)
+            status = -2;
+        p->legs[k] = leg;
+    }
+    p->gates = gates & 63;
+    p->voltage_mode = 0;
+    settle(p);
+    return status;
+}
+
+int plant_set_voltage(struct plant *p, const double v_abc[3])
+{
+    for (int k = 0; k < 3; k++)
+        p->v_ideal[k] = v_abc[k];
+    p->voltage_mode = 1;
+    settle(p);
+    return 0;
+}
+
+static double ringing(const struct plant *p, int ch)
+{
+    const struct sensor_params *sp = &p->p.sens;
+    double others = p->ring_im[0] + p->ring_im[1] + p->ring_im[2] - p->ring_im[ch];
+    return sp->ring_amp * (p->ring_im[ch] + sp->ring_cross * others);
+}
+
+int plant_sample(struct plant *p, int adc[3], double analog[3])
+{
+    const struct sensor_params *sp = &p->p.sens;
+    double full = p->adc_full, inv_lsb = p->adc_inv_lsb;
+    if (sp->ring_amp > 0.0)
+        ring_advance(p);
+    for (int k = 0; k < 3; k++) {
+        double y = sp->gain[k] * p->y[k] + sp->offset[k] + ringing(p, k);
+        if (sp->noise_rms > 0.0)
+            y += sp->noise_rms * gauss(p);
+        double code = floor(y * inv_lsb + 0.5 * full + 0.5);
+        if (code < 0.0)
+            code = 0.0;
+        if (code > full - 1.0)
+            code = full - 1.0;
+        adc[k] = (int)code;
+        if (analog)
+            analog[k] = y;
+    }
+    return 0;
+}
+
+void plant_get_state(const struct plant *p, struct plant_state *o)
+{
+    struct plant *q = (struct plant *)p; /* deriv() moves the profile cursors only */
+    double c, s, th, dx[NX];
+    struct aux a;
+    state_trig(p, &c, &s, &th);
+    deriv(q, tick_time(p, p->tick), p->x, c, s, NULL, dx, &a);
+    memset(o, 0, sizeof *o);
+    o->tick = p->tick;
+    o->t = tick_time(p, p->tick);
+    o->theta_e = th - TWO_PI * floor(th / TWO_PI);
+    o->omega_m = a.omega_m;
+    o->omega_e = p->p.mech.pole_pairs * a.omega_m;
+    o->theta_m = p->x[X_THM];
+    o->psi_d = p->x[X_PSID];
+    o->psi_q = p->x[X_PSIQ];
+    o->i_d = a.i_d;
+    o->i_q = a.i_q;
+    for (int k = 0; k < 3; k++) {
+        o->i_abc[k] = a.i_abc[k];
+        o->v_node[k] = a.v_node[k];
+        o->sensor_y[k] = p->y[k];
+    }
+    o->v_d = a.v_d;
+    o->v_q = a.v_q;
+    o->v_dc = a.v_dc;
+    o->torque = a.torque;
+    o->load_torque = a.load_torque;
+    o->E_in = p->x[X_EIN];
+    o->E_cu = p->x[X_ECU];
+    o->E_mech = p->x[X_EMECH];
+    o->gates = p->gates;
+    o->voltage_mode = p->voltage_mode;
+    o->shoot_through_ticks = p->shoot_through_ticks;
+}
+
+int plant_run(struct plant *p, int n_edges, const long long *edge_ticks, const int *gates, const double *volts,
+              int n_samples, const long long *sample_ticks, int *adc_out, double *analog_out,
+              struct plant_state *truth_out)
+{
+    int i = 0, j = 0, status = 0;
+    while (i < n_edges || j < n_samples) {
+        if (i < n_edges && (j >= n_samples || edge_ticks[i] <= sample_ticks[j])) {
+            if (plant_advance(p, edge_ticks[i]) != 0)
+                return -1;
+            int st = volts ? plant_set_voltage(p, volts + 3 * i) : plant_set_gates(p, gates[i]);
+            if (st != 0)
+                status = st;
+            i++;
+        } else {
+            if (plant_advance(p, sample_ticks[j]) != 0)
+                return -1;
+            plant_sample(p, adc_out + 3 * j, analog_out ? analog_out + 3 * j : NULL);
+            if (truth_out)
+                plant_get_state(p, truth_out + j);
+            j++;
+        }
+    }
+    return status;
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* creation and parameter checks                                                                    */
+
+#define REQUIRE(cond, ...)                                                                              \
+    do {                                                                                                \
+        if (!(cond)) {                                                                                  \
+            if (err && err_len > 0)                                                                     \
+                snprintf(err, (size_t)err_len, __VA_ARGS__);                                            \
+            return 0;                                                                                   \
+        }                                                                                               \
+    } while (0)
+
+static int profile_ok(const struct profile *pr, const char *name, char *err, int err_len)
+{
+    REQUIRE(pr->n >= 0, "%s: negative point count", name);
+    REQUIRE(pr->n == 0 || (pr->t && pr->v), "%s: missing arrays", name);
+    for (int k = 0; k < pr->n; k++) {
+        REQUIRE(isfinite(pr->t[k]) && isfinite(pr->v[k]), "%s: point %d is not finite", name, k);
+        REQUIRE(k == 0 || pr->t[k] >= pr->t[k - 1], "%s: times must not decrease (point %d)", name, k);
+    }
+    REQUIRE(isfinite(pr->puls_freq) && pr->puls_freq >= 0.0, "%s: puls_freq must be >= 0", name);
+    REQUIRE(isfinite(pr->puls_depth), "%s: puls_depth must be finite", name);
+    return 1;
+}
+
+static int params_ok(const struct plant_params *pp, char *err, int err_len)
+{
+    const struct mag_params *m = &pp->mag;
+    REQUIRE(pp->tick_hz > 0.0 && isfinite(pp->tick_hz), "tick_hz must be > 0");
+    REQUIRE(pp->max_substep_ticks >= 1, "max_substep_ticks must be >= 1");
+    REQUIRE(pp->max_substep_commutation_ticks >= 1, "max_substep_commutation_ticks must be >= 1");
+    REQUIRE(pp->R_s >= 0.0 && isfinite(pp->R_s), "R_s must be >= 0");
+    REQUIRE(m->kind >= MAG_LINEAR && m->kind <= MAG_TABLE, "mag.kind %d is not a magnetic model", m->kind);
+    REQUIRE(m->psi_f >= 0.0 && isfinite(m->psi_f), "mag.psi_f must be >= 0");
+    if (m->kind == MAG_LINEAR || m->kind == MAG_DSAT) {
+        REQUIRE(m->L_d > 0.0 && isfinite(m->L_d), "mag.L_d must be > 0");
+        REQUIRE(m->L_q > 0.0 && isfinite(m->L_q), "mag.L_q must be > 0");
+    }
+    if (m->kind == MAG_DSAT) {
+        REQUIRE(m->psi_f > 0.0, "mag.psi_f must be > 0 for the d-saturation model");
+        REQUIRE(m->dsat_a >= 0.0 && isfinite(m->dsat_a), "mag.dsat_a must be >= 0");
+        REQUIRE(m->dsat_S >= 1 && m->dsat_S <= 16, "mag.dsat_S must be in 1..16");
+    }
+    if (m->kind == MAG_ALGEBRAIC) {
+        REQUIRE(m->a_d0 > 0.0 && m->a_q0 > 0.0, "mag.a_d0 and mag.a_q0 must be > 0");
+        REQUIRE(m->a_dd >= 0.0 && m->a_qq >= 0.0 && m->a_dq >= 0.0, "mag.a_dd, a_qq, a_dq must be >= 0");
+        REQUIRE(m->S >= 0 && m->T >= 0 && m->U >= 0 && m->V >= 0 && m->S <= 16 && m->T <= 16 && m->U <= 16 &&
+                    m->V <= 16,
+                "mag exponents S, T, U, V must be in 0..16");
+    }
+    if (m->kind == MAG_TABLE) {
+        REQUIRE(m->tab_nd >= 2 && m->tab_nq >= 2, "mag table needs at least 2x2 points");
+        REQUIRE(m->tab_dpsid > 0.0 && m->tab_dpsiq > 0.0, "mag table spacing must be > 0");
+        REQUIRE(m->tab_id && m->tab_iq, "mag table arrays missing");
+    }
+    const struct mech_params *me = &pp->mech;
+    REQUIRE(me->pole_pairs >= 1 && me->pole_pairs <= 64, "mech.pole_pairs must be in 1..64");
+    REQUIRE(me->imposed_speed || (me->J > 0.0 && isfinite(me->J)), "mech.J must be > 0");
+    REQUIRE(me->B >= 0.0 && me->T_c >= 0.0, "mech.B and mech.T_c must be >= 0");
+    REQUIRE(me->T_c == 0.0 || me->w_stick > 0.0, "mech.w_stick must be > 0 when T_c > 0");
+    const struct inverter_params *inv = &pp->inv;
+    REQUIRE(inv->V_dc > 0.0 && isfinite(inv->V_dc), "inv.V_dc must be > 0");
+    REQUIRE(inv->R_dc >= 0.0 && inv->C_node >= 0.0, "inv.R_dc and inv.C_node must be >= 0");
+    REQUIRE(inv->v_sw >= 0.0 && inv->r_sw >= 0.0 && inv->v_diode >= 0.0 && inv->r_diode >= 0.0,
+            "inverter device drops must be >= 0");
+    REQUIRE(inv->ripple_amp >= 0.0 && inv->ripple_freq >= 0.0, "inv ripple must be >= 0");
+    const struct sensor_params *sp = &pp->sens;
+    for (int k = 0; k < 3; k++) {
+        REQUIRE(sp->gain[k] > 0.0 && isfinite(sp->gain[k]), "sens.gain[%d] must be > 0", k);
+        REQUIRE(isfinite(sp->offset[k]), "sens.offset[%d] must be finite", k);
+    }
+    REQUIRE(sp->noise_rms >= 0.0 && sp->bandwidth_hz >= 0.0, "sens.noise_rms and bandwidth_hz must be >= 0");
+    REQUIRE(sp->ring_amp >= 0.0 && sp->ring_cross >= 0.0 && sp->ring_freq >= 0.0, "sens ringing must be >= 0");
+    REQUIRE(sp->ring_amp == 0.0 || sp->ring_tau > 0.0, "sens.ring_tau must be > 0 when ring_amp > 0");
+    REQUIRE(sp->adc_bits >= 1 && sp->adc_bits <= 24, "sens.adc_bits must be in 1..24");
+    REQUIRE(sp->adc_range > 0.0 && isfinite(sp->adc_range), "sens.adc_range must be > 0");
+    if (!profile_ok(&pp->load, "load", err, err_len) || !profile_ok(&pp->speed, "speed", err, err_len))
+        return 0;
+    return 1;
+}
+
+static double *copy_array(double **cursor, const double *src, int n)
+{
+    double *dst = *cursor;
+    if (n > 0)
+        memcpy(dst, src, (size_t)n * sizeof(double));
+    *cursor += n;
+    return dst;
+}
+
+struct plant *plant_create(const struct plant_params *params, char *err, int err_len)
+{
+    if (!params_ok(params, err, err_len))
+        return NULL;
+    struct plant *p = calloc(1, sizeof *p);
+    if (!p)
+        return NULL;
+    p->p = *params;
+    int ntab = params->mag.kind == MAG_TABLE ? params->mag.tab_nd * params->mag.tab_nq : 0;
+    size_t total = 2 * (size_t)params->load.n + 2 * (size_t)params->speed.n + 2 * (size_t)ntab;
+    p->owned = malloc((total ? total : 1) * sizeof(double));
+    if (!p->owned) {
+        free(p);
+        return NULL;
+    }
+    double *cur = p->owned;
+    p->p.load.t = copy_array(&cur, params->load.t, params->load.n);
+    p->p.load.v = copy_array(&cur, params->load.v, params->load.n);
+    p->p.speed.t = copy_array(&cur, params->speed.t, params->speed.n);
+    p->p.speed.v = copy_array(&cur, params->speed.v, params->speed.n);
+    if (ntab) {
+        p->p.mag.tab_id = copy_array(&cur, params->mag.tab_id, ntab);
+        p->p.mag.tab_iq = copy_array(&cur, params->mag.tab_iq, ntab);
+    }
+    mag_init(&p->mag, &p->p.mag);
+    p->inv_J = params->mech.J > 0.0 ? 1.0 / params->mech.J : 0.0;
+
+    uint64_t s = params->seed;
+    for (int k = 0; k < 4; k++)
+        p->rng[k] = splitmix64(&s);
+
+    p->ring_dt_cached = -1;
+    p->gauss_next = GAUSS_BLOCK;
+    p->adc_full = ldexp(1.0, params->sens.adc_bits);
+    p->adc_inv_lsb = p->adc_full / (2.0 * params->sens.adc_range);
+    p->x[X_PSID] = params->mag.psi_f; /* i = 0 */
+    p->x[X_PSIQ] = 0.0;
+    p->x[X_THM] = params->theta_m0;
+    p->x[X_OMM] = params->omega_m0;
+    settle(p);
+    return p;
+}
+
+void plant_free(struct plant *p)
+{
+    if (p) {
+        free(p->owned);
+        free(p);
+    }
+}

@@ -1,0 +1,148 @@
+/* hfi-sensorless plant: the public C API.
+ *
+ * This file is the single source of the plant's data layout. It is included by plant.c and parsed by
+ * cffi (golden/plant/binding.py), so it holds declarations only: no preprocessor lines, no
+ * initialisers. Units are SI (V, A, Wb, H, ohm, s, N*m, kg*m^2, rad); time is counted in integer ticks
+ * of the FPGA clock (tick_hz, 100 MHz by default).
+ *
+ * Frames (docs/plant.md): amplitude-invariant Clarke transform; rotor frame d = magnet axis (or, on a
+ * machine without magnet, the axis of LOWER inductance), q leads d by 90 deg electrical;
+ * x_d = cos(th) x_a + sin(th) x_b, x_q = -sin(th) x_a + cos(th) x_b; th = p * theta_m.
+ */
+
+/* ---- magnetic model: stator currents as a function of rotor-frame flux linkages ---------------- */
+enum mag_kind {
+    MAG_LINEAR = 0,    /* i_d = (psi_d - psi_f)/L_d, i_q = psi_q/L_q                                */
+    MAG_DSAT = 1,      /* linear q; d saturates: i_d = h(psi_d) - h(psi_f),                          *
+                        * h(x) = x/L_d0 * (1 + dsat_a*|x/psi_f|^dsat_S), L_d = incremental at i=0   */
+    MAG_ALGEBRAIC = 2, /* algebraic saturation with cross-saturation (Hinkkanen et al. 2017 form),   *
+                        * x = psi_d - psi_f, y = psi_q:                                             *
+                        * i_d = (a_d0 + a_dd|x|^S + a_dq/(V+2)|x|^U |y|^(V+2)) x                     *
+                        * i_q = (a_q0 + a_qq|y|^T + a_dq/(U+2)|x|^(U+2) |y|^V) y                     */
+    MAG_TABLE = 3      /* i_d, i_q tabulated on a regular (psi_d, psi_q) grid, bilinear             */
+};
+
+struct mag_params {
+    int kind;              /* enum mag_kind */
+    double psi_f;          /* magnet flux linkage on d [Wb] (>= 0) */
+    double L_d, L_q;       /* MAG_LINEAR; MAG_DSAT: L_d incremental at i = 0, L_q constant [H] */
+    double dsat_a;         /* MAG_DSAT: saturation coefficient (0 = linear) */
+    int dsat_S;            /* MAG_DSAT: saturation exponent (even, >= 2) */
+    double a_d0, a_dd, a_q0, a_qq, a_dq; /* MAG_ALGEBRAIC coefficients [A/Wb^(1+n)] */
+    int S, T, U, V;        /* MAG_ALGEBRAIC exponents (integers >= 0) */
+    int tab_nd, tab_nq;    /* MAG_TABLE: grid size (>= 2 each) */
+    double tab_psid0, tab_dpsid, tab_psiq0, tab_dpsiq; /* grid origin and spacing [Wb] */
+    const double *tab_id;  /* [tab_nq][tab_nd], row-major: tab_id[iq*tab_nd + id] */
+    const double *tab_iq;
+};
+
+/* ---- mechanics and piecewise-linear profiles --------------------------------------------------- */
+struct profile {           /* value(t): linear between points, held before the first / after the last */
+    int n;                 /* number of points (0 = value 0) */
+    const double *t;       /* [n] non-decreasing times [s]; two equal times make a step */
+    const double *v;       /* [n] values */
+    double puls_freq;      /* multiplied by (1 + puls_depth*sin(2*pi*puls_freq*t)) [Hz] */
+    double puls_depth;     /* relative depth (0 = none) */
+};
+
+struct mech_params {
+    int pole_pairs;
+    double J;              /* inertia of motor + coupled load [kg*m^2] */
+    double B;              /* viscous friction [N*m*s/rad] */
+    double T_c;            /* Coulomb friction [N*m] */
+    double w_stick;        /* Coulomb friction is T_c*sat(w/w_stick) [rad/s mech] */
+    int imposed_speed;     /* 1: speed profile (rad/s mech) imposed by the load machine */
+};
+
+/* ---- inverter ------------------------------------------------------------------------------------ */
+struct inverter_params {
+    double V_dc;           /* nominal dc-link voltage [V] */
+    double R_dc;           /* dc source resistance: V = V_dc - R_dc*i_dc (sag) [ohm] */
+    double ripple_amp;     /* dc-link ripple amplitude [V] */
+    double ripple_freq;    /* dc-link ripple frequency [Hz] */
+    double v_sw, r_sw;     /* conducting switch drop v_sw + r_sw*|i| [V, ohm] */
+    double v_diode, r_diode; /* conducting diode drop [V, ohm] */
+    double C_node;         /* phase-node capacitance charged by the phase current during dead time [F]; *
+                            * 0 = ideal diode commutation at the instant of turn-off                   */
+};
+
+/* ---- current sensors and ADC -------------------------------------------------------------------- */
+struct sensor_params {
+    double gain[3];        /* per phase gain (1 = ideal) */
+    double offset[3];      /* per phase offset [A] */
+    double noise_rms;      /* white Gaussian noise per sample [A rms] */
+    double bandwidth_hz;   /* first-order sensor bandwidth (0 = infinite) [Hz] */
+    double ring_amp;       /* ringing amplitude on the switched phase after a switch turns on [A] */
+    double ring_freq;      /* ringing frequency [Hz] */
+    double ring_tau;       /* ringing decay time constant [s] */
+    double ring_cross;     /* ringing on the two other phases, relative to ring_amp */
+    int adc_bits;          /* ADC resolution (1..24) */
+    double adc_range;      /* +-adc_range [A] spans codes 0 .. 2^adc_bits-1; mid-scale = 0 A */
+};
+
+struct plant_params {
+    double tick_hz;        /* FPGA clock [Hz] */
+    int max_substep_ticks; /* longest RK4 step [ticks] */
+    int max_substep_commutation_ticks; /* longest step while a leg commutates through C_node [ticks] */
+    unsigned long long seed;
+    double R_s;            /* stator resistance [ohm] */
+    struct mag_params mag;
+    struct mech_params mech;
+    struct inverter_params inv;
+    struct sensor_params sens;
+    struct profile load;   /* load torque [N*m], opposes positive speed when positive */
+    struct profile speed;  /* imposed mechanical speed [rad/s] when mech.imposed_speed */
+    double theta_m0;       /* initial mechanical angle [rad] */
+    double omega_m0;       /* initial mechanical speed [rad/s] */
+};
+
+/* ---- true state, for metrics --------------------------------------------------------------------- */
+struct plant_state {
+    long long tick;
+    double t;              /* [s] */
+    double theta_e;        /* electrical angle, wrapped to [0, 2*pi) */
+    double omega_e;        /* electrical speed [rad/s] */
+    double theta_m, omega_m;
+    double psi_d, psi_q, i_d, i_q;
+    double i_abc[3];
+    double v_node[3];      /* phase-node voltages w.r.t. the negative dc rail [V] */
+    double v_d, v_q;       /* machine terminal voltages, rotor frame [V] */
+    double v_dc;           /* instantaneous dc-link voltage [V] */
+    double torque;         /* electromagnetic torque [N*m] */
+    double load_torque;    /* [N*m] */
+    double sensor_y[3];    /* sensor outputs before gain/offset/noise/ringing [A] */
+    double E_in;           /* integral of 1.5*(v_d i_d + v_q i_q) [J] */
+    double E_cu;           /* integral of 1.5*R_s*(i_d^2 + i_q^2) [J] */
+    double E_mech;         /* integral of torque*omega_m [J] */
+    int gates;             /* current gate mask (bit 2k: leg k high switch, bit 2k+1: low switch) */
+    int voltage_mode;      /* 1 while driven by ideal voltages instead of gates */
+    long long shoot_through_ticks; /* ticks with both switches of a leg on (hardware fault) */
+};
+
+/* ---- API ------------------------------------------------------------------------------------------- */
+struct plant;
+
+/* Returns NULL and writes a message into err (err_len bytes) when a parameter is invalid. */
+struct plant *plant_create(const struct plant_params *params, char *err, int err_len);
+void plant_free(struct plant *p);
+
+/* Per-event API. Ticks must not go backwards (returns -1). */
+int plant_set_gates(struct plant *p, int gates);
+int plant_set_voltage(struct plant *p, const double v_abc[3]); /* ideal voltages, zero sequence ignored */
+int plant_advance(struct plant *p, long long tick);
+/* Samples the three sensor channels at the current tick: adc codes and the analog value [A]. */
+int plant_sample(struct plant *p, int adc[3], double analog[3]);
+void plant_get_state(const struct plant *p, struct plant_state *out);
+
+/* Batch API: applies gate edges (or ideal voltage steps, when volts != NULL; then gates may be NULL)
+ * and takes samples, merged by tick; at equal ticks, the input change comes before the sample.
+ * adc_out: [n_samples*3]; analog_out and truth_out may be NULL. Returns 0, or -1 on a bad tick order. */
+int plant_run(struct plant *p,
+              int n_edges, const long long *edge_ticks, const int *gates, const double *volts,
+              int n_samples, const long long *sample_ticks,
+              int *adc_out, double *analog_out, struct plant_state *truth_out);
+
+/* Magnetic model helpers (for tests and tools): currents and Jacobian d(i)/d(psi) =
+ * [di_d/dpsi_d, di_d/dpsi_q, di_q/dpsi_d, di_q/dpsi_q]; stored magnetic energy per unit of the
+ * amplitude-invariant frame (multiply by 1.5 for joules), relative to i = 0. */
+void plant_mag_eval(const struct mag_params *m, double psi_d, double psi_q, double out[6]);

@@ -1,0 +1,777 @@
+"""Scenario files: a TOML description of one simulation run, with units, defaults and validation.
+
+A scenario names a motor preset and overrides any plant parameter (motor, mechanics, inverter,
+current sensors, load), and sets what is not part of the plant: the PWM, the high-frequency
+injection, the reference speed and where results go. :func:`load_scenario` reads a file,
+:func:`parse_scenario` an already parsed dict; both return a :class:`Scenario` whose ``plant`` is a
+complete parameter tree for the plant binding (``golden/plant/defaults.py`` layout), or raise
+:class:`ScenarioError` listing every problem found, each with its dotted path
+(``motor.magnetic.L_d: ...``). The format is documented in ``docs/scenario.md``; the accepted keys
+are :data:`SCHEMA`.
+
+Command line::
+
+    python -m golden.scenario check FILE...
+"""
+
+from __future__ import annotations
+
+import argparse
+import difflib
+import importlib.util
+import math
+import re
+import sys
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from golden.units import UnitError, finite_float, format_quantity, parse_quantity, type_name
+
+
+def _import_plant_defaults():
+    """``golden/plant/defaults.py`` as a stand-alone module.
+
+    Importing it as ``golden.plant.defaults`` would run ``golden/plant/__init__.py``, which loads the
+    C binding (cffi, numpy, the compiled library); checking a scenario must not need them. The file
+    holds only data and pure functions, so a private copy of the module is equivalent.
+    """
+    path = Path(__file__).parent / "plant" / "defaults.py"
+    spec = importlib.util.spec_from_file_location("golden._plant_defaults", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_plant_defaults = _import_plant_defaults()
+
+MAG_MODELS: dict[str, int] = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3}
+"""``motor.magnetic.model`` name -> ``mag.kind`` (``enum mag_kind`` in plant_api.h)."""
+
+LOAD_MODES: dict[str, int] = {"torque": 0, "speed": 1}
+"""``load.mode`` name -> ``mech.imposed_speed``."""
+
+SEED_LIMIT = 2**64
+"""Seeds are ``unsigned long long``: 0 <= seed < 2**64."""
+
+MAX_TICKS = 2**31 - 1
+"""Tick counts such as ``max_substep_ticks`` are C ``int``."""
+
+Check = Callable[[object], "str | None"]
+"""A value check: returns the reason a (converted) value is invalid, or None."""
+
+
+# ---- value checks ---------------------------------------------------------------------------------
+def _positive(x: float) -> str | None:
+    return None if x > 0 else "must be > 0"
+
+
+def _non_negative(x: float) -> str | None:
+    return None if x >= 0 else "must be >= 0"
+
+
+def _between(low: int, high: int) -> Check:
+    """A check for an integer in ``[low, high]``."""
+    return lambda x: None if low <= x <= high else f"must be between {low} and {high}"
+
+
+def _even_at_least_2(x: int) -> str | None:
+    return None if x >= 2 and x % 2 == 0 else "must be an even integer >= 2"
+
+
+def _file_name(x: str) -> str | None:
+    """Names are used as directory names: letters, digits, '_', '-' and '.'."""
+    ok = re.fullmatch(r"[A-Za-z0-9_.-]+", x) is not None
+    return None if ok else "must be a non-empty name of letters, digits, '_', '-' and '.'"
+
+
+def _non_empty(x: str) -> str | None:
+    return None if x else "must not be empty"
+
+
+# ---- schema ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Field:
+    """One key of a scenario table.
+
+    Attributes
+    ----------
+    kind : str
+        ``"quantity"`` (number or ``"<number> <unit>"`` of ``dimension``), ``"number"`` (bare SI
+        number), ``"integer"``, ``"text"``, ``"choice"`` (a key of ``choices``), ``"vector"`` (three
+        quantities, one per phase, or one for all), ``"profile"`` (``[time, value]`` pairs, value of
+        ``dimension``) or ``"table"`` (a sub-table, whose keys are ``SCHEMA[dotted path]``).
+    dimension : str
+        A dimension of :mod:`golden.units`, for quantities, vectors and profile values.
+    check : Check or None
+        Extra condition on the converted value.
+    plant : tuple of str
+        Where the value goes in the plant parameter tree (empty: not a plant parameter).
+    choices : dict or None
+        For ``"choice"``: accepted names -> value stored in the plant tree.
+    default : object
+        Value used when the key is absent (plant parameters default to the preset/plant defaults).
+    required : bool
+        The key must be present.
+    """
+
+    kind: str
+    dimension: str = "dimensionless"
+    check: Check | None = None
+    plant: tuple[str, ...] = ()
+    choices: dict[str, int] | None = None
+    default: object = None
+    required: bool = False
+
+
+def _q(dimension: str, check: Check | None = None, plant: tuple[str, ...] = (),
+       default: float | None = None) -> Field:
+    """A quantity field."""
+    return Field("quantity", dimension, check, plant, default=default)
+
+
+def _int(check: Check, plant: tuple[str, ...] = ()) -> Field:
+    """An integer field."""
+    return Field("integer", check=check, plant=plant)
+
+
+def _num(check: Check, plant: tuple[str, ...]) -> Field:
+    """A bare-number field (SI coefficient without a unit of its own)."""
+    return Field("number", check=check, plant=plant)
+
+
+_TABLE = Field("table")
+
+SCHEMA: dict[str, dict[str, Field]] = {
+    "": {name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
+                                   "injection", "load", "reference", "simulation", "output")},
+    "scenario": {
+        "name": Field("text", check=_file_name, required=True),
+        "description": Field("text", default=""),
+        "duration": Field("quantity", "time", _positive, required=True),
+        "seed": _int(_between(0, SEED_LIMIT - 1), ("seed",)),
+    },
+    "motor": {
+        "preset": Field("text"),
+        "R_s": _q("resistance", _positive, ("R_s",)),
+        "pole_pairs": _int(_between(1, 1000), ("mech", "pole_pairs")),
+        "magnetic": _TABLE,
+    },
+    "motor.magnetic": {
+        "model": Field("choice", plant=("mag", "kind"), choices=MAG_MODELS),
+        "psi_f": _q("flux", _non_negative, ("mag", "psi_f")),
+        "L_d": _q("inductance", _positive, ("mag", "L_d")),
+        "L_q": _q("inductance", _positive, ("mag", "L_q")),
+        "dsat_a": _num(_non_negative, ("mag", "dsat_a")),
+        "dsat_S": _int(_even_at_least_2, ("mag", "dsat_S")),
+        "a_d0": _num(_positive, ("mag", "a_d0")),
+        "a_dd": _num(_non_negative, ("mag", "a_dd")),
+        "a_q0": _num(_positive, ("mag", "a_q0")),
+        "a_qq": _num(_non_negative, ("mag", "a_qq")),
+        "a_dq": _num(_non_negative, ("mag", "a_dq")),
+        **{exp: _int(_between(0, 64), ("mag", exp)) for exp in ("S", "T", "U", "V")},
+    },
+    "mechanics": {
+        "J": _q("inertia", _positive, ("mech", "J")),
+        "B": _q("viscous_friction", _non_negative, ("mech", "B")),
+        "T_c": _q("torque", _non_negative, ("mech", "T_c")),
+        "w_stick": _q("speed", _positive, ("mech", "w_stick")),
+    },
+    "inverter": {
+        "V_dc": _q("voltage", _positive, ("inv", "V_dc")),
+        "R_dc": _q("resistance", _non_negative, ("inv", "R_dc")),
+        "ripple_amp": _q("voltage", _non_negative, ("inv", "ripple_amp")),
+        "ripple_freq": _q("frequency", _non_negative, ("inv", "ripple_freq")),
+        "v_sw": _q("voltage", _non_negative, ("inv", "v_sw")),
+        "r_sw": _q("resistance", _non_negative, ("inv", "r_sw")),
+        "v_diode": _q("voltage", _non_negative, ("inv", "v_diode")),
+        "r_diode": _q("resistance", _non_negative, ("inv", "r_diode")),
+        "C_node": _q("capacitance", _non_negative, ("inv", "C_node")),
+    },
+    "pwm": {
+        "f_sw": _q("frequency", _positive, default=5e3),
+        "dead_time": _q("time", _non_negative, default=4e-6),
+        "tick_hz": _q("frequency", _positive, ("tick_hz",)),
+    },
+    "sensors": {
+        "gain": Field("vector", "dimensionless", _positive, ("sens", "gain")),
+        "offset": Field("vector", "current", None, ("sens", "offset")),
+        "noise_rms": _q("current", _non_negative, ("sens", "noise_rms")),
+        "bandwidth": _q("frequency", _non_negative, ("sens", "bandwidth_hz")),
+        "ring_amp": _q("current", _non_negative, ("sens", "ring_amp")),
+        "ring_freq": _q("frequency", _positive, ("sens", "ring_freq")),
+        "ring_tau": _q("time", _positive, ("sens", "ring_tau")),
+        "ring_cross": _q("dimensionless", None, ("sens", "ring_cross")),
+        "adc_bits": _int(_between(1, 24), ("sens", "adc_bits")),
+        "adc_range": _q("current", _positive, ("sens", "adc_range")),
+    },
+    "injection": {
+        "V_h": _q("voltage", _non_negative, default=100.0),
+        "theta_hat": _q("angle", default=0.0),
+        "v_d": _q("voltage", default=0.0),
+        "v_q": _q("voltage", default=0.0),
+    },
+    "load": {
+        "mode": Field("choice", choices=LOAD_MODES, default="torque"),
+        "torque": Field("profile", "torque", default=[]),
+        "speed": Field("profile", "speed", default=[]),
+        "pulsation": _TABLE,
+        "initial": _TABLE,
+    },
+    "load.pulsation": {
+        "freq": _q("frequency", _non_negative, default=0.0),
+        "depth": _q("dimensionless", _non_negative, default=0.0),
+    },
+    "load.initial": {
+        "theta_m": _q("angle", None, ("theta_m0",)),
+        "omega_m": _q("speed", None, ("omega_m0",)),
+    },
+    "reference": {
+        "speed": Field("profile", "speed", default=[]),
+    },
+    "simulation": {
+        "max_substep": _q("time", _positive),
+        "max_substep_commutation": _q("time", _positive),
+    },
+    "output": {
+        "dir": Field("text", check=_non_empty),
+    },
+}
+"""Dotted table path (``""`` is the top level) -> key -> :class:`Field`."""
+
+
+def _join(section: str, key: str) -> str:
+    return f"{section}.{key}" if section else key
+
+
+def _field(path: str) -> Field:
+    """The :class:`Field` of a dotted path such as ``"motor.magnetic.L_d"``."""
+    section, _, key = path.rpartition(".")
+    return SCHEMA[section][key]
+
+
+# ---- results --------------------------------------------------------------------------------------
+class ScenarioError(ValueError):
+    """An invalid scenario; ``problems`` lists every problem found, each starting with its path.
+
+    Parameters
+    ----------
+    source : str
+        The file name (or a description of where the data came from).
+    problems : list of str
+        One message per problem.
+    """
+
+    def __init__(self, source: str, problems: list[str]):
+        self.source = source
+        self.problems = list(problems)
+        count = f"{len(problems)} problem{'s' if len(problems) != 1 else ''}"
+        super().__init__(f"{source}: {count}:\n  " + "\n  ".join(self.problems))
+
+
+@dataclass(frozen=True)
+class PwmSettings:
+    """FPGA PWM: switching frequency [Hz], dead time [s] and FPGA clock [Hz]."""
+
+    f_sw: float
+    dead_time: float
+    tick_hz: float
+
+
+@dataclass(frozen=True)
+class InjectionSettings:
+    """Square-wave injection of amplitude ``V_h`` [V] on the fixed estimated d-axis ``theta_hat``
+    [rad, electrical], on top of the fundamental voltage references ``v_d``, ``v_q`` [V]."""
+
+    V_h: float
+    theta_hat: float
+    v_d: float
+    v_q: float
+
+
+@dataclass(frozen=True)
+class OutputSettings:
+    """Where the run writes its results (a directory, relative to the working directory)."""
+
+    dir: str
+
+
+@dataclass
+class Scenario:
+    """A validated scenario.
+
+    Attributes
+    ----------
+    name, description : str
+    duration : float
+        Simulated time [s].
+    seed : int
+        Random seed (also ``plant["seed"]``).
+    plant : dict
+        Complete plant parameter tree (keys of ``struct plant_params``), SI units.
+    pwm : PwmSettings
+    injection : InjectionSettings
+    reference_speed : list of (float, float)
+        Piecewise-linear reference speed points (time [s], mechanical speed [rad/s]).
+    output : OutputSettings
+    preset : str or None
+        The motor preset the plant parameters start from (None: plant defaults).
+    source : str
+        Where the scenario was read from.
+    """
+
+    name: str
+    description: str
+    duration: float
+    seed: int
+    plant: dict
+    pwm: PwmSettings
+    injection: InjectionSettings
+    reference_speed: list[tuple[float, float]]
+    output: OutputSettings
+    preset: str | None = None
+    source: str = "<dict>"
+
+    def summary(self) -> str:
+        """One line: name, duration, motor, load, PWM and injection."""
+        model = {kind: name for name, kind in MAG_MODELS.items()}[self.plant["mag"]["kind"]]
+        mode = "speed" if self.plant["mech"]["imposed_speed"] else "torque"
+        points = len(self.plant[{"speed": "speed", "torque": "load"}[mode]]["t"])
+        return (f"{self.name}: {format_quantity(self.duration, 's')}, "
+                f"motor {self.preset or 'default'} ({model}), {mode} load ({points} points), "
+                f"f_sw {format_quantity(self.pwm.f_sw, 'Hz')}, "
+                f"dead time {format_quantity(self.pwm.dead_time, 's')}, "
+                f"V_h {format_quantity(self.injection.V_h, 'V')}")
+
+
+# ---- conversion of one value ----------------------------------------------------------------------
+class _Problems(ValueError):
+    """Problems with one field (a vector or a profile may have several)."""
+
+    def __init__(self, *messages: str):
+        super().__init__("; ".join(messages))
+        self.messages = list(messages)
+
+
+def _checked(spec: Field, value: object, raw: object, path: str) -> object:
+    """Apply ``spec.check`` to a converted value."""
+    reason = spec.check(value) if spec.check else None
+    if reason:
+        raise _Problems(f"{path}: {reason}, got {raw!r}")
+    return value
+
+
+def _to_quantity(spec: Field, raw: object, path: str) -> float:
+    try:
+        value = parse_quantity(raw, spec.dimension, path)
+    except UnitError as exc:
+        raise _Problems(str(exc)) from None
+    return _checked(spec, value, raw, path)
+
+
+def _to_number(spec: Field, raw: object, path: str) -> float:
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+        raise _Problems(f"{path}: expected a bare number in SI units, got {type_name(raw)} "
+                        f"({raw!r})")
+    try:
+        value = finite_float(raw, path)
+    except UnitError as exc:
+        raise _Problems(str(exc)) from None
+    return _checked(spec, value, raw, path)
+
+
+def _to_integer(spec: Field, raw: object, path: str) -> int:
+    if isinstance(raw, bool) or not isinstance(raw, int):
+        raise _Problems(f"{path}: expected an integer, got {type_name(raw)} ({raw!r})")
+    return _checked(spec, raw, raw, path)
+
+
+def _to_text(spec: Field, raw: object, path: str) -> str:
+    if not isinstance(raw, str):
+        raise _Problems(f"{path}: expected a string, got {type_name(raw)}")
+    return _checked(spec, raw, raw, path)
+
+
+def _to_choice(spec: Field, raw: object, path: str) -> str:
+    names = list(spec.choices)
+    if raw not in names:
+        close = difflib.get_close_matches(str(raw), names, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise _Problems(f"{path}: {raw!r} is not one of {', '.join(map(repr, names))}{hint}")
+    return raw
+
+
+def _to_vector(spec: Field, raw: object, path: str) -> list[float]:
+    """Three per-phase quantities, or one quantity for all three phases."""
+    element = Field("quantity", spec.dimension, spec.check)
+    if not isinstance(raw, list):
+        return [_to_quantity(element, raw, path)] * 3
+    if len(raw) != 3:
+        raise _Problems(f"{path}: expected 3 values (phases a, b, c) or a single value, "
+                        f"got {len(raw)}")
+    return _collect([(_to_quantity, element, item, f"{path}[{i}]") for i, item in enumerate(raw)])
+
+
+def _collect(jobs: list[tuple]) -> list:
+    """Run ``converter(spec, raw, path)`` for each job; raise all their problems together."""
+    results, messages = [], []
+    for converter, spec, raw, path in jobs:
+        try:
+            results.append(converter(spec, raw, path))
+        except _Problems as exc:
+            messages += exc.messages
+    if messages:
+        raise _Problems(*messages)
+    return results
+
+
+def _to_point(spec: Field, raw: object, path: str) -> tuple[float, float]:
+    """One ``[time, value]`` profile point."""
+    if not isinstance(raw, list) or len(raw) != 2:
+        got = f"an array of length {len(raw)}" if isinstance(raw, list) else type_name(raw)
+        raise _Problems(f"{path}: expected a [time, value] pair, got {got}")
+    time, value = _collect([(_to_quantity, Field("quantity", "time"), raw[0], f"{path}[0]"),
+                            (_to_quantity, Field("quantity", spec.dimension), raw[1], f"{path}[1]")])
+    return time, value
+
+
+def _to_profile(spec: Field, raw: object, path: str) -> list[tuple[float, float]]:
+    """Piecewise-linear ``[[time, value], ...]`` points with non-decreasing times."""
+    if not isinstance(raw, list):
+        raise _Problems(f"{path}: expected an array of [time, value] pairs, got {type_name(raw)}")
+    points = _collect([(_to_point, spec, item, f"{path}[{i}]") for i, item in enumerate(raw)])
+    backwards = [f"{path}[{i}]: time {raw[i][0]!r} is before the previous point's time "
+                 f"{raw[i - 1][0]!r} (times must be non-decreasing)"
+                 for i in range(1, len(points)) if points[i][0] < points[i - 1][0]]
+    if backwards:
+        raise _Problems(*backwards)
+    return points
+
+
+_CONVERTERS = {"quantity": _to_quantity, "number": _to_number, "integer": _to_integer,
+               "text": _to_text, "choice": _to_choice, "vector": _to_vector,
+               "profile": _to_profile}
+
+
+# ---- reading the tree -----------------------------------------------------------------------------
+def _suggestion(key: str, section: str) -> str:
+    """A hint for an unknown key: the same key in another table, or the closest valid key."""
+    elsewhere = [_join(other, key) for other, fields in SCHEMA.items()
+                 if other != section and key in fields]
+    if elsewhere:
+        return f" (did you mean {' or '.join(map(repr, elsewhere))}?)"
+    valid = {name.lower(): name for name in SCHEMA[section]}
+    close = difflib.get_close_matches(key.lower(), valid, n=1)
+    if close:
+        return f" (did you mean {valid[close[0]]!r}?)"
+    return f" (valid: {', '.join(SCHEMA[section])})"
+
+
+class _Reader:
+    """Converts a parsed TOML tree against :data:`SCHEMA`, collecting every problem.
+
+    Attributes
+    ----------
+    values : dict
+        Dotted path -> converted value, for the keys present and valid.
+    invalid : set of str
+        Dotted paths of the keys present but invalid (consistency checks skip them).
+    problems : list of str
+    """
+
+    def __init__(self) -> None:
+        self.values: dict[str, object] = {}
+        self.invalid: set[str] = set()
+        self.problems: list[str] = []
+
+    def read(self, table: dict, section: str = "") -> None:
+        """Convert every key of ``table`` (the table at dotted path ``section``)."""
+        for key, raw in table.items():
+            path = _join(section, key)
+            spec = SCHEMA[section].get(key)
+            if spec is None:
+                what = "key" if section else "section" if isinstance(raw, dict) else "top-level key"
+                self.problems.append(f"{path}: unknown {what}{_suggestion(key, section)}")
+            elif spec.kind == "table" and isinstance(raw, dict):
+                self.read(raw, path)
+            elif spec.kind == "table":
+                self.problems.append(f"{path}: expected a table, got {type_name(raw)}")
+            else:
+                self._convert(spec, raw, path)
+
+    def _convert(self, spec: Field, raw: object, path: str) -> None:
+        try:
+            self.values[path] = _CONVERTERS[spec.kind](spec, raw, path)
+        except _Problems as exc:
+            self.problems += exc.messages
+            self.invalid.add(path)
+
+    def require(self) -> None:
+        """Report the required keys that are absent."""
+        for section, fields in SCHEMA.items():
+            for key, spec in fields.items():
+                path = _join(section, key)
+                if spec.required and path not in self.values and path not in self.invalid:
+                    self.problems.append(f"{path}: missing (required)")
+
+    def get(self, path: str) -> object:
+        """The value of a non-plant key: as given, else its default (None if it was invalid)."""
+        if path in self.invalid:
+            return None
+        return self.values.get(path, _field(path).default)
+
+    def error(self, path: str, message: str) -> None:
+        """Record a problem found by a consistency check."""
+        self.problems.append(f"{path}: {message}")
+        self.invalid.add(path)
+
+
+# ---- building the plant tree ----------------------------------------------------------------------
+def _installed_presets() -> dict | None:
+    """``golden.motors.PRESETS``, or None while that module does not exist."""
+    try:
+        from golden.motors import PRESETS
+    except ModuleNotFoundError as exc:
+        if exc.name != "golden.motors":
+            raise
+        return None
+    return PRESETS
+
+
+def _preset_params(reader: _Reader, presets: dict | None) -> dict:
+    """The partial plant tree of the preset named by ``motor.preset`` ({} when none)."""
+    name = reader.values.get("motor.preset")
+    if name is None:
+        return {}
+    if presets is None:
+        presets = _installed_presets()
+    if presets is None:
+        reader.error("motor.preset", "no motor presets available (module golden.motors not found)")
+        return {}
+    if name not in presets:
+        close = difflib.get_close_matches(name, list(presets), n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        reader.error("motor.preset", f"unknown preset {name!r} ({hint}valid presets: "
+                                     f"{', '.join(sorted(presets))})")
+        return {}
+    return presets[name]
+
+
+def _set(tree: dict, keys: tuple[str, ...], value: object) -> None:
+    for key in keys[:-1]:
+        tree = tree[key]
+    tree[keys[-1]] = value
+
+
+def _plant_profile(points: list[tuple[float, float]], reader: _Reader) -> dict:
+    """A ``struct profile`` dict from points and the ``load.pulsation`` settings."""
+    return {"t": [t for t, _ in points], "v": [v for _, v in points],
+            "puls_freq": reader.get("load.pulsation.freq") or 0.0,
+            "puls_depth": reader.get("load.pulsation.depth") or 0.0}
+
+
+_TICK_FIELDS = {"simulation.max_substep": "max_substep_ticks",
+                "simulation.max_substep_commutation": "max_substep_commutation_ticks"}
+"""Durations given in seconds that the plant takes in whole ticks: path -> plant key."""
+
+
+def _to_ticks(reader: _Reader, path: str, tick_hz: float) -> int | None:
+    """The duration at ``path`` in whole ticks (rounded down), None when absent or invalid."""
+    seconds = reader.values.get(path)
+    if seconds is None or "pwm.tick_hz" in reader.invalid:
+        return None
+    ticks = math.floor(seconds * tick_hz * (1 + 1e-9))
+    text = format_quantity(seconds, "s")
+    clock = f"pwm.tick_hz = {format_quantity(tick_hz, 'Hz')}"
+    if ticks < 1:
+        reader.error(path, f"{text} is shorter than one tick ({format_quantity(1 / tick_hz, 's')} "
+                           f"at {clock})")
+    elif ticks > MAX_TICKS:
+        reader.error(path, f"{text} is more than {MAX_TICKS} ticks at {clock}")
+    else:
+        return ticks
+    return None
+
+
+def _build_plant(reader: _Reader, presets: dict | None) -> dict:
+    """Defaults, then the preset, then every plant key of the scenario."""
+    plant = _plant_defaults.merge(_plant_defaults.default_params(), _preset_params(reader, presets))
+    for path, value in reader.values.items():
+        spec = _field(path)
+        if spec.plant:
+            _set(plant, spec.plant, spec.choices[value] if spec.choices else value)
+    mode = reader.get("load.mode")
+    if mode is not None:
+        plant["mech"]["imposed_speed"] = LOAD_MODES[mode]
+        profile_key = {"torque": "load", "speed": "speed"}[mode]
+        plant[profile_key] = _plant_profile(reader.get(f"load.{mode}") or [], reader)
+    for path, plant_key in _TICK_FIELDS.items():
+        ticks = _to_ticks(reader, path, plant["tick_hz"])
+        if ticks is not None:
+            plant[plant_key] = ticks
+    return plant
+
+
+# ---- consistency checks ---------------------------------------------------------------------------
+def _check_dead_time(reader: _Reader) -> None:
+    f_sw, dead_time = reader.get("pwm.f_sw"), reader.get("pwm.dead_time")
+    if f_sw is None or dead_time is None or dead_time < 0.5 / f_sw:
+        return
+    reader.error("pwm.dead_time",
+                 f"{format_quantity(dead_time, 's')} must be shorter than half the PWM period "
+                 f"({format_quantity(0.5 / f_sw, 's')} at pwm.f_sw = {format_quantity(f_sw, 'Hz')})")
+
+
+def _check_load_profiles(reader: _Reader) -> None:
+    """The profile of the load mode is required; the other one would be silently ignored."""
+    mode = reader.get("load.mode")
+    if mode is None:
+        return
+    other = {"torque": "speed", "speed": "torque"}[mode]
+    if f"load.{other}" in reader.values:
+        reader.error(f"load.{other}", f"not used when load.mode = {mode!r}")
+    if mode == "speed" and "load.speed" not in reader.values and "load.speed" not in reader.invalid:
+        reader.error("load.speed", "missing (required when load.mode = 'speed')")
+
+
+def _check_magnetics(reader: _Reader, mag: dict) -> None:
+    """Parameters the chosen magnetic model needs, whether from the scenario or the preset."""
+    if reader.values.get("motor.magnetic.model") == "table":
+        reader.error("motor.magnetic.model", "'table' is not supported in scenario files yet "
+                                             "(use a preset that provides the tables)")
+    needs = {MAG_MODELS["dsat"]: ("psi_f",), MAG_MODELS["algebraic"]: ("a_d0", "a_q0")}
+    model = {kind: name for name, kind in MAG_MODELS.items()}[mag["kind"]]
+    for key in needs.get(mag["kind"], ()):
+        path = f"motor.magnetic.{key}"
+        if mag[key] <= 0 and path not in reader.invalid:
+            reader.error(path, f"must be > 0 for model {model!r}, got {mag[key]!r}")
+
+
+def _check_injection(reader: _Reader, plant: dict) -> None:
+    """The injection plus the fundamental must stay within the linear modulation range."""
+    inj = [reader.get(f"injection.{key}") for key in ("V_h", "v_d", "v_q")]
+    if None in inj or "inverter.V_dc" in reader.invalid:
+        return
+    V_h, v_d, v_q = inj
+    peak = math.hypot(abs(v_d) + V_h, v_q)
+    limit = plant["inv"]["V_dc"] / math.sqrt(3)
+    if peak > limit:
+        reader.error("injection.V_h",
+                     f"injection plus fundamental reach {format_quantity(peak, 'V')} "
+                     f"(hypot(|v_d| + V_h, v_q)), above the linear modulation limit "
+                     f"V_dc/sqrt(3) = {format_quantity(limit, 'V')} "
+                     f"(inverter.V_dc = {format_quantity(plant['inv']['V_dc'], 'V')})")
+
+
+# ---- public API -----------------------------------------------------------------------------------
+def parse_scenario(data: dict, source: str = "<dict>", presets: dict | None = None) -> Scenario:
+    """Validate a parsed scenario tree and build the :class:`Scenario`.
+
+    Parameters
+    ----------
+    data : dict
+        The scenario as parsed from TOML (tables are dicts, arrays are lists).
+    source : str
+        Named in error messages (the file name).
+    presets : dict or None
+        Motor presets, name -> partial plant tree (keys ``R_s``, ``mag``, ``mech``); None uses
+        ``golden.motors.PRESETS``.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ScenarioError
+        Listing every problem found, each prefixed by its dotted path.
+    """
+    reader = _Reader()
+    reader.read(data)
+    reader.require()
+    plant = _build_plant(reader, presets)
+    _check_dead_time(reader)
+    _check_load_profiles(reader)
+    _check_magnetics(reader, plant["mag"])
+    _check_injection(reader, plant)
+    if reader.problems:
+        raise ScenarioError(source, reader.problems)
+    return _make_scenario(reader, plant, source)
+
+
+def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
+    get = reader.get
+    name = get("scenario.name")
+    return Scenario(
+        name=name,
+        description=get("scenario.description"),
+        duration=get("scenario.duration"),
+        seed=plant["seed"],
+        plant=plant,
+        pwm=PwmSettings(get("pwm.f_sw"), get("pwm.dead_time"), plant["tick_hz"]),
+        injection=InjectionSettings(*(get(f"injection.{key}")
+                                      for key in ("V_h", "theta_hat", "v_d", "v_q"))),
+        reference_speed=list(get("reference.speed")),
+        output=OutputSettings(reader.values.get("output.dir", f"out/{name}")),
+        preset=reader.values.get("motor.preset"),
+        source=source,
+    )
+
+
+def load_scenario(path: str | Path, presets: dict | None = None) -> Scenario:
+    """Read and validate a scenario file.
+
+    Parameters
+    ----------
+    path : str or Path
+        A TOML file (UTF-8).
+    presets : dict or None
+        See :func:`parse_scenario`.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ScenarioError
+        For TOML syntax errors (with the line) and every invalid field.
+    OSError
+        If the file cannot be read.
+    """
+    with open(path, "rb") as file:
+        try:
+            data = tomllib.load(file)
+        except tomllib.TOMLDecodeError as exc:
+            raise ScenarioError(str(path), [f"TOML syntax error: {exc}"]) from None
+        except UnicodeDecodeError as exc:
+            raise ScenarioError(str(path), [f"not UTF-8 text: {exc}"]) from None
+    return parse_scenario(data, source=str(path), presets=presets)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``check FILE...``: validate scenario files; returns 1 if any is invalid or unreadable."""
+    parser = argparse.ArgumentParser(prog="python -m golden.scenario",
+                                     description="Scenario file tools (format: docs/scenario.md).")
+    commands = parser.add_subparsers(dest="command", required=True)
+    check = commands.add_parser("check", help="validate scenario files and print a summary")
+    check.add_argument("files", nargs="+", metavar="FILE")
+    args = parser.parse_args(argv)
+    status = 0
+    for name in args.files:
+        try:
+            scenario = load_scenario(name)
+        except ScenarioError as exc:
+            print(exc)
+            status = 1
+        except OSError as exc:
+            print(f"{name}: cannot read: {exc.strerror or exc}")
+            status = 1
+        else:
+            print(f"{name}: ok ({scenario.summary()})")
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

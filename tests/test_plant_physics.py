@@ -1,0 +1,221 @@
+"""Physics of the C plant against analytical results (docs/plant.md, "Verification").
+
+Every expected value is computed here from a formula, independently of the plant's code.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from golden.openloop import PwmConfig, gate_edges
+from golden.plant import Plant, default_params, merge
+
+TICK = 100e6
+V_H, F_SW = 100.0, 5e3
+L_D, L_Q, R_S, PSI_F = 5.59e-3, 6.26e-3, 3.0, 0.147
+
+
+def params(**over) -> dict:
+    """Table I machine, linear magnetics, ideal sensors; nested overrides by keyword."""
+    return merge(default_params(), over)
+
+
+def locked(theta_e: float, **over) -> dict:
+    """Rotor held at electrical angle theta_e by the load machine (imposed zero speed)."""
+    base = {"mech": {"imposed_speed": 1}, "theta_m0": theta_e / 4}
+    return merge(params(**base), over)
+
+
+def alpha_beta(i_abc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    i_a, i_b, i_c = i_abc[:, 0], i_abc[:, 1], i_abc[:, 2]
+    return (2 * i_a - i_b - i_c) / 3, (i_b - i_c) / math.sqrt(3)
+
+
+def square_wave_on_estimated_d(theta_hat: float, n_periods: int):
+    """Ideal +-V_H square wave on the estimated d-axis at F_SW (Benevieri et al. 2023, eq. (14)).
+
+    -V_H while the carrier rises, +V_H while it falls; the first segment lasts a quarter period so
+    that the triangular HF current is centred on zero.
+    """
+    half = int(TICK / F_SW / 2)
+    ticks = [0] + [half // 2 + k * half for k in range(2 * n_periods)]
+    signs = [-1.0] + [1.0 if k % 2 == 0 else -1.0 for k in range(2 * n_periods)]
+    c, s = math.cos(theta_hat), math.sin(theta_hat)
+    volts = []
+    for sg in signs:
+        v_al, v_be = sg * V_H * c, sg * V_H * s
+        volts.append([v_al, -0.5 * v_al + math.sqrt(3) / 2 * v_be, -0.5 * v_al - math.sqrt(3) / 2 * v_be])
+    return np.array(ticks), np.array(volts)
+
+
+@pytest.mark.parametrize("err_deg", [0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0])
+def test_locked_rotor_hf_currents_follow_eq18(err_deg):
+    """Peak-to-peak HF currents in the estimated frame vs Benevieri et al. 2023, eq. (18) and its d twin.
+
+    eq. (18): i_qh = V_h/(8 f_sw) * (L_q - L_d)/(L_d L_q) * (-cw) * sin(2 err), cw in [-1, 1]
+    d-axis:   i_dh = V_h/(4 f_sw) * (cos^2(err)/L_d + sin^2(err)/L_q) * (-cw)
+    """
+    theta = 0.4
+    err = math.radians(err_deg)
+    theta_hat = theta - err
+    ticks, volts = square_wave_on_estimated_d(theta_hat, n_periods=6)
+    plant = Plant(locked(theta))
+    period = int(TICK / F_SW)
+    samples = np.arange(4 * period, 6 * period + 1, 100)  # last two periods, every 1 us
+    out = plant.run(ticks, samples, volts=volts, truth=True)
+    i_al, i_be = alpha_beta(out["truth"]["i_abc"])
+    i_dh = math.cos(theta_hat) * i_al + math.sin(theta_hat) * i_be
+    i_qh = -math.sin(theta_hat) * i_al + math.cos(theta_hat) * i_be
+
+    pp_d = V_H / (2 * F_SW) * (math.cos(err) ** 2 / L_D + math.sin(err) ** 2 / L_Q)
+    pp_q = V_H / (4 * F_SW) * (L_Q - L_D) / (L_D * L_Q) * abs(math.sin(2 * err))
+    assert np.ptp(i_dh) == pytest.approx(pp_d, rel=5e-3)
+    pp_q_45 = V_H / (4 * F_SW) * (L_Q - L_D) / (L_D * L_Q)
+    if abs(math.sin(2 * err)) > 0.2:
+        assert np.ptp(i_qh) == pytest.approx(pp_q, rel=5e-3)
+    else:
+        assert abs(np.ptp(i_qh) - pp_q) < 5e-3 * pp_q_45
+    # sign convention: the q response is the d response times (L_q - L_d) sin(2 err) / (2 L_d L_q (...))
+    slope = np.polyfit(i_dh - i_dh.mean(), i_qh - i_qh.mean(), 1)[0]
+    expected = 0.5 * (L_Q - L_D) / (L_D * L_Q) * math.sin(2 * err) / (
+        math.cos(err) ** 2 / L_D + math.sin(err) ** 2 / L_Q)
+    assert slope == pytest.approx(expected, rel=2e-2, abs=2e-4)
+
+
+@pytest.mark.parametrize("theta_e, axis", [(0.0, "d"), (0.7, "d"), (0.7, "q")])
+def test_current_step_response_is_exponential(theta_e, axis):
+    """Locked rotor, voltage step on one rotor axis: i = V/R (1 - exp(-t R/L))."""
+    v = 30.0
+    ang = theta_e if axis == "d" else theta_e + math.pi / 2
+    inductance = L_D if axis == "d" else L_Q
+    v_al, v_be = v * math.cos(ang), v * math.sin(ang)
+    v_abc = [v_al, -0.5 * v_al + math.sqrt(3) / 2 * v_be, -0.5 * v_al - math.sqrt(3) / 2 * v_be]
+    plant = Plant(locked(theta_e))
+    samples = np.arange(0, 500_001, 1000)  # 5 ms = 2.7 time constants
+    out = plant.run([0], samples, volts=[v_abc], truth=True)
+    t = samples / TICK
+    expected = v / R_S * (1 - np.exp(-t * R_S / inductance))
+    got = out["truth"]["i_d" if axis == "d" else "i_q"]
+    other = out["truth"]["i_q" if axis == "d" else "i_d"]
+    assert np.max(np.abs(got - expected)) < 1e-9 * v / R_S
+    assert np.max(np.abs(other)) < 1e-9 * v / R_S
+
+
+def test_load_torque_decelerates_at_TL_over_J():
+    """No electromagnetic torque (psi_f = 0, round rotor, no voltage): omega = w0 - T_L t / J,
+    theta = th0 + w0 t - T_L t^2 / (2 J)."""
+    J, T_L, w0 = 4e-3, 0.5, 20.0
+    p = params(mag={"psi_f": 0.0, "L_d": L_Q}, mech={"J": J, "B": 0.0, "T_c": 0.0},
+               load={"t": [0.0], "v": [T_L]}, omega_m0=w0)
+    plant = Plant(p)
+    samples = np.arange(0, 2_000_001, 100_000)
+    out = plant.run([0], samples, volts=[[0.0, 0.0, 0.0]], truth=True)
+    t = samples / TICK
+    assert np.max(np.abs(out["truth"]["torque"])) == 0.0
+    np.testing.assert_allclose(out["truth"]["omega_m"], w0 - T_L / J * t, rtol=0, atol=1e-10)
+    theta = np.unwrap(out["truth"]["theta_m"])
+    np.testing.assert_allclose(theta, w0 * t - T_L / (2 * J) * t ** 2, rtol=0, atol=1e-9)
+
+
+def test_acceleration_equals_net_torque_over_J():
+    """Rotating-voltage start under load: d(omega)/dt == (T_e - T_L - B omega)/J at every sample
+    (central differences of the sampled speed)."""
+    J, B, T_L = 4e-3, 2e-4, 0.3
+    p = params(mech={"J": J, "B": B, "T_c": 0.0}, load={"t": [0.0], "v": [T_L]})
+    plant = Plant(p)
+    # slow open-loop V/f: 60 V at 10 Hz electrical, updated every 10 us
+    ticks = np.arange(0, 3_000_000, 1000)
+    th = 2 * math.pi * 10 * ticks / TICK
+    v = 60.0
+    volts = np.stack([v * np.cos(th), v * np.cos(th - 2 * math.pi / 3), v * np.cos(th + 2 * math.pi / 3)], axis=1)
+    samples = np.arange(1_000_000, 3_000_000, 50)
+    tr = plant.run(ticks, samples, volts=volts, truth=True)["truth"]
+    h = 50 / TICK
+    dw = (tr["omega_m"][2:] - tr["omega_m"][:-2]) / (2 * h)
+    rhs = (tr["torque"][1:-1] - tr["load_torque"][1:-1] - B * tr["omega_m"][1:-1]) / J
+    # skip samples next to a voltage update (the torque has a kink there)
+    smooth = (samples[1:-1] % 1000 != 0) & (samples[1:-1] % 1000 != 50) & (samples[1:-1] % 1000 != 950)
+    scale = np.max(np.abs(rhs))
+    assert scale > 10.0  # the test really accelerates the rotor
+    assert np.max(np.abs(dw - rhs)[smooth]) < 1e-5 * scale
+
+
+def magnetic_energy(mag: dict, psi_d: np.ndarray, psi_q: np.ndarray) -> np.ndarray:
+    """Stored magnetic energy [J] (amplitude-invariant frame: 1.5 * integral of i . dpsi), from the
+    closed forms of the models' energy functions (docs/plant.md)."""
+    x = psi_d - mag["psi_f"]
+    if mag["kind"] == 0:
+        return 1.5 * (x ** 2 / (2 * mag["L_d"]) + psi_q ** 2 / (2 * mag["L_q"]))
+    if mag["kind"] == 1:
+        a, S, pf = mag["dsat_a"], mag["dsat_S"], mag["psi_f"]
+        L0 = mag["L_d"] * (1 + a * (S + 1))
+        h_pf = pf / L0 * (1 + a)
+
+        def prim(z):  # integral of h(z) - h(psi_f)
+            return z ** 2 / (2 * L0) + a * np.abs(z) ** (S + 2) / ((S + 2) * L0 * pf ** S) - h_pf * z
+        return 1.5 * (prim(psi_d) - prim(pf) + psi_q ** 2 / (2 * mag["L_q"]))
+    raise AssertionError("no closed form")
+
+
+@pytest.mark.parametrize("mag_over", [{"kind": 0}, {"kind": 1, "dsat_a": 0.08, "dsat_S": 4}])
+def test_energy_balance_through_pwm(mag_over):
+    """Gate-level PWM with dead time, V/f start under load and friction:
+    E_in = E_cu + E_mech + (W_mag(end) - W_mag(start)) within 0.1 % of E_in."""
+    p = params(mag=mag_over, mech={"J": 2e-3, "B": 1e-4, "T_c": 0.02}, load={"t": [0.0], "v": [0.4]})
+    plant = Plant(p)
+    cfg = PwmConfig()
+    n = 200  # periods = 40 ms
+    k = np.arange(2 * n)
+    th = 2 * math.pi * 8 * k * cfg.half / TICK + 0.3
+    v = 40.0
+    v_abc = np.stack([v * np.cos(th), v * np.cos(th - 2 * math.pi / 3), v * np.cos(th + 2 * math.pi / 3)], axis=1)
+    cmp = np.rint((0.5 + v_abc / 560.0) * cfg.half).astype(np.int64)
+    ticks, masks = gate_edges(cfg, cmp)
+    tr = plant.run(ticks, [0, 2 * n * cfg.half], gates=masks, truth=True)["truth"]
+    end = tr[-1]
+    w = magnetic_energy(p["mag"], tr["psi_d"], tr["psi_q"])
+    assert end["E_in"] > 0.5  # real work was done
+    assert abs(end["omega_m"]) > 1.0
+    balance = end["E_cu"] + end["E_mech"] + (w[-1] - w[0])
+    assert balance == pytest.approx(end["E_in"], rel=1e-3)
+
+
+def pwm_node_mean(p: dict, cmp_abc, settle_periods=50):
+    """Hold constant compare values; return (mean node voltages over one period, currents then)."""
+    cfg = PwmConfig()
+    plant = Plant(p)
+    n = settle_periods + 1
+    cmp = np.tile(np.asarray(cmp_abc, dtype=np.int64), (2 * n, 1))
+    ticks, masks = gate_edges(cfg, cmp)
+    start = settle_periods * 2 * cfg.half
+    samples = np.arange(start, start + 2 * cfg.half, 10)
+    tr = plant.run(ticks, samples, gates=masks, truth=True)["truth"]
+    return tr["v_node"].mean(axis=0), tr["i_abc"].mean(axis=0)
+
+
+def test_dead_time_voltage_error_is_sign_i_vdc_td_fsw():
+    """Ideal diodes: mean phase-node voltage = duty * V_dc - sign(i) * V_dc * t_d * f_sw, exactly."""
+    cfg = PwmConfig()
+    cmp = [6000, 4500, 4500]  # v_a > 0 -> i_a > 0, i_b, i_c < 0
+    mean_v, i = pwm_node_mean(locked(0.0), cmp)
+    ideal = np.array(cmp) / cfg.half * 560.0
+    assert i[0] > 0.5 and i[1] < -0.2 and i[2] < -0.2
+    expected = ideal - np.sign(i) * 560.0 * cfg.dead_time * cfg.f_sw
+    np.testing.assert_allclose(mean_v, expected, rtol=0, atol=1e-9)
+
+
+def test_node_capacitance_softens_dead_time_error_at_low_current():
+    """With a node capacitance, a large current still gives nearly the full error, a small one less."""
+    cfg = PwmConfig()
+    full = 560.0 * cfg.dead_time * cfg.f_sw
+    p = locked(0.0, inv={"C_node": 2e-9})
+    big_v, big_i = pwm_node_mean(p, [6000, 4500, 4500])
+    small_v, small_i = pwm_node_mean(p, [5120, 4940, 4940])
+    err_big = abs(big_v[0] - 6000 / cfg.half * 560.0)
+    err_small = abs(small_v[0] - 5120 / cfg.half * 560.0)
+    assert 0.0 < small_i[0] < 0.3 < 1.0 < big_i[0]
+    assert 0.9 * full < err_big <= full + 1e-9
+    assert err_small < 0.7 * full

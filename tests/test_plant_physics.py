@@ -184,38 +184,64 @@ def test_energy_balance_through_pwm(mag_over):
 
 
 def pwm_node_mean(p: dict, cmp_abc, settle_periods=50):
-    """Hold constant compare values; return (mean node voltages over one period, currents then)."""
+    """Hold constant compare values; sample one period at every tick after settling.
+
+    Returns (mean node voltages, mean currents, (min, max) of the phase-a current over the dead time
+    after its high switch turns off).
+    """
     cfg = PwmConfig()
     plant = Plant(p)
     n = settle_periods + 1
     cmp = np.tile(np.asarray(cmp_abc, dtype=np.int64), (2 * n, 1))
     ticks, masks = gate_edges(cfg, cmp)
     start = settle_periods * 2 * cfg.half
-    samples = np.arange(start, start + 2 * cfg.half, 10)
+    samples = np.arange(start, start + 2 * cfg.half)
     tr = plant.run(ticks, samples, gates=masks, truth=True)["truth"]
-    return tr["v_node"].mean(axis=0), tr["i_abc"].mean(axis=0)
+    window = tr["i_abc"][cmp_abc[0]:cmp_abc[0] + cfg.dead_ticks + 1, 0]  # signal falls at start + compare
+    return tr["v_node"].mean(axis=0), tr["i_abc"].mean(axis=0), (window.min(), window.max())
 
 
 def test_dead_time_voltage_error_is_sign_i_vdc_td_fsw():
     """Ideal diodes: mean phase-node voltage = duty * V_dc - sign(i) * V_dc * t_d * f_sw, exactly."""
     cfg = PwmConfig()
     cmp = [6000, 4500, 4500]  # v_a > 0 -> i_a > 0, i_b, i_c < 0
-    mean_v, i = pwm_node_mean(locked(0.0), cmp)
+    mean_v, i, _ = pwm_node_mean(locked(0.0), cmp)
     ideal = np.array(cmp) / cfg.half * 560.0
     assert i[0] > 0.5 and i[1] < -0.2 and i[2] < -0.2
     expected = ideal - np.sign(i) * 560.0 * cfg.dead_time * cfg.f_sw
     np.testing.assert_allclose(mean_v, expected, rtol=0, atol=1e-9)
 
 
-def test_node_capacitance_softens_dead_time_error_at_low_current():
-    """With a node capacitance, a large current still gives nearly the full error, a small one less."""
+def capacitive_loss_fraction(i: float, c_node: float, t_d: float, v_dc: float = 560.0) -> float:
+    """Dead-time volt-second loss with a node capacitance, as a fraction of the ideal-diode loss
+    V_dc t_d, for a constant current i: the node falls as V_dc - i t / C; the ramp t_r = V_dc C / i.
+    1 - t_r / (2 t_d) if the ramp ends inside the dead time, else i t_d / (2 C V_dc)."""
+    t_r = v_dc * c_node / i
+    return 1 - t_r / (2 * t_d) if t_r <= t_d else i * t_d / (2 * c_node * v_dc)
+
+
+@pytest.mark.parametrize("c_node, cmp_a", [(1e-9, 6000), (2e-9, 5300), (1e-9, 5120), (2e-9, 5060)])
+def test_node_capacitance_softens_dead_time_error(c_node, cmp_a):
+    """The loss fraction grows with the current, so with the phase current between i_min and i_max
+    over the dead time it lies between the constant-current values at i_min and i_max."""
     cfg = PwmConfig()
-    full = 560.0 * cfg.dead_time * cfg.f_sw
-    p = locked(0.0, inv={"C_node": 2e-9})
-    big_v, big_i = pwm_node_mean(p, [6000, 4500, 4500])
-    small_v, small_i = pwm_node_mean(p, [5120, 4940, 4940])
-    err_big = abs(big_v[0] - 6000 / cfg.half * 560.0)
-    err_small = abs(small_v[0] - 5120 / cfg.half * 560.0)
-    assert 0.0 < small_i[0] < 0.3 < 1.0 < big_i[0]
-    assert 0.9 * full < err_big <= full + 1e-9
-    assert err_small < 0.7 * full
+    cmp_bc = cfg.half - (cmp_a - cfg.half // 2) // 2 - cfg.half // 2
+    mean_v, _, (i_min, i_max) = pwm_node_mean(locked(0.0, inv={"C_node": c_node}), [cmp_a, cmp_bc, cmp_bc])
+    frac = (cmp_a / cfg.half * 560.0 - mean_v[0]) / (560.0 * cfg.dead_time * cfg.f_sw)
+    assert i_min > 0.05
+    lo = capacitive_loss_fraction(i_min, c_node, cfg.dead_time)
+    hi = capacitive_loss_fraction(i_max, c_node, cfg.dead_time)
+    tick_res = 1.5 / TICK / cfg.dead_time  # a ramp sampled at every tick: +-1.5 ticks of the window
+    assert lo - tick_res <= frac <= hi + tick_res
+    assert hi - lo < 0.35  # the bracket is informative
+
+
+def test_node_capacitance_large_current_ramp():
+    """At 13.7 A the ramp (41 ns) is short: loss = 1 - t_r / (2 t_d), to the resolution of a ramp
+    sampled at every 10 ns tick (1.5 ticks of the 4 us window)."""
+    cfg = PwmConfig()
+    mean_v, _, (i_min, i_max) = pwm_node_mean(locked(0.0, inv={"C_node": 1e-9}), [6000, 4500, 4500])
+    frac = (6000 / cfg.half * 560.0 - mean_v[0]) / (560.0 * cfg.dead_time * cfg.f_sw)
+    assert i_max - i_min < 0.05 * i_min
+    tick_res = 1.5 / TICK / cfg.dead_time
+    assert frac == pytest.approx(capacitive_loss_fraction(i_min, 1e-9, cfg.dead_time), abs=tick_res)

@@ -511,30 +511,55 @@ static void rk4_step(struct plant *p, long long nticks)
         x[X_OMM] = profile_eval(&p->p.speed, &p->cursor_speed, tick_time(p, p->tick));
 }
 
-/* longest step now: shorter while a leg's node capacitance is being charged in dead time */
-static long long max_step(const struct plant *p)
+/* While the phase current charges the node capacitance of an idle leg, the step ends where the node
+ * is predicted to reach the rail (diode clamp), at most max_substep_commutation_ticks; 0 when no node
+ * is commutating. */
+static long long commutation_step(const struct plant *p)
 {
-    if (p->p.inv.C_node > 0.0 && !p->voltage_mode)
-        for (int k = 0; k < 3; k++)
-            if (p->legs[k] == LEG_OFF)
-                return p->p.max_substep_commutation_ticks;
-    return p->p.max_substep_ticks;
+    const struct inverter_params *inv = &p->p.inv;
+    if (inv->C_node <= 0.0 || p->voltage_mode)
+        return 0;
+    int any_off = 0;
+    for (int k = 0; k < 3; k++)
+        any_off |= p->legs[k] == LEG_OFF;
+    if (!any_off)
+        return 0;
+    double c, s, th, i_abc[3];
+    state_trig(p, &c, &s, &th);
+    phase_currents(p, p->x, c, s, i_abc);
+    long long step = 0, cap = p->p.max_substep_commutation_ticks;
+    for (int k = 0; k < 3; k++) {
+        if (p->legs[k] != LEG_OFF)
+            continue;
+        double v = p->x[X_VNA + k], i = i_abc[k], lo = -inv->v_diode, hi = inv->V_dc + inv->v_diode;
+        if ((i > 0.0 && v <= lo) || (i < 0.0 && v >= hi) || i == 0.0)
+            continue; /* clamped by a diode, or no current to move the node */
+        double t_rail = i > 0.0 ? (v - lo) * inv->C_node / i : (hi - v) * inv->C_node / -i;
+        double ticks = ceil(t_rail * p->p.tick_hz);
+        long long n = ticks < 1.0 ? 1 : (ticks > (double)cap ? cap : (long long)ticks);
+        if (step == 0 || n < step)
+            step = n;
+    }
+    return step;
 }
 
 int plant_advance(struct plant *p, long long tick)
 {
     if (tick < p->tick)
         return -1;
-    long long rem = tick - p->tick, start = p->tick, step = max_step(p);
-    if (rem == 0)
-        return 0;
-    long long nsteps = (rem + step - 1) / step;
-    for (long long k = 0; k < nsteps; k++)
-        rk4_step(p, start + rem * (k + 1) / nsteps - p->tick);
+    long long total = tick - p->tick;
+    while (p->tick < tick) {
+        long long rem = tick - p->tick, step = commutation_step(p);
+        if (step == 0) { /* equal steps of at most max_substep_ticks over the rest of the interval */
+            long long n = (rem + p->p.max_substep_ticks - 1) / p->p.max_substep_ticks;
+            step = (rem + n - 1) / n;
+        }
+        rk4_step(p, step < rem ? step : rem);
+    }
     if (!p->voltage_mode)
         for (int k = 0; k < 3; k++)
             if (p->legs[k] == LEG_SHORT)
-                p->shoot_through_ticks += rem;
+                p->shoot_through_ticks += total;
     return 0;
 }
 

@@ -69,8 +69,11 @@ def injection_compares(cfg: PwmConfig, n_periods: int, v_dc: float, v_h: float, 
     return np.rint(duty * half).astype(np.int64)
 
 
-def gate_edges(cfg: PwmConfig, compares: np.ndarray, start_tick: int = 0):
+def gate_edges(cfg: PwmConfig, compares: np.ndarray, start_tick: int = 0, initial_levels=None):
     """Gate edges (tick, mask) for the given compare values, with dead time.
+
+    ``initial_levels`` continues a previous call: the ideal switch level of each leg before
+    ``start_tick`` (see :func:`final_levels`), its gates settled. ``None``: all switches off before.
 
     Returns
     -------
@@ -95,7 +98,8 @@ def gate_edges(cfg: PwmConfig, compares: np.ndarray, start_tick: int = 0):
         t_tr, v_tr = t_tr[order], v_tr[order]
         last = np.concatenate([t_tr[1:] != t_tr[:-1], [True]])  # at equal ticks the later one wins
         t_tr, v_tr = t_tr[last], v_tr[last]
-        changes = v_tr != np.concatenate([[0], v_tr[:-1]])  # all switches are off before start_tick
+        before = 0 if initial_levels is None else int(initial_levels[leg])
+        changes = v_tr != np.concatenate([[before], v_tr[:-1]])
         t_tr, v_tr = t_tr[changes], v_tr[changes]
         t_next = np.concatenate([t_tr[1:], [np.iinfo(np.int64).max]])
         hi, lo = 2 * leg, 2 * leg + 1
@@ -110,12 +114,24 @@ def gate_edges(cfg: PwmConfig, compares: np.ndarray, start_tick: int = 0):
     vals = np.concatenate(ev_vals)
     order = np.lexsort((vals, ticks))  # at equal ticks, turn-offs before turn-ons
     ticks, bits, vals = ticks[order], bits[order], vals[order]
+    if initial_levels is None:
+        init = np.zeros(6, dtype=np.int32)
+    else:
+        lv = np.asarray(initial_levels, dtype=np.int32)
+        init = np.stack([lv, 1 - lv], axis=1).ravel()  # high switch = level, low switch = not level
     state = np.zeros((len(ticks), 6), dtype=np.int32)
     for b in range(6):
         idx = np.where(bits == b, np.arange(len(ticks)), -1)
         last = np.maximum.accumulate(idx)
-        state[:, b] = np.where(last >= 0, vals[np.maximum(last, 0)], 0)
+        state[:, b] = np.where(last >= 0, vals[np.maximum(last, 0)], init[b])
     masks = (state << np.arange(6)).sum(axis=1).astype(np.int32)
     # one edge per distinct tick: keep the last mask at each tick
     last_at_tick = np.concatenate([ticks[1:] != ticks[:-1], [True]])
     return ticks[last_at_tick], masks[last_at_tick]
+
+
+def final_levels(cfg: PwmConfig, compares: np.ndarray) -> np.ndarray:
+    """Ideal switch level of each leg at the end of the last half period of ``compares``."""
+    last = compares[-1]
+    rising = (compares.shape[0] - 1) % 2 == 0
+    return (last == cfg.half).astype(np.int32) if rising else (last > 0).astype(np.int32)

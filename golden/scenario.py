@@ -27,24 +27,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from golden import motors
+from golden.plant import defaults as _plant_defaults
 from golden.units import UnitError, finite_float, format_quantity, parse_quantity, type_name
 
-
-def _import_plant_defaults():
-    """``golden/plant/defaults.py`` as a stand-alone module.
-
-    Importing it as ``golden.plant.defaults`` would run ``golden/plant/__init__.py``, which loads the
-    C binding (cffi, numpy, the compiled library); checking a scenario must not need them. The file
-    holds only data and pure functions, so a private copy of the module is equivalent.
-    """
-    path = Path(__file__).parent / "plant" / "defaults.py"
-    spec = importlib.util.spec_from_file_location("golden._plant_defaults", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-_plant_defaults = _import_plant_defaults()
 
 MAG_MODELS: dict[str, int] = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3}
 """``motor.magnetic.model`` name -> ``mag.kind`` (``enum mag_kind`` in plant_api.h)."""
@@ -528,34 +514,20 @@ class _Reader:
 
 
 # ---- building the plant tree ----------------------------------------------------------------------
-def _installed_presets() -> dict | None:
-    """``golden.motors.PRESETS``, or None while that module does not exist."""
-    try:
-        from golden.motors import PRESETS
-    except ModuleNotFoundError as exc:
-        if exc.name != "golden.motors":
-            raise
-        return None
-    return PRESETS
-
-
 def _preset_params(reader: _Reader, presets: dict | None) -> dict:
     """The partial plant tree of the preset named by ``motor.preset`` ({} when none)."""
     name = reader.values.get("motor.preset")
     if name is None:
         return {}
     if presets is None:
-        presets = _installed_presets()
-    if presets is None:
-        reader.error("motor.preset", "no motor presets available (module golden.motors not found)")
-        return {}
+        presets = motors.PRESETS
     if name not in presets:
         close = difflib.get_close_matches(name, list(presets), n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
         reader.error("motor.preset", f"unknown preset {name!r} ({hint}valid presets: "
                                      f"{', '.join(sorted(presets))})")
         return {}
-    return presets[name]
+    return {key: value for key, value in presets[name].items() if key in motors.PLANT_KEYS}
 
 
 def _set(tree: dict, keys: tuple[str, ...], value: object) -> None:

@@ -465,18 +465,15 @@ static void rk4_step(struct plant *p, long long nticks)
 
     memcpy(xs, x, sizeof xs);
     deriv(p, t, x, c0, s0, NULL, k1, &a0);
-    /* With every leg conducting on a stiff, ripple-free bus without device drops (or with ideal
-     * voltages), the terminal voltage does not depend on the state: compute it once per step. */
-    const struct inverter_params *inv = &p->p.inv;
+    /* While every leg conducts (a switch or its diode on), the node voltages depend on the state only
+     * through the device drops and the dc-link sag, which change negligibly within a step (<= 1 us):
+     * they are taken at the start of the step and held. Legs in dead time are evaluated at every stage. */
     double v_ab_fixed[2], *v_ab = NULL;
-    int fixed = p->voltage_mode;
-    if (!fixed && inv->R_dc == 0.0 && inv->ripple_amp == 0.0 && inv->v_sw == 0.0 && inv->r_sw == 0.0 &&
-        inv->v_diode == 0.0 && inv->r_diode == 0.0) {
-        fixed = 1;
+    int fixed = 1;
+    if (!p->voltage_mode)
         for (int k = 0; k < 3; k++)
             if (p->legs[k] != LEG_HIGH && p->legs[k] != LEG_LOW)
                 fixed = 0;
-    }
     if (fixed) {
         v_ab_fixed[0] = (2.0 / 3.0) * (a0.v_node[0] - 0.5 * (a0.v_node[1] + a0.v_node[2]));
         v_ab_fixed[1] = (a0.v_node[1] - a0.v_node[2]) * INV_SQRT3;
@@ -499,6 +496,7 @@ static void rk4_step(struct plant *p, long long nticks)
     sensor_step(p, h, a0.i_abc, i1);
 
     if (nstage > X_THM + 1) {
+        const struct inverter_params *inv = &p->p.inv;
         double hi = inv->V_dc + inv->ripple_amp + inv->v_diode;
         for (int leg = 0; leg < 3; leg++) {
             double *vn = &x[X_VNA + leg];

@@ -72,19 +72,27 @@ def bench_events(scn, seconds: float) -> float:
     return n * period / (time.perf_counter() - t0)
 
 
-def step_study(scn, seconds: float = 0.02) -> list[tuple[int, float, float]]:
-    """Largest phase-current difference vs a 0.05 us reference step, noise off; (ticks, dA, dA rel)."""
+STEPS = [(100, 25), (25, 25), (100, 5), (25, 5)]
+"""(max_substep_ticks, max_substep_commutation_ticks) pairs compared with the reference (2, 1)."""
+
+
+def step_study(scn, seconds: float = 0.02) -> list[tuple[tuple[int, int], float, float]]:
+    """Largest phase-current difference vs 20 ns / 10 ns reference steps, noise off."""
     n = int(round(seconds * scn.pwm.f_sw))
     ticks, masks, samples = stimulus(scn, n)
     quiet = merge(scn.plant, {"sens": {"noise_rms": 0.0}})
-    runs = {}
-    for step in (5, 25, 100, 200):
-        p = merge(quiet, {"max_substep_ticks": step, "max_substep_commutation_ticks": min(step, 5)})
-        runs[step] = Plant(p).run(ticks, samples, gates=masks, truth=True)["truth"]["i_abc"]
-    ref = runs[5]
+
+    def currents(step, commutation):
+        p = merge(quiet, {"max_substep_ticks": step, "max_substep_commutation_ticks": commutation})
+        return Plant(p).run(ticks, samples, gates=masks, truth=True)["truth"]["i_abc"]
+
+    ref = currents(2, 1)
     scale = np.max(np.abs(ref))
-    return [(step, float(np.max(np.abs(runs[step] - ref))), float(np.max(np.abs(runs[step] - ref)) / scale))
-            for step in (25, 100, 200)]
+    out = []
+    for steps in STEPS:
+        diff = float(np.max(np.abs(currents(*steps) - ref)))
+        out.append((steps, diff, diff / scale))
+    return out
 
 
 def main() -> int:
@@ -102,9 +110,10 @@ def main() -> int:
     print(f"scenario: {scn.name}; f_sw {scn.pwm.f_sw:g} Hz, dead time {scn.pwm.dead_time * 1e6:g} us, "
           f"{int(scn.pwm.tick_hz / scn.pwm.f_sw / SAMPLE_TICKS)} samples/period, "
           f"max step {scn.plant['max_substep_ticks']} ticks")
-    print("step-size study (20 ms, max |i(step) - i(0.05 us)|):")
-    for step, diff, rel in step_study(scn):
-        print(f"  step {step / scn.pwm.tick_hz * 1e6:5.2f} us: {diff:.3e} A ({rel:.1e} of peak)")
+    print("step-size study (20 ms, max |i - i_ref|, reference steps 20 ns / 10 ns while commutating):")
+    for (step, comm), diff, rel in step_study(scn):
+        print(f"  step {step / scn.pwm.tick_hz * 1e6:5.2f} us, commutating {comm / scn.pwm.tick_hz * 1e6:5.2f} us: "
+              f"{diff:.3e} A ({rel:.1e} of peak)")
     print(f"per-event API ({args.event_seconds:g} s simulated) ...", flush=True)
     ev = bench_events(scn, args.event_seconds)
     print(f"  per-event API: {ev:8.3f} x real time")

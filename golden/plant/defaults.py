@@ -15,7 +15,7 @@ TICK_HZ = 100e6
 _DEFAULTS: dict = {
     "tick_hz": TICK_HZ,
     "max_substep_ticks": 100,  # RK4 step <= 1 us (accuracy study: docs/plant.md, scripts/bench_plant.py)
-    "max_substep_commutation_ticks": 5,  # <= 50 ns while a node capacitance is charged in dead time
+    "max_substep_commutation_ticks": 25,  # <= 0.25 us while a node capacitance is charged in dead time
     "seed": 1,
     "R_s": 3.0,
     "mag": {

@@ -22,6 +22,7 @@
 #define SQRT3_2 0.866025403784438646764
 #define INV_SQRT3 0.577350269189625764509
 #define GAUSS_BLOCK 64
+#define COMMUTATION_OVERSHOOT 0.01 /* ticks past the predicted rail crossing */
 
 /* state vector indices */
 enum { X_PSID, X_PSIQ, X_OMM, X_THM, X_VNA, X_VNB, X_VNC, X_EIN, X_ECU, X_EMECH, NX };
@@ -44,6 +45,7 @@ struct plant {
     double *owned;            /* copies of profile and table arrays */
     struct mag_model mag;
     long long tick;
+    double sub;               /* ticks of the step sequence inside plant_advance (0 outside) */
     double x[NX];
     int gates;
     int legs[3];
@@ -248,10 +250,19 @@ static double profile_eval(const struct profile *pr, int *cursor, double t)
     return v;
 }
 
+static double tick_time(const struct plant *p, long long tick) { return (double)tick / p->p.tick_hz; }
+
+/* dc-link voltage without the load-dependent sag: the diode clamps of an idle phase node */
+static double bus_voltage(const struct plant *p, double t)
+{
+    const struct inverter_params *inv = &p->p.inv;
+    return inv->ripple_amp != 0.0 ? inv->V_dc + inv->ripple_amp * sin(TWO_PI * inv->ripple_freq * t) : inv->V_dc;
+}
+
 /* ------------------------------------------------------------------------------------------------ */
 /* dynamics                                                                                         */
 
-static double leg_voltage(const struct plant *p, int leg, double i, double v_dc, double v_node_state,
+static double leg_voltage(const struct plant *p, int leg, double i, double v_dc, double v_bus, double v_node_state,
                           double *dv_node)
 {
     const struct inverter_params *inv = &p->p.inv;
@@ -267,8 +278,8 @@ static double leg_voltage(const struct plant *p, int leg, double i, double v_dc,
             /* the phase current charges the node capacitance until a diode clamps it */
             if (i > 0.0 && v_node_state <= -inv->v_diode)
                 return -inv->v_diode - inv->r_diode * ai;
-            if (i < 0.0 && v_node_state >= v_dc + inv->v_diode)
-                return v_dc + inv->v_diode + inv->r_diode * ai;
+            if (i < 0.0 && v_node_state >= v_bus + inv->v_diode)
+                return v_bus + inv->v_diode + inv->r_diode * ai;
             *dv_node = -i / inv->C_node;
             return v_node_state;
         }
@@ -308,8 +319,8 @@ static void deriv(struct plant *p, double t, const double *x, double c, double s
         for (int k = 0; k < 3; k++)
             v[k] = p->v_ideal[k];
     } else {
-        if (pp->inv.ripple_amp != 0.0)
-            v_dc += pp->inv.ripple_amp * sin(TWO_PI * pp->inv.ripple_freq * t);
+        v_dc = bus_voltage(p, t);
+        double v_bus = v_dc;
         if (pp->inv.R_dc != 0.0) {
             /* dc current: phases whose node sits on the positive rail (switch or diode) */
             double i_dc = 0.0;
@@ -319,7 +330,7 @@ static void deriv(struct plant *p, double t, const double *x, double c, double s
             v_dc -= pp->inv.R_dc * i_dc;
         }
         for (int k = 0; k < 3; k++)
-            v[k] = leg_voltage(p, k, i_abc[k], v_dc, x[X_VNA + k], &dvn[k]);
+            v[k] = leg_voltage(p, k, i_abc[k], v_dc, v_bus, x[X_VNA + k], &dvn[k]);
     }
     if (!v_ab) {
         v_al = (2.0 / 3.0) * (v[0] - 0.5 * (v[1] + v[2]));
@@ -383,7 +394,6 @@ static void rotate(double c0, double s0, double th0, double delta, double *c, do
     }
 }
 
-static double tick_time(const struct plant *p, long long tick) { return (double)tick / p->p.tick_hz; }
 
 static void state_trig(const struct plant *p, double *c, double *s, double *th)
 {
@@ -447,9 +457,9 @@ static void sensor_step(struct plant *p, double h, const double i0[3], const dou
  * changes by far less than 1e-3 rad/s within a microsecond step), so the stage angles come from one
  * small rotation. The intermediate stages update the machine and mechanical states, and the node
  * voltages only while a node capacitance commutates; the energies are quadratures of the stages. */
-static void rk4_step(struct plant *p, long long nticks)
+static void rk4_step(struct plant *p, double nticks)
 {
-    double h = (double)nticks / p->p.tick_hz, t = tick_time(p, p->tick);
+    double h = nticks / p->p.tick_hz, t = ((double)p->tick + p->sub) / p->p.tick_hz;
     double k1[NX], k2[NX], k3[NX], k4[NX], xs[NX], i1[3];
     double *x = p->x;
     int pz = p->p.mech.pole_pairs;
@@ -479,25 +489,40 @@ static void rk4_step(struct plant *p, long long nticks)
         v_ab_fixed[1] = (a0.v_node[1] - a0.v_node[2]) * INV_SQRT3;
         v_ab = v_ab_fixed;
     }
-    for (int k = 0; k < nstage; k++)
-        xs[k] = x[k] + 0.5 * h * k1[k];
-    deriv(p, t + 0.5 * h, xs, ch, sh, v_ab, k2, NULL);
-    for (int k = 0; k < nstage; k++)
-        xs[k] = x[k] + 0.5 * h * k2[k];
-    deriv(p, t + 0.5 * h, xs, ch, sh, v_ab, k3, NULL);
-    for (int k = 0; k < nstage; k++)
-        xs[k] = x[k] + h * k3[k];
-    deriv(p, t + h, xs, c1, s1, v_ab, k4, NULL);
-    for (int k = 0; k < NX; k++)
-        x[k] += h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
-    p->tick += nticks;
+    double x0[NX];
+    memcpy(x0, x, sizeof x0);
+    for (;;) {
+        for (int k = 0; k < nstage; k++)
+            xs[k] = x0[k] + 0.5 * h * k1[k];
+        deriv(p, t + 0.5 * h, xs, ch, sh, v_ab, k2, NULL);
+        for (int k = 0; k < nstage; k++)
+            xs[k] = x0[k] + 0.5 * h * k2[k];
+        deriv(p, t + 0.5 * h, xs, ch, sh, v_ab, k3, NULL);
+        for (int k = 0; k < nstage; k++)
+            xs[k] = x0[k] + h * k3[k];
+        deriv(p, t + h, xs, c1, s1, v_ab, k4, NULL);
+        for (int k = 0; k < NX; k++)
+            x[k] = x0[k] + h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
+        phase_currents(p, x, c1, s1, i1);
+        /* a conducting leg whose current changed sign switched between switch and diode drop inside
+         * the step: redo the step with the leg voltages evaluated at every stage */
+        if (!v_ab || p->voltage_mode || (p->p.inv.v_sw == 0.0 && p->p.inv.v_diode == 0.0))
+            break;
+        int flip = 0;
+        for (int k = 0; k < 3; k++)
+            flip |= (a0.i_abc[k] > 0.0) != (i1[k] > 0.0);
+        if (!flip)
+            break;
+        v_ab = NULL;
+    }
+    p->sub += nticks;
 
     phase_currents(p, x, c1, s1, i1);
     sensor_step(p, h, a0.i_abc, i1);
 
     if (nstage > X_THM + 1) {
         const struct inverter_params *inv = &p->p.inv;
-        double hi = inv->V_dc + inv->ripple_amp + inv->v_diode;
+        double hi = bus_voltage(p, t + h) + inv->v_diode;
         for (int leg = 0; leg < 3; leg++) {
             double *vn = &x[X_VNA + leg];
             *vn = *vn < -inv->v_diode ? -inv->v_diode : (*vn > hi ? hi : *vn);
@@ -506,36 +531,37 @@ static void rk4_step(struct plant *p, long long nticks)
     if (x[X_THM] >= TWO_PI || x[X_THM] < 0.0)
         x[X_THM] -= TWO_PI * floor(x[X_THM] / TWO_PI);
     if (p->p.mech.imposed_speed)
-        x[X_OMM] = profile_eval(&p->p.speed, &p->cursor_speed, tick_time(p, p->tick));
+        x[X_OMM] = profile_eval(&p->p.speed, &p->cursor_speed, t + h);
 }
 
-/* While the phase current charges the node capacitance of an idle leg, the step ends where the node
- * is predicted to reach the rail (diode clamp), at most max_substep_commutation_ticks; 0 when no node
- * is commutating. */
-static long long commutation_step(const struct plant *p)
+/* While the phase current charges the node capacitance of an idle leg, the step ends just past the
+ * instant the node is predicted to reach its rail (diode clamp), at most max_substep_commutation_ticks,
+ * so that the kink of the node voltage falls on a step boundary; 0 when no node is commutating. */
+static double commutation_step(const struct plant *p)
 {
     const struct inverter_params *inv = &p->p.inv;
     if (inv->C_node <= 0.0 || p->voltage_mode)
-        return 0;
+        return 0.0;
     int any_off = 0;
     for (int k = 0; k < 3; k++)
         any_off |= p->legs[k] == LEG_OFF;
     if (!any_off)
-        return 0;
+        return 0.0;
     double c, s, th, i_abc[3];
     state_trig(p, &c, &s, &th);
     phase_currents(p, p->x, c, s, i_abc);
-    long long step = 0, cap = p->p.max_substep_commutation_ticks;
+    double step = 0.0, cap = p->p.max_substep_commutation_ticks;
     for (int k = 0; k < 3; k++) {
         if (p->legs[k] != LEG_OFF)
             continue;
-        double v = p->x[X_VNA + k], i = i_abc[k], lo = -inv->v_diode, hi = inv->V_dc + inv->v_diode;
-        if ((i > 0.0 && v <= lo) || (i < 0.0 && v >= hi) || i == 0.0)
-            continue; /* clamped by a diode, or no current to move the node */
+        double v = p->x[X_VNA + k], i = i_abc[k], lo = -inv->v_diode;
+        double hi = bus_voltage(p, ((double)p->tick + p->sub) / p->p.tick_hz) + inv->v_diode;
         double t_rail = i > 0.0 ? (v - lo) * inv->C_node / i : (hi - v) * inv->C_node / -i;
-        double ticks = ceil(t_rail * p->p.tick_hz);
-        long long n = ticks < 1.0 ? 1 : (ticks > (double)cap ? cap : (long long)ticks);
-        if (step == 0 || n < step)
+        if (i == 0.0 || t_rail <= 0.0)
+            continue; /* clamped by a diode, or no current to move the node */
+        double n = t_rail * p->p.tick_hz + COMMUTATION_OVERSHOOT;
+        n = n > cap ? cap : n;
+        if (step == 0.0 || n < step)
             step = n;
     }
     return step;
@@ -545,19 +571,26 @@ int plant_advance(struct plant *p, long long tick)
 {
     if (tick < p->tick)
         return -1;
-    long long total = tick - p->tick;
-    while (p->tick < tick) {
-        long long rem = tick - p->tick, step = commutation_step(p);
-        if (step == 0) { /* equal steps of at most max_substep_ticks over the rest of the interval */
-            long long n = (rem + p->p.max_substep_ticks - 1) / p->p.max_substep_ticks;
-            step = (rem + n - 1) / n;
+    double total = (double)(tick - p->tick);
+    p->sub = 0.0;
+    while (p->sub < total) {
+        double rem = total - p->sub, step = commutation_step(p);
+        if (step == 0.0) { /* equal steps of at most max_substep_ticks over the rest of the interval */
+            double n = ceil(rem / p->p.max_substep_ticks);
+            step = rem / n;
         }
-        rk4_step(p, step < rem ? step : rem);
+        if (step >= rem)
+            step = rem;
+        rk4_step(p, step);
+        if (step == rem) /* exactly at the target, whatever the rounding of the sum */
+            p->sub = total;
     }
+    p->tick = tick;
+    p->sub = 0.0;
     if (!p->voltage_mode)
         for (int k = 0; k < 3; k++)
             if (p->legs[k] == LEG_SHORT)
-                p->shoot_through_ticks += total;
+                p->shoot_through_ticks += (long long)total;
     return 0;
 }
 

@@ -1,0 +1,29 @@
+# hfi-sensorless top-level entry points. Everything installs itself: `make test` works on a fresh clone.
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+ENV := source scripts/env.sh &&
+PYTEST_ARGS ?=
+
+.PHONY: setup run test bench clean distclean
+
+setup:
+	bash scripts/setup.sh
+
+run: setup
+	$(ENV) .venv/bin/python scripts/run.py
+
+# pytest exit code 5 ("no tests collected") counts as a failure.
+test: setup
+	rc=0; $(ENV) .venv/bin/python -m pytest -q -p no:cacheprovider $(PYTEST_ARGS) || rc=$$?; \
+	if [[ $$rc -eq 5 ]]; then echo "make test: pytest collected no tests" >&2; exit 1; fi; exit $$rc
+
+bench: setup
+	$(ENV) .venv/bin/python scripts/bench_plant.py
+
+clean:
+	rm -rf out sim_build results.xml .pytest_cache
+	find . -path ./.venv -prune -o \( -name __pycache__ -o -name sim_build \) -type d -print0 | xargs -0 rm -rf
+	if [[ -f golden/plant/src/Makefile ]]; then $(MAKE) -C golden/plant/src clean; fi
+
+distclean: clean
+	rm -rf .venv *.egg-info

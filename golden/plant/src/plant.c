@@ -46,6 +46,7 @@ struct plant {
     struct mag_model mag;
     long long tick;
     double sub;               /* ticks of the step sequence inside plant_advance (0 outside) */
+    double v_bus_step;        /* dc-link voltage (with ripple, without sag) during the present step */
     double x[NX];
     int gates;
     int legs[3];
@@ -252,7 +253,8 @@ static double profile_eval(const struct profile *pr, int *cursor, double t)
 
 static double tick_time(const struct plant *p, long long tick) { return (double)tick / p->p.tick_hz; }
 
-/* dc-link voltage without the load-dependent sag: the diode clamps of an idle phase node */
+/* dc-link voltage without the load-dependent sag: the diode clamps of an idle phase node. The ripple
+ * (hundreds of Hz) is evaluated once per integration step. */
 static double bus_voltage(const struct plant *p, double t)
 {
     const struct inverter_params *inv = &p->p.inv;
@@ -319,7 +321,8 @@ static void deriv(struct plant *p, double t, const double *x, double c, double s
         for (int k = 0; k < 3; k++)
             v[k] = p->v_ideal[k];
     } else {
-        v_dc = bus_voltage(p, t);
+        (void)t;
+        v_dc = p->v_bus_step;
         double v_bus = v_dc;
         if (pp->inv.R_dc != 0.0) {
             /* dc current: phases whose node sits on the positive rail (switch or diode) */
@@ -410,6 +413,7 @@ static void settle(struct plant *p)
     struct aux a;
     double dx[NX];
     state_trig(p, &c, &s, &th);
+    p->v_bus_step = bus_voltage(p, tick_time(p, p->tick));
     deriv(p, tick_time(p, p->tick), p->x, c, s, NULL, dx, &a);
     if (p->p.mech.imposed_speed)
         p->x[X_OMM] = a.omega_m;
@@ -469,6 +473,7 @@ static void rk4_step(struct plant *p, double nticks)
             if (p->legs[k] == LEG_OFF)
                 nstage = X_VNC + 1;
     double th0 = pz * x[X_THM], c0 = cos(th0), s0 = sin(th0), ch, sh, c1, s1;
+    p->v_bus_step = bus_voltage(p, t);
     rotate(c0, s0, th0, 0.5 * h * pz * x[X_OMM], &ch, &sh);
     rotate(ch, sh, th0 + 0.5 * h * pz * x[X_OMM], 0.5 * h * pz * x[X_OMM], &c1, &s1);
     struct aux a0;
@@ -522,7 +527,7 @@ static void rk4_step(struct plant *p, double nticks)
 
     if (nstage > X_THM + 1) {
         const struct inverter_params *inv = &p->p.inv;
-        double hi = bus_voltage(p, t + h) + inv->v_diode;
+        double hi = bus_voltage(p, t + h) + inv->v_diode; /* the next step's bus */
         for (int leg = 0; leg < 3; leg++) {
             double *vn = &x[X_VNA + leg];
             *vn = *vn < -inv->v_diode ? -inv->v_diode : (*vn > hi ? hi : *vn);
@@ -557,8 +562,8 @@ static double commutation_step(const struct plant *p)
         double v = p->x[X_VNA + k], i = i_abc[k], lo = -inv->v_diode;
         double hi = bus_voltage(p, ((double)p->tick + p->sub) / p->p.tick_hz) + inv->v_diode;
         double t_rail = i > 0.0 ? (v - lo) * inv->C_node / i : (hi - v) * inv->C_node / -i;
-        if (i == 0.0 || t_rail <= 0.0)
-            continue; /* clamped by a diode, or no current to move the node */
+        if (i == 0.0 || t_rail * p->p.tick_hz <= COMMUTATION_OVERSHOOT)
+            continue; /* clamped by a diode (or about to be), or no current to move the node */
         double n = t_rail * p->p.tick_hz + COMMUTATION_OVERSHOOT;
         n = n > cap ? cap : n;
         if (step == 0.0 || n < step)
@@ -683,10 +688,11 @@ int plant_sample(struct plant *p, int adc[3], double analog[3])
 
 void plant_get_state(const struct plant *p, struct plant_state *o)
 {
-    struct plant *q = (struct plant *)p; /* deriv() moves the profile cursors only */
+    struct plant *q = (struct plant *)p; /* deriv() moves the profile cursors and bus cache only */
     double c, s, th, dx[NX];
     struct aux a;
     state_trig(p, &c, &s, &th);
+    q->v_bus_step = bus_voltage(p, tick_time(p, p->tick));
     deriv(q, tick_time(p, p->tick), p->x, c, s, NULL, dx, &a);
     memset(o, 0, sizeof *o);
     o->tick = p->tick;

@@ -43,11 +43,8 @@ def problems(extra: dict) -> list[str]:
 
 
 def example_presets() -> dict:
-    """golden.motors.PRESETS when available, else a stub with the names the examples use."""
-    try:
-        from golden.motors import PRESETS
-    except ModuleNotFoundError:
-        return {"benevieri2023_table1": {}}
+    """The installed presets, which the example scenarios name."""
+    from golden.motors import PRESETS
     return PRESETS
 
 

@@ -184,26 +184,17 @@ def test_unknown_preset_lists_names():
 
 
 # ---- paper literals -------------------------------------------------------------------------------------
-def test_table1_literals():
-    p = motors.preset("benevieri2023_table1")
-    assert p["mag"]["psi_f"] == 0.147
-    assert p["mag"]["L_d"] == 5.59e-3
-    assert p["mag"]["L_q"] == 6.26e-3
-    assert p["mech"]["pole_pairs"] == 4
+@pytest.mark.parametrize("name, psi_f, L_d, L_q, rated", [
+    # Benevieri et al. 2023, Table I (2.2 A read as peak)
+    ("benevieri2023_table1", 0.147, 5.59e-3, 6.26e-3, (2.0, 5000.0, 1040.0, 376.0, 2.2)),
+    # Table III (3.6 A read as rms)
+    ("benevieri2023_table3", 0.34, 4.9e-3, 5.3e-3, (10.0, 1995.0, 2090.0, 376.0, 3.6 * math.sqrt(2.0))),
+])
+def test_benevieri_table_literals(name, psi_f, L_d, L_q, rated):
+    p = motors.preset(name)
+    assert (p["mag"]["psi_f"], p["mag"]["L_d"], p["mag"]["L_q"], p["mech"]["pole_pairs"]) == (psi_f, L_d, L_q, 4)
     r = p["rated"]
-    assert (r["torque"], r["speed_rpm"], r["power"], r["voltage"], r["current_peak"]) == (2.0, 5000.0, 1040.0,
-                                                                                          376.0, 2.2)
-
-
-def test_table3_literals():
-    p = motors.preset("benevieri2023_table3")
-    assert p["mag"]["psi_f"] == 0.34
-    assert p["mag"]["L_d"] == 4.9e-3
-    assert p["mag"]["L_q"] == 5.3e-3
-    assert p["mech"]["pole_pairs"] == 4
-    r = p["rated"]
-    assert (r["torque"], r["speed_rpm"], r["power"], r["voltage"]) == (10.0, 1995.0, 2090.0, 376.0)
-    assert r["current_peak"] == 3.6 * math.sqrt(2.0)  # Table III's 3.6 A read as rms
+    assert (r["torque"], r["speed_rpm"], r["power"], r["voltage"], r["current_peak"]) == rated
 
 
 def test_xue_and_syrm_literals():

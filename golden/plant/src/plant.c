@@ -321,7 +321,6 @@ static void deriv(struct plant *p, double t, const double *x, double c, double s
         for (int k = 0; k < 3; k++)
             v[k] = p->v_ideal[k];
     } else {
-        (void)t;
         v_dc = p->v_bus_step;
         double v_bus = v_dc;
         if (pp->inv.R_dc != 0.0) {

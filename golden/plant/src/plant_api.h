@@ -142,7 +142,6 @@ int plant_run(struct plant *p,
               int n_samples, const long long *sample_ticks,
               int *adc_out, double *analog_out, struct plant_state *truth_out);
 
-/* Magnetic model helpers (for tests and tools): currents and Jacobian d(i)/d(psi) =
- * [di_d/dpsi_d, di_d/dpsi_q, di_q/dpsi_d, di_q/dpsi_q]; stored magnetic energy per unit of the
- * amplitude-invariant frame (multiply by 1.5 for joules), relative to i = 0. */
+/* Magnetic model (for tests and tools): out = [i_d, i_q, di_d/dpsi_d, di_d/dpsi_q, di_q/dpsi_d,
+ * di_q/dpsi_q] at the given flux linkages. */
 void plant_mag_eval(const struct mag_params *m, double psi_d, double psi_q, double out[6]);

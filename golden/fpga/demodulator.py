@@ -1,0 +1,128 @@
+"""Demodulator and window sums: the integrator of the HF q-current error and the per-window sums.
+
+docs/spec.md, section 3.4 (Benevieri et al. 2023, Sec. II-B, eq. (19)). Per sample of an integration
+window (spec 2.1: the instants in ``[k*P + H/2, (k+1)*P + H/2)``), with ``w`` the weight
+``sin(-cw*pi/2)`` of the sample (:func:`golden.fpga.cordic.demod_weight`):
+
+* ``acc_q += i_q*w``, ``acc_d += i_d*w`` (s48), ``sum_d += i_d``, ``sum_q += i_q``, ``wsum += w``,
+  ``n += 1`` (``n`` saturates at 65535; the accumulation goes on);
+
+and at the window boundary the results are latched:
+
+* ``GAMMA = sat(shr(acc_q, 15), 32)``, ``GAMMA_D = sat(shr(acc_d, 15), 32)``,
+  ``SUM_ID = sat(sum_d, 32)``, ``SUM_IQ = sat(sum_q, 32)``, ``WSUM = sat(wsum, 32)``, ``N_SAMPLES = n``.
+
+``eps = i_q^ * sin(-cw*pi/2)`` and ``gamma = sum of eps`` over one period are eq. (19); ``GAMMA`` is that
+sum in current LSB x samples (the product is Q1.15, hence the floor shift by 15).
+
+The model sums exactly (int64: the products are at most 2^30 in magnitude). The spec states that the
+s48 accumulators cannot overflow; a window whose exact ``acc_q`` or ``acc_d`` leaves s48 is therefore
+outside the specification and raises ValueError instead of wrapping silently. (With two's-complement
+accumulators only the final value matters: intermediate excursions wrap back.) ``sum_d``, ``sum_q`` and
+``wsum`` are saturated from their exact values, as the spec writes them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from golden.fixed import sat, shr
+
+ACC_BITS = 48
+"""Width of the product accumulators ``acc_q``, ``acc_d``."""
+N_MAX = 0xFFFF
+"""Saturation value of the sample counter ``N_SAMPLES`` (u16)."""
+
+_S16_MIN, _S16_MAX = -(1 << 15), (1 << 15) - 1
+
+
+@dataclass(frozen=True)
+class WindowResult:
+    """Latched results of one integration window (the status registers, spec 3.4).
+
+    Attributes
+    ----------
+    gamma : int
+        ``GAMMA``, s32: ``sat(shr(sum i_q*w, 15), 32)``, eq. (19) (current LSB x samples).
+    gamma_d : int
+        ``GAMMA_D``, s32: ``sat(shr(sum i_d*w, 15), 32)``.
+    sum_id : int
+        ``SUM_ID``, s32: ``sat(sum i_d, 32)`` (current LSB).
+    sum_iq : int
+        ``SUM_IQ``, s32: ``sat(sum i_q, 32)``.
+    wsum : int
+        ``WSUM``, s32: ``sat(sum w, 32)`` (Q1.15).
+    n_samples : int
+        ``N_SAMPLES``, u16: samples in the window, saturated at 65535.
+    """
+
+    gamma: int
+    gamma_d: int
+    sum_id: int
+    sum_iq: int
+    wsum: int
+    n_samples: int
+
+
+def _window_array(x, name: str) -> np.ndarray:
+    """One window's s16 samples as a 1-D int64 array (an empty sequence of any dtype is allowed)."""
+    a = np.asarray(x)
+    if a.ndim != 1:
+        raise ValueError(f"{name} must be 1-D (one window's samples), got shape {a.shape}")
+    if a.size == 0:
+        return np.zeros(0, dtype=np.int64)
+    if a.dtype.kind not in "iu":
+        raise TypeError(f"{name} must hold integers, got dtype {a.dtype}")
+    if int(a.min()) < _S16_MIN or int(a.max()) > _S16_MAX:
+        idx = np.flatnonzero((a < _S16_MIN) | (a > _S16_MAX))[0]
+        raise ValueError(f"{name}[{idx}] = {int(a[idx])} is not an s16 value")
+    return a.astype(np.int64)
+
+
+def demodulate(i_d, i_q, w) -> WindowResult:
+    """Integrate one window: the demodulated q-current error and the window sums (spec 3.4).
+
+    Parameters
+    ----------
+    i_d, i_q : array_like of int
+        Park currents of the window's samples, s16 (spec 3.2), in sampling order.
+    w : array_like of int
+        Demodulation weights of the same samples, s16 Q1.15 (spec 3.3), Benevieri et al. 2023,
+        eq. (19). The three arrays have the same length, which may be 0 (all results 0).
+
+    Returns
+    -------
+    WindowResult
+        The latched ``GAMMA, GAMMA_D, SUM_ID, SUM_IQ, WSUM, N_SAMPLES`` (Python ints).
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not 1-D of one length, a value is outside s16, or the window is so long that
+        an exact product sum leaves the s48 accumulator (more than 2^17 extreme samples; the spec
+        states that it cannot happen).
+    TypeError
+        If an array does not hold integers.
+    """
+    d = _window_array(i_d, "i_d")
+    q = _window_array(i_q, "i_q")
+    ww = _window_array(w, "w")
+    if not len(d) == len(q) == len(ww):
+        raise ValueError(f"i_d, i_q and w must have one length, got {len(d)}, {len(q)}, {len(ww)}")
+    # Exact in int64: |i*w| <= 2^30, so any array that fits in memory sums without overflow.
+    acc_q = int(np.sum(q * ww))
+    acc_d = int(np.sum(d * ww))
+    for name, acc in (("acc_q", acc_q), ("acc_d", acc_d)):
+        if not -(1 << (ACC_BITS - 1)) <= acc <= (1 << (ACC_BITS - 1)) - 1:
+            raise ValueError(f"{name} = {acc} leaves the s{ACC_BITS} accumulator ({len(d)} samples): "
+                             "outside spec 3.4, which states that it cannot overflow")
+    return WindowResult(
+        gamma=sat(shr(acc_q, 15), 32),
+        gamma_d=sat(shr(acc_d, 15), 32),
+        sum_id=sat(int(np.sum(d)), 32),
+        sum_iq=sat(int(np.sum(q)), 32),
+        wsum=sat(int(np.sum(ww)), 32),
+        n_samples=min(len(d), N_MAX),
+    )

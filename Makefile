@@ -20,6 +20,11 @@ test: setup
 bench: setup
 	$(ENV) .venv/bin/python scripts/bench_plant.py
 
+# Register map: rtl/regs/hfi_regs.rdl -> C header, golden/regmap.py, docs, SV register block.
+.PHONY: regs
+regs: setup
+	$(ENV) .venv/bin/python scripts/gen_regs.py
+
 clean:
 	rm -rf out sim_build results.xml .pytest_cache
 	find . -path ./.venv -prune -o \( -name __pycache__ -o -name sim_build \) -type d -print0 | xargs -0 rm -rf

@@ -22,7 +22,7 @@ import math
 import re
 import sys
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Callable
 
@@ -36,6 +36,12 @@ MAG_MODELS: dict[str, int] = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3
 
 LOAD_MODES: dict[str, int] = {"torque": 0, "speed": 1}
 """``load.mode`` name -> ``mech.imposed_speed``."""
+
+CONTROL_MODES: dict[str, int] = {"closed": 0, "fixed_angle": 1}
+"""``control.mode``: sensorless speed control, or the open-loop test with a fixed estimated angle."""
+
+ADC_MODES: dict[str, int] = {"OS": 0, "DS": 1, "OS_BLANK": 2}
+"""``control.adc_mode`` name -> ``CTRL.ADC_MODE`` (docs/spec.md, 2.3)."""
 
 SEED_LIMIT = 2**64
 """Seeds are ``unsigned long long``: 0 <= seed < 2**64."""
@@ -130,7 +136,8 @@ _TABLE = Field("table")
 
 SCHEMA: dict[str, dict[str, Field]] = {
     "": {name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
-                                   "injection", "load", "reference", "simulation", "output")},
+                                   "injection", "load", "reference", "control", "simulation",
+                                   "output")},
     "scenario": {
         "name": Field("text", check=_file_name, required=True),
         "description": Field("text", default=""),
@@ -215,6 +222,27 @@ SCHEMA: dict[str, dict[str, Field]] = {
     "reference": {
         "speed": Field("profile", "speed", default=[]),
     },
+    "control": {
+        "mode": Field("choice", choices=CONTROL_MODES, default="closed"),
+        "adc_mode": Field("choice", choices=ADC_MODES, default="OS"),
+        "switch_to_ds_at": _q("time", _non_negative),
+        "sample_interval": _q("time", _positive, default=1e-6),
+        "blank": _q("time", _non_negative, default=10e-6),
+        "K_bb": _q("speed", _positive, default=200.0),
+        "pll_kp": Field("number", check=_positive, default=200.0),
+        "pll_ki": Field("number", check=_positive, default=10000.0),
+        "speed_filter": _q("frequency", _positive, default=30.0),
+        "speed_bw": _q("frequency", _positive, default=8.0),
+        "current_bw": _q("frequency", _positive, default=150.0),
+        "i_max": _q("current", _positive, default=3.0),
+        "v_max": _q("voltage", _positive, default=150.0),
+        "i_trip": _q("current", _positive, default=6.0),
+        "theta_hat": _q("angle", default=0.0),
+        "converge": _q("time", _positive, default=0.06),
+        "pulse": _q("time", _positive, default=0.03),
+        "settle": _q("time", _positive, default=0.01),
+        "i_pulse": _q("current", _positive, default=2.2),
+    },
     "simulation": {
         "max_substep": _q("time", _positive),
         "max_substep_commutation": _q("time", _positive),
@@ -276,6 +304,32 @@ class InjectionSettings:
 
 
 @dataclass(frozen=True)
+class ControlSettings:
+    """The controller: ``control.*`` of docs/scenario.md, SI units (angles in rad, speeds in rad/s;
+    ``K_bb`` is electrical). ``switch_to_ds_at`` is None when the ADC mode never changes."""
+
+    mode: str
+    adc_mode: str
+    switch_to_ds_at: float | None
+    sample_interval: float
+    blank: float
+    K_bb: float
+    pll_kp: float
+    pll_ki: float
+    speed_filter: float
+    speed_bw: float
+    current_bw: float
+    i_max: float
+    v_max: float
+    i_trip: float
+    theta_hat: float
+    converge: float
+    pulse: float
+    settle: float
+    i_pulse: float
+
+
+@dataclass(frozen=True)
 class OutputSettings:
     """Where the run writes its results (a directory, relative to the working directory)."""
 
@@ -315,6 +369,7 @@ class Scenario:
     injection: InjectionSettings
     reference_speed: list[tuple[float, float]]
     output: OutputSettings
+    control: ControlSettings | None = None
     preset: str | None = None
     source: str = "<dict>"
 
@@ -685,6 +740,7 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
                                       for key in ("V_h", "theta_hat", "v_d", "v_q"))),
         reference_speed=list(get("reference.speed")),
         output=OutputSettings(reader.values.get("output.dir", f"out/{name}")),
+        control=ControlSettings(*(get(f"control.{f.name}") for f in fields(ControlSettings))),
         preset=reader.values.get("motor.preset"),
         source=source,
     )

@@ -1,0 +1,221 @@
+"""The golden closed loop: plant + bit-true FPGA blocks + bit-true firmware, event-exact.
+
+One iteration per integration window ``k`` = ticks ``[k·P + H/2, (k+1)·P + H/2)`` (docs/spec.md, 2):
+
+1. at the window boundary the pending commit (firmware output of window ``k−2``) becomes active;
+2. the compare values of the top of period ``k`` and the bottom of period ``k+1`` are latched from the
+   active registers (modulator) and fed to the dead-time gate generator; the enable written by the
+   firmware after window ``k−1`` takes effect at that bottom;
+3. the plant runs through the window with the gate edges and the ADC sampling instants (one C call);
+4. ADC scale -> Clarke/Park with the active sin/cos -> CORDIC weights -> demodulator: the window result;
+5. the firmware task runs on it; its register writes are committed at the boundary after next.
+
+Everything between the ADC codes and the gate edges is integer arithmetic of ``golden.fpga`` and
+``golden.firmware``; the plant is the C library. The RTL co-simulation makes the same plant calls in
+the same order, so the traces are identical.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from golden.control_config import HardwareConfig, Scales, firmware_params, hardware_config, scales
+from golden.firmware.supervisor import MODE_NAMES, Firmware, Outputs
+from golden.fpga.adc_scale import adc_to_current
+from golden.fpga.adc_trigger import MODE_DS, MODE_OS_BLANK, blank_mask, sample_phases
+from golden.fpga.carrier import counter
+from golden.fpga.cordic import demod_weight
+from golden.fpga.demodulator import demodulate
+from golden.fpga.gate_generator import GateGenerator
+from golden.fpga.modulator import compares
+from golden.fpga.park import clarke, park
+from golden.plant import Plant
+from golden.scenario import Scenario
+
+RESET_OUTPUTS = Outputs(v_d=0, v_q=0, v_h=0, sin=0, cos=32767, enable=0)
+"""Register reset values (docs/registers.md)."""
+
+WINDOW_FIELDS = (
+    "tick", "gamma", "gamma_d", "n_samples", "sum_id", "sum_iq", "wsum", "i_d", "i_q", "i_d_ref", "i_q_ref",
+    "v_d", "v_q", "sin", "cos", "theta_hat", "theta_pll", "omega_pll", "omega_f", "speed_ref", "mode",
+    "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
+    "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
+"""Per-window trace columns (integers of the spec, and the plant's truth at the window end)."""
+
+
+def profile_at(points: list[tuple[float, float]], t: np.ndarray) -> np.ndarray:
+    """Piecewise-linear profile, held outside its points; at equal times the later point wins."""
+    if not points:
+        return np.zeros_like(t)
+    ts = np.array([p[0] for p in points])
+    vs = np.array([p[1] for p in points])
+    idx = np.searchsorted(ts, t, side="right") - 1
+    out = np.empty_like(t)
+    before = idx < 0
+    out[before] = vs[0]
+    last = idx >= len(ts) - 1
+    out[last & ~before] = vs[-1]
+    mid = ~before & ~last
+    i = idx[mid]
+    span = ts[i + 1] - ts[i]
+    frac = np.where(span > 0, (t[mid] - ts[i]) / np.where(span > 0, span, 1.0), 1.0)
+    out[mid] = vs[i] + frac * (vs[i + 1] - vs[i])
+    return out
+
+
+@dataclass
+class ClosedLoopResult:
+    """Traces of a closed-loop run."""
+
+    windows: dict            # WINDOW_FIELDS -> array (one entry per window)
+    samples: dict            # "tick", "adc_a", "adc_b" (every ADC sample, as converted)
+    hw: HardwareConfig
+    scales: Scales
+    tick_hz: float
+    flipped: int
+    wall_s: float
+
+    @property
+    def t(self) -> np.ndarray:
+        """Window end times [s]."""
+        return self.windows["tick"] / self.tick_hz
+
+    def angle_error_deg(self) -> np.ndarray:
+        """Electrical angle error θ − θ̂ per window [deg], wrapped to ±180."""
+        err = (self.windows["theta_e"] - self.windows["theta_hat"] + 2**31) % 2**32 - 2**31
+        return err * (360.0 / 2**32)
+
+
+class ClosedLoop:
+    """Closed-loop simulation of one scenario (``control.mode`` closed or fixed_angle)."""
+
+    def __init__(self, sc: Scenario):
+        if sc.control is None:
+            raise ValueError(f"scenario {sc.name} has no [control] settings")
+        self.sc = sc
+        self.hw = hardware_config(sc)
+        self.scales = scales(sc)
+        self.fw = Firmware(firmware_params(sc))
+        self.plant = Plant(sc.plant)
+        self.half = self.hw.pwm_half
+        self.gen = GateGenerator(self.hw.dead_ticks)
+        self._pattern = {}
+
+    def _window_pattern(self, mode: int):
+        """Sample offsets from the window start and their CORDIC weights (identical every window)."""
+        if mode not in self._pattern:
+            H, P = self.half, 2 * self.half
+            phases = sample_phases(mode, H, self.hw.os_ticks)
+            rel = np.sort((phases - H // 2) % P).astype(np.int64)
+            c = counter((rel + H // 2) % P, H)
+            w = demod_weight(c, H, self.hw.cw_angle_step)
+            self._pattern[mode] = (rel, np.asarray(w, dtype=np.int64))
+        return self._pattern[mode]
+
+    def _compares(self, o: Outputs, sign: int):
+        return compares(o.v_d, o.v_q, o.v_h, o.sin, o.cos, self.half, sign)
+
+    def run(self, progress: bool = True) -> ClosedLoopResult:
+        sc, hw, H = self.sc, self.hw, self.half
+        P = 2 * H
+        tick_hz = sc.pwm.tick_hz
+        n_win = int((round(sc.duration * tick_hz) - H // 2) // P)
+        if n_win < 1:
+            raise ValueError(f"duration {sc.duration} s is shorter than one PWM period")
+        win_end = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
+        speed_ref = [self.scales.speed_mech(v) for v in profile_at(sc.reference_speed, win_end / tick_hz)]
+        ds_from = (math.inf if sc.control.switch_to_ds_at is None else sc.control.switch_to_ds_at) * tick_hz
+        rec = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
+        rec_f = {"omega_m": np.zeros(n_win), "torque": np.zeros(n_win), "load_torque": np.zeros(n_win),
+                 "i_d_true": np.zeros(n_win), "i_q_true": np.zeros(n_win)}
+        s_ticks, s_a, s_b = [], [], []
+        pole_pairs = self.scales.pole_pairs
+
+        active = RESET_OUTPUTS
+        outs: list[Outputs] = []
+        gen, plant, fw = self.gen, self.plant, self.fw
+        gen.add_half(0, H, True, self._compares(active, -1))
+        prev_switch = np.zeros(0, dtype=np.int64)
+        t0 = time.perf_counter()
+        bar = _Progress(n_win, sc.name) if progress else None
+        for k in range(n_win):
+            zc = k * P + H // 2
+            if k >= 2:
+                active = outs[k - 2]                      # commit at the window boundary
+            enable = outs[k - 1].enable if k >= 1 else 0
+            adc_mode = MODE_DS if zc >= ds_from else hw.adc_mode
+            cmp_top = self._compares(active, +1)
+            gen.add_half(k * P + H, H, False, cmp_top)
+            gen.set_enabled((k + 1) * P, bool(enable))
+            cmp_bot = self._compares(active, -1)
+            gen.add_half((k + 1) * P, H, True, cmp_bot)
+            e_ticks, e_masks = gen.take_edges(zc + P)
+            rel, w = self._window_pattern(adc_mode)
+            ticks = rel + zc
+            out = plant.run(e_ticks, ticks, gates=e_masks)
+            plant.advance(zc + P)
+            truth = plant.state()
+            adc = out["adc"]
+            i_a = adc_to_current(adc[:, 0].astype(np.int64), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0])
+            i_b = adc_to_current(adc[:, 1].astype(np.int64), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1])
+            i_al, i_be = clarke(i_a, i_b)
+            i_d, i_q = park(i_al, i_be, active.sin, active.cos)
+            if adc_mode == MODE_OS_BLANK:
+                sw = gen.take_switch_ticks(zc + P)
+                keep = ~blank_mask(ticks, np.concatenate([prev_switch, sw]), hw.blank_ticks)
+                prev_switch = sw[sw >= zc + P - hw.blank_ticks]
+                i_d, i_q, w_k = i_d[keep], i_q[keep], w[keep]
+            else:
+                gen.take_switch_ticks(zc + P)
+                w_k = w
+            win = demodulate(i_d, i_q, w_k)
+            o = fw.step(win, speed_ref[k])
+            outs.append(o)
+            s_ticks.append(ticks)
+            s_a.append(adc[:, 0])
+            s_b.append(adc[:, 1])
+            r = rec
+            r["tick"][k] = zc + P
+            r["gamma"][k], r["gamma_d"][k], r["n_samples"][k] = win.gamma, win.gamma_d, win.n_samples
+            r["sum_id"][k], r["sum_iq"][k], r["wsum"][k] = win.sum_id, win.sum_iq, win.wsum
+            r["i_d"][k], r["i_q"][k], r["i_d_ref"][k], r["i_q_ref"][k] = fw.i_d, fw.i_q, fw.i_d_ref, fw.i_q_ref
+            r["v_d"][k], r["v_q"][k], r["sin"][k], r["cos"][k] = o.v_d, o.v_q, o.sin, o.cos
+            r["theta_hat"][k], r["theta_pll"][k] = fw.theta_hat, fw.pll.theta
+            r["omega_pll"][k], r["omega_f"][k], r["speed_ref"][k] = fw.pll.omega, fw.omega_f, speed_ref[k]
+            r["mode"][k], r["adc_mode"][k] = fw.mode, adc_mode
+            r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
+            r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
+            r["theta_e"][k] = int(truth["theta_m"] * pole_pairs / (2 * math.pi) * 2**32) % 2**32
+            rec_f["omega_m"][k], rec_f["torque"][k] = truth["omega_m"], truth["torque"]
+            rec_f["load_torque"][k] = truth["load_torque"]
+            rec_f["i_d_true"][k], rec_f["i_q_true"][k] = truth["i_d"], truth["i_q"]
+            if bar is not None:
+                bar.update(k + 1, fw)
+        if bar is not None:
+            bar.close()
+        rec.update(rec_f)
+        samples = {"tick": np.concatenate(s_ticks), "adc_a": np.concatenate(s_a).astype(np.uint16),
+                   "adc_b": np.concatenate(s_b).astype(np.uint16)}
+        return ClosedLoopResult(rec, samples, hw, self.scales, tick_hz, fw.flipped, time.perf_counter() - t0)
+
+
+class _Progress:
+    """Progress line on stderr: windows done, simulated time, mode, speed (every ~0.5 s wall)."""
+
+    def __init__(self, total: int, name: str):
+        from tqdm import tqdm
+        self.bar = tqdm(total=total, desc=name, unit="win", mininterval=0.5, leave=True)
+        self.done = 0
+
+    def update(self, k: int, fw: Firmware) -> None:
+        if k - self.done >= 250:
+            self.bar.update(k - self.done)
+            self.bar.set_postfix_str(MODE_NAMES[fw.mode], refresh=False)
+            self.done = k
+
+    def close(self) -> None:
+        self.bar.close()

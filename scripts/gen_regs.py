@@ -1,0 +1,405 @@
+#!/usr/bin/env python3
+"""Generate the register map outputs from the SystemRDL source ``rtl/regs/hfi_regs.rdl``.
+
+Outputs (paths relative to the repository root), all written deterministically:
+
+- ``firmware/include/hfi_regs.h``: PeakRDL-cheader (register unions with bit-fields, per-field
+  ``_bm``/``_bp``/``_bw``/``_reset`` macros, the ``hfi_regs_t`` block struct), plus a block of
+  register byte-offset macros ``HFI_REGS__<REG>_offset`` added here (PeakRDL-cheader 1.1 has none)
+  with C11 static checks of ``hfi_regs_t`` against them;
+- ``golden/regmap.py``: Python constants and ``pack``/``unpack`` helpers, from our own walker;
+- ``docs/registers.md``: PeakRDL-markdown;
+- ``out/docs/registers/``: PeakRDL-html (static site, 8 MB of fonts and scripts: built, not committed;
+  open ``index.html``);
+- ``rtl/regs/hfi_regs_regblock.sv`` and ``rtl/regs/hfi_regs_regblock_pkg.sv``: PeakRDL-regblock with
+  the AXI4-Lite CPU interface (SystemVerilog interface port ``axi4lite_intf.slave s_axil``).
+
+Usage::
+
+    python scripts/gen_regs.py            # (re)write every output
+    python scripts/gen_regs.py --check    # regenerate into a temporary directory; exit 1 and list
+                                          # the outputs that differ from the files in the tree
+
+An error in the RDL prints the compiler's message and exits with status 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import filecmp
+import hashlib
+import shutil
+import sys
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from systemrdl import RDLCompileError, RDLCompiler, RDLListener, RDLWalker
+from systemrdl.node import AddrmapNode, FieldNode, RegNode
+from systemrdl.rdltypes import AccessType, OnReadType, OnWriteType
+
+ROOT = Path(__file__).resolve().parents[1]
+RDL = "rtl/regs/hfi_regs.rdl"  # relative to ROOT; also the name written into the outputs
+TOP = "hfi_regs"
+
+HEADER = "firmware/include/hfi_regs.h"
+REGMAP_PY = "golden/regmap.py"
+MARKDOWN = "docs/registers.md"
+HTML_DIR = "out/docs/registers"
+REGBLOCK_DIR = "rtl/regs"
+REGBLOCK_MODULE = "hfi_regs_regblock"
+REGBLOCK_FILES = (f"{REGBLOCK_DIR}/{REGBLOCK_MODULE}.sv", f"{REGBLOCK_DIR}/{REGBLOCK_MODULE}_pkg.sv")
+
+# Single files (the HTML directory is compared as a tree).
+OUTPUT_FILES = (HEADER, REGMAP_PY, MARKDOWN, *REGBLOCK_FILES)
+
+
+class GenError(Exception):
+    """A problem of the register map (reported without traceback)."""
+
+
+# ---------------------------------------------------------------- compile
+def compile_rdl(rdl_path: Path) -> AddrmapNode:
+    """Compile and elaborate the RDL; the compiler prints its messages, then RDLCompileError."""
+    from peakrdl_regblock.udps import ALL_UDPS
+
+    rdlc = RDLCompiler()
+    # Soft definitions: the RDL declares the ones it uses (is_signed), which makes them official.
+    for udp in ALL_UDPS:
+        rdlc.register_udp(udp)
+    rdlc.compile_file(str(rdl_path))
+    return rdlc.elaborate(TOP).top
+
+
+# ---------------------------------------------------------------- our walker: the register model
+@dataclass
+class FieldInfo:
+    name: str
+    lsb: int
+    width: int
+    reset: int | None
+    access: str
+    signed: bool
+
+    @property
+    def mask(self) -> int:
+        return ((1 << self.width) - 1) << self.lsb
+
+
+@dataclass
+class RegInfo:
+    name: str
+    addr: int
+    title: str
+    fields: list[FieldInfo] = field(default_factory=list)
+
+
+def field_access(node: FieldNode) -> str:
+    """Short access code: ro, rw, wo, w1c (write 1 to clear), w1s, w1p (write 1 = pulse), rc."""
+    sw = node.get_property("sw")
+    onwrite = node.get_property("onwrite")
+    if node.get_property("singlepulse"):
+        return "w1p"
+    if onwrite == OnWriteType.woclr:
+        return "w1c"
+    if onwrite == OnWriteType.woset:
+        return "w1s"
+    if onwrite is not None:
+        raise GenError(f"{node.get_path()}: onwrite={onwrite.name} not supported by golden/regmap.py")
+    if node.get_property("onread") == OnReadType.rclr:
+        return "rc"
+    return {AccessType.r: "ro", AccessType.rw: "rw", AccessType.rw1: "rw", AccessType.w: "wo",
+            AccessType.w1: "wo"}.get(sw, sw.name)
+
+
+class RegCollector(RDLListener):
+    """Collect every register (in address order) with its fields (in bit order)."""
+
+    def __init__(self) -> None:
+        self.regs: list[RegInfo] = []
+
+    def enter_Reg(self, node: RegNode) -> None:
+        if node.is_array:
+            raise GenError(f"{node.get_path()}: register arrays are not supported by golden/regmap.py")
+        reg = RegInfo(node.inst_name, node.absolute_address, node.get_property("name"))
+        for f in node.fields():
+            reset = f.get_property("reset")
+            if reset is not None and not isinstance(reset, int):
+                raise GenError(f"{f.get_path()}: reset must be a constant")
+            reg.fields.append(FieldInfo(f.inst_name, f.lsb, f.width, reset, field_access(f),
+                                        bool(f.get_property("is_signed", default=False))))
+        reg.fields.sort(key=lambda fi: fi.lsb)
+        self.regs.append(reg)
+
+
+def collect(top: AddrmapNode) -> list[RegInfo]:
+    listener = RegCollector()
+    RDLWalker(unroll=False).walk(top, listener)
+    regs = sorted(listener.regs, key=lambda r: r.addr)
+    names: dict[str, str] = {}
+    for reg in regs:
+        consts = [f"{reg.name}_ADDR"] + [f"{reg.name}_{f.name}_{s}" for f in reg.fields
+                                         for s in ("LSB", "WIDTH", "MASK", "RESET")]
+        for c in consts:
+            if c in names:
+                raise GenError(f"constant {c} of {reg.name} collides with one of {names[c]}")
+            names[c] = reg.name
+    return regs
+
+
+# ---------------------------------------------------------------- golden/regmap.py
+REGMAP_DOC = '''\
+# generated by scripts/gen_regs.py from rtl/regs/hfi_regs.rdl, do not edit
+"""Register map of the hfi_dsp peripheral (docs/spec.md, section 4; docs/registers.md).
+
+Generated by scripts/gen_regs.py from rtl/regs/hfi_regs.rdl, do not edit: change the RDL and run
+``make regs``.
+
+Per register ``<REG>_ADDR`` (byte address); per field ``<REG>_<FIELD>_LSB``, ``_WIDTH``, ``_MASK``
+(in the register) and ``_RESET`` (None for hardware-driven fields, which have no reset of their own).
+
+``REGISTERS[name] = {"addr", "reset", "signed", "fields"}``: ``reset`` the register's reset value
+(fields without reset count as 0), ``signed`` the names of the signed (two's complement) fields,
+``fields[name] = (lsb, width, reset, access)`` with access one of ``ro`` (read-only), ``rw``,
+``wo`` (write-only), ``w1c`` (read; write 1 to clear), ``w1s`` (write 1 to set), ``w1p`` (write 1:
+one-clock pulse; reads 0), ``rc`` (clear on read).
+
+``pack(reg, **fields)`` builds a register value (fields not named are 0); ``unpack(reg, value)``
+splits one (signed fields sign-extended). Both raise ValueError on unknown registers or fields and on
+values that do not fit.
+"""
+'''
+
+REGMAP_HELPERS = '''
+
+def _reg(reg_name: str) -> dict:
+    try:
+        return REGISTERS[reg_name]
+    except KeyError:
+        raise ValueError(f"unknown register {reg_name!r} (known: {', '.join(REGISTERS)})") from None
+
+
+def field_range(reg_name: str, field_name: str) -> tuple[int, int]:
+    """Inclusive range of the values a field accepts in ``pack`` (signed range for signed fields)."""
+    reg = _reg(reg_name)
+    if field_name not in reg["fields"]:
+        raise ValueError(f"register {reg_name} has no field {field_name!r} (fields: {', '.join(reg['fields'])})")
+    width = reg["fields"][field_name][1]
+    if field_name in reg["signed"]:
+        return -(1 << (width - 1)), (1 << (width - 1)) - 1
+    return 0, (1 << width) - 1
+
+
+def pack(reg_name: str, **fields: int) -> int:
+    """Register value with the given field values (fields not named are 0).
+
+    Signed fields take values in their signed range (stored in two's complement), unsigned fields in
+    0 .. 2^width - 1. Raises ValueError on an unknown register or field or a value that does not fit.
+    """
+    reg = _reg(reg_name)
+    value = 0
+    for name, v in fields.items():
+        lo, hi = field_range(reg_name, name)
+        if not isinstance(v, int):
+            raise ValueError(f"{reg_name}.{name} = {v!r}: not an integer")
+        if not lo <= v <= hi:
+            kind = "signed" if name in reg["signed"] else "unsigned"
+            raise ValueError(f"{reg_name}.{name} = {v} does not fit the {kind} {reg['fields'][name][1]}-bit "
+                             f"field ({lo} .. {hi})")
+        lsb, width = reg["fields"][name][:2]
+        value |= (v & ((1 << width) - 1)) << lsb
+    return value
+
+
+def unpack(reg_name: str, value: int) -> dict[str, int]:
+    """Field values of a register value (signed fields sign-extended).
+
+    Raises ValueError on an unknown register or a value outside 0 .. 2^REGWIDTH - 1.
+    """
+    reg = _reg(reg_name)
+    if not isinstance(value, int) or not 0 <= value < (1 << REGWIDTH):
+        raise ValueError(f"{reg_name} value {value!r} is not a {REGWIDTH}-bit unsigned integer")
+    out = {}
+    for name, (lsb, width, _reset, _access) in reg["fields"].items():
+        v = (value >> lsb) & ((1 << width) - 1)
+        if name in reg["signed"] and v >> (width - 1):
+            v -= 1 << width
+        out[name] = v
+    return out
+'''
+
+
+def _num(v: int | None) -> str:
+    if v is None:
+        return "None"
+    return str(v) if v < 0x10000 else f"0x{v:08X}"
+
+
+def render_regmap(regs: list[RegInfo]) -> str:
+    lines = [REGMAP_DOC, "from __future__ import annotations", "", "REGWIDTH = 32", ""]
+    for reg in regs:
+        lines.append(f"# {reg.name} @ 0x{reg.addr:02X}: {reg.title}")
+        lines.append(f"{reg.name}_ADDR = 0x{reg.addr:02X}")
+        for f in reg.fields:
+            p = f"{reg.name}_{f.name}"
+            signed = ", signed" if f.signed else ""
+            lines.append(f"{p}_LSB = {f.lsb}  # {f.access}{signed}")
+            lines.append(f"{p}_WIDTH = {f.width}")
+            lines.append(f"{p}_MASK = 0x{f.mask:08X}")
+            lines.append(f"{p}_RESET = {_num(f.reset)}")
+        lines.append("")
+    lines.append("")
+    lines.append("REGISTERS = {")
+    for reg in regs:
+        reset = sum((f.reset or 0) << f.lsb for f in reg.fields)
+        signed = "".join(f'"{f.name}", ' for f in reg.fields if f.signed)
+        signed = f"({signed.rstrip(' ')})" if signed else "()"
+        lines.append(f'    "{reg.name}": {{"addr": 0x{reg.addr:02X}, "reset": 0x{reset:08X}, '
+                     f'"signed": {signed}, "fields": {{')
+        for f in reg.fields:
+            lines.append(f'        "{f.name}": ({f.lsb}, {f.width}, {_num(f.reset)}, "{f.access}"),')
+        lines.append("    }},")
+    lines.append("}")
+    return "\n".join(lines) + "\n" + REGMAP_HELPERS
+
+
+# ---------------------------------------------------------------- C header
+OFFSETS_ANCHOR = "\n#ifdef __cplusplus\n}\n#endif\n"
+
+
+def add_offset_macros(header: Path, regs: list[RegInfo], top_size: int) -> None:
+    """Insert register byte-offset macros (and static checks) before the header's closing C++ guard."""
+    text = header.read_text(encoding="utf-8")
+    if text.count(OFFSETS_ANCHOR) != 1:
+        raise GenError(f"{header}: PeakRDL-cheader output changed: cannot find where to add the offsets")
+    prefix = TOP.upper()
+    block = ["", "// Register byte offsets from the peripheral base address (added by scripts/gen_regs.py)"]
+    block += [f"#define {prefix}__{reg.name}_offset 0x{reg.addr:02x}" for reg in regs]
+    block += ["", "// Layout checks of the block struct against the offsets (C11 and later)",
+              "#if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L", "#include <stddef.h>",
+              f'_Static_assert(sizeof({TOP}_t) == 0x{top_size:x}, "{TOP}_t: size");']
+    block += [f'_Static_assert(offsetof({TOP}_t, {reg.name}) == {prefix}__{reg.name}_offset, '
+              f'"{TOP}_t: {reg.name} offset");' for reg in regs]
+    block += ["#endif"]
+    text = text.replace(OFFSETS_ANCHOR, "\n".join(block) + "\n" + OFFSETS_ANCHOR)
+    header.write_text(text, encoding="utf-8")
+
+
+# ---------------------------------------------------------------- all outputs
+def generate(out_root: Path, rdl_path: Path | None = None, html: bool = True) -> None:
+    """Compile the RDL and write every output under ``out_root`` (same layout as the repository);
+    ``html=False`` skips the HTML site (not committed, so not checked)."""
+    from peakrdl_cheader.c_standards import CStandard
+    from peakrdl_cheader.exporter import CHeaderExporter
+    from peakrdl_markdown import MarkdownExporter
+    from peakrdl_regblock import RegblockExporter
+    from peakrdl_regblock.cpuif.axi4lite import AXI4Lite_Cpuif
+
+    rdl_path = rdl_path or ROOT / RDL
+    top = compile_rdl(rdl_path)
+    regs = collect(top)
+    for rel in (*OUTPUT_FILES, HTML_DIR + "/x"):
+        (out_root / rel).parent.mkdir(parents=True, exist_ok=True)
+
+    header = out_root / HEADER
+    # gnu99: the header then includes only <stdint.h> (gnu11/gnu17 add <assert.h> for static_assert,
+    # which a freestanding rv32 toolchain without a C library lacks); anonymous unions are not needed.
+    CHeaderExporter().export(top, str(header), std=CStandard.gnu99, reuse_typedefs=False,
+                             generate_bitfields=True)
+    add_offset_macros(header, regs, top.size)
+
+    (out_root / REGMAP_PY).write_text(render_regmap(regs), encoding="utf-8")
+
+    MarkdownExporter().export(top, str(out_root / MARKDOWN), input_files=[RDL])
+
+    if html:
+        _export_html(top, rdl_path, out_root / HTML_DIR)
+
+    RegblockExporter().export(top, str(out_root / REGBLOCK_DIR), cpuif_cls=AXI4Lite_Cpuif,
+                              module_name=REGBLOCK_MODULE)
+
+
+def _export_html(top: AddrmapNode, rdl_path: Path, html: Path) -> None:
+    from peakrdl_html import HTMLExporter
+
+    if html.exists():
+        shutil.rmtree(html)
+    # build_ts (cache-busting URL suffix, time.time() by default) from the source: deterministic.
+    build_ts = int(hashlib.sha256(rdl_path.read_bytes()).hexdigest()[:8], 16)
+    HTMLExporter(generate_source_links=False, user_context={"build_ts": build_ts},
+                 extra_doc_properties=["is_signed"]).export(
+        top, str(html), title="hfi_dsp registers (hfi_regs)", footer=f"Generated from {RDL} by scripts/gen_regs.py")
+
+
+def write(repo_root: Path = ROOT, rdl_path: Path | None = None) -> None:
+    """Generate into a temporary directory, then install every output (nothing written on error)."""
+    with tempfile.TemporaryDirectory(prefix="gen_regs_") as tmp:
+        tmp_root = Path(tmp)
+        generate(tmp_root, rdl_path or repo_root / RDL)
+        for rel in OUTPUT_FILES:
+            (repo_root / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(tmp_root / rel, repo_root / rel)
+        if (repo_root / HTML_DIR).exists():
+            shutil.rmtree(repo_root / HTML_DIR)  # no stale pages of removed registers
+        shutil.copytree(tmp_root / HTML_DIR, repo_root / HTML_DIR)
+
+
+def _tree(path: Path) -> set[str]:
+    return {p.relative_to(path).as_posix() for p in path.rglob("*") if p.is_file()} if path.is_dir() else set()
+
+
+def check(repo_root: Path = ROOT, rdl_path: Path | None = None) -> list[str]:
+    """Regenerate into a temporary directory; the outputs that differ from ``repo_root`` ([] if none).
+
+    Returns lines ``<path>: differs|missing`` (the HTML site under out/ is not checked).
+    """
+    problems = []
+    with tempfile.TemporaryDirectory(prefix="gen_regs_") as tmp:
+        tmp_root = Path(tmp)
+        generate(tmp_root, rdl_path or repo_root / RDL, html=False)
+        for rel in OUTPUT_FILES:
+            if not (repo_root / rel).is_file():
+                problems.append(f"{rel}: missing")
+            elif not filecmp.cmp(repo_root / rel, tmp_root / rel, shallow=False):
+                problems.append(f"{rel}: differs")
+    return problems
+
+
+def _rel(path: Path) -> str:
+    try:
+        return path.resolve().relative_to(ROOT).as_posix()
+    except ValueError:
+        return str(path)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--check", action="store_true",
+                    help="regenerate into a temporary directory and list the outputs that differ (exit 1)")
+    ap.add_argument("--rdl", type=Path, default=ROOT / RDL, help=argparse.SUPPRESS)  # tests: another source
+    args = ap.parse_args(argv)
+    try:
+        if args.check:
+            problems = check(rdl_path=args.rdl)
+            if problems:
+                print("gen_regs: generated register files are out of date (run `make regs`):", file=sys.stderr)
+                for p in problems:
+                    print(f"  {p}", file=sys.stderr)
+                return 1
+            print("gen_regs: generated register files are up to date")
+            return 0
+        write(ROOT, args.rdl)
+    except RDLCompileError:
+        # The compiler has already printed the message(s) with the source location.
+        print(f"gen_regs: {_rel(args.rdl)}: compilation failed", file=sys.stderr)
+        return 1
+    except GenError as e:
+        print(f"gen_regs: {e}", file=sys.stderr)
+        return 1
+    for rel in (*OUTPUT_FILES, HTML_DIR + "/"):
+        print(f"wrote {rel}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

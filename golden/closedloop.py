@@ -29,6 +29,7 @@ from golden.fpga.adc_scale import adc_to_current
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS_BLANK, blank_mask, sample_phases
 from golden.fpga.carrier import counter
 from golden.fpga.cordic import demod_weight
+from golden.fpga.deadtime_comp import compensate
 from golden.fpga.demodulator import demodulate
 from golden.fpga.gate_generator import GateGenerator
 from golden.fpga.modulator import compares
@@ -117,7 +118,12 @@ class ClosedLoop:
         return self._pattern[mode]
 
     def _compares(self, o: Outputs, sign: int):
-        return compares(o.v_d, o.v_q, o.v_h, o.sin, o.cos, self.half, sign)
+        cmps = compares(o.v_d, o.v_q, o.v_h, o.sin, o.cos, self.half, sign)
+        hw = self.hw
+        if hw.dtc_gain:
+            cmps = compensate(cmps, sign, self.half, self.gen.dead, hw.dtc_gain, o.i_d_ref, o.i_q_ref,
+                              hw.hf_amp, o.sin, o.cos, hw.recip_h)
+        return cmps
 
     def run(self, progress: bool = True) -> ClosedLoopResult:
         sc, hw, H = self.sc, self.hw, self.half

@@ -23,6 +23,7 @@ from golden.firmware.supervisor import FirmwareParams
 from golden.fixed import to_fixed
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK
 from golden.fpga.cordic import cw_angle_step
+from golden.fpga.deadtime_comp import recip_half
 from golden.scenario import Scenario
 
 ADC_MODE = {"OS": MODE_OS, "DS": MODE_DS, "OS_BLANK": MODE_OS_BLANK}
@@ -60,6 +61,9 @@ class HardwareConfig:
     cw_angle_step: int
     adc_mode: int
     adc_bits: int
+    dtc_gain: int = 0            # dead-time compensation (0: off), ticks per current LSB, Q8
+    hf_amp: int = 0              # predicted HF d-current amplitude [current LSB]
+    recip_h: int = 0             # round(2^32 / H)
     adc_offset: tuple[int, int] = (0, 0)
     adc_gain: tuple[int, int] = (16384, 16384)
 
@@ -73,7 +77,14 @@ def scales(sc: Scenario) -> Scales:
 def hardware_config(sc: Scenario) -> HardwareConfig:
     tick_hz, ctl = sc.pwm.tick_hz, sc.control
     half = round(tick_hz / (2 * sc.pwm.f_sw))
+    sc_ = scales(sc)
+    dead = round(sc.pwm.dead_time * tick_hz)
+    mag = sc.plant["mag"]
+    # eq. (17): the HF d-current is a triangle of amplitude V_h / (4 f_sw L_d)
+    hf_amp = min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
+    dtc_gain = min(to_fixed(dead / max(sc_.current(ctl.dtc_zone), 1), 8), 65535) if ctl.dead_time_comp == "on" else 0
     return HardwareConfig(
+        dtc_gain=dtc_gain, hf_amp=hf_amp, recip_h=recip_half(half),
         pwm_half=half, dead_ticks=round(sc.pwm.dead_time * tick_hz),
         os_ticks=round(ctl.sample_interval * tick_hz), blank_ticks=round(ctl.blank * tick_hz),
         cw_angle_step=cw_angle_step(half), adc_mode=ADC_MODE[ctl.adc_mode],
@@ -88,7 +99,7 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     with K_t = 1.5·p·ψ_f.
     """
     ctl, sc_ = sc.control, scales(sc)
-    f_sw, T = sc.pwm.f_sw, 1.0 / sc.pwm.f_sw
+    f_sw = sc.pwm.f_sw
     mag, mech = sc.plant["mag"], sc.plant["mech"]
     L = 0.5 * (mag["L_d"] + mag["L_q"])
     w_c = 2 * math.pi * ctl.current_bw

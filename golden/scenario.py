@@ -242,6 +242,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "pulse": _q("time", _positive, default=0.03),
         "settle": _q("time", _positive, default=0.01),
         "i_pulse": _q("current", _positive, default=2.2),
+        "dead_time_comp": Field("choice", choices={"off": 0, "on": 1}, default="off"),
+        "dtc_zone": _q("current", _positive, default=0.1),
     },
     "simulation": {
         "max_substep": _q("time", _positive),
@@ -327,6 +329,8 @@ class ControlSettings:
     pulse: float
     settle: float
     i_pulse: float
+    dead_time_comp: str
+    dtc_zone: float
 
 
 @dataclass(frozen=True)

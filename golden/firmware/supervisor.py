@@ -94,6 +94,8 @@ class Outputs:
     sin: int
     cos: int
     enable: int
+    i_d_ref: int = 0
+    i_q_ref: int = 0
 
 
 @dataclass
@@ -154,7 +156,7 @@ class Firmware:
         v_d, self.id_int = pi_step(self.id_int, i_d_ref, i_d, p.id_pi)
         v_q, self.iq_int = pi_step(self.iq_int, i_q_ref, i_q, p.iq_pi)
         s, c = sincos_q15(self.theta_hat)
-        return Outputs(v_d, v_q, p.v_h, s, c, 1)
+        return Outputs(v_d, v_q, p.v_h, s, c, 1, i_d_ref, i_q_ref)
 
     def _supervise(self, win: WindowResult) -> tuple[int, int]:
         """Start-up state machine; returns (i_d*, i_q*) before the speed loop."""

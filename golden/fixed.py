@@ -35,22 +35,39 @@ def smax(bits: int) -> int:
 
 def sat(x, bits: int):
     """Saturate to the signed range of ``bits`` bits."""
+    if type(x) is int and type(bits) is int and 0 < bits <= 64:     # fast path: plain Python int
+        hi = (1 << (bits - 1)) - 1
+        if x > hi:
+            return hi
+        return -1 - hi if x < -1 - hi else x
     _check_bits(bits)
     if isinstance(x, np.ndarray):
+        if x.dtype == np.int64:                      # same values as np.clip, a third of its cost
+            return np.minimum(np.maximum(x, smin(bits)), smax(bits))
         return np.clip(x, smin(bits), smax(bits))
     return min(max(x, smin(bits)), smax(bits))
 
 
 def usat(x, bits: int):
     """Saturate to the unsigned range of ``bits`` bits."""
+    if type(x) is int and type(bits) is int and 0 < bits <= 64:     # fast path: plain Python int
+        if x < 0:
+            return 0
+        hi = (1 << bits) - 1
+        return hi if x > hi else x
     _check_bits(bits)
     if isinstance(x, np.ndarray):
+        if x.dtype == np.int64:
+            return np.minimum(np.maximum(x, 0), (1 << bits) - 1)
         return np.clip(x, 0, (1 << bits) - 1)
     return min(max(x, 0), (1 << bits) - 1)
 
 
 def wrap(x, bits: int):
     """Two's-complement wrap to a signed width (for binary angles and their differences)."""
+    if type(x) is int and type(bits) is int and 0 < bits <= 64:     # fast path: plain Python int
+        half = 1 << (bits - 1)
+        return ((x + half) & ((half << 1) - 1)) - half
     _check_bits(bits)
     half = 1 << (bits - 1)
     if isinstance(x, np.ndarray):
@@ -62,28 +79,33 @@ def wrap(x, bits: int):
 
 def uwrap(x, bits: int):
     """Wrap to an unsigned width (modulo 2^bits)."""
+    if type(x) is int and type(bits) is int and 0 < bits <= 64:     # fast path: plain Python int
+        return x & ((1 << bits) - 1)
     _check_bits(bits)
     return x & ((1 << bits) - 1)
 
 
 def shr(x, n: int):
     """Arithmetic shift right by ``n`` >= 0 bits (floor of x / 2^n)."""
-    if n < 0:
-        raise ValueError(f"shift {n} must be >= 0")
-    return x >> n
+    if n >= 0:                                       # plain ints and int64 arrays alike: one compare
+        return x >> n
+    raise ValueError(f"shift {n} must be >= 0")
 
 
 def round_shr(x, n: int):
     """Shift right by ``n`` >= 0 bits, rounding half up: (x + 2^(n-1)) >> n."""
+    if n > 0:
+        return (x + (1 << (n - 1))) >> n
     if n < 0:
         raise ValueError(f"shift {n} must be >= 0")
-    if n == 0:
-        return x
-    return (x + (1 << (n - 1))) >> n
+    return x
 
 
 def c_div(a, b):
     """Integer division truncating toward zero (C semantics); ``b`` must not be 0."""
+    if type(a) is int and type(b) is int and b:      # fast path: plain Python ints
+        q = abs(a) // abs(b)
+        return -q if (a < 0) != (b < 0) else q
     if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
         a = np.asarray(a, dtype=np.int64)
         b = np.asarray(b, dtype=np.int64)

@@ -79,23 +79,26 @@ def speed_steps(name: str, load_nm: float, t_load: float = 0.3, t50: float = 0.8
     return experiment(name, _merge(changes, extra))
 
 
-def load_steps(speed_rpm: float, load_nm: float = 2.0, duration: float = 2.0) -> Scenario:
-    """Figs. 18-23: at ``speed_rpm`` apply full load at 0.8 s and release it at 1.4 s."""
-    return experiment(f"load_steps_{int(speed_rpm)}rpm", {
+def load_steps(speed_rpm: float, load_nm: float = 2.0, duration: float = 2.0, t_on: float = 0.8,
+               t_off: float = 1.4, rise: float = 0.0, **extra) -> Scenario:
+    """Figs. 18-23 (and 33-36): at ``speed_rpm`` apply full load at ``t_on`` and release it at ``t_off``,
+    each within ``rise`` seconds (0: a step)."""
+    return experiment(f"load_steps_{int(speed_rpm)}rpm", _merge({
         "scenario": {"duration": duration},
-        "load": {"torque": [[0.0, 0.0], [0.8, 0.0], [0.8, load_nm], [1.4, load_nm], [1.4, 0.0]]},
+        "load": {"torque": [[0.0, 0.0], [t_on, 0.0], [t_on + rise, load_nm], [t_off, load_nm],
+                            [t_off + rise, 0.0]]},
         "reference": {"speed": [[0.0, "0 rpm"], [0.2, "0 rpm"], [0.4, f"{speed_rpm} rpm"]]},
-    })
+    }, extra))
 
 
-def ds_switch(t_switch: float = 1.0, duration: float = 1.5) -> Scenario:
+def ds_switch(t_switch: float = 1.0, duration: float = 1.5, **extra) -> Scenario:
     """Fig. 11: no-load start to 250 r/min with OS, then the ADC switched to DS at ``t_switch``."""
-    return experiment("ds_switch", {
+    return experiment("ds_switch", _merge({
         "scenario": {"duration": duration},
         "load": {"torque": []},
         "reference": {"speed": [[0.0, "0 rpm"], [0.2, "0 rpm"], [0.5, "250 rpm"]]},
         "control": {"switch_to_ds_at": t_switch},
-    })
+    }, extra))
 
 
 def sine_reference(load_nm: float, freq: float = 5.0, mean_rpm: float = 100.0, amp_rpm: float = 50.0,
@@ -113,10 +116,12 @@ def sine_reference(load_nm: float, freq: float = 5.0, mean_rpm: float = 100.0, a
 
 
 def random_start(theta_m_deg: float, seed: int, load_nm: float = 2.0, duration: float = 0.6) -> Scenario:
-    """Start from a given rotor angle with full load applied from t = 0, then 50 r/min."""
+    """Start from a given rotor angle: polarity detection, full load once the speed loop holds the
+    rotor (0.2 s; the load machine cannot be allowed to spin a rotor nobody holds), then 50 r/min."""
     return experiment(f"start_{theta_m_deg:.0f}deg", {
         "scenario": {"duration": duration, "seed": seed},
-        "load": {"torque": [[0.0, load_nm]], "initial": {"theta_m": f"{theta_m_deg} deg", "omega_m": "0 rpm"}},
+        "load": {"torque": [[0.0, 0.0], [0.2, 0.0], [0.2, load_nm]],
+                 "initial": {"theta_m": f"{theta_m_deg} deg", "omega_m": "0 rpm"}},
         "reference": {"speed": [[0.0, "0 rpm"], [0.25, "0 rpm"], [0.35, "50 rpm"]]},
     })
 

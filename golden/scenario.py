@@ -522,12 +522,15 @@ class _Reader:
     invalid : set of str
         Dotted paths of the keys present but invalid (consistency checks skip them).
     problems : list of str
+    tables : set of str
+        Dotted paths of the tables present.
     """
 
     def __init__(self) -> None:
         self.values: dict[str, object] = {}
         self.invalid: set[str] = set()
         self.problems: list[str] = []
+        self.tables: set[str] = set()
 
     def read(self, table: dict, section: str = "") -> None:
         """Convert every key of ``table`` (the table at dotted path ``section``)."""
@@ -538,6 +541,7 @@ class _Reader:
                 what = "key" if section else "section" if isinstance(raw, dict) else "top-level key"
                 self.problems.append(f"{path}: unknown {what}{_suggestion(key, section)}")
             elif spec.kind == "table" and isinstance(raw, dict):
+                self.tables.add(path)
                 self.read(raw, path)
             elif spec.kind == "table":
                 self.problems.append(f"{path}: expected a table, got {type_name(raw)}")
@@ -558,6 +562,10 @@ class _Reader:
                 path = _join(section, key)
                 if spec.required and path not in self.values and path not in self.invalid:
                     self.problems.append(f"{path}: missing (required)")
+
+    def has_table(self, section: str) -> bool:
+        """Whether the scenario has the table ``section`` (possibly empty)."""
+        return section in self.tables or any(p.startswith(section + ".") for p in self.values)
 
     def get(self, path: str) -> object:
         """The value of a non-plant key: as given, else its default (None if it was invalid)."""
@@ -744,7 +752,8 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
                                       for key in ("V_h", "theta_hat", "v_d", "v_q"))),
         reference_speed=list(get("reference.speed")),
         output=OutputSettings(reader.values.get("output.dir", f"out/{name}")),
-        control=ControlSettings(*(get(f"control.{f.name}") for f in fields(ControlSettings))),
+        control=(ControlSettings(*(get(f"control.{f.name}") for f in fields(ControlSettings)))
+                 if reader.has_table("control") else None),
         preset=reader.values.get("motor.preset"),
         source=source,
     )

@@ -1,7 +1,12 @@
 #!/usr/bin/env python3
 """Main job (``make run``): simulate a scenario and write its trace, metrics and plots.
 
-Until the closed loop exists this is the open-loop injection run of :mod:`golden.openloop_run`:
+A scenario with a ``[control]`` table runs the golden closed loop (:mod:`golden.closedloop`; the
+default, ``scenarios/fullload_start.toml``): ``trace.npz`` (per-window registers, firmware state and
+plant truth; every ADC sample), ``metrics.json`` (angle error and speed per reference plateau),
+``closed_loop.png`` and ``phase_current.png`` (:mod:`golden.report`).
+
+A scenario without one is the open-loop injection study of :mod:`golden.openloop_run`:
 square-wave injection on a fixed estimated d-axis into the realistic plant. Outputs, in the
 scenario's output directory (default ``out/<scenario name>/``):
 
@@ -30,12 +35,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from golden.closedloop import ClosedLoop  # noqa: E402
 from golden.openloop_run import simulate, theory_envelopes  # noqa: E402
 from golden.plant import PlantError  # noqa: E402
+from golden.report import write_all  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_SCENARIO = os.path.join(HERE, "..", "scenarios", "openloop_injection.toml")
+DEFAULT_SCENARIO = os.path.join(HERE, "..", "scenarios", "fullload_start.toml")
 
 
 def metrics_of(scn, res) -> dict:
@@ -139,8 +146,14 @@ def main() -> int:
         scn = load_scenario(args.scenario)
         out_dir = args.out or scn.output.dir
         os.makedirs(out_dir, exist_ok=True)
+        if scn.control is not None:
+            res = ClosedLoop(scn).run(progress=not args.quiet)
+            metrics, files = write_all(scn, res, out_dir)
+            print(json.dumps(metrics, indent=2))
+            print("wrote", ", ".join(files))
+            return 0
         res = simulate(scn, progress=not args.quiet)
-    except (ScenarioError, PlantError, OSError) as exc:
+    except (ScenarioError, PlantError, OSError, ValueError) as exc:
         print(f"run: {exc}", file=sys.stderr)
         return 1
     np.savez_compressed(os.path.join(out_dir, "trace.npz"), t=res.t, adc=res.adc, i_meas=res.i_meas,

@@ -78,7 +78,7 @@ def _window_array(x, name: str) -> np.ndarray:
     if int(a.min()) < _S16_MIN or int(a.max()) > _S16_MAX:
         idx = np.flatnonzero((a < _S16_MIN) | (a > _S16_MAX))[0]
         raise ValueError(f"{name}[{idx}] = {int(a[idx])} is not an s16 value")
-    return a.astype(np.int64)
+    return a if a.dtype == np.int64 else a.astype(np.int64)
 
 
 def demodulate(i_d, i_q, w) -> WindowResult:
@@ -111,18 +111,38 @@ def demodulate(i_d, i_q, w) -> WindowResult:
     ww = _window_array(w, "w")
     if not len(d) == len(q) == len(ww):
         raise ValueError(f"i_d, i_q and w must have one length, got {len(d)}, {len(q)}, {len(ww)}")
-    # Exact in int64: |i*w| <= 2^30, so any array that fits in memory sums without overflow.
-    acc_q = int(np.sum(q * ww))
-    acc_d = int(np.sum(d * ww))
-    for name, acc in (("acc_q", acc_q), ("acc_d", acc_d)):
-        if not -(1 << (ACC_BITS - 1)) <= acc <= (1 << (ACC_BITS - 1)) - 1:
-            raise ValueError(f"{name} = {acc} leaves the s{ACC_BITS} accumulator ({len(d)} samples): "
-                             "outside spec 3.4, which states that it cannot overflow")
+    return demodulate_kernel(d, q, ww)
+
+
+def demodulate_kernel(i_d: np.ndarray, i_q: np.ndarray, w: np.ndarray) -> WindowResult:
+    """Unchecked form of :func:`demodulate`: five numpy reductions, then :func:`latch_window`.
+
+    ``i_d``, ``i_q``, ``w``: 1-D int64 arrays of one length holding s16 values (checked by the caller).
+    Exact in int64: ``|i*w| <= 2^30``, so the dot products cannot overflow for any array that fits in
+    memory (numpy's integer dot product has no floating-point path).
+    """
+    return latch_window(int(i_q @ w), int(i_d @ w), int(i_d.sum()), int(i_q.sum()), int(w.sum()),
+                        len(i_d))
+
+
+def latch_window(acc_q: int, acc_d: int, sum_d: int, sum_q: int, wsum: int, n: int) -> WindowResult:
+    """The window-boundary latch (spec 3.4) from the exact sums of a window of ``n`` samples.
+
+    ``acc_q = sum i_q*w``, ``acc_d = sum i_d*w``, ``sum_d``, ``sum_q``, ``wsum``: exact Python ints.
+    Returns ``GAMMA = sat(shr(acc_q, 15), 32)``, ``GAMMA_D``, the saturated sums and
+    ``N_SAMPLES = min(n, 65535)``. Raises ValueError if ``acc_q`` or ``acc_d`` leaves s48 (outside
+    the specification, see the module docstring).
+    """
+    lim = 1 << (ACC_BITS - 1)
+    if not (-lim <= acc_q < lim and -lim <= acc_d < lim):
+        name, acc = ("acc_q", acc_q) if not -lim <= acc_q < lim else ("acc_d", acc_d)
+        raise ValueError(f"{name} = {acc} leaves the s{ACC_BITS} accumulator ({n} samples): "
+                         "outside spec 3.4, which states that it cannot overflow")
     return WindowResult(
         gamma=sat(shr(acc_q, 15), 32),
         gamma_d=sat(shr(acc_d, 15), 32),
-        sum_id=sat(int(np.sum(d)), 32),
-        sum_iq=sat(int(np.sum(q)), 32),
-        wsum=sat(int(np.sum(ww)), 32),
-        n_samples=min(len(d), N_MAX),
+        sum_id=sat(sum_d, 32),
+        sum_iq=sat(sum_q, 32),
+        wsum=sat(wsum, 32),
+        n_samples=n if n < N_MAX else N_MAX,
     )

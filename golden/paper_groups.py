@@ -19,6 +19,8 @@ from golden import paper
 
 PAPER_CFG = {"control": {"dead_time_comp": "off"}}
 PROJECT_CFG: dict = {}
+SPEED_BW_T3 = "6 Hz"
+LOAD_RISE_T3 = 0.2
 LOCK_DEG = 60.0
 """Angle error beyond which the estimator counts as having lost the rotor (it then slips by 180°)."""
 
@@ -158,7 +160,7 @@ def group_random_starts(short: bool) -> dict:
     angles = rng.uniform(0.0, 360.0, n)
     rows, results = [], {}
     for i, ang in enumerate(angles):
-        res = paper.run(paper.random_start(float(ang), seed=100 + i, duration=0.5 if short else 0.6))
+        res = paper.run(paper.random_start(float(ang), seed=100 + i, duration=0.9 if short else 1.0))
         end = res.t >= res.t[-1] - 0.1
         row = {"theta_m0_deg": round(float(ang), 1), "flipped": res.flipped,
                "locked": paper.locked(res, 0.15, LOCK_DEG),
@@ -175,14 +177,14 @@ def group_random_starts(short: bool) -> dict:
 
 def group_table3(short: bool) -> dict:
     """Second motor (Table III, 10 N*m): full-load application and removal at 250 and 50 r/min
-    (paper Figs. 33-36). The load machine's torque rises in 50 ms (a torque-controlled commercial
+    (paper Figs. 33-36). The load machine's torque rises in LOAD_RISE_T3 = 0.2 s (a torque-controlled commercial
     drive behind a Modbus reference cannot step 10 N*m faster)."""
     motor = {"motor": {"preset": "benevieri2023_table3"},
-             "control": {"i_max": "6.5 A", "i_trip": "11 A"}}
+             "control": {"i_max": "6.5 A", "i_trip": "11 A", "speed_bw": SPEED_BW_T3}}
     out, results = {}, {}
     for rpm in ((250,) if short else (250, 50)):
         kw = dict(duration=1.2, t_on=0.6, t_off=0.9) if short else dict(duration=2.0)
-        res = paper.run(paper.load_steps(rpm, load_nm=10.0, rise=0.05, **kw, **motor))
+        res = paper.run(paper.load_steps(rpm, load_nm=10.0, rise=LOAD_RISE_T3, **kw, **motor))
         t_on = kw.get("t_on", 0.8)
         out[f"{rpm}rpm"] = {"load_on": paper.segment_stats(res, t_on, t_on + 0.3),
                             "locked": paper.locked(res, 0.15, LOCK_DEG)}

@@ -89,9 +89,10 @@ class GateGenerator:
         self.horizon = start + half
 
     def set_enabled(self, tick: int, enabled: bool) -> None:
-        """Enable (gates follow s after the dead time) or disable (all off at once) at ``tick``."""
-        if tick > self.horizon:
-            raise ValueError(f"enable change at {tick} is beyond the added half periods ({self.horizon})")
+        """Enable (gates follow s after the dead time) or disable (all off at once) at ``tick``, which must
+        be the end of the half periods added so far (a carrier bottom or top, spec 2.4)."""
+        if tick != self.horizon:
+            raise ValueError(f"enable change at {tick}: only at the end of the added half periods ({self.horizon})")
         if enabled == self.enabled:
             return
         self.enabled = enabled

@@ -19,6 +19,12 @@ test: setup
 
 bench: setup
 	$(ENV) .venv/bin/python scripts/bench_plant.py
+	$(ENV) .venv/bin/python scripts/bench_golden.py
+
+# The paper's figure groups, full length (out/paper/metrics.json and plots).
+.PHONY: paper
+paper: setup
+	$(ENV) .venv/bin/python scripts/reproduce_paper.py
 
 # Register map: rtl/regs/hfi_regs.rdl -> C header, golden/regmap.py, docs, SV register block.
 .PHONY: regs

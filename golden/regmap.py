@@ -262,6 +262,38 @@ SPEED_REF_VALUE_WIDTH = 32
 SPEED_REF_VALUE_MASK = 0xFFFFFFFF
 SPEED_REF_VALUE_RESET = 0
 
+# DTC_GAIN @ 0x74: Dead-time compensation gain
+DTC_GAIN_ADDR = 0x74
+DTC_GAIN_VALUE_LSB = 0  # rw
+DTC_GAIN_VALUE_WIDTH = 16
+DTC_GAIN_VALUE_MASK = 0x0000FFFF
+DTC_GAIN_VALUE_RESET = 0
+
+# HF_AMP @ 0x78: Predicted HF current amplitude
+HF_AMP_ADDR = 0x78
+HF_AMP_VALUE_LSB = 0  # rw
+HF_AMP_VALUE_WIDTH = 15
+HF_AMP_VALUE_MASK = 0x00007FFF
+HF_AMP_VALUE_RESET = 0
+
+# RECIP_H @ 0x7C: Reciprocal of the half period
+RECIP_H_ADDR = 0x7C
+RECIP_H_VALUE_LSB = 0  # rw
+RECIP_H_VALUE_WIDTH = 32
+RECIP_H_VALUE_MASK = 0xFFFFFFFF
+RECIP_H_VALUE_RESET = 0x00068DB9
+
+# I_REF @ 0x80: Current references (shadow)
+I_REF_ADDR = 0x80
+I_REF_I_D_LSB = 0  # rw, signed
+I_REF_I_D_WIDTH = 16
+I_REF_I_D_MASK = 0x0000FFFF
+I_REF_I_D_RESET = 0
+I_REF_I_Q_LSB = 16  # rw, signed
+I_REF_I_Q_WIDTH = 16
+I_REF_I_Q_MASK = 0xFFFF0000
+I_REF_I_Q_RESET = 0
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -358,6 +390,19 @@ REGISTERS = {
     }},
     "SPEED_REF": {"addr": 0x70, "reset": 0x00000000, "signed": ("VALUE",), "fields": {
         "VALUE": (0, 32, 0, "rw"),
+    }},
+    "DTC_GAIN": {"addr": 0x74, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 16, 0, "rw"),
+    }},
+    "HF_AMP": {"addr": 0x78, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 15, 0, "rw"),
+    }},
+    "RECIP_H": {"addr": 0x7C, "reset": 0x00068DB9, "signed": (), "fields": {
+        "VALUE": (0, 32, 0x00068DB9, "rw"),
+    }},
+    "I_REF": {"addr": 0x80, "reset": 0x00000000, "signed": ("I_D", "I_Q",), "fields": {
+        "I_D": (0, 16, 0, "rw"),
+        "I_Q": (16, 16, 0, "rw"),
     }},
 }
 

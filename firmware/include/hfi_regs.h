@@ -403,6 +403,61 @@ typedef union {
     uint32_t w;
 } hfi_regs__SPEED_REF_t;
 
+// reg - hfi_regs.DTC_GAIN
+#define HFI_REGS__DTC_GAIN__VALUE_bm 0xffff
+#define HFI_REGS__DTC_GAIN__VALUE_bp 0
+#define HFI_REGS__DTC_GAIN__VALUE_bw 16
+#define HFI_REGS__DTC_GAIN__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :16;
+        uint32_t :16;
+    } f;
+    uint32_t w;
+} hfi_regs__DTC_GAIN_t;
+
+// reg - hfi_regs.HF_AMP
+#define HFI_REGS__HF_AMP__VALUE_bm 0x7fff
+#define HFI_REGS__HF_AMP__VALUE_bp 0
+#define HFI_REGS__HF_AMP__VALUE_bw 15
+#define HFI_REGS__HF_AMP__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :15;
+        uint32_t :17;
+    } f;
+    uint32_t w;
+} hfi_regs__HF_AMP_t;
+
+// reg - hfi_regs.RECIP_H
+#define HFI_REGS__RECIP_H__VALUE_bm 0xffffffff
+#define HFI_REGS__RECIP_H__VALUE_bp 0
+#define HFI_REGS__RECIP_H__VALUE_bw 32
+#define HFI_REGS__RECIP_H__VALUE_reset 0x68db9
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_regs__RECIP_H_t;
+
+// reg - hfi_regs.I_REF
+#define HFI_REGS__I_REF__I_D_bm 0xffff
+#define HFI_REGS__I_REF__I_D_bp 0
+#define HFI_REGS__I_REF__I_D_bw 16
+#define HFI_REGS__I_REF__I_D_reset 0x0
+#define HFI_REGS__I_REF__I_Q_bm 0xffff0000
+#define HFI_REGS__I_REF__I_Q_bp 16
+#define HFI_REGS__I_REF__I_Q_bw 16
+#define HFI_REGS__I_REF__I_Q_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t I_D :16;
+        uint32_t I_Q :16;
+    } f;
+    uint32_t w;
+} hfi_regs__I_REF_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -434,6 +489,10 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__WINDOW_COUNT_t WINDOW_COUNT;
     hfi_regs__LATE_COUNT_t LATE_COUNT;
     hfi_regs__SPEED_REF_t SPEED_REF;
+    hfi_regs__DTC_GAIN_t DTC_GAIN;
+    hfi_regs__HF_AMP_t HF_AMP;
+    hfi_regs__RECIP_H_t RECIP_H;
+    hfi_regs__I_REF_t I_REF;
 } hfi_regs_t;
 
 
@@ -467,11 +526,15 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__WINDOW_COUNT_offset 0x68
 #define HFI_REGS__LATE_COUNT_offset 0x6c
 #define HFI_REGS__SPEED_REF_offset 0x70
+#define HFI_REGS__DTC_GAIN_offset 0x74
+#define HFI_REGS__HF_AMP_offset 0x78
+#define HFI_REGS__RECIP_H_offset 0x7c
+#define HFI_REGS__I_REF_offset 0x80
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0x74, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0x84, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -500,6 +563,10 @@ _Static_assert(offsetof(hfi_regs_t, N_SAMPLES) == HFI_REGS__N_SAMPLES_offset, "h
 _Static_assert(offsetof(hfi_regs_t, WINDOW_COUNT) == HFI_REGS__WINDOW_COUNT_offset, "hfi_regs_t: WINDOW_COUNT offset");
 _Static_assert(offsetof(hfi_regs_t, LATE_COUNT) == HFI_REGS__LATE_COUNT_offset, "hfi_regs_t: LATE_COUNT offset");
 _Static_assert(offsetof(hfi_regs_t, SPEED_REF) == HFI_REGS__SPEED_REF_offset, "hfi_regs_t: SPEED_REF offset");
+_Static_assert(offsetof(hfi_regs_t, DTC_GAIN) == HFI_REGS__DTC_GAIN_offset, "hfi_regs_t: DTC_GAIN offset");
+_Static_assert(offsetof(hfi_regs_t, HF_AMP) == HFI_REGS__HF_AMP_offset, "hfi_regs_t: HF_AMP offset");
+_Static_assert(offsetof(hfi_regs_t, RECIP_H) == HFI_REGS__RECIP_H_offset, "hfi_regs_t: RECIP_H offset");
+_Static_assert(offsetof(hfi_regs_t, I_REF) == HFI_REGS__I_REF_offset, "hfi_regs_t: I_REF offset");
 #endif
 
 #ifdef __cplusplus

@@ -16,7 +16,7 @@ module hfi_regs_regblock (
     //--------------------------------------------------------------------------
     logic cpuif_req;
     logic cpuif_req_is_wr;
-    logic [6:0] cpuif_addr;
+    logic [7:0] cpuif_addr;
     logic [31:0] cpuif_wr_data;
     logic [31:0] cpuif_wr_biten;
     logic cpuif_req_stall_wr;
@@ -42,10 +42,10 @@ module hfi_regs_regblock (
     logic [1:0] axil_n_in_flight;
     logic axil_prev_was_rd;
     logic axil_arvalid;
-    logic [6:0] axil_araddr;
+    logic [7:0] axil_araddr;
     logic axil_ar_accept;
     logic axil_awvalid;
-    logic [6:0] axil_awaddr;
+    logic [7:0] axil_awaddr;
     logic axil_wvalid;
     logic [31:0] axil_wdata;
     logic [3:0] axil_wstrb;
@@ -123,17 +123,17 @@ module hfi_regs_regblock (
             if(axil_arvalid && !axil_prev_was_rd) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '0;
-                cpuif_addr = {axil_araddr[6:2], 2'b0};
+                cpuif_addr = {axil_araddr[7:2], 2'b0};
                 if(!cpuif_req_stall_rd) axil_ar_accept = '1;
             end else if(axil_awvalid && axil_wvalid) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '1;
-                cpuif_addr = {axil_awaddr[6:2], 2'b0};
+                cpuif_addr = {axil_awaddr[7:2], 2'b0};
                 if(!cpuif_req_stall_wr) axil_aw_accept = '1;
             end else if(axil_arvalid) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '0;
-                cpuif_addr = {axil_araddr[6:2], 2'b0};
+                cpuif_addr = {axil_araddr[7:2], 2'b0};
                 if(!cpuif_req_stall_rd) axil_ar_accept = '1;
             end
         end
@@ -244,10 +244,14 @@ module hfi_regs_regblock (
         logic WINDOW_COUNT;
         logic LATE_COUNT;
         logic SPEED_REF;
+        logic DTC_GAIN;
+        logic HF_AMP;
+        logic RECIP_H;
+        logic I_REF;
     } decoded_reg_strb_t;
     decoded_reg_strb_t decoded_reg_strb;
     logic decoded_err;
-    logic [6:0] decoded_addr;
+    logic [7:0] decoded_addr;
     logic decoded_req;
     logic decoded_req_is_wr;
     logic [31:0] decoded_wr_data;
@@ -258,34 +262,38 @@ module hfi_regs_regblock (
         automatic logic is_valid_rw;
         is_valid_addr = '1; // No valid address check
         is_valid_rw = '1; // No valid RW check
-        decoded_reg_strb.ID = cpuif_req_masked & (cpuif_addr == 7'h0) & !cpuif_req_is_wr;
-        decoded_reg_strb.VERSION = cpuif_req_masked & (cpuif_addr == 7'h4) & !cpuif_req_is_wr;
-        decoded_reg_strb.CTRL = cpuif_req_masked & (cpuif_addr == 7'h8);
-        decoded_reg_strb.STATUS = cpuif_req_masked & (cpuif_addr == 7'hc) & !cpuif_req_is_wr;
-        decoded_reg_strb.IRQ_STATUS = cpuif_req_masked & (cpuif_addr == 7'h10);
-        decoded_reg_strb.IRQ_ENABLE = cpuif_req_masked & (cpuif_addr == 7'h14);
-        decoded_reg_strb.PWM_HALF = cpuif_req_masked & (cpuif_addr == 7'h18);
-        decoded_reg_strb.DEAD_TICKS = cpuif_req_masked & (cpuif_addr == 7'h1c);
-        decoded_reg_strb.OS_TICKS = cpuif_req_masked & (cpuif_addr == 7'h20);
-        decoded_reg_strb.BLANK_TICKS = cpuif_req_masked & (cpuif_addr == 7'h24);
-        decoded_reg_strb.CW_ANGLE_STEP = cpuif_req_masked & (cpuif_addr == 7'h28);
-        decoded_reg_strb.ADC_OFFSET = cpuif_req_masked & (cpuif_addr == 7'h2c);
-        decoded_reg_strb.ADC_GAIN = cpuif_req_masked & (cpuif_addr == 7'h30);
-        decoded_reg_strb.OC_LIMIT = cpuif_req_masked & (cpuif_addr == 7'h34);
-        decoded_reg_strb.WDT_PERIODS = cpuif_req_masked & (cpuif_addr == 7'h38);
-        decoded_reg_strb.V_DQ = cpuif_req_masked & (cpuif_addr == 7'h40);
-        decoded_reg_strb.V_H = cpuif_req_masked & (cpuif_addr == 7'h44);
-        decoded_reg_strb.SINCOS = cpuif_req_masked & (cpuif_addr == 7'h48);
-        decoded_reg_strb.COMMIT = cpuif_req_masked & (cpuif_addr == 7'h4c) & cpuif_req_is_wr;
-        decoded_reg_strb.GAMMA = cpuif_req_masked & (cpuif_addr == 7'h50) & !cpuif_req_is_wr;
-        decoded_reg_strb.GAMMA_D = cpuif_req_masked & (cpuif_addr == 7'h54) & !cpuif_req_is_wr;
-        decoded_reg_strb.SUM_ID = cpuif_req_masked & (cpuif_addr == 7'h58) & !cpuif_req_is_wr;
-        decoded_reg_strb.SUM_IQ = cpuif_req_masked & (cpuif_addr == 7'h5c) & !cpuif_req_is_wr;
-        decoded_reg_strb.WSUM = cpuif_req_masked & (cpuif_addr == 7'h60) & !cpuif_req_is_wr;
-        decoded_reg_strb.N_SAMPLES = cpuif_req_masked & (cpuif_addr == 7'h64) & !cpuif_req_is_wr;
-        decoded_reg_strb.WINDOW_COUNT = cpuif_req_masked & (cpuif_addr == 7'h68) & !cpuif_req_is_wr;
-        decoded_reg_strb.LATE_COUNT = cpuif_req_masked & (cpuif_addr == 7'h6c) & !cpuif_req_is_wr;
-        decoded_reg_strb.SPEED_REF = cpuif_req_masked & (cpuif_addr == 7'h70);
+        decoded_reg_strb.ID = cpuif_req_masked & (cpuif_addr == 8'h0) & !cpuif_req_is_wr;
+        decoded_reg_strb.VERSION = cpuif_req_masked & (cpuif_addr == 8'h4) & !cpuif_req_is_wr;
+        decoded_reg_strb.CTRL = cpuif_req_masked & (cpuif_addr == 8'h8);
+        decoded_reg_strb.STATUS = cpuif_req_masked & (cpuif_addr == 8'hc) & !cpuif_req_is_wr;
+        decoded_reg_strb.IRQ_STATUS = cpuif_req_masked & (cpuif_addr == 8'h10);
+        decoded_reg_strb.IRQ_ENABLE = cpuif_req_masked & (cpuif_addr == 8'h14);
+        decoded_reg_strb.PWM_HALF = cpuif_req_masked & (cpuif_addr == 8'h18);
+        decoded_reg_strb.DEAD_TICKS = cpuif_req_masked & (cpuif_addr == 8'h1c);
+        decoded_reg_strb.OS_TICKS = cpuif_req_masked & (cpuif_addr == 8'h20);
+        decoded_reg_strb.BLANK_TICKS = cpuif_req_masked & (cpuif_addr == 8'h24);
+        decoded_reg_strb.CW_ANGLE_STEP = cpuif_req_masked & (cpuif_addr == 8'h28);
+        decoded_reg_strb.ADC_OFFSET = cpuif_req_masked & (cpuif_addr == 8'h2c);
+        decoded_reg_strb.ADC_GAIN = cpuif_req_masked & (cpuif_addr == 8'h30);
+        decoded_reg_strb.OC_LIMIT = cpuif_req_masked & (cpuif_addr == 8'h34);
+        decoded_reg_strb.WDT_PERIODS = cpuif_req_masked & (cpuif_addr == 8'h38);
+        decoded_reg_strb.V_DQ = cpuif_req_masked & (cpuif_addr == 8'h40);
+        decoded_reg_strb.V_H = cpuif_req_masked & (cpuif_addr == 8'h44);
+        decoded_reg_strb.SINCOS = cpuif_req_masked & (cpuif_addr == 8'h48);
+        decoded_reg_strb.COMMIT = cpuif_req_masked & (cpuif_addr == 8'h4c) & cpuif_req_is_wr;
+        decoded_reg_strb.GAMMA = cpuif_req_masked & (cpuif_addr == 8'h50) & !cpuif_req_is_wr;
+        decoded_reg_strb.GAMMA_D = cpuif_req_masked & (cpuif_addr == 8'h54) & !cpuif_req_is_wr;
+        decoded_reg_strb.SUM_ID = cpuif_req_masked & (cpuif_addr == 8'h58) & !cpuif_req_is_wr;
+        decoded_reg_strb.SUM_IQ = cpuif_req_masked & (cpuif_addr == 8'h5c) & !cpuif_req_is_wr;
+        decoded_reg_strb.WSUM = cpuif_req_masked & (cpuif_addr == 8'h60) & !cpuif_req_is_wr;
+        decoded_reg_strb.N_SAMPLES = cpuif_req_masked & (cpuif_addr == 8'h64) & !cpuif_req_is_wr;
+        decoded_reg_strb.WINDOW_COUNT = cpuif_req_masked & (cpuif_addr == 8'h68) & !cpuif_req_is_wr;
+        decoded_reg_strb.LATE_COUNT = cpuif_req_masked & (cpuif_addr == 8'h6c) & !cpuif_req_is_wr;
+        decoded_reg_strb.SPEED_REF = cpuif_req_masked & (cpuif_addr == 8'h70);
+        decoded_reg_strb.DTC_GAIN = cpuif_req_masked & (cpuif_addr == 8'h74);
+        decoded_reg_strb.HF_AMP = cpuif_req_masked & (cpuif_addr == 8'h78);
+        decoded_reg_strb.RECIP_H = cpuif_req_masked & (cpuif_addr == 8'h7c);
+        decoded_reg_strb.I_REF = cpuif_req_masked & (cpuif_addr == 8'h80);
         decoded_err = '0;
     end
 
@@ -430,6 +438,34 @@ module hfi_regs_regblock (
                 logic load_next;
             } VALUE;
         } SPEED_REF;
+        struct {
+            struct {
+                logic [15:0] next;
+                logic load_next;
+            } VALUE;
+        } DTC_GAIN;
+        struct {
+            struct {
+                logic [14:0] next;
+                logic load_next;
+            } VALUE;
+        } HF_AMP;
+        struct {
+            struct {
+                logic [31:0] next;
+                logic load_next;
+            } VALUE;
+        } RECIP_H;
+        struct {
+            struct {
+                logic [15:0] next;
+                logic load_next;
+            } I_D;
+            struct {
+                logic [15:0] next;
+                logic load_next;
+            } I_Q;
+        } I_REF;
     } field_combo_t;
     field_combo_t field_combo;
 
@@ -540,6 +576,29 @@ module hfi_regs_regblock (
                 logic [31:0] value;
             } VALUE;
         } SPEED_REF;
+        struct {
+            struct {
+                logic [15:0] value;
+            } VALUE;
+        } DTC_GAIN;
+        struct {
+            struct {
+                logic [14:0] value;
+            } VALUE;
+        } HF_AMP;
+        struct {
+            struct {
+                logic [31:0] value;
+            } VALUE;
+        } RECIP_H;
+        struct {
+            struct {
+                logic [15:0] value;
+            } I_D;
+            struct {
+                logic [15:0] value;
+            } I_Q;
+        } I_REF;
     } field_storage_t;
     field_storage_t field_storage;
 
@@ -1105,6 +1164,121 @@ module hfi_regs_regblock (
             end
         end
     end
+    // Field: hfi_regs.DTC_GAIN.VALUE
+    always_comb begin
+        automatic logic [15:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.DTC_GAIN.VALUE.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.DTC_GAIN && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.DTC_GAIN.VALUE.value & ~decoded_wr_biten[15:0]) | (decoded_wr_data[15:0] & decoded_wr_biten[15:0]);
+            load_next_c = '1;
+        end
+        field_combo.DTC_GAIN.VALUE.next = next_c;
+        field_combo.DTC_GAIN.VALUE.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.DTC_GAIN.VALUE.value <= 16'h0;
+        end else begin
+            if(field_combo.DTC_GAIN.VALUE.load_next) begin
+                field_storage.DTC_GAIN.VALUE.value <= field_combo.DTC_GAIN.VALUE.next;
+            end
+        end
+    end
+    assign hwif_out.DTC_GAIN.VALUE.value = field_storage.DTC_GAIN.VALUE.value;
+    // Field: hfi_regs.HF_AMP.VALUE
+    always_comb begin
+        automatic logic [14:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.HF_AMP.VALUE.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.HF_AMP && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.HF_AMP.VALUE.value & ~decoded_wr_biten[14:0]) | (decoded_wr_data[14:0] & decoded_wr_biten[14:0]);
+            load_next_c = '1;
+        end
+        field_combo.HF_AMP.VALUE.next = next_c;
+        field_combo.HF_AMP.VALUE.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.HF_AMP.VALUE.value <= 15'h0;
+        end else begin
+            if(field_combo.HF_AMP.VALUE.load_next) begin
+                field_storage.HF_AMP.VALUE.value <= field_combo.HF_AMP.VALUE.next;
+            end
+        end
+    end
+    assign hwif_out.HF_AMP.VALUE.value = field_storage.HF_AMP.VALUE.value;
+    // Field: hfi_regs.RECIP_H.VALUE
+    always_comb begin
+        automatic logic [31:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.RECIP_H.VALUE.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.RECIP_H && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.RECIP_H.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
+            load_next_c = '1;
+        end
+        field_combo.RECIP_H.VALUE.next = next_c;
+        field_combo.RECIP_H.VALUE.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.RECIP_H.VALUE.value <= 32'h68db9;
+        end else begin
+            if(field_combo.RECIP_H.VALUE.load_next) begin
+                field_storage.RECIP_H.VALUE.value <= field_combo.RECIP_H.VALUE.next;
+            end
+        end
+    end
+    assign hwif_out.RECIP_H.VALUE.value = field_storage.RECIP_H.VALUE.value;
+    // Field: hfi_regs.I_REF.I_D
+    always_comb begin
+        automatic logic [15:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.I_REF.I_D.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.I_REF && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.I_REF.I_D.value & ~decoded_wr_biten[15:0]) | (decoded_wr_data[15:0] & decoded_wr_biten[15:0]);
+            load_next_c = '1;
+        end
+        field_combo.I_REF.I_D.next = next_c;
+        field_combo.I_REF.I_D.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.I_REF.I_D.value <= 16'h0;
+        end else begin
+            if(field_combo.I_REF.I_D.load_next) begin
+                field_storage.I_REF.I_D.value <= field_combo.I_REF.I_D.next;
+            end
+        end
+    end
+    assign hwif_out.I_REF.I_D.value = field_storage.I_REF.I_D.value;
+    // Field: hfi_regs.I_REF.I_Q
+    always_comb begin
+        automatic logic [15:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.I_REF.I_Q.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.I_REF && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.I_REF.I_Q.value & ~decoded_wr_biten[31:16]) | (decoded_wr_data[31:16] & decoded_wr_biten[31:16]);
+            load_next_c = '1;
+        end
+        field_combo.I_REF.I_Q.next = next_c;
+        field_combo.I_REF.I_Q.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.I_REF.I_Q.value <= 16'h0;
+        end else begin
+            if(field_combo.I_REF.I_Q.load_next) begin
+                field_storage.I_REF.I_Q.value <= field_combo.I_REF.I_Q.next;
+            end
+        end
+    end
+    assign hwif_out.I_REF.I_Q.value = field_storage.I_REF.I_Q.value;
 
     //--------------------------------------------------------------------------
     // Write response
@@ -1117,7 +1291,7 @@ module hfi_regs_regblock (
     // Readback
     //--------------------------------------------------------------------------
 
-    logic [6:0] rd_mux_addr;
+    logic [7:0] rd_mux_addr;
     assign rd_mux_addr = decoded_addr;
 
     logic readback_err;
@@ -1126,96 +1300,109 @@ module hfi_regs_regblock (
     always_comb begin
         automatic logic [31:0] readback_data_var;
         readback_data_var = '0;
-        if(rd_mux_addr == 7'h0) begin
+        if(rd_mux_addr == 8'h0) begin
             readback_data_var[31:0] = 32'h48464931;
         end
-        if(rd_mux_addr == 7'h4) begin
+        if(rd_mux_addr == 8'h4) begin
             readback_data_var[15:0] = 16'h0;
             readback_data_var[31:16] = 16'h1;
         end
-        if(rd_mux_addr == 7'h8) begin
+        if(rd_mux_addr == 8'h8) begin
             readback_data_var[0] = field_storage.CTRL.ENABLE.value;
             readback_data_var[1] = field_storage.CTRL.INJ_EN.value;
             readback_data_var[3:2] = field_storage.CTRL.ADC_MODE.value;
         end
-        if(rd_mux_addr == 7'hc) begin
+        if(rd_mux_addr == 8'hc) begin
             readback_data_var[0] = hwif_in.STATUS.FAULT_OC.next;
             readback_data_var[1] = hwif_in.STATUS.FAULT_WDT.next;
             readback_data_var[2] = hwif_in.STATUS.OUTPUTS_ON.next;
             readback_data_var[3] = hwif_in.STATUS.COMMIT_PENDING.next;
         end
-        if(rd_mux_addr == 7'h10) begin
+        if(rd_mux_addr == 8'h10) begin
             readback_data_var[0] = field_storage.IRQ_STATUS.WINDOW.value;
         end
-        if(rd_mux_addr == 7'h14) begin
+        if(rd_mux_addr == 8'h14) begin
             readback_data_var[0] = field_storage.IRQ_ENABLE.WINDOW.value;
         end
-        if(rd_mux_addr == 7'h18) begin
+        if(rd_mux_addr == 8'h18) begin
             readback_data_var[15:0] = field_storage.PWM_HALF.VALUE.value;
         end
-        if(rd_mux_addr == 7'h1c) begin
+        if(rd_mux_addr == 8'h1c) begin
             readback_data_var[15:0] = field_storage.DEAD_TICKS.VALUE.value;
         end
-        if(rd_mux_addr == 7'h20) begin
+        if(rd_mux_addr == 8'h20) begin
             readback_data_var[15:0] = field_storage.OS_TICKS.VALUE.value;
         end
-        if(rd_mux_addr == 7'h24) begin
+        if(rd_mux_addr == 8'h24) begin
             readback_data_var[15:0] = field_storage.BLANK_TICKS.VALUE.value;
         end
-        if(rd_mux_addr == 7'h28) begin
+        if(rd_mux_addr == 8'h28) begin
             readback_data_var[31:0] = field_storage.CW_ANGLE_STEP.VALUE.value;
         end
-        if(rd_mux_addr == 7'h2c) begin
+        if(rd_mux_addr == 8'h2c) begin
             readback_data_var[15:0] = field_storage.ADC_OFFSET.A.value;
             readback_data_var[31:16] = field_storage.ADC_OFFSET.B.value;
         end
-        if(rd_mux_addr == 7'h30) begin
+        if(rd_mux_addr == 8'h30) begin
             readback_data_var[15:0] = field_storage.ADC_GAIN.A.value;
             readback_data_var[31:16] = field_storage.ADC_GAIN.B.value;
         end
-        if(rd_mux_addr == 7'h34) begin
+        if(rd_mux_addr == 8'h34) begin
             readback_data_var[15:0] = field_storage.OC_LIMIT.VALUE.value;
         end
-        if(rd_mux_addr == 7'h38) begin
+        if(rd_mux_addr == 8'h38) begin
             readback_data_var[15:0] = field_storage.WDT_PERIODS.VALUE.value;
         end
-        if(rd_mux_addr == 7'h40) begin
+        if(rd_mux_addr == 8'h40) begin
             readback_data_var[15:0] = field_storage.V_DQ.V_D.value;
             readback_data_var[31:16] = field_storage.V_DQ.V_Q.value;
         end
-        if(rd_mux_addr == 7'h44) begin
+        if(rd_mux_addr == 8'h44) begin
             readback_data_var[14:0] = field_storage.V_H.VALUE.value;
         end
-        if(rd_mux_addr == 7'h48) begin
+        if(rd_mux_addr == 8'h48) begin
             readback_data_var[15:0] = field_storage.SINCOS.SIN.value;
             readback_data_var[31:16] = field_storage.SINCOS.COS.value;
         end
-        if(rd_mux_addr == 7'h50) begin
+        if(rd_mux_addr == 8'h50) begin
             readback_data_var[31:0] = hwif_in.GAMMA.VALUE.next;
         end
-        if(rd_mux_addr == 7'h54) begin
+        if(rd_mux_addr == 8'h54) begin
             readback_data_var[31:0] = hwif_in.GAMMA_D.VALUE.next;
         end
-        if(rd_mux_addr == 7'h58) begin
+        if(rd_mux_addr == 8'h58) begin
             readback_data_var[31:0] = hwif_in.SUM_ID.VALUE.next;
         end
-        if(rd_mux_addr == 7'h5c) begin
+        if(rd_mux_addr == 8'h5c) begin
             readback_data_var[31:0] = hwif_in.SUM_IQ.VALUE.next;
         end
-        if(rd_mux_addr == 7'h60) begin
+        if(rd_mux_addr == 8'h60) begin
             readback_data_var[31:0] = hwif_in.WSUM.VALUE.next;
         end
-        if(rd_mux_addr == 7'h64) begin
+        if(rd_mux_addr == 8'h64) begin
             readback_data_var[15:0] = hwif_in.N_SAMPLES.VALUE.next;
         end
-        if(rd_mux_addr == 7'h68) begin
+        if(rd_mux_addr == 8'h68) begin
             readback_data_var[31:0] = hwif_in.WINDOW_COUNT.VALUE.next;
         end
-        if(rd_mux_addr == 7'h6c) begin
+        if(rd_mux_addr == 8'h6c) begin
             readback_data_var[15:0] = hwif_in.LATE_COUNT.VALUE.next;
         end
-        if(rd_mux_addr == 7'h70) begin
+        if(rd_mux_addr == 8'h70) begin
             readback_data_var[31:0] = field_storage.SPEED_REF.VALUE.value;
+        end
+        if(rd_mux_addr == 8'h74) begin
+            readback_data_var[15:0] = field_storage.DTC_GAIN.VALUE.value;
+        end
+        if(rd_mux_addr == 8'h78) begin
+            readback_data_var[14:0] = field_storage.HF_AMP.VALUE.value;
+        end
+        if(rd_mux_addr == 8'h7c) begin
+            readback_data_var[31:0] = field_storage.RECIP_H.VALUE.value;
+        end
+        if(rd_mux_addr == 8'h80) begin
+            readback_data_var[15:0] = field_storage.I_REF.I_D.value;
+            readback_data_var[31:16] = field_storage.I_REF.I_Q.value;
         end
         readback_data = readback_data_var;
         readback_done = decoded_req & ~decoded_req_is_wr;

@@ -4,8 +4,8 @@
 package hfi_regs_regblock_pkg;
 
     localparam HFI_REGS_REGBLOCK_DATA_WIDTH = 32;
-    localparam HFI_REGS_REGBLOCK_MIN_ADDR_WIDTH = 7;
-    localparam HFI_REGS_REGBLOCK_SIZE = 'h74;
+    localparam HFI_REGS_REGBLOCK_MIN_ADDR_WIDTH = 8;
+    localparam HFI_REGS_REGBLOCK_SIZE = 'h84;
 
     typedef struct {
         logic next;
@@ -280,6 +280,43 @@ package hfi_regs_regblock_pkg;
     } hfi_regs__COMMIT__out_t;
 
     typedef struct {
+        logic [15:0] value;
+    } hfi_regs__DTC_GAIN__VALUE__out_t;
+
+    typedef struct {
+        hfi_regs__DTC_GAIN__VALUE__out_t VALUE;
+    } hfi_regs__DTC_GAIN__out_t;
+
+    typedef struct {
+        logic [14:0] value;
+    } hfi_regs__HF_AMP__VALUE__out_t;
+
+    typedef struct {
+        hfi_regs__HF_AMP__VALUE__out_t VALUE;
+    } hfi_regs__HF_AMP__out_t;
+
+    typedef struct {
+        logic [31:0] value;
+    } hfi_regs__RECIP_H__VALUE__out_t;
+
+    typedef struct {
+        hfi_regs__RECIP_H__VALUE__out_t VALUE;
+    } hfi_regs__RECIP_H__out_t;
+
+    typedef struct {
+        logic signed [15:0] value;
+    } hfi_regs__I_REF__I_D__out_t;
+
+    typedef struct {
+        logic signed [15:0] value;
+    } hfi_regs__I_REF__I_Q__out_t;
+
+    typedef struct {
+        hfi_regs__I_REF__I_D__out_t I_D;
+        hfi_regs__I_REF__I_Q__out_t I_Q;
+    } hfi_regs__I_REF__out_t;
+
+    typedef struct {
         hfi_regs__CTRL__out_t CTRL;
         hfi_regs__IRQ_STATUS_WINDOW_9b0d34bb__out_t IRQ_STATUS;
         hfi_regs__IRQ_ENABLE__out_t IRQ_ENABLE;
@@ -296,5 +333,9 @@ package hfi_regs_regblock_pkg;
         hfi_regs__V_H__out_t V_H;
         hfi_regs__SINCOS__out_t SINCOS;
         hfi_regs__COMMIT__out_t COMMIT;
+        hfi_regs__DTC_GAIN__out_t DTC_GAIN;
+        hfi_regs__HF_AMP__out_t HF_AMP;
+        hfi_regs__RECIP_H__out_t RECIP_H;
+        hfi_regs__I_REF__out_t I_REF;
     } hfi_regs__out_t;
 endpackage

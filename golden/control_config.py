@@ -21,7 +21,7 @@ from golden.firmware.pi import PiParams, pi_gains
 from golden.firmware.pll import pll_gains
 from golden.firmware.supervisor import FirmwareParams
 from golden.fixed import to_fixed
-from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK
+from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK, effective_os_ticks
 from golden.fpga.cordic import cw_angle_step
 from golden.fpga.deadtime_comp import recip_half
 from golden.scenario import Scenario
@@ -86,7 +86,7 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
     return HardwareConfig(
         dtc_gain=dtc_gain, hf_amp=hf_amp, recip_h=recip_half(half),
         pwm_half=half, dead_ticks=round(sc.pwm.dead_time * tick_hz),
-        os_ticks=round(ctl.sample_interval * tick_hz), blank_ticks=round(ctl.blank * tick_hz),
+        os_ticks=effective_os_ticks(min(round(ctl.sample_interval * tick_hz), 0xFFFF)), blank_ticks=round(ctl.blank * tick_hz),
         cw_angle_step=cw_angle_step(half), adc_mode=ADC_MODE[ctl.adc_mode],
         adc_bits=int(sc.plant["sens"]["adc_bits"]))
 

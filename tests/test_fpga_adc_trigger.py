@@ -119,3 +119,12 @@ def test_blank_mask_validation():
         blank_mask(np.array([0]), np.array([0]), 65536)
     with pytest.raises(ValueError, match="integers"):
         blank_mask(np.array([0.5]), np.array([0]), 10)
+
+
+def test_os_ticks_below_the_pipeline_minimum_use_os_min():
+    """docs/spec.md 2.3: OS_TICKS < ITERATIONS + 8 (40 by default) is used as 40, 0 included."""
+    from golden.fpga.adc_trigger import effective_os_ticks
+    assert effective_os_ticks(0) == 40 and effective_os_ticks(39) == 40 and effective_os_ticks(100) == 100
+    assert effective_os_ticks(10, iterations=16) == 24
+    with pytest.raises(ValueError):
+        effective_os_ticks(70000)

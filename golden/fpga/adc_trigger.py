@@ -36,6 +36,14 @@ def _check_int(value, name: str, lo: int, hi: int) -> int:
     return int(value)
 
 
+def effective_os_ticks(register: int, iterations: int = 32) -> int:
+    """The oversampling interval the hardware uses: ``OS_TICKS`` but at least ``OS_MIN = iterations + 8``
+    (the CORDIC's clocks plus the pipeline; docs/spec.md 2.3). ``register`` must be a u16."""
+    if not 0 <= register <= 0xFFFF:
+        raise ValueError(f"OS_TICKS = {register} is not a u16 register value")
+    return max(register, iterations + 8)
+
+
 def sample_phases(mode: int, half: int, os_ticks: int) -> np.ndarray:
     """Sampling phases within one PWM period (spec 2.3).
 

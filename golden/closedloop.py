@@ -25,15 +25,13 @@ import numpy as np
 
 from golden.control_config import HardwareConfig, Scales, firmware_params, hardware_config, scales
 from golden.firmware.supervisor import MODE_NAMES, Firmware, Outputs
-from golden.fpga.adc_scale import adc_to_current
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS_BLANK, blank_mask, sample_phases
 from golden.fpga.carrier import counter
 from golden.fpga.cordic import demod_weight
 from golden.fpga.deadtime_comp import compensate
-from golden.fpga.demodulator import demodulate
 from golden.fpga.gate_generator import GateGenerator
 from golden.fpga.modulator import compares
-from golden.fpga.park import clarke, park
+from golden.fpga.window_dsp import window_dsp
 from golden.plant import Plant
 from golden.scenario import Scenario
 
@@ -166,19 +164,15 @@ class ClosedLoop:
             plant.advance(zc + P)
             truth = plant.state()
             adc = out["adc"]
-            i_a = adc_to_current(adc[:, 0].astype(np.int64), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0])
-            i_b = adc_to_current(adc[:, 1].astype(np.int64), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1])
-            i_al, i_be = clarke(i_a, i_b)
-            i_d, i_q = park(i_al, i_be, active.sin, active.cos)
+            keep = None
             if adc_mode == MODE_OS_BLANK:
                 sw = gen.take_switch_ticks(zc + P)
                 keep = ~blank_mask(ticks, np.concatenate([prev_switch, sw]), hw.blank_ticks)
                 prev_switch = sw[sw >= zc + P - hw.blank_ticks]
-                i_d, i_q, w_k = i_d[keep], i_q[keep], w[keep]
             else:
                 gen.take_switch_ticks(zc + P)
-                w_k = w
-            win = demodulate(i_d, i_q, w_k)
+            win, _, _ = window_dsp(adc[:, 0], adc[:, 1], hw.adc_bits, hw.adc_offset[0], hw.adc_offset[1],
+                                   hw.adc_gain[0], hw.adc_gain[1], active.sin, active.cos, w, keep)
             o = fw.step(win, speed_ref[k])
             outs.append(o)
             s_ticks.append(ticks)

@@ -57,7 +57,7 @@ def usat(x, bits: int):
         return hi if x > hi else x
     _check_bits(bits)
     if isinstance(x, np.ndarray):
-        if x.dtype == np.int64:
+        if x.dtype == np.int64 and bits < 64:       # (2^64 - 1 is no int64 operand)
             return np.minimum(np.maximum(x, 0), (1 << bits) - 1)
         return np.clip(x, 0, (1 << bits) - 1)
     return min(max(x, 0), (1 << bits) - 1)

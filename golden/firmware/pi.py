@@ -69,15 +69,24 @@ def pi_step(integ: int, ref: int, meas: int, p: PiParams) -> tuple[int, int]:
     """
     e = sat(ref - meas, 32)
     prop = shr(p.kp * e, p.sp)
-    lim_i = p.lim_i
-    cand = min(max(integ + p.ki * e, -lim_i), lim_i)
-    u_unclamped = prop + shr(cand, p.si)
+    lim_i = p.lim_i                      # >= 0, so clamp(x, -lim_i, lim_i) is the two tests below
+    cand = integ + p.ki * e
+    if cand > lim_i:
+        cand = lim_i
+    elif cand < -lim_i:
+        cand = -lim_i
+    si = p.si
+    u_unclamped = prop + shr(cand, si)
     limit = p.limit
     if (u_unclamped > limit and e > 0) or (u_unclamped < -limit and e < 0):
         integ_new = integ
     else:
         integ_new = cand
-    u = min(max(prop + shr(integ_new, p.si), -limit), limit)
+    u = prop + shr(integ_new, si)
+    if u > limit:
+        u = limit
+    elif u < -limit:
+        u = -limit
     return u, integ_new
 
 

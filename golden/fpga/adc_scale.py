@@ -12,6 +12,9 @@ only by the overcurrent check (spec 3.6), not here.
 
 A code outside ``0..2^B-1`` is not a value the ADC can produce: it is reported (ValueError), never
 wrapped or clipped, so that a broken sensor model or interface cannot hide behind the scaling.
+
+:func:`adc_to_current` checks its arguments; :func:`adc_to_current_kernel` is the unchecked int64 array
+form (the same integers) that :mod:`golden.fpga.window_dsp` runs once per window.
 """
 
 from __future__ import annotations
@@ -39,6 +42,8 @@ def _as_int_or_array(x, name: str):
 
 
 def _check_param(value, lo: int, hi: int, name: str) -> int:
+    if type(value) is int and lo <= value <= hi:        # fast path: a plain int in range
+        return value
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise ValueError(f"{name} must be an int, got {type(value).__name__}")
     value = int(value)
@@ -84,13 +89,15 @@ def adc_to_current(code, bits: int, offset: int, gain: int):
     gain = _check_param(gain, 0, (1 << 16) - 1, "gain (ADC_GAIN, u16 Q2.14)")
     c = _as_int_or_array(code, "code")
     top = (1 << bits) - 1
-    if not isinstance(c, np.ndarray):
+    if not isinstance(c, np.ndarray) or c.ndim == 0:       # an int (or a 0-d array): the formula itself
         if not 0 <= c <= top:
+            if isinstance(c, np.ndarray):
+                raise ValueError(f"ADC code[0] = {int(c)} is outside 0..{top} of a {bits}-bit converter")
             raise ValueError(f"ADC code {c} is outside 0..{top} of a {bits}-bit converter")
+        if isinstance(c, np.ndarray):
+            c = c.astype(np.int64)
         x = (c - (1 << (bits - 1))) * (1 << (16 - bits))        # left-aligned, s16
         return sat(round_shr((x - offset) * gain, 14), 16)      # s17 x u16 -> s33, then s16
-    if c.ndim == 0:
-        return adc_to_current_kernel(c.reshape(1), bits, offset, gain)[0]
     if c.size == 0:
         return np.zeros(c.shape, dtype=np.int64)
     lo, hi = int(c.min()), int(c.max())

@@ -20,6 +20,9 @@ s48 accumulators cannot overflow; a window whose exact ``acc_q`` or ``acc_d`` le
 outside the specification and raises ValueError instead of wrapping silently. (With two's-complement
 accumulators only the final value matters: intermediate excursions wrap back.) ``sum_d``, ``sum_q`` and
 ``wsum`` are saturated from their exact values, as the spec writes them.
+
+:func:`demodulate` checks its arguments; :func:`demodulate_kernel` is the unchecked form and
+:func:`latch_window` the latch shared with :mod:`golden.fpga.window_dsp`.
 """
 
 from __future__ import annotations

@@ -11,6 +11,10 @@ docs/spec.md, section 3.2 (amplitude-invariant Clarke, as the plant):
 
 All currents are s16 with 2^15 = ``I_FS``. Inputs outside s16 raise ValueError: they cannot come
 from the s16 ports of the hardware.
+
+:func:`clarke` and :func:`park` check their arguments; :func:`clarke_kernel` and :func:`park_kernel`
+(broadcasting) are their unchecked int64 array forms, the same integers; :mod:`golden.fpga.window_dsp`
+runs :func:`clarke_kernel` and :func:`park_stacked_kernel` (one matrix product for i_d and i_q).
 """
 
 from __future__ import annotations
@@ -80,8 +84,8 @@ def clarke_kernel(i_a, i_b, *, out: np.ndarray | None = None, saturate: bool = T
     ``i_a``, ``i_b``: s16 values (checked by the caller) as int64 arrays or Python ints, at least one
     an array; they broadcast and are not modified. ``i_alpha`` is ``i_a`` itself (no copy is made).
     ``out``: optional int64 array of the broadcast shape to write ``i_beta`` into (returned).
-    ``saturate=False`` skips the saturation, exact only if ``|i_a + 2 i_b| * 18919 + 2^14`` cannot
-    reach 2^30, i.e. ``-56755 <= i_a + 2 i_b <= 56754`` (the caller's bounds say so).
+    ``saturate=False`` skips the saturation, exact only if every ``i_a + 2 i_b`` lies in
+    ``-56755..56753`` (where the rounded product stays in s16; the caller's bounds say so).
     Five numpy operations (seven with saturation), all in place after the first.
     """
     t = np.add(i_a, i_b, out=out, dtype=np.int64)      # s18 after the second add
@@ -132,8 +136,8 @@ def park_kernel(i_alpha, i_beta, sin_q15, cos_q15, *, saturate: bool = True):
 
     Arguments: s16 values (checked by the caller) as int64 arrays or Python ints, at least one an
     array; they broadcast and are not modified. ``saturate=False`` skips the saturation to s16, exact
-    only if neither ``i_alpha*COS + i_beta*SIN`` nor ``i_beta*COS - i_alpha*SIN`` can reach
-    ``2^30 - 2^14`` in magnitude (see :func:`park_needs_saturation`).
+    if neither ``i_alpha*COS + i_beta*SIN`` nor ``i_beta*COS - i_alpha*SIN`` reaches ``2^30 - 2^14``
+    in magnitude (see :func:`park_needs_saturation`).
     """
     i_d = i_alpha * cos_q15 + i_beta * sin_q15          # s16 x s16 -> s31, sum s32
     i_d += 1 << 14
@@ -148,9 +152,9 @@ def park_kernel(i_alpha, i_beta, sin_q15, cos_q15, *, saturate: bool = True):
     return i_d, i_q
 
 
-def park_stacked_kernel(i_ab: np.ndarray, sin_q15: int, cos_q15: int, *,
+def park_stacked_kernel(i_ab: np.ndarray, sin_q15: int, cos_q15: int, *, out: np.ndarray | None = None,
                         saturate: bool = True) -> np.ndarray:
-    """Park transform of stacked currents by one matrix product: ``[i_d; i_q]``, a new (2, n) int64 array.
+    """Park transform of stacked currents by one matrix product: ``[i_d; i_q]``, a (2, n) int64 array.
 
     ``i_ab`` is an int64 array of shape (2, n), rows ``i_alpha`` and ``i_beta`` (s16, checked by the
     caller, not modified); ``sin_q15``, ``cos_q15`` Python ints, s16 (checked by the caller). Bit-equal
@@ -158,9 +162,10 @@ def park_stacked_kernel(i_ab: np.ndarray, sin_q15: int, cos_q15: int, *,
     ``i_alpha*COS + i_beta*SIN`` and ``-i_alpha*SIN + i_beta*COS`` (int64 matmul is exact here: each
     product is below 2^31 in magnitude, each sum of two below 2^32), then ``+ 2^14``, ``>> 15`` and
     the saturation (skipped with ``saturate=False``, under the condition of :func:`park_kernel`).
-    Three numpy operations (five with saturation).
+    ``out``: optional C-contiguous int64 (2, n) array, not overlapping ``i_ab``, to write into
+    (returned). Three numpy operations (five with saturation).
     """
-    r = np.array(((cos_q15, sin_q15), (-sin_q15, cos_q15)), dtype=np.int64) @ i_ab
+    r = np.matmul(np.array(((cos_q15, sin_q15), (-sin_q15, cos_q15)), dtype=np.int64), i_ab, out=out)
     r += 1 << 14
     r >>= 15
     if saturate:

@@ -50,12 +50,6 @@ def _adc_range(code: np.ndarray, ch: str, bits: int) -> tuple[int, int]:
     return lo, hi
 
 
-def _adc_scaled(code: int, bits: int, offset: int, gain: int) -> int:
-    """Unsaturated scaled value of one code, ``(code * m + k) >> 14`` (monotone non-decreasing)."""
-    m, k = adc_affine(bits, offset, gain)
-    return (code * m + k) >> 14
-
-
 def _clarke_beta(s: int) -> int:
     """Unsaturated ``i_beta`` for ``s = i_a + 2 i_b`` (monotone non-decreasing in ``s``)."""
     return (s * INV_SQRT3_Q15 + (1 << 14)) >> 15
@@ -89,7 +83,7 @@ def window_dsp(adc_a, adc_b, bits: int, offset_a: int, offset_b: int, gain_a: in
     (WindowResult, i_d, i_q)
         The window's latched results (:func:`golden.fpga.demodulator.demodulate` of the kept samples)
         and the Park currents ``i_d``, ``i_q`` of all ``n`` samples (blanked ones included), s16 as
-        int64 arrays (the two rows of one new (2, n) array).
+        int64 arrays (two rows of one new array, views that the caller owns).
 
     Raises
     ------
@@ -132,11 +126,16 @@ def window_dsp(adc_a, adc_b, bits: int, offset_a: int, offset_b: int, gain_a: in
     lo_b, hi_b = _adc_range(cb, "b", bits)
 
     # ADC scale (spec 3.1), phase a straight into row 0 of the stacked [i_alpha; i_beta] (i_alpha = i_a).
-    # The scaling is monotone in the code: the scaled min and max codes are the exact current range.
-    ia_lo, ia_hi = _adc_scaled(lo_a, bits, offset_a, gain_a), _adc_scaled(hi_a, bits, offset_a, gain_a)
-    ib_lo, ib_hi = _adc_scaled(lo_b, bits, offset_b, gain_b), _adc_scaled(hi_b, bits, offset_b, gain_b)
-    i_ab = np.empty((2, n), dtype=np.int64)
-    adc_to_current_kernel(ca, bits, offset_a, gain_a, out=i_ab[0],
+    # (code * m + k) >> 14 is non-decreasing in the code: the min and max codes give the exact range.
+    m_a, k_a = adc_affine(bits, offset_a, gain_a)
+    m_b, k_b = adc_affine(bits, offset_b, gain_b)
+    ia_lo, ia_hi = (lo_a * m_a + k_a) >> 14, (hi_a * m_a + k_a) >> 14
+    ib_lo, ib_hi = (lo_b * m_b + k_b) >> 14, (hi_b * m_b + k_b) >> 14
+    # Rows: i_alpha, i_beta, then i_d, i_q (Park) and w, so that one dot product with w and one sum
+    # per row give every demodulator sum (the unused i_alpha, i_beta rows are not reduced).
+    buf = np.empty((5, n), dtype=np.int64)
+    i_ab, dqw = buf[:2], buf[2:]
+    adc_to_current_kernel(ca, bits, offset_a, gain_a, out=buf[0],
                           saturate=ia_lo < _S16_MIN or ia_hi > _S16_MAX)
     i_b = adc_to_current_kernel(cb, bits, offset_b, gain_b,
                                 saturate=ib_lo < _S16_MIN or ib_hi > _S16_MAX)
@@ -145,18 +144,18 @@ def window_dsp(adc_a, adc_b, bits: int, offset_a: int, offset_b: int, gain_a: in
     # Clarke (spec 3.2) into row 1: i_beta is monotone in i_a + 2 i_b, which lies in
     # [ia_lo + 2 ib_lo, ia_hi + 2 ib_hi] (a superset of the window's values).
     be_lo, be_hi = _clarke_beta(ia_lo + 2 * ib_lo), _clarke_beta(ia_hi + 2 * ib_hi)
-    clarke_kernel(i_ab[0], i_b, out=i_ab[1], saturate=be_lo < _S16_MIN or be_hi > _S16_MAX)
+    clarke_kernel(buf[0], i_b, out=buf[1], saturate=be_lo < _S16_MIN or be_hi > _S16_MAX)
     be_lo, be_hi = sat(be_lo, 16), sat(be_hi, 16)
 
-    # Park (spec 3.2), both rows by one matrix product; saturation only if the magnitude bound allows it.
-    i_dq = park_stacked_kernel(i_ab, s, c, saturate=park_needs_saturation(
+    # Park (spec 3.2) into rows 2, 3 by one matrix product; saturation only if the magnitude bound
+    # of the window's currents allows it.
+    park_stacked_kernel(i_ab, s, c, out=buf[2:4], saturate=park_needs_saturation(
         max(-ia_lo, ia_hi), max(-be_lo, be_hi), s, c))
+    buf[4] = ww
 
-    # Demodulator (spec 3.4) on the kept samples: two dot products and three sums, exact in int64.
+    # Demodulator (spec 3.4) on the kept samples: [i_d; i_q; w] @ w and the row sums, exact in int64.
     if keep is not None:
-        dq, wk = i_dq.compress(keep, axis=1), ww.compress(keep)
-    else:
-        dq, wk = i_dq, ww
-    acc_d, acc_q = (dq @ wk).tolist()
-    sum_d, sum_q = dq.sum(axis=1).tolist()
-    return latch_window(acc_q, acc_d, sum_d, sum_q, int(wk.sum()), dq.shape[1]), i_dq[0], i_dq[1]
+        dqw = dqw.compress(keep, axis=1)
+    acc_d, acc_q, _ = (dqw @ dqw[2]).tolist()
+    sum_d, sum_q, wsum = dqw.sum(axis=1).tolist()
+    return latch_window(acc_q, acc_d, sum_d, sum_q, wsum, dqw.shape[1]), buf[2], buf[3]

@@ -125,6 +125,9 @@ class Plant:
         self._lib = lib
         self._p = ffi.gc(handle, lib.plant_free)
         self.params = params
+        self._run = lib.plant_run
+        self._state = ffi.new("struct plant_state *")
+        self._state_bytes = ffi.buffer(self._state)
 
     # ---- per-event API ---------------------------------------------------------------------------
     @property
@@ -158,9 +161,9 @@ class Plant:
 
     def state(self) -> np.void:
         """True state now, as a record of ``STATE_DTYPE``."""
-        out = np.zeros(1, dtype=STATE_DTYPE)
-        self._lib.plant_get_state(self._p, ffi.cast("struct plant_state *", ffi.from_buffer(out)))
-        return out[0]
+        self._lib.plant_get_state(self._p, self._state)
+        # a fresh writable record (np.frombuffer of a copy is far cheaper than np.zeros of this dtype)
+        return np.frombuffer(bytearray(self._state_bytes), dtype=STATE_DTYPE)[0]
 
     # ---- batch API -------------------------------------------------------------------------------
     def run(self, edge_ticks, sample_ticks, gates=None, volts=None, analog=False, truth=False) -> dict:
@@ -183,35 +186,54 @@ class Plant:
         -------
         dict with ``adc`` (n, 3) int32, and ``analog`` (n, 3), ``truth`` (n,) ``STATE_DTYPE`` if asked.
         """
+        # Called once per PWM window by the closed loop: kept lean (the C call checks the tick order
+        # and the gate masks, so no numpy pass over the inputs is needed here).
         edge_ticks = np.ascontiguousarray(edge_ticks, dtype=np.int64)
         sample_ticks = np.ascontiguousarray(sample_ticks, dtype=np.int64)
         n_e, n_s = len(edge_ticks), len(sample_ticks)
         if (gates is None) == (volts is None) and n_e:
             raise PlantError("give exactly one of gates and volts")
+        p_gates = p_volts = ffi.NULL
         if gates is not None:
-            gates = np.ascontiguousarray(gates, dtype=np.int32)
-            if len(gates) != n_e or np.any((gates < 0) | (gates > 63)):
+            g = np.ascontiguousarray(gates, dtype=np.int32)
+            if len(g) != n_e or (g is not gates and not _masks_ok(gates)):
                 raise PlantError("gates must hold one 6-bit mask per edge")
+            if n_e:
+                p_gates = ffi.from_buffer("int[]", g)
         if volts is not None:
             volts = np.ascontiguousarray(volts, dtype=np.float64).reshape(n_e, 3)
-        out = {"adc": np.zeros((n_s, 3), dtype=np.int32)}
+            if n_e:
+                p_volts = ffi.from_buffer("double[]", volts)
+        adc = np.zeros((n_s, 3), dtype=np.int32)
+        out = {"adc": adc}
+        p_analog = p_truth = ffi.NULL
         if analog:
-            out["analog"] = np.zeros((n_s, 3))
+            out["analog"] = a = np.zeros((n_s, 3))
+            if n_s:
+                p_analog = ffi.from_buffer("double[]", a)
         if truth:
-            out["truth"] = np.zeros(n_s, dtype=STATE_DTYPE)
-
-        def ptr(ctype, arr):
-            return ffi.NULL if arr is None else ffi.cast(ctype, ffi.from_buffer(arr))
-
-        status = self._lib.plant_run(
-            self._p, n_e, ptr("long long *", edge_ticks), ptr("int *", gates), ptr("double *", volts),
-            n_s, ptr("long long *", sample_ticks), ptr("int *", out["adc"]),
-            ptr("double *", out.get("analog")), ptr("struct plant_state *", out.get("truth")))
-        if status == -1:
-            raise PlantError("edge and sample ticks must be non-decreasing and not before the plant's time")
-        if status == -2:
-            raise ShootThroughError("a gate mask turned on both switches of a leg")
+            out["truth"] = tr = np.zeros(n_s, dtype=STATE_DTYPE)
+            if n_s:
+                p_truth = ffi.from_buffer("struct plant_state[]", tr)
+        status = self._run(self._p, n_e, ffi.from_buffer("long long[]", edge_ticks) if n_e else ffi.NULL,
+                           p_gates, p_volts, n_s, ffi.from_buffer("long long[]", sample_ticks) if n_s else ffi.NULL,
+                           ffi.from_buffer("int[]", adc) if n_s else ffi.NULL, p_analog, p_truth)
+        if status != 0:
+            if status == -1:
+                raise PlantError("edge and sample ticks must be non-decreasing and not before the plant's time")
+            if status == -2:
+                raise ShootThroughError("a gate mask turned on both switches of a leg")
+            if status == -3:
+                raise PlantError("gates must hold one 6-bit mask per edge")
+            raise PlantError(f"plant_run failed ({status})")
         return out
+
+
+def _masks_ok(gates) -> bool:
+    """Every value of ``gates`` is in 0..63 (checked on the caller's values, before a conversion to
+    int32 could wrap them; plant_run checks the converted masks)."""
+    g = np.asarray(gates)
+    return g.size == 0 or bool(g.min() >= 0 and g.max() <= 63)
 
 
 def mag_eval(mag: dict, psi_d: float, psi_q: float) -> np.ndarray:

@@ -8,6 +8,11 @@
  * The rotor angle inside a step is handled with a small-angle rotation of the step's sin/cos, so
  * one sincos() per step suffices.
  *
+ * Speed (docs/plant.md, "Performance"): deriv() is inlined and so specialised for the common step in
+ * which every leg conducts; one-entry memos keyed by exact arguments spare recomputing the sin/cos,
+ * currents, bus voltage and load of a state several functions look at. No change of this kind alters a
+ * floating-point operation: the results are the bits of the plain code.
+ *
  * Build with -ffp-contract=off and without -ffast-math: results must be reproducible bit for bit.
  */
 #include <math.h>
@@ -22,6 +27,7 @@
 #define SQRT3_2 0.866025403784438646764
 #define INV_SQRT3 0.577350269189625764509
 #define GAUSS_BLOCK 64
+#define RING_CACHE 8 /* phasor rotations kept: the sample spacing and the odd intervals around edges */
 #define COMMUTATION_OVERSHOOT 0.01 /* ticks past the predicted rail crossing */
 
 /* state vector indices */
@@ -45,7 +51,7 @@ struct plant {
     double *owned;            /* copies of profile and table arrays */
     struct mag_model mag;
     long long tick;
-    double sub;               /* ticks of the step sequence inside plant_advance (0 outside) */
+    double sub;               /* ticks of the step sequence inside advance() (0 outside) */
     double v_bus_step;        /* dc-link voltage (with ripple, without sag) during the present step */
     double x[NX];
     int gates;
@@ -58,14 +64,22 @@ struct plant {
     int gauss_next;
     double ring_re[3], ring_im[3]; /* ringing phasor per leg: sum of sign*exp(lambda*(t - t_edge)) */
     long long ring_tick;           /* time of the phasors */
-    long long ring_dt_cached;      /* cached phasor rotation for this many ticks */
-    double ring_rot_re, ring_rot_im;
+    long long ring_dt[RING_CACHE]; /* phasor rotation over ring_dt[slot] ticks (-1: empty), */
+    double ring_rot_re[RING_CACHE], ring_rot_im[RING_CACHE]; /* slot = ring_dt % RING_CACHE */
     long long shoot_through_ticks;
     int cursor_load, cursor_speed;
     double y[3];              /* sensor outputs (first-order filter of the phase currents) */
     double inv_J;             /* 1/J */
     double adc_full, adc_inv_lsb; /* 2^adc_bits, codes per ampere */
     double filt_h, filt_decay; /* sensor filter: last step length [s] and exp(-h/tau) */
+    double filt_tau;          /* sensor filter time constant [s] */
+    /* One-entry memos of pure functions, keyed by their exact arguments (NaN = empty): a hit returns
+     * the same bits as the computation, so results never depend on the call history. */
+    double trig_th, trig_c, trig_s;            /* cos, sin of the electrical angle trig_th */
+    double bus_t, bus_v;                       /* bus_voltage() at bus_t */
+    double cur_psid, cur_psiq, cur_id, cur_iq; /* mag_currents() at (cur_psid, cur_psiq) */
+    double load_t, load_v;                     /* load profile at load_t */
+    double load_lo, load_hi, load_hold;        /* the load profile is load_hold on [load_lo, load_hi) */
 };
 
 /* quantities computed along with the derivative, for outputs */
@@ -104,38 +118,53 @@ static double uniform_open(uint64_t s[4]) /* in (0, 1) */
     return ((double)(xoshiro_next(s) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
 }
 
-/* Standard normal numbers by Marsaglia's polar method, generated GAUSS_BLOCK at a time so that the
- * independent log/sqrt computations overlap; the sequence does not depend on when blocks are made. */
-static double gauss(struct plant *p)
+/* Standard normal numbers by Marsaglia's polar method, generated GAUSS_BLOCK at a time: first the
+ * accepted points of the unit disc (a rejected candidate is overwritten, so there is no unpredictable
+ * branch), then the independent log/sqrt computations, which overlap. The sequence is that of drawing
+ * pairs one by one, and does not depend on when blocks are made. */
+static void gauss_refill(struct plant *p)
 {
-    if (p->gauss_next == GAUSS_BLOCK) {
-        for (int k = 0; k < GAUSS_BLOCK; k += 2) {
-            double u, v, r2;
-            do {
-                u = 2.0 * uniform_open(p->rng) - 1.0;
-                v = 2.0 * uniform_open(p->rng) - 1.0;
-                r2 = u * u + v * v;
-            } while (r2 >= 1.0 || r2 == 0.0);
-            double m = sqrt(-2.0 * log(r2) / r2);
-            p->gauss_buf[k] = u * m;
-            p->gauss_buf[k + 1] = v * m;
-        }
-        p->gauss_next = 0;
+    double u[GAUSS_BLOCK / 2], v[GAUSS_BLOCK / 2], r2[GAUSS_BLOCK / 2];
+    int n = 0;
+    while (n < GAUSS_BLOCK / 2) {
+        u[n] = 2.0 * uniform_open(p->rng) - 1.0;
+        v[n] = 2.0 * uniform_open(p->rng) - 1.0;
+        r2[n] = u[n] * u[n] + v[n] * v[n];
+        n += r2[n] < 1.0 && r2[n] != 0.0; /* in the disc, 0 excluded */
     }
+    for (int k = 0; k < GAUSS_BLOCK / 2; k++) {
+        double m = sqrt(-2.0 * log(r2[k]) / r2[k]);
+        p->gauss_buf[2 * k] = u[k] * m;
+        p->gauss_buf[2 * k + 1] = v[k] * m;
+    }
+    p->gauss_next = 0;
+}
+
+static inline double gauss(struct plant *p)
+{
+    if (p->gauss_next == GAUSS_BLOCK)
+        gauss_refill(p);
     return p->gauss_buf[p->gauss_next++];
 }
 
 /* ------------------------------------------------------------------------------------------------ */
 /* magnetic models                                                                                  */
 
-static inline double ipow(double x, int n) /* x^n, n >= 0, by squaring */
+/* x^n, n >= 0, by squaring: the product of the powers x^(2^k) of the set bits k of n, lowest first
+ * (the first factor is not multiplied by 1.0, which would not change it) */
+static inline double ipow(double x, int n)
 {
-    double r = 1.0;
-    while (n) {
-        if (n & 1)
-            r *= x;
+    if (n == 0)
+        return 1.0;
+    while (!(n & 1)) {
         x *= x;
         n >>= 1;
+    }
+    double r = x;
+    while (n >>= 1) {
+        x *= x;
+        if (n & 1)
+            r *= x;
     }
     return r;
 }
@@ -157,8 +186,8 @@ static void mag_init(struct mag_model *mm, const struct mag_params *m)
 }
 
 /* Currents from flux linkages; jac (may be NULL): di_d/dpsi_d, di_d/dpsi_q, di_q/dpsi_d, di_q/dpsi_q. */
-static inline void mag_currents(const struct mag_model *mm, double psi_d, double psi_q, double *i_d, double *i_q,
-                         double *jac)
+static inline __attribute__((always_inline)) void mag_currents(const struct mag_model *mm, double psi_d,
+                                                               double psi_q, double *i_d, double *i_q, double *jac)
 {
     const struct mag_params *m = &mm->m;
     switch (m->kind) {
@@ -216,6 +245,11 @@ static inline void mag_currents(const struct mag_model *mm, double psi_d, double
         }
         return;
     }
+    default: /* refused by plant_create */
+        *i_d = *i_q = 0.0;
+        if (jac)
+            jac[0] = jac[1] = jac[2] = jac[3] = 0.0;
+        return;
     }
 }
 
@@ -229,7 +263,7 @@ void plant_mag_eval(const struct mag_params *m, double psi_d, double psi_q, doub
 /* ------------------------------------------------------------------------------------------------ */
 /* profiles                                                                                         */
 
-static double profile_eval(const struct profile *pr, int *cursor, double t)
+static inline double profile_eval(const struct profile *pr, int *cursor, double t)
 {
     if (pr->n <= 0)
         return 0.0;
@@ -251,21 +285,92 @@ static double profile_eval(const struct profile *pr, int *cursor, double t)
     return v;
 }
 
+static inline int same_bits(double a, double b)
+{
+    uint64_t ua, ub;
+    memcpy(&ua, &a, sizeof ua);
+    memcpy(&ub, &b, sizeof ub);
+    return ua == ub;
+}
+
 static double tick_time(const struct plant *p, long long tick) { return (double)tick / p->p.tick_hz; }
 
 /* dc-link voltage without the load-dependent sag: the diode clamps of an idle phase node. The ripple
  * (hundreds of Hz) is evaluated once per integration step. */
-static double bus_voltage(const struct plant *p, double t)
+static double bus_voltage(struct plant *p, double t)
 {
     const struct inverter_params *inv = &p->p.inv;
-    return inv->ripple_amp != 0.0 ? inv->V_dc + inv->ripple_amp * sin(TWO_PI * inv->ripple_freq * t) : inv->V_dc;
+    if (inv->ripple_amp == 0.0)
+        return inv->V_dc;
+    if (!same_bits(t, p->bus_t)) {
+        p->bus_t = t;
+        p->bus_v = inv->V_dc + inv->ripple_amp * sin(TWO_PI * inv->ripple_freq * t);
+    }
+    return p->bus_v;
+}
+
+/* The stretch [lo, hi) around t (in segment k, the cursor profile_eval() left) on which profile_eval()
+ * returns one value, and that value; lo = hi = NaN when the profile is not constant around t. */
+static void profile_stretch(const struct profile *pr, int k, double t, double *lo, double *hi, double *value)
+{
+    *lo = *hi = NAN;
+    if (pr->n <= 0 || pr->puls_depth != 0.0)
+        return;
+    if (t < pr->t[0]) {
+        *lo = -INFINITY, *hi = pr->t[0], *value = pr->v[0];
+    } else if (k + 1 >= pr->n) {
+        *lo = pr->t[pr->n - 1], *hi = INFINITY, *value = pr->v[pr->n - 1];
+    } else if (pr->v[k + 1] == pr->v[k]) { /* the interpolation adds (v[k+1] - v[k]) * ... = +0 */
+        *lo = pr->t[k], *hi = pr->t[k + 1], *value = pr->v[k] + 0.0;
+    }
+}
+
+/* load torque profile at t: constant stretches are kept (a step's stages mostly fall in one), and a
+ * memo of the last time (the two middle RK4 stages share theirs) */
+static inline double load_torque(struct plant *p, double t)
+{
+    if (!p->p.load.n)
+        return 0.0;
+    if (t >= p->load_lo && t < p->load_hi)
+        return p->load_hold;
+    if (!same_bits(t, p->load_t)) {
+        p->load_t = t;
+        p->load_v = profile_eval(&p->p.load, &p->cursor_load, t);
+        profile_stretch(&p->p.load, p->cursor_load, t, &p->load_lo, &p->load_hi, &p->load_hold);
+    }
+    return p->load_v;
+}
+
+/* cos, sin of the electrical angle th */
+static void trig(struct plant *p, double th, double *c, double *s)
+{
+    if (!same_bits(th, p->trig_th)) {
+        p->trig_th = th;
+        p->trig_c = cos(th);
+        p->trig_s = sin(th);
+    }
+    *c = p->trig_c;
+    *s = p->trig_s;
+}
+
+/* currents of the flux linkages of state x (memo: the state at the end of a step is the one the
+ * next step and the commutation check start from) */
+static inline void state_currents(struct plant *p, const double *x, double *i_d, double *i_q)
+{
+    if (!same_bits(x[X_PSID], p->cur_psid) || !same_bits(x[X_PSIQ], p->cur_psiq)) {
+        p->cur_psid = x[X_PSID];
+        p->cur_psiq = x[X_PSIQ];
+        mag_currents(&p->mag, x[X_PSID], x[X_PSIQ], &p->cur_id, &p->cur_iq, NULL);
+    }
+    *i_d = p->cur_id;
+    *i_q = p->cur_iq;
 }
 
 /* ------------------------------------------------------------------------------------------------ */
 /* dynamics                                                                                         */
 
-static double leg_voltage(const struct plant *p, int leg, double i, double v_dc, double v_bus, double v_node_state,
-                          double *dv_node)
+static inline __attribute__((always_inline)) double leg_voltage(const struct plant *p, int leg, double i, double v_dc,
+                                                                double v_bus, double v_node_state, double *dv_node)
 {
     const struct inverter_params *inv = &p->p.inv;
     double ai = fabs(i);
@@ -295,14 +400,15 @@ static double leg_voltage(const struct plant *p, int leg, double i, double v_dc,
     }
 }
 
-/* Derivative of the state at time t (s). c, s: cos/sin of the electrical angle of this state.
- * v_ab: the machine's alpha-beta voltage when it is known not to depend on the state (NULL if not). */
-static void deriv(struct plant *p, double t, const double *x, double c, double s, const double *v_ab, double *dx,
-                  struct aux *a)
+/* Derivative of the state at time t (s). i_d, i_q: the currents of its flux linkages (mag_currents);
+ * c, s: cos/sin of the electrical angle of this state. v_ab: the machine's alpha-beta voltage when it
+ * is known not to depend on the state (NULL if not). Inlined, so that each call site is specialised
+ * for its constant arguments (v_ab, a). */
+static inline __attribute__((always_inline)) void deriv(struct plant *p, double t, const double *x, double i_d,
+                                                         double i_q, double c, double s, const double *v_ab,
+                                                         double *dx, struct aux *a)
 {
     const struct plant_params *pp = &p->p;
-    double i_d, i_q;
-    mag_currents(&p->mag, x[X_PSID], x[X_PSIQ], &i_d, &i_q, NULL);
     double i_abc[3] = {0.0, 0.0, 0.0};
     if (!v_ab || a) {
         double i_al = c * i_d - s * i_q, i_be = s * i_d + c * i_q;
@@ -350,7 +456,7 @@ static void deriv(struct plant *p, double t, const double *x, double c, double s
     if (pp->mech.imposed_speed) {
         dx[X_OMM] = 0.0;
     } else {
-        load = pp->load.n ? profile_eval(&pp->load, &p->cursor_load, t) : 0.0;
+        load = load_torque(p, t);
         double fric = pp->mech.B * omega_m;
         if (pp->mech.T_c != 0.0) {
             double r = omega_m / pp->mech.w_stick;
@@ -397,23 +503,23 @@ static void rotate(double c0, double s0, double th0, double delta, double *c, do
 }
 
 
-static void state_trig(const struct plant *p, double *c, double *s, double *th)
+static void state_trig(struct plant *p, double *c, double *s, double *th)
 {
     *th = p->p.mech.pole_pairs * p->x[X_THM];
-    *c = cos(*th);
-    *s = sin(*th);
+    trig(p, *th, c, s);
 }
 
 /* After an input change: make the algebraic states consistent with the state (imposed speed, node
  * voltages of conducting legs, held voltage of idle legs, sensor output without filter). */
 static void settle(struct plant *p)
 {
-    double c, s, th;
+    double c, s, th, i_d, i_q;
     struct aux a;
     double dx[NX];
     state_trig(p, &c, &s, &th);
+    state_currents(p, p->x, &i_d, &i_q);
     p->v_bus_step = bus_voltage(p, tick_time(p, p->tick));
-    deriv(p, tick_time(p, p->tick), p->x, c, s, NULL, dx, &a);
+    deriv(p, tick_time(p, p->tick), p->x, i_d, i_q, c, s, NULL, dx, &a);
     if (p->p.mech.imposed_speed)
         p->x[X_OMM] = a.omega_m;
     for (int k = 0; k < 3; k++) {
@@ -425,11 +531,11 @@ static void settle(struct plant *p)
     }
 }
 
-/* phase currents of state x at electrical angle (c, s) */
-static void phase_currents(const struct plant *p, const double *x, double c, double s, double i_abc[3])
+/* phase currents of the plant's state x at electrical angle (c, s) */
+static void phase_currents(struct plant *p, const double *x, double c, double s, double i_abc[3])
 {
     double i_d, i_q;
-    mag_currents(&p->mag, x[X_PSID], x[X_PSIQ], &i_d, &i_q, NULL);
+    state_currents(p, x, &i_d, &i_q);
     double i_al = c * i_d - s * i_q, i_be = s * i_d + c * i_q;
     i_abc[0] = i_al;
     i_abc[1] = -0.5 * i_al + SQRT3_2 * i_be;
@@ -445,7 +551,7 @@ static void sensor_step(struct plant *p, double h, const double i0[3], const dou
             p->y[k] = i1[k];
         return;
     }
-    double tau = 1.0 / (TWO_PI * p->p.sens.bandwidth_hz);
+    double tau = p->filt_tau;
     if (h != p->filt_h) {
         p->filt_h = h;
         p->filt_decay = exp(-h / tau);
@@ -456,6 +562,32 @@ static void sensor_step(struct plant *p, double h, const double i0[3], const dou
     }
 }
 
+/* Stages 2 to 4 of an RK4 step from x0 with first stage k1, then the new state x (see rk4_step).
+ * Inlined into two call sites: with v_ab fixed (every leg conducts, so only the machine and mechanical
+ * states move: nstage = 4, a constant) and NULL, so that deriv() is specialised for each. */
+static inline __attribute__((always_inline)) void rk4_stages(struct plant *p, double t, double h, int nstage,
+                                                             const double *x0, const double *k1, double *x,
+                                                             double ch, double sh, double c1, double s1,
+                                                             const double *v_ab)
+{
+    double k2[NX], k3[NX], k4[NX], xs[NX], i_d, i_q;
+    memcpy(xs, x0, sizeof xs);
+    for (int k = 0; k < nstage; k++)
+        xs[k] = x0[k] + 0.5 * h * k1[k];
+    mag_currents(&p->mag, xs[X_PSID], xs[X_PSIQ], &i_d, &i_q, NULL);
+    deriv(p, t + 0.5 * h, xs, i_d, i_q, ch, sh, v_ab, k2, NULL);
+    for (int k = 0; k < nstage; k++)
+        xs[k] = x0[k] + 0.5 * h * k2[k];
+    mag_currents(&p->mag, xs[X_PSID], xs[X_PSIQ], &i_d, &i_q, NULL);
+    deriv(p, t + 0.5 * h, xs, i_d, i_q, ch, sh, v_ab, k3, NULL);
+    for (int k = 0; k < nstage; k++)
+        xs[k] = x0[k] + h * k3[k];
+    mag_currents(&p->mag, xs[X_PSID], xs[X_PSIQ], &i_d, &i_q, NULL);
+    deriv(p, t + h, xs, i_d, i_q, c1, s1, v_ab, k4, NULL);
+    for (int k = 0; k < NX; k++)
+        x[k] = x0[k] + h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
+}
+
 /* One RK4 step of nticks. Inside the step the electrical angle follows th0 + omega_e0*t (the speed
  * changes by far less than 1e-3 rad/s within a microsecond step), so the stage angles come from one
  * small rotation. The intermediate stages update the machine and mechanical states, and the node
@@ -463,7 +595,7 @@ static void sensor_step(struct plant *p, double h, const double i0[3], const dou
 static void rk4_step(struct plant *p, double nticks)
 {
     double h = nticks / p->p.tick_hz, t = ((double)p->tick + p->sub) / p->p.tick_hz;
-    double k1[NX], k2[NX], k3[NX], k4[NX], xs[NX], i1[3];
+    double k1[NX], i1[3];
     double *x = p->x;
     int pz = p->p.mech.pole_pairs;
     int nstage = X_THM + 1;
@@ -471,18 +603,19 @@ static void rk4_step(struct plant *p, double nticks)
         for (int k = 0; k < 3; k++)
             if (p->legs[k] == LEG_OFF)
                 nstage = X_VNC + 1;
-    double th0 = pz * x[X_THM], c0 = cos(th0), s0 = sin(th0), ch, sh, c1, s1;
+    double th0 = pz * x[X_THM], c0, s0, ch, sh, c1, s1, i_d, i_q;
+    trig(p, th0, &c0, &s0);
     p->v_bus_step = bus_voltage(p, t);
     rotate(c0, s0, th0, 0.5 * h * pz * x[X_OMM], &ch, &sh);
     rotate(ch, sh, th0 + 0.5 * h * pz * x[X_OMM], 0.5 * h * pz * x[X_OMM], &c1, &s1);
     struct aux a0;
 
-    memcpy(xs, x, sizeof xs);
-    deriv(p, t, x, c0, s0, NULL, k1, &a0);
+    state_currents(p, x, &i_d, &i_q);
+    deriv(p, t, x, i_d, i_q, c0, s0, NULL, k1, &a0);
     /* While every leg conducts (a switch or its diode on), the node voltages depend on the state only
      * through the device drops and the dc-link sag, which change negligibly within a step (<= 1 us):
      * they are taken at the start of the step and held. Legs in dead time are evaluated at every stage. */
-    double v_ab_fixed[2], *v_ab = NULL;
+    double v_ab_fixed[2];
     int fixed = 1;
     if (!p->voltage_mode)
         for (int k = 0; k < 3; k++)
@@ -491,37 +624,27 @@ static void rk4_step(struct plant *p, double nticks)
     if (fixed) {
         v_ab_fixed[0] = (2.0 / 3.0) * (a0.v_node[0] - 0.5 * (a0.v_node[1] + a0.v_node[2]));
         v_ab_fixed[1] = (a0.v_node[1] - a0.v_node[2]) * INV_SQRT3;
-        v_ab = v_ab_fixed;
     }
     double x0[NX];
     memcpy(x0, x, sizeof x0);
-    for (;;) {
-        for (int k = 0; k < nstage; k++)
-            xs[k] = x0[k] + 0.5 * h * k1[k];
-        deriv(p, t + 0.5 * h, xs, ch, sh, v_ab, k2, NULL);
-        for (int k = 0; k < nstage; k++)
-            xs[k] = x0[k] + 0.5 * h * k2[k];
-        deriv(p, t + 0.5 * h, xs, ch, sh, v_ab, k3, NULL);
-        for (int k = 0; k < nstage; k++)
-            xs[k] = x0[k] + h * k3[k];
-        deriv(p, t + h, xs, c1, s1, v_ab, k4, NULL);
-        for (int k = 0; k < NX; k++)
-            x[k] = x0[k] + h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
+    if (fixed) { /* every leg conducts (or ideal voltages): no node voltage moves, nstage = X_THM + 1 */
+        rk4_stages(p, t, h, X_THM + 1, x0, k1, x, ch, sh, c1, s1, v_ab_fixed);
         phase_currents(p, x, c1, s1, i1);
         /* a conducting leg whose current changed sign switched between switch and diode drop inside
          * the step: redo the step with the leg voltages evaluated at every stage */
-        if (!v_ab || p->voltage_mode || (p->p.inv.v_sw == 0.0 && p->p.inv.v_diode == 0.0))
-            break;
-        int flip = 0;
-        for (int k = 0; k < 3; k++)
-            flip |= (a0.i_abc[k] > 0.0) != (i1[k] > 0.0);
-        if (!flip)
-            break;
-        v_ab = NULL;
+        if (!p->voltage_mode && (p->p.inv.v_sw != 0.0 || p->p.inv.v_diode != 0.0)) {
+            int flip = 0;
+            for (int k = 0; k < 3; k++)
+                flip |= (a0.i_abc[k] > 0.0) != (i1[k] > 0.0);
+            fixed = !flip;
+        }
+    }
+    if (!fixed) {
+        rk4_stages(p, t, h, nstage, x0, k1, x, ch, sh, c1, s1, NULL);
+        phase_currents(p, x, c1, s1, i1);
     }
     p->sub += nticks;
 
-    phase_currents(p, x, c1, s1, i1);
     sensor_step(p, h, a0.i_abc, i1);
 
     if (nstage > X_THM + 1) {
@@ -541,7 +664,7 @@ static void rk4_step(struct plant *p, double nticks)
 /* While the phase current charges the node capacitance of an idle leg, the step ends just past the
  * instant the node is predicted to reach its rail (diode clamp), at most max_substep_commutation_ticks,
  * so that the kink of the node voltage falls on a step boundary; 0 when no node is commutating. */
-static double commutation_step(const struct plant *p)
+static double commutation_step(struct plant *p)
 {
     const struct inverter_params *inv = &p->p.inv;
     if (inv->C_node <= 0.0 || p->voltage_mode)
@@ -571,7 +694,7 @@ static double commutation_step(const struct plant *p)
     return step;
 }
 
-int plant_advance(struct plant *p, long long tick)
+static int advance(struct plant *p, long long tick)
 {
     if (tick < p->tick)
         return -1;
@@ -604,29 +727,31 @@ int plant_advance(struct plant *p, long long tick)
 /* Ringing after every switch turn-on: amp*sign*exp(-dt/tau)*sin(2*pi*f*dt) on the switched phase
  * (ring_cross times that on the others), summed over edges as one phasor per leg:
  * z <- z*exp(lambda*dt) between events, z += sign at an edge, ringing = Im(z). */
-static void ring_advance(struct plant *p)
+static inline void ring_advance(struct plant *p)
 {
     const struct sensor_params *sp = &p->p.sens;
     long long dt = p->tick - p->ring_tick;
     p->ring_tick = p->tick;
     if (dt == 0)
         return;
-    if (dt != p->ring_dt_cached) {
+    int slot = (int)(dt % RING_CACHE);
+    if (dt != p->ring_dt[slot]) {
         double d = tick_time(p, dt), mag = exp(-d / sp->ring_tau);
-        p->ring_dt_cached = dt;
-        p->ring_rot_re = mag * cos(TWO_PI * sp->ring_freq * d);
-        p->ring_rot_im = mag * sin(TWO_PI * sp->ring_freq * d);
+        p->ring_dt[slot] = dt;
+        p->ring_rot_re[slot] = mag * cos(TWO_PI * sp->ring_freq * d);
+        p->ring_rot_im[slot] = mag * sin(TWO_PI * sp->ring_freq * d);
     }
+    double rot_re = p->ring_rot_re[slot], rot_im = p->ring_rot_im[slot];
     for (int k = 0; k < 3; k++) {
         double re = p->ring_re[k], im = p->ring_im[k];
-        p->ring_re[k] = re * p->ring_rot_re - im * p->ring_rot_im;
-        p->ring_im[k] = re * p->ring_rot_im + im * p->ring_rot_re;
+        p->ring_re[k] = re * rot_re - im * rot_im;
+        p->ring_im[k] = re * rot_im + im * rot_re;
         if (fabs(p->ring_re[k]) + fabs(p->ring_im[k]) < 1e-12) /* decayed: stop denormals */
             p->ring_re[k] = p->ring_im[k] = 0.0;
     }
 }
 
-int plant_set_gates(struct plant *p, int gates)
+static int set_gates(struct plant *p, int gates)
 {
     int status = 0;
     for (int k = 0; k < 3; k++) {
@@ -647,7 +772,7 @@ int plant_set_gates(struct plant *p, int gates)
     return status;
 }
 
-int plant_set_voltage(struct plant *p, const double v_abc[3])
+static int set_voltage(struct plant *p, const double v_abc[3])
 {
     for (int k = 0; k < 3; k++)
         p->v_ideal[k] = v_abc[k];
@@ -663,7 +788,7 @@ static double ringing(const struct plant *p, int ch)
     return sp->ring_amp * (p->ring_im[ch] + sp->ring_cross * others);
 }
 
-int plant_sample(struct plant *p, int adc[3], double analog[3])
+static int sample(struct plant *p, int adc[3], double analog[3])
 {
     const struct sensor_params *sp = &p->p.sens;
     double full = p->adc_full, inv_lsb = p->adc_inv_lsb;
@@ -673,26 +798,24 @@ int plant_sample(struct plant *p, int adc[3], double analog[3])
         double y = sp->gain[k] * p->y[k] + sp->offset[k] + ringing(p, k);
         if (sp->noise_rms > 0.0)
             y += sp->noise_rms * gauss(p);
-        double code = floor(y * inv_lsb + 0.5 * full + 0.5);
-        if (code < 0.0)
-            code = 0.0;
-        if (code > full - 1.0)
-            code = full - 1.0;
-        adc[k] = (int)code;
+        /* clip(floor(z), 0, full - 1); for 0 <= z < full, floor is the truncation of the conversion */
+        double z = y * inv_lsb + 0.5 * full + 0.5;
+        adc[k] = z < 0.0 ? 0 : (z >= full ? (int)(full - 1.0) : (int)z);
         if (analog)
             analog[k] = y;
     }
     return 0;
 }
 
-void plant_get_state(const struct plant *p, struct plant_state *o)
+static void get_state(const struct plant *p, struct plant_state *o)
 {
-    struct plant *q = (struct plant *)p; /* deriv() moves the profile cursors and bus cache only */
-    double c, s, th, dx[NX];
+    struct plant *q = (struct plant *)p; /* deriv() moves the profile cursors, memos and bus cache only */
+    double c, s, th, i_d, i_q, dx[NX];
     struct aux a;
-    state_trig(p, &c, &s, &th);
-    q->v_bus_step = bus_voltage(p, tick_time(p, p->tick));
-    deriv(q, tick_time(p, p->tick), p->x, c, s, NULL, dx, &a);
+    state_trig(q, &c, &s, &th);
+    state_currents(q, p->x, &i_d, &i_q);
+    q->v_bus_step = bus_voltage(q, tick_time(p, p->tick));
+    deriv(q, tick_time(p, p->tick), p->x, i_d, i_q, c, s, NULL, dx, &a);
     memset(o, 0, sizeof *o);
     o->tick = p->tick;
     o->t = tick_time(p, p->tick);
@@ -722,25 +845,36 @@ void plant_get_state(const struct plant *p, struct plant_state *o)
     o->shoot_through_ticks = p->shoot_through_ticks;
 }
 
+/* the per-event API (the batch API below calls the same internal functions) */
+int plant_advance(struct plant *p, long long tick) { return advance(p, tick); }
+int plant_set_gates(struct plant *p, int gates) { return set_gates(p, gates); }
+int plant_set_voltage(struct plant *p, const double v_abc[3]) { return set_voltage(p, v_abc); }
+int plant_sample(struct plant *p, int adc[3], double analog[3]) { return sample(p, adc, analog); }
+void plant_get_state(const struct plant *p, struct plant_state *out) { get_state(p, out); }
+
 int plant_run(struct plant *p, int n_edges, const long long *edge_ticks, const int *gates, const double *volts,
               int n_samples, const long long *sample_ticks, int *adc_out, double *analog_out,
               struct plant_state *truth_out)
 {
     int i = 0, j = 0, status = 0;
+    if (!volts)
+        for (int k = 0; k < n_edges; k++)
+            if (gates[k] < 0 || gates[k] > 63)
+                return -3; /* checked before anything is applied */
     while (i < n_edges || j < n_samples) {
         if (i < n_edges && (j >= n_samples || edge_ticks[i] <= sample_ticks[j])) {
-            if (plant_advance(p, edge_ticks[i]) != 0)
+            if (advance(p, edge_ticks[i]) != 0)
                 return -1;
-            int st = volts ? plant_set_voltage(p, volts + 3 * i) : plant_set_gates(p, gates[i]);
+            int st = volts ? set_voltage(p, volts + 3 * i) : set_gates(p, gates[i]);
             if (st != 0)
                 status = st;
             i++;
         } else {
-            if (plant_advance(p, sample_ticks[j]) != 0)
+            if (advance(p, sample_ticks[j]) != 0)
                 return -1;
-            plant_sample(p, adc_out + 3 * j, analog_out ? analog_out + 3 * j : NULL);
+            sample(p, adc_out + 3 * j, analog_out ? analog_out + 3 * j : NULL);
             if (truth_out)
-                plant_get_state(p, truth_out + j);
+                get_state(p, truth_out + j);
             j++;
         }
     }
@@ -868,7 +1002,10 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     for (int k = 0; k < 4; k++)
         p->rng[k] = splitmix64(&s);
 
-    p->ring_dt_cached = -1;
+    for (int k = 0; k < RING_CACHE; k++)
+        p->ring_dt[k] = -1;
+    p->filt_tau = params->sens.bandwidth_hz > 0.0 ? 1.0 / (TWO_PI * params->sens.bandwidth_hz) : 0.0;
+    p->trig_th = p->bus_t = p->cur_psid = p->cur_psiq = p->load_t = p->load_lo = p->load_hi = NAN;
     p->gauss_next = GAUSS_BLOCK;
     p->adc_full = ldexp(1.0, params->sens.adc_bits);
     p->adc_inv_lsb = p->adc_full / (2.0 * params->sens.adc_range);

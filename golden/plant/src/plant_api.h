@@ -136,7 +136,9 @@ void plant_get_state(const struct plant *p, struct plant_state *out);
 
 /* Batch API: applies gate edges (or ideal voltage steps, when volts != NULL; then gates may be NULL)
  * and takes samples, merged by tick; at equal ticks, the input change comes before the sample.
- * adc_out: [n_samples*3]; analog_out and truth_out may be NULL. Returns 0, or -1 on a bad tick order. */
+ * adc_out: [n_samples*3]; analog_out and truth_out may be NULL. Returns 0; -1 on a bad tick order
+ * (events up to it are applied); -2 when a gate mask turned on both switches of a leg (the run goes
+ * on); -3 when a gate mask is outside 0..63 (checked first: nothing is applied). */
 int plant_run(struct plant *p,
               int n_edges, const long long *edge_ticks, const int *gates, const double *volts,
               int n_samples, const long long *sample_ticks,

@@ -22,7 +22,7 @@ import math
 import re
 import sys
 import tomllib
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields as dataclass_fields
 from pathlib import Path
 from typing import Callable
 
@@ -752,7 +752,7 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
                                       for key in ("V_h", "theta_hat", "v_d", "v_q"))),
         reference_speed=list(get("reference.speed")),
         output=OutputSettings(reader.values.get("output.dir", f"out/{name}")),
-        control=(ControlSettings(*(get(f"control.{f.name}") for f in fields(ControlSettings)))
+        control=(ControlSettings(*(get(f"control.{f.name}") for f in dataclass_fields(ControlSettings)))
                  if reader.has_table("control") else None),
         preset=reader.values.get("motor.preset"),
         source=source,

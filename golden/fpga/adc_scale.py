@@ -22,34 +22,10 @@ from __future__ import annotations
 import numpy as np
 
 from golden.fixed import round_shr, sat
+from golden.fpga.checks import int_or_array, int_param
 
 GAIN_ONE = 1 << 14
 """``ADC_GAIN`` value of a gain of 1.0 (Q2.14)."""
-
-
-def _as_int_or_array(x, name: str):
-    """A Python int for an integer scalar, an integer numpy array (not copied) for an integer array;
-    else TypeError."""
-    if isinstance(x, np.ndarray):
-        if x.dtype.kind not in "iu":
-            raise TypeError(f"{name} must be an integer array, got dtype {x.dtype}")
-        if x.dtype == np.uint64 and x.size and int(x.max()) > np.iinfo(np.int64).max:
-            raise ValueError(f"{name} holds values above the int64 range")
-        return x
-    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)):
-        raise TypeError(f"{name} must be an int or an integer numpy array, got {type(x).__name__}")
-    return int(x)
-
-
-def _check_param(value, lo: int, hi: int, name: str) -> int:
-    if type(value) is int and lo <= value <= hi:        # fast path: a plain int in range
-        return value
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an int, got {type(value).__name__}")
-    value = int(value)
-    if not lo <= value <= hi:
-        raise ValueError(f"{name} = {value} must be in {lo}..{hi}")
-    return value
 
 
 def adc_to_current(code, bits: int, offset: int, gain: int):
@@ -84,10 +60,10 @@ def adc_to_current(code, bits: int, offset: int, gain: int):
     >>> adc_to_current(4095, 12, 0, 16384)   # (4095 - 2048) * 16 = 32752
     32752
     """
-    bits = _check_param(bits, 1, 16, "bits (ADC resolution)")
-    offset = _check_param(offset, -(1 << 15), (1 << 15) - 1, "offset (ADC_OFFSET, s16)")
-    gain = _check_param(gain, 0, (1 << 16) - 1, "gain (ADC_GAIN, u16 Q2.14)")
-    c = _as_int_or_array(code, "code")
+    bits = int_param(bits, 1, 16, "bits (ADC resolution)")
+    offset = int_param(offset, -(1 << 15), (1 << 15) - 1, "offset (ADC_OFFSET, s16)")
+    gain = int_param(gain, 0, (1 << 16) - 1, "gain (ADC_GAIN, u16 Q2.14)")
+    c = int_or_array(code, "code")
     top = (1 << bits) - 1
     if not isinstance(c, np.ndarray) or c.ndim == 0:       # an int (or a 0-d array): the formula itself
         if not 0 <= c <= top:

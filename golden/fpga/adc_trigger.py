@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from golden.fpga.checks import int_param
+
 from golden.fpga.carrier import check_half, window_start
 
 MODE_OS = 0
@@ -26,14 +28,6 @@ MODE_RESERVED = 3
 """Reserved ``ADC_MODE`` value: behaves as ``MODE_OS``."""
 
 U16_MAX = 0xFFFF
-
-
-def _check_int(value, name: str, lo: int, hi: int) -> int:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an integer, got {value!r}")
-    if not lo <= value <= hi:
-        raise ValueError(f"{name} = {value} must be in {lo}..{hi}")
-    return int(value)
 
 
 def effective_os_ticks(register: int, iterations: int = 32) -> int:
@@ -69,9 +63,9 @@ def sample_phases(mode: int, half: int, os_ticks: int) -> np.ndarray:
     ValueError
         If ``mode`` is not 0..3, ``os_ticks`` not in 1..65535 or ``half`` not a valid half period.
     """
-    mode = _check_int(mode, "ADC_MODE", 0, 3)
+    mode = int_param(mode, 0, 3, "ADC_MODE")
     h = check_half(half)
-    os_ticks = _check_int(os_ticks, "OS_TICKS", 1, U16_MAX)
+    os_ticks = int_param(os_ticks, 1, U16_MAX, "OS_TICKS")
     if mode == MODE_DS:
         return np.array([0, h], dtype=np.int64)
     return np.arange(0, 2 * h, os_ticks, dtype=np.int64)
@@ -135,7 +129,7 @@ def blank_mask(sample_ticks, switch_ticks, blank_ticks: int) -> np.ndarray:
     ValueError
         If ``blank_ticks`` is not in 0..65535 or the ticks are not integers.
     """
-    blank = _check_int(blank_ticks, "BLANK_TICKS", 0, U16_MAX)
+    blank = int_param(blank_ticks, 0, U16_MAX, "BLANK_TICKS")
     t = np.asarray(sample_ticks)
     sw = np.asarray(switch_ticks).ravel()
     for name, arr in (("sample ticks", t), ("switch ticks", sw)):

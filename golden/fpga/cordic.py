@@ -32,6 +32,7 @@ import math
 import numpy as np
 
 from golden.fixed import round_shr, sat, shr, to_fixed, uwrap, wrap
+from golden.fpga.checks import int_or_array, int_param
 
 ANGLE_BITS = 32
 """Width of the binary angle (u32, 2^32 = one turn)."""
@@ -43,19 +44,6 @@ HALF_MIN, HALF_MAX = 4, 65534
 
 
 # ---- parameter and input checks ---------------------------------------------------------------------
-def _as_int_or_array(x, name: str):
-    """A Python int for an integer scalar, an int64 array for an integer numpy array; else TypeError."""
-    if isinstance(x, np.ndarray):
-        if x.dtype.kind not in "iu":
-            raise TypeError(f"{name} must be an integer array, got dtype {x.dtype}")
-        if x.dtype == np.uint64 and x.size and int(x.max()) > np.iinfo(np.int64).max:
-            raise ValueError(f"{name} holds values above the int64 range")
-        return x.astype(np.int64)
-    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)):
-        raise TypeError(f"{name} must be an int or an integer numpy array, got {type(x).__name__}")
-    return int(x)
-
-
 def _check_range(x, lo: int, hi: int, name: str, what: str) -> None:
     """ValueError naming the first value of ``x`` (int or array) outside ``lo..hi``."""
     if isinstance(x, np.ndarray):
@@ -67,23 +55,14 @@ def _check_range(x, lo: int, hi: int, name: str, what: str) -> None:
         raise ValueError(f"{name} = {x} is not {what} ({lo}..{hi})")
 
 
-def _check_param(value, lo: int, hi: int, name: str) -> int:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an int, got {type(value).__name__}")
-    value = int(value)
-    if not lo <= value <= hi:
-        raise ValueError(f"{name} = {value} must be in {lo}..{hi}")
-    return value
-
-
 def _check_width_iterations(width, iterations) -> tuple[int, int]:
-    width = _check_param(width, WIDTH_MIN, WIDTH_MAX, "width")
-    iterations = _check_param(iterations, 1, width, "iterations")
+    width = int_param(width, WIDTH_MIN, WIDTH_MAX, "width")
+    iterations = int_param(iterations, 1, width, "iterations")
     return width, iterations
 
 
 def _check_half(half) -> int:
-    half = _check_param(half, HALF_MIN, HALF_MAX, "half (H, carrier half period)")
+    half = int_param(half, HALF_MIN, HALF_MAX, "half (H, carrier half period)")
     if half & 1:
         raise ValueError(f"half (H, carrier half period) = {half} must be even (spec 2.1)")
     return half
@@ -117,7 +96,7 @@ def atan_table(iterations: int) -> list[int]:
     ValueError
         If ``iterations`` is not an int in 1..32.
     """
-    iterations = _check_param(iterations, 1, ANGLE_BITS, "iterations")
+    iterations = int_param(iterations, 1, ANGLE_BITS, "iterations")
     return list(_atan_table(iterations))
 
 
@@ -139,7 +118,7 @@ def cordic_gain_inverse(iterations: int) -> float:
     ValueError
         If ``iterations`` is not an int in 1..32.
     """
-    iterations = _check_param(iterations, 1, ANGLE_BITS, "iterations")
+    iterations = int_param(iterations, 1, ANGLE_BITS, "iterations")
     k = 1.0
     for i in range(iterations):
         k /= math.sqrt(1.0 + 2.0 ** (-2 * i))
@@ -231,7 +210,7 @@ def cordic_sincos(angle, width: int = 32, iterations: int = 32):
         If ``angle`` is neither an int nor an integer numpy array.
     """
     width, iterations = _check_width_iterations(width, iterations)
-    a = _as_int_or_array(angle, "angle")
+    a = int_or_array(angle, "angle", as_int64=True)
     _check_range(a, 0, U32_MAX, "angle", "a u32 binary angle")
     table = _atan_table(iterations)
     start = _x0(width, iterations)
@@ -279,8 +258,8 @@ def to_q15(v_raw, width: int):
     TypeError
         If ``v_raw`` is neither an int nor an integer numpy array.
     """
-    width = _check_param(width, 17, WIDTH_MAX, "width (Q1.15 conversion needs WIDTH >= 17)")
-    v = _as_int_or_array(v_raw, "v_raw")
+    width = int_param(width, 17, WIDTH_MAX, "width (Q1.15 conversion needs WIDTH >= 17)")
+    v = int_or_array(v_raw, "v_raw", as_int64=True)
     _check_range(v, -(1 << (width - 1)), (1 << (width - 1)) - 1, "v_raw", f"an s{width} value")
     return sat(round_shr(v, width - 17), 16)
 
@@ -307,7 +286,7 @@ def sincos_q15(angle, width: int = 32, iterations: int = 16):
     ValueError
         As :func:`cordic_sincos` and :func:`to_q15`.
     """
-    width = _check_param(width, 17, WIDTH_MAX, "width (Q1.15 conversion needs WIDTH >= 17)")
+    width = int_param(width, 17, WIDTH_MAX, "width (Q1.15 conversion needs WIDTH >= 17)")
     s, c = cordic_sincos(angle, width, iterations)
     return to_q15(s, width), to_q15(c, width)
 
@@ -345,8 +324,8 @@ def demod_weight(counter, half: int, step: int, width: int = 32, iterations: int
         CORDIC parameters are out of range.
     """
     half = _check_half(half)
-    step = _check_param(step, 0, U32_MAX, "step (CW_ANGLE_STEP, u32)")
-    c = _as_int_or_array(counter, "counter")
+    step = int_param(step, 0, U32_MAX, "step (CW_ANGLE_STEP, u32)")
+    c = int_or_array(counter, "counter", as_int64=True)
     _check_range(c, 0, half, "counter", "a carrier counter value")
     # (H - 2c) is s17, times a u32 step: s49 before the wrap to the 32-bit binary angle.
     a = uwrap(wrap((half - 2 * c) * step, ANGLE_BITS), ANGLE_BITS)

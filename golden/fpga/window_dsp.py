@@ -23,7 +23,8 @@ from __future__ import annotations
 import numpy as np
 
 from golden.fixed import sat
-from golden.fpga.adc_scale import _check_param, adc_affine, adc_to_current_kernel
+from golden.fpga.adc_scale import adc_affine, adc_to_current_kernel
+from golden.fpga.checks import int_param
 from golden.fpga.demodulator import WindowResult, latch_window
 from golden.fpga.park import INV_SQRT3_Q15, clarke_kernel, park_needs_saturation, park_stacked_kernel
 
@@ -94,13 +95,13 @@ def window_dsp(adc_a, adc_b, bits: int, offset_a: int, offset_b: int, gain_a: in
     TypeError
         If an array does not hold integers (``keep``: booleans).
     """
-    bits = _check_param(bits, 1, 16, "bits (ADC resolution)")
-    offset_a = _check_param(offset_a, _S16_MIN, _S16_MAX, "offset_a (ADC_OFFSET, s16)")
-    offset_b = _check_param(offset_b, _S16_MIN, _S16_MAX, "offset_b (ADC_OFFSET, s16)")
-    gain_a = _check_param(gain_a, 0, (1 << 16) - 1, "gain_a (ADC_GAIN, u16 Q2.14)")
-    gain_b = _check_param(gain_b, 0, (1 << 16) - 1, "gain_b (ADC_GAIN, u16 Q2.14)")
-    s = _check_param(sin_q15, _S16_MIN, _S16_MAX, "sin_q15 (SIN, s16 Q1.15)")
-    c = _check_param(cos_q15, _S16_MIN, _S16_MAX, "cos_q15 (COS, s16 Q1.15)")
+    bits = int_param(bits, 1, 16, "bits (ADC resolution)")
+    offset_a = int_param(offset_a, _S16_MIN, _S16_MAX, "offset_a (ADC_OFFSET, s16)")
+    offset_b = int_param(offset_b, _S16_MIN, _S16_MAX, "offset_b (ADC_OFFSET, s16)")
+    gain_a = int_param(gain_a, 0, (1 << 16) - 1, "gain_a (ADC_GAIN, u16 Q2.14)")
+    gain_b = int_param(gain_b, 0, (1 << 16) - 1, "gain_b (ADC_GAIN, u16 Q2.14)")
+    s = int_param(sin_q15, _S16_MIN, _S16_MAX, "sin_q15 (SIN, s16 Q1.15)")
+    c = int_param(cos_q15, _S16_MIN, _S16_MAX, "cos_q15 (COS, s16 Q1.15)")
     ca = _int_array(adc_a, "adc_a")
     cb = _int_array(adc_b, "adc_b")
     ww = _int_array(w, "w")

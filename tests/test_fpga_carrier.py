@@ -77,11 +77,12 @@ def test_window_boundaries_at_the_rising_zero_crossing():
 @pytest.mark.parametrize("register, expected", [
     (10000, 10000),
     (10001, 10000),   # odd: LSB cleared
-    (5, 4),
-    (4, 4),
-    (3, 4),           # too small: 4
-    (1, 4),
-    (0, 4),
+    (514, 514),
+    (513, 512),
+    (512, 512),
+    (511, 512),       # too small: REGISTER_HALF_MIN
+    (4, 512),
+    (0, 512),
     (65535, 65534),
     (65534, 65534),
 ])

@@ -4,7 +4,7 @@ docs/spec.md, section 2.3 (Benevieri et al. 2023: 1 us current oversampling, Sec
 the switching instants, Fig. 8). ``ADC_MODE`` selects the sampling instants within each period
 ``P = 2H`` (phases ``phi = t mod P``, see ``golden/fpga/carrier.py``):
 
-* ``MODE_OS`` (0): ``phi = m*OS_TICKS`` for ``m = 0, 1, ...`` while ``phi < P``. The sequence restarts
+* ``MODE_OS`` (0): ``phi = m*OS_TICKS`` for ``m = 0, 1, ...`` while ``phi <= P - OS_MIN``. The sequence restarts
   at every period start, so when ``OS_TICKS`` does not divide ``P`` the last gap of a period is
   shorter than ``OS_TICKS``.
 * ``MODE_DS`` (1): ``phi = 0`` and ``phi = H`` (carrier bottom and top).
@@ -30,15 +30,26 @@ MODE_RESERVED = 3
 U16_MAX = 0xFFFF
 
 
-def effective_os_ticks(register: int, iterations: int = 32) -> int:
-    """The oversampling interval the hardware uses: ``OS_TICKS`` but at least ``OS_MIN = iterations + 8``
-    (the CORDIC's clocks plus the pipeline; docs/spec.md 2.3). ``register`` must be a u16."""
+OS_MIN_DEFAULT = 40
+"""``OS_MIN`` of the default hardware (32 CORDIC iterations, an ADC cycle of at most 40 ticks)."""
+
+
+def os_min_ticks(iterations: int = 32, adc_cycle: int = 0) -> int:
+    """Shortest sampling interval of the hardware: ``OS_MIN = max(iterations + 8, adc_cycle)`` ticks
+    (the CORDIC's clocks plus its pipeline, and the serial ADC's conversion + read-out cycle,
+    ``hfi_adc_if.CYCLE``; docs/spec.md 2.3)."""
+    return max(int_param(iterations, 1, 32, "iterations") + 8, int_param(adc_cycle, 0, U16_MAX, "adc_cycle"))
+
+
+def effective_os_ticks(register: int, iterations: int = 32, adc_cycle: int = 0) -> int:
+    """The oversampling interval the hardware uses: ``OS_TICKS`` but at least :func:`os_min_ticks`
+    (docs/spec.md 2.3). ``register`` must be a u16."""
     if not 0 <= register <= 0xFFFF:
         raise ValueError(f"OS_TICKS = {register} is not a u16 register value")
-    return max(register, iterations + 8)
+    return max(register, os_min_ticks(iterations, adc_cycle))
 
 
-def sample_phases(mode: int, half: int, os_ticks: int) -> np.ndarray:
+def sample_phases(mode: int, half: int, os_ticks: int, os_min: int = OS_MIN_DEFAULT) -> np.ndarray:
     """Sampling phases within one PWM period (spec 2.3).
 
     Parameters
@@ -51,12 +62,16 @@ def sample_phases(mode: int, half: int, os_ticks: int) -> np.ndarray:
         Effective carrier half period ``H`` [ticks] (even, 4..65534).
     os_ticks : int
         ``OS_TICKS`` register, u16, at least 1 (validated in every mode, although ``MODE_DS`` ignores it).
+    os_min : int
+        The hardware's ``OS_MIN`` (:func:`os_min_ticks`): an OS instant is taken only if the next period
+        starts at least ``os_min`` ticks after it (``phi <= P - os_min``), so the ADC and the CORDIC
+        are free again for the sample at the period start. Phase 0 is always taken.
 
     Returns
     -------
     ndarray of int64
-        Sorted phases in ``[0, 2H)``: ``0, OS_TICKS, 2*OS_TICKS, ...`` (``ceil(2H / OS_TICKS)`` values)
-        in the OS modes, ``[0, H]`` in ``MODE_DS``.
+        Sorted phases in ``[0, 2H)``: ``0, OS_TICKS, 2*OS_TICKS, ...`` up to ``2H - os_min`` in the OS
+        modes, ``[0, H]`` in ``MODE_DS``.
 
     Raises
     ------
@@ -66,12 +81,13 @@ def sample_phases(mode: int, half: int, os_ticks: int) -> np.ndarray:
     mode = int_param(mode, 0, 3, "ADC_MODE")
     h = check_half(half)
     os_ticks = int_param(os_ticks, 1, U16_MAX, "OS_TICKS")
+    os_min = int_param(os_min, 1, U16_MAX, "os_min")
     if mode == MODE_DS:
         return np.array([0, h], dtype=np.int64)
-    return np.arange(0, 2 * h, os_ticks, dtype=np.int64)
+    return np.arange(0, max(2 * h - os_min + 1, 1), os_ticks, dtype=np.int64)
 
 
-def window_sample_ticks(k: int, mode: int, half: int, os_ticks: int) -> np.ndarray:
+def window_sample_ticks(k: int, mode: int, half: int, os_ticks: int, os_min: int = OS_MIN_DEFAULT) -> np.ndarray:
     """Every sampling instant of integration window ``k`` (before blanking), as absolute ticks.
 
     Window ``k`` holds ``[k*P + H/2, (k+1)*P + H/2)`` (spec 2.1): the phases ``>= H/2`` of period
@@ -82,7 +98,7 @@ def window_sample_ticks(k: int, mode: int, half: int, os_ticks: int) -> np.ndarr
     ----------
     k : int
         Window index (may be negative).
-    mode, half, os_ticks
+    mode, half, os_ticks, os_min
         As in :func:`sample_phases`.
 
     Returns
@@ -92,7 +108,7 @@ def window_sample_ticks(k: int, mode: int, half: int, os_ticks: int) -> np.ndarr
     """
     if isinstance(k, (bool, np.bool_)) or not isinstance(k, (int, np.integer)):
         raise ValueError(f"window index must be an integer, got {k!r}")
-    phases = sample_phases(mode, half, os_ticks)
+    phases = sample_phases(mode, half, os_ticks, os_min)
     h = int(half)
     period = 2 * h
     late = phases[phases >= h // 2] + k * period          # rest of period k

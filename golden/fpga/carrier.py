@@ -19,15 +19,19 @@ import numpy as np
 
 U16_MAX = 0xFFFF
 HALF_MIN = 4
-"""Smallest carrier half period [ticks] the hardware uses."""
+"""Smallest half period [ticks] the carrier functions accept (the arithmetic's domain)."""
+REGISTER_HALF_MIN = 512
+"""Smallest carrier half period [ticks] the hardware runs (``PWM_HALF`` below it is raised to it):
+the RTL needs a period longer than its sample pipeline and ``IRQ_LATENCY`` (docs/rtl.md)."""
 
 
 def effective_half(pwm_half_register: int) -> int:
     """The carrier half period the hardware uses for a ``PWM_HALF`` register value (spec 2.1).
 
     ``H`` must be even and at least 4. The hardware's safe behaviour for a bad register value is to
-    clear its LSB (an odd value ``2n+1`` runs as ``2n``) and to use 4 for anything smaller than 4, so
-    the carrier always has an integer quarter point ``H/2`` and a non-degenerate period.
+    clear its LSB (an odd value ``2n+1`` runs as ``2n``) and to use ``REGISTER_HALF_MIN`` (512) for
+    anything smaller, so the carrier always has an integer quarter point ``H/2`` and a period longer
+    than the RTL's sample pipeline and interrupt latency.
 
     Parameters
     ----------
@@ -37,7 +41,7 @@ def effective_half(pwm_half_register: int) -> int:
     Returns
     -------
     int
-        Effective half period ``H``: even, 4..65534.
+        Effective half period ``H``: even, 512..65534.
 
     Raises
     ------
@@ -47,7 +51,7 @@ def effective_half(pwm_half_register: int) -> int:
     reg = _as_int(pwm_half_register, "PWM_HALF")
     if not 0 <= reg <= U16_MAX:
         raise ValueError(f"PWM_HALF = {reg} is not a u16 register value (0..65535)")
-    return max(reg & ~1, HALF_MIN)
+    return max(reg & ~1, REGISTER_HALF_MIN)
 
 
 def check_half(half: int) -> int:

@@ -1,0 +1,301 @@
+`default_nettype none
+// hfi_regs: AXI4-Lite register block of hfi_dsp (docs/registers.md, docs/spec.md section 4).
+//
+// Addresses, field positions, widths and reset values come from rtl/regs/hfi_regs_map.vh, generated
+// from the SystemRDL source rtl/regs/hfi_regs.rdl by scripts/gen_regs.py; cocotb_tests/tb_regs.py
+// checks every register's reset value and access type against golden/regmap.py (same source).
+//
+// Bus: AXI4-Lite slave, 32-bit data, byte addresses (the low ADDR_BITS bits decoded, word aligned).
+//  - Write: AW and W are accepted together in the cycle both are valid and no response is pending
+//    (AWREADY = WREADY); the response BVALID follows in the next cycle. WSTRB selects bytes.
+//  - Read: AR accepted while no read data is pending; RDATA/RVALID in the next cycle.
+//  - An address outside the map answers SLVERR (reads return 0, writes change nothing).
+// Access types (from the RDL): rw storage; ro (hardware values); w1p (write 1: one-clock pulse,
+// reads 0: CTRL.FAULT_CLEAR, COMMIT.GO); w1c (IRQ_STATUS.WINDOW: hardware set wins over a clear).
+// The interrupt line irq = |(IRQ_STATUS & IRQ_ENABLE), registered.
+module hfi_regs #(
+    parameter ADDR_BITS = 8
+) (
+    input  wire        clk,
+    input  wire        rst,
+    // AXI4-Lite slave
+    input  wire [ADDR_BITS-1:0] s_axil_awaddr,
+    input  wire        s_axil_awvalid,
+    output wire        s_axil_awready,
+    input  wire [31:0] s_axil_wdata,
+    input  wire [3:0]  s_axil_wstrb,
+    input  wire        s_axil_wvalid,
+    output wire        s_axil_wready,
+    output reg  [1:0]  s_axil_bresp,
+    output reg         s_axil_bvalid,
+    input  wire        s_axil_bready,
+    input  wire [ADDR_BITS-1:0] s_axil_araddr,
+    input  wire        s_axil_arvalid,
+    output wire        s_axil_arready,
+    output reg  [31:0] s_axil_rdata,
+    output reg  [1:0]  s_axil_rresp,
+    output reg         s_axil_rvalid,
+    input  wire        s_axil_rready,
+    // software -> hardware
+    output wire        ctrl_enable,
+    output wire        ctrl_inj_en,
+    output wire [1:0]  ctrl_adc_mode,
+    output reg         fault_clear,       // one-clock pulse
+    output reg         commit_go,         // one-clock pulse
+    output wire [15:0] pwm_half,
+    output wire [15:0] dead_ticks,
+    output wire [15:0] os_ticks,
+    output wire [15:0] blank_ticks,
+    output wire [31:0] cw_angle_step,
+    output wire signed [15:0] adc_offset_a,
+    output wire signed [15:0] adc_offset_b,
+    output wire [15:0] adc_gain_a,
+    output wire [15:0] adc_gain_b,
+    output wire [15:0] oc_limit,
+    output wire [15:0] wdt_periods,
+    output wire signed [15:0] v_d,
+    output wire signed [15:0] v_q,
+    output wire [14:0] v_h,
+    output wire signed [15:0] sin_q15,
+    output wire signed [15:0] cos_q15,
+    output wire [15:0] dtc_gain,
+    output wire [14:0] hf_amp,
+    output wire [31:0] recip_h,
+    output wire signed [15:0] i_d_ref,
+    output wire signed [15:0] i_q_ref,
+    // hardware -> software
+    input  wire        status_fault_oc,
+    input  wire        status_fault_wdt,
+    input  wire        status_outputs_on,
+    input  wire        status_commit_pending,
+    input  wire        irq_window_set,    // one-clock pulse: window results latched
+    input  wire [31:0] gamma,
+    input  wire [31:0] gamma_d,
+    input  wire [31:0] sum_id,
+    input  wire [31:0] sum_iq,
+    input  wire [31:0] wsum,
+    input  wire [15:0] n_samples,
+    input  wire [31:0] window_count,
+    input  wire [15:0] late_count,
+    output reg         irq
+);
+/* verilator lint_off UNUSEDPARAM */  // the generated map lists every field; not all are needed here
+`include "regs/hfi_regs_map.vh"
+/* verilator lint_on UNUSEDPARAM */
+
+    localparam [1:0] RESP_OKAY = 2'b00, RESP_SLVERR = 2'b10;
+
+    // ---------------------------------------------------------------- storage (rw fields)
+    reg [31:0] r_ctrl, r_irq_status, r_irq_enable, r_pwm_half, r_dead_ticks, r_os_ticks, r_blank_ticks,
+               r_cw_angle_step, r_adc_offset, r_adc_gain, r_oc_limit, r_wdt_periods, r_v_dq, r_v_h,
+               r_sincos, r_speed_ref, r_dtc_gain, r_hf_amp, r_recip_h, r_i_ref;
+
+    // Field mask and reset word of a register, from the generated constants.
+    function [31:0] fmask(input integer lsb, input integer width);
+        begin
+            fmask = (width >= 32) ? 32'hFFFFFFFF : (((32'h1 << width) - 32'h1) << lsb);
+        end
+    endfunction
+
+    localparam [31:0] M_CTRL = fmask(HFI_CTRL_ENABLE_LSB, HFI_CTRL_ENABLE_WIDTH)
+                             | fmask(HFI_CTRL_INJ_EN_LSB, HFI_CTRL_INJ_EN_WIDTH)
+                             | fmask(HFI_CTRL_ADC_MODE_LSB, HFI_CTRL_ADC_MODE_WIDTH);
+    localparam [31:0] RST_CTRL = ({31'd0, HFI_CTRL_ENABLE_RESET} << HFI_CTRL_ENABLE_LSB)
+                               | ({31'd0, HFI_CTRL_INJ_EN_RESET} << HFI_CTRL_INJ_EN_LSB)
+                               | ({30'd0, HFI_CTRL_ADC_MODE_RESET} << HFI_CTRL_ADC_MODE_LSB);
+    localparam [31:0] M_IRQ = fmask(HFI_IRQ_STATUS_WINDOW_LSB, HFI_IRQ_STATUS_WINDOW_WIDTH);
+    localparam [31:0] M_U16 = 32'h0000FFFF, M_U15 = 32'h00007FFF, M_ALL = 32'hFFFFFFFF;
+    localparam [31:0] RST_IRQ_ENABLE = {31'd0, HFI_IRQ_ENABLE_WINDOW_RESET} << HFI_IRQ_ENABLE_WINDOW_LSB;
+    localparam [31:0] RST_ADC_OFFSET = {HFI_ADC_OFFSET_B_RESET, HFI_ADC_OFFSET_A_RESET};
+    localparam [31:0] RST_ADC_GAIN = {HFI_ADC_GAIN_B_RESET, HFI_ADC_GAIN_A_RESET};
+    localparam [31:0] RST_V_DQ = {HFI_V_DQ_V_Q_RESET, HFI_V_DQ_V_D_RESET};
+    localparam [31:0] RST_SINCOS = {HFI_SINCOS_COS_RESET, HFI_SINCOS_SIN_RESET};
+    localparam [31:0] RST_I_REF = {HFI_I_REF_I_Q_RESET, HFI_I_REF_I_D_RESET};
+
+    // ---------------------------------------------------------------- write channel
+    wire wr_fire = s_axil_awvalid & s_axil_wvalid & ~s_axil_bvalid;
+    assign s_axil_awready = wr_fire;
+    assign s_axil_wready = wr_fire;
+    wire [7:0] wr_addr = {{(8 > ADDR_BITS ? 8 - ADDR_BITS : 0){1'b0}}, s_axil_awaddr[ADDR_BITS-1:0]};
+    wire [31:0] byte_mask = {{8{s_axil_wstrb[3]}}, {8{s_axil_wstrb[2]}}, {8{s_axil_wstrb[1]}},
+                             {8{s_axil_wstrb[0]}}};
+
+    // New value of a rw register: the written bytes of its fields, the rest kept.
+    function [31:0] merge(input [31:0] old, input [31:0] field_mask, input [31:0] data, input [31:0] bytes);
+        merge = (old & ~(field_mask & bytes)) | (data & field_mask & bytes);
+    endfunction
+
+    function known_addr(input [7:0] a);
+        case (a)
+            HFI_ID_ADDR, HFI_VERSION_ADDR, HFI_CTRL_ADDR, HFI_STATUS_ADDR, HFI_IRQ_STATUS_ADDR,
+            HFI_IRQ_ENABLE_ADDR, HFI_PWM_HALF_ADDR, HFI_DEAD_TICKS_ADDR, HFI_OS_TICKS_ADDR,
+            HFI_BLANK_TICKS_ADDR, HFI_CW_ANGLE_STEP_ADDR, HFI_ADC_OFFSET_ADDR, HFI_ADC_GAIN_ADDR,
+            HFI_OC_LIMIT_ADDR, HFI_WDT_PERIODS_ADDR, HFI_V_DQ_ADDR, HFI_V_H_ADDR, HFI_SINCOS_ADDR,
+            HFI_COMMIT_ADDR, HFI_GAMMA_ADDR, HFI_GAMMA_D_ADDR, HFI_SUM_ID_ADDR, HFI_SUM_IQ_ADDR,
+            HFI_WSUM_ADDR, HFI_N_SAMPLES_ADDR, HFI_WINDOW_COUNT_ADDR, HFI_LATE_COUNT_ADDR,
+            HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR:
+                known_addr = 1'b1;
+            default: known_addr = 1'b0;
+        endcase
+    endfunction
+
+    wire wr_irq_status = wr_fire && wr_addr == HFI_IRQ_STATUS_ADDR;
+    wire [31:0] irq_clear = wr_irq_status ? (s_axil_wdata & byte_mask & M_IRQ) : 32'd0;
+
+    always @(posedge clk) begin
+        if (rst) begin
+            r_ctrl <= RST_CTRL;
+            r_irq_status <= 32'd0;
+            r_irq_enable <= RST_IRQ_ENABLE;
+            r_pwm_half <= {16'd0, HFI_PWM_HALF_VALUE_RESET};
+            r_dead_ticks <= {16'd0, HFI_DEAD_TICKS_VALUE_RESET};
+            r_os_ticks <= {16'd0, HFI_OS_TICKS_VALUE_RESET};
+            r_blank_ticks <= {16'd0, HFI_BLANK_TICKS_VALUE_RESET};
+            r_cw_angle_step <= HFI_CW_ANGLE_STEP_VALUE_RESET;
+            r_adc_offset <= RST_ADC_OFFSET;
+            r_adc_gain <= RST_ADC_GAIN;
+            r_oc_limit <= {16'd0, HFI_OC_LIMIT_VALUE_RESET};
+            r_wdt_periods <= {16'd0, HFI_WDT_PERIODS_VALUE_RESET};
+            r_v_dq <= RST_V_DQ;
+            r_v_h <= {17'd0, HFI_V_H_VALUE_RESET};
+            r_sincos <= RST_SINCOS;
+            r_speed_ref <= HFI_SPEED_REF_VALUE_RESET;
+            r_dtc_gain <= {16'd0, HFI_DTC_GAIN_VALUE_RESET};
+            r_hf_amp <= {17'd0, HFI_HF_AMP_VALUE_RESET};
+            r_recip_h <= HFI_RECIP_H_VALUE_RESET;
+            r_i_ref <= RST_I_REF;
+            fault_clear <= 1'b0;
+            commit_go <= 1'b0;
+            s_axil_bvalid <= 1'b0;
+            s_axil_bresp <= RESP_OKAY;
+        end else begin
+            fault_clear <= 1'b0;
+            commit_go <= 1'b0;
+            // w1c with hardware set winning (precedence = hw)
+            r_irq_status <= (r_irq_status & ~irq_clear) | ({31'd0, irq_window_set} << HFI_IRQ_STATUS_WINDOW_LSB);
+            if (s_axil_bvalid && s_axil_bready)
+                s_axil_bvalid <= 1'b0;
+            if (wr_fire) begin
+                s_axil_bvalid <= 1'b1;
+                s_axil_bresp <= known_addr(wr_addr) ? RESP_OKAY : RESP_SLVERR;
+                case (wr_addr)
+                    HFI_CTRL_ADDR: begin
+                        r_ctrl <= merge(r_ctrl, M_CTRL, s_axil_wdata, byte_mask);
+                        fault_clear <= s_axil_wstrb[HFI_CTRL_FAULT_CLEAR_LSB / 8]
+                                       & s_axil_wdata[HFI_CTRL_FAULT_CLEAR_LSB];
+                    end
+                    HFI_IRQ_ENABLE_ADDR: r_irq_enable <= merge(r_irq_enable, M_IRQ, s_axil_wdata, byte_mask);
+                    HFI_PWM_HALF_ADDR: r_pwm_half <= merge(r_pwm_half, M_U16, s_axil_wdata, byte_mask);
+                    HFI_DEAD_TICKS_ADDR: r_dead_ticks <= merge(r_dead_ticks, M_U16, s_axil_wdata, byte_mask);
+                    HFI_OS_TICKS_ADDR: r_os_ticks <= merge(r_os_ticks, M_U16, s_axil_wdata, byte_mask);
+                    HFI_BLANK_TICKS_ADDR: r_blank_ticks <= merge(r_blank_ticks, M_U16, s_axil_wdata, byte_mask);
+                    HFI_CW_ANGLE_STEP_ADDR: r_cw_angle_step <= merge(r_cw_angle_step, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_ADC_OFFSET_ADDR: r_adc_offset <= merge(r_adc_offset, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_ADC_GAIN_ADDR: r_adc_gain <= merge(r_adc_gain, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_OC_LIMIT_ADDR: r_oc_limit <= merge(r_oc_limit, M_U16, s_axil_wdata, byte_mask);
+                    HFI_WDT_PERIODS_ADDR: r_wdt_periods <= merge(r_wdt_periods, M_U16, s_axil_wdata, byte_mask);
+                    HFI_V_DQ_ADDR: r_v_dq <= merge(r_v_dq, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_V_H_ADDR: r_v_h <= merge(r_v_h, M_U15, s_axil_wdata, byte_mask);
+                    HFI_SINCOS_ADDR: r_sincos <= merge(r_sincos, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_COMMIT_ADDR: commit_go <= s_axil_wstrb[HFI_COMMIT_GO_LSB / 8] & s_axil_wdata[HFI_COMMIT_GO_LSB];
+                    HFI_SPEED_REF_ADDR: r_speed_ref <= merge(r_speed_ref, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_DTC_GAIN_ADDR: r_dtc_gain <= merge(r_dtc_gain, M_U16, s_axil_wdata, byte_mask);
+                    HFI_HF_AMP_ADDR: r_hf_amp <= merge(r_hf_amp, M_U15, s_axil_wdata, byte_mask);
+                    HFI_RECIP_H_ADDR: r_recip_h <= merge(r_recip_h, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_I_REF_ADDR: r_i_ref <= merge(r_i_ref, M_ALL, s_axil_wdata, byte_mask);
+                    default: ;
+                endcase
+            end
+        end
+    end
+
+    // ---------------------------------------------------------------- read channel
+    assign s_axil_arready = ~s_axil_rvalid;
+    wire [7:0] rd_addr = {{(8 > ADDR_BITS ? 8 - ADDR_BITS : 0){1'b0}}, s_axil_araddr[ADDR_BITS-1:0]};
+    wire [31:0] status_word = ({31'd0, status_fault_oc} << HFI_STATUS_FAULT_OC_LSB)
+                            | ({31'd0, status_fault_wdt} << HFI_STATUS_FAULT_WDT_LSB)
+                            | ({31'd0, status_outputs_on} << HFI_STATUS_OUTPUTS_ON_LSB)
+                            | ({31'd0, status_commit_pending} << HFI_STATUS_COMMIT_PENDING_LSB);
+    reg [31:0] rd_word;
+    always @(*) begin
+        case (rd_addr)
+            HFI_ID_ADDR: rd_word = HFI_ID_VALUE_RESET;
+            HFI_VERSION_ADDR: rd_word = {HFI_VERSION_MAJOR_RESET, HFI_VERSION_MINOR_RESET};
+            HFI_CTRL_ADDR: rd_word = r_ctrl;
+            HFI_STATUS_ADDR: rd_word = status_word;
+            HFI_IRQ_STATUS_ADDR: rd_word = r_irq_status;
+            HFI_IRQ_ENABLE_ADDR: rd_word = r_irq_enable;
+            HFI_PWM_HALF_ADDR: rd_word = r_pwm_half;
+            HFI_DEAD_TICKS_ADDR: rd_word = r_dead_ticks;
+            HFI_OS_TICKS_ADDR: rd_word = r_os_ticks;
+            HFI_BLANK_TICKS_ADDR: rd_word = r_blank_ticks;
+            HFI_CW_ANGLE_STEP_ADDR: rd_word = r_cw_angle_step;
+            HFI_ADC_OFFSET_ADDR: rd_word = r_adc_offset;
+            HFI_ADC_GAIN_ADDR: rd_word = r_adc_gain;
+            HFI_OC_LIMIT_ADDR: rd_word = r_oc_limit;
+            HFI_WDT_PERIODS_ADDR: rd_word = r_wdt_periods;
+            HFI_V_DQ_ADDR: rd_word = r_v_dq;
+            HFI_V_H_ADDR: rd_word = r_v_h;
+            HFI_SINCOS_ADDR: rd_word = r_sincos;
+            HFI_GAMMA_ADDR: rd_word = gamma;
+            HFI_GAMMA_D_ADDR: rd_word = gamma_d;
+            HFI_SUM_ID_ADDR: rd_word = sum_id;
+            HFI_SUM_IQ_ADDR: rd_word = sum_iq;
+            HFI_WSUM_ADDR: rd_word = wsum;
+            HFI_N_SAMPLES_ADDR: rd_word = {16'd0, n_samples};
+            HFI_WINDOW_COUNT_ADDR: rd_word = window_count;
+            HFI_LATE_COUNT_ADDR: rd_word = {16'd0, late_count};
+            HFI_SPEED_REF_ADDR: rd_word = r_speed_ref;
+            HFI_DTC_GAIN_ADDR: rd_word = r_dtc_gain;
+            HFI_HF_AMP_ADDR: rd_word = r_hf_amp;
+            HFI_RECIP_H_ADDR: rd_word = r_recip_h;
+            HFI_I_REF_ADDR: rd_word = r_i_ref;
+            default: rd_word = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
+        endcase
+    end
+
+    always @(posedge clk) begin
+        if (rst) begin
+            s_axil_rvalid <= 1'b0;
+            s_axil_rdata <= 32'd0;
+            s_axil_rresp <= RESP_OKAY;
+            irq <= 1'b0;
+        end else begin
+            irq <= |(r_irq_status & r_irq_enable & M_IRQ);
+            if (s_axil_rvalid && s_axil_rready)
+                s_axil_rvalid <= 1'b0;
+            if (s_axil_arvalid && !s_axil_rvalid) begin
+                s_axil_rvalid <= 1'b1;
+                s_axil_rdata <= rd_word;
+                s_axil_rresp <= known_addr(rd_addr) ? RESP_OKAY : RESP_SLVERR;
+            end
+        end
+    end
+
+    // ---------------------------------------------------------------- field outputs
+    assign ctrl_enable = r_ctrl[HFI_CTRL_ENABLE_LSB];
+    assign ctrl_inj_en = r_ctrl[HFI_CTRL_INJ_EN_LSB];
+    assign ctrl_adc_mode = r_ctrl[HFI_CTRL_ADC_MODE_LSB +: 2];
+    assign pwm_half = r_pwm_half[15:0];
+    assign dead_ticks = r_dead_ticks[15:0];
+    assign os_ticks = r_os_ticks[15:0];
+    assign blank_ticks = r_blank_ticks[15:0];
+    assign cw_angle_step = r_cw_angle_step;
+    assign adc_offset_a = r_adc_offset[HFI_ADC_OFFSET_A_LSB +: 16];
+    assign adc_offset_b = r_adc_offset[HFI_ADC_OFFSET_B_LSB +: 16];
+    assign adc_gain_a = r_adc_gain[HFI_ADC_GAIN_A_LSB +: 16];
+    assign adc_gain_b = r_adc_gain[HFI_ADC_GAIN_B_LSB +: 16];
+    assign oc_limit = r_oc_limit[15:0];
+    assign wdt_periods = r_wdt_periods[15:0];
+    assign v_d = r_v_dq[HFI_V_DQ_V_D_LSB +: 16];
+    assign v_q = r_v_dq[HFI_V_DQ_V_Q_LSB +: 16];
+    assign v_h = r_v_h[14:0];
+    assign sin_q15 = r_sincos[HFI_SINCOS_SIN_LSB +: 16];
+    assign cos_q15 = r_sincos[HFI_SINCOS_COS_LSB +: 16];
+    assign dtc_gain = r_dtc_gain[15:0];
+    assign hf_amp = r_hf_amp[14:0];
+    assign recip_h = r_recip_h;
+    assign i_d_ref = r_i_ref[HFI_I_REF_I_D_LSB +: 16];
+    assign i_q_ref = r_i_ref[HFI_I_REF_I_Q_LSB +: 16];
+endmodule
+`default_nettype wire

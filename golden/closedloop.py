@@ -46,6 +46,11 @@ WINDOW_FIELDS = (
 """Per-window trace columns (integers of the spec, and the plant's truth at the window end)."""
 
 
+OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
+"""Per-window register writes of the firmware (golden.firmware.supervisor.Outputs): written after window
+``k``, committed at the boundary of window ``k + 2``; ``enable`` applies at the bottom of period ``k + 2``."""
+
+
 def profile_at(points: list[tuple[float, float]], t: np.ndarray) -> np.ndarray:
     """Piecewise-linear profile, held outside its points; at equal times the later point wins."""
     if not points:
@@ -72,6 +77,8 @@ class ClosedLoopResult:
 
     windows: dict            # WINDOW_FIELDS -> array (one entry per window)
     samples: dict            # "tick", "adc_a", "adc_b" (every ADC sample, as converted)
+    edges: dict              # "tick", "mask": every gate-mask change (mask after the tick)
+    writes: dict             # OUTPUT_FIELDS -> array: the firmware's register values after each window
     hw: HardwareConfig
     scales: Scales
     tick_hz: float
@@ -137,6 +144,7 @@ class ClosedLoop:
         rec_f = {"omega_m": np.zeros(n_win), "torque": np.zeros(n_win), "load_torque": np.zeros(n_win),
                  "i_d_true": np.zeros(n_win), "i_q_true": np.zeros(n_win)}
         s_ticks, s_a, s_b = [], [], []
+        edge_ticks, edge_masks = [], []
         pole_pairs = self.scales.pole_pairs
 
         active = RESET_OUTPUTS
@@ -158,6 +166,8 @@ class ClosedLoop:
             cmp_bot = self._compares(active, -1)
             gen.add_half((k + 1) * P, H, True, cmp_bot)
             e_ticks, e_masks = gen.take_edges(zc + P)
+            edge_ticks.append(e_ticks)
+            edge_masks.append(e_masks)
             rel, w = self._window_pattern(adc_mode)
             ticks = rel + zc
             out = plant.run(e_ticks, ticks, gates=e_masks)
@@ -200,7 +210,10 @@ class ClosedLoop:
         rec.update(rec_f)
         samples = {"tick": np.concatenate(s_ticks), "adc_a": np.concatenate(s_a).astype(np.uint16),
                    "adc_b": np.concatenate(s_b).astype(np.uint16)}
-        return ClosedLoopResult(rec, samples, hw, self.scales, tick_hz, fw.flipped, time.perf_counter() - t0)
+        edges = {"tick": np.concatenate(edge_ticks), "mask": np.concatenate(edge_masks)}
+        writes = {f: np.array([getattr(o, f) for o in outs], dtype=np.int64) for f in OUTPUT_FIELDS}
+        return ClosedLoopResult(rec, samples, edges, writes, hw, self.scales, tick_hz, fw.flipped,
+                                time.perf_counter() - t0)
 
 
 class _Progress:

@@ -66,9 +66,12 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
 
 
 def write_trace(path: str, res: ClosedLoopResult) -> None:
-    """Per-window columns (``win_*``) and per-sample ADC codes (``sample_*``) in one npz."""
+    """Per-window columns (``win_*``), per-sample ADC codes (``sample_*``), gate edges (``edge_*``) and
+    the firmware's register writes per window (``write_*``) in one npz."""
     arrays = {f"win_{k}": v for k, v in res.windows.items()}
     arrays.update({f"sample_{k}": v for k, v in res.samples.items()})
+    arrays.update({f"edge_{k}": v for k, v in res.edges.items()})
+    arrays.update({f"write_{k}": v for k, v in res.writes.items()})
     arrays["tick_hz"] = np.array(res.tick_hz)
     np.savez_compressed(path, **arrays)
 

@@ -1,0 +1,363 @@
+`default_nettype none
+// hfi_dsp: the FPGA data path of the 002 system (Benevieri et al. 2023, Fig. 1 and Sec. II-B) as an
+// AXI4-Lite peripheral with one interrupt: PWM carrier with square-wave injection, dead-time gate
+// generator, ADC trigger and serial ADC interface, offset/gain, Clarke/Park, CORDIC demodulation
+// weights, the eps integrator reset on every carrier rising zero crossing, the window sums, the
+// overcurrent trip and the firmware watchdog. docs/rtl.md describes the timing; docs/spec.md the
+// arithmetic; docs/registers.md the registers. Every block equals its golden model bit for bit
+// (cocotb_tests/), and the whole IP replays the golden closed loop (cocotb_tests/test_dsp_replay.py).
+//
+// Parameters
+//   ADC_BITS, ADC_CONV_TICKS, ADC_SCLK_HALF  serial ADC (hfi_adc_if): resolution, conversion time,
+//                                            SCLK half period [clocks]
+//   CORDIC_WIDTH, CORDIC_ITERATIONS          demodulation-weight CORDIC (spec 3.3)
+//   DEAD_MIN                                 dead-time floor [clocks] (spec 2.4)
+//   IRQ_LATENCY                              window interrupt, clocks after the window boundary
+//   OS_MIN                                   shortest sampling interval (spec 2.3); must be at least
+//                                            max(CORDIC_ITERATIONS + 8, ADC cycle): checked below
+//
+// Window bookkeeping (docs/rtl.md): every sample carries the parity of the window of its sampling
+// tick and its OS_BLANK keep flag through the pipeline. The Park unit rotates it with the SIN/COS
+// committed for that window (two banks, by parity); the demodulator latches the previous window when
+// the first sample of a new window arrives, or at the window deadline (IRQ_LATENCY - 8 clocks after
+// the boundary) if none has arrived yet. So no latency constant of another module is repeated here.
+module hfi_dsp #(
+    parameter ADC_BITS = 12,
+    parameter ADC_CONV_TICKS = 12,
+    parameter ADC_SCLK_HALF = 1,
+    parameter CORDIC_WIDTH = 32,
+    parameter CORDIC_ITERATIONS = 32,
+    parameter DEAD_MIN = 50,
+    parameter IRQ_LATENCY = 400,
+    parameter OS_MIN = 40
+) (
+    input  wire        clk,
+    input  wire        rst,
+    // AXI4-Lite slave (byte addresses 0x00..0xFF)
+    input  wire [7:0]  s_axil_awaddr,
+    input  wire        s_axil_awvalid,
+    output wire        s_axil_awready,
+    input  wire [31:0] s_axil_wdata,
+    input  wire [3:0]  s_axil_wstrb,
+    input  wire        s_axil_wvalid,
+    output wire        s_axil_wready,
+    output wire [1:0]  s_axil_bresp,
+    output wire        s_axil_bvalid,
+    input  wire        s_axil_bready,
+    input  wire [7:0]  s_axil_araddr,
+    input  wire        s_axil_arvalid,
+    output wire        s_axil_arready,
+    output wire [31:0] s_axil_rdata,
+    output wire [1:0]  s_axil_rresp,
+    output wire        s_axil_rvalid,
+    input  wire        s_axil_rready,
+    output wire        irq,
+    // gate signals: bit 2x = high switch of leg x, 2x+1 = low switch (a, b, c = 0, 1, 2)
+    output wire [5:0]  gate,
+    // serial simultaneous-sampling ADC (phases a and b)
+    output wire        adc_convst,
+    output wire        adc_cs_n,
+    output wire        adc_sclk,
+    input  wire        adc_sdo_a,
+    input  wire        adc_sdo_b
+);
+    // ---------------------------------------------------------------- parameter checks
+    generate
+        if (IRQ_LATENCY < 64 || IRQ_LATENCY > 500) begin : bad_irq_latency
+            hfi_dsp_parameter_error_IRQ_LATENCY_must_be_64_to_500 bad();
+        end
+        if (OS_MIN < CORDIC_ITERATIONS + 8) begin : bad_os_min
+            hfi_dsp_parameter_error_OS_MIN_below_CORDIC_ITERATIONS_plus_8 bad();
+        end
+    endgenerate
+
+    // ---------------------------------------------------------------- registers
+    wire        ctrl_enable, ctrl_inj_en, fault_clear, commit_go;
+    wire [1:0]  ctrl_adc_mode;
+    wire [15:0] pwm_half_reg, dead_ticks, os_ticks, blank_ticks, adc_gain_a, adc_gain_b, oc_limit,
+                wdt_periods, dtc_gain;
+    wire [31:0] cw_step_reg, recip_h;
+    wire signed [15:0] adc_offset_a, adc_offset_b, sh_v_d, sh_v_q, sh_sin, sh_cos, sh_i_d_ref, sh_i_q_ref;
+    wire [14:0] sh_v_h, hf_amp;
+    wire signed [31:0] gamma, gamma_d, sum_id, sum_iq, wsum;
+    wire [15:0] n_samples;
+    reg  [31:0] window_count;
+    reg  [15:0] late_count;
+    reg         fault_oc, fault_wdt, commit_pending, irq_window_set;
+    wire        outputs_on;
+
+    hfi_regs u_regs (
+        .clk(clk), .rst(rst),
+        .s_axil_awaddr(s_axil_awaddr), .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),
+        .s_axil_wdata(s_axil_wdata), .s_axil_wstrb(s_axil_wstrb), .s_axil_wvalid(s_axil_wvalid),
+        .s_axil_wready(s_axil_wready), .s_axil_bresp(s_axil_bresp), .s_axil_bvalid(s_axil_bvalid),
+        .s_axil_bready(s_axil_bready), .s_axil_araddr(s_axil_araddr), .s_axil_arvalid(s_axil_arvalid),
+        .s_axil_arready(s_axil_arready), .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
+        .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
+        .ctrl_enable(ctrl_enable), .ctrl_inj_en(ctrl_inj_en), .ctrl_adc_mode(ctrl_adc_mode),
+        .fault_clear(fault_clear), .commit_go(commit_go),
+        .pwm_half(pwm_half_reg), .dead_ticks(dead_ticks), .os_ticks(os_ticks), .blank_ticks(blank_ticks),
+        .cw_angle_step(cw_step_reg), .adc_offset_a(adc_offset_a), .adc_offset_b(adc_offset_b),
+        .adc_gain_a(adc_gain_a), .adc_gain_b(adc_gain_b), .oc_limit(oc_limit), .wdt_periods(wdt_periods),
+        .v_d(sh_v_d), .v_q(sh_v_q), .v_h(sh_v_h), .sin_q15(sh_sin), .cos_q15(sh_cos),
+        .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h), .i_d_ref(sh_i_d_ref), .i_q_ref(sh_i_q_ref),
+        .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
+        .status_commit_pending(commit_pending), .irq_window_set(irq_window_set),
+        .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id), .sum_iq(sum_iq), .wsum(wsum),
+        .n_samples(n_samples), .window_count(window_count), .late_count(late_count), .irq(irq)
+    );
+
+    // ---------------------------------------------------------------- carrier (spec 2.1)
+    wire [16:0] phase;
+    wire [15:0] counter, half;
+    wire        rising, at_bottom, at_top, at_zc;
+    wire [31:0] cw_angle;
+    hfi_carrier u_carrier (
+        .clk(clk), .rst(rst), .pwm_half_reg(pwm_half_reg), .cw_step_reg(cw_step_reg),
+        .phase(phase), .counter(counter), .half(half), .rising(rising), .at_bottom(at_bottom),
+        .at_top(at_top), .at_zc(at_zc), .cw_angle(cw_angle)
+    );
+
+    // ---------------------------------------------------------------- commit at the window boundary (spec 2.2)
+    // Active copies of the shadow registers; INJ_EN is applied at every boundary.
+    reg signed [15:0] act_v_d, act_v_q, act_sin, act_cos, act_i_d_ref, act_i_q_ref;
+    reg [14:0] act_v_h;
+    reg        act_inj_en;
+    reg        win_parity;              // parity of the window of the current tick (window -1: 1)
+    reg signed [15:0] bank_sin [0:1];   // SIN/COS of the last windows of each parity, for Park
+    reg signed [15:0] bank_cos [0:1];
+    reg [15:0] windows_without_commit;
+    reg        zc_d1;                   // the cycle after a boundary: the modulator starts
+
+    always @(posedge clk) begin
+        if (rst) begin
+            act_v_d <= 16'sd0; act_v_q <= 16'sd0; act_v_h <= 15'd0;
+            act_sin <= 16'sd0; act_cos <= 16'sd32767;
+            act_i_d_ref <= 16'sd0; act_i_q_ref <= 16'sd0;
+            act_inj_en <= 1'b0;
+            win_parity <= 1'b1;
+            bank_sin[0] <= 16'sd0; bank_cos[0] <= 16'sd32767;
+            bank_sin[1] <= 16'sd0; bank_cos[1] <= 16'sd32767;
+            commit_pending <= 1'b0;
+            late_count <= 16'd0;
+            windows_without_commit <= 16'd0;
+            zc_d1 <= 1'b0;
+        end else begin
+            zc_d1 <= at_zc;
+            if (commit_go)
+                commit_pending <= 1'b1;
+            if (at_zc) begin
+                win_parity <= ~win_parity;
+                act_inj_en <= ctrl_inj_en;
+                if (commit_pending || commit_go) begin
+                    commit_pending <= 1'b0;
+                    act_v_d <= sh_v_d; act_v_q <= sh_v_q; act_v_h <= sh_v_h;
+                    act_sin <= sh_sin; act_cos <= sh_cos;
+                    act_i_d_ref <= sh_i_d_ref; act_i_q_ref <= sh_i_q_ref;
+                    bank_sin[~win_parity] <= sh_sin; bank_cos[~win_parity] <= sh_cos;
+                    windows_without_commit <= 16'd0;
+                end else begin
+                    bank_sin[~win_parity] <= act_sin; bank_cos[~win_parity] <= act_cos;
+                    if (late_count != 16'hFFFF)
+                        late_count <= late_count + 16'd1;
+                    if (windows_without_commit != 16'hFFFF)
+                        windows_without_commit <= windows_without_commit + 16'd1;
+                end
+            end
+        end
+    end
+
+    // ---------------------------------------------------------------- modulator (spec 3.5, 3.6)
+    wire [15:0] dead_eff = (dead_ticks < DEAD_MIN) ? DEAD_MIN[15:0] : dead_ticks;
+    wire [15:0] cmp_top_a, cmp_top_b, cmp_top_c, cmp_bot_a, cmp_bot_b, cmp_bot_c;
+    wire        mod_busy, mod_done;
+    hfi_modulator u_modulator (
+        .clk(clk), .rst(rst), .start(zc_d1),
+        .v_d(act_v_d), .v_q(act_v_q), .v_h(act_inj_en ? {1'b0, act_v_h} : 16'sd0),
+        .sin_q15(act_sin), .cos_q15(act_cos), .i_d_ref(act_i_d_ref), .i_q_ref(act_i_q_ref),
+        .half(half), .dead(dead_eff), .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h),
+        .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),
+        .cmp_bot_a(cmp_bot_a), .cmp_bot_b(cmp_bot_b), .cmp_bot_c(cmp_bot_c),
+        .busy(mod_busy), .done(mod_done)
+    );
+
+    // ---------------------------------------------------------------- enable, faults, gates (spec 2.4, 3.7)
+    reg  en_applied;
+    wire fault = fault_oc | fault_wdt;
+    wire en_now = at_bottom ? (ctrl_enable & ~fault) : en_applied;   // ENABLE applies at a bottom
+    assign outputs_on = en_applied & ~fault;
+    wire [2:0] ideal_s;
+    wire       sw_event;
+    hfi_gate_gen #(.DEAD_MIN(DEAD_MIN)) u_gate_gen (
+        .clk(clk), .rst(rst), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
+        .cmp_bot_a(cmp_bot_a), .cmp_bot_b(cmp_bot_b), .cmp_bot_c(cmp_bot_c),
+        .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),
+        .dead_reg(dead_ticks), .enable(en_now & ~fault), .kill(fault),
+        .gate(gate), .s(ideal_s), .sw_event(sw_event)
+    );
+
+    // ---------------------------------------------------------------- sampling (spec 2.3)
+    wire sample, sample_keep;
+    wire [1:0] adc_mode_used;
+    hfi_adc_trigger #(.OS_MIN(OS_MIN)) u_trigger (
+        .clk(clk), .rst(rst), .phase(phase), .half(half), .at_zc(at_zc), .at_bottom(at_bottom),
+        .mode_reg(ctrl_adc_mode), .os_ticks_reg(os_ticks), .blank_ticks_reg(blank_ticks),
+        .sw_event(sw_event), .sample(sample), .keep(sample_keep), .mode(adc_mode_used)
+    );
+    // Window parity of the sampling tick: a sample at the boundary tick belongs to the new window.
+    wire sample_parity = at_zc ? ~win_parity : win_parity;
+
+    // ---- current path: serial ADC -> offset/gain -> (overcurrent) -> Clarke/Park
+    wire [ADC_BITS-1:0] code_a, code_b;
+    wire adc_busy, adc_done;
+    hfi_adc_if #(.ADC_BITS(ADC_BITS), .CONV_TICKS(ADC_CONV_TICKS), .SCLK_HALF(ADC_SCLK_HALF)) u_adc (
+        .clk(clk), .rst(rst), .start(sample), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
+        .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
+        .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b)
+    );
+    reg tag_adc_keep, tag_adc_par;      // tags of the sample in the ADC
+    always @(posedge clk)
+        if (sample && !adc_busy) begin
+            tag_adc_keep <= sample_keep;
+            tag_adc_par <= sample_parity;
+        end
+
+    wire signed [15:0] i_a, i_b;
+    wire scale_done;
+    hfi_adc_scale #(.ADC_BITS(ADC_BITS)) u_scale (
+        .clk(clk), .rst(rst), .start(adc_done), .code_a(code_a), .code_b(code_b),
+        .offset_a(adc_offset_a), .offset_b(adc_offset_b), .gain_a(adc_gain_a), .gain_b(adc_gain_b),
+        .done(scale_done), .i_a(i_a), .i_b(i_b)
+    );
+    reg tag_scale_keep, tag_scale_par;
+    always @(posedge clk)
+        if (adc_done) begin
+            tag_scale_keep <= tag_adc_keep;
+            tag_scale_par <= tag_adc_par;
+        end
+
+    wire oc_trip;
+    hfi_overcurrent u_oc (
+        .clk(clk), .rst(rst), .valid(scale_done), .i_a(i_a), .i_b(i_b), .limit(oc_limit), .trip(oc_trip)
+    );
+
+    wire signed [15:0] i_d, i_q;
+    wire park_done;
+    hfi_park u_park (
+        .clk(clk), .rst(rst), .start(scale_done), .i_a(i_a), .i_b(i_b),
+        .sin_q15(bank_sin[tag_scale_par]), .cos_q15(bank_cos[tag_scale_par]),
+        .done(park_done), .i_d(i_d), .i_q(i_q)
+    );
+    reg tag_park_keep, tag_park_par;
+    always @(posedge clk)
+        if (scale_done) begin
+            tag_park_keep <= tag_scale_keep;
+            tag_park_par <= tag_scale_par;
+        end
+
+    // ---- weight path: CORDIC of the carrier angle of the sampling tick (spec 3.3, eq. (19))
+    wire signed [15:0] w_sin, w_cos_unused;
+    wire cordic_busy, cordic_done;
+    hfi_cordic #(.WIDTH(CORDIC_WIDTH), .ITERATIONS(CORDIC_ITERATIONS)) u_cordic (
+        .clk(clk), .rst(rst), .start(sample), .angle(cw_angle), .busy(cordic_busy), .done(cordic_done),
+        .sin_q15(w_sin), .cos_q15(w_cos_unused)
+    );
+
+    // ---- join the current and the weight of one sample; window bookkeeping
+    reg got_i, got_w;
+    reg signed [15:0] j_i_d, j_i_q, j_w;
+    reg j_keep, j_par;
+    wire join_both = (got_i | park_done) & (got_w | cordic_done);
+    always @(posedge clk) begin
+        if (rst) begin
+            got_i <= 1'b0; got_w <= 1'b0;
+        end else if (join_both) begin
+            got_i <= 1'b0; got_w <= 1'b0;
+        end else begin
+            if (park_done) got_i <= 1'b1;
+            if (cordic_done) got_w <= 1'b1;
+        end
+        if (park_done) begin
+            j_i_d <= i_d; j_i_q <= i_q; j_keep <= tag_park_keep; j_par <= tag_park_par;
+        end
+        if (cordic_done)
+            j_w <= w_sin;
+    end
+    wire signed [15:0] dm_i_d = park_done ? i_d : j_i_d;
+    wire signed [15:0] dm_i_q = park_done ? i_q : j_i_q;
+    wire signed [15:0] dm_w = cordic_done ? w_sin : j_w;
+    wire dm_keep = park_done ? tag_park_keep : j_keep;
+    wire dm_par = park_done ? tag_park_par : j_par;
+
+    // The demodulator accumulates the window of parity acc_parity; a sample of the other parity, or
+    // the deadline of the window, ends it (latch).
+    reg acc_parity;
+    reg [15:0] since_zc;
+    wire at_deadline = since_zc == IRQ_LATENCY - 8;
+    wire sample_ends = join_both && dm_par != acc_parity;
+    wire deadline_ends = at_deadline && acc_parity != win_parity;
+    wire demod_latch = sample_ends | deadline_ends;
+    wire demod_latched;
+    always @(posedge clk) begin
+        if (rst) begin
+            acc_parity <= 1'b1;
+            since_zc <= 16'hFFFF;
+            irq_window_set <= 1'b0;
+            window_count <= 32'd0;
+        end else begin
+            since_zc <= at_zc ? 16'd0 : (since_zc == 16'hFFFF ? since_zc : since_zc + 16'd1);
+            if (demod_latch)
+                acc_parity <= ~acc_parity;
+            irq_window_set <= since_zc == IRQ_LATENCY - 1;
+            if (since_zc == IRQ_LATENCY - 1)
+                window_count <= window_count + 32'd1;
+        end
+    end
+
+    hfi_demodulator u_demod (
+        .clk(clk), .rst(rst), .valid(join_both), .keep(dm_keep), .i_d(dm_i_d), .i_q(dm_i_q), .w(dm_w),
+        .latch(demod_latch), .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id), .sum_iq(sum_iq),
+        .wsum(wsum), .n_samples(n_samples), .latched(demod_latched)
+    );
+
+    // ---------------------------------------------------------------- faults (spec 2.2, 3.7)
+    always @(posedge clk) begin
+        if (rst) begin
+            fault_oc <= 1'b0;
+            fault_wdt <= 1'b0;
+            en_applied <= 1'b0;
+        end else begin
+            if (fault_clear) begin
+                fault_oc <= 1'b0;
+                fault_wdt <= 1'b0;
+            end
+            if (oc_trip)
+                fault_oc <= 1'b1;
+            if (wdt_periods != 16'd0 && windows_without_commit >= wdt_periods)
+                fault_wdt <= 1'b1;
+            if (fault)
+                en_applied <= 1'b0;
+            else if (at_bottom)
+                en_applied <= ctrl_enable;
+        end
+    end
+
+`ifndef SYNTHESIS
+    // Simulation checks of the pipeline assumptions (docs/rtl.md): one sample per stage at a time.
+    always @(posedge clk) begin
+        if (!rst && got_w && cordic_done && !join_both)
+            $error("hfi_dsp: a CORDIC weight arrived before the current of the previous sample");
+        if (!rst && got_i && park_done && !join_both)
+            $error("hfi_dsp: a current arrived before the weight of the previous sample");
+        if (!rst && sample && (adc_busy || cordic_busy))
+            $error("hfi_dsp: sampling instant while the ADC or the CORDIC is busy (OS_MIN too small)");
+        if (!rst && at_deadline && join_both && dm_par != win_parity)
+            $error("hfi_dsp: a sample of the previous window arrived after the window deadline");
+    end
+`endif
+
+    // Unused outputs of the blocks (kept for debug visibility in waveforms).
+    wire unused = &{1'b0, counter, rising, mod_busy, mod_done, ideal_s, adc_mode_used, w_cos_unused,
+                    demod_latched};
+endmodule
+`default_nettype wire

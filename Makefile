@@ -26,6 +26,16 @@ bench: setup
 paper: setup
 	$(ENV) .venv/bin/python scripts/reproduce_paper.py
 
+# Synthesis and timing of the hfi_dsp IP (yowasp Yosys + nextpnr-ecp5): out/synth/report.json + table.
+.PHONY: synth
+synth: setup
+	$(ENV) .venv/bin/python scripts/synth_report.py
+
+# Formal proof (SymbiYosys, k-induction) that no leg ever has both switches on (also run by make test).
+.PHONY: prove
+prove: setup
+	$(ENV) .venv/bin/python scripts/prove.py
+
 # Register map: rtl/regs/hfi_regs.rdl -> C header, golden/regmap.py, docs, SV register block.
 .PHONY: regs
 regs: setup

@@ -5,7 +5,9 @@
 // from the SystemRDL source rtl/regs/hfi_regs.rdl by scripts/gen_regs.py; cocotb_tests/tb_regs.py
 // checks every register's reset value and access type against golden/regmap.py (same source).
 //
-// Bus: AXI4-Lite slave, 32-bit data, byte addresses (the low ADDR_BITS bits decoded, word aligned).
+// Bus: AXI4-Lite slave, 32-bit data, ADDR_BITS-bit byte addresses (ADDR_BITS >= 8: the map spans
+// 0x00-0xFF). Every address bit is decoded: an address that is not word aligned, not in the map or
+// (ADDR_BITS > 8) has a bit above bit 7 set is outside the map (no aliasing).
 //  - Write: AW and W are accepted together in the cycle both are valid and no response is pending
 //    (AWREADY = WREADY); the response BVALID follows in the next cycle. WSTRB selects bytes.
 //  - Read: AR accepted while no read data is pending; RDATA/RVALID in the next cycle.
@@ -116,7 +118,24 @@ module hfi_regs #(
     wire wr_fire = s_axil_awvalid & s_axil_wvalid & ~s_axil_bvalid;
     assign s_axil_awready = wr_fire;
     assign s_axil_wready = wr_fire;
-    wire [7:0] wr_addr = {{(8 > ADDR_BITS ? 8 - ADDR_BITS : 0){1'b0}}, s_axil_awaddr[ADDR_BITS-1:0]};
+    // The map is decoded on 8 address bits; with ADDR_BITS > 8 an address with any upper bit set is
+    // outside the map (SLVERR, no aliasing of the 256-byte map over the wider window).
+    wire [7:0] wr_addr, rd_addr;
+    wire wr_hi_zero, rd_hi_zero;
+    generate
+        if (ADDR_BITS > 8) begin : g_wide_addr
+            assign wr_addr = s_axil_awaddr[7:0];
+            assign rd_addr = s_axil_araddr[7:0];
+            assign wr_hi_zero = ~|s_axil_awaddr[ADDR_BITS-1:8];
+            assign rd_hi_zero = ~|s_axil_araddr[ADDR_BITS-1:8];
+        end else begin : g_narrow_addr
+            assign wr_addr = {{(8 - ADDR_BITS){1'b0}}, s_axil_awaddr};
+            assign rd_addr = {{(8 - ADDR_BITS){1'b0}}, s_axil_araddr};
+            assign wr_hi_zero = 1'b1;
+            assign rd_hi_zero = 1'b1;
+        end
+    endgenerate
+    wire wr_en = wr_fire & wr_hi_zero;   // a write inside the map (unknown low addresses: no case below)
     wire [31:0] byte_mask = {{8{s_axil_wstrb[3]}}, {8{s_axil_wstrb[2]}}, {8{s_axil_wstrb[1]}},
                              {8{s_axil_wstrb[0]}}};
 
@@ -139,7 +158,7 @@ module hfi_regs #(
         endcase
     endfunction
 
-    wire wr_irq_status = wr_fire && wr_addr == HFI_IRQ_STATUS_ADDR;
+    wire wr_irq_status = wr_en && wr_addr == HFI_IRQ_STATUS_ADDR;
     wire [31:0] irq_clear = wr_irq_status ? (s_axil_wdata & byte_mask & M_IRQ) : 32'd0;
 
     always @(posedge clk) begin
@@ -177,7 +196,9 @@ module hfi_regs #(
                 s_axil_bvalid <= 1'b0;
             if (wr_fire) begin
                 s_axil_bvalid <= 1'b1;
-                s_axil_bresp <= known_addr(wr_addr) ? RESP_OKAY : RESP_SLVERR;
+                s_axil_bresp <= (wr_hi_zero && known_addr(wr_addr)) ? RESP_OKAY : RESP_SLVERR;
+            end
+            if (wr_en) begin
                 case (wr_addr)
                     HFI_CTRL_ADDR: begin
                         r_ctrl <= merge(r_ctrl, M_CTRL, s_axil_wdata, byte_mask);
@@ -211,14 +232,15 @@ module hfi_regs #(
 
     // ---------------------------------------------------------------- read channel
     assign s_axil_arready = ~s_axil_rvalid;
-    wire [7:0] rd_addr = {{(8 > ADDR_BITS ? 8 - ADDR_BITS : 0){1'b0}}, s_axil_araddr[ADDR_BITS-1:0]};
     wire [31:0] status_word = ({31'd0, status_fault_oc} << HFI_STATUS_FAULT_OC_LSB)
                             | ({31'd0, status_fault_wdt} << HFI_STATUS_FAULT_WDT_LSB)
                             | ({31'd0, status_outputs_on} << HFI_STATUS_OUTPUTS_ON_LSB)
                             | ({31'd0, status_commit_pending} << HFI_STATUS_COMMIT_PENDING_LSB);
     reg [31:0] rd_word;
     always @(*) begin
-        case (rd_addr)
+        if (!rd_hi_zero)
+            rd_word = 32'd0;
+        else case (rd_addr)
             HFI_ID_ADDR: rd_word = HFI_ID_VALUE_RESET;
             HFI_VERSION_ADDR: rd_word = {HFI_VERSION_MAJOR_RESET, HFI_VERSION_MINOR_RESET};
             HFI_CTRL_ADDR: rd_word = r_ctrl;
@@ -267,7 +289,7 @@ module hfi_regs #(
             if (s_axil_arvalid && !s_axil_rvalid) begin
                 s_axil_rvalid <= 1'b1;
                 s_axil_rdata <= rd_word;
-                s_axil_rresp <= known_addr(rd_addr) ? RESP_OKAY : RESP_SLVERR;
+                s_axil_rresp <= (rd_hi_zero && known_addr(rd_addr)) ? RESP_OKAY : RESP_SLVERR;
             end
         end
     end

@@ -1,0 +1,284 @@
+"""Bus-functional model of a serial, dual-channel, simultaneous-sampling SAR ADC (cocotb).
+
+The ADC class of ``rtl/hfi_adc_if.v`` (AD7380/AD7381/LTC2311 class): a CONVST rising edge samples both
+channels and starts the conversion (``t_CONV``); then, while CS is low, both results are shifted out
+MSB first on two data lanes (SDOA, SDOB) with one common SCLK that idles low. The ADC drives a new bit
+after every SCLK falling edge.
+
+Data timing (worst case of the part class): bit ``k`` (``k = 0`` is the MSB) is driven *valid* only from
+SCLK rising edge ``k`` until just after SCLK falling edge ``k``; at every other time (CS high, between
+CS falling and the first rising edge, in each SCLK low phase) the lanes carry random garbage. A host
+that samples a lane anywhere but in the SCLK high phase or at the falling edge itself reads garbage, so
+the BFM checks the sampling instant of the interface, not only its bit order.
+
+Protocol checks (each one is an error; with ``raise_on_error`` the BFM raises :class:`AdcProtocolError`
+from its monitor task, which fails the running cocotb test with the message):
+
+* CONVST rising while the ADC is busy: converting (less than ``conv_ticks`` clocks since the last
+  CONVST rising edge), reading (CS low) or within ``quiet_ticks`` clocks after CS rose (``t_QUIET``);
+* CS falling without a conversion, or before the conversion finished (``t_CONV``), or with SCLK high;
+* SCLK faster than allowed: a high or low phase (including CS falling to the first rising edge)
+  shorter than ``sclk_half`` clocks;
+* SCLK toggling while CS is high, more than ``bits`` SCLK pulses in one frame;
+* CS rising before all ``bits`` bits were clocked out (an aborted read), unless :attr:`abort_allowed`
+  is set (a reset of the host, see the RTL header);
+* a conversion without a code to convert (empty queue), codes out of ``0 .. 2**bits - 1``.
+
+Codes come from a queue (``codes=[(a, b), ...]``, :meth:`push`) or from a callback
+``codes_at(convst_cycle) -> (code_a, code_b)`` called at each CONVST rising edge (the replay test of the
+whole IP returns the golden ADC codes of the sampling tick ``convst_cycle - 1``, docs/rtl.md). Cycle
+numbers are counted in clock periods from :attr:`origin` (simulation steps, set by
+:meth:`set_cycle_origin` at the rising clock edge that starts cycle 0, i.e. tick 0); every CONVST rising
+edge is recorded in :attr:`convst_cycles`.
+
+The BFM only reacts to edges of CONVST, CS and SCLK (no per-clock wake-ups): about ``2*bits + 3``
+Python wake-ups per conversion.
+"""
+
+from __future__ import annotations
+
+import random
+from collections import deque
+from typing import Callable, Iterable
+
+import cocotb
+from cocotb.utils import get_sim_steps
+from cocotb.handle import Immediate
+from cocotb.triggers import FallingEdge, RisingEdge, ValueChange
+from cocotb.types import Logic
+
+_now = cocotb.simulator.get_sim_time
+_LEVEL = (Logic(0), Logic(1))
+
+
+def now_steps() -> int:
+    """Current simulation time in simulator steps (an int)."""
+    high, low = _now()
+    return high << 32 | low
+
+
+class AdcProtocolError(Exception):
+    """A protocol or timing violation seen by :class:`AdcBfm`."""
+
+
+class AdcBfm:
+    """Serial dual-lane simultaneous-sampling SAR ADC.
+
+    Parameters
+    ----------
+    convst, cs_n, sclk :
+        Handles of the host's outputs (watched).
+    sdo_a, sdo_b :
+        Handles of the host's data inputs (driven).
+    bits, conv_ticks, sclk_half :
+        Resolution, minimum conversion time and minimum SCLK half period, the latter two in periods
+        of the host clock (``clk_period_ns``).
+    codes, codes_at :
+        A queue of ``(code_a, code_b)`` pairs, or a callback from the CONVST cycle to the pair
+        (exactly one of them; the queue can also be filled later with :meth:`push`).
+    quiet_ticks :
+        Minimum time from CS rising to the next CONVST rising edge (``t_QUIET``), in clocks.
+    raise_on_error :
+        Raise :class:`AdcProtocolError` at the first violation (default); else only record it in
+        :attr:`errors`.
+    seed :
+        Seed of the garbage on the data lanes.
+    """
+
+    def __init__(self, convst, cs_n, sclk, sdo_a, sdo_b, *, bits: int, conv_ticks: int, sclk_half: int,
+                 codes: Iterable[tuple[int, int]] | None = None,
+                 codes_at: Callable[[int], tuple[int, int]] | None = None,
+                 clk_period_ns: float = 10, quiet_ticks: int = 1, raise_on_error: bool = True,
+                 seed: int = 0, name: str = "adc"):
+        if not 1 <= bits <= 16 or conv_ticks < 1 or sclk_half < 1 or quiet_ticks < 0:
+            raise ValueError(f"bad ADC parameters bits={bits} conv_ticks={conv_ticks} "
+                             f"sclk_half={sclk_half} quiet_ticks={quiet_ticks}")
+        if codes is not None and codes_at is not None:
+            raise ValueError("give a code queue or a codes_at callback, not both")
+        self.convst, self.cs_n, self.sclk, self.sdo_a, self.sdo_b = convst, cs_n, sclk, sdo_a, sdo_b
+        self.bits, self.conv_ticks, self.sclk_half = bits, conv_ticks, sclk_half
+        self.name = name
+        self.raise_on_error = raise_on_error
+        self.codes_at = codes_at
+        self.queue: deque[tuple[int, int]] = deque(codes or ())
+        self.period = get_sim_steps(clk_period_ns, "ns")
+        self.t_conv = conv_ticks * self.period
+        self.t_half = sclk_half * self.period
+        self.t_quiet = quiet_ticks * self.period
+        self.origin = 0
+        self.abort_allowed = False
+        self._rng = random.Random(seed)
+        # records
+        self.convst_cycles: list[int] = []     # cycle of every CONVST rising edge
+        self.converted: list[tuple[int, int, int]] = []   # (cycle, code_a, code_b) per conversion
+        self.reads = 0                         # complete reads (all bits clocked out, CS rose)
+        self.aborts = 0                        # reads ended early by CS (allowed)
+        self.errors: list[str] = []
+        # state
+        self._conv_start: int | None = None    # time of the last CONVST rising edge
+        self._result: tuple[int, int] | None = None   # converted, not yet read
+        self._frame = False                    # CS low
+        self._cs_rise = None                   # time CS last rose
+        self._last_edge = 0                    # time of the last SCLK edge or CS falling edge
+        self._rises = 0                        # SCLK rising edges in this frame
+        self._falls = 0                        # SCLK falling edges in this frame
+        self._word_a = self._word_b = 0
+        self._sdo = (-1, -1)                   # levels driven on the lanes
+        self._tasks = []
+
+    # ---------------------------------------------------------------- control
+    def start(self) -> "AdcBfm":
+        """Start the monitors (and drive garbage on the data lanes)."""
+        self._sdo = (-1, -1)
+        self._garbage()
+        self._tasks = [cocotb.start_soon(self._convst_monitor()), cocotb.start_soon(self._cs_monitor()),
+                       cocotb.start_soon(self._sclk_monitor())]
+        return self
+
+    def stop(self) -> None:
+        for task in self._tasks:
+            task.cancel()
+        self._tasks = []
+
+    def set_cycle_origin(self, steps: int | None = None) -> None:
+        """Cycle 0 starts now (call at the rising clock edge that begins tick 0) or at ``steps``."""
+        self.origin = now_steps() if steps is None else steps
+
+    def cycle(self, steps: int | None = None) -> int:
+        """Clock cycle (from :attr:`origin`) of the time ``steps`` (default: now)."""
+        t = now_steps() if steps is None else steps
+        return (t - self.origin) // self.period
+
+    def push(self, code_a: int, code_b: int) -> None:
+        """Queue one pair of codes for a future conversion."""
+        self.queue.append((code_a, code_b))
+
+    def check_clean(self) -> None:
+        """Raise :class:`AdcProtocolError` listing the recorded errors, if any."""
+        if self.errors:
+            raise AdcProtocolError(f"{self.name}: {len(self.errors)} protocol errors, first: "
+                                   + "; ".join(self.errors[:5]))
+
+    # ---------------------------------------------------------------- internals
+    def _error(self, msg: str) -> None:
+        text = f"{self.name} ADC protocol error at cycle {self.cycle()}: {msg}"
+        self.errors.append(text)
+        if self.raise_on_error:
+            raise AdcProtocolError(text)
+
+    def _drive(self, a: int, b: int) -> None:
+        """Drive the data lanes: only what changes, as immediate deposits (no ReadWrite phase per
+        edge). Safe: the BFM writes right after a host clock edge, whose flip-flops have sampled."""
+        if a != self._sdo[0]:
+            self.sdo_a.set(Immediate(_LEVEL[a]))
+        if b != self._sdo[1]:
+            self.sdo_b.set(Immediate(_LEVEL[b]))
+        self._sdo = (a, b)
+
+    def _garbage(self) -> None:
+        """Random levels on both lanes (the bits are not valid now)."""
+        bits = self._rng.getrandbits(2)
+        self._drive(bits & 1, bits >> 1)
+
+    async def _convst_monitor(self) -> None:
+        edge = RisingEdge(self.convst)
+        while True:
+            await edge
+            now = now_steps()
+            cyc = self.cycle(now)
+            if self._conv_start is not None and now - self._conv_start < self.t_conv:
+                self._error(f"CONVST rose while converting ({now - self._conv_start} of "
+                            f"{self.t_conv} steps of t_CONV since the last CONVST)")
+            if self._frame:
+                self._error("CONVST rose while CS is low (read in progress)")
+            if self._cs_rise is not None and now - self._cs_rise < self.t_quiet:
+                self._error(f"CONVST rose {now - self._cs_rise} steps after CS rose (t_QUIET "
+                            f"{self.t_quiet} steps)")
+            if self.codes_at is not None:
+                pair = self.codes_at(cyc)
+            elif self.queue:
+                pair = self.queue.popleft()
+            else:
+                pair = None
+                self._error("CONVST with no codes queued")
+            self.convst_cycles.append(cyc)
+            self._conv_start = now
+            if pair is None:
+                self._result = None
+                continue
+            a, b = (int(v) for v in pair)
+            top = (1 << self.bits) - 1
+            if not (0 <= a <= top and 0 <= b <= top):
+                raise ValueError(f"{self.name}: codes ({a}, {b}) outside 0..{top} for CONVST cycle {cyc}")
+            self._result = (a, b)
+            self.converted.append((cyc, a, b))
+
+    async def _cs_monitor(self) -> None:
+        edge = ValueChange(self.cs_n)
+        while True:
+            await edge
+            now = now_steps()
+            if not self.cs_n.value:                       # CS falling: start of a read frame
+                if self._result is None:
+                    self._error("CS fell without a conversion to read")
+                elif now - self._conv_start < self.t_conv:
+                    self._error(f"CS fell {now - self._conv_start} steps after CONVST, before the "
+                                f"conversion finished (t_CONV {self.t_conv} steps)")
+                if self.sclk.value:
+                    self._error("CS fell with SCLK high (SCLK must idle low)")
+                self._frame = True
+                self._rises = self._falls = 0
+                self._last_edge = now
+                self._word_a, self._word_b = self._result if self._result is not None else (0, 0)
+                self._result = None
+                self._garbage()
+            else:                                         # CS rising: end of the frame
+                if self._frame:
+                    if self._falls < self.bits or self._rises != self._falls:
+                        if self.abort_allowed:
+                            self.aborts += 1
+                        else:
+                            self._error(f"CS rose after {self._falls} of {self.bits} bits "
+                                        f"(SCLK rising edges {self._rises}): incomplete read")
+                    else:
+                        self.reads += 1
+                self._frame = False
+                self._cs_rise = now
+                self._garbage()
+
+    async def _sclk_monitor(self) -> None:
+        rise, fall = RisingEdge(self.sclk), FallingEdge(self.sclk)
+        top = self.bits - 1
+        try:
+            high = bool(self.sclk.value)
+        except ValueError:                     # X before the host's reset: treat as idle (low)
+            high = False
+        while True:
+            await (fall if high else rise)     # a 0/1 signal: rising and falling edges alternate
+            high = not high
+            now = now_steps()
+            if not self._frame:
+                if not high and now == self._cs_rise and self.abort_allowed:
+                    continue              # a host reset ends the frame: CS rises as SCLK falls
+                if not self.cs_n.value:   # CS fell in this very time step and its monitor runs later
+                    self._error("SCLK edge at the CS falling edge")
+                else:
+                    self._error(f"SCLK {'rose' if high else 'fell'} while CS is high")
+                continue
+            dt = now - self._last_edge
+            if dt < self.t_half:
+                what = ("CS falling to the first SCLK rising edge" if high and self._rises == 0
+                        else "SCLK low time" if high else "SCLK high time")
+                self._error(f"{what} {dt} steps < {self.t_half} steps (SCLK faster than allowed)")
+            self._last_edge = now
+            if high:
+                k = self._rises
+                self._rises += 1
+                if k > top:
+                    self._error(f"SCLK pulse {k + 1} in a frame of {self.bits} bits")
+                    continue
+                # bit k valid from this rising edge until just after the next falling edge
+                self._drive((self._word_a >> (top - k)) & 1, (self._word_b >> (top - k)) & 1)
+            else:
+                self._falls += 1
+                self._garbage()

@@ -1,0 +1,247 @@
+"""cocotb testbench of rtl/hfi_adc_scale.v (run by cocotb_tests/test_adc_scale.py, not by pytest).
+
+Reference: golden.fpga.adc_scale.adc_to_current (spec 3.1), channel by channel. The ADC resolution
+comes from the ``HFI_ADC_BITS`` environment variable (the runner sets it with the parameter).
+
+Timing checked on every conversion: ``done`` is 0 one cycle before, 1 exactly ``LATENCY`` cycles after
+``start`` (with both outputs equal to the golden values), 0 one cycle after; a monitor counts the done
+pulses (no spurious ones). Inputs are sampled in the start cycle only: the cycle after each start
+drives random other inputs. Starts come every 2..9 cycles (2 is the documented minimum spacing), so
+conversions overlap in the pipeline.
+
+Inputs are driven at falling edges and outputs read at falling edges (the DUT is posedge-only); idle
+stretches are skipped with one Timer each (the clock runs in the simulator).
+"""
+
+from __future__ import annotations
+
+import os
+
+import cocotb
+import numpy as np
+from cocotb.clock import Clock
+from cocotb.triggers import FallingEdge, RisingEdge, Timer
+
+from golden.fpga.adc_scale import adc_to_current
+
+PERIOD_NS = 10
+LATENCY = 4             # rtl/hfi_adc_scale.v localparam LATENCY
+MIN_SPACING = 2         # minimum start spacing of the RTL (documented in its header)
+
+
+def _bits() -> int:
+    return int(os.environ["HFI_ADC_BITS"])
+
+
+def _rng():
+    seed = int(os.environ["HFI_SEED"])
+    cocotb.log.info("HFI_SEED=%d HFI_RANDOM_N=%s ADC_BITS=%d", seed, os.environ["HFI_RANDOM_N"], _bits())
+    return np.random.default_rng(seed)
+
+
+class DoneCounter:
+    """Counts rising edges of ``done`` (one per conversion; a stuck or extra pulse changes the count)."""
+
+    def __init__(self, dut):
+        self.count = 0
+        self._task = cocotb.start_soon(self._run(dut))
+
+    async def _run(self, dut):
+        while True:
+            await RisingEdge(dut.done)
+            self.count += 1
+
+
+async def _start(dut):
+    """Clock, idle inputs, two reset cycles; returns at a falling edge with rst released."""
+    Clock(dut.clk, PERIOD_NS, unit="ns").start()
+    dut.rst.value = 1
+    _drive(dut, 0, (0, 0, 0, 0, 0, 0))
+    await FallingEdge(dut.clk)
+    await FallingEdge(dut.clk)
+    dut.rst.value = 0
+    _check_idle(dut, "after reset")
+    assert _outputs(dut) == (0, 0), f"outputs after reset: {_outputs(dut)}"
+
+
+async def _cycles(n: int) -> None:
+    """Advance ``n`` clock cycles (falling edge to falling edge; never mixed with edge triggers, whose
+    order against a Timer expiring at the same instant is not defined)."""
+    await Timer(n * PERIOD_NS, unit="ns")
+
+
+def _drive(dut, start: int, v) -> None:
+    code_a, code_b, offset_a, offset_b, gain_a, gain_b = v
+    dut.start.value = start
+    dut.code_a.value = code_a
+    dut.code_b.value = code_b
+    dut.offset_a.value = offset_a
+    dut.offset_b.value = offset_b
+    dut.gain_a.value = gain_a
+    dut.gain_b.value = gain_b
+
+
+def _outputs(dut) -> tuple[int, int]:
+    return dut.i_a.value.to_signed(), dut.i_b.value.to_signed()
+
+
+def _check_idle(dut, what: str) -> None:
+    got = int(dut.done.value)
+    assert got == 0, f"done = 1 {what}"
+
+
+def _golden(v, bits: int) -> tuple[int, int]:
+    code_a, code_b, offset_a, offset_b, gain_a, gain_b = v
+    return adc_to_current(code_a, bits, offset_a, gain_a), adc_to_current(code_b, bits, offset_b, gain_b)
+
+
+def _check_result(dut, idx, v, bits: int) -> None:
+    got_done = int(dut.done.value)
+    assert got_done == 1, f"vector {idx} {v}: done = 0 {LATENCY} cycles after start"
+    got = _outputs(dut)
+    exp = _golden(v, bits)
+    assert got == exp, (f"vector {idx}: (code_a, code_b, offset_a, offset_b, gain_a, gain_b) = {v}, "
+                        f"ADC_BITS={bits}: RTL (i_a, i_b) = {got}, golden {exp}")
+
+
+async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
+    """Start one conversion per vector (vector k at cycle sum(spacings[:k])), check every result and
+    its timing; ``garbage[k]`` is driven in the cycle after start k (start = 0)."""
+    bits = _bits()
+    events: dict[int, list] = {}
+
+    def at(cycle, fn):
+        events.setdefault(cycle, []).append(fn)
+
+    cycle = 0
+    for k, v in enumerate(vectors):
+        at(cycle, lambda v=v: _drive(dut, 1, v))
+        at(cycle + 1, lambda g=garbage[k]: _drive(dut, 0, g))
+        at(cycle + LATENCY - 1, lambda k=k: _check_idle(dut, f"{label}: one cycle before vector {k}'s result"))
+        at(cycle + LATENCY, lambda k=k, v=v: _check_result(dut, f"{label} {k}", v, bits))
+        at(cycle + LATENCY + 1, lambda k=k: _check_idle(dut, f"{label}: one cycle after vector {k}'s result"))
+        cycle += int(spacings[k])
+    # Events in the same cycle: the checks read registered outputs (unchanged by the drives).
+    now = 0
+    for c in sorted(events):
+        if c > now:
+            await _cycles(c - now)
+            now = c
+        for fn in events[c]:
+            fn()
+
+
+def _random_inputs(rng, n: int, bits: int) -> list[tuple]:
+    """Random (code_a, code_b, offset_a, offset_b, gain_a, gain_b): uniform, extremes and
+    saturating combinations, realistic small offsets and gains near 1.0."""
+    top = (1 << bits) - 1
+    cols = []
+    for _ in range(2):                                  # codes a, b
+        c = rng.integers(0, top + 1, n)
+        sel = rng.random(n) < 0.15
+        c[sel] = rng.choice(np.array([0, 1, top // 2, top // 2 + 1, max(top - 1, 0), top]), sel.sum())
+        cols.append(c)
+    for _ in range(2):                                  # offsets a, b (s16)
+        o = rng.integers(-32768, 32768, n)
+        small = rng.random(n) < 0.3
+        o[small] = rng.integers(-200, 201, small.sum())
+        ext = rng.random(n) < 0.1
+        o[ext] = rng.choice(np.array([-32768, -32767, -1, 0, 1, 32766, 32767]), ext.sum())
+        cols.append(o)
+    for _ in range(2):                                  # gains a, b (u16 Q2.14)
+        g = rng.integers(0, 65536, n)
+        near = rng.random(n) < 0.3
+        g[near] = rng.integers(16384 - 800, 16384 + 801, near.sum())
+        ext = rng.random(n) < 0.1
+        g[ext] = rng.choice(np.array([0, 1, 16383, 16384, 16385, 32768, 65534, 65535]), ext.sum())
+        cols.append(g)
+    cols = [c.tolist() for c in cols]
+    return list(zip(*cols))
+
+
+@cocotb.test()
+async def random_vectors(dut):
+    """HFI_RANDOM_N random conversions, overlapping, each compared with the golden model."""
+    rng = _rng()
+    bits = _bits()
+    assert len(dut.code_a) == bits, f"ADC_BITS parameter not applied: {len(dut.code_a)} != {bits}"
+    n = int(os.environ["HFI_RANDOM_N"])
+    vectors = _random_inputs(rng, n, bits)
+    garbage = _random_inputs(rng, n, bits)
+    spacing = rng.integers(MIN_SPACING, 10, n)
+    spacing[rng.random(n) < 0.5] = MIN_SPACING          # many back-to-back starts
+    await _start(dut)
+    counter = DoneCounter(dut)
+    await run_vectors(dut, vectors, spacing, garbage, "random")
+    await _cycles(5)
+    exp = [_golden(v, bits) for v in vectors]
+    sat = sum(abs(x) >= 32767 for e in exp for x in e)
+    cocotb.log.info("%d conversions, %d saturated or full-scale outputs", n, sat)
+    assert counter.count == n, f"{counter.count} done pulses for {n} starts"
+
+
+@cocotb.test()
+async def directed(dut):
+    """Full-scale codes, extreme offsets and gains, saturation, reset mid-conversion, timing."""
+    bits = _bits()
+    top = (1 << bits) - 1
+    await _start(dut)
+    counter = DoneCounter(dut)
+    vectors = []
+    for code in sorted({0, top, top // 2, (top + 1) // 2}):
+        for off in (-32768, -1, 0, 1, 32767):
+            for gain in (0, 1, 16384, 32768, 65535):
+                vectors.append((code, top - code, off, -1 - off, gain, 65535 - gain))
+    zero = (0, 0, 0, 0, 0, 0)
+    for spacing in (MIN_SPACING, LATENCY + 3):          # back to back and one at a time
+        await run_vectors(dut, vectors, [spacing] * len(vectors), [zero] * len(vectors),
+                          f"directed (spacing {spacing})")
+        await _cycles(3)
+    n_done = 2 * len(vectors)
+    assert counter.count == n_done, f"{counter.count} done pulses for {n_done} starts"
+    sats = [e for v in vectors for e in _golden(v, bits) if e in (-32768, 32767)]
+    assert sats, "the directed vectors never saturate"
+
+    # Outputs are held after done, whatever the inputs do.
+    full = (top, 0, -32768, 32767, 65535, 65535)
+    exp = _golden(full, bits)
+    _drive(dut, 1, full)
+    await _cycles(1)
+    _drive(dut, 0, zero)
+    await _cycles(LATENCY + 10)
+    assert _outputs(dut) == exp, f"outputs not held: {_outputs(dut)}, golden {exp}"
+
+    # Reset in every cycle of a conversion in flight: no done, outputs cleared, then a clean restart.
+    for rst_at in range(1, LATENCY + 1):
+        _drive(dut, 1, full)
+        await _cycles(1)
+        _drive(dut, 0, zero)
+        if rst_at > 1:
+            await _cycles(rst_at - 1)
+        dut.rst.value = 1
+        await _cycles(1)
+        dut.rst.value = 0
+        assert _outputs(dut) == (0, 0), f"reset {rst_at} cycles after start: outputs {_outputs(dut)}"
+        for _ in range(LATENCY + 2):
+            _check_idle(dut, f"after a reset {rst_at} cycles after start")
+            await _cycles(1)
+        counter.count = 0
+        probe = (top // 3, top, 123, -45, 20000, 1000)
+        await run_vectors(dut, [probe], [1], [full], f"restart after reset at {rst_at}")
+        await _cycles(3)
+        assert counter.count == 1, f"{counter.count} done pulses after a reset at {rst_at}"
+        # Restore a non-zero output for the next reset.
+        _drive(dut, 1, full)
+        await _cycles(1)
+        _drive(dut, 0, zero)
+        await _cycles(LATENCY + 2)
+
+    # A start during reset is ignored.
+    dut.rst.value = 1
+    _drive(dut, 1, full)
+    await _cycles(1)
+    dut.rst.value = 0
+    _drive(dut, 0, zero)
+    for _ in range(LATENCY + 2):
+        _check_idle(dut, "after a start during reset")
+        await _cycles(1)

@@ -1,0 +1,173 @@
+"""cocotb testbench of rtl/hfi_deadtime_comp.v (run by cocotb_tests/test_deadtime_comp.py).
+
+Every result is compared with ``compensate(...)`` of golden/fpga/deadtime_comp.py for one compare set.
+Random vectors: ``numpy.random.default_rng(HFI_SEED)``, ``HFI_RANDOM_N`` of them: the register draws of
+tb_modulator.draw_registers (full ranges and extremes, DTC_GAIN = 0 for half, RECIP_H nominal mostly
+and any u32 sometimes) with a random sign and random compares in 0..H (extremes 0, 1, H/2, H-1, H
+included). The module runs back to back (a start in the done cycle); the registers that are sampled
+(compares, sign) change right after every start, and the held ones change (to the next vector's
+values) in the done cycle, when the module no longer reads them.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.triggers import ClockCycles
+
+from golden.fpga.deadtime_comp import compensate, recip_half
+from tb_modulator import U32, cycles, draw_registers, seed_and_count
+
+LATENCY = 37
+"""hfi_deadtime_comp: start in cycle 0, done and the results in cycle LATENCY (its header)."""
+
+HELD = ("half", "dead", "gain", "i_d_ref", "i_q_ref", "hf_amp", "sin_q15", "cos_q15", "recip_h")
+SAMPLED = ("sign_top", "cmp_a_in", "cmp_b_in", "cmp_c_in")
+OUTS = ("cmp_a", "cmp_b", "cmp_c")
+
+
+def golden(r: dict) -> tuple[int, int, int]:
+    sign = 1 if r["sign_top"] else -1
+    return tuple(int(c) for c in compensate((r["cmp_a_in"], r["cmp_b_in"], r["cmp_c_in"]), sign, r["half"],
+                                            r["dead"], r["gain"], r["i_d_ref"], r["i_q_ref"], r["hf_amp"],
+                                            r["sin_q15"], r["cos_q15"], r["recip_h"]))
+
+
+def draw(rng, n: int) -> list[dict]:
+    """Random inputs: the modulator's register draws, a sign and compares in 0..H."""
+    reg = draw_registers(rng, n)
+    r = {"half": reg["half"], "dead": reg["dead"], "gain": reg["dtc_gain"], "i_d_ref": reg["i_d_ref"],
+         "i_q_ref": reg["i_q_ref"], "hf_amp": reg["hf_amp"], "sin_q15": reg["sin_q15"],
+         "cos_q15": reg["cos_q15"], "recip_h": reg["recip_h"], "sign_top": rng.integers(0, 2, n)}
+    h = r["half"]
+    for name in ("cmp_a_in", "cmp_b_in", "cmp_c_in"):
+        x = (rng.random(n) * (h + 1)).astype(np.int64)
+        ext = np.stack([np.zeros(n, np.int64), np.ones(n, np.int64), h // 2, h - 1, h])
+        pick = rng.integers(0, 5, n)
+        r[name] = np.where(rng.random(n) < 0.2, ext[pick, np.arange(n)], x)
+    names = HELD + SAMPLED
+    cols = [r[k].tolist() for k in names]
+    return [dict(zip(names, vals)) for vals in zip(*cols)]
+
+
+def fmt(r: dict) -> str:
+    return "{" + ", ".join(f"{k}={r[k]}" for k in HELD + SAMPLED) + "}"
+
+
+def apply(dut, r: dict, names):
+    for k in names:
+        getattr(dut, k).value = r[k]
+
+
+def check(dut, expected, what: str, r: dict):
+    got = tuple(getattr(dut, k).value.to_unsigned() for k in OUTS)
+    if got != expected:
+        diff = ", ".join(f"{k}: RTL {g} golden {e}" for k, g, e in zip(OUTS, got, expected) if g != e)
+        raise AssertionError(f"{what}: {diff}; inputs {fmt(r)}")
+
+
+async def clock_and_reset(dut):
+    Clock(dut.clk, 10, unit="ns").start()
+    dut.start.value = 0
+    for k in HELD + SAMPLED:
+        getattr(dut, k).value = 0
+    dut.half.value = 1000
+    dut.rst.value = 1
+    await ClockCycles(dut.clk, 3, rising=False)      # from here on, every action at a falling edge
+    dut.rst.value = 0
+
+
+async def run_vectors(dut, vecs, label, busy_start_at=None):
+    """Back to back; `busy_start_at` (cycle) adds a start pulse while busy to every vector."""
+    apply(dut, vecs[0], HELD + SAMPLED)
+    dut.start.value = 1
+    for i, r in enumerate(vecs):
+        expected = golden(r)
+        await cycles(1)                                  # cycle 1
+        dut.start.value = 0
+        nxt = vecs[i + 1] if i + 1 < len(vecs) else None
+        if nxt is not None:
+            apply(dut, nxt, SAMPLED)                     # sampled inputs: already taken
+        t = 1
+        if busy_start_at is not None:
+            await cycles(busy_start_at - t)
+            dut.start.value = 1                          # ignored: busy
+            await cycles(1)
+            dut.start.value = 0
+            t = busy_start_at + 1
+        await cycles(LATENCY - 1 - t)
+        if int(dut.done.value) != 0 or int(dut.busy.value) != 1:
+            raise AssertionError(f"{label} {i}: cycle {LATENCY - 1}: done={dut.done.value} busy={dut.busy.value}")
+        await cycles(1)                                  # cycle LATENCY
+        if int(dut.done.value) != 1 or int(dut.busy.value) != 0:
+            raise AssertionError(f"{label} {i}: cycle {LATENCY}: done={dut.done.value} busy={dut.busy.value}")
+        check(dut, expected, f"{label} {i}", r)
+        if nxt is not None:
+            apply(dut, nxt, HELD)
+            dut.start.value = 1
+
+
+@cocotb.test()
+async def random_vectors(dut):
+    """HFI_RANDOM_N random compare sets, back to back, against compensate()."""
+    seed, count = seed_and_count()
+    rng = np.random.default_rng(seed)
+    vecs = draw(rng, count)
+    await clock_and_reset(dut)
+    await run_vectors(dut, vecs, "random vector")
+
+
+@cocotb.test()
+async def corner_cases(dut):
+    """Extremes: compares 0 / H, full-scale currents and angles, RECIP_H 0 / 2^32-1, D 1 / 65535, gain
+    1 / 65535, both signs; and DTC_GAIN = 0 (identity)."""
+    vecs = []
+    for half in (512, 65534):
+        for s, c in ((-32768, -32768), (32767, 32767), (0, -32768), (-32768, 0), (23170, -23170)):
+            for rh in (recip_half(half), U32, 0):
+                for gain, dead in ((65535, 65535), (1, 1), (65535, 1), (256, 40), (0, 400)):
+                    for sign in (0, 1):
+                        for cmps in ((0, half, half // 2), (half, 0, 1)):
+                            vecs.append(dict(half=half, dead=dead, gain=gain, i_d_ref=-32768, i_q_ref=32767,
+                                             hf_amp=32767, sin_q15=s, cos_q15=c, recip_h=rh, sign_top=sign,
+                                             cmp_a_in=cmps[0], cmp_b_in=cmps[1], cmp_c_in=cmps[2]))
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 3)
+    for r in vecs[1::3]:                                 # other reference currents
+        r["i_d_ref"], r["i_q_ref"] = (int(v) for v in rng.choice([-32768, 32767, 0, 1, -1], 2))
+    await clock_and_reset(dut)
+    await run_vectors(dut, vecs, "corner vector")
+
+
+@cocotb.test()
+async def start_while_busy(dut):
+    """A start pulse in any busy cycle is ignored (the result and the timing are those of the first)."""
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 4)
+    await clock_and_reset(dut)
+    for k in (1, 2, 17, LATENCY - 2):
+        await run_vectors(dut, draw(rng, 3), f"start in busy cycle {k}, vector", busy_start_at=k)
+        await cycles(1)
+
+
+@cocotb.test()
+async def reset_mid_operation(dut):
+    """A reset while busy abandons the computation (no done); the next start computes correctly."""
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 5)
+    await clock_and_reset(dut)
+    for k in (1, 5, 20, 34, LATENCY - 1):
+        vecs = draw(rng, 2)
+        apply(dut, vecs[0], HELD + SAMPLED)
+        dut.start.value = 1
+        await cycles(1)
+        dut.start.value = 0
+        await cycles(k - 1)
+        dut.rst.value = 1
+        await cycles(1)
+        dut.rst.value = 0
+        for cyc in range(LATENCY + 2):
+            assert int(dut.done.value) == 0 and int(dut.busy.value) == 0, f"done/busy {cyc} cycles after reset"
+            await cycles(1)
+        await run_vectors(dut, vecs[1:], f"vector after reset in cycle {k}")

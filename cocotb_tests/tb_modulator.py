@@ -1,0 +1,442 @@
+"""cocotb testbench of rtl/hfi_modulator.v (run by cocotb_tests/test_modulator.py, not by pytest).
+
+Every result is compared with the golden chain of ``golden/closedloop.py`` ``ClosedLoop._compares``:
+``compares(...)`` of golden/fpga/modulator.py for sign +1 (top) and -1 (bottom), each followed by
+``compensate(...)`` of golden/fpga/deadtime_comp.py when ``DTC_GAIN != 0``.
+
+Random vectors: ``numpy.random.default_rng(HFI_SEED)``, ``HFI_RANDOM_N`` of them (set by hdl_runner).
+The register draws (:func:`draw_registers`) cover the full ranges with their extremes, typical small
+values, unit-circle SIN/COS, DTC_GAIN = 0 for half the vectors, RECIP_H = round(2^32/H) mostly and any
+u32 sometimes, and about 3 % vectors built to tie in the min-max (v_a = v_b, v_a = v_c, v_b = v_c, all
+three). The random run drives the module as fast as it allows (a start in the done cycle), changes the
+registers right after every start (the module must have sampled them), sometimes pulses start while
+busy (ignored) or leaves idle cycles, and checks in the cycle before done that the outputs still hold
+the previous results, and in the done cycle all six outputs against the golden chain.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.triggers import ClockCycles, FallingEdge, Timer
+
+from golden.fixed import round_shr, shr
+from golden.fpga.deadtime_comp import compensate, phase_current, recip_half
+from golden.fpga.modulator import SQRT3_HALF_Q15, compares
+
+LATENCY = 96
+"""hfi_modulator: start in cycle 0, done and the new outputs in cycle LATENCY (its header)."""
+
+REGS = ("v_d", "v_q", "v_h", "sin_q15", "cos_q15", "i_d_ref", "i_q_ref", "half", "dead", "dtc_gain",
+        "hf_amp", "recip_h")
+OUTS = ("cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c")
+U32 = (1 << 32) - 1
+
+
+# ---------------------------------------------------------------------------------------------- golden
+def golden_set(r: dict, sign: int) -> tuple[int, int, int]:
+    """One compare set exactly as ClosedLoop._compares (compensation only when DTC_GAIN != 0)."""
+    cmps = compares(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], r["half"], sign)
+    if r["dtc_gain"]:
+        cmps = compensate(cmps, sign, r["half"], r["dead"], r["dtc_gain"], r["i_d_ref"], r["i_q_ref"],
+                          r["hf_amp"], r["sin_q15"], r["cos_q15"], r["recip_h"])
+    return tuple(int(c) for c in cmps)
+
+
+def golden_chain(r: dict) -> tuple[int, ...]:
+    """The six outputs (top a, b, c, bottom a, b, c)."""
+    return golden_set(r, +1) + golden_set(r, -1)
+
+
+# ----------------------------------------------------------------------------------- random registers
+def _mix(rng, n, lo, hi, extremes, p_ext=0.15):
+    """Uniform in lo..hi, a fraction p_ext replaced by one of the extremes."""
+    x = rng.integers(lo, hi, size=n, endpoint=True, dtype=np.int64)
+    m = rng.random(n) < p_ext
+    x[m] = rng.choice(np.asarray(extremes, dtype=np.int64), size=int(m.sum()))
+    return x
+
+
+def _logu(rng, n, hi):
+    """Log-uniform integers in 1..hi (small values as often as large ones)."""
+    return np.clip(np.exp(rng.uniform(0.0, np.log(hi + 1.0), n)).astype(np.int64), 1, hi)
+
+
+def _where(rng, n, p, a, b):
+    return np.where(rng.random(n) < p, a, b)
+
+
+def draw_registers(rng, n: int) -> dict[str, np.ndarray]:
+    """Random register values (int64 arrays) over the full ranges of the modulator's inputs."""
+    s16x = [-32768, -32767, -1, 0, 1, 32767]
+    r = {}
+    for name in ("v_d", "v_q"):
+        small = _logu(rng, n, 32767) * rng.choice([-1, 1], n)
+        r[name] = _where(rng, n, 0.3, small, _mix(rng, n, -32768, 32767, s16x))
+    r["v_h"] = _where(rng, n, 0.3, _logu(rng, n, 32767) - 1, _mix(rng, n, 0, 32767, [0, 1, 32767]))
+    theta = rng.uniform(0.0, 2.0 * np.pi, n)
+    unit_s = np.clip(np.round(32768.0 * np.sin(theta)), -32768, 32767).astype(np.int64)
+    unit_c = np.clip(np.round(32768.0 * np.cos(theta)), -32768, 32767).astype(np.int64)
+    unit = rng.random(n) < 0.4
+    r["sin_q15"] = np.where(unit, unit_s, _mix(rng, n, -32768, 32767, [-32768, -32767, 0, 1, 32767], 0.2))
+    r["cos_q15"] = np.where(unit, unit_c, _mix(rng, n, -32768, 32767, [-32768, -32767, 0, -1, 32767], 0.2))
+    for name in ("i_d_ref", "i_q_ref"):
+        small = (_logu(rng, n, 32768) - 1) * rng.choice([-1, 1], n)
+        r[name] = _where(rng, n, 0.4, small, _mix(rng, n, -32768, 32767, s16x))
+    r["half"] = 2 * _mix(rng, n, 256, 32767, [256, 257, 32767], 0.15)
+    r["dead"] = _where(rng, n, 0.5, _logu(rng, n, 65535), _mix(rng, n, 1, 65535, [1, 2, 65535], 0.2))
+    gain = _where(rng, n, 0.5, _logu(rng, n, 65535), _mix(rng, n, 1, 65535, [1, 256, 65535], 0.2))
+    r["dtc_gain"] = np.where(rng.random(n) < 0.5, 0, gain)
+    r["hf_amp"] = _where(rng, n, 0.3, _logu(rng, n, 32768) - 1, _mix(rng, n, 0, 32767, [0, 1, 32767]))
+    nominal = ((1 << 33) // r["half"] + 1) // 2                    # recip_half, vectorised
+    any_u32 = _mix(rng, n, 0, U32, [0, 1, 1 << 31, U32], 0.2)
+    r["recip_h"] = np.where(rng.random(n) < 0.8, nominal, any_u32)
+    _inject_ties(rng, r, frac=0.03)
+    return r
+
+
+def v_abc(v_d, v_q, v_h, s, c, sign):
+    """Phase voltages v_a, v_b, v_c before the min-max (a replica of compares' first steps, int64
+    arrays; used only to build tie vectors and to measure coverage, never as expected values)."""
+    vd = v_d + sign * v_h
+    al = round_shr(vd * c - v_q * s, 15)
+    be = round_shr(vd * s + v_q * c, 15)
+    bp = be * SQRT3_HALF_Q15
+    return al, round_shr(-al * 16384 + bp, 15), round_shr(-al * 16384 - bp, 15)
+
+
+def _inject_ties(rng, r, frac):
+    """Replace a fraction of the vectors by ones whose v_a, v_b, v_c tie (for either sign)."""
+    n = len(r["v_d"])
+    idx = np.flatnonzero(rng.random(n) < frac)
+    if idx.size == 0:
+        return
+    # candidates: small vectors, where exact ties of the rounded phase voltages are common
+    m = 40 * idx.size + 1000
+    cand = {"v_d": rng.integers(-300, 300, m, endpoint=True), "v_q": rng.integers(-300, 300, m, endpoint=True),
+            "v_h": rng.integers(0, 200, m, endpoint=True),
+            "sin_q15": rng.integers(-32768, 32767, m, endpoint=True),
+            "cos_q15": rng.integers(-32768, 32767, m, endpoint=True)}
+    kind = rng.integers(0, 4, m)
+    z = np.zeros(m, dtype=np.int64)
+    cand["v_q"] = np.where(kind == 0, z, cand["v_q"])                 # v_q = SIN = 0 -> v_beta = 0: b = c
+    cand["sin_q15"] = np.where(kind == 0, z, cand["sin_q15"])
+    for name in ("v_d", "v_q", "v_h"):                                 # all zero: a = b = c
+        cand[name] = np.where(kind == 1, z, cand[name])
+    tie = np.zeros(m, dtype=bool)
+    for sign in (1, -1):
+        a, b, c = v_abc(cand["v_d"], cand["v_q"], cand["v_h"], cand["sin_q15"], cand["cos_q15"], sign)
+        tie |= (a == b) | (a == c) | (b == c)
+    good = np.flatnonzero(tie)
+    pick = good[rng.integers(0, good.size, idx.size)]
+    for name in cand:
+        r[name][idx] = cand[name][pick]
+
+
+def as_dicts(r: dict[str, np.ndarray]) -> list[dict]:
+    cols = [r[k].tolist() for k in REGS]
+    return [dict(zip(REGS, vals)) for vals in zip(*cols)]
+
+
+# ---------------------------------------------------------------------------------------------- coverage
+class Coverage:
+    """Counts of the corner cases a run exercised (from replicas of the golden steps)."""
+
+    NAMES = ("clip_low", "clip_high", "tie_ab", "tie_ac", "tie_bc", "tie_abc", "dtc_on", "c_linear",
+             "c_clamped_D", "cmp_comp_clamped", "ix_beyond_s25", "recip_nonnominal")
+
+    def __init__(self):
+        self.n = dict.fromkeys(self.NAMES, 0)
+
+    def add(self, r: dict):
+        n = self.n
+        H = r["half"]
+        for sign in (1, -1):
+            a, b, c = v_abc(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], sign)
+            n["tie_ab"] += a == b
+            n["tie_ac"] += a == c
+            n["tie_bc"] += b == c
+            n["tie_abc"] += a == b == c
+            off = shr(max(a, b, c) + min(a, b, c), 1)
+            raw = [(H >> 1) + round_shr((v - off) * H, 15) for v in (a, b, c)]
+            n["clip_low"] += any(x < 0 for x in raw)
+            n["clip_high"] += any(x > H for x in raw)
+            if r["dtc_gain"]:
+                n["dtc_on"] += 1
+                n["recip_nonnominal"] += r["recip_h"] != recip_half(H)
+                cmps = compares(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], H, sign)
+                for leg, cmp in enumerate(cmps):
+                    hf = round_shr(r["hf_amp"] * (2 * cmp - H) * r["recip_h"], 32)
+                    ix = phase_current(leg, r["i_d_ref"] - hf, r["i_q_ref"], r["sin_q15"], r["cos_q15"])
+                    n["ix_beyond_s25"] += not -(1 << 24) <= ix < (1 << 24)
+                    cr = shr(ix * r["dtc_gain"], 8)
+                    if abs(cr) > r["dead"]:
+                        n["c_clamped_D"] += 1
+                    elif cr:
+                        n["c_linear"] += 1
+                    cc = max(-r["dead"], min(r["dead"], cr))
+                    adj = min(cc, 0) if sign < 0 else max(cc, 0)
+                    n["cmp_comp_clamped"] += not 0 <= cmp + adj <= H
+
+    def report(self, log, label):
+        log.info(f"{label} coverage: " + ", ".join(f"{k}={v}" for k, v in self.n.items()))
+
+    def require(self, names):
+        missing = [k for k in names if self.n[k] == 0]
+        assert not missing, f"corner cases never exercised: {missing} ({self.n})"
+
+
+# ---------------------------------------------------------------------------------------------- driving
+CLOCK_NS = 10
+
+
+async def cycles(n: int):
+    """Wait n clock periods in one simulator callback (ClockCycles wakes Python at every edge).
+
+    All driving happens at falling-edge instants (reached once with FallingEdge after the clock
+    starts): registered outputs are stable there, and inputs written there are sampled by the next
+    rising edge, whichever order the simulator gives the timer and the clock toggle."""
+    if n > 0:
+        await Timer(n * CLOCK_NS, unit="ns")
+def seed_and_count():
+    seed = int(os.environ["HFI_SEED"])
+    count = int(os.environ["HFI_RANDOM_N"])
+    cocotb.log.info(f"HFI_SEED={seed} HFI_RANDOM_N={count}")
+    return seed, count
+
+
+def apply(dut, r: dict):
+    for k in REGS:
+        getattr(dut, k).value = r[k]
+
+
+def read_outs(dut) -> tuple[int, ...]:
+    return tuple(getattr(dut, k).value.to_unsigned() for k in OUTS)
+
+
+def fmt(r: dict) -> str:
+    return "{" + ", ".join(f"{k}={r[k]}" for k in REGS) + "}"
+
+
+def check_outs(dut, expected, what: str, r: dict | None = None):
+    got = read_outs(dut)
+    if got != tuple(expected):
+        diff = ", ".join(f"{k}: RTL {g} golden {e}" for k, g, e in zip(OUTS, got, expected) if g != e)
+        raise AssertionError(f"{what}: {diff}" + (f"; registers {fmt(r)}" if r is not None else ""))
+
+
+async def start_clock_and_reset(dut, half=10000, n_cycles=3):
+    Clock(dut.clk, 10, unit="ns").start()
+    dut.start.value = 0
+    apply(dut, {k: 0 for k in REGS} | {"half": half, "dead": 1})
+    dut.rst.value = 1
+    await ClockCycles(dut.clk, n_cycles, rising=False)        # aligned to a falling edge
+    dut.rst.value = 0
+    return (half >> 1,) * 6
+
+
+class Driver:
+    """Drives the module from falling edges; `t` counts falling edges since the current start."""
+
+    def __init__(self, dut, rng=None, p_busy_start=0.0, p_gap=0.0):
+        self.dut = dut
+        self.rng = rng
+        self.p_busy_start = p_busy_start
+        self.p_gap = p_gap
+        self.busy_starts = 0
+        self.gaps = 0
+
+    async def run(self, vecs, prev, label="vector"):
+        """Run `vecs` (dicts) back to back; `prev` are the outputs before the first start. Returns the
+        last outputs. The caller leaves the DUT idle at a falling edge with start low."""
+        dut, rng = self.dut, self.rng
+        expected = [golden_chain(r) for r in vecs]
+        apply(dut, vecs[0])
+        dut.start.value = 1
+        for i, r in enumerate(vecs):
+            await cycles(1)                  # cycle 1: registers already sampled
+            t = 1
+            dut.start.value = 0
+            if i + 1 < len(vecs):
+                apply(dut, vecs[i + 1])                 # register changes in mid-operation
+            if rng is not None and rng.random() < self.p_busy_start:
+                k = int(rng.integers(1, LATENCY - 1))   # start in cycle k (busy): ignored
+                if k > t:
+                    await cycles(k - t)
+                dut.start.value = 1
+                await cycles(1)
+                dut.start.value = 0
+                t = k + 1
+                self.busy_starts += 1
+            if LATENCY - 1 > t:
+                await cycles(LATENCY - 1 - t)
+            if int(dut.done.value) != 0 or int(dut.busy.value) != 1:
+                raise AssertionError(f"{label} {i}: cycle {LATENCY - 1}: done={dut.done.value} "
+                                     f"busy={dut.busy.value}, expected 0 and 1")
+            check_outs(dut, prev, f"{label} {i}: outputs changed before done (cycle {LATENCY - 1})")
+            await cycles(1)                  # cycle LATENCY
+            if int(dut.done.value) != 1 or int(dut.busy.value) != 0:
+                raise AssertionError(f"{label} {i}: cycle {LATENCY}: done={dut.done.value} "
+                                     f"busy={dut.busy.value}, expected 1 and 0")
+            check_outs(dut, expected[i], f"{label} {i}", r)
+            prev = expected[i]
+            if rng is not None and rng.random() < self.p_gap:
+                gap = int(rng.integers(1, 4))
+                await cycles(gap)
+                if int(dut.done.value) != 0 or int(dut.busy.value) != 0:
+                    raise AssertionError(f"{label} {i}: idle after done: done={dut.done.value} "
+                                         f"busy={dut.busy.value}")
+                check_outs(dut, prev, f"{label} {i}: outputs changed while idle")
+                self.gaps += 1
+            if i + 1 < len(vecs):
+                dut.start.value = 1
+        return prev
+
+
+# ---------------------------------------------------------------------------------------------- tests
+@cocotb.test()
+async def random_vectors(dut):
+    """HFI_RANDOM_N random start vectors, back to back, against the golden chain."""
+    seed, count = seed_and_count()
+    rng = np.random.default_rng(seed)
+    vecs = as_dicts(draw_registers(rng, count))
+    prev = await start_clock_and_reset(dut)
+    drv = Driver(dut, rng, p_busy_start=0.05, p_gap=0.05)
+    await drv.run(vecs, prev, "random vector")
+    cov = Coverage()
+    for r in vecs:
+        cov.add(r)
+    cov.report(cocotb.log, "random")
+    cocotb.log.info(f"{count} vectors, {drv.busy_starts} starts while busy, {drv.gaps} idle gaps")
+    if count >= 2000:
+        cov.require(Coverage.NAMES)
+
+
+def corner_vectors() -> list[dict]:
+    """Extremes of every register (full-scale voltages, sin/cos -32768, H 512 and 65534, D 1 and
+    65535, DTC_GAIN 0 / 1 / 65535, RECIP_H nominal / 0 / 2^32-1, HF_AMP 0 / 32767), and ties."""
+    out = []
+    base = dict(v_d=0, v_q=0, v_h=0, sin_q15=0, cos_q15=32767, i_d_ref=0, i_q_ref=0, half=10000,
+                dead=400, dtc_gain=0, hf_amp=0, recip_h=recip_half(10000))
+    vs = (-32768, 32767)
+    for v_d in vs:
+        for v_q in vs:
+            for v_h in (0, 32767):
+                for s, c in ((-32768, -32768), (32767, -32768), (-32768, 32767), (32767, 32767),
+                             (0, -32768), (-32768, 0)):
+                    for half in (512, 65534):
+                        out.append(base | dict(v_d=v_d, v_q=v_q, v_h=v_h, sin_q15=s, cos_q15=c, half=half,
+                                               recip_h=recip_half(half)))
+    dtc = []
+    for r in out[::3]:
+        for gain, dead, hf, rh, idr, iqr in ((65535, 65535, 32767, U32, -32768, -32768),
+                                              (65535, 1, 32767, U32, 32767, 32767),
+                                              (1, 65535, 32767, 0, -32768, 32767),
+                                              (256, 400, 32767, None, 0, 0),
+                                              (65535, 65535, 0, 1, 32767, -32768),
+                                              (1, 1, 32767, 1 << 31, -32768, -32768)):
+            dtc.append(r | dict(dtc_gain=gain, dead=dead, hf_amp=hf, i_d_ref=idr, i_q_ref=iqr,
+                                recip_h=recip_half(r["half"]) if rh is None else rh))
+    ties = [base | dict(v_d=0, v_q=0, v_h=0),                                  # a = b = c = 0
+            base | dict(v_d=1000, v_q=0, v_h=500, sin_q15=0, cos_q15=32767),  # v_beta = 0: b = c
+            base | dict(v_d=-32768, v_q=0, v_h=32767, sin_q15=0, cos_q15=-32768, half=65534,
+                        recip_h=recip_half(65534)),
+            base | dict(v_d=123, v_q=-77, v_h=0, sin_q15=0, cos_q15=0),         # sin = cos = 0
+            base | dict(v_d=32767, v_q=32767, v_h=32767, sin_q15=-32768, cos_q15=-32768,
+                        dtc_gain=65535, dead=65535, hf_amp=32767, recip_h=U32)]
+    return out + dtc + ties
+
+
+@cocotb.test()
+async def corner_cases(dut):
+    """Register extremes, over-modulation, min-max ties, DTC extremes; each checked in full."""
+    vecs = corner_vectors()
+    prev = await start_clock_and_reset(dut)
+    await Driver(dut).run(vecs, prev, "corner vector")
+    cov = Coverage()
+    for r in vecs:
+        cov.add(r)
+    cov.report(cocotb.log, "corner")
+    cov.require(("clip_low", "clip_high", "tie_bc", "tie_abc", "c_clamped_D", "cmp_comp_clamped",
+                 "ix_beyond_s25", "recip_nonnominal"))
+
+
+@cocotb.test()
+async def reset_values(dut):
+    """In reset the six outputs follow half >> 1 of the half input; they hold it after reset."""
+    Clock(dut.clk, 10, unit="ns").start()
+    dut.start.value = 0
+    apply(dut, {k: 0 for k in REGS} | {"half": 512, "dead": 1})
+    dut.rst.value = 1
+    await ClockCycles(dut.clk, 2, rising=False)              # a rising edge in reset, at a falling edge
+    for half in (512, 65534, 10000, 1234, 65535, 0, 2):
+        dut.half.value = half
+        await FallingEdge(dut.clk)
+        check_outs(dut, (half >> 1,) * 6, f"reset with half={half}")
+        assert int(dut.busy.value) == 0 and int(dut.done.value) == 0, "busy/done in reset"
+    dut.rst.value = 0
+    dut.half.value = 30000
+    for cyc in range(5):
+        await FallingEdge(dut.clk)
+        check_outs(dut, (1,) * 6, f"cycle {cyc} after reset (half changed to 30000)")
+        assert int(dut.busy.value) == 0 and int(dut.done.value) == 0, "busy/done after reset without start"
+
+
+@cocotb.test()
+async def reset_mid_operation(dut):
+    """A reset in any phase (modulator steps, top and bottom compensation, the last cycle) abandons
+    the computation: outputs half >> 1, no done; the next start computes correctly."""
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 1)
+    prev = await start_clock_and_reset(dut)
+    vecs = as_dicts(draw_registers(rng, 60))
+    for j, k in enumerate((1, 2, 5, 12, 18, 20, 21, 22, 36, 57, 58, 59, 80, 94, LATENCY - 1)):
+        r = vecs[j] | {"dtc_gain": 1 + j * 4000}
+        apply(dut, r)
+        dut.start.value = 1
+        await cycles(1)
+        dut.start.value = 0
+        if k > 1:
+            await cycles(k - 1)  # cycle k
+        assert int(dut.busy.value) == 1, f"not busy in cycle {k}"
+        dut.rst.value = 1
+        dut.half.value = 2000 + 2 * j
+        await cycles(1)
+        dut.rst.value = 0
+        prev = ((2000 + 2 * j) >> 1,) * 6
+        check_outs(dut, prev, f"reset in cycle {k}")
+        for cyc in range(LATENCY + 3):                       # nothing completes after the reset
+            assert int(dut.done.value) == 0 and int(dut.busy.value) == 0, f"done/busy {cyc} cycles after reset"
+            check_outs(dut, prev, f"{cyc} cycles after the reset in cycle {k}")
+            await cycles(1)
+        prev = await Driver(dut).run([vecs[30 + j]], prev, f"vector after reset in cycle {k}")
+
+
+@cocotb.test()
+async def start_held_high(dut):
+    """start held high for several periods: accepted only when idle (cycles 0, LATENCY, 2*LATENCY..)
+    with the registers of that cycle; done exactly once per period; outputs change only at done."""
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 2)
+    prev = await start_clock_and_reset(dut)
+    vecs = as_dicts(draw_registers(rng, 6 * LATENCY))
+    dut.start.value = 1
+    accepted = []
+    for cyc in range(5 * LATENCY + 1):
+        apply(dut, vecs[cyc])                                # new registers in every cycle
+        if cyc % LATENCY == 0:
+            accepted.append(vecs[cyc])
+        await cycles(1)
+        c = cyc + 1                                          # cycles since the first start
+        want_done = c % LATENCY == 0
+        assert int(dut.done.value) == want_done, f"cycle {c}: done={dut.done.value}"
+        assert int(dut.busy.value) == (not want_done), f"cycle {c}: busy={dut.busy.value}"
+        if want_done:
+            k = c // LATENCY - 1
+            check_outs(dut, golden_chain(accepted[k]), f"held start, result {k}", accepted[k])
+            prev = read_outs(dut)
+        else:
+            check_outs(dut, prev, f"held start: outputs changed in cycle {c} (not a done cycle)")
+    dut.start.value = 0

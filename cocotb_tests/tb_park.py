@@ -1,0 +1,231 @@
+"""cocotb testbench of rtl/hfi_park.v (run by cocotb_tests/test_park.py, not by pytest).
+
+Reference: golden.fpga.park.clarke then golden.fpga.park.park (spec 3.2).
+
+Timing checked on every transform: ``done`` is 0 one cycle before, 1 exactly ``LATENCY`` cycles after
+``start`` (with ``i_d``, ``i_q`` equal to the golden values), 0 one cycle after; a monitor counts the
+done pulses (no spurious ones). Inputs are sampled in the start cycle only: the cycle after each start
+drives random other inputs (a register change right after the sample). Starts come every 5..12 cycles
+(5 is the documented minimum spacing), so transforms overlap in the pipeline.
+
+Inputs are driven and outputs read at falling edges (the DUT is posedge-only); idle stretches are
+skipped with one Timer each (the clock runs in the simulator).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import cocotb
+import numpy as np
+from cocotb.clock import Clock
+from cocotb.triggers import FallingEdge, RisingEdge, Timer
+
+from golden.fpga.park import clarke, park
+
+PERIOD_NS = 10
+LATENCY = 7             # rtl/hfi_park.v localparam LATENCY
+MIN_SPACING = 5         # minimum start spacing of the RTL (documented in its header)
+EXTREMES = (-32768, -32767, -1, 0, 1, 32766, 32767)
+
+
+def _rng():
+    seed = int(os.environ["HFI_SEED"])
+    cocotb.log.info("HFI_SEED=%d HFI_RANDOM_N=%s", seed, os.environ["HFI_RANDOM_N"])
+    return np.random.default_rng(seed)
+
+
+class DoneCounter:
+    """Counts rising edges of ``done`` (one per transform; a stuck or extra pulse changes the count)."""
+
+    def __init__(self, dut):
+        self.count = 0
+        self._task = cocotb.start_soon(self._run(dut))
+
+    async def _run(self, dut):
+        while True:
+            await RisingEdge(dut.done)
+            self.count += 1
+
+
+async def _cycles(n: int) -> None:
+    """Advance ``n`` clock cycles (falling edge to falling edge; never mixed with edge triggers, whose
+    order against a Timer expiring at the same instant is not defined)."""
+    await Timer(n * PERIOD_NS, unit="ns")
+
+
+def _drive(dut, start: int, v) -> None:
+    i_a, i_b, s, c = v
+    dut.start.value = start
+    dut.i_a.value = i_a
+    dut.i_b.value = i_b
+    dut.sin_q15.value = s
+    dut.cos_q15.value = c
+
+
+def _outputs(dut) -> tuple[int, int]:
+    return dut.i_d.value.to_signed(), dut.i_q.value.to_signed()
+
+
+def _golden(v) -> tuple[int, int]:
+    i_a, i_b, s, c = v
+    i_alpha, i_beta = clarke(i_a, i_b)
+    return park(i_alpha, i_beta, s, c)
+
+
+def _check_idle(dut, what: str) -> None:
+    assert int(dut.done.value) == 0, f"done = 1 {what}"
+
+
+def _check_result(dut, idx, v) -> None:
+    assert int(dut.done.value) == 1, f"vector {idx} {v}: done = 0 {LATENCY} cycles after start"
+    got = _outputs(dut)
+    exp = _golden(v)
+    assert got == exp, (f"vector {idx}: (i_a, i_b, sin_q15, cos_q15) = {v}: RTL (i_d, i_q) = {got}, "
+                        f"golden {exp}")
+
+
+async def _start(dut):
+    """Clock, idle inputs, two reset cycles; returns at a falling edge with rst released."""
+    Clock(dut.clk, PERIOD_NS, unit="ns").start()
+    dut.rst.value = 1
+    _drive(dut, 0, (0, 0, 0, 0))
+    await FallingEdge(dut.clk)
+    await FallingEdge(dut.clk)
+    dut.rst.value = 0
+    _check_idle(dut, "after reset")
+    assert _outputs(dut) == (0, 0), f"outputs after reset: {_outputs(dut)}"
+
+
+async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
+    """Start one transform per vector (vector k at cycle sum(spacings[:k])), check every result and
+    its timing; ``garbage[k]`` is driven in the cycle after start k (start = 0)."""
+    events: dict[int, list] = {}
+
+    def at(cycle, fn):
+        events.setdefault(cycle, []).append(fn)
+
+    cycle = 0
+    for k, v in enumerate(vectors):
+        at(cycle, lambda v=v: _drive(dut, 1, v))
+        at(cycle + 1, lambda g=garbage[k]: _drive(dut, 0, g))
+        at(cycle + LATENCY - 1, lambda k=k: _check_idle(dut, f"{label}: one cycle before vector {k}'s result"))
+        at(cycle + LATENCY, lambda k=k, v=v: _check_result(dut, f"{label} {k}", v))
+        at(cycle + LATENCY + 1, lambda k=k: _check_idle(dut, f"{label}: one cycle after vector {k}'s result"))
+        cycle += int(spacings[k])
+    now = 0
+    for c in sorted(events):        # same-cycle events: the checks read registered outputs only
+        if c > now:
+            await _cycles(c - now)
+            now = c
+        for fn in events[c]:
+            fn()
+
+
+def _random_inputs(rng, n: int) -> list[tuple]:
+    """Random (i_a, i_b, sin_q15, cos_q15): uniform s16, extremes, small currents, and angles on the
+    unit circle (the firmware's SIN/COS) as well as arbitrary s16 pairs (the model accepts any)."""
+    cols = []
+    for _ in range(2):                                  # currents
+        x = rng.integers(-32768, 32768, n)
+        small = rng.random(n) < 0.2
+        x[small] = rng.integers(-300, 301, small.sum())
+        ext = rng.random(n) < 0.15
+        x[ext] = rng.choice(np.array(EXTREMES), ext.sum())
+        cols.append(x)
+    s = rng.integers(-32768, 32768, n)
+    c = rng.integers(-32768, 32768, n)
+    unit = rng.random(n) < 0.5
+    th = rng.random(unit.sum()) * 2 * math.pi
+    s[unit] = np.clip(np.round(np.sin(th) * 32768), -32768, 32767).astype(np.int64)
+    c[unit] = np.clip(np.round(np.cos(th) * 32768), -32768, 32767).astype(np.int64)
+    ext = rng.random(n) < 0.1
+    s[ext] = rng.choice(np.array(EXTREMES), ext.sum())
+    c[ext] = rng.choice(np.array(EXTREMES), ext.sum())
+    cols += [s, c]
+    cols = [x.tolist() for x in cols]
+    return list(zip(*cols))
+
+
+@cocotb.test()
+async def random_vectors(dut):
+    """HFI_RANDOM_N random transforms, overlapping, each compared with the golden model."""
+    rng = _rng()
+    n = int(os.environ["HFI_RANDOM_N"])
+    vectors = _random_inputs(rng, n)
+    garbage = _random_inputs(rng, n)
+    spacing = rng.integers(MIN_SPACING, 13, n)
+    spacing[rng.random(n) < 0.5] = MIN_SPACING          # many back-to-back starts
+    await _start(dut)
+    counter = DoneCounter(dut)
+    await run_vectors(dut, vectors, spacing, garbage, "random")
+    await _cycles(LATENCY + 2)
+    exp = [_golden(v) for v in vectors]
+    sat = sum(abs(x) >= 32767 for e in exp for x in e)
+    cocotb.log.info("%d transforms, %d saturated or full-scale outputs", n, sat)
+    assert counter.count == n, f"{counter.count} done pulses for {n} starts"
+
+
+@cocotb.test()
+async def directed(dut):
+    """Extremes of every input (saturating i_beta, i_d and i_q; sums at 2^31), timing, held outputs,
+    reset in every cycle of a transform in flight."""
+    await _start(dut)
+    counter = DoneCounter(dut)
+    vectors = []
+    ends = (-32768, -1, 0, 32767)
+    for i_a in ends:
+        for i_b in ends:
+            for s in ends:
+                for c in ends:
+                    vectors.append((i_a, i_b, s, c))
+    vectors += [(-32768, -32768, -32768, -32768), (32767, 32767, 32767, 32767), (-32768, -32768, 32767, 32767),
+                (10000, -5000, 23170, 23170), (-1, -1, -1, -1), (1, 0, 0, 32767)]
+    zero = (0, 0, 0, 0)
+    for spacing in (MIN_SPACING, LATENCY + 3):
+        await run_vectors(dut, vectors, [spacing] * len(vectors), [zero] * len(vectors),
+                          f"directed (spacing {spacing})")
+        await _cycles(3)
+    assert counter.count == 2 * len(vectors), f"{counter.count} done pulses for {2 * len(vectors)} starts"
+    results = [e for v in vectors for e in _golden(v)]
+    assert -32768 in results and 32767 in results, "the directed vectors never saturate"
+
+    # Outputs are held after done, whatever the inputs do.
+    full = (-32768, -32768, -32768, -32768)
+    other = (1234, -4321, 30000, -20000)
+    exp = _golden(full)
+    _drive(dut, 1, full)
+    await _cycles(1)
+    _drive(dut, 0, other)
+    await _cycles(LATENCY + 10)
+    assert _outputs(dut) == exp, f"outputs not held: {_outputs(dut)}, golden {exp}"
+
+    # Reset in every cycle of a transform in flight: no done, outputs cleared, then a clean restart.
+    for rst_at in range(1, LATENCY + 1):
+        _drive(dut, 1, full)
+        await _cycles(1)
+        _drive(dut, 0, other)
+        if rst_at > 1:
+            await _cycles(rst_at - 1)
+        dut.rst.value = 1
+        await _cycles(1)
+        dut.rst.value = 0
+        assert _outputs(dut) == (0, 0), f"reset {rst_at} cycles after start: outputs {_outputs(dut)}"
+        for _ in range(LATENCY + 2):
+            _check_idle(dut, f"after a reset {rst_at} cycles after start")
+            await _cycles(1)
+        counter.count = 0
+        await run_vectors(dut, [other], [1], [full], f"restart after reset at {rst_at}")
+        await _cycles(3)
+        assert counter.count == 1, f"{counter.count} done pulses after a reset at {rst_at}"
+
+    # A start during reset is ignored.
+    dut.rst.value = 1
+    _drive(dut, 1, full)
+    await _cycles(1)
+    dut.rst.value = 0
+    _drive(dut, 0, zero)
+    for _ in range(LATENCY + 2):
+        _check_idle(dut, "after a start during reset")
+        await _cycles(1)

@@ -1,0 +1,174 @@
+`default_nettype none
+// hfi_cordic: iterative rotation-mode CORDIC, sine and cosine of a u32 binary angle in Q1.15.
+//
+// Implements docs/spec.md section 3.3, bit for bit equal to golden/fpga/cordic.py
+// (`sincos_q15(angle, WIDTH, ITERATIONS)` = `to_q15(cordic_sincos(angle, WIDTH, ITERATIONS))`).
+// In the DSP path it computes the demodulation weight w = sin(-cw*pi/2) of each sample
+// (Benevieri et al. 2023, eq. (15) and eq. (19); `golden.fpga.cordic.demod_weight`), with the paper's
+// 32 bits / 32 clocks (WIDTH = ITERATIONS = 32).
+//
+// Algorithm (spec 3.3):
+//   fold:  top two angle bits 01 or 10 (90..270 deg): z = angle - 2^31 and negate the results,
+//          else z = angle read as s32; z lies in [-2^30, 2^30). In bits: z = {angle[30], angle[30:0]},
+//          fold = angle[31] ^ angle[30].
+//   start: x = x0 = round(K_N * 2^(WIDTH-2)) (K_N = prod_{i<N} 1/sqrt(1 + 2^-2i)), y = 0.
+//   iteration i = 0 .. ITERATIONS-1, one per clock: d = +1 if z >= 0 else -1;
+//          x' = x - d*(y >>> i), y' = y + d*(x >>> i), z' = z - d*ATAN[i],
+//          ATAN[i] = round(atan(2^-i) * 2^32 / 2pi).
+//   output: sin = y, cos = x in Q2.(WIDTH-2), negated if folded, then
+//          Q1.15 = sat16(round_shr(v, WIDTH-17)) (round half up, saturate: +1.0 -> 32767).
+//   x, y are sWIDTH registers (|x|, |y| stay about 2^(WIDTH-2), no overflow; golden docstring), z is
+//   s32. ATAN[] and x0 are constant functions generated from the golden model into
+//   rtl/hfi_cordic_tables.vh by scripts/gen_rtl_tables.py. No multiplier.
+//
+// Parameters:
+//   WIDTH       data width of x, y: 17..32 (the Q1.15 conversion needs WIDTH >= 17), default 32.
+//   ITERATIONS  number of CORDIC iterations (clocks): 1..WIDTH, default 32.
+//   Out-of-range values are a build error (instance of the non-existent module
+//   `hfi_cordic_bad_parameters_WIDTH_17_to_32_ITERATIONS_1_to_WIDTH`).
+//
+// Ports:
+//   clk, rst     clock; synchronous active-high reset (aborts a computation: busy and done drop,
+//                no done follows for it; sin_q15 = cos_q15 = 0 after reset).
+//   start        in: start a computation of `angle` in this cycle. Accepted only when busy = 0;
+//                a start while busy is ignored (the running computation is not disturbed).
+//   angle        in, u32 binary angle (2^32 = one turn), sampled in the start cycle only.
+//   busy         out: high from the cycle after an accepted start up to and including the cycle
+//                before done (LATENCY - 1 cycles); low in the done cycle, so a new start may be
+//                given in the done cycle itself (back to back) or any later cycle.
+//   done         out: one-cycle pulse, exactly LATENCY cycles after the start cycle.
+//   sin_q15      out, s16 Q1.15: sin(angle), valid from the done cycle, held until the next done.
+//   cos_q15      out, s16 Q1.15: cos(angle), likewise.
+//
+// Timing: start in cycle t -> x, y, z loaded at the end of t; iterations at the ends of cycles
+//   t+1 .. t+ITERATIONS; negate/round/saturate into the output registers at the end of
+//   t+ITERATIONS+1; done (and the new outputs) in cycle t + LATENCY, LATENCY = ITERATIONS + 2.
+//   Throughput: one result every LATENCY cycles (start in every done cycle).
+`timescale 1ns / 1ps
+
+module hfi_cordic #(
+    parameter WIDTH = 32,
+    parameter ITERATIONS = 32
+) (
+    input  wire               clk,
+    input  wire               rst,
+    input  wire               start,
+    input  wire        [31:0] angle,
+    output wire               busy,
+    output reg                done,
+    output reg  signed [15:0] sin_q15,
+    output reg  signed [15:0] cos_q15
+);
+
+`include "hfi_cordic_tables.vh"
+
+    // Cycles from the start cycle to the done cycle (the interface constant; the sequencer below
+    // realizes it: 1 load + ITERATIONS rotations + 1 output stage).
+    /* verilator lint_off UNUSEDPARAM */  // documentation / testbench constant, not used in logic
+    localparam integer LATENCY = ITERATIONS + 2;
+    /* verilator lint_on UNUSEDPARAM */
+
+    // ---- parameter check (a clear build error on Verilator, Icarus and Yosys) ------------------------
+    generate
+        if (WIDTH < 17 || WIDTH > 32 || ITERATIONS < 1 || ITERATIONS > WIDTH) begin : g_bad_parameters
+            hfi_cordic_bad_parameters_WIDTH_17_to_32_ITERATIONS_1_to_WIDTH u_error ();
+        end
+    endgenerate
+
+    localparam integer SHIFT = WIDTH - 17;  // Q2.(WIDTH-2) -> Q1.15 right shift
+    localparam integer AW = WIDTH + 1;      // output adder: -v needs one bit more than sWIDTH
+    localparam [31:0] X0_32 = hfi_cordic_x0(WIDTH, ITERATIONS);
+    localparam [WIDTH-1:0] X0 = X0_32[WIDTH-1:0];       // < 2^(WIDTH-2): fits sWIDTH
+    localparam [31:0] LAST_32 = ITERATIONS - 1;
+    localparam [4:0] LAST = LAST_32[4:0];                // index of the last iteration, 0..31
+    // Rounding constant of round_shr(v, SHIFT): 2^(SHIFT-1), 0 for SHIFT = 0.
+    localparam [AW-1:0] ONE = {{(AW - 1) {1'b0}}, 1'b1};
+    localparam [AW-1:0] RND = (ONE << SHIFT) >> 1;
+
+    // ---- state ---------------------------------------------------------------------------------------
+    reg                    busy_r;   // a computation is running (rotating or in the output stage)
+    reg                    rot;      // rotating (iterations left); 0 in the output-stage cycle
+    reg              [4:0] iter;     // iteration index i
+    reg                    neg;      // folded: negate the results
+    reg signed [WIDTH-1:0] x, y;     // Q2.(WIDTH-2)
+    reg signed      [31:0] z;        // residual angle, binary angle units
+
+    assign busy = busy_r;
+
+    // ---- one iteration (combinational) ---------------------------------------------------------------
+    wire        [31:0] atan_i = hfi_cordic_atan({27'd0, iter});
+    wire signed [WIDTH-1:0] x_sh = x >>> iter;
+    wire signed [WIDTH-1:0] y_sh = y >>> iter;
+    wire               z_neg = z[31];      // d = -1
+    wire signed [WIDTH-1:0] x_next = z_neg ? x + y_sh : x - y_sh;
+    wire signed [WIDTH-1:0] y_next = z_neg ? y - x_sh : y + x_sh;
+    wire signed     [31:0] z_next = z_neg ? z + atan_i : z - atan_i;
+
+    // ---- output stage: optional negation, round half up, shift, saturate ----------------------------
+    // -v + RND = ~v + (RND + 1): one adder. AW bits hold -v + RND without overflow.
+    wire [AW-1:0] x_ext = {x[WIDTH-1], x};
+    wire [AW-1:0] y_ext = {y[WIDTH-1], y};
+    wire [AW-1:0] neg_ext = {{(AW - 1) {1'b0}}, neg};
+    /* verilator lint_off UNUSEDSIGNAL */  // bits [SHIFT-1:0] are rounded off by design
+    wire [AW-1:0] cos_sum = (neg ? ~x_ext : x_ext) + RND + neg_ext;
+    wire [AW-1:0] sin_sum = (neg ? ~y_ext : y_ext) + RND + neg_ext;
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [17:0] cos_q = cos_sum[AW-1:SHIFT];  // round_shr(v, SHIFT): s18
+    wire [17:0] sin_q = sin_sum[AW-1:SHIFT];
+
+    // sat(q, 16) of an s18 value.
+    function [15:0] sat16(input [17:0] q);
+        begin
+            if (!q[17] && q[16:15] != 2'b00) sat16 = 16'h7fff;
+            else if (q[17] && q[16:15] != 2'b11) sat16 = 16'h8000;
+            else sat16 = q[15:0];
+        end
+    endfunction
+
+    // ---- sequencer -----------------------------------------------------------------------------------
+    always @(posedge clk) begin
+        if (rst) begin
+            busy_r <= 1'b0;
+            rot <= 1'b0;
+            iter <= 5'd0;
+            done <= 1'b0;
+            sin_q15 <= 16'sd0;
+            cos_q15 <= 16'sd0;
+        end else begin
+            done <= 1'b0;
+            if (!busy_r) begin
+                if (start) begin  // load: fold, x0, y0 = 0
+                    busy_r <= 1'b1;
+                    rot <= 1'b1;
+                    iter <= 5'd0;
+                end
+            end else if (rot) begin  // iteration `iter`
+                iter <= iter + 5'd1;
+                if (iter == LAST) rot <= 1'b0;
+            end else begin  // output stage
+                busy_r <= 1'b0;
+                done <= 1'b1;
+                sin_q15 <= sat16(sin_q);
+                cos_q15 <= sat16(cos_q);
+            end
+        end
+    end
+
+    // Datapath registers (no reset needed: loaded by every accepted start).
+    always @(posedge clk) begin
+        if (!busy_r) begin
+            if (start) begin
+                neg <= angle[31] ^ angle[30];
+                x <= X0;
+                y <= {WIDTH{1'b0}};
+                z <= {angle[30], angle[30:0]};  // angle - 2^31 if folded, else angle as s32
+            end
+        end else if (rot) begin
+            x <= x_next;
+            y <= y_next;
+            z <= z_next;
+        end
+    end
+
+endmodule
+`default_nettype wire

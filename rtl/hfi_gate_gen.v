@@ -1,0 +1,116 @@
+`default_nettype none
+// hfi_gate_gen: ideal switch signals of the three legs, dead time, six registered gate signals.
+//
+// Implements docs/spec.md 2.4 (golden/fpga/gate_generator.py, GateGenerator) with the double update of
+// spec 2.1 (compares latched at the bottom for the rising half, at the top for the falling half;
+// Benevieri et al. 2023, eqs. (14)-(15): the injection sign flips with the carrier slope, so each
+// half has its own compare).
+//
+// Ports:
+//   phase u17, half u16   carrier phase phi and effective H of the current tick (hfi_carrier).
+//   at_bottom, at_top     phi == 0 / phi == H strobes of the current tick.
+//   cmp_bot_x u16         compare of leg x latched in the at_bottom tick (used for the rising half,
+//                         that tick included); cmp_top_x u16: latched in the at_top tick (falling half).
+//   dead_reg u16          DEAD_TICKS; the dead time used is D = max(dead_reg, DEAD_MIN), read live
+//                         (a change applies to every turn-on still waiting, from the next tick on).
+//   enable                level: gates may conduct while 1 (the top changes it only at bottoms).
+//   kill                  any cycle: while high, all gates are off in the next cycle (a fault).
+//   gate[5:0]             bit 2x = high switch of leg x, 2x+1 = low switch (x = a, b, c = 0, 1, 2);
+//                         registered: gate in cycle t+1 = golden gate mask of tick t (GATE_LATENCY = 1).
+//   s[2:0]                ideal switch signals of the current tick (combinational).
+//   sw_event              some s changed at this tick vs the previous tick (before tick 0 s = 0).
+// Latency: gate 1 cycle (registered), s/sw_event 0.  Throughput: one tick per clock.  Multipliers: 0.
+//
+// Ideal switch signal (spec 2.4): s = 1 iff c < cmp on the rising half (phi < H, c = phi) or
+// c <= cmp on the falling half (c = P - phi).  A compare > half behaves exactly as cmp = half
+// (s = 1 for the whole half): the comparison saturates by itself, so no explicit clamp is needed.
+//
+// Dead time (spec 2.4): per leg, el = ticks since the latest of the last change of s and the last
+// rise of en = enable & ~kill (a saturating 16-bit counter, 0 in the tick of the change/rise).  The
+// switch selected by s is on in tick t iff en(t) and el(t) >= D; it is off at once when s leaves it or
+// en drops.  Hence a pulse of s of at most D ticks never turns on, and the two switches of a leg are
+// never on together (the mask bits are s & on and ~s & on).  kill acts as enable = 0 (the dead time
+// runs again from its release).  rst turns every gate off in the next cycle and restarts from s = 0,
+// en = 0 (an enable high right after reset is a rise: the dead time runs from tick 0).
+// Safety proven for every input sequence in formal/hfi_gate_gen.sby (see formal/hfi_gate_gen_props.sv).
+// DEAD_MIN is a synthesis parameter, 1..65535 (default 50).
+module hfi_gate_gen #(
+    parameter DEAD_MIN = 50
+) (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire [16:0] phase,
+    input  wire [15:0] half,
+    input  wire        at_bottom,
+    input  wire        at_top,
+    input  wire [15:0] cmp_bot_a,
+    input  wire [15:0] cmp_bot_b,
+    input  wire [15:0] cmp_bot_c,
+    input  wire [15:0] cmp_top_a,
+    input  wire [15:0] cmp_top_b,
+    input  wire [15:0] cmp_top_c,
+    input  wire [15:0] dead_reg,
+    input  wire        enable,
+    input  wire        kill,
+    output reg  [5:0]  gate,
+    output wire [2:0]  s,
+    output wire        sw_event
+);
+    localparam [15:0] DEAD_MIN16 = DEAD_MIN[15:0];
+
+    // latched compares {c, b, a}
+    reg  [47:0] cmp_rise_q;
+    reg  [47:0] cmp_fall_q;
+    wire [47:0] cmp_rise = at_bottom ? {cmp_bot_c, cmp_bot_b, cmp_bot_a} : cmp_rise_q;
+    wire [47:0] cmp_fall = at_top    ? {cmp_top_c, cmp_top_b, cmp_top_a} : cmp_fall_q;
+
+    wire        rising = phase < {1'b0, half};
+    wire [16:0] c_fall = {half, 1'b0} - phase;     // P - phi on the falling half
+
+    wire [15:0] dead = (dead_reg < DEAD_MIN16) ? DEAD_MIN16 : dead_reg;
+    wire        en   = enable & ~kill;
+
+    reg  [2:0]  s_q;       // s of the previous tick
+    reg         en_q;      // en of the previous tick
+    reg  [47:0] el_q;      // per leg {c, b, a}: el of the previous tick + 1 (saturating)
+    wire        en_rise = en & ~en_q;
+    wire [5:0]  mask;
+    wire [47:0] el_next;
+
+    genvar x;
+    generate
+        for (x = 0; x < 3; x = x + 1) begin : leg
+            wire [15:0] cr = cmp_rise[16*x +: 16];
+            wire [15:0] cf = cmp_fall[16*x +: 16];
+            assign s[x] = rising ? (phase < {1'b0, cr}) : (c_fall <= {1'b0, cf});
+            wire        restart = (s[x] ^ s_q[x]) | en_rise;
+            wire [15:0] el      = restart ? 16'd0 : el_q[16*x +: 16];
+            wire        on      = en & (el >= dead);
+            assign mask[2*x]     = on & s[x];
+            assign mask[2*x + 1] = on & ~s[x];
+            assign el_next[16*x +: 16] = (el == 16'hFFFF) ? el : el + 16'd1;
+        end
+    endgenerate
+
+    assign sw_event = |(s ^ s_q);
+
+    always @(posedge clk) begin
+        if (rst) begin
+            gate       <= 6'd0;
+            s_q        <= 3'd0;
+            en_q       <= 1'b0;
+            el_q       <= 48'd0;
+            cmp_rise_q <= 48'd0;
+            cmp_fall_q <= 48'd0;
+        end else begin
+            gate       <= mask;
+            s_q        <= s;
+            en_q       <= en;
+            el_q       <= el_next;
+            cmp_rise_q <= cmp_rise;
+            cmp_fall_q <= cmp_fall;
+        end
+    end
+endmodule
+
+`default_nettype wire

@@ -1,0 +1,340 @@
+// hfi_modulator: compares of the next carrier top (sign +1) and bottom (sign -1) half periods, each
+// followed by the dead-time compensation; bit-exact with the golden chain of
+// golden/closedloop.py `ClosedLoop._compares`:
+//   cmps = compares(V_D, V_Q, V_H, SIN, COS, H, sign)                (golden/fpga/modulator.py, spec 3.5)
+//   if DTC_GAIN != 0: cmps = compensate(cmps, sign, H, D, DTC_GAIN, I_D_REF, I_Q_REF, HF_AMP,
+//                                       SIN, COS, RECIP_H)          (golden/fpga/deadtime_comp.py, 3.6)
+// Per sign (spec 3.5):
+//   vd = V_D + sign*V_H (s17), vq = V_Q     square-wave injection on the estimated d-axis, the paper's
+//                                           v_dh = V_h * -sign(d cw/dt) (Benevieri et al. 2023, eq. (14))
+//   v_al = round_shr(vd*COS - vq*SIN, 15), v_be = round_shr(vd*SIN + vq*COS, 15)       inverse Park
+//   v_a = v_al, v_b/c = round_shr(-v_al*2^14 +/- v_be*28378, 15)                      inverse Clarke
+//   off = shr(max + min, 1), v_x' = v_x - off                                         min-max
+//   cmp_x = clamp(H/2 + round_shr(v_x'*H, 15), 0, H)               (over-modulation clipped per leg)
+// The compensation with DTC_GAIN = 0 is the identity (c = 0, cmp already in 0..H), so the module
+// always runs it and the `DTC_GAIN != 0` test of the golden chain needs no hardware.
+//
+// Ports:
+//   v_d, v_q          s16 (2^15 = V_dc)        V_D, V_Q registers
+//   v_h               u15 in s16 (0..32767)    V_H (0 while injection is off)
+//   sin_q15, cos_q15  s16 Q1.15                SIN, COS of the estimated angle
+//   i_d_ref, i_q_ref  s16                      current references for the compensation
+//   half              u16, even, 512..65534    H, the effective carrier half period [ticks]
+//   dead              u16, >= 1                D, the effective dead time [ticks]
+//   dtc_gain          u16                      DTC_GAIN (Q8 ticks per current LSB, 0 = off)
+//   hf_amp            u15                      HF_AMP
+//   recip_h           u32                      RECIP_H (round(2^32/H); any value is computed exactly)
+//   cmp_top_{a,b,c}   u16 (0..H)               compares for sign +1 (latched at the carrier top)
+//   cmp_bot_{a,b,c}   u16 (0..H)               compares for sign -1 (latched at the carrier bottom)
+// Timing: every input is sampled in the cycle `start` is high (cycle 0) if the unit is not busy; a
+// start while busy is ignored (no queueing). busy is high in cycles 1..LATENCY-1; the six outputs all
+// change together in cycle LATENCY = 96, when done is high for one cycle (and busy is low, so a start in
+// the done cycle is accepted: back to back, one pair of compare sets per 96 cycles). The outputs hold
+// their values between done pulses.
+// Reset (synchronous): the six outputs load half >> 1 from the `half` input in every reset cycle (the
+// compares that the reset register values V = 0 give, rtl.md "After reset the compares are H/2");
+// busy and done clear, a computation in progress is abandoned.
+//
+// Architecture: one 18x18 signed multiplier (this module's only `*`) and a 36-bit accumulator run an
+// 18-slot micro-program (`uop` table) per sign, first for the top set (cycles 1..18) then for the
+// bottom set (19..36), with the same registers; each sum starts from an initial value that holds its
+// rounding constant (2^14; H/2*2^15 + 2^14 for a compare), so results are written back rounded:
+//   v_be = (2^14 + vd*SIN + vq*COS) >>> 15          v_al = (2^14 + vd*COS - vq*SIN) >>> 15
+//   v_b  = (2^14 + v_be*28378 - v_al*16384) >>> 15  v_c  = (2^14 - v_be*28378 - v_al*16384) >>> 15
+//   cmp_x = clamp((H/2*2^15 + 2^14 - off*H + v_x*H) >>> 15, 0, H)       ((v_x - off)*H as two products)
+// The min-max unit computes off from the registered v_a, v_b, v_c. Pipeline as in hfi_deadtime_comp:
+// issue -> product -> accumulator -> write-back, a result usable 3 slots after its last product.
+// The one hfi_deadtime_comp instance (its own multiplier) compensates the top set (start in cycle 21,
+// done in 58, when the results are kept and the bottom set starts) and the bottom set (done in 95).
+// Widths (golden/fpga/modulator.py): vd s17; v_al, v_be within +-98303 and v_b, v_c within +-101517
+// (s18); off s18; the sums fit s34 (the compare sum: |H/2*2^15| < 2^30, |off*H|, |v_x*H| < 2^33).
+// Multipliers: 2 `*` in all: one 18x18 signed here and one 18x18 signed in hfi_deadtime_comp (one
+// MULT18X18D / DSP48E1 each).
+
+`default_nettype none
+
+module hfi_modulator (
+    input  wire               clk,
+    input  wire               rst,
+    input  wire               start,
+    input  wire signed [15:0] v_d,
+    input  wire signed [15:0] v_q,
+    input  wire signed [15:0] v_h,
+    input  wire signed [15:0] sin_q15,
+    input  wire signed [15:0] cos_q15,
+    input  wire signed [15:0] i_d_ref,
+    input  wire signed [15:0] i_q_ref,
+    input  wire        [15:0] half,
+    input  wire        [15:0] dead,
+    input  wire        [15:0] dtc_gain,
+    input  wire        [14:0] hf_amp,
+    input  wire        [31:0] recip_h,
+    output reg         [15:0] cmp_top_a,
+    output reg         [15:0] cmp_top_b,
+    output reg         [15:0] cmp_top_c,
+    output reg         [15:0] cmp_bot_a,
+    output reg         [15:0] cmp_bot_b,
+    output reg         [15:0] cmp_bot_c,
+    output wire               busy,
+    output reg                done
+);
+
+    localparam [6:0] LATENCY = 7'd96;               // start -> done (cycles)
+    localparam [6:0] T_DTC_TOP = 7'd21;             // the top set enters hfi_deadtime_comp
+    localparam [6:0] T_LAST = LATENCY - 7'd1;       // the bottom set is compensated in this cycle
+    localparam [4:0] SLOTS = 5'd18;                 // micro-program slots per sign
+
+    // Operand A
+    localparam [2:0] A_VD = 3'd0, A_VQ = 3'd1, A_BE = 3'd2, A_VA = 3'd3, A_VB = 3'd4, A_VC = 3'd5,
+                     A_OFF = 3'd6;
+    // Operand B
+    localparam [2:0] B_SIN = 3'd0, B_COS = 3'd1, B_SQ3 = 3'd2, B_M16K = 3'd3, B_H = 3'd4;
+    // Accumulator initial value of the first product of a sum
+    localparam [1:0] I_CONT = 2'd0, I_R14 = 2'd1, I_CMP = 2'd2;
+    // Write-back destination (W_MM: no product; the min-max unit updates off)
+    localparam [3:0] W_NONE = 4'd0, W_BE = 4'd1, W_VA = 4'd2, W_VB = 4'd3, W_VC = 4'd4, W_CA = 4'd5,
+                     W_CB = 4'd6, W_CC = 4'd7, W_MM = 4'd8;
+    localparam ADD = 1'b0, SUB = 1'b1;
+    localparam NOP = 1'b0, ISS = 1'b1;
+
+    // ---------------------------------------------------------------- sequencer, sampled inputs
+    reg [6:0] cnt;                                   // 0 idle, 1..LATENCY-1 busy
+    assign busy = (cnt != 7'd0);
+    wire accept = start && !busy;
+
+    reg signed [15:0] v_d_r, v_q_r, v_h_r, sin_r, cos_r, i_d_ref_r, i_q_ref_r;
+    reg        [15:0] half_r, dead_r, gain_r;
+    reg        [14:0] hf_amp_r;
+    reg        [31:0] recip_h_r;
+    always @(posedge clk) begin
+        if (accept) begin
+            v_d_r <= v_d;
+            v_q_r <= v_q;
+            v_h_r <= v_h;
+            sin_r <= sin_q15;
+            cos_r <= cos_q15;
+            i_d_ref_r <= i_d_ref;
+            i_q_ref_r <= i_q_ref;
+            half_r <= half;
+            dead_r <= dead;
+            gain_r <= dtc_gain;
+            hf_amp_r <= hf_amp;
+            recip_h_r <= recip_h;
+        end
+    end
+
+    // micro-program counter: slot ms of the top (mbot = 0) or bottom (mbot = 1) program
+    reg [4:0] ms;
+    reg       mrun, mbot;
+    always @(posedge clk) begin
+        if (rst) begin
+            mrun <= 1'b0;
+            mbot <= 1'b0;
+            ms <= 5'd0;
+        end else if (accept) begin
+            mrun <= 1'b1;
+            mbot <= 1'b0;
+            ms <= 5'd0;
+        end else if (mrun) begin
+            if (ms == SLOTS - 5'd1) begin
+                ms <= 5'd0;
+                mbot <= 1'b1;
+                if (mbot) mrun <= 1'b0;
+            end else begin
+                ms <= ms + 5'd1;
+            end
+        end
+    end
+
+    // ---------------------------------------------------------------- micro-program (one sign)
+    // {issue, A, B, initial value, add/sub, write-back}
+    reg [13:0] uop;
+    always @* begin
+        case (ms)
+            5'd0:  uop = {ISS, A_VD,  B_SIN,  I_R14,  ADD, W_NONE};
+            5'd1:  uop = {ISS, A_VQ,  B_COS,  I_CONT, ADD, W_BE};     // v_be
+            5'd2:  uop = {ISS, A_VD,  B_COS,  I_R14,  ADD, W_NONE};
+            5'd3:  uop = {ISS, A_VQ,  B_SIN,  I_CONT, SUB, W_VA};     // v_al = v_a
+            5'd4:  uop = {ISS, A_BE,  B_SQ3,  I_R14,  ADD, W_NONE};
+            5'd6:  uop = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VB};     // v_b
+            5'd7:  uop = {ISS, A_BE,  B_SQ3,  I_R14,  SUB, W_NONE};
+            5'd8:  uop = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VC};     // v_c
+            5'd11: uop = {NOP, A_VD,  B_SIN,  I_CONT, ADD, W_MM};     // off = shr(max + min, 1)
+            5'd12: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
+            5'd13: uop = {ISS, A_VA,  B_H,    I_CONT, ADD, W_CA};     // cmp_a
+            5'd14: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
+            5'd15: uop = {ISS, A_VB,  B_H,    I_CONT, ADD, W_CB};     // cmp_b
+            5'd16: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
+            5'd17: uop = {ISS, A_VC,  B_H,    I_CONT, ADD, W_CC};     // cmp_c
+            default: uop = {NOP, A_VD, B_SIN, I_CONT, ADD, W_NONE};   // 5, 9, 10: wait for a result
+        endcase
+    end
+    wire       u_iss = mrun && uop[13];
+    wire [2:0] u_a = uop[12:10];
+    wire [2:0] u_b = uop[9:7];
+    wire [1:0] u_init = uop[6:5];
+    wire       u_neg = uop[4];
+    wire [3:0] u_wb = uop[3:0];
+
+    // ---------------------------------------------------------------- data path
+    reg signed [17:0] be, va, vb, vc, off;           // v_be, v_a, v_b, v_c, off (s18)
+    reg        [15:0] cmp_a, cmp_b, cmp_c;           // compares of the set being computed
+    wire signed [16:0] vd = mbot ? {v_d_r[15], v_d_r} - {v_h_r[15], v_h_r}   // sign -1
+                                 : {v_d_r[15], v_d_r} + {v_h_r[15], v_h_r};  // sign +1
+    reg signed [17:0] mul_a, mul_b;
+    always @* begin
+        case (u_a)
+            A_VD:    mul_a = {vd[16], vd};
+            A_VQ:    mul_a = {{2{v_q_r[15]}}, v_q_r};
+            A_BE:    mul_a = be;
+            A_VA:    mul_a = va;
+            A_VB:    mul_a = vb;
+            A_VC:    mul_a = vc;
+            default: mul_a = off;                                      // A_OFF
+        endcase
+        case (u_b)
+            B_SIN:   mul_b = {{2{sin_r[15]}}, sin_r};
+            B_COS:   mul_b = {{2{cos_r[15]}}, cos_r};
+            B_SQ3:   mul_b = 18'sd28378;                              // round(2^15*sqrt(3)/2)
+            B_M16K:  mul_b = -18'sd16384;
+            default: mul_b = {2'b00, half_r};                         // B_H
+        endcase
+    end
+
+    reg signed [35:0] p_r;
+    reg        s1_v, s2_v;
+    reg  [1:0] s1_init;
+    reg        s1_neg;
+    reg  [3:0] s1_wb, s2_wb;
+    always @(posedge clk) begin
+        p_r <= mul_a * mul_b;                        // the module's one multiplier (18x18 signed)
+        s1_init <= u_init;
+        s1_neg <= u_neg;
+        s1_wb <= u_wb;
+        s2_wb <= s1_wb;
+        if (rst) begin
+            s1_v <= 1'b0;
+            s2_v <= 1'b0;
+        end else begin
+            s1_v <= u_iss;
+            s2_v <= s1_v;
+        end
+    end
+
+    reg signed [35:0] acc;
+    reg signed [35:0] base;
+    always @* begin
+        case (s1_init)
+            I_R14:   base = 36'sd16384;
+            I_CMP:   base = {6'd0, half_r[15:1], 15'h4000};             // H/2*2^15 + 2^14
+            default: base = acc;                                        // I_CONT
+        endcase
+    end
+    always @(posedge clk) begin
+        if (s1_v) acc <= s1_neg ? base - p_r : base + p_r;
+    end
+
+    // write-back: round_shr results acc[32:15] (s18); compares acc[35:15] clamped to 0..H
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire signed [20:0] r15 = acc[35:15];
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [15:0] cmp_new = r15[20] ? 16'd0 : (r15 > $signed({5'd0, half_r})) ? half_r : r15[15:0];
+    // min-max: off = shr(max + min, 1)
+    wire signed [17:0] mm_hi = (va > vb) ? ((va > vc) ? va : vc) : ((vb > vc) ? vb : vc);
+    wire signed [17:0] mm_lo = (va < vb) ? ((va < vc) ? va : vc) : ((vb < vc) ? vb : vc);
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire signed [18:0] mm_sum = {mm_hi[17], mm_hi} + {mm_lo[17], mm_lo};   // bit 0 dropped: shr by 1
+    /* verilator lint_on UNUSEDSIGNAL */
+    always @(posedge clk) begin
+        if (mrun && u_wb == W_MM) off <= mm_sum[18:1];
+        if (s2_v) begin
+            case (s2_wb)
+                W_BE: be <= r15[17:0];
+                W_VA: va <= r15[17:0];
+                W_VB: vb <= r15[17:0];
+                W_VC: vc <= r15[17:0];
+                W_CA: cmp_a <= cmp_new;
+                W_CB: cmp_b <= cmp_new;
+                W_CC: cmp_c <= cmp_new;
+                default: ;
+            endcase
+        end
+    end
+
+    // ---------------------------------------------------------------- dead-time compensation
+    // Top set: start in cycle T_DTC_TOP (its compares written at the end of cycle 20); bottom set:
+    // start in the cycle the top one is done (58; the bottom compares are written by cycle 38). The
+    // instance samples the compares and the sign at its start; the other inputs are the sampled
+    // registers, stable while it runs.
+    reg dtc_bot;                                     // the bottom set is in the DTC
+    wire dtc_done;
+    wire dtc_start = (cnt == T_DTC_TOP) || (dtc_done && !dtc_bot);
+    wire [15:0] dtc_a, dtc_b, dtc_c;
+    reg  [15:0] top_a, top_b, top_c;                 // compensated top set, until done
+    hfi_deadtime_comp u_dtc (
+        .clk(clk),
+        .rst(rst),
+        .start(dtc_start),
+        .sign_top(!dtc_bot && !dtc_done),
+        .cmp_a_in(cmp_a),
+        .cmp_b_in(cmp_b),
+        .cmp_c_in(cmp_c),
+        .half(half_r),
+        .dead(dead_r),
+        .gain(gain_r),
+        .i_d_ref(i_d_ref_r),
+        .i_q_ref(i_q_ref_r),
+        .hf_amp(hf_amp_r),
+        .sin_q15(sin_r),
+        .cos_q15(cos_r),
+        .recip_h(recip_h_r),
+        .cmp_a(dtc_a),
+        .cmp_b(dtc_b),
+        .cmp_c(dtc_c),
+        /* verilator lint_off PINCONNECTEMPTY */
+        .busy(),                                     // the schedule is fixed: done sequences it
+        /* verilator lint_on PINCONNECTEMPTY */
+        .done(dtc_done)
+    );
+
+    // ---------------------------------------------------------------- control, outputs
+    always @(posedge clk) begin
+        if (dtc_done && !dtc_bot) begin              // cycle 58
+            top_a <= dtc_a;
+            top_b <= dtc_b;
+            top_c <= dtc_c;
+        end
+        if (rst) begin
+            cnt <= 7'd0;
+            done <= 1'b0;
+            dtc_bot <= 1'b0;
+            cmp_top_a <= {1'b0, half[15:1]};
+            cmp_top_b <= {1'b0, half[15:1]};
+            cmp_top_c <= {1'b0, half[15:1]};
+            cmp_bot_a <= {1'b0, half[15:1]};
+            cmp_bot_b <= {1'b0, half[15:1]};
+            cmp_bot_c <= {1'b0, half[15:1]};
+        end else begin
+            done <= 1'b0;
+            if (accept) begin
+                cnt <= 7'd1;
+                dtc_bot <= 1'b0;
+            end else if (busy) begin
+                cnt <= (cnt == T_LAST) ? 7'd0 : cnt + 7'd1;
+                if (dtc_done) dtc_bot <= 1'b1;
+                if (cnt == T_LAST) begin             // the bottom set is done in this cycle
+                    done <= 1'b1;
+                    cmp_top_a <= top_a;
+                    cmp_top_b <= top_b;
+                    cmp_top_c <= top_c;
+                    cmp_bot_a <= dtc_a;
+                    cmp_bot_b <= dtc_b;
+                    cmp_bot_c <= dtc_c;
+                end
+            end
+        end
+    end
+
+endmodule
+
+`default_nettype wire

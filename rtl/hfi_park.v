@@ -1,0 +1,137 @@
+// hfi_park: Clarke then Park transform of the two sampled phase currents, bit-true.
+//
+// Implements docs/spec.md section 3.2, golden model golden/fpga/park.py (clarke, then park):
+//   i_alpha = i_a
+//   i_beta  = sat(round_shr((i_a + 2*i_b) * 18919, 15), 16)        (s18 x u15 -> s33)
+//   i_d     = sat(round_shr(i_alpha*COS + i_beta*SIN, 15), 16)     (s16 x s16 -> s31, sum s33)
+//   i_q     = sat(round_shr(i_beta*COS - i_alpha*SIN, 15), 16)
+// i_q is the i_q^ of Benevieri et al. 2023, eq. (19) (demodulated by hfi_demodulator.v); i_d feeds
+// GAMMA_D. The sums are kept in 34 bits: i_alpha*COS + i_beta*SIN reaches 2^31 (all four at -32768),
+// one more than s32 holds (the spec's "sum s32" is one bit short; the golden model sums exactly).
+//
+// Ports
+//   start             one-cycle strobe: i_a, i_b, sin_q15, cos_q15 are sampled in this cycle only
+//   i_a, i_b          s16 phase currents (2^15 = I_FS)
+//   sin_q15, cos_q15  s16 Q1.15 SIN, COS of the estimated angle (active registers)
+//   done              one-cycle pulse exactly LATENCY (= 7) cycles after start
+//   i_d, i_q          s16, both updated in the done cycle and held until the next done (0 after reset)
+//
+// Timing (S = start cycle), one shared multiplier (s18 x s16 -> s34, one 18x18 DSP):
+//   S: inputs registered, t = i_a + 2*i_b (s18);  S+1: t*18919;  S+2: i_alpha*COS, i_beta registered;
+//   S+3: i_alpha*SIN, acc_d = i_alpha*COS;  S+4: i_beta*SIN, acc_q = -i_alpha*SIN;
+//   S+5: i_beta*COS, acc_d += i_beta*SIN;   S+6: outputs loaded (acc_q + i_beta*COS);  S+7: done.
+// Throughput: a new start may come every 5 cycles (minimum start spacing 5; the system gives >= 40);
+// overlapping transforms complete in order, each LATENCY cycles after its start.
+// A synchronous reset aborts any transform in flight (no done for it) and clears the outputs.
+`default_nettype none
+
+module hfi_park (
+    input  wire               clk,
+    input  wire               rst,
+    input  wire               start,
+    input  wire signed [15:0] i_a,
+    input  wire signed [15:0] i_b,
+    input  wire signed [15:0] sin_q15,
+    input  wire signed [15:0] cos_q15,
+    output wire               done,
+    output reg  signed [15:0] i_d,
+    output reg  signed [15:0] i_q
+);
+    localparam LATENCY = 7;                 // cycles from start to done (see the header)
+    localparam signed [15:0] INV_SQRT3_Q15 = 16'sd18919;   // round(2^15/sqrt(3)), u15
+
+    // Start delay line: stage[k-1] is high in cycle S+k.
+    reg [LATENCY-1:0] stage;
+    assign done = stage[LATENCY-1];
+
+    // Inputs captured at start.
+    reg signed [15:0] al_r;                 // i_alpha = i_a
+    reg signed [17:0] t_r;                  // i_a + 2*i_b, s18
+    reg signed [15:0] sin_r, cos_r;
+    reg signed [15:0] be_r;                 // i_beta (registered in S+2)
+
+    // Operand selection of the shared multiplier.
+    reg signed [17:0] m_x;
+    reg signed [15:0] m_y;
+    always @(*) begin
+        if (stage[0]) begin                 // S+1: Clarke product
+            m_x = t_r;
+            m_y = INV_SQRT3_Q15;
+        end else if (stage[1]) begin        // S+2: i_alpha*COS
+            m_x = {{2{al_r[15]}}, al_r};
+            m_y = cos_r;
+        end else if (stage[2]) begin        // S+3: i_alpha*SIN
+            m_x = {{2{al_r[15]}}, al_r};
+            m_y = sin_r;
+        end else if (stage[3]) begin        // S+4: i_beta*SIN
+            m_x = {{2{be_r[15]}}, be_r};
+            m_y = sin_r;
+        end else begin                      // S+5: i_beta*COS (the value is ignored when idle)
+            m_x = {{2{be_r[15]}}, be_r};
+            m_y = cos_r;
+        end
+    end
+    reg signed [33:0] prod;                 // registered product (|product| < 2^31)
+
+    reg signed [33:0] acc_d, acc_q;         // i_alpha*COS + i_beta*SIN, i_beta*COS - i_alpha*SIN
+
+    // Rounding shift by 15 and saturation to s16 of a 34-bit value: sat(round_shr(v, 15), 16).
+    function signed [15:0] rnd_sat15;
+        input signed [33:0] v;
+        /* verilator lint_off UNUSEDSIGNAL */  // the 15 bits below the rounding point are dropped
+        reg signed [33:0] r;
+        /* verilator lint_on UNUSEDSIGNAL */
+        reg signed [18:0] s;
+        begin
+            r = v + 34'sd16384;
+            s = r[33:15];
+            if (s > 19'sd32767)
+                rnd_sat15 = 16'sh7FFF;
+            else if (s < -19'sd32768)
+                rnd_sat15 = 16'sh8000;
+            else
+                rnd_sat15 = s[15:0];
+        end
+    endfunction
+
+    wire signed [33:0] q_sum = acc_q + prod;    // in S+6: i_beta*COS - i_alpha*SIN
+
+    always @(posedge clk) begin
+        if (rst) begin
+            stage <= {LATENCY{1'b0}};
+            al_r <= 16'sd0;
+            t_r <= 18'sd0;
+            sin_r <= 16'sd0;
+            cos_r <= 16'sd0;
+            be_r <= 16'sd0;
+            prod <= 34'sd0;
+            acc_d <= 34'sd0;
+            acc_q <= 34'sd0;
+            i_d <= 16'sd0;
+            i_q <= 16'sd0;
+        end else begin
+            stage <= {stage[LATENCY-2:0], start};
+            if (start) begin
+                al_r <= i_a;
+                t_r <= {{2{i_a[15]}}, i_a} + {i_b[15], i_b, 1'b0};
+                sin_r <= sin_q15;
+                cos_r <= cos_q15;
+            end
+            prod <= m_x * m_y;
+            if (stage[1])                   // prod = (i_a + 2 i_b)*18919
+                be_r <= rnd_sat15(prod);
+            if (stage[2])                   // prod = i_alpha*COS
+                acc_d <= prod;
+            if (stage[3])                   // prod = i_alpha*SIN
+                acc_q <= -prod;
+            if (stage[4])                   // prod = i_beta*SIN
+                acc_d <= acc_d + prod;
+            if (stage[5]) begin             // prod = i_beta*COS
+                i_d <= rnd_sat15(acc_d);
+                i_q <= rnd_sat15(q_sum);
+            end
+        end
+    end
+endmodule
+
+`default_nettype wire

@@ -61,7 +61,7 @@ def rtl_sources(*names: str) -> list[Path]:
 
 def run_cocotb(*, sim: str, toplevel: str, sources: list[Path], tb_module: str, build_dir: Path,
                parameters: dict | None = None, env: dict | None = None, expect_tests: int | None = None,
-               random_n: int | None = None, waves: bool = False) -> None:
+               random_n: int | None = None, build_args: list[str] | None = None, waves: bool = False) -> None:
     """Build ``toplevel`` from ``sources`` on ``sim`` and run the cocotb module ``tb_module``.
 
     ``env`` is passed to the testbench (strings); the seed and vector count are added as
@@ -78,7 +78,7 @@ def run_cocotb(*, sim: str, toplevel: str, sources: list[Path], tb_module: str, 
     extra_env.update({k: str(v) for k, v in (env or {}).items()})
     print(f"{tb_module} on {sim}: HFI_SEED={seed} HFI_RANDOM_N={extra_env['HFI_RANDOM_N']} "
           f"parameters={parameters or {}}")
-    build_args = ["--threads", "1"] if sim == "verilator" else []
+    build_args = (["--threads", "1"] if sim == "verilator" else []) + list(build_args or [])
     runner = get_runner(sim)
     runner.build(sources=[str(s) for s in sources], hdl_toplevel=toplevel, parameters=parameters or {},
                  build_dir=build_dir, timescale=("1ns", "1ps"), build_args=build_args,

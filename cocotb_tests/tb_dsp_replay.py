@@ -12,7 +12,6 @@ import os
 
 import cocotb
 import numpy as np
-from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from axil_driver import AxiLiteMaster
@@ -31,7 +30,6 @@ async def replay_golden_closed_loop(dut):
     tr = dict(np.load(os.environ["HFI_REPLAY_TRACE"]))
     n_win = len(tr["win_gamma"])
     cocotb.log.info(f"replaying {n_win} golden windows")
-    Clock(dut.clk, 10, unit="ns").start()
     axi = AxiLiteMaster(dut, "s_axil", dut.clk)
     dut.flush.value = 0
     dut.rst.value = 1

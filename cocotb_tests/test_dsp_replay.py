@@ -57,4 +57,4 @@ def test_replay_default_scenario(tmp_path):
     run_cocotb(sim="verilator", toplevel="tb_hfi_dsp",
                sources=[*rtl_sources(*RTL_FILES), TB_DIR / "hdl" / "adc_model.v", TB_DIR / "hdl" / "tb_hfi_dsp.v"],
                tb_module="tb_dsp_replay", build_dir=build, parameters={"ADC_BITS": res.hw.adc_bits},
-               env={"HFI_REPLAY_TRACE": build / "trace.npz"}, expect_tests=1)
+               env={"HFI_REPLAY_TRACE": build / "trace.npz"}, build_args=["--timing"], expect_tests=1)

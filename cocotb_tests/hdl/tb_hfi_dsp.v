@@ -1,7 +1,7 @@
 `default_nettype none
 // tb_hfi_dsp: hfi_dsp with the ADC model and recorders, for the replay test (cocotb_tests/
-// test_dsp_replay.py). The clock comes from cocotb; the register writes from the cocotb AXI4-Lite
-// master (firmware replay). Records, as text files in the simulation directory:
+// test_dsp_replay.py). The 100 MHz clock runs inside the simulator (Verilator --timing: no Python
+// per cycle); the register writes come from the cocotb AXI4-Lite master (firmware replay). Records, as text files in the simulation directory:
 //   gates.txt   "<tick> <mask>" at every change of the six gate outputs (tick = cycle since reset;
 //               the registered gates show the golden mask of tick t in cycle t + 1)
 //   convst.txt  "<tick>" of every CONVST rising edge (sampling tick t rises in cycle t + 1)
@@ -9,7 +9,7 @@ module tb_hfi_dsp #(
     parameter ADC_BITS = 12,
     parameter CODES_FILE = "codes.hex"
 ) (
-    input  wire        clk,
+    output reg         clk,
     input  wire        rst,
     input  wire [7:0]  s_axil_awaddr,
     input  wire        s_axil_awvalid,
@@ -55,6 +55,9 @@ module tb_hfi_dsp #(
     integer fd_gates, fd_convst;
     reg [5:0] gate_q;
     reg convst_q;
+    initial clk = 1'b0;
+    always #5 clk = ~clk;
+
     initial begin
         fd_gates = $fopen("gates.txt", "w");
         fd_convst = $fopen("convst.txt", "w");

@@ -12,7 +12,7 @@ import os
 
 import cocotb
 import numpy as np
-from cocotb.triggers import ClockCycles, RisingEdge
+from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
 
 from axil_driver import AxiLiteMaster
 from golden import regmap as rm
@@ -59,7 +59,7 @@ async def replay_golden_closed_loop(dut):
     w = {k[len("write_"):]: tr[k] for k in tr if k.startswith("write_")}
     mismatches = []
     for j in range(n_win + 1):          # interrupt j reports window j - 1 (window -1: before tick H/2)
-        await RisingEdge(dut.irq)
+        await with_timeout(RisingEdge(dut.irq), 4 * cfg["pwm_half"] * 10, "ns")
         got = {}
         for reg, _, signed in RESULTS:
             value, resp = await axi.read(rm.REGISTERS[reg]["addr"])

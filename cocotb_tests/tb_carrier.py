@@ -298,3 +298,21 @@ async def full_scale(dut):
         for _ in range(5):
             await b.cycle()
     assert b.checked >= 25
+
+
+@cocotb.test()
+async def multiplier_full_range(dut):
+    """The serial H*STEP product over the whole register range: random (PWM_HALF, STEP) pairs, each
+    loaded by a reset of 18..22 cycles; ticks 0..3 are checked (angle = H*STEP - 2c*STEP)."""
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 1)
+    n_pairs = max(20, int(os.environ["HFI_RANDOM_N"]) // 500)
+    b = None
+    for i in range(n_pairs):
+        h_reg = int(rng.integers(0, 1 << 16)) if i % 4 else int(rng.choice([0xFFFF, 0xFFFE, 0x8000, 0x7FFF]))
+        step = int(rng.integers(0, 1 << 32)) if i % 3 else int(rng.choice([0xFFFFFFFF, 0x80000000, 1]))
+        b = await start(dut, rst_cycles=int(rng.integers(APPLY_DELAY, APPLY_DELAY + 5)), pwm_half=h_reg,
+                        step=step, first=i == 0)
+        for _ in range(4):
+            await b.cycle()
+        assert b.checked >= 4 and b.last_exp["cw_angle"] is not None
+    cocotb.log.info(f"{n_pairs} products checked")

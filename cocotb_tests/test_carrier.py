@@ -11,4 +11,4 @@ import hdl_runner
 @pytest.mark.parametrize("sim", hdl_runner.SIMULATORS)
 def test_carrier(sim, tmp_path):
     hdl_runner.run_cocotb(sim=sim, toplevel="hfi_carrier", sources=hdl_runner.rtl_sources("hfi_carrier.v"),
-                          tb_module="tb_carrier", build_dir=tmp_path / "build", expect_tests=4)
+                          tb_module="tb_carrier", build_dir=tmp_path / "build", expect_tests=5)

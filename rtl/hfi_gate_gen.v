@@ -12,7 +12,9 @@
 //   cmp_bot_x u16         compare of leg x latched in the at_bottom tick (used for the rising half,
 //                         that tick included); cmp_top_x u16: latched in the at_top tick (falling half).
 //   dead_reg u16          DEAD_TICKS; the dead time used is D = max(dead_reg, DEAD_MIN), read live
-//                         (a change applies to every turn-on still waiting, from the next tick on).
+//                         (a value present in tick t applies to every turn-on still waiting in tick t;
+//                         the golden model fixes D when it schedules a turn-on: identical whenever
+//                         DEAD_TICKS changes while no turn-on is waiting, e.g. while disabled).
 //   enable                level: gates may conduct while 1 (the top changes it only at bottoms).
 //   kill                  any cycle: while high, all gates are off in the next cycle (a fault).
 //   gate[5:0]             bit 2x = high switch of leg x, 2x+1 = low switch (x = a, b, c = 0, 1, 2);

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 import secrets
+import shutil
 import sys
 from pathlib import Path
 
@@ -71,6 +72,8 @@ def run_cocotb(*, sim: str, toplevel: str, sources: list[Path], tb_module: str, 
     failed and, if ``expect_tests`` is given, that exactly that many ran.
     """
     os.environ["PATH"] = f"{VENV_BIN}{os.pathsep}{os.environ.get('PATH', '')}"
+    if sim == "verilator" and shutil.which("ccache"):
+        os.environ.setdefault("OBJCACHE", "ccache")   # Verilator's makefiles: the runtime compiles once
     seed = random_seed()
     count = random_n if random_n is not None and not os.environ.get("HFI_RANDOM_N") else random_count(sim)
     extra_env = {"HFI_SEED": str(seed), "HFI_RANDOM_N": str(count),

@@ -17,7 +17,7 @@ die() { printf '[setup] ERROR: %s\n' "$*" >&2; exit 1; }
 
 # ---------------------------------------------------------------- 1. system packages
 apt_packages() {
-    local need=(build-essential make git perl gcc-riscv64-unknown-elf iverilog liblz4-dev zlib1g-dev)
+    local need=(build-essential make git perl gcc-riscv64-unknown-elf iverilog liblz4-dev zlib1g-dev ccache)
     local py=$VENV/bin/python
     if [[ ! -x $py ]]; then
         if ! py=$(command -v "$PYTHON"); then

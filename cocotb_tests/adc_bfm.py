@@ -21,7 +21,8 @@ from its monitor task, which fails the running cocotb test with the message):
   shorter than ``sclk_half`` clocks;
 * SCLK toggling while CS is high, more than ``bits`` SCLK pulses in one frame;
 * CS rising before all ``bits`` bits were clocked out (an aborted read), unless :attr:`abort_allowed`
-  is set (a reset of the host, see the RTL header);
+  is set: the test sets it while it resets the host (see the RTL header), and then an SCLK falling
+  edge in the same time step as the CS rising edge is accepted too;
 * a conversion without a code to convert (empty queue), codes out of ``0 .. 2**bits - 1``.
 
 Codes come from a queue (``codes=[(a, b), ...]``, :meth:`push`) or from a callback
@@ -32,7 +33,16 @@ numbers are counted in clock periods from :attr:`origin` (simulation steps, set 
 edge is recorded in :attr:`convst_cycles`.
 
 The BFM only reacts to edges of CONVST, CS and SCLK (no per-clock wake-ups): about ``2*bits + 3``
-Python wake-ups per conversion.
+Python wake-ups per conversion. Start it (:meth:`start`) once the host's outputs are out of reset.
+The lanes are written as immediate deposits right after the host clock edge that moved SCLK or CS, so
+the host's input registers sample them at the next edge.
+
+Example (the whole-IP replay test)::
+
+    bfm = AdcBfm(dut.adc_convst, dut.adc_cs_n, dut.adc_sclk, dut.adc_sdo_a, dut.adc_sdo_b,
+                 bits=12, conv_ticks=12, sclk_half=1, codes_at=lambda cyc: golden_codes[cyc - 1])
+    bfm.set_cycle_origin()      # at the rising clock edge that begins tick 0
+    bfm.start()
 """
 
 from __future__ import annotations
@@ -42,10 +52,10 @@ from collections import deque
 from typing import Callable, Iterable
 
 import cocotb
-from cocotb.utils import get_sim_steps
 from cocotb.handle import Immediate
 from cocotb.triggers import FallingEdge, RisingEdge, ValueChange
 from cocotb.types import Logic
+from cocotb.utils import get_sim_steps
 
 _now = cocotb.simulator.get_sim_time
 _LEVEL = (Logic(0), Logic(1))

@@ -317,8 +317,11 @@ def _seed_and_count() -> tuple[int, int]:
 async def random_conversions(dut):
     """HFI_RANDOM_N accepted conversions per instance: random codes (0 and full scale included), random
     start spacing >= CYCLE (a third exactly CYCLE: back to back), starts while busy (ignored), rare
-    resets at random points of a conversion; every output sampled in the start, done and random
-    cycles, CONVST and done cycles, codes and the ADC protocol checked."""
+    resets at random points of a conversion (then the next start as soon as the reset and t_CONV
+    allow). Checked against LaneModel: busy and the held codes in every start cycle, done/busy/CS/codes
+    in every done cycle, all outputs in a random cycle of every other conversion, the cycle of every
+    CONVST rising edge and every done pulse, the number of complete reads; the BFM checks the ADC
+    protocol and the sampling instant of every bit."""
     seed, count = _seed_and_count()
     lanes = make_lanes(dut, seed)
     last = 0

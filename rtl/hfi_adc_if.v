@@ -105,7 +105,8 @@
 module hfi_adc_if #(
     parameter integer ADC_BITS   = 12,
     parameter integer CONV_TICKS = 12,
-    parameter integer SCLK_HALF  = 1
+    parameter integer SCLK_HALF  = 1,
+    parameter integer MAX_CYCLE  = 65535   // the parent's start spacing (hfi_dsp: OS_MIN); CYCLE must fit
 ) (
     input  wire                clk,
     input  wire                rst,
@@ -123,9 +124,7 @@ module hfi_adc_if #(
 
     // ---- fixed timing (see the header) ----
     localparam integer LATENCY = CONV_TICKS + 2 * ADC_BITS * SCLK_HALF + 2;
-    /* verilator lint_off UNUSEDPARAM */   // CYCLE documents the start spacing for the parent (OS_MIN)
-    localparam integer CYCLE   = LATENCY;
-    /* verilator lint_on UNUSEDPARAM */
+    localparam integer CYCLE   = LATENCY;   // start spacing needed; checked against MAX_CYCLE
 
     // ---- elaboration-time parameter checks ----
     generate
@@ -137,6 +136,9 @@ module hfi_adc_if #(
         end
         if (SCLK_HALF < 1) begin : g_bad_sclk_half
             hfi_adc_if_error_SCLK_HALF_must_be_at_least_1 u_error ();
+        end
+        if (CYCLE > MAX_CYCLE) begin : g_bad_cycle
+            hfi_adc_if_error_CYCLE_exceeds_MAX_CYCLE_raise_OS_MIN u_error ();
         end
     endgenerate
 

@@ -14,7 +14,9 @@
 //   DEAD_MIN                                 dead-time floor [clocks] (spec 2.4)
 //   IRQ_LATENCY                              window interrupt, clocks after the window boundary
 //   OS_MIN                                   shortest sampling interval (spec 2.3); must be at least
-//                                            max(CORDIC_ITERATIONS + 8, ADC cycle): checked below
+//                                            max(CORDIC_ITERATIONS + 8, ADC cycle): checked below and
+//                                            in hfi_adc_if (MAX_CYCLE); a 16-bit ADC at the default
+//                                            timing needs OS_MIN >= 46
 //
 // Window bookkeeping (docs/rtl.md): every sample carries the parity of the window of its sampling
 // tick and its OS_BLANK keep flag through the pipeline. The Park unit rotates it with the SIN/COS
@@ -210,7 +212,8 @@ module hfi_dsp #(
     // ---- current path: serial ADC -> offset/gain -> (overcurrent) -> Clarke/Park
     wire [ADC_BITS-1:0] code_a, code_b;
     wire adc_busy, adc_done;
-    hfi_adc_if #(.ADC_BITS(ADC_BITS), .CONV_TICKS(ADC_CONV_TICKS), .SCLK_HALF(ADC_SCLK_HALF)) u_adc (
+    hfi_adc_if #(.ADC_BITS(ADC_BITS), .CONV_TICKS(ADC_CONV_TICKS), .SCLK_HALF(ADC_SCLK_HALF),
+                 .MAX_CYCLE(OS_MIN)) u_adc (
         .clk(clk), .rst(rst), .start(sample), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
         .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
         .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b)

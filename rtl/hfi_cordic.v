@@ -44,7 +44,6 @@
 //   t+1 .. t+ITERATIONS; negate/round/saturate into the output registers at the end of
 //   t+ITERATIONS+1; done (and the new outputs) in cycle t + LATENCY, LATENCY = ITERATIONS + 2.
 //   Throughput: one result every LATENCY cycles (start in every done cycle).
-`timescale 1ns / 1ps
 
 module hfi_cordic #(
     parameter WIDTH = 32,

@@ -6,7 +6,9 @@ tb_modulator.draw_registers (full ranges and extremes, DTC_GAIN = 0 for half, RE
 and any u32 sometimes) with a random sign and random compares in 0..H (extremes 0, 1, H/2, H-1, H
 included). The module runs back to back (a start in the done cycle); the registers that are sampled
 (compares, sign) change right after every start, and the held ones change (to the next vector's
-values) in the done cycle, when the module no longer reads them.
+values) in the done cycle, when the module no longer reads them. Directed: extremes, leg a's predicted
+current placed exactly around the RTL's saturation bound (+-2^23, +-2^24), start while busy, reset in
+mid-operation.
 """
 
 from __future__ import annotations
@@ -19,10 +21,11 @@ import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles
 
-from golden.fpga.deadtime_comp import compensate, recip_half
-from tb_modulator import U32, cycles, draw_registers, seed_and_count
+from golden.fixed import round_shr
+from golden.fpga.deadtime_comp import compensate, phase_current, recip_half
+from tb_modulator import CLOCK_NS, U32, cycles, draw_registers, seed_and_count
 
-LATENCY = 37
+LATENCY = 39
 """hfi_deadtime_comp: start in cycle 0, done and the results in cycle LATENCY (its header)."""
 
 HELD = ("half", "dead", "gain", "i_d_ref", "i_q_ref", "hf_amp", "sin_q15", "cos_q15", "recip_h")
@@ -71,7 +74,7 @@ def check(dut, expected, what: str, r: dict):
 
 
 async def clock_and_reset(dut):
-    Clock(dut.clk, 10, unit="ns").start()
+    Clock(dut.clk, CLOCK_NS, unit="ns").start()
     dut.start.value = 0
     for k in HELD + SAMPLED:
         getattr(dut, k).value = 0
@@ -140,6 +143,48 @@ async def corner_cases(dut):
         r["i_d_ref"], r["i_q_ref"] = (int(v) for v in rng.choice([-32768, 32767, 0, 1, -1], 2))
     await clock_and_reset(dut)
     await run_vectors(dut, vecs, "corner vector")
+
+
+def saturation_vectors() -> list[dict]:
+    """Leg a's predicted current i_x placed exactly on values around +-2^23 and +-2^24 (the RTL
+    saturates i_x to +-(2^24 - 1) before the gain product), with small gains and large D, so that c
+    depends on every bit of i_x up to the clamp; RECIP_H sets the HF term (hf ~ -i_x), I_D_REF the
+    exact value. Top sign with cmp_a = 0 for positive i_x, bottom sign with cmp_a = H for negative."""
+    H = 65534
+    out = []
+    for t in (2**23 - 1, 2**23, 2**23 + 1, 3 * 2**22, 2**24 - 600, 2**24 - 257, 2**24 - 256,
+              2**24 - 255, 2**24 - 2, 2**24 - 1, 2**24, 2**24 + 1, 2**25, 2**31 - 2**20):
+        for target in (t, -t):
+            top = target > 0
+            cmp_a = 0 if top else H
+            d = 2 * cmp_a - H                                   # -H (top) or +H (bottom)
+            i_d = round(target * 32768 / 32767)                 # i_al = round_shr(i_d*32767, 15)
+            rh = min(U32, max(0, round(-i_d * 2**32 / (32767 * d))))
+            hf = round_shr(32767 * d * rh, 32)
+            base = dict(half=H, dead=65535, gain=1, i_d_ref=0, i_q_ref=0, hf_amp=32767, sin_q15=0,
+                        cos_q15=32767, recip_h=rh, sign_top=int(top), cmp_a_in=cmp_a,
+                        cmp_b_in=H // 2, cmp_c_in=H // 2)
+            best = None
+            for idr in range(max(-32768, i_d + hf - 40), min(32767, i_d + hf + 40) + 1):
+                ix = phase_current(0, idr - hf, 0, 0, 32767)
+                if best is None or abs(ix - target) < abs(best[1] - target):
+                    best = (idr, ix)
+            base["i_d_ref"] = best[0]
+            for gain, dead in ((1, 65535), (2, 65535), (255, 65535), (256, 40000), (1, 40000)):
+                out.append(base | dict(gain=gain, dead=dead))
+    return out
+
+
+@cocotb.test()
+async def saturation_boundary(dut):
+    """i_x around the saturation bound of the RTL (see saturation_vectors)."""
+    vecs = saturation_vectors()
+    exact = sum(1 for r in vecs if abs(phase_current(0, r["i_d_ref"] - round_shr(
+        r["hf_amp"] * (2 * r["cmp_a_in"] - r["half"]) * r["recip_h"], 32), 0, 0, 32767)) in
+        (2**23 - 1, 2**23, 2**24 - 1, 2**24))
+    assert exact >= 8, f"saturation vectors missed their targets ({exact})"
+    await clock_and_reset(dut)
+    await run_vectors(dut, vecs, "saturation vector")
 
 
 @cocotb.test()

@@ -6,12 +6,18 @@ Every result is compared with the golden chain of ``golden/closedloop.py`` ``Clo
 
 Random vectors: ``numpy.random.default_rng(HFI_SEED)``, ``HFI_RANDOM_N`` of them (set by hdl_runner).
 The register draws (:func:`draw_registers`) cover the full ranges with their extremes, typical small
-values, unit-circle SIN/COS, DTC_GAIN = 0 for half the vectors, RECIP_H = round(2^32/H) mostly and any
-u32 sometimes, and about 3 % vectors built to tie in the min-max (v_a = v_b, v_a = v_c, v_b = v_c, all
-three). The random run drives the module as fast as it allows (a start in the done cycle), changes the
-registers right after every start (the module must have sampled them), sometimes pulses start while
-busy (ignored) or leaves idle cycles, and checks in the cycle before done that the outputs still hold
-the previous results, and in the done cycle all six outputs against the golden chain.
+values, unit-circle SIN/COS, powers of two for SIN/COS and H (exact half-LSB ties of the rounding
+shifts), DTC_GAIN = 0 for half the vectors, RECIP_H = round(2^32/H) mostly and any u32 sometimes, and
+about 3 % vectors built to tie in the min-max (v_a = v_b, v_a = v_c, v_b = v_c, all three). The random
+run drives the module as fast as it allows (a start in the done cycle), changes the registers right
+after every start (the module must have sampled them), sometimes pulses start while busy (ignored) or
+leaves idle cycles, and checks in the cycle before done that the outputs still hold the previous
+results, in the done cycle all six outputs against the golden chain. :class:`Coverage` counts the
+corner cases reached (over-modulation, ties, rounding ties, compensation clamps, i_x beyond the RTL's
+saturation bound, non-nominal RECIP_H) and fails the run if one was never reached.
+
+All driving happens at falling-edge instants; waits of several cycles are single timers (a Python
+wake-up per clock edge would dominate the run time).
 """
 
 from __future__ import annotations
@@ -28,13 +34,15 @@ from golden.fixed import round_shr, shr
 from golden.fpga.deadtime_comp import compensate, phase_current, recip_half
 from golden.fpga.modulator import SQRT3_HALF_Q15, compares
 
-LATENCY = 96
+LATENCY = 103
 """hfi_modulator: start in cycle 0, done and the new outputs in cycle LATENCY (its header)."""
 
 REGS = ("v_d", "v_q", "v_h", "sin_q15", "cos_q15", "i_d_ref", "i_q_ref", "half", "dead", "dtc_gain",
         "hf_amp", "recip_h")
 OUTS = ("cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c")
 U32 = (1 << 32) - 1
+COVERAGE_N = 20000
+"""Corner-case counts are measured on the first COVERAGE_N random vectors (pure-Python replicas)."""
 
 
 # ---------------------------------------------------------------------------------------------- golden
@@ -82,12 +90,15 @@ def draw_registers(rng, n: int) -> dict[str, np.ndarray]:
     unit_s = np.clip(np.round(32768.0 * np.sin(theta)), -32768, 32767).astype(np.int64)
     unit_c = np.clip(np.round(32768.0 * np.cos(theta)), -32768, 32767).astype(np.int64)
     unit = rng.random(n) < 0.4
-    r["sin_q15"] = np.where(unit, unit_s, _mix(rng, n, -32768, 32767, [-32768, -32767, 0, 1, 32767], 0.2))
-    r["cos_q15"] = np.where(unit, unit_c, _mix(rng, n, -32768, 32767, [-32768, -32767, 0, -1, 32767], 0.2))
+    # powers of two make round_shr(., 15) ties (x + 2^14 = k*2^15) frequent, so every rounding
+    # constant is checked at its boundary
+    sc_ext = [-32768, -32767, -16384, -8192, -1, 0, 1, 8192, 16384, 32767]
+    r["sin_q15"] = np.where(unit, unit_s, _mix(rng, n, -32768, 32767, sc_ext, 0.3))
+    r["cos_q15"] = np.where(unit, unit_c, _mix(rng, n, -32768, 32767, sc_ext, 0.3))
     for name in ("i_d_ref", "i_q_ref"):
         small = (_logu(rng, n, 32768) - 1) * rng.choice([-1, 1], n)
         r[name] = _where(rng, n, 0.4, small, _mix(rng, n, -32768, 32767, s16x))
-    r["half"] = 2 * _mix(rng, n, 256, 32767, [256, 257, 32767], 0.15)
+    r["half"] = 2 * _mix(rng, n, 256, 32767, [256, 257, 4096, 8192, 32767], 0.2)   # H = 2^13, 2^14: ties
     r["dead"] = _where(rng, n, 0.5, _logu(rng, n, 65535), _mix(rng, n, 1, 65535, [1, 2, 65535], 0.2))
     gain = _where(rng, n, 0.5, _logu(rng, n, 65535), _mix(rng, n, 1, 65535, [1, 256, 65535], 0.2))
     r["dtc_gain"] = np.where(rng.random(n) < 0.5, 0, gain)
@@ -146,8 +157,9 @@ def as_dicts(r: dict[str, np.ndarray]) -> list[dict]:
 class Coverage:
     """Counts of the corner cases a run exercised (from replicas of the golden steps)."""
 
-    NAMES = ("clip_low", "clip_high", "tie_ab", "tie_ac", "tie_bc", "tie_abc", "dtc_on", "c_linear",
-             "c_clamped_D", "cmp_comp_clamped", "ix_beyond_s25", "recip_nonnominal")
+    NAMES = ("clip_low", "clip_high", "tie_ab", "tie_ac", "tie_bc", "tie_abc", "round_half_park",
+             "round_half_cmp", "dtc_on", "c_linear", "c_clamped_D", "cmp_comp_clamped", "ix_beyond_s25",
+             "recip_nonnominal")
 
     def __init__(self):
         self.n = dict.fromkeys(self.NAMES, 0)
@@ -161,7 +173,11 @@ class Coverage:
             n["tie_ac"] += a == c
             n["tie_bc"] += b == c
             n["tie_abc"] += a == b == c
+            vd = r["v_d"] + sign * r["v_h"]
+            park = (vd * r["cos_q15"] - r["v_q"] * r["sin_q15"], vd * r["sin_q15"] + r["v_q"] * r["cos_q15"])
+            n["round_half_park"] += any((x + 16384) % 32768 == 0 for x in park)   # exactly x.5 LSB
             off = shr(max(a, b, c) + min(a, b, c), 1)
+            n["round_half_cmp"] += any(((v - off) * H + 16384) % 32768 == 0 for v in (a, b, c))
             raw = [(H >> 1) + round_shr((v - off) * H, 15) for v in (a, b, c)]
             n["clip_low"] += any(x < 0 for x in raw)
             n["clip_high"] += any(x > H for x in raw)
@@ -202,6 +218,8 @@ async def cycles(n: int):
     rising edge, whichever order the simulator gives the timer and the clock toggle."""
     if n > 0:
         await Timer(n * CLOCK_NS, unit="ns")
+
+
 def seed_and_count():
     seed = int(os.environ["HFI_SEED"])
     count = int(os.environ["HFI_RANDOM_N"])
@@ -230,7 +248,7 @@ def check_outs(dut, expected, what: str, r: dict | None = None):
 
 
 async def start_clock_and_reset(dut, half=10000, n_cycles=3):
-    Clock(dut.clk, 10, unit="ns").start()
+    Clock(dut.clk, CLOCK_NS, unit="ns").start()
     dut.start.value = 0
     apply(dut, {k: 0 for k in REGS} | {"half": half, "dead": 1})
     dut.rst.value = 1
@@ -258,7 +276,7 @@ class Driver:
         apply(dut, vecs[0])
         dut.start.value = 1
         for i, r in enumerate(vecs):
-            await cycles(1)                  # cycle 1: registers already sampled
+            await cycles(1)                             # cycle 1: registers already sampled
             t = 1
             dut.start.value = 0
             if i + 1 < len(vecs):
@@ -278,7 +296,7 @@ class Driver:
                 raise AssertionError(f"{label} {i}: cycle {LATENCY - 1}: done={dut.done.value} "
                                      f"busy={dut.busy.value}, expected 0 and 1")
             check_outs(dut, prev, f"{label} {i}: outputs changed before done (cycle {LATENCY - 1})")
-            await cycles(1)                  # cycle LATENCY
+            await cycles(1)                             # cycle LATENCY
             if int(dut.done.value) != 1 or int(dut.busy.value) != 0:
                 raise AssertionError(f"{label} {i}: cycle {LATENCY}: done={dut.done.value} "
                                      f"busy={dut.busy.value}, expected 1 and 0")
@@ -308,9 +326,9 @@ async def random_vectors(dut):
     drv = Driver(dut, rng, p_busy_start=0.05, p_gap=0.05)
     await drv.run(vecs, prev, "random vector")
     cov = Coverage()
-    for r in vecs:
+    for r in vecs[:COVERAGE_N]:
         cov.add(r)
-    cov.report(cocotb.log, "random")
+    cov.report(cocotb.log, f"random (first {min(count, COVERAGE_N)} vectors)")
     cocotb.log.info(f"{count} vectors, {drv.busy_starts} starts while busy, {drv.gaps} idle gaps")
     if count >= 2000:
         cov.require(Coverage.NAMES)
@@ -393,7 +411,7 @@ async def reset_mid_operation(dut):
     rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 1)
     prev = await start_clock_and_reset(dut)
     vecs = as_dicts(draw_registers(rng, 60))
-    for j, k in enumerate((1, 2, 5, 12, 18, 20, 21, 22, 36, 57, 58, 59, 80, 94, LATENCY - 1)):
+    for j, k in enumerate((1, 2, 5, 14, 20, 23, 24, 25, 40, 62, 63, 64, 80, 101, LATENCY - 1)):
         r = vecs[j] | {"dtc_gain": 1 + j * 4000}
         apply(dut, r)
         dut.start.value = 1

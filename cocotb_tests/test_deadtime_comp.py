@@ -1,8 +1,8 @@
 """cocotb tests of rtl/hfi_deadtime_comp.v against golden/fpga/deadtime_comp.py ``compensate``.
 
 The testbench is cocotb_tests/tb_deadtime_comp.py: HFI_RANDOM_N random compare sets (100 000 under
-Verilator, 10 000 under Icarus by default) and the directed cases (extremes, start while busy, reset
-in mid-operation).
+Verilator, 10 000 under Icarus by default) and the directed cases (extremes, i_x around the RTL's
+saturation bound, start while busy, reset in mid-operation).
 """
 
 from __future__ import annotations
@@ -16,4 +16,4 @@ import hdl_runner
 def test_deadtime_comp(sim, tmp_path):
     hdl_runner.run_cocotb(sim=sim, toplevel="hfi_deadtime_comp",
                           sources=hdl_runner.rtl_sources("hfi_deadtime_comp.v"),
-                          tb_module="tb_deadtime_comp", build_dir=tmp_path / "build", expect_tests=4)
+                          tb_module="tb_deadtime_comp", build_dir=tmp_path / "build", expect_tests=5)

@@ -16,7 +16,8 @@
 //   i_a, i_b            s16 phase currents (2^15 = I_FS); both updated in the done cycle and held
 //                       until the next done (0 after reset)
 //
-// Timing (S = start cycle): S: x - offset of both channels registered (s17) with the gains;
+// Timing (S = start cycle): S: x - offset of both channels registered (s17) with the gains (channel
+// a into the multiplier's operand registers);
 // S+1: product a; S+2: product b, result a rounded/saturated; S+3: outputs loaded; S+4: done.
 // One multiplier (s17 x s17 -> s34, i.e. one 18x18 DSP) shared by the two channels.
 // Throughput: a new start may come every 2 cycles (minimum start spacing 2; the system gives >= 40);
@@ -53,9 +54,10 @@ module hfi_adc_scale #(
     wire signed [15:0] x_a = ext_a[ADC_BITS+15:ADC_BITS];    // (code - 2^(B-1)) * 2^(16-B), s16
     wire signed [15:0] x_b = ext_b[ADC_BITS+15:ADC_BITS];
 
-    // Stage 0 (start cycle): d = x - ADC_OFFSET (s17), gains captured.
-    reg signed [16:0] d_a, d_b;
-    reg        [15:0] g_a, g_b;
+    // Stage 0 (start cycle): d = x - ADC_OFFSET (s17); channel a goes straight into the multiplier's
+    // operand registers, channel b (with its gain) waits one cycle in d_b, g_b.
+    reg signed [16:0] d_b;
+    reg        [15:0] g_b;
     // Start delay line: stage[0] = product a cycle, [1] = product b cycle, [2] = output load cycle,
     // [LATENCY-1] = done.
     reg [LATENCY-1:0] stage;
@@ -64,18 +66,19 @@ module hfi_adc_scale #(
     wire s3 = stage[2];
     assign done = stage[LATENCY-1];
 
-    // The shared multiplier: s17 x s17 (gain zero-extended) -> s34 (|product| < 2^32).
-    wire signed [16:0] m_d = s1 ? d_a : d_b;
-    wire signed [16:0] m_g = $signed({1'b0, s1 ? g_a : g_b});
+    // The shared multiplier: s17 x s17 (gain zero-extended) -> s34 (|product| < 2^32), between
+    // registered operands (m_d, m_g: loaded in S for product a, in S+1 for product b) and prod.
+    reg  signed [16:0] m_d;
+    reg        [15:0] m_g;
     reg  signed [33:0] prod;
 
     // round_shr(prod, 14) then sat to s16.
     /* verilator lint_off UNUSEDSIGNAL */  // the 14 fraction bits below the rounding point are dropped
     wire signed [33:0] rnd = prod + 34'sd8192;
     /* verilator lint_on UNUSEDSIGNAL */
-    wire signed [19:0] shifted = rnd[33:14];
-    wire signed [15:0] scaled = (shifted > 20'sd32767)  ? 16'sh7FFF :
-                                (shifted < -20'sd32768) ? 16'sh8000 : shifted[15:0];
+    // rnd[33:14] fits in s16 iff its bits 19..15 (rnd[33:29]) are all equal
+    wire signed [15:0] scaled = (rnd[33:29] == {5{rnd[29]}}) ? rnd[29:14] :
+                                (rnd[33] ? 16'sh8000 : 16'sh7FFF);
     reg  signed [15:0] res_a;   // channel a result, waiting for channel b
 
     always @(posedge clk) begin
@@ -83,21 +86,24 @@ module hfi_adc_scale #(
             stage <= {LATENCY{1'b0}};
             i_a <= 16'sd0;
             i_b <= 16'sd0;
-            d_a <= 17'sd0;
             d_b <= 17'sd0;
-            g_a <= 16'd0;
             g_b <= 16'd0;
+            m_d <= 17'sd0;
+            m_g <= 16'd0;
             prod <= 34'sd0;
             res_a <= 16'sd0;
         end else begin
             stage <= {stage[LATENCY-2:0], start};
             if (start) begin
-                d_a <= {x_a[15], x_a} - {offset_a[15], offset_a};
+                m_d <= {x_a[15], x_a} - {offset_a[15], offset_a};   // product a in S+1
+                m_g <= gain_a;
                 d_b <= {x_b[15], x_b} - {offset_b[15], offset_b};
-                g_a <= gain_a;
                 g_b <= gain_b;
+            end else if (s1) begin
+                m_d <= d_b;                                        // product b in S+2
+                m_g <= g_b;
             end
-            prod <= m_d * m_g;
+            prod <= m_d * $signed({1'b0, m_g});
             if (s2)
                 res_a <= scaled;
             if (s3) begin

@@ -16,8 +16,16 @@
 //   at_zc               phi == H/2 (carrier rising zero crossing = window boundary).
 //   cw_angle      u32  uwrap((H - 2c) * STEP, 32) of this tick, H and STEP those applied at the last
 //                      bottom (a binary angle: wraps modulo 2^32 by definition, spec 1).
-// Latency: none (all outputs describe the current tick; counter/strobes are decoded from the
-// registered phase and half).  Throughput: one tick per clock.  Multipliers: 0.
+// Latency: none (all outputs describe the current tick; counter, strobes and angle are registers
+// whose next values are computed one tick ahead).  Throughput: one tick per clock.  Multipliers: 0.
+//
+// Timing structure (Fmax): the counter c is kept as a register (up on the rising half, down on the
+// falling half, 0 at every bottom); the strobes of the next tick are decoded from c_next = c +/- 1
+// (one 16-bit carry chain, then equality compares) and registered, including `last` (the next tick
+// is a bottom), so the bottom reload (half, step, hs) is a plain mux of registers.  The angle is kept
+// directly: a_next = a -/+ 2*STEP (rising/falling) while hs is unchanged, or hs_next - m2cs_next
+// (one carry-save level + one 32-bit chain) when hs is (re)loaded from the ready product; the 48-bit
+// "ready triple matches the pair in use" compare runs in parallel and only selects the result.
 //
 // Register changes (docs/rtl.md "PWM_HALF and CW_ANGLE_STEP take effect at a carrier bottom"):
 //   A bit-serial shift-add multiplier (one bit of H per clock) computes H*STEP mod 2^32 of the
@@ -35,7 +43,8 @@
 //
 // Weight angle: a = H*STEP - m with m = 2c*STEP mod 2^32 kept incrementally (+2*STEP per tick on
 // the rising half, -2*STEP on the falling half, exactly 0 again at every bottom) and hs = H*STEP
-// reloaded at each bottom; exact modulo 2^32, no multiplier.
+// reloaded at each bottom; exact modulo 2^32, no multiplier.  The serial multiplier runs MSB first
+// (acc = 2*acc + h_bit*STEP), so no shifted copy of STEP is stored.
 //
 // Reset: while rst is high, phase = 0 and H, STEP are loaded directly from the register inputs
 // (tick 0 uses effective_half(pwm_half_reg) and cw_step_reg of the reset cycles); the rising edge of
@@ -52,33 +61,31 @@ module hfi_carrier (
     input  wire [15:0] pwm_half_reg,
     input  wire [31:0] cw_step_reg,
     output reg  [16:0] phase,
-    output wire [15:0] counter,
+    output reg  [15:0] counter,
     output reg  [15:0] half,
-    output wire        rising,
-    output wire        at_bottom,
-    output wire        at_top,
-    output wire        at_zc,
+    output reg         rising,
+    output reg         at_bottom,
+    output reg         at_top,
+    output reg         at_zc,
     output reg  [31:0] cw_angle
 );
-    localparam [15:0] REGISTER_HALF_MIN = 16'd512;  // golden carrier.REGISTER_HALF_MIN
+    // effective_half() (golden carrier.effective_half): clear the LSB, raise anything below
+    // REGISTER_HALF_MIN = 512 to 512
+    wire [15:0] eff_half_in = (pwm_half_reg[15:9] == 7'd0) ? 16'd512 : {pwm_half_reg[15:1], 1'b0};
+    wire        unused_lsb  = pwm_half_reg[0];   // cleared by effective_half()
 
-    // effective_half(): clear the LSB, raise anything below 512 to 512
-    wire [15:0] eff_half_in = (pwm_half_reg < REGISTER_HALF_MIN) ? REGISTER_HALF_MIN
-                                                                 : {pwm_half_reg[15:1], 1'b0};
-
-    // ---- bit-serial multiplier H*STEP mod 2^32 (16 add cycles + 1 load cycle) ----------------
+    // ---- bit-serial multiplier H*STEP mod 2^32 (1 load cycle + 16 add cycles, MSB first) -----
     reg  [15:0] mul_h;     // operands of the product in progress (or last completed)
     reg  [31:0] mul_s;
-    reg  [15:0] mul_q;     // multiplier bits not yet consumed (LSB first)
-    reg  [31:0] mul_d;     // multiplicand shifted to the weight of mul_q[0]
-    reg  [31:0] mul_acc;   // partial product mod 2^32
+    reg  [15:0] mul_q;     // multiplier bits not yet consumed (MSB first: mul_q[15] is next)
+    reg  [30:0] mul_acc;   // partial product mod 2^31 (its bit 31 would be shifted out)
     reg  [3:0]  mul_cnt;   // add cycles done
     reg         mul_busy;
     reg  [15:0] rdy_h;     // ready triple (H, STEP, H*STEP): the last completed product
     reg  [31:0] rdy_s;
     reg  [31:0] rdy_p;
     reg         rst_q;     // rst of the previous cycle (restart the product on the rising edge of rst)
-    wire [31:0] mul_sum = mul_acc + (mul_q[0] ? mul_d : 32'd0);
+    wire [31:0] mul_sum = {mul_acc, 1'b0} + (mul_q[15] ? mul_s : 32'd0);
 
     always @(posedge clk) begin
         rst_q <= rst;
@@ -86,9 +93,8 @@ module hfi_carrier (
         // start) restart the product.
         if ({eff_half_in, cw_step_reg} == {mul_h, mul_s} && !(rst && !rst_q)) begin
             if (mul_busy) begin
-                mul_acc <= mul_sum;
-                mul_d   <= {mul_d[30:0], 1'b0};
-                mul_q   <= {1'b0, mul_q[15:1]};
+                mul_acc <= mul_sum[30:0];
+                mul_q   <= {mul_q[14:0], 1'b0};
                 mul_cnt <= mul_cnt + 4'd1;
                 if (mul_cnt == 4'd15) begin
                     mul_busy <= 1'b0;
@@ -101,8 +107,7 @@ module hfi_carrier (
             mul_h    <= eff_half_in;
             mul_s    <= cw_step_reg;
             mul_q    <= eff_half_in;
-            mul_d    <= cw_step_reg;
-            mul_acc  <= 32'd0;
+            mul_acc  <= 31'd0;
             mul_cnt  <= 4'd0;
             mul_busy <= 1'b1;
         end
@@ -110,58 +115,56 @@ module hfi_carrier (
 
     // ---- carrier ------------------------------------------------------------------------------
     reg  [31:0] step;      // STEP in use
-    reg  [31:0] hs;        // H*STEP mod 2^32 of the (half, step) in use
+    reg  [31:0] hs;        // H*STEP mod 2^32 of the (half, step) in use (once known)
     reg  [31:0] m2cs;      // 2*c*STEP mod 2^32 of the current tick
+    reg         last;      // this tick is the last of the period (phi = 2H - 1): the next is a bottom
 
-    wire [16:0] period  = {half, 1'b0};
-    assign rising    = phase < {1'b0, half};
-    assign at_bottom = (phase == 17'd0);
-    assign at_top    = (phase == {1'b0, half});
-    assign at_zc     = (phase == {2'b00, half[15:1]});
-    wire [15:0] fall_count = period[15:0] - phase[15:0];   // P - phi <= H < 2^16: exact mod 2^16
-    assign counter   = rising ? phase[15:0] : fall_count;
+    wire        bottom_n = rst | last;                            // the next tick is a bottom
+    wire [15:0] c_step   = rising ? counter + 16'd1 : counter - 16'd1;
+    wire [15:0] c_n      = bottom_n ? 16'd0 : c_step;             // counter of the next tick
+    // strobes of the next tick (half is unchanged unless the next tick is a bottom, where c_n = 0)
+    wire        top_n    = !bottom_n && rising && (c_step == half);
+    wire        zc_n     = !bottom_n && rising && (c_step == {1'b0, half[15:1]});
+    wire        last_n   = !bottom_n && !rising && (c_step == 16'd1);
+    wire        rising_n = bottom_n | (rising & ~top_n);
 
-    // last tick of the period (>= so that any out-of-range phase also returns to 0)
-    wire wrap = (phase >= period - 17'd1);
+    // pair in use next tick; does the ready triple describe it (then its product is hs)?
+    wire [15:0] half_n   = rst ? eff_half_in : (last ? rdy_h : half);
+    wire [31:0] step_n   = rst ? cw_step_reg : (last ? rdy_s : step);
+    wire        match    = rst ? ({rdy_h, rdy_s} == {eff_half_in, cw_step_reg})
+                               : (last | ({rdy_h, rdy_s} == {half, step}));
+    wire [31:0] hs_n     = match ? rdy_p : hs;
 
-    reg  [16:0] phase_n;
-    reg  [15:0] half_n;
-    reg  [31:0] step_n;
-    reg  [31:0] hs_n;
-    reg  [31:0] m2cs_n;
+    // m2cs of the next tick: m2cs + d with d = +2*STEP rising, -2*STEP falling; 0 at a bottom
     wire [31:0] two_step = {step[30:0], 1'b0};
-
-    always @(*) begin
-        if (rst) begin
-            phase_n = 17'd0;
-            half_n  = eff_half_in;
-            step_n  = cw_step_reg;
-            m2cs_n  = 32'd0;
-        end else if (wrap) begin                 // next tick is a bottom: apply the ready triple
-            phase_n = 17'd0;
-            half_n  = rdy_h;
-            step_n  = rdy_s;
-            m2cs_n  = 32'd0;
-        end else begin
-            phase_n = phase + 17'd1;
-            half_n  = half;
-            step_n  = step;
-            m2cs_n  = rising ? m2cs + two_step : m2cs - two_step;   // c rises / falls by 1
-        end
-        // the product of the pair in use, as soon as it is known (always at a bottom)
-        if (rdy_h == half_n && rdy_s == step_n)
-            hs_n = rdy_p;
-        else
-            hs_n = hs;
-    end
+    wire [31:0] m2cs_n   = bottom_n ? 32'd0 : (rising ? m2cs + two_step : m2cs - two_step);
+    // angle of the next tick, a_n = hs_n - m2cs_n:
+    //   hs kept:     (hs - m2cs) - d = cw_angle - d  (cw_angle = hs - m2cs is an invariant)
+    //   hs reloaded: rdy_p - m2cs - d = rdy_p + ~m2cs + e + k with e = ~two_step, k = 2 (rising)
+    //                or e = two_step, k = 1 (falling); as one carry-save level and one adder
+    wire [31:0] keep_a   = rising ? cw_angle - two_step : cw_angle + two_step;
+    wire [31:0] csa_x    = rdy_p;
+    wire [31:0] csa_y    = ~m2cs;
+    wire [31:0] csa_z    = rising ? ~two_step : two_step;
+    wire [31:0] csa_s    = csa_x ^ csa_y ^ csa_z;
+    wire [31:0] csa_c    = {(csa_x[30:0] & csa_y[30:0]) | (csa_x[30:0] & csa_z[30:0])
+                            | (csa_y[30:0] & csa_z[30:0]), 1'b1};   // the +1 of ~m2cs in bit 0
+    wire [31:0] load_a   = csa_s + csa_c + {31'd0, rising};       // the +1 of ~two_step (rising)
+    wire [31:0] angle_n  = bottom_n ? hs_n : (match ? load_a : keep_a);
 
     always @(posedge clk) begin
-        phase    <= phase_n;
-        half     <= half_n;
-        step     <= step_n;
-        hs       <= hs_n;
-        m2cs     <= m2cs_n;
-        cw_angle <= hs_n - m2cs_n;
+        phase     <= bottom_n ? 17'd0 : phase + 17'd1;
+        counter   <= c_n;
+        rising    <= rising_n;
+        at_bottom <= bottom_n;
+        at_top    <= top_n;
+        at_zc     <= zc_n;
+        last      <= last_n;
+        half      <= half_n;
+        step      <= step_n;
+        hs        <= hs_n;
+        m2cs      <= m2cs_n;
+        cw_angle  <= angle_n;
     end
 endmodule
 

@@ -30,34 +30,40 @@
 //   cmp_{a,b,c}  u16   compensated compares; valid from done until the next accepted start (the
 //                      registers that sampled the inputs, overwritten by the results)
 //   busy, done         busy from the cycle after an accepted start to the cycle before done; done is
-//                      a one-cycle pulse LATENCY = 37 cycles after start (start in cycle 0, done in
-//                      cycle 37); a start in the done cycle is accepted (one set per 37 cycles).
+//                      a one-cycle pulse LATENCY = 39 cycles after start (start in cycle 0, done and
+//                      the results in cycle 39); a start in the done cycle is accepted (throughput one
+//                      set per 39 cycles). A synchronous reset abandons a computation (no done).
 //
-// Architecture: one 18x18 signed multiplier (the module's only `*`), a 64-bit accumulator and a fixed
-// micro-program of 34 issue slots (`uop` table). Wide products are split into 17-bit unsigned low
-// digits (an s18 operand) and a signed top digit, the partial products shifted by 0, 17 or 34 bits.
-// Each sum starts from an initial value that already holds its rounding constant (and its other
-// terms), so every quantity is written back rounded, without a further adder:
-//   i_d    = (I_D_REF*2^32 + 2^31 - 1 - K*(2cmp-H)) >>> 32       (= I_D_REF - round_shr(K*(2cmp-H), 32))
-//   i_al   = (2^14 - i_q*SIN + i_d*COS) >>> 15                   (leg a: i_x, saturated)
-//   1-i_al = (3*2^14 - 1 + i_q*SIN - i_d*COS) >>> 15             (legs b, c; 1 - floor(y) = floor(-y) + 1)
+// Architecture: one 18x18 signed multiplier (the module's only `*`) with registered operands and
+// product, a 49-bit accumulator, and a fixed micro-program of 34 issue slots (the `uop` table, one
+// product per slot). Wide operands are split into a 17-bit unsigned low digit (an s18 operand) and a
+// signed high digit whose product is shifted by 17. Each sum starts from an initial value that holds
+// its rounding constant (and its constant terms), so every result is written back already rounded,
+// by a plain slice of the accumulator:
+//   i_d    = ((((I_D_REF*2^32 + 2^31 - 1 - K0*D) >>> 17) - K1*D) - K2*D*2^17) >>> 15
+//          = (I_D_REF*2^32 + 2^31 - 1 - K*D) >>> 32 = I_D_REF - round_shr(K*D, 32)
+//            with D = 2cmp - H, K = HF_AMP*RECIP_H = K2*2^34 + K1*2^17 + K0 (the nested floors are
+//            exact: floor((x + 2^17*y)/2^32) = floor((floor(x/2^17) + y)/2^15) for integer y)
+//   i_al   = (2^14 - i_q*SIN + i_d*COS) >>> 15                   (leg a: i_x)
+//   1-i_al = (3*2^14 - 1 + i_q*SIN - i_d*COS) >>> 15             (legs b, c: 1 - floor(y/2^15) =
+//                                                                 floor((2^16 - 1 - y)/2^15))
 //   i_be   = (2^14 + i_q*COS + i_d*SIN) >>> 15
-//   i_x    = ((1-i_al)*2^14 +/- i_be*28378) >>> 15               (legs b, c)
-//   m      = clamp(shr(i_x*gain, 8), 0, D)          top:    cmp' = min(cmp + m, H)
-//   m      = clamp((255 - i_x*gain) >>> 8, 0, D)    bottom: cmp' = max(cmp - m, 0)
-//            (-min(c, 0) = clamp(-floor(x/256), 0, D) and -floor(x/256) = floor((255 - x)/256))
-// with K = HF_AMP*RECIP_H and the constant parts 2^14 -/+ i_q*SIN, 2^14 + i_q*COS computed once per set.
-// Pipeline: issue (operand mux, product register p_r) -> accumulate (acc) -> write-back to a 16 x 32
-// register file (distributed RAM: 1 write, 2 asynchronous read ports) or to the compare registers; a
-// written value is an operand 3 slots after its last product's issue, an initial value 2 slots after.
-// The legs are interleaved so the multiplier issues in every slot.
+//   i_x    = ((1 - i_al)*2^14 +/- i_be*28378) >>> 15             (legs b, c)
+//   top:    m = clamp(shr(i_x*gain, 8), 0, D),        cmp' = min(cmp + m, H)
+//   bottom: m = clamp((255 - i_x*gain) >>> 8, 0, D),  cmp' = max(cmp - m, 0)
+//           (-min(c, 0) = clamp(-floor(x/256), 0, D) and -floor(x/256) = floor((255 - x)/256))
+// K and the constant parts 2^14 - i_q*SIN, 3*2^14 - 1 + i_q*SIN, 2^14 + i_q*COS are computed first
+// (slots 0..4); the legs are interleaved so that the multiplier issues in every slot.
+// Pipeline of a slot issued in cycle t: operand registers (t), product (t+1), accumulator (t+2),
+// write-back of a finished sum (t+3); a compare: m (t+3), compensated compare (t+4). A written value is
+// an operand from slot t+4 on and an initial value from slot t+2 on (the table respects both).
 //
-// Widths (worst case over all register values, cmp_x in 0..H): K < 2^47; |K*(2cmp-H)| <=
-// 32767*(2^32-1)*65534 < 2^63 - 2^49, so the i_d sum fits s64, |hf| <= 2147352578 and |i_d| <=
-// 2147385346 (s32); |i_al|, |i_be| <= 2147418114 (s32); |i_x| < 2^33 (s34 in acc[48:15]). Saturating
-// i_x to s25 (+-(2^24-1)) does not change c: for DTC_GAIN >= 1, |i_x| >= 2^24 - 1 already gives
-// shr(i_x*gain, 8) >= 65535 >= D or <= -65536 < -D, so the clamp to +-D selects the same value. The gain
-// sums fit s42.
+// Widths (worst case over all register values, cmp_x in 0..H): K < 2^47; |K*D| <= 32767*(2^32-1)*65534
+// < 2^63, so |hf| <= 2147352578, |i_d| <= 2147385346 (s32); the i_d sum is below 2^48 before its
+// >>> 17 and below 2^47 after; |i_al|, |i_be| <= 2147418114 (s32), their sums < 2^47; |i_x| < 2^33
+// (s34 in acc[48:15]). Saturating i_x to +-(2^24 - 1) does not change c: for DTC_GAIN >= 1,
+// |i_x| >= 2^24 - 1 already gives shr(i_x*gain, 8) >= 65535 >= D or <= -65536 < -D, so the clamp to
+// +-D selects the same value; the gain sums then fit s42 (g8 = acc[41:8]).
 // Multipliers: 1 (18x18 signed: one MULT18X18D on ECP5, one DSP48E1 on 7-series).
 
 `default_nettype none
@@ -86,9 +92,10 @@ module hfi_deadtime_comp (
     output reg                done
 );
 
-    localparam integer ACC_W = 64;
+    localparam integer ACC_W = 49;
     localparam [5:0] LAST_ISSUE = 6'd33;            // last issue slot of the micro-program
-    localparam [5:0] LAST_STEP = LAST_ISSUE + 6'd2; // its write-back (issue -> p_r -> acc -> write)
+    localparam [5:0] LAST_STEP = LAST_ISSUE + 6'd4; // its compare (issue -> operands -> product -> acc
+                                                    // -> m -> compare)
 
     // Operand A (18-bit signed multiplier input)
     localparam [2:0] A_HF = 3'd0,    // HF_AMP (u15)
@@ -96,8 +103,8 @@ module hfi_deadtime_comp (
                      A_K0 = 3'd2,    // K[16:0]  (u17)
                      A_K1 = 3'd3,    // K[33:17] (u17)
                      A_K2 = 3'd4,    // K[46:34] (u13)
-                     A_R0 = 3'd5,    // register file word [16:0] (u17), port A
-                     A_R1 = 3'd6;    // register file word >>> 17 (s15), port A
+                     A_Q0 = 3'd5,    // [16:0] (u17) of the leg's i_d, i_be or i_x
+                     A_Q1 = 3'd6;    // >>> 17 (s15) of the leg's i_d, i_be or i_x
     // Operand B (18-bit signed multiplier input)
     localparam [2:0] B_RH0 = 3'd0,   // RECIP_H[16:0]  (u17)
                      B_RH1 = 3'd1,   // RECIP_H[31:17] (u15)
@@ -107,33 +114,31 @@ module hfi_deadtime_comp (
                      B_SQ3 = 3'd5,   // 28378 = round(2^15*sqrt(3)/2)
                      B_GN = 3'd6;    // DTC_GAIN (u16); the product is added at the top, subtracted at the bottom
     // Accumulator initial value of the first product of a sum (I_CONT: keep accumulating)
-    localparam [2:0] I_CONT = 3'd0,
-                     I_R14 = 3'd1,   // 2^14
-                     I_C3 = 3'd2,    // 3*2^14 - 1
-                     I_ID = 3'd3,    // I_D_REF*2^32 + 2^31 - 1
-                     I_RF = 3'd4,    // register file word (port B)
-                     I_X = 3'd5,     // register file word (port B) * 2^14
-                     I_G = 3'd6,     // 0 at the top, 255 at the bottom
-                     I_ZERO = 3'd7;  // 0
-    // Write-back
-    localparam [2:0] W_NONE = 3'd0,
-                     W_RF = 3'd1,    // register file word <= acc >>> (0, 15 or 32) (32 bits)
-                     W_IX = 3'd2,    // register file word <= sat25(acc >>> 15)
-                     W_CMP = 3'd3,   // compare register of the leg <= compensated compare
-                     W_K = 3'd4;     // K <= acc
-    localparam [1:0] WS0 = 2'd0, WS15 = 2'd1, WS32 = 2'd2;   // write-back shift
-    localparam [1:0] SH0 = 2'd0, SH17 = 2'd1, SH34 = 2'd2;   // product shift
+    localparam [3:0] I_CONT = 4'd0,
+                     I_ZG = 4'd1,    // 0; 255 if the product is subtracted (gain sums at the bottom)
+                     I_R14 = 4'd2,   // 2^14
+                     I_C3 = 4'd3,    // 3*2^14 - 1
+                     I_ID = 4'd4,    // I_D_REF*2^32 + 2^31 - 1
+                     I_SHR = 4'd5,   // acc >>> 17 (the i_d sum, digit by digit)
+                     I_AL = 4'd6,    // 2^14 - i_q*SIN (leg a), 3*2^14 - 1 + i_q*SIN (legs b, c)
+                     I_BE = 4'd7,    // 2^14 + i_q*COS
+                     I_X = 4'd8;     // (1 - i_al)*2^14 of the leg (b, c)
+    // Write-back destination
+    localparam [3:0] W_NONE = 4'd0,
+                     W_K = 4'd1,     // K = acc (u47)
+                     W_AB = 4'd2,    // 2^14 - i_q*SIN = acc; W_NB, W_BB likewise
+                     W_NB = 4'd3,
+                     W_BB = 4'd4,
+                     W_ID = 4'd5,    // i_d = acc >>> 15 (after the >>> 17 of I_SHR)
+                     W_NAL = 4'd6,   // 1 - i_al = acc >>> 15 (legs b, c)
+                     W_BE = 4'd7,    // i_be = acc >>> 15 (legs b, c)
+                     W_IX = 4'd8,    // i_x = sat25(acc >>> 15)
+                     W_CMP = 4'd9;   // compensated compare of the leg
+    localparam SH0 = 1'b0, SH17 = 1'b1;                       // product shift
     localparam ADD = 1'b0, SUB = 1'b1;
     localparam [1:0] LA = 2'd0, LB = 2'd1, LC = 2'd2;
-    // Register file words: per-set constants, then per leg
-    localparam [3:0] R_ALB = 4'd0,   // 2^14 - i_q*SIN
-                     R_NALB = 4'd1,  // 3*2^14 - 1 + i_q*SIN
-                     R_BEB = 4'd2,   // 2^14 + i_q*COS
-                     R_IDA = 4'd3, R_IDB = 4'd4, R_IDC = 4'd5,   // i_d
-                     R_NB = 4'd6, R_NC = 4'd7,                   // 1 - i_al (legs b, c)
-                     R_BE_B = 4'd8, R_BE_C = 4'd9,              // i_be (legs b, c)
-                     R_IXA = 4'd10, R_IXB = 4'd11, R_IXC = 4'd12;  // i_x, saturated to s25
-    localparam [3:0] R_0 = 4'd0;     // unused address field
+    // The quantity of the leg whose digits operands A_Q0, A_Q1 take
+    localparam [1:0] Q_ID = 2'd0, Q_BE = 2'd1, Q_IX = 2'd2;
 
     // ---------------------------------------------------------------- sequencer
     reg [5:0] st;
@@ -162,70 +167,72 @@ module hfi_deadtime_comp (
     wire issue = busy && (st <= LAST_ISSUE);
 
     // ---------------------------------------------------------------- micro-program
-    // {A, B, leg, initial value, add/sub, product shift, register A (operand), register B (initial
-    //  value of the first product, or destination of the last), write-back, write-back shift}
-    reg [26:0] uop;
+    // {operand A, operand B, leg, quantity of the leg (operands A_Q0/A_Q1), initial value, add/sub,
+    //  product shift, write-back}
+    reg [19:0] uop;
     always @* begin
         case (st)
             // K = HF_AMP*RECIP_H; 2^14 - i_q*SIN, 3*2^14 - 1 + i_q*SIN, 2^14 + i_q*COS
-            6'd0:  uop = {A_HF, B_RH0, LA, I_ZERO, ADD, SH0,  R_0,     R_0,     W_NONE, WS0};
-            6'd1:  uop = {A_HF, B_RH1, LA, I_CONT, ADD, SH17, R_0,     R_0,     W_K,    WS0};
-            6'd2:  uop = {A_IQ, B_SIN, LA, I_R14,  SUB, SH0,  R_0,     R_ALB,   W_RF,   WS0};
-            6'd3:  uop = {A_IQ, B_SIN, LA, I_C3,   ADD, SH0,  R_0,     R_NALB,  W_RF,   WS0};
-            6'd4:  uop = {A_IQ, B_COS, LA, I_R14,  ADD, SH0,  R_0,     R_BEB,   W_RF,   WS0};
-            // i_d of legs a, b: (I_D_REF*2^32 + 2^31 - 1 - K*(2cmp-H)) >>> 32
-            6'd5:  uop = {A_K0, B_DIF, LA, I_ID,   SUB, SH0,  R_0,     R_0,     W_NONE, WS0};
-            6'd6:  uop = {A_K1, B_DIF, LA, I_CONT, SUB, SH17, R_0,     R_0,     W_NONE, WS0};
-            6'd7:  uop = {A_K2, B_DIF, LA, I_CONT, SUB, SH34, R_0,     R_IDA,   W_RF,   WS32};
-            6'd8:  uop = {A_K0, B_DIF, LB, I_ID,   SUB, SH0,  R_0,     R_0,     W_NONE, WS0};
-            6'd9:  uop = {A_K1, B_DIF, LB, I_CONT, SUB, SH17, R_0,     R_0,     W_NONE, WS0};
-            6'd10: uop = {A_K2, B_DIF, LB, I_CONT, SUB, SH34, R_0,     R_IDB,   W_RF,   WS32};
-            // leg a: i_x = i_al
-            6'd11: uop = {A_R0, B_COS, LA, I_RF,   ADD, SH0,  R_IDA,   R_ALB,   W_NONE, WS0};
-            6'd12: uop = {A_R1, B_COS, LA, I_CONT, ADD, SH17, R_IDA,   R_IXA,   W_IX,   WS15};
-            // i_d of leg c
-            6'd13: uop = {A_K0, B_DIF, LC, I_ID,   SUB, SH0,  R_0,     R_0,     W_NONE, WS0};
-            6'd14: uop = {A_K1, B_DIF, LC, I_CONT, SUB, SH17, R_0,     R_0,     W_NONE, WS0};
-            6'd15: uop = {A_K2, B_DIF, LC, I_CONT, SUB, SH34, R_0,     R_IDC,   W_RF,   WS32};
-            // legs b, c: 1 - i_al and i_be
-            6'd16: uop = {A_R0, B_COS, LB, I_RF,   SUB, SH0,  R_IDB,   R_NALB,  W_NONE, WS0};
-            6'd17: uop = {A_R1, B_COS, LB, I_CONT, SUB, SH17, R_IDB,   R_NB,    W_RF,   WS15};
-            6'd18: uop = {A_R0, B_SIN, LB, I_RF,   ADD, SH0,  R_IDB,   R_BEB,   W_NONE, WS0};
-            6'd19: uop = {A_R1, B_SIN, LB, I_CONT, ADD, SH17, R_IDB,   R_BE_B, W_RF,   WS15};
-            6'd20: uop = {A_R0, B_COS, LC, I_RF,   SUB, SH0,  R_IDC,   R_NALB,  W_NONE, WS0};
-            6'd21: uop = {A_R1, B_COS, LC, I_CONT, SUB, SH17, R_IDC,   R_NC,    W_RF,   WS15};
-            6'd22: uop = {A_R0, B_SIN, LC, I_RF,   ADD, SH0,  R_IDC,   R_BEB,   W_NONE, WS0};
-            6'd23: uop = {A_R1, B_SIN, LC, I_CONT, ADD, SH17, R_IDC,   R_BE_C,  W_RF,   WS15};
-            // leg a: the compensated compare
-            6'd24: uop = {A_R0, B_GN,  LA, I_G,    ADD, SH0,  R_IXA,   R_0,     W_NONE, WS0};
-            6'd25: uop = {A_R1, B_GN,  LA, I_CONT, ADD, SH17, R_IXA,   R_0,     W_CMP,  WS0};
+            6'd0:  uop = {A_HF,  B_RH0, LA, Q_ID, I_ZG,   ADD, SH0,  W_NONE};
+            6'd1:  uop = {A_HF,  B_RH1, LA, Q_ID, I_CONT, ADD, SH17, W_K};
+            6'd2:  uop = {A_IQ,  B_SIN, LA, Q_ID, I_R14,  SUB, SH0,  W_AB};
+            6'd3:  uop = {A_IQ,  B_SIN, LA, Q_ID, I_C3,   ADD, SH0,  W_NB};
+            6'd4:  uop = {A_IQ,  B_COS, LA, Q_ID, I_R14,  ADD, SH0,  W_BB};
+            // i_d of legs a, b, c: ((((I_D_REF*2^32 + 2^31 - 1 - K0*D) >>> 17) - K1*D) - K2*D*2^17) >>> 15
+            // with D = 2cmp - H, = (I_D_REF*2^32 + 2^31 - 1 - K*D) >>> 32 = I_D_REF - round_shr(K*D, 32)
+            6'd5:  uop = {A_K0,  B_DIF, LA, Q_ID, I_ID,   SUB, SH0,  W_NONE};
+            6'd6:  uop = {A_K1,  B_DIF, LA, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
+            6'd7:  uop = {A_K2,  B_DIF, LA, Q_ID, I_CONT, SUB, SH17, W_ID};
+            6'd8:  uop = {A_K0,  B_DIF, LB, Q_ID, I_ID,   SUB, SH0,  W_NONE};
+            6'd9:  uop = {A_K1,  B_DIF, LB, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
+            6'd10: uop = {A_K2,  B_DIF, LB, Q_ID, I_CONT, SUB, SH17, W_ID};
+            6'd11: uop = {A_K0,  B_DIF, LC, Q_ID, I_ID,   SUB, SH0,  W_NONE};
+            6'd12: uop = {A_K1,  B_DIF, LC, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
+            6'd13: uop = {A_K2,  B_DIF, LC, Q_ID, I_CONT, SUB, SH17, W_ID};
+            // leg a: i_x = i_al = (2^14 - i_q*SIN + i_d*COS) >>> 15
+            6'd14: uop = {A_Q0,  B_COS, LA, Q_ID, I_AL,   ADD, SH0,  W_NONE};
+            6'd15: uop = {A_Q1,  B_COS, LA, Q_ID, I_CONT, ADD, SH17, W_IX};
+            // legs b, c: i_be = (2^14 + i_q*COS + i_d*SIN) >>> 15,
+            // 1 - i_al = (3*2^14 - 1 + i_q*SIN - i_d*COS) >>> 15
+            6'd16: uop = {A_Q0,  B_SIN, LB, Q_ID, I_BE,   ADD, SH0,  W_NONE};
+            6'd17: uop = {A_Q1,  B_SIN, LB, Q_ID, I_CONT, ADD, SH17, W_BE};
+            6'd18: uop = {A_Q0,  B_SIN, LC, Q_ID, I_BE,   ADD, SH0,  W_NONE};
+            6'd19: uop = {A_Q1,  B_SIN, LC, Q_ID, I_CONT, ADD, SH17, W_BE};
+            6'd20: uop = {A_Q0,  B_COS, LB, Q_ID, I_AL,   SUB, SH0,  W_NONE};
+            6'd21: uop = {A_Q1,  B_COS, LB, Q_ID, I_CONT, SUB, SH17, W_NAL};
+            6'd22: uop = {A_Q0,  B_COS, LC, Q_ID, I_AL,   SUB, SH0,  W_NONE};
+            6'd23: uop = {A_Q1,  B_COS, LC, Q_ID, I_CONT, SUB, SH17, W_NAL};
             // legs b (+), c (-): i_x = ((1 - i_al)*2^14 +/- i_be*28378) >>> 15
-            6'd26: uop = {A_R0, B_SQ3, LB, I_X,    ADD, SH0,  R_BE_B, R_NB,    W_NONE, WS0};
-            6'd27: uop = {A_R1, B_SQ3, LB, I_CONT, ADD, SH17, R_BE_B, R_IXB,   W_IX,   WS15};
-            6'd28: uop = {A_R0, B_SQ3, LC, I_X,    SUB, SH0,  R_BE_C,  R_NC,    W_NONE, WS0};
-            6'd29: uop = {A_R1, B_SQ3, LC, I_CONT, SUB, SH17, R_BE_C,  R_IXC,   W_IX,   WS15};
-            // legs b, c: the compensated compares
-            6'd30: uop = {A_R0, B_GN,  LB, I_G,    ADD, SH0,  R_IXB,   R_0,     W_NONE, WS0};
-            6'd31: uop = {A_R1, B_GN,  LB, I_CONT, ADD, SH17, R_IXB,   R_0,     W_CMP,  WS0};
-            6'd32: uop = {A_R0, B_GN,  LC, I_G,    ADD, SH0,  R_IXC,   R_0,     W_NONE, WS0};
-            6'd33: uop = {A_R1, B_GN,  LC, I_CONT, ADD, SH17, R_IXC,   R_0,     W_CMP,  WS0};
-            default: uop = {A_HF, B_RH0, LA, I_ZERO, ADD, SH0, R_0,    R_0,     W_NONE, WS0};
+            6'd24: uop = {A_Q0,  B_SQ3, LB, Q_BE, I_X,    ADD, SH0,  W_NONE};
+            6'd25: uop = {A_Q1,  B_SQ3, LB, Q_BE, I_CONT, ADD, SH17, W_IX};
+            6'd26: uop = {A_Q0,  B_SQ3, LC, Q_BE, I_X,    SUB, SH0,  W_NONE};
+            6'd27: uop = {A_Q1,  B_SQ3, LC, Q_BE, I_CONT, SUB, SH17, W_IX};
+            // the compensated compares: i_x*DTC_GAIN (+ at the top, 255 - .. at the bottom), m, cmp'
+            6'd28: uop = {A_Q0,  B_GN,  LA, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
+            6'd29: uop = {A_Q1,  B_GN,  LA, Q_IX, I_CONT, ADD, SH17, W_CMP};
+            6'd30: uop = {A_Q0,  B_GN,  LB, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
+            6'd31: uop = {A_Q1,  B_GN,  LB, Q_IX, I_CONT, ADD, SH17, W_CMP};
+            6'd32: uop = {A_Q0,  B_GN,  LC, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
+            6'd33: uop = {A_Q1,  B_GN,  LC, Q_IX, I_CONT, ADD, SH17, W_CMP};
+            default: uop = {A_HF, B_RH0, LA, Q_ID, I_ZG, ADD, SH0, W_NONE};
         endcase
     end
-    wire [2:0] u_a = uop[26:24];
-    wire [2:0] u_b = uop[23:21];
-    wire [1:0] u_leg = uop[20:19];
-    wire [2:0] u_init = uop[18:16];
-    wire       u_neg = uop[15];
-    wire [1:0] u_sh = uop[14:13];
-    wire [3:0] u_ra = uop[12:9];
-    wire [3:0] u_rb = uop[8:5];
-    wire [2:0] u_wb = uop[4:2];
-    wire [1:0] u_ws = uop[1:0];
+    wire [2:0] u_a = uop[19:17];
+    wire [2:0] u_b = uop[16:14];
+    wire [1:0] u_leg = uop[13:12];
+    wire [1:0] u_q = uop[11:10];
+    wire [3:0] u_init = uop[9:6];
+    wire       u_neg = uop[5];
+    wire       u_sh = uop[4];
+    wire [3:0] u_wb = uop[3:0];
 
     // ---------------------------------------------------------------- storage
-    reg        [46:0] k_r;            // HF_AMP * RECIP_H
-    reg signed [31:0] rf [0:15];      // register file (distributed RAM)
+    reg        [46:0] k_r;                      // HF_AMP * RECIP_H
+    reg signed [31:0] ab_r, nb_r, bb_r;         // 2^14 - i_q*SIN, 3*2^14 - 1 + i_q*SIN, 2^14 + i_q*COS
+    reg signed [31:0] id_r [0:2];               // i_d per leg
+    reg signed [31:0] nal_r [0:1];              // 1 - i_al of legs b (0), c (1)
+    reg signed [31:0] be_r [0:1];               // i_be of legs b (0), c (1)
+    reg signed [24:0] ix_r [0:2];               // i_x per leg, saturated to +-(2^24 - 1)
     reg        [15:0] cmp_ra, cmp_rb, cmp_rc;   // sampled compares, then the compensated ones
     reg               top_r;                    // sampled sign_top
     assign cmp_a = cmp_ra;
@@ -233,8 +240,12 @@ module hfi_deadtime_comp (
     assign cmp_c = cmp_rc;
 
     // ---------------------------------------------------------------- issue: operands, product
-    wire signed [31:0] rf_a = rf[u_ra];
     wire        [15:0] cmp_i = (u_leg == LA) ? cmp_ra : (u_leg == LB) ? cmp_rb : cmp_rc;
+    wire signed [31:0] id_i = id_r[u_leg];
+    wire signed [31:0] be_i = be_r[u_leg == LC];
+    wire signed [24:0] ix_i = ix_r[u_leg];
+    // the per-leg quantity that operand A digits are taken from (i_d, i_be or i_x)
+    wire signed [31:0] q_i = (u_q == Q_ID) ? id_i : (u_q == Q_BE) ? be_i : {{7{ix_i[24]}}, ix_i};
     reg signed [17:0] mul_a, mul_b;
     always @* begin
         case (u_a)
@@ -243,8 +254,8 @@ module hfi_deadtime_comp (
             A_K0:    mul_a = {1'b0, k_r[16:0]};
             A_K1:    mul_a = {1'b0, k_r[33:17]};
             A_K2:    mul_a = {5'd0, k_r[46:34]};
-            A_R0:    mul_a = {1'b0, rf_a[16:0]};
-            default: mul_a = {{3{rf_a[31]}}, rf_a[31:17]};              // A_R1
+            A_Q0:    mul_a = {1'b0, q_i[16:0]};
+            default: mul_a = {{3{q_i[31]}}, q_i[31:17]};                 // A_Q1
         endcase
         case (u_b)
             B_RH0:   mul_b = {1'b0, recip_h[16:0]};
@@ -257,33 +268,45 @@ module hfi_deadtime_comp (
         endcase
     end
 
+    // stage 0: operand registers (the multiplier's inputs come straight from flip-flops)
+    reg signed [17:0] a_r, b_r;
+    reg        s0_v;
+    reg  [1:0] s0_leg;
+    reg  [3:0] s0_init;
+    reg        s0_neg;
+    reg        s0_sh;
+    reg  [3:0] s0_wb;
+    // stage 1: product
     reg signed [35:0] p_r;
     reg        s1_v, s2_v;
     reg  [1:0] s1_leg, s2_leg;
-    reg  [2:0] s1_init;
+    reg  [3:0] s1_init;
     reg        s1_neg;
-    reg  [1:0] s1_sh;
-    reg  [3:0] s1_rb, s2_rb;
-    reg  [2:0] s1_wb, s2_wb;
-    reg  [1:0] s1_ws, s2_ws;
+    reg        s1_sh;
+    reg  [3:0] s1_wb, s2_wb;
     always @(posedge clk) begin
-        p_r <= mul_a * mul_b;                    // the module's one multiplier (18x18 signed)
-        s1_leg <= u_leg;
-        s1_init <= u_init;
-        s1_neg <= (u_b == B_GN) ? !top_r : u_neg;
-        s1_sh <= u_sh;
-        s1_rb <= u_rb;
-        s1_wb <= u_wb;
-        s1_ws <= u_ws;
+        a_r <= mul_a;
+        b_r <= mul_b;
+        s0_leg <= u_leg;
+        s0_init <= u_init;
+        s0_neg <= (u_b == B_GN) ? !top_r : u_neg;    // gain products: + at the top, - at the bottom
+        s0_sh <= u_sh;
+        s0_wb <= u_wb;
+        p_r <= a_r * b_r;                        // the module's one multiplier (18x18 signed)
+        s1_leg <= s0_leg;
+        s1_init <= s0_init;
+        s1_neg <= s0_neg;
+        s1_sh <= s0_sh;
+        s1_wb <= s0_wb;
         s2_leg <= s1_leg;
-        s2_rb <= s1_rb;
         s2_wb <= s1_wb;
-        s2_ws <= s1_ws;
         if (rst) begin
+            s0_v <= 1'b0;
             s1_v <= 1'b0;
             s2_v <= 1'b0;
         end else begin
-            s1_v <= issue;
+            s0_v <= issue;
+            s1_v <= s0_v;
             s2_v <= s1_v;
         end
     end
@@ -291,74 +314,82 @@ module hfi_deadtime_comp (
     // ---------------------------------------------------------------- accumulate
     reg signed [ACC_W-1:0] acc;
     wire signed [ACC_W-1:0] p_ext = {{(ACC_W - 36){p_r[35]}}, p_r};
-    reg signed [ACC_W-1:0] p_sh;
-    always @* begin
-        case (s1_sh)
-            SH17:    p_sh = p_ext <<< 17;
-            SH34:    p_sh = p_ext <<< 34;
-            default: p_sh = p_ext;
-        endcase
-    end
-    wire signed [31:0] rf_b = rf[s1_rb];
+    wire signed [ACC_W-1:0] p_sh = s1_sh ? p_ext <<< 17 : p_ext;
+    wire signed [31:0] al_base = (s1_leg == LA) ? ab_r : nb_r;
+    wire signed [31:0] nal_base = nal_r[s1_leg == LC];
     reg signed [ACC_W-1:0] base;
     always @* begin
         case (s1_init)
-            I_R14:   base = 64'sd16384;
-            I_C3:    base = 64'sd49151;
+            I_ZG:    base = s1_neg ? 49'sd255 : 49'sd0;
+            I_R14:   base = 49'sd16384;
+            I_C3:    base = 49'sd49151;
             I_ID:    base = {{(ACC_W - 48){i_d_ref[15]}}, i_d_ref, 32'h7FFF_FFFF};
-            I_RF:    base = {{(ACC_W - 32){rf_b[31]}}, rf_b};
-            I_X:     base = {{(ACC_W - 46){rf_b[31]}}, rf_b, 14'd0};
-            I_G:     base = top_r ? 64'sd0 : 64'sd255;
-            I_ZERO:  base = 64'sd0;
+            I_SHR:   base = acc >>> 17;
+            I_AL:    base = {{(ACC_W - 32){al_base[31]}}, al_base};
+            I_BE:    base = {{(ACC_W - 32){bb_r[31]}}, bb_r};
+            I_X:     base = {{(ACC_W - 46){nal_base[31]}}, nal_base, 14'd0};
             default: base = acc;                                        // I_CONT
         endcase
     end
+    // one adder: base - p = base + ~p + 1
+    wire signed [ACC_W-1:0] p_op = p_sh ^ {ACC_W{s1_neg}};
     always @(posedge clk) begin
-        if (s1_v) acc <= s1_neg ? base - p_sh : base + p_sh;
+        if (s1_v) acc <= base + p_op + {{(ACC_W - 1){1'b0}}, s1_neg};
     end
 
     // ---------------------------------------------------------------- write-back
-    // Slices of acc (bounds in the header): i_d = acc[63:32]; round_shr(.., 15) results acc[48:15]
-    // (s34 for i_x, s32 otherwise); the gain term acc[41:8] (s34).
+    // Slices of acc (bounds in the header): acc >>> 15 results acc[48:15] (s34 for i_x, s32
+    // otherwise); the gain term acc[41:8] (s34).
     /* verilator lint_off UNUSEDSIGNAL */
     wire signed [33:0] r15 = acc[48:15];
     wire signed [33:0] g8 = acc[41:8];
     /* verilator lint_on UNUSEDSIGNAL */
     wire r15_ovf = !((&r15[33:24]) || !(|r15[33:24]));       // outside -2^24 .. 2^24-1
     wire signed [24:0] r15_sat = !r15_ovf ? r15[24:0] : r15[33] ? -25'sd16777215 : 25'sd16777215;
-    reg signed [31:0] wdata;
-    always @* begin
-        case (s2_ws)
-            WS15:    wdata = (s2_wb == W_IX) ? {{7{r15_sat[24]}}, r15_sat} : r15[31:0];
-            WS32:    wdata = acc[63:32];
-            default: wdata = acc[31:0];
-        endcase
-    end
-    always @(posedge clk) begin
-        if (s2_v && (s2_wb == W_RF || s2_wb == W_IX)) rf[s2_rb] <= wdata;
-    end
-    // m = clamp(g8, 0, D); top: min(cmp + m, H), bottom: max(cmp - m, 0)
-    wire        g8_pos = !g8[33] && (|g8[33:0]);
+    // W_CMP, two stages. Stage 3: m = clamp(g8, 0, D), the compare c0 of the leg and its limit
+    // (top: H - c0, bottom: c0); stage 4: top: c0 + m > H ? H : c0 + m, bottom: c0 - m < 0 ? 0 : c0 - m.
+    wire        g8_pos = !g8[33] && (|g8[32:0]);
     wire        g8_big = (|g8[32:16]) || (g8[15:0] > dead);
-    wire [15:0] m = !g8_pos ? 16'd0 : g8_big ? dead : g8[15:0];
     wire [15:0] cmp_o = (s2_leg == LA) ? cmp_ra : (s2_leg == LB) ? cmp_rb : cmp_rc;
-    wire [16:0] cmp_sum = top_r ? {1'b0, cmp_o} + {1'b0, m} : {1'b0, cmp_o} - {1'b0, m};
-    wire [15:0] cmp_new = top_r ? ((cmp_sum > {1'b0, half}) ? half : cmp_sum[15:0])
-                                : (cmp_sum[16] ? 16'd0 : cmp_sum[15:0]);
+    reg  [15:0] m_r, c0_r, lim_r;
+    reg         s3_v;
+    reg   [1:0] s3_leg;
+    always @(posedge clk) begin
+        m_r <= !g8_pos ? 16'd0 : g8_big ? dead : g8[15:0];
+        c0_r <= cmp_o;
+        lim_r <= top_r ? half - cmp_o : cmp_o;
+        s3_leg <= s2_leg;
+        s3_v <= !rst && s2_v && s2_wb == W_CMP;
+    end
+    wire [15:0] cmp_new = (m_r > lim_r) ? (top_r ? half : 16'd0) : top_r ? c0_r + m_r : c0_r - m_r;
+    always @(posedge clk) begin
+        if (s2_v) begin
+            case (s2_wb)
+                W_K:  k_r <= acc[46:0];
+                W_AB: ab_r <= acc[31:0];
+                W_NB: nb_r <= acc[31:0];
+                W_BB: bb_r <= acc[31:0];
+                W_ID: id_r[s2_leg] <= r15[31:0];
+                W_NAL: nal_r[s2_leg == LC] <= r15[31:0];
+                W_BE: be_r[s2_leg == LC] <= r15[31:0];
+                W_IX: ix_r[s2_leg] <= r15_sat;
+                default: ;
+            endcase
+        end
+    end
     always @(posedge clk) begin
         if (accept) begin
             cmp_ra <= cmp_a_in;
             cmp_rb <= cmp_b_in;
             cmp_rc <= cmp_c_in;
             top_r <= sign_top;
-        end else if (s2_v && s2_wb == W_CMP) begin
-            case (s2_leg)
+        end else if (s3_v) begin
+            case (s3_leg)
                 LA:      cmp_ra <= cmp_new;
                 LB:      cmp_rb <= cmp_new;
                 default: cmp_rc <= cmp_new;
             endcase
         end
-        if (s2_v && s2_wb == W_K) k_r <= acc[46:0];
     end
 
 endmodule

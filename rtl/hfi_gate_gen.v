@@ -67,9 +67,13 @@ module hfi_gate_gen #(
     wire [47:0] cmp_fall = at_top    ? {cmp_top_c, cmp_top_b, cmp_top_a} : cmp_fall_q;
 
     wire        rising = phase < {1'b0, half};
-    wire [16:0] c_fall = {half, 1'b0} - phase;     // P - phi on the falling half
+    // Falling half: s = (P - phi <= cf) <=> T = 2H - phi - cf - 1 < 0, evaluated as one 19-bit sum
+    // 2H + ~phi + ~cf + 1 (a carry-save level, then a single carry chain) instead of a subtraction
+    // followed by a compare (two chains in series).  -2^18 < T < 2^18 for any port values: the sign
+    // bit is exact.
+    wire [18:0] f_x = {2'b00, half, 1'b0};
+    wire [18:0] f_y = ~{2'b00, phase};
 
-    wire [15:0] dead = (dead_reg < DEAD_MIN16) ? DEAD_MIN16 : dead_reg;
     wire        en   = enable & ~kill;
 
     reg  [2:0]  s_q;       // s of the previous tick
@@ -84,13 +88,24 @@ module hfi_gate_gen #(
         for (x = 0; x < 3; x = x + 1) begin : leg
             wire [15:0] cr = cmp_rise[16*x +: 16];
             wire [15:0] cf = cmp_fall[16*x +: 16];
-            assign s[x] = rising ? (phase < {1'b0, cr}) : (c_fall <= {1'b0, cf});
+            wire [18:0] f_z = ~{3'b000, cf};
+            wire [18:0] f_s = f_x ^ f_y ^ f_z;
+            wire [18:0] f_c = {(f_x[17:0] & f_y[17:0]) | (f_x[17:0] & f_z[17:0]) | (f_y[17:0] & f_z[17:0]),
+                               1'b1};                            // the +1 in bit 0
+            /* verilator lint_off UNUSEDSIGNAL */               // only the sign of T is used
+            wire [18:0] f_t = f_s + f_c;                         // T mod 2^19
+            /* verilator lint_on UNUSEDSIGNAL */
+            assign s[x] = rising ? (phase < {1'b0, cr}) : f_t[18];
             wire        restart = (s[x] ^ s_q[x]) | en_rise;
-            wire [15:0] el      = restart ? 16'd0 : el_q[16*x +: 16];
-            wire        on      = en & (el >= dead);
+            // el = restart ? 0 : el_q; el >= D with D = max(dead_reg, DEAD_MIN) >= 1 is false after a
+            // restart, else el_q >= dead_reg and el_q >= DEAD_MIN (compares of registers and the
+            // register input only, in parallel with s)
+            wire [15:0] elq     = el_q[16*x +: 16];
+            wire        ge      = (elq >= dead_reg) && (elq >= DEAD_MIN16);
+            wire        on      = en & ~restart & ge;
             assign mask[2*x]     = on & s[x];
             assign mask[2*x + 1] = on & ~s[x];
-            assign el_next[16*x +: 16] = (el == 16'hFFFF) ? el : el + 16'd1;
+            assign el_next[16*x +: 16] = restart ? 16'd1 : ((elq == 16'hFFFF) ? elq : elq + 16'd1);
         end
     endgenerate
 

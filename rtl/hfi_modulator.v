@@ -28,24 +28,29 @@
 //   cmp_bot_{a,b,c}   u16 (0..H)               compares for sign -1 (latched at the carrier bottom)
 // Timing: every input is sampled in the cycle `start` is high (cycle 0) if the unit is not busy; a
 // start while busy is ignored (no queueing). busy is high in cycles 1..LATENCY-1; the six outputs all
-// change together in cycle LATENCY = 96, when done is high for one cycle (and busy is low, so a start in
-// the done cycle is accepted: back to back, one pair of compare sets per 96 cycles). The outputs hold
-// their values between done pulses.
-// Reset (synchronous): the six outputs load half >> 1 from the `half` input in every reset cycle (the
-// compares that the reset register values V = 0 give, rtl.md "After reset the compares are H/2");
-// busy and done clear, a computation in progress is abandoned.
+// change together in cycle LATENCY = 103, when done is high for one cycle (and busy is low, so a start
+// in the done cycle is accepted: back to back, one pair of compare sets per 103 cycles). The outputs
+// hold their values between done pulses.
+// Reset (synchronous): in every cycle with rst high the six outputs load half >> 1 of the `half` input
+// of that cycle (the compares that the reset register values V = 0 give, rtl.md "After reset the
+// compares are H/2"); busy and done clear and a computation in progress is abandoned (no done).
 //
-// Architecture: one 18x18 signed multiplier (this module's only `*`) and a 36-bit accumulator run an
-// 18-slot micro-program (`uop` table) per sign, first for the top set (cycles 1..18) then for the
-// bottom set (19..36), with the same registers; each sum starts from an initial value that holds its
+// Architecture: one 18x18 signed multiplier (this module's only `*`) and a 36-bit accumulator run a
+// 20-slot micro-program (the `uop` table) per sign, first for the top set (cycles 1..20), then for the
+// bottom set (21..40), with the same registers. Each sum starts from an initial value that holds its
 // rounding constant (2^14; H/2*2^15 + 2^14 for a compare), so results are written back rounded:
 //   v_be = (2^14 + vd*SIN + vq*COS) >>> 15          v_al = (2^14 + vd*COS - vq*SIN) >>> 15
 //   v_b  = (2^14 + v_be*28378 - v_al*16384) >>> 15  v_c  = (2^14 - v_be*28378 - v_al*16384) >>> 15
-//   cmp_x = clamp((H/2*2^15 + 2^14 - off*H + v_x*H) >>> 15, 0, H)       ((v_x - off)*H as two products)
-// The min-max unit computes off from the registered v_a, v_b, v_c. Pipeline as in hfi_deadtime_comp:
-// issue -> product -> accumulator -> write-back, a result usable 3 slots after its last product.
-// The one hfi_deadtime_comp instance (its own multiplier) compensates the top set (start in cycle 21,
-// done in 58, when the results are kept and the bottom set starts) and the bottom set (done in 95).
+//   cmp_x = clamp((H/2*2^15 + 2^14 - off*H + v_x*H) >>> 15, 0, H)     ((v_x - off)*H as two products;
+//                                                     H/2*2^15 is a multiple of 2^15, so this is
+//                                                     H/2 + round_shr(v_x'*H, 15))
+// The min-max unit registers max and min of v_a, v_b, v_c (three comparisons; a tie selects equal
+// values, so the golden order of the comparisons does not matter) and off = (max + min) >>> 1 is an
+// operand. Pipeline of a slot issued in cycle t (as in hfi_deadtime_comp): operand registers (t),
+// product (t+1), accumulator (t+2), write-back (t+3); the table waits for every result it uses.
+// The hfi_deadtime_comp instance (its own multiplier; LATENCY 39) compensates the top set (start in
+// cycle 24, after its last compare is written; done in 63, when the results are kept and the bottom
+// set starts) and then the bottom set (done in 102); the outputs are written at the end of cycle 102.
 // Widths (golden/fpga/modulator.py): vd s17; v_al, v_be within +-98303 and v_b, v_c within +-101517
 // (s18); off s18; the sums fit s34 (the compare sum: |H/2*2^15| < 2^30, |off*H|, |v_x*H| < 2^33).
 // Multipliers: 2 `*` in all: one 18x18 signed here and one 18x18 signed in hfi_deadtime_comp (one
@@ -79,10 +84,10 @@ module hfi_modulator (
     output reg                done
 );
 
-    localparam [6:0] LATENCY = 7'd96;               // start -> done (cycles)
-    localparam [6:0] T_DTC_TOP = 7'd21;             // the top set enters hfi_deadtime_comp
+    localparam [6:0] LATENCY = 7'd103;              // start -> done (cycles)
+    localparam [6:0] T_DTC_TOP = 7'd24;             // the top set enters hfi_deadtime_comp
     localparam [6:0] T_LAST = LATENCY - 7'd1;       // the bottom set is compensated in this cycle
-    localparam [4:0] SLOTS = 5'd18;                 // micro-program slots per sign
+    localparam [4:0] SLOTS = 5'd20;                 // micro-program slots per sign
 
     // Operand A
     localparam [2:0] A_VD = 3'd0, A_VQ = 3'd1, A_BE = 3'd2, A_VA = 3'd3, A_VB = 3'd4, A_VC = 3'd5,
@@ -91,7 +96,7 @@ module hfi_modulator (
     localparam [2:0] B_SIN = 3'd0, B_COS = 3'd1, B_SQ3 = 3'd2, B_M16K = 3'd3, B_H = 3'd4;
     // Accumulator initial value of the first product of a sum
     localparam [1:0] I_CONT = 2'd0, I_R14 = 2'd1, I_CMP = 2'd2;
-    // Write-back destination (W_MM: no product; the min-max unit updates off)
+    // Write-back destination (W_MM: no product; the min-max unit registers max and min)
     localparam [3:0] W_NONE = 4'd0, W_BE = 4'd1, W_VA = 4'd2, W_VB = 4'd3, W_VC = 4'd4, W_CA = 4'd5,
                      W_CB = 4'd6, W_CC = 4'd7, W_MM = 4'd8;
     localparam ADD = 1'b0, SUB = 1'b1;
@@ -155,18 +160,18 @@ module hfi_modulator (
             5'd1:  uop = {ISS, A_VQ,  B_COS,  I_CONT, ADD, W_BE};     // v_be
             5'd2:  uop = {ISS, A_VD,  B_COS,  I_R14,  ADD, W_NONE};
             5'd3:  uop = {ISS, A_VQ,  B_SIN,  I_CONT, SUB, W_VA};     // v_al = v_a
-            5'd4:  uop = {ISS, A_BE,  B_SQ3,  I_R14,  ADD, W_NONE};
-            5'd6:  uop = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VB};     // v_b
-            5'd7:  uop = {ISS, A_BE,  B_SQ3,  I_R14,  SUB, W_NONE};
-            5'd8:  uop = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VC};     // v_c
-            5'd11: uop = {NOP, A_VD,  B_SIN,  I_CONT, ADD, W_MM};     // off = shr(max + min, 1)
-            5'd12: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd13: uop = {ISS, A_VA,  B_H,    I_CONT, ADD, W_CA};     // cmp_a
+            5'd5:  uop = {ISS, A_BE,  B_SQ3,  I_R14,  ADD, W_NONE};
+            5'd7:  uop = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VB};     // v_b
+            5'd8:  uop = {ISS, A_BE,  B_SQ3,  I_R14,  SUB, W_NONE};
+            5'd9:  uop = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VC};     // v_c
+            5'd13: uop = {NOP, A_VD,  B_SIN,  I_CONT, ADD, W_MM};     // max, min
             5'd14: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd15: uop = {ISS, A_VB,  B_H,    I_CONT, ADD, W_CB};     // cmp_b
+            5'd15: uop = {ISS, A_VA,  B_H,    I_CONT, ADD, W_CA};     // cmp_a
             5'd16: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd17: uop = {ISS, A_VC,  B_H,    I_CONT, ADD, W_CC};     // cmp_c
-            default: uop = {NOP, A_VD, B_SIN, I_CONT, ADD, W_NONE};   // 5, 9, 10: wait for a result
+            5'd17: uop = {ISS, A_VB,  B_H,    I_CONT, ADD, W_CB};     // cmp_b
+            5'd18: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
+            5'd19: uop = {ISS, A_VC,  B_H,    I_CONT, ADD, W_CC};     // cmp_c
+            default: uop = {NOP, A_VD, B_SIN, I_CONT, ADD, W_NONE};   // 4, 6, 10..12: wait for a result
         endcase
     end
     wire       u_iss = mrun && uop[13];
@@ -177,7 +182,12 @@ module hfi_modulator (
     wire [3:0] u_wb = uop[3:0];
 
     // ---------------------------------------------------------------- data path
-    reg signed [17:0] be, va, vb, vc, off;           // v_be, v_a, v_b, v_c, off (s18)
+    reg signed [17:0] be, va, vb, vc;                // v_be, v_a, v_b, v_c (s18)
+    reg signed [17:0] hi, lo;                        // max and min of v_a, v_b, v_c
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire signed [18:0] mm_sum = {hi[17], hi} + {lo[17], lo};   // bit 0 dropped: shr by 1
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire signed [17:0] off = mm_sum[18:1];           // shr(max + min, 1), an operand (s18)
     reg        [15:0] cmp_a, cmp_b, cmp_c;           // compares of the set being computed
     wire signed [16:0] vd = mbot ? {v_d_r[15], v_d_r} - {v_h_r[15], v_h_r}   // sign -1
                                  : {v_d_r[15], v_d_r} + {v_h_r[15], v_h_r};  // sign +1
@@ -201,22 +211,31 @@ module hfi_modulator (
         endcase
     end
 
+    // stage 0: operand registers; stage 1: product; stage 2: accumulator; then write-back
+    reg signed [17:0] a_r, b_r;
     reg signed [35:0] p_r;
-    reg        s1_v, s2_v;
-    reg  [1:0] s1_init;
-    reg        s1_neg;
-    reg  [3:0] s1_wb, s2_wb;
+    reg        s0_v, s1_v, s2_v;
+    reg  [1:0] s0_init, s1_init;
+    reg        s0_neg, s1_neg;
+    reg  [3:0] s0_wb, s1_wb, s2_wb;
     always @(posedge clk) begin
-        p_r <= mul_a * mul_b;                        // the module's one multiplier (18x18 signed)
-        s1_init <= u_init;
-        s1_neg <= u_neg;
-        s1_wb <= u_wb;
+        a_r <= mul_a;
+        b_r <= mul_b;
+        s0_init <= u_init;
+        s0_neg <= u_neg;
+        s0_wb <= u_wb;
+        p_r <= a_r * b_r;                            // the module's one multiplier (18x18 signed)
+        s1_init <= s0_init;
+        s1_neg <= s0_neg;
+        s1_wb <= s0_wb;
         s2_wb <= s1_wb;
         if (rst) begin
+            s0_v <= 1'b0;
             s1_v <= 1'b0;
             s2_v <= 1'b0;
         end else begin
-            s1_v <= u_iss;
+            s0_v <= u_iss;
+            s1_v <= s0_v;
             s2_v <= s1_v;
         end
     end
@@ -230,8 +249,9 @@ module hfi_modulator (
             default: base = acc;                                        // I_CONT
         endcase
     end
+    wire signed [35:0] p_op = p_r ^ {36{s1_neg}};    // one adder: base - p = base + ~p + 1
     always @(posedge clk) begin
-        if (s1_v) acc <= s1_neg ? base - p_r : base + p_r;
+        if (s1_v) acc <= base + p_op + {35'd0, s1_neg};
     end
 
     // write-back: round_shr results acc[32:15] (s18); compares acc[35:15] clamped to 0..H
@@ -239,14 +259,13 @@ module hfi_modulator (
     wire signed [20:0] r15 = acc[35:15];
     /* verilator lint_on UNUSEDSIGNAL */
     wire [15:0] cmp_new = r15[20] ? 16'd0 : (r15 > $signed({5'd0, half_r})) ? half_r : r15[15:0];
-    // min-max: off = shr(max + min, 1)
-    wire signed [17:0] mm_hi = (va > vb) ? ((va > vc) ? va : vc) : ((vb > vc) ? vb : vc);
-    wire signed [17:0] mm_lo = (va < vb) ? ((va < vc) ? va : vc) : ((vb < vc) ? vb : vc);
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire signed [18:0] mm_sum = {mm_hi[17], mm_hi} + {mm_lo[17], mm_lo};   // bit 0 dropped: shr by 1
-    /* verilator lint_on UNUSEDSIGNAL */
+    // min-max (three comparisons; ties select equal values)
+    wire gab = va > vb, gac = va > vc, gbc = vb > vc;
     always @(posedge clk) begin
-        if (mrun && u_wb == W_MM) off <= mm_sum[18:1];
+        if (mrun && u_wb == W_MM) begin
+            hi <= gab ? (gac ? va : vc) : (gbc ? vb : vc);
+            lo <= gab ? (gbc ? vc : vb) : (gac ? vc : va);
+        end
         if (s2_v) begin
             case (s2_wb)
                 W_BE: be <= r15[17:0];
@@ -262,9 +281,10 @@ module hfi_modulator (
     end
 
     // ---------------------------------------------------------------- dead-time compensation
-    // Top set: start in cycle T_DTC_TOP (its compares written at the end of cycle 20); bottom set:
-    // start in the cycle the top one is done (58; the bottom compares are written by cycle 38). The
-    // instance samples the compares and the sign at its start; the other inputs are the sampled
+    // Top set: start in cycle T_DTC_TOP = 24 (its last compare is written at the end of cycle 23);
+    // bottom set: start in the cycle the top one is done (63; the bottom compares are written by the
+    // end of cycle 43). The instance samples the compares and sign_top at its start (sign +1 for the
+    // first start, -1 for the one in the done cycle of the top set); the other inputs are the sampled
     // registers, stable while it runs.
     reg dtc_bot;                                     // the bottom set is in the DTC
     wire dtc_done;
@@ -299,7 +319,7 @@ module hfi_modulator (
 
     // ---------------------------------------------------------------- control, outputs
     always @(posedge clk) begin
-        if (dtc_done && !dtc_bot) begin              // cycle 58
+        if (dtc_done && !dtc_bot) begin              // cycle 63
             top_a <= dtc_a;
             top_b <= dtc_b;
             top_c <= dtc_c;

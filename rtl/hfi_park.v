@@ -16,7 +16,8 @@
 //   done              one-cycle pulse exactly LATENCY (= 7) cycles after start
 //   i_d, i_q          s16, both updated in the done cycle and held until the next done (0 after reset)
 //
-// Timing (S = start cycle), one shared multiplier (s18 x s16 -> s34, one 18x18 DSP):
+// Timing (S = start cycle), one shared multiplier (s18 x s16 -> s34, one 18x18 DSP) between
+// registered operands and a registered product:
 //   S: inputs registered, t = i_a + 2*i_b (s18);  S+1: t*18919;  S+2: i_alpha*COS, i_beta registered;
 //   S+3: i_alpha*SIN, acc_d = i_alpha*COS;  S+4: i_beta*SIN, acc_q = -i_alpha*SIN;
 //   S+5: i_beta*COS, acc_d += i_beta*SIN;   S+6: outputs loaded (acc_q + i_beta*COS);  S+7: done.
@@ -46,64 +47,46 @@ module hfi_park (
 
     // Inputs captured at start.
     reg signed [15:0] al_r;                 // i_alpha = i_a
-    reg signed [17:0] t_r;                  // i_a + 2*i_b, s18
     reg signed [15:0] sin_r, cos_r;
     reg signed [15:0] be_r;                 // i_beta (registered in S+2)
 
-    // Operand selection of the shared multiplier.
+    // Operands of the shared multiplier, registered: the operands used in cycle S+k are selected in
+    // cycle S+k-1 (so the multiplier sits between two registers; the product schedule is unchanged).
     reg signed [17:0] m_x;
     reg signed [15:0] m_y;
-    always @(*) begin
-        if (stage[0]) begin                 // S+1: Clarke product
-            m_x = t_r;
-            m_y = INV_SQRT3_Q15;
-        end else if (stage[1]) begin        // S+2: i_alpha*COS
-            m_x = {{2{al_r[15]}}, al_r};
-            m_y = cos_r;
-        end else if (stage[2]) begin        // S+3: i_alpha*SIN
-            m_x = {{2{al_r[15]}}, al_r};
-            m_y = sin_r;
-        end else if (stage[3]) begin        // S+4: i_beta*SIN
-            m_x = {{2{be_r[15]}}, be_r};
-            m_y = sin_r;
-        end else begin                      // S+5: i_beta*COS (the value is ignored when idle)
-            m_x = {{2{be_r[15]}}, be_r};
-            m_y = cos_r;
-        end
-    end
     reg signed [33:0] prod;                 // registered product (|product| < 2^31)
 
-    reg signed [33:0] acc_d, acc_q;         // i_alpha*COS + i_beta*SIN, i_beta*COS - i_alpha*SIN
+    // acc_d = i_alpha*COS + i_beta*SIN + 2^14, acc_q = i_beta*COS - i_alpha*SIN + 2^14 (the rounding
+    // constant of round_shr(., 15) is added when an accumulation starts, not after its last term)
+    reg signed [33:0] acc_d, acc_q;
+    localparam signed [33:0] HALF_LSB = 34'sd16384;
 
-    // Rounding shift by 15 and saturation to s16 of a 34-bit value: sat(round_shr(v, 15), 16).
-    function signed [15:0] rnd_sat15;
-        input signed [33:0] v;
+    // Saturation to s16 of v >> 15 (v already holds the rounding constant): sat(floor(v / 2^15), 16).
+    function signed [15:0] sat15;
         /* verilator lint_off UNUSEDSIGNAL */  // the 15 bits below the rounding point are dropped
-        reg signed [33:0] r;
+        input signed [33:0] v;
         /* verilator lint_on UNUSEDSIGNAL */
-        reg signed [18:0] s;
         begin
-            r = v + 34'sd16384;
-            s = r[33:15];
-            if (s > 19'sd32767)
-                rnd_sat15 = 16'sh7FFF;
-            else if (s < -19'sd32768)
-                rnd_sat15 = 16'sh8000;
+            if (v[33:30] == {4{v[30]}})
+                sat15 = v[30:15];
             else
-                rnd_sat15 = s[15:0];
+                sat15 = v[33] ? 16'sh8000 : 16'sh7FFF;
         end
     endfunction
 
-    wire signed [33:0] q_sum = acc_q + prod;    // in S+6: i_beta*COS - i_alpha*SIN
+    wire signed [33:0] be_rnd = prod + HALF_LSB;     // in S+2: (i_a + 2 i_b)*18919 + 2^14
+    wire signed [33:0] q_sum  = acc_q + prod;        // in S+6: i_beta*COS - i_alpha*SIN + 2^14
+    wire signed [33:0] d_fin  = acc_d;
 
     always @(posedge clk) begin
         if (rst) begin
             stage <= {LATENCY{1'b0}};
             al_r <= 16'sd0;
-            t_r <= 18'sd0;
             sin_r <= 16'sd0;
             cos_r <= 16'sd0;
             be_r <= 16'sd0;
+            m_x <= 18'sd0;
+            m_y <= 16'sd0;
             prod <= 34'sd0;
             acc_d <= 34'sd0;
             acc_q <= 34'sd0;
@@ -113,22 +96,38 @@ module hfi_park (
             stage <= {stage[LATENCY-2:0], start};
             if (start) begin
                 al_r <= i_a;
-                t_r <= {{2{i_a[15]}}, i_a} + {i_b[15], i_b, 1'b0};
                 sin_r <= sin_q15;
                 cos_r <= cos_q15;
             end
+            // operands of the next cycle
+            if (start) begin                // for S+1: Clarke product (i_a + 2*i_b)*18919
+                m_x <= {{2{i_a[15]}}, i_a} + {i_b[15], i_b, 1'b0};
+                m_y <= INV_SQRT3_Q15;
+            end else if (stage[0]) begin    // for S+2: i_alpha*COS
+                m_x <= {{2{al_r[15]}}, al_r};
+                m_y <= cos_r;
+            end else if (stage[1]) begin    // for S+3: i_alpha*SIN
+                m_x <= {{2{al_r[15]}}, al_r};
+                m_y <= sin_r;
+            end else if (stage[2]) begin    // for S+4: i_beta*SIN
+                m_x <= {{2{be_r[15]}}, be_r};
+                m_y <= sin_r;
+            end else if (stage[3]) begin    // for S+5: i_beta*COS
+                m_x <= {{2{be_r[15]}}, be_r};
+                m_y <= cos_r;
+            end
             prod <= m_x * m_y;
             if (stage[1])                   // prod = (i_a + 2 i_b)*18919
-                be_r <= rnd_sat15(prod);
+                be_r <= sat15(be_rnd);
             if (stage[2])                   // prod = i_alpha*COS
-                acc_d <= prod;
+                acc_d <= prod + HALF_LSB;
             if (stage[3])                   // prod = i_alpha*SIN
-                acc_q <= -prod;
+                acc_q <= HALF_LSB - prod;
             if (stage[4])                   // prod = i_beta*SIN
                 acc_d <= acc_d + prod;
             if (stage[5]) begin             // prod = i_beta*COS
-                i_d <= rnd_sat15(acc_d);
-                i_q <= rnd_sat15(q_sum);
+                i_d <= sat15(d_fin);
+                i_q <= sat15(q_sum);
             end
         end
     end

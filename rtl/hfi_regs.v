@@ -137,12 +137,16 @@ module hfi_regs #(
     endgenerate
     wire wr_en = wr_fire & wr_hi_zero;   // a write inside the map (unknown low addresses: no case below)
     wire [31:0] byte_mask = {{8{s_axil_wstrb[3]}}, {8{s_axil_wstrb[2]}}, {8{s_axil_wstrb[1]}},
-                             {8{s_axil_wstrb[0]}}};
+                             {8{s_axil_wstrb[0]}}};   // IRQ_STATUS w1c
 
-    // New value of a rw register: the written bytes of its fields, the rest kept.
-    function [31:0] merge(input [31:0] old, input [31:0] field_mask, input [31:0] data, input [31:0] bytes);
-        merge = (old & ~(field_mask & bytes)) | (data & field_mask & bytes);
+    // Byte b of a written rw register: the written data of its fields, 0 elsewhere.  Bits outside the
+    // fields reset to 0 and are only ever written 0, so this equals "written fields, rest kept" and
+    // Yosys drops them; each written byte is a clock enable (wr_en & address & WSTRB[b]) of plain
+    // data flip-flops instead of a read-modify-write mux per bit.
+    function [7:0] wd_bytes(input integer b, input [31:0] field_mask);
+        wd_bytes = s_axil_wdata[8*b +: 8] & field_mask[8*b +: 8];
     endfunction
+    integer b;
 
     function known_addr(input [7:0] a);
         case (a)
@@ -201,29 +205,30 @@ module hfi_regs #(
             if (wr_en) begin
                 case (wr_addr)
                     HFI_CTRL_ADDR: begin
-                        r_ctrl <= merge(r_ctrl, M_CTRL, s_axil_wdata, byte_mask);
+                        for (b = 0; b < 4; b = b + 1)
+                            if (s_axil_wstrb[b]) r_ctrl[8*b +: 8] <= wd_bytes(b, M_CTRL);
                         fault_clear <= s_axil_wstrb[HFI_CTRL_FAULT_CLEAR_LSB / 8]
                                        & s_axil_wdata[HFI_CTRL_FAULT_CLEAR_LSB];
                     end
-                    HFI_IRQ_ENABLE_ADDR: r_irq_enable <= merge(r_irq_enable, M_IRQ, s_axil_wdata, byte_mask);
-                    HFI_PWM_HALF_ADDR: r_pwm_half <= merge(r_pwm_half, M_U16, s_axil_wdata, byte_mask);
-                    HFI_DEAD_TICKS_ADDR: r_dead_ticks <= merge(r_dead_ticks, M_U16, s_axil_wdata, byte_mask);
-                    HFI_OS_TICKS_ADDR: r_os_ticks <= merge(r_os_ticks, M_U16, s_axil_wdata, byte_mask);
-                    HFI_BLANK_TICKS_ADDR: r_blank_ticks <= merge(r_blank_ticks, M_U16, s_axil_wdata, byte_mask);
-                    HFI_CW_ANGLE_STEP_ADDR: r_cw_angle_step <= merge(r_cw_angle_step, M_ALL, s_axil_wdata, byte_mask);
-                    HFI_ADC_OFFSET_ADDR: r_adc_offset <= merge(r_adc_offset, M_ALL, s_axil_wdata, byte_mask);
-                    HFI_ADC_GAIN_ADDR: r_adc_gain <= merge(r_adc_gain, M_ALL, s_axil_wdata, byte_mask);
-                    HFI_OC_LIMIT_ADDR: r_oc_limit <= merge(r_oc_limit, M_U16, s_axil_wdata, byte_mask);
-                    HFI_WDT_PERIODS_ADDR: r_wdt_periods <= merge(r_wdt_periods, M_U16, s_axil_wdata, byte_mask);
-                    HFI_V_DQ_ADDR: r_v_dq <= merge(r_v_dq, M_ALL, s_axil_wdata, byte_mask);
-                    HFI_V_H_ADDR: r_v_h <= merge(r_v_h, M_U15, s_axil_wdata, byte_mask);
-                    HFI_SINCOS_ADDR: r_sincos <= merge(r_sincos, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_IRQ_ENABLE_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_irq_enable[8*b +: 8] <= wd_bytes(b, M_IRQ);
+                    HFI_PWM_HALF_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_pwm_half[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_DEAD_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_dead_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_OS_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_os_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_BLANK_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_blank_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_CW_ANGLE_STEP_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_cw_angle_step[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_ADC_OFFSET_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_adc_offset[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_ADC_GAIN_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_adc_gain[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_OC_LIMIT_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_oc_limit[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_WDT_PERIODS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_wdt_periods[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_V_DQ_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_v_dq[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_V_H_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_v_h[8*b +: 8] <= wd_bytes(b, M_U15);
+                    HFI_SINCOS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_sincos[8*b +: 8] <= wd_bytes(b, M_ALL);
                     HFI_COMMIT_ADDR: commit_go <= s_axil_wstrb[HFI_COMMIT_GO_LSB / 8] & s_axil_wdata[HFI_COMMIT_GO_LSB];
-                    HFI_SPEED_REF_ADDR: r_speed_ref <= merge(r_speed_ref, M_ALL, s_axil_wdata, byte_mask);
-                    HFI_DTC_GAIN_ADDR: r_dtc_gain <= merge(r_dtc_gain, M_U16, s_axil_wdata, byte_mask);
-                    HFI_HF_AMP_ADDR: r_hf_amp <= merge(r_hf_amp, M_U15, s_axil_wdata, byte_mask);
-                    HFI_RECIP_H_ADDR: r_recip_h <= merge(r_recip_h, M_ALL, s_axil_wdata, byte_mask);
-                    HFI_I_REF_ADDR: r_i_ref <= merge(r_i_ref, M_ALL, s_axil_wdata, byte_mask);
+                    HFI_SPEED_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_speed_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_DTC_GAIN_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_dtc_gain[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_HF_AMP_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_hf_amp[8*b +: 8] <= wd_bytes(b, M_U15);
+                    HFI_RECIP_H_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_recip_h[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_I_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_i_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
                     default: ;
                 endcase
             end
@@ -236,45 +241,57 @@ module hfi_regs #(
                             | ({31'd0, status_fault_wdt} << HFI_STATUS_FAULT_WDT_LSB)
                             | ({31'd0, status_outputs_on} << HFI_STATUS_OUTPUTS_ON_LSB)
                             | ({31'd0, status_commit_pending} << HFI_STATUS_COMMIT_PENDING_LSB);
-    reg [31:0] rd_word;
-    always @(*) begin
-        if (!rd_hi_zero)
-            rd_word = 32'd0;
-        else case (rd_addr)
-            HFI_ID_ADDR: rd_word = HFI_ID_VALUE_RESET;
-            HFI_VERSION_ADDR: rd_word = {HFI_VERSION_MAJOR_RESET, HFI_VERSION_MINOR_RESET};
-            HFI_CTRL_ADDR: rd_word = r_ctrl;
-            HFI_STATUS_ADDR: rd_word = status_word;
-            HFI_IRQ_STATUS_ADDR: rd_word = r_irq_status;
-            HFI_IRQ_ENABLE_ADDR: rd_word = r_irq_enable;
-            HFI_PWM_HALF_ADDR: rd_word = r_pwm_half;
-            HFI_DEAD_TICKS_ADDR: rd_word = r_dead_ticks;
-            HFI_OS_TICKS_ADDR: rd_word = r_os_ticks;
-            HFI_BLANK_TICKS_ADDR: rd_word = r_blank_ticks;
-            HFI_CW_ANGLE_STEP_ADDR: rd_word = r_cw_angle_step;
-            HFI_ADC_OFFSET_ADDR: rd_word = r_adc_offset;
-            HFI_ADC_GAIN_ADDR: rd_word = r_adc_gain;
-            HFI_OC_LIMIT_ADDR: rd_word = r_oc_limit;
-            HFI_WDT_PERIODS_ADDR: rd_word = r_wdt_periods;
-            HFI_V_DQ_ADDR: rd_word = r_v_dq;
-            HFI_V_H_ADDR: rd_word = r_v_h;
-            HFI_SINCOS_ADDR: rd_word = r_sincos;
-            HFI_GAMMA_ADDR: rd_word = gamma;
-            HFI_GAMMA_D_ADDR: rd_word = gamma_d;
-            HFI_SUM_ID_ADDR: rd_word = sum_id;
-            HFI_SUM_IQ_ADDR: rd_word = sum_iq;
-            HFI_WSUM_ADDR: rd_word = wsum;
-            HFI_N_SAMPLES_ADDR: rd_word = {16'd0, n_samples};
-            HFI_WINDOW_COUNT_ADDR: rd_word = window_count;
-            HFI_LATE_COUNT_ADDR: rd_word = {16'd0, late_count};
-            HFI_SPEED_REF_ADDR: rd_word = r_speed_ref;
-            HFI_DTC_GAIN_ADDR: rd_word = r_dtc_gain;
-            HFI_HF_AMP_ADDR: rd_word = r_hf_amp;
-            HFI_RECIP_H_ADDR: rd_word = r_recip_h;
-            HFI_I_REF_ADDR: rd_word = r_i_ref;
-            default: rd_word = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
-        endcase
-    end
+    // Read data: the readable words form a table indexed by the word address (rd_addr[7:2]); the
+    // table is built from the generated map (a case on a constant address per entry, so each entry is
+    // plain wiring), and the read is one wide multiplexer on the 6-bit index instead of a decoder
+    // per address.  Unaligned or unmapped addresses and COMMIT (w1p) read 0.
+    localparam N_WORDS = 64;
+    wire [32*N_WORDS-1:0] rd_table;
+    genvar wi;
+    generate
+        for (wi = 0; wi < N_WORDS; wi = wi + 1) begin : g_rd_table
+            localparam [7:0] A = wi * 4;
+            reg [31:0] w;
+            always @(*) begin
+                case (A)
+                    HFI_ID_ADDR: w = HFI_ID_VALUE_RESET;
+                    HFI_VERSION_ADDR: w = {HFI_VERSION_MAJOR_RESET, HFI_VERSION_MINOR_RESET};
+                    HFI_CTRL_ADDR: w = r_ctrl;
+                    HFI_STATUS_ADDR: w = status_word;
+                    HFI_IRQ_STATUS_ADDR: w = r_irq_status;
+                    HFI_IRQ_ENABLE_ADDR: w = r_irq_enable;
+                    HFI_PWM_HALF_ADDR: w = r_pwm_half;
+                    HFI_DEAD_TICKS_ADDR: w = r_dead_ticks;
+                    HFI_OS_TICKS_ADDR: w = r_os_ticks;
+                    HFI_BLANK_TICKS_ADDR: w = r_blank_ticks;
+                    HFI_CW_ANGLE_STEP_ADDR: w = r_cw_angle_step;
+                    HFI_ADC_OFFSET_ADDR: w = r_adc_offset;
+                    HFI_ADC_GAIN_ADDR: w = r_adc_gain;
+                    HFI_OC_LIMIT_ADDR: w = r_oc_limit;
+                    HFI_WDT_PERIODS_ADDR: w = r_wdt_periods;
+                    HFI_V_DQ_ADDR: w = r_v_dq;
+                    HFI_V_H_ADDR: w = r_v_h;
+                    HFI_SINCOS_ADDR: w = r_sincos;
+                    HFI_GAMMA_ADDR: w = gamma;
+                    HFI_GAMMA_D_ADDR: w = gamma_d;
+                    HFI_SUM_ID_ADDR: w = sum_id;
+                    HFI_SUM_IQ_ADDR: w = sum_iq;
+                    HFI_WSUM_ADDR: w = wsum;
+                    HFI_N_SAMPLES_ADDR: w = {16'd0, n_samples};
+                    HFI_WINDOW_COUNT_ADDR: w = window_count;
+                    HFI_LATE_COUNT_ADDR: w = {16'd0, late_count};
+                    HFI_SPEED_REF_ADDR: w = r_speed_ref;
+                    HFI_DTC_GAIN_ADDR: w = r_dtc_gain;
+                    HFI_HF_AMP_ADDR: w = r_hf_amp;
+                    HFI_RECIP_H_ADDR: w = r_recip_h;
+                    HFI_I_REF_ADDR: w = r_i_ref;
+                    default: w = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
+                endcase
+            end
+            assign rd_table[32*wi +: 32] = w;
+        end
+    endgenerate
+    wire [31:0] rd_word = (rd_hi_zero && rd_addr[1:0] == 2'b00) ? rd_table[32*rd_addr[7:2] +: 32] : 32'd0;
 
     always @(posedge clk) begin
         if (rst) begin

@@ -17,6 +17,11 @@ from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
 from axil_driver import AxiLiteMaster
 from golden import regmap as rm
 
+GATE_LATENCY = 2
+"""hfi_dsp's gate pins show the golden gate mask of tick t in cycle t + GATE_LATENCY (docs/rtl.md)."""
+CONVST_LATENCY = 2
+"""The ADC's CONVST of the sample taken at tick t rises in cycle t + CONVST_LATENCY (docs/rtl.md)."""
+
 RESULTS = (("GAMMA", "gamma", True), ("GAMMA_D", "gamma_d", True), ("SUM_ID", "sum_id", True),
            ("SUM_IQ", "sum_iq", True), ("WSUM", "wsum", True), ("N_SAMPLES", "n_samples", False))
 
@@ -93,15 +98,15 @@ async def replay_golden_closed_loop(dut):
     await ClockCycles(dut.clk, 2)
     end = int(tr["end_tick"])
     rtl_edges = np.loadtxt("gates.txt", dtype=np.int64, ndmin=2)
-    rtl_edges = rtl_edges[rtl_edges[:, 0] - 1 < end]
+    rtl_edges = rtl_edges[rtl_edges[:, 0] - GATE_LATENCY < end]
     gold_ticks, gold_masks = tr["edge_tick"], tr["edge_mask"]
     n = min(len(rtl_edges), len(gold_ticks))
-    bad = np.flatnonzero((rtl_edges[:n, 0] - 1 != gold_ticks[:n]) | (rtl_edges[:n, 1] != gold_masks[:n]))
+    bad = np.flatnonzero((rtl_edges[:n, 0] - GATE_LATENCY != gold_ticks[:n]) | (rtl_edges[:n, 1] != gold_masks[:n]))
     assert len(rtl_edges) == len(gold_ticks) and bad.size == 0, (
         f"gate edges differ: RTL {len(rtl_edges)} edges, golden {len(gold_ticks)}; first difference at "
-        f"edge {bad[0] if bad.size else n}: RTL {rtl_edges[bad[0]] if bad.size else '-'} (tick+1, mask), "
+        f"edge {bad[0] if bad.size else n}: RTL {rtl_edges[bad[0]] if bad.size else '-'} (tick + GATE_LATENCY, mask), "
         f"golden {(gold_ticks[bad[0]], gold_masks[bad[0]]) if bad.size else '-'}")
-    convst = np.loadtxt("convst.txt", dtype=np.int64, ndmin=1) - 1
+    convst = np.loadtxt("convst.txt", dtype=np.int64, ndmin=1) - CONVST_LATENCY
     convst = convst[(convst >= int(tr["first_window_tick"])) & (convst < end)]
     assert np.array_equal(convst, tr["sample_tick"]), (
         f"sampling instants differ: RTL {len(convst)}, golden {len(tr['sample_tick'])} samples")

@@ -14,6 +14,7 @@ from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
 
 from axil_driver import AxiLiteMaster
 from golden import regmap as rm
+from tb_dsp_replay import CONVST_LATENCY, GATE_LATENCY
 
 H = rm.PWM_HALF_VALUE_RESET
 P = 2 * H
@@ -47,7 +48,7 @@ async def commit(axi, v_h: int) -> None:
 
 def records(dut_flush_done=True):
     gates = np.loadtxt("gates.txt", dtype=np.int64, ndmin=2)
-    convst = np.loadtxt("convst.txt", dtype=np.int64, ndmin=1) - 1     # sampling ticks
+    convst = np.loadtxt("convst.txt", dtype=np.int64, ndmin=1) - CONVST_LATENCY   # sampling ticks
     return gates, convst
 
 
@@ -104,7 +105,7 @@ async def overcurrent_trip_latch_and_clear(dut):
     resumed = gates[gates[:, 0] > clear_tick]
     assert resumed.size, "gates did not resume after FAULT_CLEAR"
     dead = rm.DEAD_TICKS_VALUE_RESET
-    first_on = int(resumed[0, 0]) - 1               # golden tick of the first turn-on
+    first_on = int(resumed[0, 0]) - GATE_LATENCY    # golden tick of the first turn-on
     assert (first_on - dead) % P == 0, f"gates resumed at tick {first_on}, not a bottom + dead time"
 
 
@@ -134,5 +135,6 @@ async def watchdog_turns_gates_off(dut):
     gates, _ = records()
     t_fire = boundary[3 + periods - 1]
     off = gates[(gates[:, 0] > t_fire - 1) & (gates[:, 1] == 0)]
-    assert off.size and int(off[0, 0]) - t_fire <= 3, f"gates not off right after the watchdog: {off[:3]}"
+    # the boundary counts the missed window (1 clock), the fault latches (1 clock), then GATE_LATENCY
+    assert off.size and int(off[0, 0]) - t_fire == 2 + GATE_LATENCY, f"gates not off right after the watchdog: {off[:3]}"
     cocotb.log.info(f"watchdog: fault at boundary tick {t_fire}, gates off in cycle {int(off[0, 0])}")

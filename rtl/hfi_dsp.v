@@ -189,14 +189,21 @@ module hfi_dsp #(
     wire en_now = at_bottom ? (ctrl_enable & ~fault) : en_applied;   // ENABLE applies at a bottom
     assign outputs_on = en_applied & ~fault;
     wire [2:0] ideal_s;
+    wire [5:0] gate_gen_out;
     wire       sw_event;
     hfi_gate_gen #(.DEAD_MIN(DEAD_MIN)) u_gate_gen (
         .clk(clk), .rst(rst), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
         .cmp_bot_a(cmp_bot_a), .cmp_bot_b(cmp_bot_b), .cmp_bot_c(cmp_bot_c),
         .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),
         .dead_reg(dead_ticks), .enable(en_now & ~fault), .kill(fault),
-        .gate(gate), .s(ideal_s), .sw_event(sw_event)
+        .gate(gate_gen_out), .s(ideal_s), .sw_event(sw_event)
     );
+    // Output register (docs/rtl.md, GATE_LATENCY = 2): the pins are driven straight from flip-flops,
+    // and the gates keep the same one-tick offset to the sampling instants as CONVST (below).
+    reg [5:0] gate_q;
+    always @(posedge clk)
+        gate_q <= rst ? 6'd0 : gate_gen_out;
+    assign gate = gate_q;
 
     // ---------------------------------------------------------------- sampling (spec 2.3)
     wire sample, sample_keep;
@@ -207,22 +214,32 @@ module hfi_dsp #(
         .sw_event(sw_event), .sample(sample), .keep(sample_keep), .mode(adc_mode_used)
     );
     // Window parity of the sampling tick: a sample at the boundary tick belongs to the new window.
-    wire sample_parity = at_zc ? ~win_parity : win_parity;
+    // The sampling instant, its flags and its weight angle are registered once before they start the
+    // ADC and the CORDIC (timing: the trigger's blanking depends on this tick's switch events), so
+    // CONVST of the sample of tick t rises in cycle t + 2 (docs/rtl.md).
+    reg sample_q, keep_q, parity_q;
+    reg [31:0] angle_q;
+    always @(posedge clk) begin
+        sample_q <= rst ? 1'b0 : sample;
+        keep_q <= sample_keep;
+        parity_q <= at_zc ? ~win_parity : win_parity;
+        angle_q <= cw_angle;
+    end
 
     // ---- current path: serial ADC -> offset/gain -> (overcurrent) -> Clarke/Park
     wire [ADC_BITS-1:0] code_a, code_b;
     wire adc_busy, adc_done;
     hfi_adc_if #(.ADC_BITS(ADC_BITS), .CONV_TICKS(ADC_CONV_TICKS), .SCLK_HALF(ADC_SCLK_HALF),
                  .MAX_CYCLE(OS_MIN)) u_adc (
-        .clk(clk), .rst(rst), .start(sample), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
+        .clk(clk), .rst(rst), .start(sample_q), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
         .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
         .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b)
     );
     reg tag_adc_keep, tag_adc_par;      // tags of the sample in the ADC
     always @(posedge clk)
-        if (sample && !adc_busy) begin
-            tag_adc_keep <= sample_keep;
-            tag_adc_par <= sample_parity;
+        if (sample_q && !adc_busy) begin
+            tag_adc_keep <= keep_q;
+            tag_adc_par <= parity_q;
         end
 
     wire signed [15:0] i_a, i_b;
@@ -262,7 +279,7 @@ module hfi_dsp #(
     wire signed [15:0] w_sin, w_cos_unused;
     wire cordic_busy, cordic_done;
     hfi_cordic #(.WIDTH(CORDIC_WIDTH), .ITERATIONS(CORDIC_ITERATIONS)) u_cordic (
-        .clk(clk), .rst(rst), .start(sample), .angle(cw_angle), .busy(cordic_busy), .done(cordic_done),
+        .clk(clk), .rst(rst), .start(sample_q), .angle(angle_q), .busy(cordic_busy), .done(cordic_done),
         .sin_q15(w_sin), .cos_q15(w_cos_unused)
     );
 
@@ -352,7 +369,7 @@ module hfi_dsp #(
             $error("hfi_dsp: a CORDIC weight arrived before the current of the previous sample");
         if (!rst && got_i && park_done && !join_both)
             $error("hfi_dsp: a current arrived before the weight of the previous sample");
-        if (!rst && sample && (adc_busy || cordic_busy))
+        if (!rst && sample_q && (adc_busy || cordic_busy))
             $error("hfi_dsp: sampling instant while the ADC or the CORDIC is busy (OS_MIN too small)");
         if (!rst && at_deadline && join_both && dm_par != win_parity)
             $error("hfi_dsp: a sample of the previous window arrived after the window deadline");

@@ -13,7 +13,7 @@
 //
 // Widths: i_c = -i_a - i_b lies in -65534..65536. Spec 3.1 calls it s17; 65536 (i_a = i_b = -32768)
 // is not an s17 value (it would wrap to -65536, whose magnitude is the same, so an s17 i_c works only
-// if the magnitude is taken in 18 bits). Here i_c and all magnitudes are formed exactly in s18
+// if the magnitude is taken in 18 bits). Here the sum and the +-limit comparisons are exact in s18
 // (|i_a|, |i_b| <= 32768, |i_c| <= 65536) and compared with the zero-extended u16 limit, so
 // |-32768| = 32768 trips for any limit <= 32767 and only i_c can exceed a limit >= 32768
 // (65536 > 65535 trips even at the largest limit).
@@ -31,15 +31,13 @@ module hfi_overcurrent (
 );
     wire signed [17:0] a = {{2{i_a[15]}}, i_a};
     wire signed [17:0] b = {{2{i_b[15]}}, i_b};
-    wire signed [17:0] c = -a - b;                      // i_c, -65534..65536
+    wire signed [17:0] lim     = $signed({2'b00, limit});
+    wire signed [17:0] neg_lim = -lim;                   // -65535..0
 
-    // Magnitudes (non-negative, < 2^17, exact in s18).
-    wire signed [17:0] abs_a = a[17] ? -a : a;
-    wire signed [17:0] abs_b = b[17] ? -b : b;
-    wire signed [17:0] abs_c = c[17] ? -c : c;
-    wire signed [17:0] lim   = $signed({2'b00, limit});
-
-    wire over = (abs_a > lim) | (abs_b > lim) | (abs_c > lim);
+    // |x| > L  <=>  x > L or x < -L; for i_c = -(i_a + i_b) the same test on s = i_a + i_b.
+    // Two carry chains deep (the sum, then the compares), no absolute values: timing (docs/rtl.md).
+    wire signed [17:0] s = a + b;                        // -65536..65534, exact in s18
+    wire over = (a > lim) | (a < neg_lim) | (b > lim) | (b < neg_lim) | (s > lim) | (s < neg_lim);
 
     always @(posedge clk) begin
         if (rst)

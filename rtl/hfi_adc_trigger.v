@@ -61,7 +61,11 @@ module hfi_adc_trigger #(
     reg  [15:0] blank_q;    // BLANK_TICKS of the current window
     reg  [15:0] os_q;       // OS interval of the current period (latched at the bottom)
     reg  [15:0] os_pos_q;   // phi mod OS for the current tick (not used in the bottom tick)
-    reg  [15:0] age_q;      // ticks since the latest switch event before this tick, saturating
+    reg  [15:0] age_q;      // age_now of the previous tick
+    reg         ev_q;       // sw_event of the previous tick
+    // ticks since the latest switch event before this tick, saturating; formed from registers only,
+    // so the gate generator's same-tick sw_event does not reach the age counter (timing)
+    wire [15:0] age_now = ev_q ? 16'd1 : (age_q == 16'hFFFF ? age_q : age_q + 16'd1);
 
     assign mode = at_zc ? mode_reg : mode_q;
     wire [15:0] blank  = at_zc ? blank_ticks_reg : blank_q;
@@ -75,7 +79,7 @@ module hfi_adc_trigger #(
     assign sample    = (mode == MODE_DS) ? ds_hit : os_hit;
 
     // blanking: an event in this tick or one less than BLANK_TICKS ticks ago
-    wire blanked = (blank != 16'd0) && (sw_event || (age_q < blank));
+    wire blanked = (blank != 16'd0) && (sw_event || (age_now < blank));
     assign keep  = !(mode == MODE_OS_BLANK && blanked);
 
     wire [16:0] os_pos_inc = {1'b0, os_pos} + 17'd1;
@@ -87,15 +91,14 @@ module hfi_adc_trigger #(
             os_q     <= os_in;
             os_pos_q <= 16'd0;
             age_q    <= 16'hFFFF;
+            ev_q     <= 1'b0;
         end else begin
             mode_q   <= mode;
             blank_q  <= blank;
             os_q     <= os_now;
             os_pos_q <= (os_pos_inc == {1'b0, os_now}) ? 16'd0 : os_pos_inc[15:0];
-            if (sw_event)
-                age_q <= 16'd1;
-            else if (age_q != 16'hFFFF)
-                age_q <= age_q + 16'd1;
+            age_q    <= age_now;
+            ev_q     <= sw_event;
         end
     end
 endmodule

@@ -118,14 +118,18 @@ module hfi_carrier (
     reg  [31:0] hs;        // H*STEP mod 2^32 of the (half, step) in use (once known)
     reg  [31:0] m2cs;      // 2*c*STEP mod 2^32 of the current tick
     reg         last;      // this tick is the last of the period (phi = 2H - 1): the next is a bottom
+    reg  [15:0] top_m1;    // H - 1 and H/2 - 1 of the half period in use (strobe targets)
+    reg  [15:0] zc_m1;
 
     wire        bottom_n = rst | last;                            // the next tick is a bottom
     wire [15:0] c_step   = rising ? counter + 16'd1 : counter - 16'd1;
     wire [15:0] c_n      = bottom_n ? 16'd0 : c_step;             // counter of the next tick
     // strobes of the next tick (half is unchanged unless the next tick is a bottom, where c_n = 0)
-    wire        top_n    = !bottom_n && rising && (c_step == half);
-    wire        zc_n     = !bottom_n && rising && (c_step == {1'b0, half[15:1]});
-    wire        last_n   = !bottom_n && !rising && (c_step == 16'd1);
+    // The strobes of the next tick compare the current counter with precomputed targets (no adder in
+    // the path): c + 1 == H <=> c == H - 1 (rising, c < H), c - 1 == 1 <=> c == 2 (falling).
+    wire        top_n    = !bottom_n && rising && (counter == top_m1);
+    wire        zc_n     = !bottom_n && rising && (counter == zc_m1);
+    wire        last_n   = !bottom_n && !rising && (counter == 16'd2);
     wire        rising_n = bottom_n | (rising & ~top_n);
 
     // pair in use next tick; does the ready triple describe it (then its product is hs)?
@@ -161,6 +165,8 @@ module hfi_carrier (
         at_zc     <= zc_n;
         last      <= last_n;
         half      <= half_n;
+        top_m1    <= half_n - 16'd1;
+        zc_m1     <= {1'b0, half_n[15:1]} - 16'd1;
         step      <= step_n;
         hs        <= hs_n;
         m2cs      <= m2cs_n;

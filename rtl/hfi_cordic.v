@@ -95,7 +95,10 @@ module hfi_cordic #(
     assign busy = busy_r;
 
     // ---- one iteration (combinational) ---------------------------------------------------------------
-    wire        [31:0] atan_i = hfi_cordic_atan({27'd0, iter});
+    // ATAN[iter] comes from a register loaded one cycle ahead from its own counter (iter + 1), so no
+    // adder precedes the table lookup (timing).
+    reg              [4:0] iter_p1;  // iter + 1
+    reg             [31:0] atan_i;   // ATAN[iter]
     wire signed [WIDTH-1:0] x_sh = x >>> iter;
     wire signed [WIDTH-1:0] y_sh = y >>> iter;
     wire               z_neg = z[31];      // d = -1
@@ -161,11 +164,15 @@ module hfi_cordic #(
                 x <= X0;
                 y <= {WIDTH{1'b0}};
                 z <= {angle[30], angle[30:0]};  // angle - 2^31 if folded, else angle as s32
+                iter_p1 <= 5'd1;
+                atan_i <= hfi_cordic_atan(0);
             end
         end else if (rot) begin
             x <= x_next;
             y <= y_next;
             z <= z_next;
+            iter_p1 <= iter_p1 + 5'd1;
+            atan_i <= hfi_cordic_atan({27'd0, iter_p1});
         end
     end
 

@@ -68,12 +68,14 @@ def random_blank(rng, h: int) -> int:
     return int(rng.integers(1, h))
 
 
-async def run_once(dut, b, rng, h_reg: int, n_periods: int):
+async def run_once(dut, b, rng, h_reg: int, n_periods: int, first_mode: int | None = None):
     h = effective_half(h_reg)
     P = 2 * h
     os_min = b["os_min"]
     # ---- reset with the initial register values --------------------------------------------------
     mode0, os0, blank0 = int(rng.integers(0, 4)), random_os(rng, os_min, h), random_blank(rng, h)
+    if first_mode is not None:                            # coverage by construction (random_runs)
+        mode0, blank0 = first_mode, h
     dut.rst.value = 1
     dut.pwm_half_reg.value = h_reg
     dut.mode_reg.value = mode0
@@ -188,9 +190,12 @@ async def random_runs(dut):
     OS_TICKS / BLANK_TICKS writes (also at and next to the boundaries) and random switch events."""
     n = TICKS_PER_N * int(os.environ["HFI_RANDOM_N"])
     b, rng = await setup(dut)
-    while b["ticks"] < n:
+    runs = 0
+    while b["ticks"] < n or runs < 4:
         h_reg = int(rng.integers(512, 700)) if rng.random() < 0.8 else int(rng.integers(0, 1600))
-        await run_once(dut, b, rng, h_reg, int(rng.integers(2, 30)))
+        # the first four runs start in each ADC_MODE (OS_BLANK with BLANK_TICKS = H: samples dropped)
+        await run_once(dut, b, rng, h_reg, int(rng.integers(2, 30)), runs if runs < 4 else None)
+        runs += 1
     cocotb.log.info(f"{b['ticks']} ticks, {b['samples']} samples ({b['dropped']} dropped by OS_BLANK) "
                     f"compared; modes seen {sorted(b['modes'])}")
     if n >= 30_000:

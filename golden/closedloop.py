@@ -84,6 +84,7 @@ class ClosedLoopResult:
     tick_hz: float
     flipped: int
     wall_s: float
+    soc: dict | None = None  # rtl backend only: firmware cycles, late commits, co-simulation speed, UART log
 
     @property
     def t(self) -> np.ndarray:

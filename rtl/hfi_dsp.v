@@ -35,6 +35,10 @@ module hfi_dsp #(
 ) (
     input  wire        clk,
     input  wire        rst,
+    // timing enable: 0 holds the carrier, sampling, windows and gates at their reset state while the
+    // registers stay writable; tick 0 is the first clock with rst = 0 and run = 1 (docs/rtl.md).
+    // Tie to 1 to start at reset.
+    input  wire        run,
     // AXI4-Lite slave (byte addresses 0x00..0xFF)
     input  wire [7:0]  s_axil_awaddr,
     input  wire        s_axil_awvalid,
@@ -72,6 +76,9 @@ module hfi_dsp #(
             hfi_dsp_parameter_error_OS_MIN_below_CORDIC_ITERATIONS_plus_8 bad();
         end
     endgenerate
+
+    // ---------------------------------------------------------------- reset of the timing
+    wire rst_dp = rst | ~run;           // everything but the register block
 
     // ---------------------------------------------------------------- registers
     wire        ctrl_enable, ctrl_inj_en, fault_clear, commit_go;
@@ -115,7 +122,7 @@ module hfi_dsp #(
     wire        rising, at_bottom, at_top, at_zc;
     wire [31:0] cw_angle;
     hfi_carrier u_carrier (
-        .clk(clk), .rst(rst), .pwm_half_reg(pwm_half_reg), .cw_step_reg(cw_step_reg),
+        .clk(clk), .rst(rst_dp), .pwm_half_reg(pwm_half_reg), .cw_step_reg(cw_step_reg),
         .phase(phase), .counter(counter), .half(half), .rising(rising), .at_bottom(at_bottom),
         .at_top(at_top), .at_zc(at_zc), .cw_angle(cw_angle)
     );
@@ -132,7 +139,7 @@ module hfi_dsp #(
     reg        zc_d1;                   // the cycle after a boundary: the modulator starts
 
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst_dp) begin
             act_v_d <= 16'sd0; act_v_q <= 16'sd0; act_v_h <= 15'd0;
             act_sin <= 16'sd0; act_cos <= 16'sd32767;
             act_i_d_ref <= 16'sd0; act_i_q_ref <= 16'sd0;
@@ -174,7 +181,7 @@ module hfi_dsp #(
     wire [15:0] cmp_top_a, cmp_top_b, cmp_top_c, cmp_bot_a, cmp_bot_b, cmp_bot_c;
     wire        mod_busy, mod_done;
     hfi_modulator u_modulator (
-        .clk(clk), .rst(rst), .start(zc_d1),
+        .clk(clk), .rst(rst_dp), .start(zc_d1),
         .v_d(act_v_d), .v_q(act_v_q), .v_h(act_inj_en ? {1'b0, act_v_h} : 16'sd0),
         .sin_q15(act_sin), .cos_q15(act_cos), .i_d_ref(act_i_d_ref), .i_q_ref(act_i_q_ref),
         .half(half), .dead(dead_eff), .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h),
@@ -192,7 +199,7 @@ module hfi_dsp #(
     wire [5:0] gate_gen_out;
     wire       sw_event;
     hfi_gate_gen #(.DEAD_MIN(DEAD_MIN)) u_gate_gen (
-        .clk(clk), .rst(rst), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
+        .clk(clk), .rst(rst_dp), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
         .cmp_bot_a(cmp_bot_a), .cmp_bot_b(cmp_bot_b), .cmp_bot_c(cmp_bot_c),
         .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),
         .dead_reg(dead_ticks), .enable(en_now & ~fault), .kill(fault),
@@ -202,14 +209,14 @@ module hfi_dsp #(
     // and the gates keep the same one-tick offset to the sampling instants as CONVST (below).
     reg [5:0] gate_q;
     always @(posedge clk)
-        gate_q <= rst ? 6'd0 : gate_gen_out;
+        gate_q <= rst_dp ? 6'd0 : gate_gen_out;
     assign gate = gate_q;
 
     // ---------------------------------------------------------------- sampling (spec 2.3)
     wire sample, sample_keep;
     wire [1:0] adc_mode_used;
     hfi_adc_trigger #(.OS_MIN(OS_MIN)) u_trigger (
-        .clk(clk), .rst(rst), .phase(phase), .half(half), .at_zc(at_zc), .at_bottom(at_bottom),
+        .clk(clk), .rst(rst_dp), .phase(phase), .half(half), .at_zc(at_zc), .at_bottom(at_bottom),
         .mode_reg(ctrl_adc_mode), .os_ticks_reg(os_ticks), .blank_ticks_reg(blank_ticks),
         .sw_event(sw_event), .sample(sample), .keep(sample_keep), .mode(adc_mode_used)
     );
@@ -220,7 +227,7 @@ module hfi_dsp #(
     reg sample_q, keep_q, parity_q;
     reg [31:0] angle_q;
     always @(posedge clk) begin
-        sample_q <= rst ? 1'b0 : sample;
+        sample_q <= rst_dp ? 1'b0 : sample;
         keep_q <= sample_keep;
         parity_q <= at_zc ? ~win_parity : win_parity;
         angle_q <= cw_angle;
@@ -231,7 +238,7 @@ module hfi_dsp #(
     wire adc_busy, adc_done;
     hfi_adc_if #(.ADC_BITS(ADC_BITS), .CONV_TICKS(ADC_CONV_TICKS), .SCLK_HALF(ADC_SCLK_HALF),
                  .MAX_CYCLE(OS_MIN)) u_adc (
-        .clk(clk), .rst(rst), .start(sample_q), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
+        .clk(clk), .rst(rst_dp), .start(sample_q), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
         .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
         .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b)
     );
@@ -245,7 +252,7 @@ module hfi_dsp #(
     wire signed [15:0] i_a, i_b;
     wire scale_done;
     hfi_adc_scale #(.ADC_BITS(ADC_BITS)) u_scale (
-        .clk(clk), .rst(rst), .start(adc_done), .code_a(code_a), .code_b(code_b),
+        .clk(clk), .rst(rst_dp), .start(adc_done), .code_a(code_a), .code_b(code_b),
         .offset_a(adc_offset_a), .offset_b(adc_offset_b), .gain_a(adc_gain_a), .gain_b(adc_gain_b),
         .done(scale_done), .i_a(i_a), .i_b(i_b)
     );
@@ -258,13 +265,13 @@ module hfi_dsp #(
 
     wire oc_trip;
     hfi_overcurrent u_oc (
-        .clk(clk), .rst(rst), .valid(scale_done), .i_a(i_a), .i_b(i_b), .limit(oc_limit), .trip(oc_trip)
+        .clk(clk), .rst(rst_dp), .valid(scale_done), .i_a(i_a), .i_b(i_b), .limit(oc_limit), .trip(oc_trip)
     );
 
     wire signed [15:0] i_d, i_q;
     wire park_done;
     hfi_park u_park (
-        .clk(clk), .rst(rst), .start(scale_done), .i_a(i_a), .i_b(i_b),
+        .clk(clk), .rst(rst_dp), .start(scale_done), .i_a(i_a), .i_b(i_b),
         .sin_q15(bank_sin[tag_scale_par]), .cos_q15(bank_cos[tag_scale_par]),
         .done(park_done), .i_d(i_d), .i_q(i_q)
     );
@@ -279,7 +286,7 @@ module hfi_dsp #(
     wire signed [15:0] w_sin, w_cos_unused;
     wire cordic_busy, cordic_done;
     hfi_cordic #(.WIDTH(CORDIC_WIDTH), .ITERATIONS(CORDIC_ITERATIONS)) u_cordic (
-        .clk(clk), .rst(rst), .start(sample_q), .angle(angle_q), .busy(cordic_busy), .done(cordic_done),
+        .clk(clk), .rst(rst_dp), .start(sample_q), .angle(angle_q), .busy(cordic_busy), .done(cordic_done),
         .sin_q15(w_sin), .cos_q15(w_cos_unused)
     );
 
@@ -289,7 +296,7 @@ module hfi_dsp #(
     reg j_keep, j_par;
     wire join_both = (got_i | park_done) & (got_w | cordic_done);
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst_dp) begin
             got_i <= 1'b0; got_w <= 1'b0;
         end else if (join_both) begin
             got_i <= 1'b0; got_w <= 1'b0;
@@ -319,7 +326,7 @@ module hfi_dsp #(
     wire demod_latch = sample_ends | deadline_ends;
     wire demod_latched;
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst_dp) begin
             acc_parity <= 1'b1;
             since_zc <= 16'hFFFF;
             irq_window_set <= 1'b0;
@@ -335,14 +342,14 @@ module hfi_dsp #(
     end
 
     hfi_demodulator u_demod (
-        .clk(clk), .rst(rst), .valid(join_both), .keep(dm_keep), .i_d(dm_i_d), .i_q(dm_i_q), .w(dm_w),
+        .clk(clk), .rst(rst_dp), .valid(join_both), .keep(dm_keep), .i_d(dm_i_d), .i_q(dm_i_q), .w(dm_w),
         .latch(demod_latch), .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id), .sum_iq(sum_iq),
         .wsum(wsum), .n_samples(n_samples), .latched(demod_latched)
     );
 
     // ---------------------------------------------------------------- faults (spec 2.2, 3.7)
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst_dp) begin
             fault_oc <= 1'b0;
             fault_wdt <= 1'b0;
             en_applied <= 1'b0;
@@ -365,13 +372,13 @@ module hfi_dsp #(
 `ifndef SYNTHESIS
     // Simulation checks of the pipeline assumptions (docs/rtl.md): one sample per stage at a time.
     always @(posedge clk) begin
-        if (!rst && got_w && cordic_done && !join_both)
+        if (!rst_dp && got_w && cordic_done && !join_both)
             $error("hfi_dsp: a CORDIC weight arrived before the current of the previous sample");
-        if (!rst && got_i && park_done && !join_both)
+        if (!rst_dp && got_i && park_done && !join_both)
             $error("hfi_dsp: a current arrived before the weight of the previous sample");
-        if (!rst && sample_q && (adc_busy || cordic_busy))
+        if (!rst_dp && sample_q && (adc_busy || cordic_busy))
             $error("hfi_dsp: sampling instant while the ADC or the CORDIC is busy (OS_MIN too small)");
-        if (!rst && at_deadline && join_both && dm_par != win_parity)
+        if (!rst_dp && at_deadline && join_both && dm_par != win_parity)
             $error("hfi_dsp: a sample of the previous window arrived after the window deadline");
     end
 `endif

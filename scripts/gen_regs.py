@@ -1,29 +1,38 @@
 #!/usr/bin/env python3
-"""Generate the register map outputs from the SystemRDL source ``rtl/regs/hfi_regs.rdl``.
+"""Generate the register map outputs from the SystemRDL sources of ``MAPS``.
+
+Two register maps (``MAPS`` below), each compiled the same way into five outputs:
+
+- ``rtl/regs/hfi_regs.rdl`` (addrmap ``hfi_regs``, the hfi_dsp peripheral): ``firmware/include/hfi_regs.h``,
+  ``golden/regmap.py``, ``docs/registers.md``, ``out/docs/registers/``, ``rtl/regs/hfi_regs_map.vh``;
+- ``rtl/regs/hfi_soc.rdl`` (addrmap ``hfi_soc``, the SoC control block hfi_soc_ctl):
+  ``firmware/include/hfi_soc_regs.h``, ``golden/socmap.py``, ``docs/soc_registers.md``,
+  ``out/docs/soc_registers/``, ``rtl/regs/hfi_soc_map.vh``.
 
 Outputs (paths relative to the repository root), all written deterministically:
 
-- ``firmware/include/hfi_regs.h``: PeakRDL-cheader (register unions with bit-fields, per-field
-  ``_bm``/``_bp``/``_bw``/``_reset`` macros, the ``hfi_regs_t`` block struct), plus a block of
-  register byte-offset macros ``HFI_REGS__<REG>_offset`` added here (PeakRDL-cheader 1.1 has none)
-  with C11 static checks of ``hfi_regs_t`` against them;
-- ``golden/regmap.py``: Python constants and ``pack``/``unpack`` helpers, from our own walker;
-- ``docs/registers.md``: PeakRDL-markdown;
-- ``out/docs/registers/``: PeakRDL-html (static site, 8 MB of fonts and scripts: built, not committed;
-  open ``index.html``);
-- ``rtl/regs/hfi_regs_map.vh``: Verilog ``localparam`` constants (addresses, field positions, widths,
-  reset values) for the register block ``rtl/hfi_regs.v``, from our own walker. (PeakRDL-regblock's
-  output is SystemVerilog with packed structs and an interface port, which Yosys cannot read and
-  Icarus only partly; the IP must synthesize with the open flow, so the block is plain Verilog-2005
-  written against these constants and tested against ``golden/regmap.py``.)
+- C header: PeakRDL-cheader (register unions with bit-fields, per-field ``_bm``/``_bp``/``_bw``/
+  ``_reset`` macros, the ``<top>_t`` block struct), plus a block of register byte-offset macros
+  ``<TOP>__<REG>_offset`` (``HFI_REGS__CTRL_offset``, ``HFI_SOC__CTRL_offset``) added here
+  (PeakRDL-cheader 1.1 has none) with C11 static checks of ``<top>_t`` against them;
+- Python constants and ``pack``/``unpack`` helpers, from our own walker;
+- Markdown: PeakRDL-markdown;
+- HTML: PeakRDL-html (static site, 8 MB of fonts and scripts: built, not committed; open
+  ``index.html``);
+- Verilog ``localparam`` constants (addresses, field positions, widths, reset values; prefix ``HFI_``
+  for ``rtl/hfi_regs.v``, ``SOC_`` for ``rtl/hfi_soc_ctl.v``), from our own walker.
+  (PeakRDL-regblock's output is SystemVerilog with packed structs and an interface port, which Yosys
+  cannot read and Icarus only partly; the IP must synthesize with the open flow, so the blocks are
+  plain Verilog-2005 written against these constants and tested against the Python constants.)
 
 Usage::
 
-    python scripts/gen_regs.py            # (re)write every output
+    python scripts/gen_regs.py            # (re)write every output of every map
     python scripts/gen_regs.py --check    # regenerate into a temporary directory; exit 1 and list
                                           # the outputs that differ from the files in the tree
+    python scripts/gen_regs.py --map hfi_soc [--check]   # one map only
 
-An error in the RDL prints the compiler's message and exits with status 1.
+An error in an RDL prints the compiler's message and exits with status 1 (nothing is written).
 """
 
 from __future__ import annotations
@@ -34,6 +43,7 @@ import hashlib
 import shutil
 import sys
 import tempfile
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -42,17 +52,45 @@ from systemrdl.node import AddrmapNode, FieldNode, RegNode
 from systemrdl.rdltypes import AccessType, OnReadType, OnWriteType
 
 ROOT = Path(__file__).resolve().parents[1]
-RDL = "rtl/regs/hfi_regs.rdl"  # relative to ROOT; also the name written into the outputs
-TOP = "hfi_regs"
 
-HEADER = "firmware/include/hfi_regs.h"
-REGMAP_PY = "golden/regmap.py"
-MARKDOWN = "docs/registers.md"
-HTML_DIR = "out/docs/registers"
-VERILOG_MAP = "rtl/regs/hfi_regs_map.vh"
 
-# Single files (the HTML directory is compared as a tree).
-OUTPUT_FILES = (HEADER, REGMAP_PY, MARKDOWN, VERILOG_MAP)
+@dataclass(frozen=True)
+class RegMap:
+    """One register map: its SystemRDL source and its outputs (paths relative to ROOT)."""
+
+    rdl: str  # the source; also the name written into the outputs
+    top: str  # addrmap elaborated; the C prefix is top.upper(), the C block struct <top>_t
+    block: str  # the RTL block it describes (Verilog header comment, HTML title)
+    summary: str  # first line of the Python module's docstring
+    header: str  # C header
+    python: str  # Python constants, pack/unpack
+    markdown: str
+    html_dir: str  # built, not committed, not checked
+    verilog: str  # Verilog localparams
+    verilog_prefix: str  # of every Verilog constant
+
+    @property
+    def files(self) -> tuple[str, ...]:
+        """The single-file outputs (committed; compared by --check)."""
+        return (self.header, self.python, self.markdown, self.verilog)
+
+    @property
+    def html_title(self) -> str:
+        return f"{self.block} registers ({self.top})"
+
+
+MAPS = (
+    RegMap(rdl="rtl/regs/hfi_regs.rdl", top="hfi_regs", block="hfi_dsp",
+           summary="Register map of the hfi_dsp peripheral (docs/spec.md, section 4; docs/registers.md).",
+           header="firmware/include/hfi_regs.h", python="golden/regmap.py", markdown="docs/registers.md",
+           html_dir="out/docs/registers", verilog="rtl/regs/hfi_regs_map.vh", verilog_prefix="HFI_"),
+    RegMap(rdl="rtl/regs/hfi_soc.rdl", top="hfi_soc", block="hfi_soc_ctl",
+           summary="Register map of the SoC control block hfi_soc_ctl (docs/soc.md; docs/soc_registers.md).",
+           header="firmware/include/hfi_soc_regs.h", python="golden/socmap.py",
+           markdown="docs/soc_registers.md", html_dir="out/docs/soc_registers",
+           verilog="rtl/regs/hfi_soc_map.vh", verilog_prefix="SOC_"),
+)
+MAPS_BY_TOP = {m.top: m for m in MAPS}
 
 
 class GenError(Exception):
@@ -60,8 +98,9 @@ class GenError(Exception):
 
 
 # ---------------------------------------------------------------- compile
-def compile_rdl(rdl_path: Path) -> AddrmapNode:
-    """Compile and elaborate the RDL; the compiler prints its messages, then RDLCompileError."""
+def compile_rdl(rdl_path: Path, top: str) -> AddrmapNode:
+    """Compile the RDL and elaborate addrmap ``top``; the compiler prints its messages, then
+    RDLCompileError."""
     from peakrdl_regblock.udps import ALL_UDPS
 
     rdlc = RDLCompiler()
@@ -69,7 +108,7 @@ def compile_rdl(rdl_path: Path) -> AddrmapNode:
     for udp in ALL_UDPS:
         rdlc.register_udp(udp)
     rdlc.compile_file(str(rdl_path))
-    return rdlc.elaborate(TOP).top
+    return rdlc.elaborate(top).top
 
 
 # ---------------------------------------------------------------- our walker: the register model
@@ -106,7 +145,7 @@ def field_access(node: FieldNode) -> str:
     if onwrite == OnWriteType.woset:
         return "w1s"
     if onwrite is not None:
-        raise GenError(f"{node.get_path()}: onwrite={onwrite.name} not supported by golden/regmap.py")
+        raise GenError(f"{node.get_path()}: onwrite={onwrite.name} not supported by scripts/gen_regs.py")
     if node.get_property("onread") == OnReadType.rclr:
         return "rc"
     return {AccessType.r: "ro", AccessType.rw: "rw", AccessType.rw1: "rw", AccessType.w: "wo",
@@ -121,7 +160,7 @@ class RegCollector(RDLListener):
 
     def enter_Reg(self, node: RegNode) -> None:
         if node.is_array:
-            raise GenError(f"{node.get_path()}: register arrays are not supported by golden/regmap.py")
+            raise GenError(f"{node.get_path()}: register arrays are not supported by scripts/gen_regs.py")
         reg = RegInfo(node.inst_name, node.absolute_address, node.get_property("name"))
         for f in node.fields():
             reset = f.get_property("reset")
@@ -148,14 +187,16 @@ def collect(top: AddrmapNode) -> list[RegInfo]:
     return regs
 
 
-# ---------------------------------------------------------------- golden/regmap.py
-REGMAP_DOC = '''\
-# generated by scripts/gen_regs.py from rtl/regs/hfi_regs.rdl, do not edit
-"""Register map of the hfi_dsp peripheral (docs/spec.md, section 4; docs/registers.md).
+# ---------------------------------------------------------------- golden/regmap.py, golden/socmap.py
+def regmap_doc(m: RegMap) -> str:
+    """The generated module's first comment and docstring, naming its own RDL."""
+    return (f"# generated by scripts/gen_regs.py from {m.rdl}, do not edit\n"
+            f'"""{m.summary}\n\n'
+            f"Generated by scripts/gen_regs.py from {m.rdl}, do not edit: change the RDL and run\n"
+            "``make regs``.\n\n" + REGMAP_DOC_BODY)
 
-Generated by scripts/gen_regs.py from rtl/regs/hfi_regs.rdl, do not edit: change the RDL and run
-``make regs``.
 
+REGMAP_DOC_BODY = '''\
 Per register ``<REG>_ADDR`` (byte address); per field ``<REG>_<FIELD>_LSB``, ``_WIDTH``, ``_MASK``
 (in the register) and ``_RESET`` (None for hardware-driven fields, which have no reset of their own).
 
@@ -236,8 +277,8 @@ def _num(v: int | None) -> str:
     return str(v) if v < 0x10000 else f"0x{v:08X}"
 
 
-def render_regmap(regs: list[RegInfo]) -> str:
-    lines = [REGMAP_DOC, "from __future__ import annotations", "", "REGWIDTH = 32", ""]
+def render_regmap(m: RegMap, regs: list[RegInfo]) -> str:
+    lines = [regmap_doc(m), "from __future__ import annotations", "", "REGWIDTH = 32", ""]
     for reg in regs:
         lines.append(f"# {reg.name} @ 0x{reg.addr:02X}: {reg.title}")
         lines.append(f"{reg.name}_ADDR = 0x{reg.addr:02X}")
@@ -268,37 +309,47 @@ def render_regmap(regs: list[RegInfo]) -> str:
 OFFSETS_ANCHOR = "\n#ifdef __cplusplus\n}\n#endif\n"
 
 
-def add_offset_macros(header: Path, regs: list[RegInfo], top_size: int) -> None:
+def add_offset_macros(header: Path, regs: list[RegInfo], top: AddrmapNode) -> None:
     """Insert register byte-offset macros (and static checks) before the header's closing C++ guard."""
     text = header.read_text(encoding="utf-8")
     if text.count(OFFSETS_ANCHOR) != 1:
         raise GenError(f"{header}: PeakRDL-cheader output changed: cannot find where to add the offsets")
-    prefix = TOP.upper()
+    name, top_size = top.inst_name, top.size
+    prefix = name.upper()
     block = ["", "// Register byte offsets from the peripheral base address (added by scripts/gen_regs.py)"]
     block += [f"#define {prefix}__{reg.name}_offset 0x{reg.addr:02x}" for reg in regs]
     block += ["", "// Layout checks of the block struct against the offsets (C11 and later)",
               "#if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L", "#include <stddef.h>",
-              f'_Static_assert(sizeof({TOP}_t) == 0x{top_size:x}, "{TOP}_t: size");']
-    block += [f'_Static_assert(offsetof({TOP}_t, {reg.name}) == {prefix}__{reg.name}_offset, '
-              f'"{TOP}_t: {reg.name} offset");' for reg in regs]
+              f'_Static_assert(sizeof({name}_t) == 0x{top_size:x}, "{name}_t: size");']
+    block += [f'_Static_assert(offsetof({name}_t, {reg.name}) == {prefix}__{reg.name}_offset, '
+              f'"{name}_t: {reg.name} offset");' for reg in regs]
     block += ["#endif"]
     text = text.replace(OFFSETS_ANCHOR, "\n".join(block) + "\n" + OFFSETS_ANCHOR)
     header.write_text(text, encoding="utf-8")
 
 
-# ---------------------------------------------------------------- rtl/regs/hfi_regs_map.vh
-def render_verilog_map(regs: list[RegInfo]) -> str:
-    """Verilog localparams: ``HFI_<REG>_ADDR`` (byte address) and per field ``HFI_<REG>_<FIELD>_LSB``,
-    ``_WIDTH``, ``_RESET`` (0 for hardware-driven fields); include inside a module body."""
-    lines = ["// generated by scripts/gen_regs.py from rtl/regs/hfi_regs.rdl, do not edit",
-             "// Register map constants of hfi_dsp (docs/registers.md); `include inside a module body.",
-             "// Per register HFI_<REG>_ADDR (byte address); per field HFI_<REG>_<FIELD>_LSB, _WIDTH,",
+# ---------------------------------------------------------------- rtl/regs/*_map.vh
+VERILOG_ADDR_BITS = 8  # localparam [7:0] <P><REG>_ADDR
+
+
+def render_verilog_map(m: RegMap, regs: list[RegInfo]) -> str:
+    """Verilog localparams (P = ``m.verilog_prefix``): ``P<REG>_ADDR`` (byte address) and per field
+    ``P<REG>_<FIELD>_LSB``, ``_WIDTH``, ``_RESET`` (0 for hardware-driven fields); include inside a
+    module body."""
+    p = m.verilog_prefix
+    lines = [f"// generated by scripts/gen_regs.py from {m.rdl}, do not edit",
+             f"// Register map constants of {m.block} ({m.markdown}); `include inside a module body.",
+             f"// Per register {p}<REG>_ADDR (byte address); per field {p}<REG>_<FIELD>_LSB, _WIDTH,",
              "// _RESET (0 for hardware-driven fields) and, as a comment, the software access.", ""]
     for reg in regs:
+        if reg.addr >= 1 << VERILOG_ADDR_BITS:
+            raise GenError(f"{m.rdl}: {reg.name} @ 0x{reg.addr:X} does not fit the {VERILOG_ADDR_BITS}-bit "
+                           f"Verilog addresses")
         lines.append(f"// {reg.name} @ 0x{reg.addr:02X}: {reg.title}")
-        lines.append(f"localparam [7:0] HFI_{reg.name}_ADDR = 8'h{reg.addr:02X};")
+        lines.append(f"localparam [{VERILOG_ADDR_BITS - 1}:0] {p}{reg.name}_ADDR = "
+                     f"{VERILOG_ADDR_BITS}'h{reg.addr:02X};")
         for f in reg.fields:
-            base = f"HFI_{reg.name}_{f.name}"
+            base = f"{p}{reg.name}_{f.name}"
             lines.append(f"localparam integer {base}_LSB = {f.lsb};  // {f.access}{', signed' if f.signed else ''}")
             lines.append(f"localparam integer {base}_WIDTH = {f.width};")
             lines.append(f"localparam [{f.width - 1}:0] {base}_RESET = {f.width}'h{(f.reset or 0):X};")
@@ -307,37 +358,41 @@ def render_verilog_map(regs: list[RegInfo]) -> str:
 
 
 # ---------------------------------------------------------------- all outputs
-def generate(out_root: Path, rdl_path: Path | None = None, html: bool = True) -> None:
-    """Compile the RDL and write every output under ``out_root`` (same layout as the repository);
-    ``html=False`` skips the HTML site (not committed, so not checked)."""
+def generate(out_root: Path, m: RegMap, rdl_path: Path, html: bool = True) -> None:
+    """Compile ``rdl_path`` (the source of ``m``) and write the outputs of ``m`` under ``out_root``
+    (same layout as the repository); ``html=False`` skips the HTML site (not committed, so not
+    checked). A compile error: GenError after the compiler's messages."""
     from peakrdl_cheader.c_standards import CStandard
     from peakrdl_cheader.exporter import CHeaderExporter
     from peakrdl_markdown import MarkdownExporter
 
-    rdl_path = rdl_path or ROOT / RDL
-    top = compile_rdl(rdl_path)
+    try:
+        top = compile_rdl(rdl_path, m.top)
+    except RDLCompileError:
+        # The compiler has already printed the message(s) with the source location.
+        raise GenError(f"{_rel(rdl_path)}: compilation failed") from None
     regs = collect(top)
-    for rel in (*OUTPUT_FILES, HTML_DIR + "/x"):
+    for rel in (*m.files, m.html_dir + "/x"):
         (out_root / rel).parent.mkdir(parents=True, exist_ok=True)
 
-    header = out_root / HEADER
+    header = out_root / m.header
     # gnu99: the header then includes only <stdint.h> (gnu11/gnu17 add <assert.h> for static_assert,
     # which a freestanding rv32 toolchain without a C library lacks); anonymous unions are not needed.
     CHeaderExporter().export(top, str(header), std=CStandard.gnu99, reuse_typedefs=False,
                              generate_bitfields=True)
-    add_offset_macros(header, regs, top.size)
+    add_offset_macros(header, regs, top)
 
-    (out_root / REGMAP_PY).write_text(render_regmap(regs), encoding="utf-8")
+    (out_root / m.python).write_text(render_regmap(m, regs), encoding="utf-8")
 
-    MarkdownExporter().export(top, str(out_root / MARKDOWN), input_files=[RDL])
+    MarkdownExporter().export(top, str(out_root / m.markdown), input_files=[m.rdl])
 
     if html:
-        _export_html(top, rdl_path, out_root / HTML_DIR)
+        _export_html(m, top, rdl_path, out_root / m.html_dir)
 
-    (out_root / VERILOG_MAP).write_text(render_verilog_map(regs), encoding="utf-8")
+    (out_root / m.verilog).write_text(render_verilog_map(m, regs), encoding="utf-8")
 
 
-def _export_html(top: AddrmapNode, rdl_path: Path, html: Path) -> None:
+def _export_html(m: RegMap, top: AddrmapNode, rdl_path: Path, html: Path) -> None:
     from peakrdl_html import HTMLExporter
 
     if html.exists():
@@ -346,40 +401,48 @@ def _export_html(top: AddrmapNode, rdl_path: Path, html: Path) -> None:
     build_ts = int(hashlib.sha256(rdl_path.read_bytes()).hexdigest()[:8], 16)
     HTMLExporter(generate_source_links=False, user_context={"build_ts": build_ts},
                  extra_doc_properties=["is_signed"]).export(
-        top, str(html), title="hfi_dsp registers (hfi_regs)", footer=f"Generated from {RDL} by scripts/gen_regs.py")
+        top, str(html), title=m.html_title, footer=f"Generated from {m.rdl} by scripts/gen_regs.py")
 
 
-def write(repo_root: Path = ROOT, rdl_path: Path | None = None) -> None:
-    """Generate into a temporary directory, then install every output (nothing written on error)."""
+def _source(repo_root: Path, m: RegMap, sources: Mapping[str, Path] | None) -> Path:
+    """The RDL compiled for ``m``: ``sources[m.top]`` if given (tests), else its file in ``repo_root``."""
+    return (sources or {}).get(m.top, repo_root / m.rdl)
+
+
+def write(repo_root: Path = ROOT, maps: Sequence[RegMap] = MAPS,
+          sources: Mapping[str, Path] | None = None) -> None:
+    """Generate every map into a temporary directory, then install every output (nothing written if
+    any map fails)."""
     with tempfile.TemporaryDirectory(prefix="gen_regs_") as tmp:
         tmp_root = Path(tmp)
-        generate(tmp_root, rdl_path or repo_root / RDL)
-        for rel in OUTPUT_FILES:
-            (repo_root / rel).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(tmp_root / rel, repo_root / rel)
-        if (repo_root / HTML_DIR).exists():
-            shutil.rmtree(repo_root / HTML_DIR)  # no stale pages of removed registers
-        shutil.copytree(tmp_root / HTML_DIR, repo_root / HTML_DIR)
+        for m in maps:
+            generate(tmp_root, m, _source(repo_root, m, sources))
+        for m in maps:
+            for rel in m.files:
+                (repo_root / rel).parent.mkdir(parents=True, exist_ok=True)
+                shutil.copyfile(tmp_root / rel, repo_root / rel)
+            if (repo_root / m.html_dir).exists():
+                shutil.rmtree(repo_root / m.html_dir)  # no stale pages of removed registers
+            shutil.copytree(tmp_root / m.html_dir, repo_root / m.html_dir)
 
 
-def _tree(path: Path) -> set[str]:
-    return {p.relative_to(path).as_posix() for p in path.rglob("*") if p.is_file()} if path.is_dir() else set()
+def check(repo_root: Path = ROOT, maps: Sequence[RegMap] = MAPS,
+          sources: Mapping[str, Path] | None = None) -> list[str]:
+    """Regenerate every map into a temporary directory; the outputs that differ from ``repo_root``
+    ([] if none).
 
-
-def check(repo_root: Path = ROOT, rdl_path: Path | None = None) -> list[str]:
-    """Regenerate into a temporary directory; the outputs that differ from ``repo_root`` ([] if none).
-
-    Returns lines ``<path>: differs|missing`` (the HTML site under out/ is not checked).
+    Returns lines ``<path>: differs|missing`` (the HTML sites under out/ are not checked).
     """
     problems = []
     with tempfile.TemporaryDirectory(prefix="gen_regs_") as tmp:
         tmp_root = Path(tmp)
-        generate(tmp_root, rdl_path or repo_root / RDL, html=False)
-        for rel in OUTPUT_FILES:
-            if not (repo_root / rel).is_file():
-                problems.append(f"{rel}: missing")
-            elif not filecmp.cmp(repo_root / rel, tmp_root / rel, shallow=False):
-                problems.append(f"{rel}: differs")
+        for m in maps:
+            generate(tmp_root, m, _source(repo_root, m, sources), html=False)
+            for rel in m.files:
+                if not (repo_root / rel).is_file():
+                    problems.append(f"{rel}: missing")
+                elif not filecmp.cmp(repo_root / rel, tmp_root / rel, shallow=False):
+                    problems.append(f"{rel}: differs")
     return problems
 
 
@@ -394,11 +457,16 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--check", action="store_true",
                     help="regenerate into a temporary directory and list the outputs that differ (exit 1)")
-    ap.add_argument("--rdl", type=Path, default=ROOT / RDL, help=argparse.SUPPRESS)  # tests: another source
+    ap.add_argument("--map", choices=list(MAPS_BY_TOP), help="only this register map (default: all)")
+    ap.add_argument("--rdl", type=Path, help=argparse.SUPPRESS)  # tests: another source for --map
     args = ap.parse_args(argv)
+    if args.rdl is not None and args.map is None:
+        ap.error("--rdl needs --map")
+    maps = (MAPS_BY_TOP[args.map],) if args.map else MAPS
+    sources = {args.map: args.rdl} if args.rdl is not None else {}
     try:
         if args.check:
-            problems = check(rdl_path=args.rdl)
+            problems = check(maps=maps, sources=sources)
             if problems:
                 print("gen_regs: generated register files are out of date (run `make regs`):", file=sys.stderr)
                 for p in problems:
@@ -406,16 +474,13 @@ def main(argv: list[str] | None = None) -> int:
                 return 1
             print("gen_regs: generated register files are up to date")
             return 0
-        write(ROOT, args.rdl)
-    except RDLCompileError:
-        # The compiler has already printed the message(s) with the source location.
-        print(f"gen_regs: {_rel(args.rdl)}: compilation failed", file=sys.stderr)
-        return 1
+        write(ROOT, maps, sources)
     except GenError as e:
         print(f"gen_regs: {e}", file=sys.stderr)
         return 1
-    for rel in (*OUTPUT_FILES, HTML_DIR + "/"):
-        print(f"wrote {rel}")
+    for m in maps:
+        for rel in (*m.files, m.html_dir + "/"):
+            print(f"wrote {rel}")
     return 0
 
 

@@ -36,7 +36,7 @@ module tb_hfi_dsp #(
     wire adc_convst, adc_cs_n, adc_sclk, adc_sdo_a, adc_sdo_b;
 
     hfi_dsp #(.ADC_BITS(ADC_BITS)) dut (
-        .clk(clk), .rst(rst),
+        .clk(clk), .rst(rst), .run(1'b1),
         .s_axil_awaddr(s_axil_awaddr), .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),
         .s_axil_wdata(s_axil_wdata), .s_axil_wstrb(s_axil_wstrb), .s_axil_wvalid(s_axil_wvalid),
         .s_axil_wready(s_axil_wready), .s_axil_bresp(s_axil_bresp), .s_axil_bvalid(s_axil_bvalid),

@@ -1,0 +1,285 @@
+/* control.c - the firmware's control algorithms (docs/spec.md, section 5), freestanding C11.
+ *
+ * Every function is the bit-exact twin of the golden model named in its comment and performs the
+ * integer operations its docstring prescribes for C, in the same order: int32_t/uint32_t/int64_t only,
+ * arithmetic right shifts of signed values (GCC), wrapping unsigned adds for binary angles, casts to
+ * int32_t for angle differences (golden.fixed.wrap), `/` for golden.fixed.c_div. No floating point,
+ * no libc, no global mutable state (the only static data is the generated CORDIC table).
+ * tests/test_fw_c.py checks every function against the golden model (host build, firmware/Makefile).
+ *
+ * Ranges the C relies on (the golden docstrings): N_SAMPLES is u16; PI gains, limits and PLL gains as
+ * golden.firmware.pi.PiParams and pll.pll_gains; 0 <= speed_lp <= 65536; i_pulse != INT32_MIN (the
+ * golden -i_pulse would not fit the s32 current reference).
+ */
+#include "control.h"
+
+#include "fw_cordic_table.h"
+
+#define HALF_TURN 0x80000000u /* golden.firmware.supervisor.HALF_TURN: half an electrical turn */
+
+/* ---- fixed-point helpers (golden/fixed.py) ------------------------------------------------------ */
+
+/* golden.fixed.sat(x, 32) */
+static int32_t sat32(int64_t x)
+{
+    return x > INT32_MAX ? INT32_MAX : x < INT32_MIN ? INT32_MIN : (int32_t)x;
+}
+
+/* golden.fixed.sat(x, 16) */
+static int32_t sat16(int32_t x)
+{
+    return x > INT16_MAX ? INT16_MAX : x < INT16_MIN ? INT16_MIN : x;
+}
+
+/* min(max(x, -lim), lim) for lim >= 0 (the clamps of golden.firmware.pi.pi_step) */
+static int64_t clamp_sym(int64_t x, int64_t lim)
+{
+    return x > lim ? lim : x < -lim ? -lim : x;
+}
+
+/* ---- blocks ------------------------------------------------------------------------------------ */
+
+/* golden.firmware.means.window_means: c_div of the window sums by N (u16, so n32 >= 0 and
+ * INT32_MIN / -1 cannot occur); 0 if N == 0. */
+void fw_window_means(int32_t sum_id, int32_t sum_iq, uint32_t n, int32_t *i_d, int32_t *i_q)
+{
+    int32_t n32 = (int32_t)n;
+
+    *i_d = n32 ? sum_id / n32 : 0;
+    *i_q = n32 ? sum_iq / n32 : 0;
+}
+
+/* golden.firmware.bangbang.bangbang_step (Benevieri et al. 2023, Sec. II-B, Fig. 1) */
+uint32_t fw_bangbang_step(uint32_t theta_hat, int32_t gamma, uint32_t k_bb)
+{
+    if (gamma > 0)
+        return theta_hat + k_bb;
+    if (gamma < 0)
+        return theta_hat - k_bb;
+    return theta_hat;
+}
+
+/* golden.firmware.pll.pll_step: e = wrap(theta_hat - theta, 32); integ = sat(integ + ki e, 64);
+ * omega = sat(shr(kp e, 16) + shr(integ, 24), 32); theta = uwrap(theta + omega, 32). */
+void fw_pll_step(struct fw_pll *s, uint32_t theta_hat, int32_t kp, int32_t ki)
+{
+    int32_t e = (int32_t)(theta_hat - s->theta);
+    int64_t p = (int64_t)ki * e; /* |p| < 2^62 */
+    int64_t integ;
+
+    if (__builtin_add_overflow(s->integ, p, &integ))
+        integ = p < 0 ? INT64_MIN : INT64_MAX;
+    s->integ = integ;
+    s->omega = sat32((((int64_t)kp * e) >> 16) + (integ >> 24));
+    s->theta += (uint32_t)s->omega;
+}
+
+/* golden.firmware.lowpass.lowpass_step: F + shr(((x << 16) - F) * a, 16) with the product split so that
+ * it cannot overflow int64 (|d| < 2^48, a <= 2^16): floor(d a / 2^16) = q a + floor(r a / 2^16). */
+int64_t fw_lowpass_step(int64_t f, int32_t x, int32_t a)
+{
+    int64_t d = (int64_t)x * 65536 - f;
+    int64_t q = d >> 16;     /* |q| <= 2^32 */
+    int64_t r = d & 0xFFFF;  /* 0 <= r < 2^16 */
+
+    return f + q * a + ((r * a) >> 16);
+}
+
+/* golden.firmware.lowpass.lowpass_out: shr(F, 16) */
+int32_t fw_lowpass_out(int64_t f)
+{
+    return (int32_t)(f >> 16);
+}
+
+/* golden.firmware.pi.pi_step: conditional-integration anti-windup, steps 1..6 of its docstring. */
+int32_t fw_pi_step(int64_t *integ, int32_t ref, int32_t meas, const struct fw_pi_params *p)
+{
+    int32_t e = sat32((int64_t)ref - meas);                              /* 1 */
+    int64_t prop = ((int64_t)p->kp * e) >> p->sp;                        /* 2 */
+    int64_t cand = clamp_sym(*integ + (int64_t)p->ki * e, (int64_t)p->limit << p->si); /* 3 */
+    int64_t u_unclamped = prop + (cand >> p->si);                        /* 4 */
+    int frozen = (u_unclamped > p->limit && e > 0) || (u_unclamped < -(int64_t)p->limit && e < 0);
+
+    if (!frozen)                                                         /* 5 */
+        *integ = cand;
+    return (int32_t)clamp_sym(prop + (*integ >> p->si), p->limit);       /* 6 */
+}
+
+/* Q2.30 CORDIC output -> Q1.15: golden.fpga.cordic.to_q15(v, 32) = sat(round_shr(v, 15), 16).
+ * |v| < 2^31 - 2^14, so the rounding add cannot overflow. */
+static int32_t cordic_to_q15(int32_t v)
+{
+    return sat16((v + (1 << 14)) >> 15);
+}
+
+/* golden.fpga.cordic.sincos_q15(angle, 32, 16): fold to [-2^30, 2^30), rotate FW_CORDIC_ITERATIONS
+ * times from (x0, 0) (each step uses the old x and y), negate if folded. z, x, y stay inside s32. */
+void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15)
+{
+    uint32_t quadrant = angle >> 30;
+    int fold = quadrant == 1u || quadrant == 2u;
+    int32_t z = (int32_t)(fold ? angle - HALF_TURN : angle);
+    int32_t x = FW_CORDIC_X0, y = 0;
+
+    for (int i = 0; i < FW_CORDIC_ITERATIONS; i++) {
+        int32_t xs = x >> i, ys = y >> i;
+
+        if (z >= 0) {
+            x -= ys;
+            y += xs;
+            z -= fw_cordic_atan[i];
+        } else {
+            x += ys;
+            y -= xs;
+            z += fw_cordic_atan[i];
+        }
+    }
+    if (fold) {
+        x = -x;
+        y = -y;
+    }
+    *sin_q15 = cordic_to_q15(y);
+    *cos_q15 = cordic_to_q15(x);
+}
+
+/* ---- supervisor (golden.firmware.supervisor.Firmware) ------------------------------------------- */
+
+/* Firmware.__init__ / __post_init__: everything 0, CONVERGE; FIXED at fixed_angle if enabled. */
+void fw_init(struct fw_state *st, const struct fw_params *p)
+{
+    st->mode = p->fixed_enable ? FW_FIXED : FW_CONVERGE;
+    st->n = 0;
+    st->theta_hat = p->fixed_enable ? p->fixed_angle : 0u;
+    st->flipped = 0;
+    st->pll.theta = 0u;
+    st->pll.omega = 0;
+    st->pll.integ = 0;
+    st->speed_f = 0;
+    st->speed_int = 0;
+    st->id_int = 0;
+    st->iq_int = 0;
+    st->pol_pos = 0;
+    st->pol_neg = 0;
+    st->i_d = 0;
+    st->i_q = 0;
+    st->i_d_ref = 0;
+    st->i_q_ref = 0;
+}
+
+/* Firmware._next */
+static void next_mode(struct fw_state *st, int32_t mode)
+{
+    st->mode = mode;
+    st->n = 0;
+}
+
+/* Firmware.step: self.n += 1. n saturates at INT32_MAX where the golden int keeps counting: only in
+ * RUN, FIXED and FAULT (the start-up states leave at n <= their s32 window count), after 2^31 - 1
+ * windows, and n is a diagnostic there. */
+static void count_window(struct fw_state *st)
+{
+    if (st->n < INT32_MAX)
+        st->n++;
+}
+
+/* abs(i) > i_trip of Firmware.step, in int64 (abs(INT32_MIN) does not fit int32). */
+static int over_trip(int32_t i, int32_t i_trip)
+{
+    int64_t mag = i < 0 ? -(int64_t)i : i;
+
+    return mag > i_trip;
+}
+
+/* POL_NEG's last window: the -d direction saturates, so theta_hat is off by pi (Firmware._supervise). */
+static void flip_polarity(struct fw_state *st)
+{
+    st->theta_hat += HALF_TURN;
+    st->pll.theta += HALF_TURN;
+    st->flipped = 1;
+}
+
+/* Firmware._supervise: the start-up state machine; returns i_d* (its i_q* is always 0). */
+static int32_t supervise(struct fw_state *st, const struct fw_params *p, const struct fw_window *win)
+{
+    switch (st->mode) {
+    case FW_CONVERGE:
+        if (st->n >= p->n_converge)
+            next_mode(st, FW_POL_POS);
+        return 0;
+    case FW_POL_POS:
+        if (st->n > p->n_settle)
+            st->pol_pos += win->gamma_d;
+        if (st->n >= p->n_pulse) {
+            next_mode(st, FW_POL_NEG);
+            return -p->i_pulse;
+        }
+        return p->i_pulse;
+    case FW_POL_NEG:
+        if (st->n > p->n_settle)
+            st->pol_neg += win->gamma_d;
+        if (st->n >= p->n_pulse) {
+            if (st->pol_neg > st->pol_pos)
+                flip_polarity(st);
+            next_mode(st, FW_RELAX);
+            return 0;
+        }
+        return -p->i_pulse;
+    case FW_RELAX:
+        if (st->n >= p->n_settle)
+            next_mode(st, FW_RUN);
+        return 0;
+    default:
+        return 0;
+    }
+}
+
+/* The outputs of FAULT: Outputs(0, 0, 0, 0, 32767, 0), references 0. */
+static void fault_outputs(struct fw_outputs *out)
+{
+    out->v_d = 0;
+    out->v_q = 0;
+    out->v_h = 0;
+    out->sin = 0;
+    out->cos = 32767;
+    out->enable = 0;
+    out->i_d_ref = 0;
+    out->i_q_ref = 0;
+}
+
+/* golden.firmware.supervisor.Firmware.step: one window interrupt, same state updates in the same order. */
+void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
+             struct fw_outputs *out)
+{
+    int32_t i_d, i_q, i_d_ref = 0, i_q_ref = 0;
+
+    fw_window_means(win->sum_id, win->sum_iq, win->n_samples, &i_d, &i_q);
+    st->i_d = i_d;
+    st->i_q = i_q;
+    count_window(st);
+    if (st->mode != FW_FAULT && (over_trip(i_d, p->i_trip) || over_trip(i_q, p->i_trip)))
+        next_mode(st, FW_FAULT);
+    if (st->mode != FW_FIXED && st->mode != FW_FAULT) {
+        /* Benevieri et al. 2023, Fig. 1: bang-bang on gamma, integrated to theta_hat; PLL -> speed */
+        st->theta_hat = fw_bangbang_step(st->theta_hat, win->gamma, p->k_bb);
+        fw_pll_step(&st->pll, st->theta_hat, p->pll_kp, p->pll_ki);
+        st->speed_f = fw_lowpass_step(st->speed_f, st->pll.omega, p->speed_lp);
+        i_d_ref = supervise(st, p, win);
+        if (st->mode == FW_RUN)
+            i_q_ref = fw_pi_step(&st->speed_int, speed_ref, fw_lowpass_out(st->speed_f), &p->speed_pi);
+    }
+    st->i_d_ref = i_d_ref;
+    st->i_q_ref = i_q_ref;
+    if (st->mode == FW_FAULT) {
+        st->id_int = 0;
+        st->iq_int = 0;
+        fault_outputs(out);
+        return;
+    }
+    out->v_d = fw_pi_step(&st->id_int, i_d_ref, i_d, &p->id_pi);
+    out->v_q = fw_pi_step(&st->iq_int, i_q_ref, i_q, &p->iq_pi);
+    out->v_h = p->v_h;
+    fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
+    out->enable = 1;
+    out->i_d_ref = i_d_ref;
+    out->i_q_ref = i_q_ref;
+}

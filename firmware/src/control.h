@@ -1,0 +1,115 @@
+/* control.h - the firmware's control algorithms, portable C (RV32IM and the host build alike).
+ *
+ * Every function is the C twin of a golden model in golden/firmware/ and performs the same integer
+ * operations in the same order (docs/spec.md, section 5). Nothing here touches hardware: main.c reads
+ * the window results from the hfi_dsp registers, calls fw_step() and writes the outputs back.
+ * The host build (firmware/Makefile, target host) compiles this file into a shared library that
+ * tests/test_fw_c.py checks against the golden model on random and corner-case inputs.
+ *
+ * This header is also parsed by cffi (golden/fwconfig.py, tests): keep it to plain struct
+ * definitions, stdint types and function prototypes; the preprocessor lines are stripped.
+ */
+#ifndef HFI_CONTROL_H
+#define HFI_CONTROL_H
+
+#include <stdint.h>
+
+/* Supervisor states (golden.firmware.supervisor.MODE_*). */
+enum fw_mode { FW_CONVERGE = 0, FW_POL_POS = 1, FW_POL_NEG = 2, FW_RELAX = 3, FW_RUN = 4, FW_FIXED = 5, FW_FAULT = 6 };
+
+/* PI parameters (golden.firmware.pi.PiParams): kp in Q(sp), ki in Q(si), |u| <= limit. */
+struct fw_pi_params {
+    int32_t kp;
+    int32_t sp;
+    int32_t ki;
+    int32_t si;
+    int32_t limit;
+};
+
+/* Firmware parameters (golden.firmware.supervisor.FirmwareParams), computed on the host by
+ * golden/control_config.py. fixed_enable = 1 selects the open-loop test at fixed_angle (FIXED). */
+struct fw_params {
+    uint32_t k_bb;
+    int32_t pll_kp;
+    int32_t pll_ki;
+    int32_t speed_lp;
+    struct fw_pi_params speed_pi;
+    struct fw_pi_params id_pi;
+    struct fw_pi_params iq_pi;
+    int32_t v_h;
+    int32_t i_pulse;
+    int32_t n_converge;
+    int32_t n_pulse;
+    int32_t n_settle;
+    int32_t i_trip;
+    int32_t fixed_enable;
+    uint32_t fixed_angle;
+};
+
+/* PLL state (golden.firmware.pll.PllState). */
+struct fw_pll {
+    uint32_t theta;
+    int32_t omega;
+    int64_t integ;
+};
+
+/* State of the control task (golden.firmware.supervisor.Firmware). */
+struct fw_state {
+    int32_t mode;
+    int32_t n;
+    uint32_t theta_hat;
+    int32_t flipped;
+    struct fw_pll pll;
+    int64_t speed_f;
+    int64_t speed_int;
+    int64_t id_int;
+    int64_t iq_int;
+    int64_t pol_pos;
+    int64_t pol_neg;
+    int32_t i_d;
+    int32_t i_q;
+    int32_t i_d_ref;
+    int32_t i_q_ref;
+};
+
+/* Window results of the demodulator (registers GAMMA ... N_SAMPLES). */
+struct fw_window {
+    int32_t gamma;
+    int32_t gamma_d;
+    int32_t sum_id;
+    int32_t sum_iq;
+    int32_t wsum;
+    uint32_t n_samples;
+};
+
+/* Register values written by one control step (golden.firmware.supervisor.Outputs). */
+struct fw_outputs {
+    int32_t v_d;
+    int32_t v_q;
+    int32_t v_h;
+    int32_t sin;
+    int32_t cos;
+    int32_t enable;
+    int32_t i_d_ref;
+    int32_t i_q_ref;
+};
+
+/* golden.firmware.means.window_means */
+void fw_window_means(int32_t sum_id, int32_t sum_iq, uint32_t n, int32_t *i_d, int32_t *i_q);
+/* golden.firmware.bangbang.bangbang_step */
+uint32_t fw_bangbang_step(uint32_t theta_hat, int32_t gamma, uint32_t k_bb);
+/* golden.firmware.pll.pll_step (updates *s in place) */
+void fw_pll_step(struct fw_pll *s, uint32_t theta_hat, int32_t kp, int32_t ki);
+/* golden.firmware.lowpass.lowpass_step / lowpass_out */
+int64_t fw_lowpass_step(int64_t f, int32_t x, int32_t a);
+int32_t fw_lowpass_out(int64_t f);
+/* golden.firmware.pi.pi_step: returns u, updates *integ */
+int32_t fw_pi_step(int64_t *integ, int32_t ref, int32_t meas, const struct fw_pi_params *p);
+/* golden.fpga.cordic.sincos_q15(angle, 32, 16): the firmware's sin/cos of theta_hat, Q1.15 */
+void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15);
+/* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref) */
+void fw_init(struct fw_state *st, const struct fw_params *p);
+void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
+             struct fw_outputs *out);
+
+#endif

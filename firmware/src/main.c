@@ -1,0 +1,196 @@
+/* main.c - the hfi_soc firmware: start-up, the control interrupt and the supervisor glue.
+ *
+ * Start-up: check the configuration block (fw_config.h), write the hfi_dsp configuration registers,
+ * wait 32 cycles (the carrier's H*STEP product, docs/rtl.md), set SOC CTRL.DSP_RUN (tick 0), unmask
+ * the window interrupt. Then main() only writes log lines to the UART (mode changes).
+ *
+ * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results and the
+ * speed reference (SPEED_REF mailbox), run fw_step() (control.c, the golden firmware's arithmetic),
+ * write the shadow registers, CTRL and COMMIT (before the deadline: the commit takes effect at the
+ * next window boundary; a missed one counts in LATE_COUNT and the watchdog trips after WDT_PERIODS),
+ * acknowledge, and send one trace record on the SoC trace port (docs/soc.md). The first interrupt
+ * reports window -1 (the half period before the first boundary): acknowledged, no control step.
+ * Core exceptions (IRQ 1: illegal instruction/ebreak, IRQ 2: misaligned access) turn the gates off
+ * and stop the firmware; without commits the hardware watchdog would do so too.
+ *
+ * Register access only through the generated headers hfi_regs.h and hfi_soc_regs.h (offsets and
+ * field positions); every access is a 32-bit word access.
+ */
+#include <stdint.h>
+
+#include "control.h"
+#include "fw_config.h"
+#include "hfi_regs.h"
+#include "hfi_soc_regs.h"
+
+#define DSP_BASE 0x10000000u
+#define SOC_BASE 0x20000000u
+#define DSP(reg) (*(volatile uint32_t *)(DSP_BASE + HFI_REGS__##reg##_offset))
+#define SOC(reg) (*(volatile uint32_t *)(SOC_BASE + HFI_SOC__##reg##_offset))
+#define FIELD(reg, fld, v) (((uint32_t)(v) << HFI_REGS__##reg##__##fld##_bp) & HFI_REGS__##reg##__##fld##_bm)
+#define SOC_FIELD(reg, fld, v) (((uint32_t)(v) << HFI_SOC__##reg##__##fld##_bp) & HFI_SOC__##reg##__##fld##_bm)
+
+#define IRQ_WINDOW (1u << 3)
+#define IRQ_FAULTS ((1u << 1) | (1u << 2))
+#define TRACE_WORDS 12      /* words per trace record (docs/soc.md) */
+
+uint32_t irq_mask(uint32_t mask);   /* crt0.S */
+
+/* The run's configuration, patched into the RAM image (zero here: the firmware then refuses to run). */
+__attribute__((section(".config"), used)) struct fw_config fw_config;
+#define cfg fw_config
+static struct fw_state st;
+static volatile int32_t shown_mode = -1;
+static volatile uint32_t shown_window;
+static volatile int32_t halted;
+
+static inline uint32_t rdcycle(void)
+{
+    uint32_t c;
+    __asm__ volatile("rdcycle %0" : "=r"(c));
+    return c;
+}
+
+/* ---------------------------------------------------------------- UART log */
+static void uart_putc(char c)
+{
+    while (SOC(UART_STATUS) & HFI_SOC__UART_STATUS__TX_BUSY_bm)
+        ;
+    SOC(UART_DATA) = SOC_FIELD(UART_DATA, DATA, (uint8_t)c);
+}
+
+static void uart_puts(const char *s)
+{
+    while (*s)
+        uart_putc(*s++);
+}
+
+static void uart_putu(uint32_t v)
+{
+    char buf[11];
+    int i = 10;
+    buf[i] = 0;
+    do {
+        buf[--i] = (char)('0' + v % 10u);
+        v /= 10u;
+    } while (v);
+    uart_puts(buf + i);
+}
+
+static const char *const mode_names[] = {"CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT"};
+
+/* ---------------------------------------------------------------- control interrupt */
+static void gates_off(void)
+{
+    DSP(CTRL) = 0;
+}
+
+static void control_step(void)
+{
+    uint32_t t0 = rdcycle();
+    uint32_t count = DSP(WINDOW_COUNT);
+    if (count < 2u) {                     /* window -1: no control step */
+        DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
+        return;
+    }
+    struct fw_window win;
+    win.gamma = (int32_t)DSP(GAMMA);
+    win.gamma_d = (int32_t)DSP(GAMMA_D);
+    win.sum_id = (int32_t)DSP(SUM_ID);
+    win.sum_iq = (int32_t)DSP(SUM_IQ);
+    win.wsum = (int32_t)DSP(WSUM);
+    win.n_samples = DSP(N_SAMPLES) & HFI_REGS__N_SAMPLES__VALUE_bm;
+    int32_t speed_ref = (int32_t)DSP(SPEED_REF);
+
+    struct fw_outputs o;
+    fw_step(&st, &cfg.fw, &win, speed_ref, &o);
+
+    DSP(V_DQ) = FIELD(V_DQ, V_D, o.v_d) | FIELD(V_DQ, V_Q, o.v_q);
+    DSP(V_H) = FIELD(V_H, VALUE, o.v_h);
+    DSP(SINCOS) = FIELD(SINCOS, SIN, o.sin) | FIELD(SINCOS, COS, o.cos);
+    DSP(I_REF) = FIELD(I_REF, I_D, o.i_d_ref) | FIELD(I_REF, I_Q, o.i_q_ref);
+    DSP(CTRL) = FIELD(CTRL, ENABLE, o.enable) | FIELD(CTRL, INJ_EN, cfg.hw.inj_en) |
+                FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+    DSP(COMMIT) = FIELD(COMMIT, GO, 1);
+    DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
+    uint32_t cycles = rdcycle() - t0;
+
+    /* trace record: window, estimator, currents, references, mode, cycles of this step */
+    SOC(TRACE) = count - 2u;
+    SOC(TRACE) = st.theta_hat;
+    SOC(TRACE) = st.pll.theta;
+    SOC(TRACE) = (uint32_t)st.pll.omega;
+    SOC(TRACE) = (uint32_t)fw_lowpass_out(st.speed_f);
+    SOC(TRACE) = (uint32_t)st.i_d;
+    SOC(TRACE) = (uint32_t)st.i_q;
+    SOC(TRACE) = (uint32_t)st.i_d_ref;
+    SOC(TRACE) = (uint32_t)st.i_q_ref;
+    SOC(TRACE) = (uint32_t)st.mode;
+    SOC(TRACE) = (uint32_t)st.flipped;
+    SOC(TRACE) = cycles;
+    shown_window = count - 2u;
+}
+
+void irq_handler(uint32_t pending)
+{
+    if (pending & IRQ_FAULTS) {
+        gates_off();
+        halted = 1;
+        irq_mask(~0u);
+        uart_puts("hfi_fw: core exception, gates off, halted\n");
+        for (;;)
+            ;
+    }
+    if (pending & IRQ_WINDOW)
+        control_step();
+}
+
+/* ---------------------------------------------------------------- start-up */
+static int config_ok(void)
+{
+    return cfg.hw.magic == FW_CONFIG_MAGIC && cfg.hw.version == FW_CONFIG_VERSION;
+}
+
+int main(void)
+{
+    gates_off();
+    uart_puts("hfi_fw: start\n");
+    if (!config_ok()) {
+        uart_puts("hfi_fw: no valid configuration block (magic/version), gates stay off\n");
+        for (;;)
+            ;
+    }
+    DSP(PWM_HALF) = cfg.hw.pwm_half;
+    DSP(CW_ANGLE_STEP) = cfg.hw.cw_angle_step;
+    DSP(DEAD_TICKS) = cfg.hw.dead_ticks;
+    DSP(OS_TICKS) = cfg.hw.os_ticks;
+    DSP(BLANK_TICKS) = cfg.hw.blank_ticks;
+    DSP(ADC_OFFSET) = cfg.hw.adc_offset;
+    DSP(ADC_GAIN) = cfg.hw.adc_gain;
+    DSP(OC_LIMIT) = cfg.hw.oc_limit;
+    DSP(WDT_PERIODS) = cfg.hw.wdt_periods;
+    DSP(DTC_GAIN) = cfg.hw.dtc_gain;
+    DSP(HF_AMP) = cfg.hw.hf_amp;
+    DSP(RECIP_H) = cfg.hw.recip_h;
+    DSP(IRQ_ENABLE) = FIELD(IRQ_ENABLE, WINDOW, 1);
+    DSP(CTRL) = FIELD(CTRL, INJ_EN, cfg.hw.inj_en) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+    fw_init(&st, &cfg.fw);
+    uint32_t t0 = rdcycle();
+    while (rdcycle() - t0 < 32u)          /* the carrier's H*STEP product (docs/rtl.md) */
+        ;
+    irq_mask(~IRQ_WINDOW & ~IRQ_FAULTS);
+    SOC(CTRL) = SOC_FIELD(CTRL, DSP_RUN, 1);
+    uart_puts("hfi_fw: running\n");
+
+    for (;;) {
+        int32_t mode = st.mode;
+        if (mode != shown_mode && !halted) {
+            shown_mode = mode;
+            uart_puts("hfi_fw: window ");
+            uart_putu(shown_window);
+            uart_puts(" mode ");
+            uart_puts(mode >= 0 && mode <= FW_FAULT ? mode_names[mode] : "?");
+            uart_puts("\n");
+        }
+    }
+}

@@ -1,0 +1,149 @@
+"""cffi access to the host build of the firmware's control algorithms (``firmware/src/control.c``).
+
+:func:`load` builds the shared library with ``make -C firmware host`` (make rebuilds it only when
+``control.c`` or a header changed) and returns the cffi pair ``(ffi, lib)``. cffi parses
+``firmware/src/control.h`` itself (its preprocessor lines stripped), so the header is the only place the
+struct layouts and prototypes are written.
+
+The converters map the golden objects of :mod:`golden.firmware` and :mod:`golden.fpga.demodulator` to
+the C structs and back, field by field under the same names. cffi raises ``OverflowError`` when a
+golden value does not fit its C field (e.g. an unbounded Python int beyond the C type).
+"""
+
+from __future__ import annotations
+
+import functools
+import subprocess
+from pathlib import Path
+
+import cffi
+
+from golden.firmware.pi import PiParams
+from golden.firmware.pll import PllState
+from golden.firmware.supervisor import Firmware, FirmwareParams, Outputs
+from golden.fixed import uwrap
+from golden.fpga.demodulator import WindowResult
+
+ROOT = Path(__file__).resolve().parents[1]
+HEADER = Path("firmware/src/control.h")
+"""The interface of control.c, relative to the project root."""
+LIBRARY = Path("out/firmware/host/libhfifw.so")
+"""The host build (firmware/Makefile, target ``host``), relative to the project root."""
+
+STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id_int", "iq_int",
+                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref")
+"""Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
+(besides the PLL state ``pll``)."""
+WINDOW_FIELDS = ("gamma", "gamma_d", "sum_id", "sum_iq", "wsum", "n_samples")
+"""Fields shared by ``struct fw_window`` and :class:`~golden.fpga.demodulator.WindowResult`."""
+OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
+"""Fields shared by ``struct fw_outputs`` and :class:`~golden.firmware.supervisor.Outputs`."""
+PI_FIELDS = ("kp", "sp", "ki", "si", "limit")
+"""Fields shared by ``struct fw_pi_params`` and :class:`~golden.firmware.pi.PiParams`."""
+_PARAM_SCALARS = ("k_bb", "pll_kp", "pll_ki", "speed_lp", "v_h", "i_pulse", "n_converge", "n_pulse",
+                  "n_settle", "i_trip")
+
+
+class FirmwareBuildError(RuntimeError):
+    """``make -C firmware host`` failed; the message holds its output."""
+
+
+def header_cdef(root: Path = ROOT) -> str:
+    """The text of ``control.h`` without its preprocessor lines (cffi cannot parse them)."""
+    lines = (root / HEADER).read_text().splitlines()
+    return "\n".join(line for line in lines if not line.lstrip().startswith("#"))
+
+
+def build(root: Path = ROOT) -> Path:
+    """Run ``make -C <root>/firmware host`` and return the library's path.
+
+    Raises FirmwareBuildError with make's output if the build fails.
+    """
+    out_dir = root / "out" / "firmware"
+    cmd = ["make", "-C", str(root / "firmware"), "host", f"OUT={out_dir}"]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise FirmwareBuildError(f"`{' '.join(cmd)}` failed (exit {proc.returncode}):\n"
+                                 f"{proc.stdout}{proc.stderr}")
+    return root / LIBRARY
+
+
+@functools.lru_cache(maxsize=None)
+def load(root: Path = ROOT) -> tuple[cffi.FFI, object]:
+    """Build the host library if needed and return ``(ffi, lib)`` (cached per root)."""
+    path = build(root)
+    ffi = cffi.FFI()
+    ffi.cdef(header_cdef(root))
+    return ffi, ffi.dlopen(str(path))
+
+
+# ---- golden -> C --------------------------------------------------------------------------------------
+def _fill_pi(c, p: PiParams) -> None:
+    for name in PI_FIELDS:
+        setattr(c, name, getattr(p, name))
+
+
+def pi_params_to_c(ffi: cffi.FFI, p: PiParams):
+    """``struct fw_pi_params *`` holding ``p``."""
+    c = ffi.new("struct fw_pi_params *")
+    _fill_pi(c, p)
+    return c
+
+
+def params_to_c(ffi: cffi.FFI, p: FirmwareParams):
+    """``struct fw_params *`` holding ``p``: ``fixed_enable = 1`` and ``fixed_angle = uwrap(angle, 32)``
+    for an open-loop test angle (as ``Firmware.__post_init__``), both 0 for ``fixed_angle=None``."""
+    c = ffi.new("struct fw_params *")
+    for name in _PARAM_SCALARS:
+        setattr(c, name, getattr(p, name))
+    _fill_pi(c.speed_pi, p.speed_pi)
+    _fill_pi(c.id_pi, p.id_pi)
+    _fill_pi(c.iq_pi, p.iq_pi)
+    c.fixed_enable = 0 if p.fixed_angle is None else 1
+    c.fixed_angle = 0 if p.fixed_angle is None else uwrap(p.fixed_angle, 32)
+    return c
+
+
+def window_to_c(ffi: cffi.FFI, w: WindowResult, c=None):
+    """``struct fw_window *`` holding ``w`` (written into ``c`` if given, else a new struct)."""
+    if c is None:
+        c = ffi.new("struct fw_window *")
+    for name in WINDOW_FIELDS:
+        setattr(c, name, getattr(w, name))
+    return c
+
+
+def pll_to_c(ffi: cffi.FFI, s: PllState):
+    """``struct fw_pll *`` holding ``s``."""
+    c = ffi.new("struct fw_pll *")
+    c.theta, c.omega, c.integ = s.theta, s.omega, s.integ
+    return c
+
+
+def state_to_c(ffi: cffi.FFI, fw: Firmware):
+    """``struct fw_state *`` holding the state of ``fw`` (its parameters go by :func:`params_to_c`)."""
+    c = ffi.new("struct fw_state *")
+    for name in STATE_FIELDS:
+        setattr(c, name, getattr(fw, name))
+    c.pll.theta, c.pll.omega, c.pll.integ = fw.pll.theta, fw.pll.omega, fw.pll.integ
+    return c
+
+
+# ---- C -> golden --------------------------------------------------------------------------------------
+def pll_from_c(c) -> PllState:
+    """The :class:`PllState` held by a ``struct fw_pll``."""
+    return PllState(theta=c.theta, integ=c.integ, omega=c.omega)
+
+
+def state_from_c(c, p: FirmwareParams) -> Firmware:
+    """A golden :class:`Firmware` with parameters ``p`` and the state held by a ``struct fw_state``."""
+    fw = Firmware(p)
+    for name in STATE_FIELDS:
+        setattr(fw, name, getattr(c, name))
+    fw.pll = pll_from_c(c.pll)
+    return fw
+
+
+def outputs_from_c(c) -> Outputs:
+    """The :class:`Outputs` held by a ``struct fw_outputs``."""
+    return Outputs(*(getattr(c, name) for name in OUTPUT_FIELDS))

@@ -1,0 +1,394 @@
+"""Closed-loop backend ``rtl``: the firmware on the PicoRV32 of ``hfi_soc`` drives the plant through the RTL.
+
+The Verilated SoC, the serial ADC, the clock and the C plant all run inside one native library
+(``sim/soc_sim.cpp``, API ``sim/soc_sim.h``; built here on first use with Verilator). Python creates
+the plant from the scenario exactly as the golden loop does (:class:`golden.plant.Plant`), writes the
+run's configuration block into the firmware's RAM image, runs the co-simulation in chunks (progress on
+stderr) and turns its records into the same :class:`golden.closedloop.ClosedLoopResult` as the golden
+backend, so reports, plots and the identity test use one format:
+
+* window results (GAMMA ... N_SAMPLES) from the firmware's register reads, the firmware's register
+  writes (V_DQ, V_H, SINCOS, I_REF, CTRL), compares and LATE_COUNT at each window interrupt;
+* estimator and controller state from the firmware's trace records (``TRACE_FIELDS``);
+* gate edges, ADC samples and the plant state at each window end from the harness.
+
+``soc`` of the result adds what only the hardware has: firmware cycles per control step (the core's
+own ``rdcycle`` count from the handler's entry to the COMMIT write), clocks from the interrupt to the
+COMMIT write, late commits, simulated clocks and clocks per wall second, and the UART log.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import cffi
+import numpy as np
+
+from golden import regmap as rm
+from golden import socmap
+from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, profile_at
+from golden.control_config import HardwareConfig, firmware_params, hardware_config, scales
+from golden.fixed import wrap
+from golden.fw_c import params_to_c
+from golden.plant import Plant, binding
+from golden.scenario import Scenario
+
+ROOT = Path(__file__).resolve().parents[1]
+SIM_DIR = ROOT / "sim"
+OUT_SIM = ROOT / "out" / "sim"
+FW_OUT = ROOT / "out" / "firmware"
+FW_HEADERS = ("firmware/src/control.h", "firmware/src/fw_config.h")
+
+TRACE_FIELDS = ("window", "theta_hat", "theta_pll", "omega_pll", "omega_f", "i_d", "i_q", "i_d_ref",
+                "i_q_ref", "mode", "flipped", "cycles")
+"""Words of one firmware trace record (firmware/src/main.c, docs/soc.md), in order."""
+
+RAM_BYTES = 32768
+"""RAM of the default hfi_soc (parameter RAM_BYTES) and of the firmware build."""
+
+CHUNK_CYCLES = 2_000_000
+"""Clocks per call into the co-simulation (progress granularity, ~0.5 s wall)."""
+
+
+class RtlBackendError(RuntimeError):
+    """A build step failed, or the co-simulation stopped (the message says why)."""
+
+
+# ---------------------------------------------------------------- building
+def _run(cmd: list[str], what: str, cwd: Path = ROOT) -> None:
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RtlBackendError(f"{what} failed (exit {proc.returncode}): {' '.join(cmd)}\n"
+                              f"{proc.stdout[-4000:]}{proc.stderr[-4000:]}")
+
+
+def picorv32_source() -> Path:
+    """``picorv32.v`` of the installed pythondata-cpu-picorv32 package (not part of this repository)."""
+    try:
+        import pythondata_cpu_picorv32 as pd
+    except ImportError as e:
+        raise RtlBackendError("pythondata-cpu-picorv32 is not installed: run `make setup`") from e
+    path = Path(pd.data_location) / "picorv32.v"
+    if not path.is_file():
+        raise RtlBackendError(f"{path} is missing from the pythondata-cpu-picorv32 package")
+    return path
+
+
+def soc_sources() -> list[Path]:
+    """Verilog sources of hfi_soc: the project's RTL and the PicoRV32 core."""
+    return sorted((ROOT / "rtl").glob("*.v")) + [picorv32_source()]
+
+
+def _digest(paths: list[Path], extra: str) -> str:
+    h = hashlib.sha256(extra.encode())
+    for p in paths:
+        h.update(str(p).encode())
+        h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+def build_firmware() -> Path:
+    """``make -C firmware``: the RAM image ``out/firmware/hfi_fw.bin`` (and .elf, .hex, .lst)."""
+    _run(["make", "-C", str(ROOT / "firmware"), f"RAM_BYTES={RAM_BYTES}", f"PYTHON={sys.executable}"],
+         "firmware build")
+    return FW_OUT / "hfi_fw.elf"
+
+
+def build_sim(fst: bool = False) -> Path:
+    """Verilate hfi_soc with the harness into ``out/sim/<variant>/libhfisoc.so`` (rebuilt when a source
+    changed; a file lock serialises concurrent builds). ``fst``: the variant with FST waveforms."""
+    from golden.plant.binding import LIBRARY as PLANT_LIB
+
+    variant = "fst" if fst else "fast"
+    build = OUT_SIM / variant
+    lib = build / "libhfisoc.so"
+    srcs = soc_sources() + [SIM_DIR / "soc_sim.cpp", SIM_DIR / "soc_sim.h", SIM_DIR / "soc_sim.vlt",
+                            ROOT / "golden/plant/src/plant_api.h"]
+    srcs += sorted((ROOT / "rtl").rglob("*.vh"))
+    verilator = shutil.which("verilator")
+    if verilator is None:
+        raise RtlBackendError("verilator is not on PATH: run `make setup` and `source scripts/env.sh`")
+    digest = _digest(srcs, f"{variant} {verilator}")
+    OUT_SIM.mkdir(parents=True, exist_ok=True)
+    with open(OUT_SIM / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        stamp = build / "digest"
+        if lib.is_file() and stamp.is_file() and stamp.read_text() == digest:
+            return lib
+        if build.exists():
+            shutil.rmtree(build)
+        build.mkdir(parents=True)
+        cflags = f"-fPIC -O2 -I{SIM_DIR} -I{ROOT / 'golden/plant/src'}" + (" -DHFI_FST" if fst else "")
+        ldflags = f"-shared -L{PLANT_LIB.parent} -lhfiplant -Wl,-rpath,{PLANT_LIB.parent}"
+        cmd = [verilator, "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast",
+               "--x-initial", "fast", "--noassert", "-Wno-fatal", "-Wno-lint", "-Wno-style",
+               "--top-module", "hfi_soc", f"-I{ROOT / 'rtl'}", "--Mdir", str(build / "obj"),
+               "-CFLAGS", cflags, "-LDFLAGS", ldflags, "-o", str(lib)]
+        if fst:
+            cmd.append("--trace-fst")
+        cmd += [str(SIM_DIR / "soc_sim.vlt")] + [str(p) for p in soc_sources()] + [str(SIM_DIR / "soc_sim.cpp")]
+        _run(cmd, "Verilator build of hfi_soc")
+        stamp.write_text(digest)
+    return lib
+
+
+# ---------------------------------------------------------------- the run's RAM image
+def _cdef(paths) -> str:
+    text = "\n".join((ROOT / p).read_text() for p in paths)
+    return "\n".join(line for line in text.splitlines() if not line.lstrip().startswith("#"))
+
+
+_cfg_ffi = cffi.FFI()
+_cfg_ffi.cdef(_cdef(FW_HEADERS))
+_cfg_consts = _cfg_ffi.dlopen(None)      # the header's enum constants (no library functions used)
+
+
+def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
+    """``struct fw_config`` of the scenario (firmware/src/fw_config.h), as the RV32 little-endian bytes."""
+    cfg = _cfg_ffi.new("struct fw_config *")
+    h = cfg.hw
+    h.magic = _cfg_consts.FW_CONFIG_MAGIC
+    h.version = _cfg_consts.FW_CONFIG_VERSION
+    h.pwm_half, h.dead_ticks, h.os_ticks, h.blank_ticks = hw.pwm_half, hw.dead_ticks, hw.os_ticks, hw.blank_ticks
+    h.cw_angle_step, h.dtc_gain, h.hf_amp, h.recip_h = hw.cw_angle_step, hw.dtc_gain, hw.hf_amp, hw.recip_h
+    h.adc_offset = rm.pack("ADC_OFFSET", A=hw.adc_offset[0], B=hw.adc_offset[1])
+    h.adc_gain = rm.pack("ADC_GAIN", A=hw.adc_gain[0], B=hw.adc_gain[1])
+    h.oc_limit = rm.OC_LIMIT_VALUE_RESET
+    h.wdt_periods = rm.WDT_PERIODS_VALUE_RESET
+    h.adc_mode, h.inj_en = hw.adc_mode, 1
+    p = params_to_c(_cfg_ffi, firmware_params(sc))
+    cfg.fw = p[0]
+    return bytes(_cfg_ffi.buffer(cfg))
+
+
+def _symbol(elf: Path, name: str) -> int:
+    nm = shutil.which("riscv64-unknown-elf-nm") or "riscv64-unknown-elf-nm"
+    proc = subprocess.run([nm, str(elf)], capture_output=True, text=True)
+    for line in proc.stdout.splitlines():
+        parts = line.split()
+        if len(parts) == 3 and parts[2] == name:
+            return int(parts[0], 16)
+    raise RtlBackendError(f"symbol {name} not found in {elf}")
+
+
+def ram_image(sc: Scenario, hw: HardwareConfig, elf: Path, out: Path) -> Path:
+    """Firmware image with the scenario's configuration block at ``fw_config``, as $readmemh text."""
+    image = bytearray((elf.with_suffix(".bin")).read_bytes())
+    block = config_block(sc, hw)
+    at = _symbol(elf, "fw_config")
+    if at + len(block) > len(image):
+        raise RtlBackendError(f"fw_config at 0x{at:x} lies outside the image ({len(image)} bytes)")
+    image[at:at + len(block)] = block
+    image += bytes(-len(image) % 4)
+    if len(image) > RAM_BYTES:
+        raise RtlBackendError(f"firmware image {len(image)} bytes > RAM {RAM_BYTES}")
+    words = np.frombuffer(bytes(image), dtype="<u4")
+    out.write_text("".join(f"{w:08x}\n" for w in words), encoding="ascii")
+    return out
+
+
+# ---------------------------------------------------------------- the co-simulation
+_sim_ffi = cffi.FFI()
+_sim_ffi.include(binding.ffi)
+_sim_ffi.cdef("\n".join(line for line in (SIM_DIR / "soc_sim.h").read_text().splitlines()
+                        if not line.lstrip().startswith("#")
+                        and not line.startswith("struct plant;") and not line.startswith("struct plant_state;")))
+_KINDS = {"edges": (0, "struct soc_edge"), "samples": (1, "struct soc_sample"), "truth": (2, "struct plant_state"),
+          "trace": (3, "uint32_t"), "writes": (4, "struct soc_bus"), "reads": (5, "struct soc_bus"),
+          "irqs": (6, "struct soc_irq"), "uart": (7, "uint8_t")}
+
+
+def _records(lib, sim, kind: str, dtype) -> np.ndarray:
+    code, ctype = _KINDS[kind]
+    n = lib.soc_sim_count(sim, code)
+    buf = _sim_ffi.new(f"{ctype}[]", max(n, 1))
+    if lib.soc_sim_copy(sim, code, 0, n, buf) != 0:
+        raise RtlBackendError(f"soc_sim_copy({kind}) failed")
+    raw = bytes(_sim_ffi.buffer(buf, n * _sim_ffi.sizeof(ctype)))
+    return np.frombuffer(raw, dtype=dtype).copy() if n else np.zeros(0, dtype=dtype)
+
+
+_EDGE = np.dtype([("tick", "<i8"), ("mask", "<i4"), ("pad", "<i4")])
+_SAMPLE = np.dtype([("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])
+_BUS = np.dtype([("tick", "<i8"), ("addr", "<u4"), ("data", "<u4")])
+_IRQ = np.dtype([("tick", "<i8"), ("commit", "<i8"), ("cmp", "<i4", (6,)), ("late", "<i4"), ("pad", "<i4")])
+
+
+def _s16(v: np.ndarray) -> np.ndarray:
+    return wrap(v.astype(np.int64) & 0xFFFF, 16)
+
+
+def _per_window(bus: np.ndarray, addr: int, n: int, what: str) -> np.ndarray:
+    sel = bus["data"][bus["addr"] == addr].astype(np.int64)
+    if len(sel) < n:
+        raise RtlBackendError(f"{what}: {len(sel)} accesses for {n} windows")
+    return sel[:n]
+
+
+class RtlClosedLoop:
+    """The ``rtl`` backend of one scenario (``[control]`` mode closed or fixed_angle, OS or OS_BLANK)."""
+
+    def __init__(self, sc: Scenario):
+        if sc.control is None:
+            raise ValueError(f"scenario {sc.name} has no [control] settings")
+        if sc.control.switch_to_ds_at is not None:
+            raise ValueError(f"scenario {sc.name}: control.switch_to_ds_at (a host-side ADC mode switch "
+                             "during the run) is supported by the golden backend only")
+        self.sc = sc
+        self.hw = hardware_config(sc)
+        self.scales = scales(sc)
+        if int(sc.pwm.tick_hz) != 100_000_000:
+            raise ValueError(f"scenario {sc.name}: the rtl backend runs at the SoC clock, pwm.tick_hz must "
+                             f"be 100 MHz (got {sc.pwm.tick_hz})")
+
+    def run(self, progress: bool = True, fst: str | None = None, fst_window: tuple[float, float] | None = None,
+            workdir: Path | None = None) -> ClosedLoopResult:
+        """Run the co-simulation. ``fst``: FST waveform file; ``fst_window``: its time span [s]
+        (default: the first 2 ms)."""
+        sc, hw = self.sc, self.hw
+        H, P = hw.pwm_half, 2 * hw.pwm_half
+        tick_hz = sc.pwm.tick_hz
+        n_win = int((round(sc.duration * tick_hz) - H // 2) // P)
+        if n_win < 1:
+            raise ValueError(f"duration {sc.duration} s is shorter than one PWM period")
+        win_end = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
+        speed_ref = np.array([self.scales.speed_mech(v) for v in profile_at(sc.reference_speed, win_end / tick_hz)],
+                             dtype=np.int32)
+
+        elf = build_firmware()
+        lib_path = build_sim(fst=fst is not None)
+        lib = _sim_ffi.dlopen(str(lib_path))
+        workdir = Path(workdir or OUT_SIM / "runs")
+        workdir.mkdir(parents=True, exist_ok=True)
+        ram = ram_image(sc, hw, elf, workdir / f"{sc.name}_ram.hex")
+
+        plant = Plant(sc.plant)
+        keep = []
+        setup = _sim_ffi.new("struct soc_sim_setup *")
+        keep.append(_sim_ffi.new("char[]", str(ram).encode()))
+        setup.ram_hex = keep[-1]
+        if fst is not None:
+            keep.append(_sim_ffi.new("char[]", str(fst).encode()))
+            setup.fst_path = keep[-1]
+            t0, t1 = fst_window or (0.0, 0.002)
+            setup.fst_from_tick, setup.fst_to_tick = round(t0 * tick_hz), round(t1 * tick_hz)
+        else:
+            setup.fst_path = _sim_ffi.NULL
+        setup.half = H
+        setup.n_windows = n_win
+        refs = _sim_ffi.new("int32_t[]", speed_ref.tolist())
+        setup.speed_ref = refs
+        setup.adc_bits = hw.adc_bits
+        setup.uart_div = socmap.UART_DIV_VALUE_RESET
+        setup.trace_words = len(TRACE_FIELDS)
+        err = _sim_ffi.new("char[]", 512)
+        sim = lib.soc_sim_create(setup, _sim_ffi.cast("struct plant *", plant._p), err, 512)
+        if sim == _sim_ffi.NULL:
+            raise RtlBackendError(_sim_ffi.string(err).decode())
+        try:
+            t_start = time.perf_counter()
+            bar = None
+            if progress:
+                from tqdm import tqdm
+                bar = tqdm(total=n_win, desc=f"{sc.name} [rtl]", unit="win", mininterval=0.5)
+            while True:
+                st = lib.soc_sim_run(sim, CHUNK_CYCLES)
+                if bar is not None:
+                    done = min(n_win, lib.soc_sim_count(sim, 3) // len(TRACE_FIELDS))
+                    bar.update(done - bar.n)
+                if st == 1:
+                    break
+                if st < 0:
+                    uart = bytes(_records(lib, sim, "uart", np.uint8)).decode(errors="replace")
+                    raise RtlBackendError(f"co-simulation stopped: {_sim_ffi.string(lib.soc_sim_error(sim)).decode()}"
+                                          f"\nUART log:\n{uart}")
+            if bar is not None:
+                bar.close()
+            wall = time.perf_counter() - t_start
+            cycles = lib.soc_sim_cycles(sim)
+            rec = {k: _records(lib, sim, k, dt) for k, dt in (
+                ("edges", _EDGE), ("samples", _SAMPLE), ("truth", binding.STATE_DTYPE), ("trace", "<u4"),
+                ("writes", _BUS), ("reads", _BUS), ("irqs", _IRQ), ("uart", np.uint8))}
+        finally:
+            lib.soc_sim_free(sim)
+        return self._result(rec, n_win, speed_ref, wall, cycles)
+
+    def _result(self, rec: dict, n_win: int, speed_ref: np.ndarray, wall: float, cycles: int) -> ClosedLoopResult:
+        hw, sc = self.hw, self.sc
+        H, P = hw.pwm_half, 2 * hw.pwm_half
+        end = n_win * P + H // 2
+        tr = rec["trace"].reshape(-1, len(TRACE_FIELDS))[:n_win].astype(np.int64)
+        t = {name: tr[:, i] for i, name in enumerate(TRACE_FIELDS)}
+        for name in ("omega_pll", "omega_f", "i_d", "i_q", "i_d_ref", "i_q_ref", "cycles"):
+            t[name] = wrap(t[name], 32)
+        if not np.array_equal(t["window"], np.arange(n_win)):
+            raise RtlBackendError("firmware trace records are not one per window in order")
+        reads, writes = rec["reads"], rec["writes"]
+        w = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
+        w["tick"] = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
+        for col, reg, signed in (("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),
+                                 ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False)):
+            v = _per_window(reads, rm.REGISTERS[reg]["addr"], n_win, reg)
+            w[col] = wrap(v, 32) if signed else v
+        vdq = _per_window(writes, rm.V_DQ_ADDR, n_win, "V_DQ")
+        sincos = _per_window(writes, rm.SINCOS_ADDR, n_win, "SINCOS")
+        iref = _per_window(writes, rm.I_REF_ADDR, n_win, "I_REF")
+        vh = _per_window(writes, rm.V_H_ADDR, n_win, "V_H")
+        ctrl = writes["data"][(writes["addr"] == rm.CTRL_ADDR) & (writes["tick"] >= 0)].astype(np.int64)[:n_win]
+        w["v_d"], w["v_q"] = _s16(vdq), _s16(vdq >> 16)
+        w["sin"], w["cos"] = _s16(sincos), _s16(sincos >> 16)
+        for name in ("i_d", "i_q", "i_d_ref", "i_q_ref", "theta_hat", "mode", "omega_f"):
+            w[name] = t[name]
+        w["theta_pll"], w["omega_pll"] = t["theta_pll"], t["omega_pll"]
+        w["speed_ref"] = speed_ref.astype(np.int64)
+        w["adc_mode"][:] = hw.adc_mode
+        irqs = rec["irqs"]
+        if len(irqs) < n_win + 1:
+            raise RtlBackendError(f"{len(irqs)} window interrupts for {n_win} windows")
+        cmp = irqs["cmp"][:n_win].astype(np.int64)
+        for i, name in enumerate(("cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c")):
+            w[name] = cmp[:, i]
+        truth = rec["truth"][:n_win]
+        pole_pairs = self.scales.pole_pairs
+        w["theta_e"] = np.array([int(th * pole_pairs / (2 * math.pi) * 2**32) % 2**32 for th in truth["theta_m"]],
+                                dtype=np.int64)
+        w["omega_m"] = truth["omega_m"].astype(float)
+        w["torque"], w["load_torque"] = truth["torque"].astype(float), truth["load_torque"].astype(float)
+        w["i_d_true"], w["i_q_true"] = truth["i_d"].astype(float), truth["i_q"].astype(float)
+
+        samples = rec["samples"]
+        samples = samples[samples["tick"] < end]
+        edges = rec["edges"]
+        edges = edges[edges["tick"] < end]
+        out = {"v_d": w["v_d"], "v_q": w["v_q"], "v_h": vh & 0x7FFF, "sin": w["sin"], "cos": w["cos"],
+               "enable": (ctrl >> rm.CTRL_ENABLE_LSB) & 1, "i_d_ref": _s16(iref), "i_q_ref": _s16(iref >> 16)}
+        writes_out = {f: np.asarray(out[f], dtype=np.int64) for f in OUTPUT_FIELDS}
+
+        # interrupts 1..n_win report windows 0..n_win-1; their COMMIT latency and the core's cycles
+        rep = irqs[1:n_win + 1]
+        commit_lat = rep["commit"] - rep["tick"]
+        late = int(irqs["late"][n_win]) - 2 if len(irqs) > n_win else int(irqs["late"][-1]) - 2
+        soc = {
+            "fw_cycles_max": int(t["cycles"].max()),
+            "fw_cycles_mean": round(float(t["cycles"].mean()), 1),
+            "irq_to_commit_cycles_max": int(commit_lat.max()) if (commit_lat >= 0).all() else None,
+            "deadline_cycles": int(P - 400),
+            "late_commits": late,
+            "sim_cycles": int(cycles),
+            "wall_s": round(wall, 2),
+            "mcycles_per_s": round(cycles / wall / 1e6, 3),
+            "uart_log": bytes(rec["uart"]).decode(errors="replace"),
+        }
+        samples_out = {"tick": samples["tick"].astype(np.int64), "adc_a": samples["a"].astype(np.uint16),
+                       "adc_b": samples["b"].astype(np.uint16)}
+        edges_out = {"tick": edges["tick"].astype(np.int64), "mask": edges["mask"].astype(np.int64)}
+        return ClosedLoopResult(w, samples_out, edges_out, writes_out, hw, self.scales, sc.pwm.tick_hz,
+                                int(t["flipped"][-1]), wall, soc=soc)

@@ -1,0 +1,41 @@
+`default_nettype none
+// hfi_ram: the SoC's program and data RAM, 32-bit words with byte write strobes, one clock read latency.
+// Initialised from a $readmemh file (one 32-bit hex word per line, word 0 first): the INIT_FILE
+// parameter, or in simulation the plusarg +ram=<file> (overrides the parameter per run).
+module hfi_ram #(
+    parameter WORDS = 8192,
+    parameter INIT_FILE = ""
+) (
+    input  wire                     clk,
+    input  wire                     en,
+    input  wire [3:0]               wstrb,
+    input  wire [$clog2(WORDS)-1:0] addr,
+    input  wire [31:0]              wdata,
+    output reg  [31:0]              rdata
+);
+    reg [31:0] mem [0:WORDS-1];
+
+`ifndef SYNTHESIS
+    reg [1023:0] plusarg_file;
+    initial begin
+        if ($value$plusargs("ram=%s", plusarg_file))
+            $readmemh(plusarg_file, mem);
+        else if (INIT_FILE != "")
+            $readmemh(INIT_FILE, mem);
+    end
+`else
+    initial
+        if (INIT_FILE != "")
+            $readmemh(INIT_FILE, mem);
+`endif
+
+    always @(posedge clk)
+        if (en) begin
+            if (wstrb[0]) mem[addr][7:0] <= wdata[7:0];
+            if (wstrb[1]) mem[addr][15:8] <= wdata[15:8];
+            if (wstrb[2]) mem[addr][23:16] <= wdata[23:16];
+            if (wstrb[3]) mem[addr][31:24] <= wdata[31:24];
+            rdata <= mem[addr];
+        end
+endmodule
+`default_nettype wire

@@ -1,0 +1,385 @@
+// soc_sim.cpp - closed-loop co-simulation of hfi_soc with the C plant (API: soc_sim.h, docs/soc.md).
+//
+// Per clock: evaluate the Verilated SoC (rising edge, then falling edge), then look at its pins:
+//  - window boundary of the event tick: advance the plant to it and keep its state (window truth);
+//  - gate pins changed: apply the new mask to the plant (tick - GATE_LATENCY);
+//  - ADC: the protocol of cocotb_tests/hdl/adc_model.v (the replay's ADC model): a CONVST rising
+//    edge takes a plant sample (tick - CONVST latency), CS_N falling shifts out the MSB, each SCLK
+//    falling edge the next bit, every change one clock after the pin edge;
+//  - AXI4-Lite of hfi_dsp (register reads and writes), the window interrupt (SPEED_REF is written for
+//    the reported window, as the host would), the trace port, the UART line.
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "Vhfi_soc.h"
+#include "Vhfi_soc___024root.h"
+#include "verilated.h"
+#ifdef HFI_FST
+#include "verilated_fst_c.h"
+#endif
+
+extern "C" {
+#include "plant_api.h"
+#include "soc_sim.h"
+}
+
+namespace {
+constexpr long long GATE_LATENCY = 2;     // docs/rtl.md
+constexpr long long CONVST_LATENCY = 2;   // docs/rtl.md
+// The pins of one clock then carry the events of one tick, applied in the golden order:
+// window boundary, gate change, sample.
+static_assert(GATE_LATENCY == CONVST_LATENCY, "gate and CONVST latencies differ");
+constexpr long long START_LIMIT = 1000000;
+constexpr uint32_t COMMIT_ADDR = 0x4C;    // hfi_regs COMMIT (checked against the header in Python)
+}
+
+struct soc_sim {
+    VerilatedContext ctx;
+    Vhfi_soc *top = nullptr;
+#ifdef HFI_FST
+    VerilatedFstC *fst = nullptr;
+#endif
+    bool fst_on = false;
+    soc_sim_setup s{};
+    std::vector<int32_t> speed_ref;
+    struct plant *plant = nullptr;
+    std::string error;
+
+    long long cycle = 0;        // clocks since reset released
+    long long tick0 = -1;       // cycle of tick 0 (-1: not yet)
+    long long next_boundary = 0;
+    long long irqs = 0;
+
+    // pins seen after the previous two rising edges (for the ADC protocol)
+    bool convst_q = false, convst_qq = false, cs_q = true, cs_qq = true, sclk_q = false, sclk_qq = false;
+    int gate_q = 0;
+    int pair_a = 0, pair_b = 0, bitpos = 0;
+    bool irq_q = false;
+    bool aw_done = false, w_done = false;
+    uint32_t aw_addr = 0, w_data = 0, ar_addr = 0;
+    bool ar_done = false;
+
+    // UART receiver
+    int uart_state = 0;      // 0 idle, 1 start bit, 2.. data bits, 10 stop
+    long long uart_count = 0;
+    int uart_byte = 0;
+    bool tx_q = true;
+
+    std::vector<soc_edge> edges;
+    std::vector<soc_sample> samples;
+    std::vector<plant_state> truth;
+    std::vector<uint32_t> trace;
+    std::vector<soc_bus> writes, reads;
+    std::vector<soc_irq> irq_log;
+    std::vector<uint8_t> uart;
+};
+
+static void set_error(char *err, int len, const std::string &msg)
+{
+    if (err && len > 0)
+        std::snprintf(err, (size_t)len, "%s", msg.c_str());
+}
+
+extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, struct plant *plant, char *err,
+                                          int err_len)
+{
+    if (!setup || !plant) {
+        set_error(err, err_len, "soc_sim_create: setup and plant are required");
+        return nullptr;
+    }
+    if (!setup->ram_hex || !*setup->ram_hex) {
+        set_error(err, err_len, "soc_sim_create: no RAM image");
+        return nullptr;
+    }
+    if (setup->half < 256 || setup->n_windows < 1 || !setup->speed_ref || setup->adc_bits < 1 ||
+        setup->adc_bits > 16 || setup->uart_div < 16 || setup->trace_words < 1) {
+        set_error(err, err_len, "soc_sim_create: half >= 256, n_windows >= 1, speed_ref, adc_bits 1..16, "
+                                "uart_div >= 16 and trace_words >= 1 are required");
+        return nullptr;
+    }
+#ifndef HFI_FST
+    if (setup->fst_path) {
+        set_error(err, err_len, "soc_sim_create: this library was built without FST support");
+        return nullptr;
+    }
+#endif
+    auto *sim = new soc_sim();
+    sim->s = *setup;
+    sim->speed_ref.assign(setup->speed_ref, setup->speed_ref + setup->n_windows);
+    sim->plant = plant;
+    sim->next_boundary = 2 * setup->half + setup->half / 2;     // end of window 0
+    std::string plusarg = std::string("+ram=") + setup->ram_hex;
+    const char *argv[] = {"soc_sim", plusarg.c_str()};
+    sim->ctx.commandArgs(2, argv);
+    sim->ctx.traceEverOn(setup->fst_path != nullptr);
+    sim->top = new Vhfi_soc(&sim->ctx, "hfi_soc");
+#ifdef HFI_FST
+    if (setup->fst_path) {
+        sim->fst = new VerilatedFstC();
+        sim->top->trace(sim->fst, 99);
+        sim->fst->open(setup->fst_path);
+    }
+#endif
+    sim->top->clk = 0;
+    sim->top->rst = 1;
+    sim->top->adc_sdo_a = 0;
+    sim->top->adc_sdo_b = 0;
+    for (int i = 0; i < 20; i++) {       // reset: >= 18 clocks (docs/rtl.md)
+        sim->top->clk = 1;
+        sim->top->eval();
+        sim->top->clk = 0;
+        sim->top->eval();
+    }
+    sim->top->rst = 0;
+    return sim;
+}
+
+extern "C" void soc_sim_free(struct soc_sim *sim)
+{
+    if (!sim)
+        return;
+#ifdef HFI_FST
+    if (sim->fst) {
+        sim->fst->close();
+        delete sim->fst;
+    }
+#endif
+    sim->top->final();
+    delete sim->top;
+    delete sim;
+}
+
+static int plant_event_error(soc_sim *sim, const char *what, long long tick, int status)
+{
+    sim->error = std::string("plant refused ") + what + " at tick " + std::to_string(tick) + " (status " +
+                 std::to_string(status) + ")";
+    return -2;
+}
+
+// One clock. Returns 0, or a negative soc_sim_run code.
+static int clock_once(soc_sim *sim)
+{
+    Vhfi_soc *top = sim->top;
+    Vhfi_soc___024root *r = top->rootp;
+    top->clk = 1;
+    top->eval();
+    sim->cycle++;
+    long long c = sim->cycle;
+#ifdef HFI_FST
+    long long now_tick = sim->tick0 < 0 ? -1 : c - sim->tick0;
+    bool dump = sim->fst && (sim->tick0 < 0 ? sim->s.fst_from_tick < 0 : (now_tick >= sim->s.fst_from_tick &&
+                                                                           now_tick < sim->s.fst_to_tick));
+    if (dump)
+        sim->fst->dump((uint64_t)(2 * c) * 5000);
+#endif
+    if (top->trap) {
+        sim->error = "the CPU trapped at clock " + std::to_string(c);
+        return -1;
+    }
+    if (sim->tick0 < 0 && r->hfi_soc__DOT__dsp_run)
+        sim->tick0 = c;
+
+    // ---- plant events of the tick seen at the pins
+    bool convst = top->adc_convst, cs = top->adc_cs_n, sclk = top->adc_sclk;
+    int gate = top->gate;
+    if (sim->tick0 >= 0) {
+        const long long te = c - sim->tick0 - GATE_LATENCY;   // = c - tick0 - CONVST_LATENCY
+        if (te == sim->next_boundary) {
+            int st = plant_advance(sim->plant, te);
+            if (st != 0)
+                return plant_event_error(sim, "the window boundary", te, st);
+            plant_state ps;
+            plant_get_state(sim->plant, &ps);
+            sim->truth.push_back(ps);
+            sim->next_boundary += 2 * sim->s.half;
+        }
+        if (gate != sim->gate_q) {
+            int st = plant_advance(sim->plant, te);
+            if (st == 0)
+                st = plant_set_gates(sim->plant, gate);
+            if (st != 0)
+                return plant_event_error(sim, "a gate mask", te, st);
+            sim->edges.push_back(soc_edge{te, gate, 0});
+        }
+        if (convst && !sim->convst_q) {          // sampling instant: the plant's sample of this tick
+            if (te >= sim->s.half / 2) {
+                int adc[3];
+                double analog[3];
+                int st = plant_advance(sim->plant, te);
+                if (st == 0)
+                    st = plant_sample(sim->plant, adc, analog);
+                if (st != 0)
+                    return plant_event_error(sim, "a sample", te, st);
+                sim->pair_a = adc[0];
+                sim->pair_b = adc[1];
+                sim->samples.push_back(soc_sample{te, adc[0], adc[1]});
+            } else {
+                sim->pair_a = sim->pair_b = 1 << (sim->s.adc_bits - 1);
+            }
+        }
+    } else if (gate != 0 || convst) {
+        sim->error = "gate or CONVST pins active before tick 0";
+        return -2;
+    }
+    // ---- ADC model: read-out decisions on the pins of the previous clock, outputs change now
+    if (!sim->cs_q && sim->cs_qq) {
+        sim->bitpos = sim->s.adc_bits - 1;
+        top->adc_sdo_a = (sim->pair_a >> sim->bitpos) & 1;
+        top->adc_sdo_b = (sim->pair_b >> sim->bitpos) & 1;
+    } else if (!sim->cs_q && !sim->sclk_q && sim->sclk_qq && sim->bitpos > 0) {
+        sim->bitpos--;
+        top->adc_sdo_a = (sim->pair_a >> sim->bitpos) & 1;
+        top->adc_sdo_b = (sim->pair_b >> sim->bitpos) & 1;
+    }
+    sim->convst_qq = sim->convst_q;
+    sim->convst_q = convst;
+    sim->cs_qq = sim->cs_q;
+    sim->cs_q = cs;
+    sim->sclk_qq = sim->sclk_q;
+    sim->sclk_q = sclk;
+    sim->gate_q = gate;
+
+    // ---- bus, interrupt, trace, UART
+    long long tk = sim->tick0 < 0 ? -1 : c - sim->tick0;
+    bool irq = r->hfi_soc__DOT__dsp_irq;
+    if (irq && !sim->irq_q) {
+        long long k = sim->irqs - 1;      // interrupt j reports window j - 1
+        if (k >= 0 && k < sim->s.n_windows)
+            r->hfi_soc__DOT__u_dsp__DOT__u_regs__DOT__r_speed_ref = (uint32_t)sim->speed_ref[(size_t)k];
+        soc_irq rec{tk, -1, {}, (int32_t)r->hfi_soc__DOT__u_dsp__DOT__late_count, 0};
+        rec.cmp[0] = r->hfi_soc__DOT__u_dsp__DOT__cmp_top_a;
+        rec.cmp[1] = r->hfi_soc__DOT__u_dsp__DOT__cmp_top_b;
+        rec.cmp[2] = r->hfi_soc__DOT__u_dsp__DOT__cmp_top_c;
+        rec.cmp[3] = r->hfi_soc__DOT__u_dsp__DOT__cmp_bot_a;
+        rec.cmp[4] = r->hfi_soc__DOT__u_dsp__DOT__cmp_bot_b;
+        rec.cmp[5] = r->hfi_soc__DOT__u_dsp__DOT__cmp_bot_c;
+        sim->irq_log.push_back(rec);
+        sim->irqs++;
+    }
+    sim->irq_q = irq;
+    if (r->hfi_soc__DOT__awvalid && r->hfi_soc__DOT__awready) {
+        sim->aw_done = true;
+        sim->aw_addr = r->hfi_soc__DOT__awaddr & 0xFF;
+    }
+    if (r->hfi_soc__DOT__wvalid && r->hfi_soc__DOT__wready) {
+        sim->w_done = true;
+        sim->w_data = r->hfi_soc__DOT__wdata;
+    }
+    if (sim->aw_done && sim->w_done) {
+        sim->writes.push_back(soc_bus{tk, sim->aw_addr, sim->w_data});
+        if (sim->aw_addr == COMMIT_ADDR && !sim->irq_log.empty() && sim->irq_log.back().commit_tick < 0)
+            sim->irq_log.back().commit_tick = tk;
+        sim->aw_done = sim->w_done = false;
+    }
+    if (r->hfi_soc__DOT__arvalid && r->hfi_soc__DOT__arready) {
+        sim->ar_done = true;
+        sim->ar_addr = r->hfi_soc__DOT__araddr & 0xFF;
+    }
+    if (sim->ar_done && r->hfi_soc__DOT__rvalid && r->hfi_soc__DOT__rready) {
+        sim->reads.push_back(soc_bus{tk, sim->ar_addr, r->hfi_soc__DOT__rdata});
+        sim->ar_done = false;
+    }
+    if (top->trace_valid)
+        sim->trace.push_back(top->trace_data);
+    bool tx = top->uart_tx;
+    const long long div = sim->s.uart_div;
+    if (sim->uart_state == 0) {
+        if (!tx && sim->tx_q) {
+            sim->uart_state = 1;
+            sim->uart_count = div / 2;
+            sim->uart_byte = 0;
+        }
+    } else if (--sim->uart_count == 0) {
+        if (sim->uart_state == 1) {
+            sim->uart_state = tx ? 0 : 2;         // a glitch is no start bit
+            sim->uart_count = div;
+        } else if (sim->uart_state < 10) {
+            sim->uart_byte |= (tx ? 1 : 0) << (sim->uart_state - 2);
+            sim->uart_state++;
+            sim->uart_count = div;
+        } else {
+            sim->uart.push_back((uint8_t)sim->uart_byte);
+            sim->uart_state = 0;
+        }
+    }
+    sim->tx_q = tx;
+
+    top->clk = 0;
+    top->eval();
+#ifdef HFI_FST
+    if (dump)
+        sim->fst->dump((uint64_t)(2 * c + 1) * 5000);
+#endif
+    return 0;
+}
+
+extern "C" int soc_sim_run(struct soc_sim *sim, long long max_cycles)
+{
+    const long long need = sim->s.n_windows * sim->s.trace_words;
+    const long long period = 2 * sim->s.half;
+    const long long end_tick = sim->s.n_windows * period + sim->s.half / 2;
+    for (long long i = 0; i < max_cycles; i++) {
+        if ((long long)sim->trace.size() >= need)
+            return 1;
+        int st = clock_once(sim);
+        if (st != 0)
+            return st;
+        if (sim->tick0 < 0 && sim->cycle > START_LIMIT) {
+            sim->error = "tick 0 (SOC CTRL.DSP_RUN) did not come within 10^6 clocks";
+            return -3;
+        }
+        if (sim->tick0 >= 0 && sim->cycle - sim->tick0 > end_tick + 4 * period) {
+            sim->error = "no trace record for 4 periods after the last window";
+            return -4;
+        }
+    }
+    return (long long)sim->trace.size() >= need ? 1 : 0;
+}
+
+extern "C" const char *soc_sim_error(const struct soc_sim *sim) { return sim->error.c_str(); }
+extern "C" long long soc_sim_cycles(const struct soc_sim *sim) { return sim->cycle; }
+extern "C" long long soc_sim_tick(const struct soc_sim *sim)
+{
+    return sim->tick0 < 0 ? -1 : sim->cycle - sim->tick0;
+}
+
+template <typename T> static int copy_out(const std::vector<T> &v, long long from, long long n, void *dst)
+{
+    if (from < 0 || n < 0 || from + n > (long long)v.size())
+        return -1;
+    if (n)
+        std::memcpy(dst, v.data() + from, (size_t)n * sizeof(T));
+    return 0;
+}
+
+extern "C" long long soc_sim_count(const struct soc_sim *sim, int kind)
+{
+    switch (kind) {
+    case SOC_EDGES: return (long long)sim->edges.size();
+    case SOC_SAMPLES: return (long long)sim->samples.size();
+    case SOC_TRUTH: return (long long)sim->truth.size();
+    case SOC_TRACE: return (long long)sim->trace.size();
+    case SOC_WRITES: return (long long)sim->writes.size();
+    case SOC_READS: return (long long)sim->reads.size();
+    case SOC_IRQS: return (long long)sim->irq_log.size();
+    case SOC_UART: return (long long)sim->uart.size();
+    default: return -1;
+    }
+}
+
+extern "C" int soc_sim_copy(const struct soc_sim *sim, int kind, long long from, long long n, void *dst)
+{
+    switch (kind) {
+    case SOC_EDGES: return copy_out(sim->edges, from, n, dst);
+    case SOC_SAMPLES: return copy_out(sim->samples, from, n, dst);
+    case SOC_TRUTH: return copy_out(sim->truth, from, n, dst);
+    case SOC_TRACE: return copy_out(sim->trace, from, n, dst);
+    case SOC_WRITES: return copy_out(sim->writes, from, n, dst);
+    case SOC_READS: return copy_out(sim->reads, from, n, dst);
+    case SOC_IRQS: return copy_out(sim->irq_log, from, n, dst);
+    case SOC_UART: return copy_out(sim->uart, from, n, dst);
+    default: return -1;
+    }
+}

@@ -1,0 +1,474 @@
+"""The firmware's C control algorithms (firmware/src/control.c, host build) equal the golden model bit for bit.
+
+Every C function is called once per input through cffi (golden/fw_c.py) and compared with its golden
+twin of golden/firmware/ (and golden.fpga.cordic.sincos_q15): at least 100 000 random inputs each, drawn
+over the full legal ranges of the golden docstrings with the extremes and the saturating cases frequent,
+plus directed corner cases. fw_step is compared with Firmware.step on random parameter sets and window
+sequences that visit every supervisor state, every state field and every output after every step.
+
+Random inputs: ``numpy.random.default_rng(seed + k)`` (k fixed per test); the seed is ``HFI_SEED`` if
+set, else a fresh one, and it is printed (replay: ``HFI_SEED=<seed> .venv/bin/python -m pytest ...``).
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+import shutil
+
+import numpy as np
+import pytest
+
+from golden import fw_c
+from golden.firmware.bangbang import bangbang_step
+from golden.firmware.lowpass import lowpass_out, lowpass_step
+from golden.firmware.means import window_means
+from golden.firmware.pi import PiParams, pi_step
+from golden.firmware.pll import PllState, pll_step
+from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, MODE_NAMES, MODE_POL_NEG,
+                                        MODE_POL_POS, MODE_RELAX, MODE_RUN, Firmware, FirmwareParams,
+                                        Outputs)
+from golden.fpga.cordic import sincos_q15
+from golden.fpga.demodulator import WindowResult
+
+S32_MIN, S32_MAX = -(1 << 31), (1 << 31) - 1
+S64_MIN, S64_MAX = -(1 << 63), (1 << 63) - 1
+U16_MAX, U32_MAX = (1 << 16) - 1, (1 << 32) - 1
+F_MIN, F_MAX = -(1 << 47), (1 << 47) - 1        # speed-filter state: shr(F, 16) in s32
+N_RANDOM = 100_000
+
+ffi, lib = fw_c.load()
+
+
+@pytest.fixture(scope="module")
+def seed() -> int:
+    env = os.environ.get("HFI_SEED")
+    value = int(env, 0) if env else secrets.randbits(32)
+    print(f"HFI_SEED={value}")
+    return value
+
+
+def draw_array(rng: np.random.Generator, n: int, lo: int, hi: int, specials=()) -> np.ndarray:
+    """``n`` ints in ``lo..hi`` (within int64), int64 array: 40 % uniform, 40 % of log-uniform magnitude
+    with a random sign (clipped to the range), 20 % from the extremes ``lo, lo+1, -1, 0, 1, hi-1, hi`` and
+    ``specials`` (those inside the range)."""
+    uniform = rng.integers(lo, hi, size=n, endpoint=True, dtype=np.int64)
+    shift = rng.integers(1, 64, size=n)
+    mag = rng.integers(0, S64_MAX, size=n, endpoint=True, dtype=np.int64) >> shift
+    logu = np.clip(np.where(rng.random(n) < 0.5, -mag, mag), lo, hi)
+    pool = np.array(sorted({v for v in (lo, lo + 1, -1, 0, 1, hi - 1, hi, *specials) if lo <= v <= hi}),
+                    dtype=np.int64)
+    extreme = rng.choice(pool, size=n)
+    kind = rng.random(n)
+    return np.where(kind < 0.4, uniform, np.where(kind < 0.8, logu, extreme))
+
+
+def draw(rng: np.random.Generator, n: int, lo: int, hi: int, specials=()) -> list[int]:
+    """:func:`draw_array` as Python ints."""
+    return draw_array(rng, n, lo, hi, specials).tolist()
+
+
+def draw_one(rng: np.random.Generator, lo: int, hi: int, specials=()) -> int:
+    return draw(rng, 1, lo, hi, specials)[0]
+
+
+def random_pi(rng: np.random.Generator) -> PiParams:
+    """A valid PiParams (golden.firmware.pi.PiParams ranges), gains and limit of any magnitude."""
+    kp, ki, limit = draw(rng, 3, 0, S32_MAX, (1 << 16, 1 << 24))
+    sp, si = (int(v) for v in rng.integers(0, 31, size=2, endpoint=True))
+    return PiParams(kp=kp, sp=sp, ki=ki, si=si, limit=max(limit, 1))
+
+
+# ---- build and header ---------------------------------------------------------------------------------
+def test_header_parsed_and_modes_match_golden():
+    """cffi parsed control.h: the enum equals the golden MODE_* constants."""
+    c_modes = [lib.FW_CONVERGE, lib.FW_POL_POS, lib.FW_POL_NEG, lib.FW_RELAX, lib.FW_RUN, lib.FW_FIXED,
+               lib.FW_FAULT]
+    assert c_modes == [MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT]
+    assert len(MODE_NAMES) == len(c_modes)
+    assert "#" not in fw_c.header_cdef()
+
+
+def test_build_failure_reports_make_output(tmp_path):
+    """A copy of the firmware tree with a broken control.c: build() raises with the compiler's message."""
+    shutil.copytree(fw_c.ROOT / "firmware", tmp_path / "firmware")
+    src = tmp_path / "firmware" / "src" / "control.c"
+    src.write_text(src.read_text() + "\nint fw_broken(void) { return undeclared_name; }\n")
+    with pytest.raises(fw_c.FirmwareBuildError) as err:
+        fw_c.build(tmp_path)
+    assert "undeclared_name" in str(err.value)
+    assert not (tmp_path / fw_c.LIBRARY).exists()
+
+
+# ---- window means ---------------------------------------------------------------------------------------
+def _c_means(sum_id: int, sum_iq: int, n: int, out) -> tuple[int, int]:
+    lib.fw_window_means(sum_id, sum_iq, n, out[0], out[1])
+    return out[0][0], out[1][0]
+
+
+def _out_pair():
+    return ffi.new("int32_t *"), ffi.new("int32_t *")
+
+
+def test_window_means_random(seed):
+    rng = np.random.default_rng(seed + 1)
+    sid = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
+    siq = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
+    n = draw(rng, N_RANDOM, 0, U16_MAX, (2, 3, 7))
+    out = _out_pair()
+    for k in range(N_RANDOM):
+        got = _c_means(sid[k], siq[k], n[k], out)
+        assert got == window_means(sid[k], siq[k], n[k]), (seed, sid[k], siq[k], n[k], got)
+    assert n.count(0) > 1000
+
+
+@pytest.mark.parametrize("sum_id, sum_iq, n", [
+    (-7, 7, 2), (-1, 1, 2), (-65535, 65534, 65535), (S32_MIN, S32_MAX, 1), (S32_MIN, S32_MAX, 3),
+    (S32_MIN, -1, U16_MAX), (123, -456, 0), (S32_MIN, S32_MAX, 0)])
+def test_window_means_corners(sum_id, sum_iq, n):
+    """Truncation toward zero of negative sums, n = 0, the s32 extremes."""
+    assert _c_means(sum_id, sum_iq, n, _out_pair()) == window_means(sum_id, sum_iq, n)
+
+
+# ---- bang-bang --------------------------------------------------------------------------------------------
+def test_bangbang_random(seed):
+    rng = np.random.default_rng(seed + 2)
+    theta = draw(rng, N_RANDOM, 0, U32_MAX)
+    gamma = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
+    k_bb = draw(rng, N_RANDOM, 0, U32_MAX, (27_342_611, 1 << 31))
+    step = lib.fw_bangbang_step
+    for k in range(N_RANDOM):
+        assert step(theta[k], gamma[k], k_bb[k]) == bangbang_step(theta[k], gamma[k], k_bb[k]), \
+            (seed, theta[k], gamma[k], k_bb[k])
+    assert gamma.count(0) > 1000
+
+
+@pytest.mark.parametrize("theta, gamma, k_bb", [
+    (U32_MAX, 1, 1), (0, -1, 1), (U32_MAX - 5, S32_MAX, 27_342_611), (3, S32_MIN, 27_342_611), (77, 0, 5)])
+def test_bangbang_wrap(theta, gamma, k_bb):
+    """The angle wraps at 0 / 2^32 both ways; gamma == 0 leaves it."""
+    assert lib.fw_bangbang_step(theta, gamma, k_bb) == bangbang_step(theta, gamma, k_bb)
+
+
+# ---- PLL ------------------------------------------------------------------------------------------------------
+def _c_pll(s: PllState, theta_hat: int, kp: int, ki: int, c=None) -> PllState:
+    c = fw_c.pll_to_c(ffi, s) if c is None else c
+    c.theta, c.omega, c.integ = s.theta, s.omega, s.integ
+    lib.fw_pll_step(c, theta_hat, kp, ki)
+    return fw_c.pll_from_c(c)
+
+
+def test_pll_random(seed):
+    rng = np.random.default_rng(seed + 3)
+    theta = draw(rng, N_RANDOM, 0, U32_MAX)
+    integ = draw(rng, N_RANDOM, S64_MIN, S64_MAX, (S64_MAX - (1 << 40), S64_MIN + (1 << 40)))
+    omega = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
+    theta_hat = draw(rng, N_RANDOM, 0, U32_MAX)
+    kp = draw(rng, N_RANDOM, 0, S32_MAX, (2621,))
+    ki = draw(rng, N_RANDOM, 0, S32_MAX, (6711,))
+    c = ffi.new("struct fw_pll *")
+    sat_integ = sat_omega = 0
+    for k in range(N_RANDOM):
+        s = PllState(theta[k], integ[k], omega[k])
+        want = pll_step(s, theta_hat[k], kp[k], ki[k])
+        got = _c_pll(s, theta_hat[k], kp[k], ki[k], c)
+        assert got == want, (seed, s, theta_hat[k], kp[k], ki[k], got, want)
+        sat_integ += want.integ in (S64_MIN, S64_MAX)
+        sat_omega += want.omega in (S32_MIN, S32_MAX)
+    assert sat_integ > 1000 and sat_omega > 1000, (sat_integ, sat_omega)
+
+
+@pytest.mark.parametrize("state, theta_hat, kp, ki, field, value", [
+    (PllState(0, S64_MAX - 5, 0), 1000, 0, 1, "integ", S64_MAX),              # saturates up
+    (PllState(1000, S64_MIN + 5, 0), 0, 0, 1, "integ", S64_MIN),              # saturates down
+    (PllState(0, S64_MAX, 0), S32_MAX, S32_MAX, S32_MAX, "integ", S64_MAX),   # stays saturated
+    (PllState(0, S64_MIN, 0), 1 << 31, S32_MAX, S32_MAX, "integ", S64_MIN),   # e = INT32_MIN
+    (PllState(0, 0, 0), S32_MAX, S32_MAX, 0, "omega", S32_MAX),
+    (PllState(1 << 31, 0, 0), 0, S32_MAX, 0, "omega", S32_MIN),
+    (PllState(U32_MAX, 0, 0), 0, 1 << 16, 0, "theta", 0),                     # e = +1: 2^32 -> 0
+    (PllState(0, 0, 0), U32_MAX, 1 << 16, 0, "theta", U32_MAX),               # e = -1: 0 -> 2^32 - 1
+])
+def test_pll_corners(state, theta_hat, kp, ki, field, value):
+    """int64 integrator saturation at INT64_MAX/MIN, omega saturation, the angle wrap at 0 / 2^32."""
+    want = pll_step(state, theta_hat, kp, ki)
+    assert _c_pll(state, theta_hat, kp, ki) == want
+    assert getattr(want, field) == value, want     # the case really reaches its corner
+
+
+# ---- speed filter --------------------------------------------------------------------------------------------
+def test_lowpass_random(seed):
+    rng = np.random.default_rng(seed + 4)
+    f = draw(rng, N_RANDOM, F_MIN, F_MAX)
+    x = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
+    a = draw(rng, N_RANDOM, 0, 1 << 16, (2425, (1 << 16) - 1))
+    step, out = lib.fw_lowpass_step, lib.fw_lowpass_out
+    beyond_int64 = 0
+    for k in range(N_RANDOM):
+        assert step(f[k], x[k], a[k]) == lowpass_step(f[k], x[k], a[k]), (seed, f[k], x[k], a[k])
+        assert out(f[k]) == lowpass_out(f[k]), (seed, f[k])
+        beyond_int64 += abs(((x[k] << 16) - f[k]) * a[k]) > S64_MAX
+    assert beyond_int64 > 1000, beyond_int64     # the split product is exercised
+
+
+@pytest.mark.parametrize("f, x, a", [
+    (F_MIN, S32_MAX, 1 << 16), (F_MAX, S32_MIN, 1 << 16), (F_MIN, S32_MAX, (1 << 16) - 1),
+    (F_MAX, S32_MIN, (1 << 16) - 1), (F_MAX, S32_MIN, 1), (F_MIN, S32_MAX, 0), (-1, 0, 1 << 16),
+    (-1, -1, 2425), (F_MAX, S32_MAX, 1 << 16)])
+def test_lowpass_corners(f, x, a):
+    """|d| up to 2^48 - 2^16 with a = 65536 (a plain int64 d * a would overflow), flooring of negatives."""
+    assert lib.fw_lowpass_step(f, x, a) == lowpass_step(f, x, a)
+    assert lib.fw_lowpass_out(f) == lowpass_out(f)
+
+
+# ---- PI -------------------------------------------------------------------------------------------------------
+PI_SETS = 2000
+PI_PER_SET = N_RANDOM // PI_SETS
+
+
+def test_pi_random(seed):
+    rng = np.random.default_rng(seed + 5)
+    integ_c = ffi.new("int64_t *")
+    n_pos = n_neg = n_frozen = 0
+    for _ in range(PI_SETS):
+        p = random_pi(rng)
+        cp = fw_c.pi_params_to_c(ffi, p)
+        lim_i = p.limit << p.si
+        integ = draw(rng, PI_PER_SET, -lim_i, lim_i)
+        ref = draw(rng, PI_PER_SET, S32_MIN, S32_MAX)
+        meas = draw(rng, PI_PER_SET, S32_MIN, S32_MAX)
+        for k in range(PI_PER_SET):
+            integ_c[0] = integ[k]
+            u = lib.fw_pi_step(integ_c, ref[k], meas[k], cp)
+            want = pi_step(integ[k], ref[k], meas[k], p)
+            assert (u, integ_c[0]) == want, (seed, p, integ[k], ref[k], meas[k])
+            n_pos += want[0] == p.limit
+            n_neg += want[0] == -p.limit
+            n_frozen += want[1] == integ[k] and p.ki and ref[k] != meas[k] and abs(integ[k]) != lim_i
+    assert min(n_pos, n_neg) > 10_000 and n_frozen > 1000, (n_pos, n_neg, n_frozen)
+
+
+def _pi_sequence(p: PiParams, errors, integ=0):
+    """Run golden and C side by side over (ref, meas) pairs; returns the golden (u, integ) per call."""
+    cp = fw_c.pi_params_to_c(ffi, p)
+    integ_c = ffi.new("int64_t *", integ)
+    seq = []
+    for ref, meas in errors:
+        u = lib.fw_pi_step(integ_c, ref, meas, cp)
+        u_g, integ = pi_step(integ, ref, meas, p)
+        assert (u, integ_c[0]) == (u_g, integ), (p, ref, meas)
+        seq.append((u_g, integ))
+    return seq
+
+
+def test_pi_saturation_both_ways():
+    p = PiParams(kp=1 << 16, sp=16, ki=0, si=16, limit=100)
+    assert _pi_sequence(p, [(1000, 0), (0, 1000), (S32_MAX, S32_MIN), (S32_MIN, S32_MAX)]) == \
+        [(100, 0), (-100, 0), (100, 0), (-100, 0)]
+    big = PiParams(kp=S32_MAX, sp=0, ki=S32_MAX, si=31, limit=S32_MAX)
+    seq = _pi_sequence(big, [(S32_MAX, S32_MIN)] * 3 + [(S32_MIN, S32_MAX)] * 3, integ=big.limit << 31)
+    assert [u for u, _ in seq] == [S32_MAX] * 3 + [-S32_MAX] * 3
+
+
+def test_pi_anti_windup_freeze_and_release():
+    """Integrates to the limit, freezes while the error pushes further, releases when it reverses."""
+    p = PiParams(kp=1 << 16, sp=16, ki=1 << 16, si=16, limit=100)
+    seq = _pi_sequence(p, [(50, 0), (50, 0), (50, 0), (-1, 0), (-1, 0)]) \
+        + _pi_sequence(p, [(-50, 0), (-50, 0), (-50, 0), (1, 0)])
+    assert seq == [(100, 50 << 16), (100, 50 << 16), (100, 50 << 16), (48, 49 << 16), (47, 48 << 16),
+                   (-100, -50 << 16), (-100, -50 << 16), (-100, -50 << 16), (-48, -49 << 16)]
+
+
+# ---- sin/cos ----------------------------------------------------------------------------------------------------
+def test_sincos_random(seed):
+    rng = np.random.default_rng(seed + 6)
+    quarter = 1 << 30
+    edges = [q * quarter + d for q in range(5) for d in (-2, -1, 0, 1, 2) if 0 <= q * quarter + d <= U32_MAX]
+    angles = draw(rng, N_RANDOM, 0, U32_MAX, edges) + edges
+    s_want, c_want = (v.tolist() for v in sincos_q15(np.array(angles, dtype=np.int64)))
+    s_c, c_c = _out_pair()
+    for k, a in enumerate(angles):
+        lib.fw_sincos_q15(a, s_c, c_c)
+        assert (s_c[0], c_c[0]) == (s_want[k], c_want[k]), (seed, a)
+    assert {32767, -32768} <= set(s_want) | set(c_want)
+
+
+# ---- control task ----------------------------------------------------------------------------------------------
+class Pair:
+    """A golden Firmware and its C twin (fw_init), stepped together and compared after every step."""
+
+    def __init__(self, p: FirmwareParams, fw: Firmware | None = None):
+        self.p, self.fw = p, Firmware(p) if fw is None else fw
+        self.cp = fw_c.params_to_c(ffi, p)
+        if fw is None:
+            self.st = ffi.new("struct fw_state *")
+            lib.fw_init(self.st, self.cp)
+        else:
+            self.st = fw_c.state_to_c(ffi, fw)
+        self.win = ffi.new("struct fw_window *")
+        self.out = ffi.new("struct fw_outputs *")
+        self.check_state()
+
+    def check_state(self, ctx=()) -> None:
+        got = fw_c.state_from_c(self.st, self.p)
+        if got != self.fw:
+            diff = {k: (getattr(got, k), getattr(self.fw, k)) for k in (*fw_c.STATE_FIELDS, "pll")
+                    if getattr(got, k) != getattr(self.fw, k)}
+            pytest.fail(f"state differs (C, golden) {diff} {ctx}")
+
+    def step(self, w: WindowResult, speed_ref: int, ctx=()) -> Outputs:
+        want = self.fw.step(w, speed_ref)
+        lib.fw_step(self.st, self.cp, fw_c.window_to_c(ffi, w, self.win), speed_ref, self.out)
+        got = fw_c.outputs_from_c(self.out)
+        assert got == want, (ctx, got, want)
+        self.check_state(ctx)
+        return want
+
+
+def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
+    """Valid parameters (PiParams, pll_gains, lowpass_coef, k_bb_raw ranges), short start-up counts."""
+    k_bb, pll_kp, pll_ki = draw(rng, 3, 0, S32_MAX, (27_342_611, 2621, 6711))
+    v_h, i_pulse = draw(rng, 2, -S32_MAX, S32_MAX, (300, 5851))
+    n_converge, n_pulse = (int(v) for v in rng.integers(-1, 25, size=2))
+    return FirmwareParams(
+        k_bb=k_bb, pll_kp=pll_kp, pll_ki=pll_ki, speed_lp=draw_one(rng, 0, 1 << 16, (2425,)),
+        speed_pi=random_pi(rng), id_pi=random_pi(rng), iq_pi=random_pi(rng), v_h=v_h, i_pulse=i_pulse,
+        n_converge=n_converge, n_pulse=n_pulse, n_settle=int(rng.integers(-1, 12)),
+        i_trip=draw_one(rng, 0, S32_MAX, (1000, 32767)),
+        fixed_angle=draw_one(rng, 0, U32_MAX) if fixed else None)
+
+
+def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int) -> list[WindowResult]:
+    """``count`` window results whose means stay within +-i_trip (no trip); gamma_d shifted by the bias."""
+    gamma, gamma_d, wsum = (draw_array(rng, count, S32_MIN, S32_MAX) for _ in range(3))
+    gamma_d = np.clip(gamma_d // 2 + gamma_d_bias, S32_MIN, S32_MAX)
+    n = draw_array(rng, count, 0, U16_MAX, (1, 2, 10, 200))
+    # sum = m n + r with |r| < n of m's sign: c_div(sum, n) = m (|m| <= i_trip); saturated to s32, the
+    # mean only shrinks; with n = 0 the sums are arbitrary (the means are 0)
+    means = draw_array(rng, 2 * count, -i_trip, i_trip).reshape(2, count)
+    rems = rng.integers(0, np.maximum(n, 1), size=(2, count)) * np.sign(means)
+    sums = np.clip(means * n + rems, S32_MIN, S32_MAX)
+    sums = np.where(n == 0, draw_array(rng, 2 * count, S32_MIN, S32_MAX).reshape(2, count), sums)
+    cols = (gamma, gamma_d, sums[0], sums[1], wsum, n)
+    return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
+
+
+def trip_window(rng: np.random.Generator, i_trip: int) -> WindowResult:
+    """A window result with one mean beyond +-i_trip (the other within)."""
+    if i_trip == S32_MAX:      # only abs(INT32_MIN) = 2^31 exceeds it
+        n, over = 1, S32_MIN
+    else:
+        big = draw_one(rng, i_trip + 1, S32_MAX)
+        n = draw_one(rng, 1, max(1, min(4, S32_MAX // big)))
+        over = big * n if rng.random() < 0.5 else -big * n
+    sums = [over, draw_one(rng, -i_trip, i_trip)]
+    if rng.random() < 0.5:
+        sums.reverse()
+    gamma, gamma_d, wsum = draw(rng, 3, S32_MIN, S32_MAX)
+    return WindowResult(gamma=gamma, gamma_d=gamma_d, sum_id=sums[0], sum_iq=sums[1], wsum=wsum, n_samples=n)
+
+
+STEP_CHUNKS = 4
+SEQ_LEN = 200
+SEQS_PER_CHUNK = N_RANDOM // (STEP_CHUNKS * SEQ_LEN)
+TRIP_FROM = (MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED)
+
+
+@pytest.mark.parametrize("chunk", range(STEP_CHUNKS))
+def test_fw_step_random_sequences(seed, chunk):
+    """SEQS_PER_CHUNK sequences of SEQ_LEN windows; each trips (if at all) from a chosen state."""
+    rng = np.random.default_rng(seed + 100 + chunk)
+    visited, trips_from, flips = set(), set(), set()
+    for q in range(SEQS_PER_CHUNK):
+        fixed = q % 8 == 0
+        p = random_params(rng, fixed)
+        pair = Pair(p)
+        trip_mode = MODE_FIXED if fixed else (None, *TRIP_FROM[:5])[q % 6]       # None: never trips
+        bias = draw_one(rng, -(1 << 20), 1 << 20) if q % 5 else 0
+        speed_ref = draw_one(rng, S32_MIN, S32_MAX)
+        windows = random_windows(rng, SEQ_LEN, p.i_trip, bias)
+        for k, w in enumerate(windows):
+            before = pair.fw.mode
+            if before == trip_mode and rng.random() < 0.25:
+                w = trip_window(rng, p.i_trip)
+            if rng.random() < 0.02:
+                speed_ref = draw_one(rng, S32_MIN, S32_MAX)
+            pair.step(w, speed_ref, (seed, chunk, q, k, p))
+            visited.add(pair.fw.mode)
+            if pair.fw.mode == MODE_FAULT and before != MODE_FAULT:
+                trips_from.add(before)
+            if before == MODE_POL_NEG and pair.fw.mode == MODE_RELAX:
+                flips.add(pair.fw.flipped)
+    assert visited == set(range(7)), visited
+    assert trips_from == set(TRIP_FROM), trips_from
+    assert flips == {0, 1}, flips
+
+
+def _params(**kw) -> FirmwareParams:
+    pi = PiParams(kp=1 << 16, sp=16, ki=1 << 10, si=16, limit=2000)
+    base = dict(k_bb=27_342_611, pll_kp=2621, pll_ki=6711, speed_lp=2425, speed_pi=pi, id_pi=pi, iq_pi=pi,
+                v_h=5851, i_pulse=300, n_converge=3, n_pulse=4, n_settle=1, i_trip=1000, fixed_angle=None)
+    base.update(kw)
+    return FirmwareParams(**base)
+
+
+def _win(gamma=1, gamma_d=0, sum_id=0, sum_iq=0, n=10) -> WindowResult:
+    return WindowResult(gamma=gamma, gamma_d=gamma_d, sum_id=sum_id, sum_iq=sum_iq, wsum=0, n_samples=n)
+
+
+@pytest.mark.parametrize("fixed_angle", [None, 0, 123_456_789, U32_MAX, (1 << 32) + 5, -1])
+def test_fw_init(fixed_angle):
+    """fw_init equals Firmware(params): CONVERGE, or FIXED at uwrap(fixed_angle, 32)."""
+    pair = Pair(_params(fixed_angle=fixed_angle))
+    assert pair.st.mode == (MODE_CONVERGE if fixed_angle is None else MODE_FIXED)
+
+
+def test_start_up_with_and_without_flip():
+    """CONVERGE -> POL_POS -> POL_NEG -> RELAX -> RUN; the larger -I_p response flips theta_hat by pi."""
+    for pos, neg, flipped in ((5, 9, 1), (9, 5, 0), (7, 7, 0)):
+        pair = Pair(_params())
+        modes = []
+        for k in range(16):
+            mode = pair.fw.mode
+            gamma_d = pos if mode == MODE_POL_POS else neg if mode == MODE_POL_NEG else 0
+            pair.step(_win(gamma=(-1) ** k, gamma_d=gamma_d, sum_id=30, sum_iq=-25), 5000)
+            modes.append(pair.fw.mode)
+        assert modes[:13] == [MODE_CONVERGE] * 2 + [MODE_POL_POS] * 4 + [MODE_POL_NEG] * 4 + [MODE_RELAX] \
+            + [MODE_RUN] * 2
+        assert pair.fw.flipped == pair.st.flipped == flipped
+
+
+@pytest.mark.parametrize("mode", [MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED])
+def test_fault_by_trip(mode):
+    """A window mean beyond i_trip in any state: FAULT outputs (0,0,0,0,32767,0), integrators cleared."""
+    fw = Firmware(_params(fixed_angle=7 if mode == MODE_FIXED else None))
+    fw.mode, fw.n, fw.id_int, fw.iq_int, fw.speed_int = mode, 1, 12345 << 16, -777 << 16, 99 << 20
+    pair = Pair(fw.p, fw)
+    assert pair.step(_win(sum_id=10, sum_iq=-1001, n=1), 100) == Outputs(0, 0, 0, 0, 32767, 0)
+    assert (pair.st.mode, pair.st.n, pair.st.id_int, pair.st.iq_int) == (MODE_FAULT, 0, 0, 0)
+    for _ in range(3):      # FAULT is kept, the estimator is off
+        pair.step(_win(gamma=5, n=0), 100)
+    assert pair.st.n == 3
+
+
+def test_trip_on_int32_min_mean():
+    """abs(INT32_MIN) = 2^31 exceeds i_trip = INT32_MAX (the C takes abs in int64)."""
+    pair = Pair(_params(i_trip=S32_MAX))
+    pair.step(_win(sum_id=S32_MAX, sum_iq=S32_MAX - 1, n=1), 0)
+    assert pair.st.mode == MODE_CONVERGE
+    pair.step(_win(sum_iq=S32_MIN, n=1), 0)
+    assert pair.st.mode == MODE_FAULT
+
+
+def test_window_counter_saturates_at_int32_max():
+    """n saturates at INT32_MAX in the C (the golden int counts on: 2^31 does not fit s32 n)."""
+    fw = Firmware(_params())
+    fw.mode, fw.n = MODE_RUN, S32_MAX - 1
+    pair = Pair(fw.p, fw)
+    pair.step(_win(), 10)
+    assert pair.st.n == S32_MAX
+    lib.fw_step(pair.st, pair.cp, fw_c.window_to_c(ffi, _win(), pair.win), 10, pair.out)
+    want = pair.fw.step(_win(), 10)
+    assert pair.fw.n == 1 << 31 and pair.st.n == S32_MAX
+    assert fw_c.outputs_from_c(pair.out) == want
+    pair.fw.n = S32_MAX
+    pair.check_state()

@@ -11,8 +11,10 @@ PYTEST_JOBS ?= auto
 setup:
 	bash scripts/setup.sh
 
+# Closed-loop backend of `make run`: rtl (firmware on the Verilated SoC, default) or golden (Python model).
+BACKEND ?= rtl
 run: setup
-	$(ENV) .venv/bin/python scripts/run.py
+	$(ENV) .venv/bin/python scripts/run.py --backend $(BACKEND)
 
 # pytest exit code 5 ("no tests collected") counts as a failure.
 test: setup

@@ -59,9 +59,11 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
             "peak_deg": round(float(np.max(np.abs(err[after]))), 2) if after.any() else None},
         "locked": bool(np.all(np.abs(err[after]) < 60.0)),
         "segments": segs,
-        "late_commits": 0,
+        "backend": "golden" if res.soc is None else "rtl",
+        "late_commits": 0 if res.soc is None else res.soc["late_commits"],
         "wall_s": round(res.wall_s, 2),
         "realtime_factor": round(float(res.t[-1]) / res.wall_s, 3),
+        **({} if res.soc is None else {"soc": {k: v for k, v in res.soc.items() if k != "uart_log"}}),
     }
 
 

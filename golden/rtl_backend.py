@@ -126,7 +126,7 @@ def build_sim(fst: bool = False) -> Path:
         if build.exists():
             shutil.rmtree(build)
         build.mkdir(parents=True)
-        cflags = f"-fPIC -O2 -I{SIM_DIR} -I{ROOT / 'golden/plant/src'}" + (" -DHFI_FST" if fst else "")
+        cflags = f"-fPIC -O3 -I{SIM_DIR} -I{ROOT / 'golden/plant/src'}" + (" -DHFI_FST" if fst else "")
         ldflags = f"-shared -L{PLANT_LIB.parent} -lhfiplant -Wl,-rpath,{PLANT_LIB.parent}"
         cmd = [verilator, "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast",
                "--x-initial", "fast", "--noassert", "-Wno-fatal", "-Wno-lint", "-Wno-style",

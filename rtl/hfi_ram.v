@@ -1,5 +1,7 @@
 `default_nettype none
-// hfi_ram: the SoC's program and data RAM, 32-bit words with byte write strobes, one clock read latency.
+// hfi_ram: the SoC's program and data RAM, 32-bit words: one write port with byte strobes and one read
+// port with one clock latency (a simple dual-port block RAM). A read of the word being written in the
+// same clock returns the old word.
 // Initialised from a $readmemh file (one 32-bit hex word per line, word 0 first): the INIT_FILE
 // parameter, or in simulation the plusarg +ram=<file> (overrides the parameter per run).
 module hfi_ram #(
@@ -7,10 +9,11 @@ module hfi_ram #(
     parameter INIT_FILE = ""
 ) (
     input  wire                     clk,
-    input  wire                     en,
     input  wire [3:0]               wstrb,
-    input  wire [$clog2(WORDS)-1:0] addr,
+    input  wire [$clog2(WORDS)-1:0] waddr,
     input  wire [31:0]              wdata,
+    input  wire                     ren,
+    input  wire [$clog2(WORDS)-1:0] raddr,
     output reg  [31:0]              rdata
 );
     reg [31:0] mem [0:WORDS-1];
@@ -29,13 +32,13 @@ module hfi_ram #(
             $readmemh(INIT_FILE, mem);
 `endif
 
-    always @(posedge clk)
-        if (en) begin
-            if (wstrb[0]) mem[addr][7:0] <= wdata[7:0];
-            if (wstrb[1]) mem[addr][15:8] <= wdata[15:8];
-            if (wstrb[2]) mem[addr][23:16] <= wdata[23:16];
-            if (wstrb[3]) mem[addr][31:24] <= wdata[31:24];
-            rdata <= mem[addr];
-        end
+    always @(posedge clk) begin
+        if (wstrb[0]) mem[waddr][7:0] <= wdata[7:0];
+        if (wstrb[1]) mem[waddr][15:8] <= wdata[15:8];
+        if (wstrb[2]) mem[waddr][23:16] <= wdata[23:16];
+        if (wstrb[3]) mem[waddr][31:24] <= wdata[31:24];
+        if (ren)
+            rdata <= mem[raddr];
+    end
 endmodule
 `default_nettype wire

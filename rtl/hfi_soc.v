@@ -48,8 +48,8 @@ module hfi_soc #(
     endgenerate
 
     // ---------------------------------------------------------------- CPU
-    wire        mem_valid, mem_instr, mem_ready;
-    wire [31:0] mem_addr, mem_wdata, mem_rdata;
+    wire        mem_valid, mem_instr, mem_ready, mem_la_read;
+    wire [31:0] mem_addr, mem_wdata, mem_rdata, mem_la_addr;
     wire [3:0]  mem_wstrb;
     wire        dsp_irq;
     wire [31:0] cpu_irq = {28'd0, dsp_irq, 3'd0};
@@ -65,7 +65,7 @@ module hfi_soc #(
         .clk(clk), .resetn(~rst), .trap(trap),
         .mem_valid(mem_valid), .mem_instr(mem_instr), .mem_ready(mem_ready),
         .mem_addr(mem_addr), .mem_wdata(mem_wdata), .mem_wstrb(mem_wstrb), .mem_rdata(mem_rdata),
-        .mem_la_read(), .mem_la_write(), .mem_la_addr(), .mem_la_wdata(), .mem_la_wstrb(),
+        .mem_la_read(mem_la_read), .mem_la_write(), .mem_la_addr(mem_la_addr), .mem_la_wdata(), .mem_la_wstrb(),
         .pcpi_valid(), .pcpi_insn(), .pcpi_rs1(), .pcpi_rs2(),
         .pcpi_wr(1'b0), .pcpi_rd(32'd0), .pcpi_wait(1'b0), .pcpi_ready(1'b0),
         .irq(cpu_irq), .eoi(),
@@ -78,17 +78,19 @@ module hfi_soc #(
     wire sel_ctl = mem_valid && mem_addr[31:28] == 4'h2;
     wire sel_none = mem_valid && !sel_ram && !sel_dsp && !sel_ctl;
 
-    // RAM: one clock read latency
-    reg         ram_ready, none_ready;
+    // RAM without wait states: every transfer of the core is announced one clock ahead on the
+    // look-ahead interface (mem_la_read with mem_la_addr), so the block RAM reads the word then and the
+    // transfer completes in the clock mem_valid rises; a write is done in that clock.
+    reg         none_ready;
     wire [31:0] ram_rdata;
+    wire        la_ram = mem_la_addr[31:28] == 4'h0 && mem_la_addr[27:0] < RAM_BYTES;
+    wire        ram_ready = sel_ram;
     hfi_ram #(.WORDS(RAM_WORDS), .INIT_FILE(RAM_INIT)) u_ram (
-        .clk(clk), .en(sel_ram && !ram_ready), .wstrb(mem_wstrb), .addr(mem_addr[RAM_AW+1:2]),
-        .wdata(mem_wdata), .rdata(ram_rdata)
+        .clk(clk), .wstrb(sel_ram ? mem_wstrb : 4'd0), .waddr(mem_addr[RAM_AW+1:2]), .wdata(mem_wdata),
+        .ren(mem_la_read && la_ram), .raddr(mem_la_addr[RAM_AW+1:2]), .rdata(ram_rdata)
     );
-    always @(posedge clk) begin
-        ram_ready <= !rst && sel_ram && !ram_ready;
+    always @(posedge clk)
         none_ready <= !rst && sel_none && !none_ready;
-    end
 
     // hfi_dsp through the core's AXI4-Lite adapter
     wire        dsp_ready;

@@ -1,8 +1,14 @@
 #!/usr/bin/env python3
 """Main job (``make run``): simulate a scenario and write its trace, metrics and plots.
 
-A scenario with a ``[control]`` table runs the golden closed loop (:mod:`golden.closedloop`; the
-default, ``scenarios/fullload_start.toml``): ``trace.npz`` (per-window registers, firmware state and
+A scenario with a ``[control]`` table runs a closed loop (the default, ``scenarios/fullload_start.toml``)
+on one of two backends (``--backend``, default ``$BACKEND`` or ``rtl``):
+
+- ``rtl``: the firmware (firmware/, C) on the PicoRV32 of the Verilated ``hfi_soc`` drives the C plant
+  through the RTL (:mod:`golden.rtl_backend`; ``--fst`` writes waveforms);
+- ``golden``: the bit-true Python model of the same system (:mod:`golden.closedloop`), ~30x faster.
+
+Both give identical traces (tests/test_rtl_identity.py) and write ``trace.npz`` (per-window registers, firmware state and
 plant truth; every ADC sample), ``metrics.json`` (angle error and speed per reference plateau),
 ``closed_loop.png`` and ``phase_current.png`` (:mod:`golden.report`).
 
@@ -15,7 +21,8 @@ scenario's output directory (default ``out/<scenario name>/``):
 - ``metrics.json``: HF envelopes vs eq. (18), demodulated signal, sensor error, speed of the run;
 - ``phase_currents.png``, ``dq_estimated.png``, ``hf_envelopes.png``.
 
-Usage: scripts/run.py [SCENARIO.toml] [--out DIR] [--quiet]
+Usage: scripts/run.py [SCENARIO.toml] [--out DIR] [--quiet] [--backend rtl|golden]
+                     [--fst FILE [--fst-window T0 T1]]
 """
 
 from __future__ import annotations
@@ -39,6 +46,7 @@ from golden.closedloop import ClosedLoop  # noqa: E402
 from golden.openloop_run import simulate, theory_envelopes  # noqa: E402
 from golden.plant import PlantError  # noqa: E402
 from golden.report import write_all  # noqa: E402
+from golden.rtl_backend import RtlBackendError, RtlClosedLoop  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -141,19 +149,32 @@ def main() -> int:
     ap.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO)
     ap.add_argument("--out", help="output directory (default: the scenario's output.dir)")
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
+    ap.add_argument("--backend", choices=("rtl", "golden"), default=os.environ.get("BACKEND") or "rtl",
+                    help="closed-loop backend (default: $BACKEND or rtl)")
+    ap.add_argument("--fst", help="rtl backend: write an FST waveform of the SoC to this file")
+    ap.add_argument("--fst-window", nargs=2, type=float, metavar=("T0", "T1"), default=(0.0, 0.002),
+                    help="time span of the waveform [s] (default 0 0.002)")
     args = ap.parse_args()
+    if args.backend not in ("rtl", "golden"):
+        print(f"run: unknown backend {args.backend!r} (rtl or golden)", file=sys.stderr)
+        return 1
     try:
         scn = load_scenario(args.scenario)
         out_dir = args.out or scn.output.dir
         os.makedirs(out_dir, exist_ok=True)
         if scn.control is not None:
-            res = ClosedLoop(scn).run(progress=not args.quiet)
+            if args.backend == "rtl":
+                res = RtlClosedLoop(scn).run(progress=not args.quiet, fst=args.fst,
+                                             fst_window=tuple(args.fst_window))
+                sys.stderr.write("".join(f"[fw] {line}\n" for line in res.soc["uart_log"].splitlines()))
+            else:
+                res = ClosedLoop(scn).run(progress=not args.quiet)
             metrics, files = write_all(scn, res, out_dir)
             print(json.dumps(metrics, indent=2))
             print("wrote", ", ".join(files))
             return 0
         res = simulate(scn, progress=not args.quiet)
-    except (ScenarioError, PlantError, OSError, ValueError) as exc:
+    except (ScenarioError, PlantError, OSError, ValueError, RtlBackendError) as exc:
         print(f"run: {exc}", file=sys.stderr)
         return 1
     np.savez_compressed(os.path.join(out_dir, "trace.npz"), t=res.t, adc=res.adc, i_meas=res.i_meas,

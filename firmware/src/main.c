@@ -183,11 +183,11 @@ int main(void)
     uart_puts("hfi_fw: running\n");
 
     for (;;) {
-        int32_t mode = st.mode;
+        int32_t mode = *(volatile int32_t *)&st.mode;   /* written by the interrupt */
         if (mode != shown_mode && !halted) {
             shown_mode = mode;
             uart_puts("hfi_fw: window ");
-            uart_putu(shown_window);
+            uart_putu(*(volatile uint32_t *)&shown_window);
             uart_puts(" mode ");
             uart_puts(mode >= 0 && mode <= FW_FAULT ? mode_names[mode] : "?");
             uart_puts("\n");

@@ -1,0 +1,128 @@
+"""Identity of the two closed-loop backends (issue: RTL + firmware == golden model).
+
+The default scenario (``scenarios/fullload_start.toml``, start-up from standstill under 2 N·m) runs on
+the ``golden`` backend (Python bit-true model) and on the ``rtl`` backend (the C firmware on the
+PicoRV32 of the Verilated hfi_soc, the same C plant) with the same seed for ``IDENTITY_S`` seconds.
+Every per-window column (window results, estimator and controller state, register writes, compares,
+plant truth), every ADC sample and every gate edge must be equal: any difference is a bug in one of
+them. The firmware timing (cycles per control step, late commits) is checked against its budget.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoop
+from golden.rtl_backend import RtlBackendError, RtlClosedLoop, config_block
+from golden.scenario import load_scenario
+
+ROOT = Path(__file__).resolve().parents[1]
+IDENTITY_S = 0.6
+"""Simulated seconds compared (the issue asks for at least 0.5 s): 2999 windows at 5 kHz."""
+FW_CYCLE_BUDGET = 2000
+"""Firmware cycles per control period: 10 % of the 200 us period at 100 MHz."""
+
+
+@pytest.fixture(scope="module")
+def both():
+    sc = load_scenario(ROOT / "scenarios" / "fullload_start.toml")
+    sc = dataclasses.replace(sc, duration=IDENTITY_S)
+    return sc, ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
+
+
+def _first_difference(a: np.ndarray, b: np.ndarray) -> str:
+    if a.shape != b.shape:
+        return f"shapes {a.shape} vs {b.shape}"
+    i = int(np.flatnonzero(a != b)[0])
+    return f"index {i}: golden {a[i]!r}, rtl {b[i]!r}"
+
+
+def test_window_columns_identical(both):
+    sc, gold, rtl = both
+    assert len(gold.t) == len(rtl.t) >= int(0.5 * sc.pwm.f_sw) - 1
+    bad = {k: _first_difference(gold.windows[k], rtl.windows[k]) for k in WINDOW_FIELDS
+           if not np.array_equal(gold.windows[k], rtl.windows[k])}
+    assert not bad, f"per-window columns differ: {bad}"
+
+
+def test_register_writes_identical(both):
+    _, gold, rtl = both
+    bad = {k: _first_difference(gold.writes[k], rtl.writes[k]) for k in OUTPUT_FIELDS
+           if not np.array_equal(gold.writes[k], rtl.writes[k])}
+    assert not bad, f"firmware register writes differ: {bad}"
+
+
+def test_samples_and_gate_edges_identical(both):
+    _, gold, rtl = both
+    for group in ("samples", "edges"):
+        g, r = getattr(gold, group), getattr(rtl, group)
+        for k in g:
+            assert np.array_equal(g[k], r[k]), f"{group}.{k}: {_first_difference(g[k], r[k])}"
+    assert len(gold.samples["tick"]) > 500_000 and len(gold.edges["tick"]) > 30_000
+
+
+def test_the_run_reaches_speed_control(both):
+    """The compared stretch covers start-up, polarity detection and the speed loop (not only CONVERGE)."""
+    _, gold, rtl = both
+    assert rtl.flipped == gold.flipped
+    modes = set(np.unique(rtl.windows["mode"]).tolist())
+    assert {0, 1, 2, 3, 4} <= modes, f"modes visited: {modes}"
+
+
+def test_firmware_timing(both):
+    _, _, rtl = both
+    soc = rtl.soc
+    assert soc["late_commits"] == 0
+    assert 0 < soc["irq_to_commit_cycles_max"] < soc["deadline_cycles"]
+    assert soc["fw_cycles_max"] <= FW_CYCLE_BUDGET, f"firmware takes {soc['fw_cycles_max']} cycles per period"
+
+
+def test_uart_log(both):
+    """The firmware's log lines arrive through the UART (decoded by the harness)."""
+    _, _, rtl = both
+    log = rtl.soc["uart_log"].splitlines()
+    assert log[:2] == ["hfi_fw: start", "hfi_fw: running"]
+    assert any(line.endswith("mode RUN") for line in log), log
+
+
+def test_missing_configuration_keeps_the_gates_off(tmp_path, monkeypatch):
+    """A RAM image whose configuration block is not valid: the firmware says so on the UART and never
+    starts the DSP; the backend reports it instead of hanging."""
+    import golden.rtl_backend as rb
+
+    sc = load_scenario(ROOT / "scenarios" / "fullload_start.toml")
+    sc = dataclasses.replace(sc, duration=0.002)
+    monkeypatch.setattr(rb, "config_block", lambda s, hw: bytes(len(config_block(s, hw))))
+    with pytest.raises(RtlBackendError) as e:
+        RtlClosedLoop(sc).run(progress=False, workdir=tmp_path)
+    assert "tick 0" in str(e.value) and "no valid configuration block" in str(e.value)
+
+
+def test_host_side_ds_switch_is_refused():
+    sc = load_scenario(ROOT / "scenarios" / "fullload_start.toml")
+    sc = dataclasses.replace(sc, control=dataclasses.replace(sc.control, switch_to_ds_at=0.1))
+    with pytest.raises(ValueError, match="golden backend only"):
+        RtlClosedLoop(sc)
+
+
+def test_run_script_rtl_backend(tmp_path):
+    """scripts/run.py --backend rtl writes the same outputs as the golden backend, with the SoC metrics."""
+    scen = tmp_path / "short.toml"
+    text = (ROOT / "scenarios" / "fullload_start.toml").read_text()
+    assert 'duration = "2.4 s"' in text
+    scen.write_text(text.replace('duration = "2.4 s"', 'duration = "10 ms"'))
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "run.py"), str(scen), "--out", str(out),
+                           "--quiet", "--backend", "rtl"], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    m = json.loads((out / "metrics.json").read_text())
+    assert m["backend"] == "rtl" and m["soc"]["late_commits"] == 0 and m["soc"]["sim_cycles"] > 0
+    assert (out / "trace.npz").is_file() and (out / "closed_loop.png").is_file()
+    assert "[fw] hfi_fw: start" in proc.stderr

@@ -24,6 +24,7 @@ test: setup
 bench: setup
 	$(ENV) .venv/bin/python scripts/bench_plant.py
 	$(ENV) .venv/bin/python scripts/bench_golden.py
+	$(ENV) .venv/bin/python scripts/bench_rtl.py
 
 # The paper's figure groups, full length (out/paper/metrics.json and plots).
 .PHONY: paper

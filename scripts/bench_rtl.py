@@ -1,0 +1,55 @@
+#!/usr/bin/env python3
+"""Benchmark of the ``rtl`` closed-loop backend: simulated clock cycles per wall second on one core.
+
+Runs the default scenario (``scenarios/fullload_start.toml``) on the Verilated hfi_soc with the C plant
+for ``--duration`` simulated seconds (default 0.2 s), after building the firmware and the library (not
+timed). Prints the simulated clocks, the wall time of the co-simulation, the firmware's cycles per
+control period, and ends with ``mcycles_per_s: X`` (million simulated clocks per wall second; the
+project's target is >= 5).
+
+    python scripts/bench_rtl.py [--duration 0.2] [--scenario FILE]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+import sys
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+from golden.rtl_backend import RtlBackendError, RtlClosedLoop, build_firmware, build_sim  # noqa: E402
+from golden.scenario import ScenarioError, load_scenario  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scenario", default=os.path.join(HERE, "..", "scenarios", "fullload_start.toml"))
+    ap.add_argument("--duration", type=float, default=0.2, help="simulated seconds (default 0.2)")
+    args = ap.parse_args(argv)
+    if not args.duration > 0:
+        print("bench_rtl: --duration must be > 0", file=sys.stderr)
+        return 1
+    try:
+        sc = dataclasses.replace(load_scenario(args.scenario), duration=args.duration)
+        build_firmware()
+        build_sim()
+        res = RtlClosedLoop(sc).run(progress=False)
+    except (ScenarioError, RtlBackendError, ValueError) as exc:
+        print(f"bench_rtl: {exc}", file=sys.stderr)
+        return 1
+    soc = res.soc
+    print(f"scenario {sc.name}: {float(res.t[-1]):.3f} s simulated, {soc['sim_cycles']} clocks, "
+          f"{soc['wall_s']:.2f} s wall (co-simulation only)")
+    print(f"realtime factor {float(res.t[-1]) / soc['wall_s']:.4f}; firmware cycles per period: max "
+          f"{soc['fw_cycles_max']}, mean {soc['fw_cycles_mean']}; late commits {soc['late_commits']}")
+    print(f"mcycles_per_s: {soc['mcycles_per_s']}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -41,7 +41,7 @@ synth: setup
 prove: setup
 	$(ENV) .venv/bin/python scripts/prove.py
 
-# Register map: rtl/regs/hfi_regs.rdl -> C header, golden/regmap.py, docs, SV register block.
+# Register maps: rtl/regs/hfi_regs.rdl and hfi_soc.rdl -> C headers, golden/regmap.py + socmap.py, docs, Verilog constants.
 .PHONY: regs
 regs: setup
 	$(ENV) .venv/bin/python scripts/gen_regs.py

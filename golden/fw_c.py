@@ -12,6 +12,7 @@ golden value does not fit its C field (e.g. an unbounded Python int beyond the C
 
 from __future__ import annotations
 
+import fcntl
 import functools
 import subprocess
 from pathlib import Path
@@ -57,11 +58,16 @@ def header_cdef(root: Path = ROOT) -> str:
 def build(root: Path = ROOT) -> Path:
     """Run ``make -C <root>/firmware host`` and return the library's path.
 
-    Raises FirmwareBuildError with make's output if the build fails.
+    The make runs under an exclusive lock (``out/firmware/host/.build.lock``): parallel pytest workers
+    must not relink the library while another one loads it. Raises FirmwareBuildError with make's output
+    if the build fails.
     """
     out_dir = root / "out" / "firmware"
     cmd = ["make", "-C", str(root / "firmware"), "host", f"OUT={out_dir}"]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
+    (out_dir / "host").mkdir(parents=True, exist_ok=True)
+    with open(out_dir / "host" / ".build.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         raise FirmwareBuildError(f"`{' '.join(cmd)}` failed (exit {proc.returncode}):\n"
                                  f"{proc.stdout}{proc.stderr}")

@@ -54,6 +54,9 @@ TRACE_FIELDS = ("window", "theta_hat", "theta_pll", "omega_pll", "omega_f", "i_d
 RAM_BYTES = 32768
 """RAM of the default hfi_soc (parameter RAM_BYTES) and of the firmware build."""
 
+FW_CYCLES_TARGET = 2000
+"""Performance target of the firmware per control period: 10 % of the 200 us period at 100 MHz."""
+
 CHUNK_CYCLES = 2_000_000
 """Clocks per call into the co-simulation (progress granularity, ~0.5 s wall)."""
 
@@ -379,6 +382,7 @@ class RtlClosedLoop:
         soc = {
             "fw_cycles_max": int(t["cycles"].max()),
             "fw_cycles_mean": round(float(t["cycles"].mean()), 1),
+            "fw_cycles_target": FW_CYCLES_TARGET,
             "irq_to_commit_cycles_max": int(commit_lat.max()) if (commit_lat >= 0).all() else None,
             "deadline_cycles": int(P - 400),
             "late_commits": late,

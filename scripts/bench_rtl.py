@@ -46,7 +46,9 @@ def main(argv=None) -> int:
     print(f"scenario {sc.name}: {float(res.t[-1]):.3f} s simulated, {soc['sim_cycles']} clocks, "
           f"{soc['wall_s']:.2f} s wall (co-simulation only)")
     print(f"realtime factor {float(res.t[-1]) / soc['wall_s']:.4f}; firmware cycles per period: max "
-          f"{soc['fw_cycles_max']}, mean {soc['fw_cycles_mean']}; late commits {soc['late_commits']}")
+          f"{soc['fw_cycles_max']} (target {soc['fw_cycles_target']}), mean {soc['fw_cycles_mean']}; "
+          f"interrupt to COMMIT max {soc['irq_to_commit_cycles_max']} (deadline {soc['deadline_cycles']}); "
+          f"late commits {soc['late_commits']}")
     print(f"mcycles_per_s: {soc['mcycles_per_s']}")
     return 0
 

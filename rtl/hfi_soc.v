@@ -53,6 +53,12 @@ module hfi_soc #(
     wire [3:0]  mem_wstrb;
     wire        dsp_irq;
     wire [31:0] cpu_irq = {28'd0, dsp_irq, 3'd0};
+    // unused outputs of the core and the AXI adapter
+    wire        nc_la_write, nc_pcpi_valid, nc_trace_valid;
+    wire [31:0] nc_la_wdata, nc_pcpi_insn, nc_pcpi_rs1, nc_pcpi_rs2, nc_eoi;
+    wire [3:0]  nc_la_wstrb;
+    wire [35:0] nc_trace_data;
+    wire [2:0]  nc_awprot, nc_arprot;
 
     picorv32 #(
         .ENABLE_COUNTERS(1), .ENABLE_COUNTERS64(1), .ENABLE_REGS_16_31(1), .ENABLE_REGS_DUALPORT(1),
@@ -65,11 +71,12 @@ module hfi_soc #(
         .clk(clk), .resetn(~rst), .trap(trap),
         .mem_valid(mem_valid), .mem_instr(mem_instr), .mem_ready(mem_ready),
         .mem_addr(mem_addr), .mem_wdata(mem_wdata), .mem_wstrb(mem_wstrb), .mem_rdata(mem_rdata),
-        .mem_la_read(mem_la_read), .mem_la_write(), .mem_la_addr(mem_la_addr), .mem_la_wdata(), .mem_la_wstrb(),
-        .pcpi_valid(), .pcpi_insn(), .pcpi_rs1(), .pcpi_rs2(),
+        .mem_la_read(mem_la_read), .mem_la_write(nc_la_write), .mem_la_addr(mem_la_addr),
+        .mem_la_wdata(nc_la_wdata), .mem_la_wstrb(nc_la_wstrb),
+        .pcpi_valid(nc_pcpi_valid), .pcpi_insn(nc_pcpi_insn), .pcpi_rs1(nc_pcpi_rs1), .pcpi_rs2(nc_pcpi_rs2),
         .pcpi_wr(1'b0), .pcpi_rd(32'd0), .pcpi_wait(1'b0), .pcpi_ready(1'b0),
-        .irq(cpu_irq), .eoi(),
-        .trace_valid(), .trace_data()
+        .irq(cpu_irq), .eoi(nc_eoi),
+        .trace_valid(nc_trace_valid), .trace_data(nc_trace_data)
     );
 
     // ---------------------------------------------------------------- address decode
@@ -101,10 +108,10 @@ module hfi_soc #(
     wire [1:0]  bresp_unused, rresp_unused;
     picorv32_axi_adapter u_axi (
         .clk(clk), .resetn(~rst),
-        .mem_axi_awvalid(awvalid), .mem_axi_awready(awready), .mem_axi_awaddr(awaddr), .mem_axi_awprot(),
+        .mem_axi_awvalid(awvalid), .mem_axi_awready(awready), .mem_axi_awaddr(awaddr), .mem_axi_awprot(nc_awprot),
         .mem_axi_wvalid(wvalid), .mem_axi_wready(wready), .mem_axi_wdata(wdata), .mem_axi_wstrb(wstrb),
         .mem_axi_bvalid(bvalid), .mem_axi_bready(bready),
-        .mem_axi_arvalid(arvalid), .mem_axi_arready(arready), .mem_axi_araddr(araddr), .mem_axi_arprot(),
+        .mem_axi_arvalid(arvalid), .mem_axi_arready(arready), .mem_axi_araddr(araddr), .mem_axi_arprot(nc_arprot),
         .mem_axi_rvalid(rvalid), .mem_axi_rready(rready), .mem_axi_rdata(rdata),
         .mem_valid(sel_dsp), .mem_instr(mem_instr), .mem_ready(dsp_ready),
         .mem_addr(mem_addr), .mem_wdata(mem_wdata), .mem_wstrb(mem_wstrb), .mem_rdata(dsp_rdata)
@@ -139,6 +146,8 @@ module hfi_soc #(
     assign mem_ready = ram_ready | dsp_ready | ctl_ready | none_ready;
     assign mem_rdata = ram_ready ? ram_rdata : dsp_ready ? dsp_rdata : ctl_ready ? ctl_rdata : 32'd0;
 
-    wire unused = &{1'b0, bresp_unused, rresp_unused, awaddr[31:8], araddr[31:8]};
+    wire unused = &{1'b0, bresp_unused, rresp_unused, awaddr[31:8], araddr[31:8], nc_la_write, nc_pcpi_valid,
+                    nc_trace_valid, nc_la_wdata, nc_pcpi_insn, nc_pcpi_rs1, nc_pcpi_rs2, nc_eoi, nc_la_wstrb,
+                    nc_trace_data, nc_awprot, nc_arprot, mem_addr[27:RAM_AW+2], mem_la_addr[1:0], mem_addr[1:0]};
 endmodule
 `default_nettype wire

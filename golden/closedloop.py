@@ -85,6 +85,7 @@ class ClosedLoopResult:
     flipped: int
     wall_s: float
     soc: dict | None = None  # rtl backend only: firmware cycles, late commits, co-simulation speed, UART log
+    backend: str = "golden"  # golden, rtl or hls
 
     @property
     def t(self) -> np.ndarray:
@@ -142,11 +143,9 @@ class ClosedLoop:
         speed_ref = [self.scales.speed_mech(v) for v in profile_at(sc.reference_speed, win_end / tick_hz)]
         ds_from = (math.inf if sc.control.switch_to_ds_at is None else sc.control.switch_to_ds_at) * tick_hz
         rec = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
-        rec_f = {"omega_m": np.zeros(n_win), "torque": np.zeros(n_win), "load_torque": np.zeros(n_win),
-                 "i_d_true": np.zeros(n_win), "i_q_true": np.zeros(n_win)}
+        truths = []
         s_ticks, s_a, s_b = [], [], []
         edge_ticks, edge_masks = [], []
-        pole_pairs = self.scales.pole_pairs
 
         active = RESET_OUTPUTS
         outs: list[Outputs] = []
@@ -200,21 +199,31 @@ class ClosedLoop:
             r["mode"][k], r["adc_mode"][k] = fw.mode, adc_mode
             r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
             r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
-            r["theta_e"][k] = int(truth["theta_m"] * pole_pairs / (2 * math.pi) * 2**32) % 2**32
-            rec_f["omega_m"][k], rec_f["torque"][k] = truth["omega_m"], truth["torque"]
-            rec_f["load_torque"][k] = truth["load_torque"]
-            rec_f["i_d_true"][k], rec_f["i_q_true"][k] = truth["i_d"], truth["i_q"]
+            truths.append(truth)
             if bar is not None:
                 bar.update(k + 1, fw)
         if bar is not None:
             bar.close()
-        rec.update(rec_f)
+        rec.update(truth_columns(np.array(truths), self.scales.pole_pairs))
         samples = {"tick": np.concatenate(s_ticks), "adc_a": np.concatenate(s_a).astype(np.uint16),
                    "adc_b": np.concatenate(s_b).astype(np.uint16)}
         edges = {"tick": np.concatenate(edge_ticks), "mask": np.concatenate(edge_masks)}
         writes = {f: np.array([getattr(o, f) for o in outs], dtype=np.int64) for f in OUTPUT_FIELDS}
         return ClosedLoopResult(rec, samples, edges, writes, hw, self.scales, tick_hz, fw.flipped,
                                 time.perf_counter() - t0)
+
+
+def truth_columns(truth: np.ndarray, pole_pairs: int) -> dict:
+    """Per-window plant-truth columns of the trace from ``struct plant_state`` records (one per window
+    end): ``theta_e`` as a u32 binary angle (as the golden loop records it), ``omega_m``, ``torque``,
+    ``load_torque``, ``i_d_true``, ``i_q_true``."""
+    return {
+        "theta_e": np.array([int(th * pole_pairs / (2 * math.pi) * 2**32) % 2**32 for th in truth["theta_m"].tolist()],
+                            dtype=np.int64),
+        "omega_m": truth["omega_m"].astype(float), "torque": truth["torque"].astype(float),
+        "load_torque": truth["load_torque"].astype(float),
+        "i_d_true": truth["i_d"].astype(float), "i_q_true": truth["i_q"].astype(float),
+    }
 
 
 class _Progress:

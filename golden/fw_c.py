@@ -50,10 +50,12 @@ class FirmwareBuildError(RuntimeError):
 
 
 def cdef_text(*headers: Path, drop: tuple[str, ...] = ()) -> str:
-    """The C headers' text for ``cffi.FFI.cdef``: without preprocessor lines (cffi cannot parse them)
-    and without the lines starting with one of ``drop`` (e.g. forward declarations cffi already has)."""
+    """The C headers' text for ``cffi.FFI.cdef``: without preprocessor lines and the C++ linkage block
+    (``extern "C" {`` and its closing line ``}``, which cffi cannot parse), and without the lines
+    starting with one of ``drop`` (e.g. forward declarations cffi already has)."""
     lines = "\n".join(Path(h).read_text() for h in headers).splitlines()
-    return "\n".join(line for line in lines if not line.lstrip().startswith("#") and not line.startswith(drop))
+    return "\n".join(line for line in lines if not line.lstrip().startswith("#") and not line.startswith(drop)
+                     and line.strip() not in ('extern "C" {', "}"))
 
 
 def header_cdef(root: Path = ROOT) -> str:

@@ -59,7 +59,7 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
             "peak_deg": round(float(np.max(np.abs(err[after]))), 2) if after.any() else None},
         "locked": bool(np.all(np.abs(err[after]) < 60.0)),
         "segments": segs,
-        "backend": "golden" if res.soc is None else "rtl",
+        "backend": res.backend,
         "late_commits": 0 if res.soc is None else res.soc["late_commits"],
         "wall_s": round(res.wall_s, 2),
         "realtime_factor": round(float(res.t[-1]) / res.wall_s, 3),

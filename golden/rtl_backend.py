@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import fcntl
 import hashlib
-import math
 import shutil
 import subprocess
 import sys
@@ -33,7 +32,7 @@ import numpy as np
 
 from golden import regmap as rm
 from golden import socmap
-from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, profile_at
+from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, profile_at, truth_columns
 from golden.control_config import HardwareConfig, firmware_params, hardware_config, scales
 from golden.fixed import wrap
 from golden.fw_c import cdef_text, params_to_c
@@ -353,13 +352,7 @@ class RtlClosedLoop:
         cmp = irqs["cmp"][:n_win].astype(np.int64)
         for i, name in enumerate(("cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c")):
             w[name] = cmp[:, i]
-        truth = rec["truth"][:n_win]
-        pole_pairs = self.scales.pole_pairs
-        w["theta_e"] = np.array([int(th * pole_pairs / (2 * math.pi) * 2**32) % 2**32 for th in truth["theta_m"]],
-                                dtype=np.int64)
-        w["omega_m"] = truth["omega_m"].astype(float)
-        w["torque"], w["load_torque"] = truth["torque"].astype(float), truth["load_torque"].astype(float)
-        w["i_d_true"], w["i_q_true"] = truth["i_d"].astype(float), truth["i_q"].astype(float)
+        w.update(truth_columns(rec["truth"][:n_win], self.scales.pole_pairs))
 
         samples = rec["samples"]
         samples = samples[samples["tick"] < end]
@@ -389,4 +382,4 @@ class RtlClosedLoop:
                        "adc_b": samples["b"].astype(np.uint16)}
         edges_out = {"tick": edges["tick"].astype(np.int64), "mask": edges["mask"].astype(np.int64)}
         return ClosedLoopResult(w, samples_out, edges_out, writes_out, hw, self.scales, sc.pwm.tick_hz,
-                                int(t["flipped"][-1]), wall, soc=soc)
+                                int(t["flipped"][-1]), wall, soc=soc, backend="rtl")

@@ -2,14 +2,16 @@
 """Main job (``make run``): simulate a scenario and write its trace, metrics and plots.
 
 A scenario with a ``[control]`` table runs a closed loop (the default, ``scenarios/fullload_start.toml``)
-on one of two backends (``--backend``, default ``$BACKEND`` or ``rtl``):
+on one of three backends (``--backend``, default ``$BACKEND`` or ``rtl``):
 
 - ``rtl``: the firmware (firmware/, C) on the PicoRV32 of the Verilated ``hfi_soc`` drives the C plant
   through the RTL (:mod:`golden.rtl_backend`; ``--fst`` writes waveforms);
-- ``golden``: the bit-true Python model of the same system (:mod:`golden.closedloop`), ~30x faster.
+- ``golden``: the bit-true Python model of the same system (:mod:`golden.closedloop`), ~30x faster;
+- ``hls``: the HLS-style C++ kernels of hls/ (native C simulation) with the host build of the firmware
+  and the C plant (:mod:`golden.hls_backend`), the fastest.
 
-Both give identical traces (tests/test_rtl_identity.py) and write ``trace.npz`` (per-window registers, firmware state and
-plant truth; every ADC sample), ``metrics.json`` (angle error and speed per reference plateau),
+All give identical traces (tests/test_rtl_identity.py, tests/test_hls_identity.py) and write
+``trace.npz`` (per-window registers, firmware state and plant truth; every ADC sample), ``metrics.json`` (angle error and speed per reference plateau),
 ``closed_loop.png`` and ``phase_current.png`` (:mod:`golden.report`).
 
 A scenario without one is the open-loop injection study of :mod:`golden.openloop_run`:
@@ -21,7 +23,7 @@ scenario's output directory (default ``out/<scenario name>/``):
 - ``metrics.json``: HF envelopes vs eq. (18), demodulated signal, sensor error, speed of the run;
 - ``phase_currents.png``, ``dq_estimated.png``, ``hf_envelopes.png``.
 
-Usage: scripts/run.py [SCENARIO.toml] [--out DIR] [--quiet] [--backend rtl|golden]
+Usage: scripts/run.py [SCENARIO.toml] [--out DIR] [--quiet] [--backend rtl|golden|hls]
                      [--fst FILE [--fst-window T0 T1]]
 """
 
@@ -43,6 +45,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from golden.closedloop import ClosedLoop  # noqa: E402
+from golden.hls_backend import HlsBackendError, HlsClosedLoop  # noqa: E402
+from golden.hls_build import HlsBuildError  # noqa: E402
 from golden.openloop_run import simulate, theory_envelopes  # noqa: E402
 from golden.plant import PlantError  # noqa: E402
 from golden.report import write_all  # noqa: E402
@@ -51,6 +55,7 @@ from golden.scenario import ScenarioError, load_scenario  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_SCENARIO = os.path.join(HERE, "..", "scenarios", "fullload_start.toml")
+BACKENDS = ("rtl", "golden", "hls")
 
 
 def metrics_of(scn, res) -> dict:
@@ -149,14 +154,14 @@ def main() -> int:
     ap.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO)
     ap.add_argument("--out", help="output directory (default: the scenario's output.dir)")
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
-    ap.add_argument("--backend", choices=("rtl", "golden"), default=os.environ.get("BACKEND") or "rtl",
+    ap.add_argument("--backend", choices=BACKENDS, default=os.environ.get("BACKEND") or "rtl",
                     help="closed-loop backend (default: $BACKEND or rtl)")
     ap.add_argument("--fst", help="rtl backend: write an FST waveform of the SoC to this file")
     ap.add_argument("--fst-window", nargs=2, type=float, metavar=("T0", "T1"), default=(0.0, 0.002),
                     help="time span of the waveform [s] (default 0 0.002)")
     args = ap.parse_args()
-    if args.backend not in ("rtl", "golden"):
-        print(f"run: unknown backend {args.backend!r} (rtl or golden)", file=sys.stderr)
+    if args.backend not in BACKENDS:
+        print(f"run: unknown backend {args.backend!r} ({', '.join(BACKENDS)})", file=sys.stderr)
         return 1
     try:
         scn = load_scenario(args.scenario)
@@ -167,6 +172,8 @@ def main() -> int:
                 res = RtlClosedLoop(scn).run(progress=not args.quiet, fst=args.fst,
                                              fst_window=tuple(args.fst_window))
                 sys.stderr.write("".join(f"[fw] {line}\n" for line in res.soc["uart_log"].splitlines()))
+            elif args.backend == "hls":
+                res = HlsClosedLoop(scn).run(progress=not args.quiet)
             else:
                 res = ClosedLoop(scn).run(progress=not args.quiet)
             metrics, files = write_all(scn, res, out_dir)
@@ -174,7 +181,7 @@ def main() -> int:
             print("wrote", ", ".join(files))
             return 0
         res = simulate(scn, progress=not args.quiet)
-    except (ScenarioError, PlantError, OSError, ValueError, RtlBackendError) as exc:
+    except (ScenarioError, PlantError, OSError, ValueError, RtlBackendError, HlsBackendError, HlsBuildError) as exc:
         print(f"run: {exc}", file=sys.stderr)
         return 1
     np.savez_compressed(os.path.join(out_dir, "trace.npz"), t=res.t, adc=res.adc, i_meas=res.i_meas,

@@ -14,23 +14,23 @@ typedef ap_uint<16> u16;
 typedef ap_int<32> s32;
 typedef ap_uint<32> u32;
 
-// sat(x, N): clamp to [-2^(N-1), 2^(N-1) - 1] (golden.fixed.sat).
+// sat(x, N): clamp to [-2^(N-1), 2^(N-1) - 1] (golden.fixed.sat). N <= 63, M <= 64: the compares
+// are made on the native value (the same two comparators in hardware; in C simulation this avoids
+// ap_int's multi-word path, which a compare against a 64-bit constant would take).
 template <int N, int M>
 inline ap_int<N> hfi_sat(const ap_int<M> &x) {
-    const int W = (M > N ? M : N) + 1;
-    const ap_int<W> hi = (ap_int<W>(1) << (N - 1)) - 1;
-    const ap_int<W> lo = -hi - 1;
-    const ap_int<W> v = x;
-    return v > hi ? ap_int<N>(hi) : (v < lo ? ap_int<N>(lo) : ap_int<N>(v));
+    const long long hi = (1LL << (N - 1)) - 1;
+    const long long lo = -hi - 1;
+    const long long v = x.to_int64();
+    return ap_int<N>(v > hi ? hi : (v < lo ? lo : v));
 }
 
-// usat(x, N): clamp to [0, 2^N - 1] (golden.fixed.usat).
+// usat(x, N): clamp to [0, 2^N - 1] (golden.fixed.usat). N <= 62, M <= 64.
 template <int N, int M>
 inline ap_uint<N> hfi_usat(const ap_int<M> &x) {
-    const int W = (M > N ? M : N) + 2;
-    const ap_int<W> hi = (ap_int<W>(1) << N) - 1;
-    const ap_int<W> v = x;
-    return v > hi ? ap_uint<N>(hi) : (v < 0 ? ap_uint<N>(0) : ap_uint<N>(v));
+    const long long hi = (1LL << N) - 1;
+    const long long v = x.to_int64();
+    return ap_uint<N>(v > hi ? hi : (v < 0 ? 0 : v));
 }
 
 // shr(x, n): floor(x / 2^n), an arithmetic right shift (golden.fixed.shr).
@@ -43,8 +43,8 @@ inline ap_int<M> hfi_shr(const ap_int<M> &x) {
 // formed one bit wider, so it never overflows.
 template <int S, int M>
 inline ap_int<M + 1> hfi_round_shr(const ap_int<M> &x) {
-    const ap_int<M + 1> v = x;
-    return (v + (ap_int<M + 1>(1) << (S - 1))) >> S;
+    const ap_int<M + 1> v = x + ap_int<M + 1>(1LL << (S - 1));
+    return v >> S;
 }
 
 #endif

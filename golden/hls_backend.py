@@ -1,0 +1,138 @@
+"""Closed-loop backend ``hls``: the HLS kernels of ``hls/`` (native C simulation), the host build of the
+firmware and the C plant, window by window in one native library (``hls/backend/hls_loop.cpp``).
+
+It runs the same scenario files as the golden and rtl backends and returns the same
+:class:`golden.closedloop.ClosedLoopResult` (so reports, plots and the identity test share one format).
+The plant is created from the scenario exactly as the golden loop does (:class:`golden.plant.Plant`);
+the firmware parameters come from :func:`golden.control_config.firmware_params`, converted field by field
+into ``struct fw_params`` (:func:`golden.fw_c.params_to_c`). Python only runs the loop in chunks of
+windows (progress on stderr) and collects the records.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import time
+
+import cffi
+import numpy as np
+
+from golden import hls_build
+from golden.closedloop import OUTPUT_FIELDS, ClosedLoopResult, profile_at, truth_columns
+from golden.control_config import firmware_params, hardware_config, scales
+from golden.fpga.adc_trigger import OS_MIN_DEFAULT
+from golden.fpga.gate_generator import DEAD_MIN_DEFAULT
+from golden.fw_c import cdef_text, params_to_c
+from golden.plant import Plant, binding
+from golden.scenario import Scenario
+
+HEADERS = (hls_build.ROOT / "firmware/src/control.h", hls_build.ROOT / "hls/backend/hls_loop.h")
+CHUNK_WINDOWS = 1000
+"""Windows per call into the native loop (progress granularity)."""
+_KINDS = {"windows": 0, "outputs": 1, "truth": 2, "samples": 3, "edges": 4}
+INT64_MAX = (1 << 63) - 1
+
+
+class HlsBackendError(RuntimeError):
+    """The native loop refused its setup or stopped (the message says why)."""
+
+
+@functools.lru_cache(maxsize=None)
+def _library():
+    ffi = cffi.FFI()
+    ffi.cdef(cdef_text(*HEADERS, drop=("struct plant;", "struct fw_params;")).replace(
+        "struct hls_loop;", "struct hls_loop; struct plant;"))
+    return ffi, ffi.dlopen(str(hls_build.build("loop")))
+
+
+def _records(lib, h, kind: str, size: int, dtype=None) -> np.ndarray:
+    """The records of one kind (``size`` bytes each in C) as a structured array of ``dtype``, or, for
+    ``dtype=None`` (a struct of int64 fields only), as an int64 array with one column per field."""
+    n = lib.hls_loop_count(h, _KINDS[kind])
+    buf = bytearray(n * size)
+    if n:
+        lib.hls_loop_copy(h, _KINDS[kind], _library()[0].from_buffer(buf))
+    if dtype is None:
+        return np.frombuffer(buf, dtype=np.int64).reshape(n, size // 8)
+    if np.dtype(dtype).itemsize != size:
+        raise HlsBackendError(f"{kind} records: {size} bytes in C, {np.dtype(dtype).itemsize} in numpy")
+    return np.frombuffer(buf, dtype=dtype)
+
+
+class HlsClosedLoop:
+    """The ``hls`` backend of one scenario (every ``[control]`` setting the golden loop supports)."""
+
+    def __init__(self, sc: Scenario):
+        if sc.control is None:
+            raise ValueError(f"scenario {sc.name} has no [control] settings")
+        self.sc = sc
+        self.hw = hardware_config(sc)
+        self.scales = scales(sc)
+
+    def run(self, progress: bool = True) -> ClosedLoopResult:
+        sc, hw = self.sc, self.hw
+        H, P = hw.pwm_half, 2 * hw.pwm_half
+        tick_hz = sc.pwm.tick_hz
+        n_win = int((round(sc.duration * tick_hz) - H // 2) // P)
+        if n_win < 1:
+            raise ValueError(f"duration {sc.duration} s is shorter than one PWM period")
+        win_end = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
+        speed_ref = np.array([self.scales.speed_mech(v) for v in profile_at(sc.reference_speed, win_end / tick_hz)],
+                             dtype=np.int32)
+        ffi, lib = _library()
+        setup = ffi.new("struct hls_setup *")
+        for name, value in (("half", H), ("dead_ticks", hw.dead_ticks),
+                            ("dead_min", DEAD_MIN_DEFAULT), ("os_ticks", hw.os_ticks),
+                            ("os_min", OS_MIN_DEFAULT), ("blank_ticks", hw.blank_ticks), ("adc_mode", hw.adc_mode),
+                            ("adc_bits", hw.adc_bits), ("adc_offset_a", hw.adc_offset[0]),
+                            ("adc_offset_b", hw.adc_offset[1]), ("adc_gain_a", hw.adc_gain[0]),
+                            ("adc_gain_b", hw.adc_gain[1]), ("cw_angle_step", hw.cw_angle_step),
+                            ("dtc_gain", hw.dtc_gain), ("hf_amp", hw.hf_amp), ("recip_h", hw.recip_h),
+                            ("n_windows", n_win)):
+            setattr(setup, name, int(value))
+        ds = sc.control.switch_to_ds_at
+        setup.ds_from_tick = INT64_MAX if ds is None else math.ceil(ds * tick_hz)
+        refs = ffi.from_buffer("int32_t[]", speed_ref)
+        setup.speed_ref = refs
+        fwp = params_to_c(ffi, firmware_params(sc))
+        plant = Plant(sc.plant)
+        err = ffi.new("char[]", 512)
+        h = lib.hls_loop_create(setup, fwp, ffi.cast("struct plant *", plant._p), err, 512)
+        if h == ffi.NULL:
+            raise HlsBackendError(f"scenario {sc.name}: {ffi.string(err).decode()}")
+        try:
+            t0 = time.perf_counter()
+            bar = None
+            if progress:
+                from tqdm import tqdm
+                bar = tqdm(total=n_win, desc=f"{sc.name} [hls]", unit="win", mininterval=0.5)
+            done = 0
+            while done < n_win:
+                done = lib.hls_loop_run(h, CHUNK_WINDOWS)
+                if done < 0:
+                    raise HlsBackendError(f"scenario {sc.name}: {ffi.string(lib.hls_loop_error(h)).decode()}")
+                if bar is not None:
+                    bar.update(done - bar.n)
+            if bar is not None:
+                bar.close()
+            wall = time.perf_counter() - t0
+            win = _records(lib, h, "windows", ffi.sizeof("struct hls_window"))
+            outs = _records(lib, h, "outputs", ffi.sizeof("struct fw_outputs"),
+                            [(f, "<i4") for f in OUTPUT_FIELDS])
+            truth = _records(lib, h, "truth", binding.ffi.sizeof("struct plant_state"), binding.STATE_DTYPE)
+            samples = _records(lib, h, "samples", ffi.sizeof("struct hls_sample"),
+                               [("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])
+            edges = _records(lib, h, "edges", ffi.sizeof("struct hls_edge"), [("tick", "<i8"), ("mask", "<i8")])
+            flipped = int(lib.hls_loop_flipped(h))
+        finally:
+            lib.hls_loop_free(h)
+        columns = [f.name if isinstance(f, str) else f[0] for f in ffi.typeof("struct hls_window").fields]
+        windows = {name: win[:, i].copy() for i, name in enumerate(columns)}
+        windows.update(truth_columns(truth, self.scales.pole_pairs))
+        writes = {f: outs[f].astype(np.int64) for f in OUTPUT_FIELDS}
+        samples_out = {"tick": samples["tick"].copy(), "adc_a": samples["a"].astype(np.uint16),
+                       "adc_b": samples["b"].astype(np.uint16)}
+        edges_out = {"tick": edges["tick"].copy(), "mask": edges["mask"].astype(np.int32)}
+        return ClosedLoopResult(windows, samples_out, edges_out, writes, hw, self.scales, tick_hz, flipped, wall,
+                                backend="hls")

@@ -1,0 +1,419 @@
+// Closed loop of the `hls` backend (hls_loop.h): the golden loop of golden/closedloop.py with every
+// FPGA block replaced by its HLS kernel, the firmware by its host build and the plant by the same C
+// library and calls. This file is the test bench around the kernels, not synthesizable code.
+//
+// Window k covers the ticks [k*P + H/2, (k+1)*P + H/2) (docs/spec.md 2.1). Per window:
+//   1. the commit of the firmware's outputs of window k-2 becomes active at the boundary; the enable
+//      written after window k-1 takes effect at the bottom (k+1)*P (spec 2.2);
+//   2. hfi_modulator (+ hfi_deadtime_comp) latch the compares of the top of period k and the bottom of
+//      period k+1 from the active registers (spec 3.5, 3.6);
+//   3. the gate generator runs through the window: the ideal switch signals (hfi_ideal_switch) change
+//      at most once per leg and half period, so hfi_gate_advance covers each stretch between changes
+//      in one step, and its turn-on offsets give the gate edges (spec 2.4);
+//   4. the plant applies the edges and converts at the sampling instants (hfi_adc_trigger over one
+//      period, cached per ADC mode), then runs to the window end;
+//   5. hfi_window_dsp (ADC scale, Clarke, Park, demodulator) with the CORDIC weights
+//      (hfi_demod_weight) and, in OS_BLANK, the blanking decision (hfi_blanked) gives the window
+//      result; fw_step computes the next register values.
+#include "hls_loop.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+extern "C" {
+#pragma GCC visibility push(default)   // imported from libhfifw.so and libhfiplant.so
+#include "control.h"
+#include "plant_api.h"
+#pragma GCC visibility pop
+}
+
+#include "hfi_adc_trigger.h"
+#include "hfi_carrier.h"
+#include "hfi_cordic.h"
+#include "hfi_deadtime_comp.h"
+#include "hfi_gate_gen.h"
+#include "hfi_modulator.h"
+#include "hfi_window_dsp.h"
+
+namespace {
+
+const fw_outputs RESET_OUTPUTS = {0, 0, 0, 0, 32767, 0, 0, 0};   // register reset values (docs/registers.md)
+
+struct Pattern {                       // sampling instants of one window, identical in every window
+    std::vector<int64_t> rel;          // offsets from the window start, sorted
+    std::vector<s16> w;                // their demodulation weights
+};
+
+// Sorts the n (<= 4) ticks of a[] in place (insertion sort; std::sort trips GCC's array-bounds check here).
+void sort_small(int64_t *a, int n) {
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && a[j - 1] > a[j]; j--) std::swap(a[j - 1], a[j]);
+}
+
+}  // namespace
+
+struct hls_loop {
+    hls_setup s;                       // half, os_ticks: effective values
+    int32_t dead;                      // effective dead time
+    std::vector<int32_t> speed_ref;
+    fw_params fwp;
+    fw_state fw;
+    plant *pl;
+    std::string error;
+
+    int32_t k = 0;                     // next window
+    fw_outputs active = RESET_OUTPUTS, prev1 = RESET_OUTPUTS, prev2 = RESET_OUTPUTS;
+    hfi_gate_state gate;
+    u16 cmp_rise[3];                   // compares of the current rising half (latched at its bottom)
+    u16 cmp_fall[3];                   // compares of the current falling half (latched at its top)
+    int64_t cursor = 0;                // the gate generator has run up to here
+    ap_uint<3> s_prev = 0;             // ideal switch signals of the tick before the cursor
+    bool en = false;                   // enable in effect
+    int64_t mask = 0;                  // gate mask after the last edge
+    int64_t last_switch = -1;          // latest switching instant (-1: none yet)
+    Pattern pattern[4];
+    bool have_pattern[4] = {false, false, false, false};
+
+    std::vector<hls_window> windows;
+    std::vector<fw_outputs> outputs;
+    std::vector<plant_state> truth;
+    std::vector<hls_sample> samples;
+    std::vector<hls_edge> edges;
+
+    // per-window scratch
+    std::vector<long long> e_ticks, s_ticks;            // plant_run takes long long ticks
+    std::vector<int64_t> sw_ticks;
+    std::vector<int> e_masks, adc;
+    ap_uint<16> adc_a[HFI_WINDOW_MAX], adc_b[HFI_WINDOW_MAX];
+    s16 w[HFI_WINDOW_MAX], i_d[HFI_WINDOW_MAX], i_q[HFI_WINDOW_MAX];
+    bool keep[HFI_WINDOW_MAX];
+
+    const Pattern &window_pattern(int mode);
+    void compares(const fw_outputs &o, bool top, u16 cmp[3]) const;
+    void gate_range(int64_t a, int64_t b, int64_t half_start, bool rising);
+    void gate_segment(int64_t a, int64_t b);
+    bool step();
+};
+
+// Sampling offsets of a window in ADC mode `mode`: the phases at which hfi_adc_trigger fires over one
+// period, moved to the window start (golden ClosedLoop._window_pattern), and their CORDIC weights.
+const Pattern &hls_loop::window_pattern(int mode) {
+    if (!have_pattern[mode]) {
+        const int64_t H = s.half, P = 2 * H;
+        Pattern &p = pattern[mode];
+        for (int64_t phase = 0; phase < P; phase++)
+            if (hfi_adc_trigger(ap_uint<17>(phase), ap_uint<2>(mode), u16(H), u16(s.os_ticks), u16(s.os_min)))
+                p.rel.push_back(((phase - H / 2) % P + P) % P);
+        std::sort(p.rel.begin(), p.rel.end());
+        for (int64_t r : p.rel) {
+            const u16 c = hfi_carrier_counter(ap_uint<17>((r + H / 2) % P), u16(H));
+            p.w.push_back(hfi_demod_weight(c, u16(H), u32(s.cw_angle_step)));
+        }
+        have_pattern[mode] = true;
+    }
+    return pattern[mode];
+}
+
+// Compares of one latch from the register values o (golden ClosedLoop._compares).
+void hls_loop::compares(const fw_outputs &o, bool top, u16 cmp[3]) const {
+    u16 raw[3];
+    hfi_modulator(s16(o.v_d), s16(o.v_q), s16(o.v_h), s16(o.sin), s16(o.cos), u16(s.half), top, raw);
+    if (s.dtc_gain)
+        hfi_deadtime_comp(raw, top, u16(s.half), u16(dead), u16(s.dtc_gain), s16(o.i_d_ref), s16(o.i_q_ref),
+                          ap_uint<15>(s.hf_amp), s16(o.sin), s16(o.cos), u32(s.recip_h), cmp);
+    else
+        for (int x = 0; x < 3; x++) cmp[x] = raw[x];
+}
+
+// The gate generator over ticks [a, b) of the half period starting at half_start, cut where an
+// ideal switch signal changes (rising half: at half_start + cmp, falling: at half_start + H - cmp).
+void hls_loop::gate_range(int64_t a, int64_t b, int64_t half_start, bool rising) {
+    int64_t cut[4];
+    int n = 0;
+    cut[n++] = a;
+    for (int x = 0; x < 3; x++) {
+        const int64_t c = rising ? int64_t(cmp_rise[x]) : int64_t(cmp_fall[x]);
+        const int64_t t = rising ? half_start + c : half_start + s.half - c;
+        if (t > a && t < b) cut[n++] = t;
+    }
+    sort_small(cut, n);
+    for (int i = 0; i < n; i++) {
+        if (i + 1 < n && cut[i + 1] == cut[i]) continue;
+        gate_segment(cut[i], i + 1 < n ? cut[i + 1] : b);
+    }
+}
+
+// Ticks [a, b) with constant ideal switch signals and enable: one hfi_gate_advance.
+void hls_loop::gate_segment(int64_t a, int64_t b) {
+    const int64_t P = 2 * int64_t(s.half);
+    const ap_uint<17> phase = ap_uint<17>(a % P);
+    ap_uint<3> sw = 0;
+    for (int x = 0; x < 3; x++)
+        sw[x] = hfi_ideal_switch(phase, u16(s.half), cmp_rise[x], cmp_fall[x]) ? 1 : 0;
+    if (sw != s_prev) {
+        sw_ticks.push_back(a);
+        last_switch = a;
+    }
+    s_prev = sw;
+    ap_uint<32> on_at[3];
+    const int64_t first = int64_t(hfi_gate_advance(gate, sw, en, u16(dead), ap_uint<32>(b - a), on_at));
+    if (first != mask) {
+        mask = first;
+        e_ticks.push_back(a);
+        e_masks.push_back(int(mask));
+    }
+    // turn-ons later in the segment, in tick order (nothing turns off inside a segment)
+    int64_t off[3];
+    int m = 0;
+    for (int x = 0; x < 3; x++) {
+        const int64_t o = int64_t(on_at[x]);
+        if (o > 0 && o < b - a) off[m++] = o;
+    }
+    sort_small(off, m);
+    for (int i = 0; i < m; i++) {
+        if (i > 0 && off[i] == off[i - 1]) continue;
+        int64_t add = 0;
+        for (int x = 0; x < 3; x++)
+            if (int64_t(on_at[x]) == off[i]) add |= int64_t(1) << (2 * x + (sw[x] ? 0 : 1));
+        const int64_t next = mask | add;
+        if (next != mask) {
+            mask = next;
+            e_ticks.push_back(a + off[i]);
+            e_masks.push_back(int(mask));
+        }
+    }
+}
+
+// One window (golden ClosedLoop.run, loop body).
+bool hls_loop::step() {
+    const int64_t H = s.half, P = 2 * H;
+    const int64_t zc = int64_t(k) * P + H / 2, end = zc + P;
+    if (k >= 2) active = prev2;                           // commit at the window boundary
+    const bool enable = k >= 1 && prev1.enable;
+    const int adc_mode = zc >= s.ds_from_tick ? HFI_MODE_DS : s.adc_mode;
+    u16 cmp_top[3], cmp_bot[3];
+    compares(active, true, cmp_top);
+    compares(active, false, cmp_bot);
+
+    e_ticks.clear();
+    e_masks.clear();
+    sw_ticks.clear();
+    int64_t latest = last_switch;                         // latest switching instant before the window
+    const int64_t top = int64_t(k) * P + H, bottom = (int64_t(k) + 1) * P;
+    gate_range(cursor, top, int64_t(k) * P, true);        // rest of the rising half of period k
+    for (int x = 0; x < 3; x++) cmp_fall[x] = cmp_top[x];
+    gate_range(top, bottom, top, false);
+    for (int x = 0; x < 3; x++) cmp_rise[x] = cmp_bot[x];
+    en = enable;
+    gate_range(bottom, end, bottom, true);
+    cursor = end;
+
+    const Pattern &pat = window_pattern(adc_mode);
+    const int n = int(pat.rel.size());
+    s_ticks.resize(n);
+    for (int i = 0; i < n; i++) s_ticks[i] = zc + pat.rel[i];
+    adc.resize(3 * size_t(n > 0 ? n : 1));
+    const int rc = plant_run(pl, int(e_ticks.size()), e_ticks.data(), e_masks.data(), nullptr, n, s_ticks.data(),
+                             adc.data(), nullptr, nullptr);
+    if (rc != 0) {
+        char msg[160];
+        std::snprintf(msg, sizeof msg, "window %d: plant_run returned %d (%s)", k, rc,
+                      rc == -2 ? "a gate mask turned on both switches of a leg" : "bad tick order or gate mask");
+        error = msg;
+        return false;
+    }
+    if (plant_advance(pl, end) != 0) {
+        error = "plant_advance: tick went backwards";
+        return false;
+    }
+    plant_state st;
+    plant_get_state(pl, &st);
+
+    const int top_code = (1 << s.adc_bits) - 1;
+    size_t sw_i = 0;
+    for (int i = 0; i < n; i++) {
+        const int a = adc[3 * i], b = adc[3 * i + 1];
+        if (a < 0 || a > top_code || b < 0 || b > top_code) {
+            char msg[160];
+            std::snprintf(msg, sizeof msg, "window %d: ADC code (%d, %d) at tick %lld is outside 0..%d", k, a, b,
+                          (long long)s_ticks[i], top_code);
+            error = msg;
+            return false;
+        }
+        adc_a[i] = a;
+        adc_b[i] = b;
+        w[i] = pat.w[i];
+        keep[i] = true;
+        if (adc_mode == HFI_MODE_OS_BLANK) {
+            // spec 2.3: dropped if the latest switching instant t_s <= t lies less than BLANK_TICKS before it
+            while (sw_i < sw_ticks.size() && sw_ticks[sw_i] <= s_ticks[i]) latest = sw_ticks[sw_i++];
+            keep[i] = latest < 0 || !hfi_blanked(ap_uint<64>(s_ticks[i] - latest), u16(s.blank_ticks));
+        }
+        samples.push_back({s_ticks[i], a, b});
+    }
+    hfi_adc_cfg cfg;
+    cfg.bits = s.adc_bits;
+    cfg.offset_a = s.adc_offset_a;
+    cfg.offset_b = s.adc_offset_b;
+    cfg.gain_a = s.adc_gain_a;
+    cfg.gain_b = s.adc_gain_b;
+    hfi_window_result res;
+    hfi_window_dsp(adc_a, adc_b, w, keep, ap_uint<12>(n), cfg, s16(active.sin), s16(active.cos), i_d, i_q, res);
+
+    fw_window win;
+    win.gamma = int32_t(res.gamma);
+    win.gamma_d = int32_t(res.gamma_d);
+    win.sum_id = int32_t(res.sum_id);
+    win.sum_iq = int32_t(res.sum_iq);
+    win.wsum = int32_t(res.wsum);
+    win.n_samples = uint32_t(res.n_samples);
+    fw_outputs o;
+    fw_step(&fw, &fwp, &win, speed_ref[k], &o);
+
+    for (size_t i = 0; i < e_ticks.size(); i++) edges.push_back({e_ticks[i], e_masks[i]});
+    hls_window r;
+    r.tick = end;
+    r.gamma = win.gamma;
+    r.gamma_d = win.gamma_d;
+    r.n_samples = win.n_samples;
+    r.sum_id = win.sum_id;
+    r.sum_iq = win.sum_iq;
+    r.wsum = win.wsum;
+    r.i_d = fw.i_d;
+    r.i_q = fw.i_q;
+    r.i_d_ref = fw.i_d_ref;
+    r.i_q_ref = fw.i_q_ref;
+    r.v_d = o.v_d;
+    r.v_q = o.v_q;
+    r.sin = o.sin;
+    r.cos = o.cos;
+    r.theta_hat = fw.theta_hat;
+    r.theta_pll = fw.pll.theta;
+    r.omega_pll = fw.pll.omega;
+    r.omega_f = fw_lowpass_out(fw.speed_f);
+    r.speed_ref = speed_ref[k];
+    r.mode = fw.mode;
+    r.adc_mode = adc_mode;
+    r.cmp_top_a = cmp_top[0];
+    r.cmp_top_b = cmp_top[1];
+    r.cmp_top_c = cmp_top[2];
+    r.cmp_bot_a = cmp_bot[0];
+    r.cmp_bot_b = cmp_bot[1];
+    r.cmp_bot_c = cmp_bot[2];
+    windows.push_back(r);
+    outputs.push_back(o);
+    truth.push_back(st);
+    prev2 = prev1;
+    prev1 = o;
+    k++;
+    return true;
+}
+
+static bool setup_error(char *err, int err_len, const char *msg) {
+    if (err && err_len > 0) std::snprintf(err, size_t(err_len), "%s", msg);
+    return false;
+}
+
+static bool check_setup(const hls_setup *s, char *err, int err_len) {
+    char msg[200];
+    if (s->half < 0 || s->half > 0xFFFF) {
+        std::snprintf(msg, sizeof msg, "half = %d is not a u16 PWM_HALF register value", s->half);
+        return setup_error(err, err_len, msg);
+    }
+    if (s->dead_ticks < 0 || s->dead_ticks > 0xFFFF || s->dead_min < 1 || s->dead_min > 0xFFFF)
+        return setup_error(err, err_len, "dead_ticks must be u16 and dead_min 1..65535");
+    if (s->os_min < 1 || s->os_min > 0xFFFF || s->os_ticks < 0 || s->os_ticks > 0xFFFF)
+        return setup_error(err, err_len, "os_ticks must be u16 and os_min 1..65535");
+    if (s->blank_ticks < 0 || s->blank_ticks > 0xFFFF) return setup_error(err, err_len, "blank_ticks must be u16");
+    if (s->adc_mode < 0 || s->adc_mode > 3) return setup_error(err, err_len, "adc_mode must be 0..3");
+    if (s->adc_bits < 1 || s->adc_bits > 16) return setup_error(err, err_len, "adc_bits must be 1..16");
+    if (s->adc_offset_a < -32768 || s->adc_offset_a > 32767 || s->adc_offset_b < -32768 || s->adc_offset_b > 32767)
+        return setup_error(err, err_len, "adc offsets must be s16");
+    if (s->adc_gain_a < 0 || s->adc_gain_a > 0xFFFF || s->adc_gain_b < 0 || s->adc_gain_b > 0xFFFF)
+        return setup_error(err, err_len, "adc gains must be u16");
+    if (s->dtc_gain < 0 || s->dtc_gain > 0xFFFF || s->hf_amp < 0 || s->hf_amp > 0x7FFF)
+        return setup_error(err, err_len, "dtc_gain must be u16 and hf_amp u15");
+    if (s->n_windows < 1 || s->speed_ref == nullptr)
+        return setup_error(err, err_len, "n_windows must be >= 1 with one speed reference per window");
+    return true;
+}
+
+// The library's only exports (it is built with -fvisibility=hidden, see hls/Makefile).
+#pragma GCC visibility push(default)
+extern "C" {
+
+hls_loop *hls_loop_create(const hls_setup *setup, const fw_params *fw, plant *pl, char *err, int err_len) {
+    if (setup == nullptr || fw == nullptr || pl == nullptr) {
+        setup_error(err, err_len, "setup, firmware parameters and plant must not be NULL");
+        return nullptr;
+    }
+    if (!check_setup(setup, err, err_len)) return nullptr;
+    hls_loop *h = new hls_loop();
+    h->s = *setup;
+    h->s.half = int32_t(hfi_effective_half(u16(setup->half)));
+    h->s.os_ticks = int32_t(hfi_effective_os_ticks(u16(setup->os_ticks), u16(setup->os_min)));
+    h->dead = int32_t(hfi_effective_dead(u16(setup->dead_ticks), u16(setup->dead_min)));
+    h->speed_ref.assign(setup->speed_ref, setup->speed_ref + setup->n_windows);
+    h->s.speed_ref = nullptr;
+    h->fwp = *fw;
+    fw_init(&h->fw, &h->fwp);
+    h->pl = pl;
+    hfi_gate_reset(h->gate);
+    for (int mode = 0; mode < 4; mode++) {
+        if (h->window_pattern(mode).rel.size() > size_t(HFI_WINDOW_MAX)) {
+            setup_error(err, err_len, "more samples per window than HFI_WINDOW_MAX");
+            delete h;
+            return nullptr;
+        }
+    }
+    h->compares(RESET_OUTPUTS, false, h->cmp_rise);       // the first bottom latches the reset registers
+    for (int x = 0; x < 3; x++) h->cmp_fall[x] = 0;
+    const size_t n = size_t(setup->n_windows);
+    h->windows.reserve(n);
+    h->outputs.reserve(n);
+    h->truth.reserve(n);
+    h->samples.reserve(n * h->pattern[setup->adc_mode].rel.size());
+    h->edges.reserve(n * 13);
+    return h;
+}
+
+int32_t hls_loop_run(hls_loop *h, int32_t n_windows) {
+    if (!h->error.empty()) return -1;
+    for (int32_t i = 0; i < n_windows && h->k < h->s.n_windows; i++)
+        if (!h->step()) return -1;
+    return h->k;
+}
+
+const char *hls_loop_error(const hls_loop *h) { return h->error.c_str(); }
+
+int64_t hls_loop_count(const hls_loop *h, int32_t kind) {
+    switch (kind) {
+        case HLS_WINDOWS: return int64_t(h->windows.size());
+        case HLS_OUTPUTS: return int64_t(h->outputs.size());
+        case HLS_TRUTH: return int64_t(h->truth.size());
+        case HLS_SAMPLES: return int64_t(h->samples.size());
+        case HLS_EDGES: return int64_t(h->edges.size());
+        default: return -1;
+    }
+}
+
+void hls_loop_copy(const hls_loop *h, int32_t kind, void *dst) {
+    switch (kind) {
+        case HLS_WINDOWS: std::memcpy(dst, h->windows.data(), h->windows.size() * sizeof(hls_window)); break;
+        case HLS_OUTPUTS: std::memcpy(dst, h->outputs.data(), h->outputs.size() * sizeof(fw_outputs)); break;
+        case HLS_TRUTH: std::memcpy(dst, h->truth.data(), h->truth.size() * sizeof(plant_state)); break;
+        case HLS_SAMPLES: std::memcpy(dst, h->samples.data(), h->samples.size() * sizeof(hls_sample)); break;
+        case HLS_EDGES: std::memcpy(dst, h->edges.data(), h->edges.size() * sizeof(hls_edge)); break;
+        default: break;
+    }
+}
+
+int32_t hls_loop_flipped(const hls_loop *h) { return h->fw.flipped; }
+
+void hls_loop_free(hls_loop *h) { delete h; }
+
+}  // extern "C"
+#pragma GCC visibility pop

@@ -1,0 +1,81 @@
+/* Closed loop of the `hls` backend: the HLS kernels of hls/src (C simulation), the host build of the
+ * firmware (firmware/src/control.c, out/firmware/host/libhfifw.so) and the C plant
+ * (golden/plant/libhfiplant.so), window by window in native code, with the plant calls of the golden
+ * loop (golden/closedloop.py) in the same order, so the traces are identical.
+ *
+ * C interface (cffi parses this header with its preprocessor lines stripped, together with
+ * firmware/src/control.h). Used by golden/hls_backend.py. */
+#ifndef HLS_LOOP_H
+#define HLS_LOOP_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct plant;
+struct fw_params;
+struct hls_loop;
+
+/* Hardware configuration (golden.control_config.HardwareConfig, effective values) and the run. */
+struct hls_setup {
+    int32_t half;              /* PWM_HALF register (the effective H: hfi_effective_half) */
+    int32_t dead_ticks;        /* DEAD_TICKS register (the dead time: max(DEAD_TICKS, dead_min)) */
+    int32_t dead_min;          /* DEAD_MIN synthesis parameter, 1..65535 */
+    int32_t os_ticks;          /* OS_TICKS register (used as at least os_min) */
+    int32_t os_min;            /* OS_MIN of the hardware, 1..65535 */
+    int32_t blank_ticks;       /* BLANK_TICKS */
+    int32_t adc_mode;          /* ADC_MODE: 0 OS, 1 DS, 2 OS_BLANK, 3 as OS */
+    int32_t adc_bits;          /* ADC resolution, 1..16 */
+    int32_t adc_offset_a, adc_offset_b;   /* ADC_OFFSET, s16 */
+    int32_t adc_gain_a, adc_gain_b;       /* ADC_GAIN, u16 Q2.14 */
+    uint32_t cw_angle_step;    /* CW_ANGLE_STEP */
+    int32_t dtc_gain;          /* DTC_GAIN, u16 (0: dead-time compensation off) */
+    int32_t hf_amp;            /* HF_AMP, u15 */
+    uint32_t recip_h;          /* RECIP_H */
+    int64_t ds_from_tick;      /* windows starting at or after this tick sample in DS mode (INT64_MAX: never) */
+    int32_t n_windows;         /* windows to run, >= 1 */
+    const int32_t *speed_ref;  /* n_windows speed references (firmware input, one per window) */
+};
+
+/* One record per window: the integer trace columns of golden.closedloop.WINDOW_FIELDS. */
+struct hls_window {
+    int64_t tick, gamma, gamma_d, n_samples, sum_id, sum_iq, wsum, i_d, i_q, i_d_ref, i_q_ref;
+    int64_t v_d, v_q, sin, cos, theta_hat, theta_pll, omega_pll, omega_f, speed_ref, mode, adc_mode;
+    int64_t cmp_top_a, cmp_top_b, cmp_top_c, cmp_bot_a, cmp_bot_b, cmp_bot_c;
+};
+
+struct hls_sample {            /* one ADC conversion */
+    int64_t tick;
+    int32_t adc_a, adc_b;
+};
+
+struct hls_edge {              /* one gate-mask change: the mask after the tick */
+    int64_t tick;
+    int64_t mask;
+};
+
+/* Record kinds of hls_loop_count / hls_loop_copy. */
+enum hls_kind { HLS_WINDOWS = 0, HLS_OUTPUTS = 1, HLS_TRUTH = 2, HLS_SAMPLES = 3, HLS_EDGES = 4 };
+
+/* NULL and a message in err (err_len bytes) on a bad setup. The plant stays owned by the caller. */
+struct hls_loop *hls_loop_create(const struct hls_setup *setup, const struct fw_params *fw, struct plant *plant,
+                                 char *err, int err_len);
+/* Runs up to n_windows more windows. Returns the number of windows done in total, -1 on an error
+ * (hls_loop_error says which; the records up to it stay readable). */
+int32_t hls_loop_run(struct hls_loop *h, int32_t n_windows);
+const char *hls_loop_error(const struct hls_loop *h);
+/* Records of one kind so far: struct hls_window, struct fw_outputs (the firmware's writes after each
+ * window), struct plant_state (the plant at each window end), struct hls_sample, struct hls_edge. */
+int64_t hls_loop_count(const struct hls_loop *h, int32_t kind);
+void hls_loop_copy(const struct hls_loop *h, int32_t kind, void *dst);
+/* The firmware's polarity-flip flag (struct fw_state.flipped) now. */
+int32_t hls_loop_flipped(const struct hls_loop *h);
+void hls_loop_free(struct hls_loop *h);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -86,6 +86,7 @@ class ClosedLoopResult:
     wall_s: float
     soc: dict | None = None  # rtl backend only: firmware cycles, late commits, co-simulation speed, UART log
     backend: str = "golden"  # golden, rtl or hls
+    plant_wall_s: float | None = None  # hls backend: wall seconds inside the plant calls (of wall_s)
 
     @property
     def t(self) -> np.ndarray:

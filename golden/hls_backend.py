@@ -125,6 +125,7 @@ class HlsClosedLoop:
                                [("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])
             edges = _records(lib, h, "edges", ffi.sizeof("struct hls_edge"), [("tick", "<i8"), ("mask", "<i8")])
             flipped = int(lib.hls_loop_flipped(h))
+            plant_s = float(lib.hls_loop_plant_seconds(h))
         finally:
             lib.hls_loop_free(h)
         columns = [f.name if isinstance(f, str) else f[0] for f in ffi.typeof("struct hls_window").fields]
@@ -135,4 +136,4 @@ class HlsClosedLoop:
                        "adc_b": samples["b"].astype(np.uint16)}
         edges_out = {"tick": edges["tick"].copy(), "mask": edges["mask"].astype(np.int32)}
         return ClosedLoopResult(windows, samples_out, edges_out, writes, hw, self.scales, tick_hz, flipped, wall,
-                                backend="hls")
+                                backend="hls", plant_wall_s=plant_s)

@@ -18,6 +18,7 @@
 #include "hls_loop.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -65,6 +66,7 @@ struct hls_loop {
     std::string error;
 
     int32_t k = 0;                     // next window
+    double plant_seconds = 0;          // wall time inside the plant calls
     fw_outputs active = RESET_OUTPUTS, prev1 = RESET_OUTPUTS, prev2 = RESET_OUTPUTS;
     hfi_gate_state gate;
     u16 cmp_rise[3];                   // compares of the current rising half (latched at its bottom)
@@ -216,6 +218,7 @@ bool hls_loop::step() {
     s_ticks.resize(n);
     for (int i = 0; i < n; i++) s_ticks[i] = zc + pat.rel[i];
     adc.resize(3 * size_t(n > 0 ? n : 1));
+    const auto t_plant = std::chrono::steady_clock::now();
     const int rc = plant_run(pl, int(e_ticks.size()), e_ticks.data(), e_masks.data(), nullptr, n, s_ticks.data(),
                              adc.data(), nullptr, nullptr);
     if (rc != 0) {
@@ -231,6 +234,7 @@ bool hls_loop::step() {
     }
     plant_state st;
     plant_get_state(pl, &st);
+    plant_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_plant).count();
 
     const int top_code = (1 << s.adc_bits) - 1;
     size_t sw_i = 0;
@@ -412,6 +416,8 @@ void hls_loop_copy(const hls_loop *h, int32_t kind, void *dst) {
 }
 
 int32_t hls_loop_flipped(const hls_loop *h) { return h->fw.flipped; }
+
+double hls_loop_plant_seconds(const hls_loop *h) { return h->plant_seconds; }
 
 void hls_loop_free(hls_loop *h) { delete h; }
 

@@ -72,6 +72,8 @@ int64_t hls_loop_count(const struct hls_loop *h, int32_t kind);
 void hls_loop_copy(const struct hls_loop *h, int32_t kind, void *dst);
 /* The firmware's polarity-flip flag (struct fw_state.flipped) now. */
 int32_t hls_loop_flipped(const struct hls_loop *h);
+/* Wall seconds spent inside the plant calls so far (plant_run, plant_advance, plant_get_state). */
+double hls_loop_plant_seconds(const struct hls_loop *h);
 void hls_loop_free(struct hls_loop *h);
 
 #ifdef __cplusplus

@@ -11,7 +11,8 @@ PYTEST_JOBS ?= auto
 setup:
 	bash scripts/setup.sh
 
-# Closed-loop backend of `make run`: rtl (firmware on the Verilated SoC, default) or golden (Python model).
+# Closed-loop backend of `make run`: rtl (firmware on the Verilated SoC, default), golden (Python model)
+# or hls (HLS C++ kernels + host firmware, native).
 BACKEND ?= rtl
 run: setup
 	$(ENV) .venv/bin/python scripts/run.py --backend $(BACKEND)
@@ -25,6 +26,7 @@ bench: setup
 	$(ENV) .venv/bin/python scripts/bench_plant.py
 	$(ENV) .venv/bin/python scripts/bench_golden.py
 	$(ENV) .venv/bin/python scripts/bench_rtl.py
+	$(ENV) .venv/bin/python scripts/bench_hls.py
 
 # The paper's figure groups, full length (out/paper/metrics.json and plots).
 .PHONY: paper

@@ -25,6 +25,7 @@ from cocotb.utils import get_sim_time
 
 from pulse_monitor import HighMonitor
 from golden.fpga.adc_scale import adc_to_current
+from golden.testvectors import adc_scale as testvectors
 
 PERIOD_NS = 10
 LATENCY = 4             # rtl/hfi_adc_scale.v localparam LATENCY
@@ -127,32 +128,9 @@ async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
         f"missing in {sorted(expected_high - high)[:10]} (cycles from the first start)")
 
 
-def _random_inputs(rng, n: int, bits: int) -> list[tuple]:
-    """Random (code_a, code_b, offset_a, offset_b, gain_a, gain_b): uniform, extremes and
-    saturating combinations, realistic small offsets and gains near 1.0."""
-    top = (1 << bits) - 1
-    cols = []
-    for _ in range(2):                                  # codes a, b
-        c = rng.integers(0, top + 1, n)
-        sel = rng.random(n) < 0.15
-        c[sel] = rng.choice(np.array([0, 1, top // 2, top // 2 + 1, max(top - 1, 0), top]), sel.sum())
-        cols.append(c)
-    for _ in range(2):                                  # offsets a, b (s16)
-        o = rng.integers(-32768, 32768, n)
-        small = rng.random(n) < 0.3
-        o[small] = rng.integers(-200, 201, small.sum())
-        ext = rng.random(n) < 0.1
-        o[ext] = rng.choice(np.array([-32768, -32767, -1, 0, 1, 32766, 32767]), ext.sum())
-        cols.append(o)
-    for _ in range(2):                                  # gains a, b (u16 Q2.14)
-        g = rng.integers(0, 65536, n)
-        near = rng.random(n) < 0.3
-        g[near] = rng.integers(16384 - 800, 16384 + 801, near.sum())
-        ext = rng.random(n) < 0.1
-        g[ext] = rng.choice(np.array([0, 1, 16383, 16384, 16385, 32768, 65534, 65535]), ext.sum())
-        cols.append(g)
-    cols = [c.tolist() for c in cols]
-    return list(zip(*cols))
+def _rows(arr) -> list[tuple]:
+    """Vectors of golden.testvectors.adc_scale (an (n, 6) array) as tuples of Python ints."""
+    return [tuple(r) for r in arr.tolist()]
 
 
 @cocotb.test()
@@ -162,8 +140,8 @@ async def random_vectors(dut):
     bits = _bits()
     assert len(dut.code_a) == bits, f"ADC_BITS parameter not applied: {len(dut.code_a)} != {bits}"
     n = int(os.environ["HFI_RANDOM_N"])
-    vectors = _random_inputs(rng, n, bits)
-    garbage = _random_inputs(rng, n, bits)
+    vectors = _rows(testvectors.random_vectors(rng, n, bits))
+    garbage = _rows(testvectors.random_vectors(rng, n, bits))
     spacing = rng.integers(MIN_SPACING, 10, n)
     spacing[rng.random(n) < 0.5] = MIN_SPACING          # many back-to-back starts
     await _start(dut)
@@ -179,11 +157,7 @@ async def directed(dut):
     bits = _bits()
     top = (1 << bits) - 1
     await _start(dut)
-    vectors = []
-    for code in sorted({0, top, top // 2, (top + 1) // 2}):
-        for off in (-32768, -1, 0, 1, 32767):
-            for gain in (0, 1, 16384, 32768, 65535):
-                vectors.append((code, top - code, off, -1 - off, gain, 65535 - gain))
+    vectors = _rows(testvectors.directed_vectors(bits))
     zero = (0, 0, 0, 0, 0, 0)
     for spacing in (MIN_SPACING, LATENCY + 3):          # back to back and one at a time
         await run_vectors(dut, vectors, [spacing] * len(vectors), [zero] * len(vectors),

@@ -1,7 +1,8 @@
 """cocotb testbench for rtl/hfi_carrier.v (run by cocotb_tests/test_carrier.py).
 
 Every tick is compared with the golden carrier (``golden.fpga.carrier``: ``effective_half``,
-``counter``; strobes and phase of spec 2.1) and the weight angle of ``golden.fpga.cordic.demod_weight``
+``counter``; strobes and phase of spec 2.1; register draws from golden/testvectors/carrier.py, shared with
+tests/test_hls_carrier.py) and the weight angle of ``golden.fpga.cordic.demod_weight``
 (``a = uwrap(wrap((H - 2c)*STEP, 32), 32)``; the resulting weights are also checked against
 ``demod_weight`` itself, vectorised). The register-application rule of the RTL (docs/rtl.md: a write
 takes effect at the first bottom at least 18 clocks after it) is modelled cycle by cycle and tested
@@ -24,6 +25,7 @@ from golden.fixed import uwrap, wrap
 from golden.fpga.carrier import counter as golden_counter
 from golden.fpga.carrier import effective_half
 from golden.fpga.cordic import cw_angle_step, demod_weight, sincos_q15
+from golden.testvectors.carrier import DIRECTED_HALF_REGS, random_half_reg, random_step
 
 MUL_CYCLES = 17          # load + 16 add cycles of the serial multiplier (rtl/hfi_carrier.v)
 APPLY_DELAY = 18         # a write in cycle w is used from the first bottom at tick >= w + 18
@@ -177,24 +179,6 @@ async def start(dut, rst_cycles=20, pwm_half=1000, step=None, first=True):
     return b
 
 
-def random_half_reg(rng) -> int:
-    r = rng.random()
-    if r < 0.1:
-        return int(rng.integers(0, 512))          # below the floor: runs as 512
-    if r < 0.15:
-        return int(rng.choice([511, 512, 513, 514]))
-    return int(rng.integers(512, 1400))           # odd values run with the LSB cleared
-
-
-def random_step(rng, pwm_half: int) -> int:
-    r = rng.random()
-    if r < 0.4:
-        return cw_angle_step(effective_half(pwm_half))
-    if r < 0.5:
-        return int(rng.choice([0, 1, 0xFFFFFFFF, 0x80000000, 0x7FFFFFFF]))
-    return int(rng.integers(0, 1 << 32))
-
-
 @cocotb.test()
 async def random_registers(dut):
     """HFI_RANDOM_N ticks with random PWM_HALF / CW_ANGLE_STEP writes (single and bursts) and resets."""
@@ -308,7 +292,7 @@ async def multiplier_full_range(dut):
     n_pairs = max(20, int(os.environ["HFI_RANDOM_N"]) // 500)
     b = None
     for i in range(n_pairs):
-        h_reg = int(rng.integers(0, 1 << 16)) if i % 4 else int(rng.choice([0xFFFF, 0xFFFE, 0x8000, 0x7FFF]))
+        h_reg = int(rng.integers(0, 1 << 16)) if i % 4 else int(rng.choice(DIRECTED_HALF_REGS))
         step = int(rng.integers(0, 1 << 32)) if i % 3 else int(rng.choice([0xFFFFFFFF, 0x80000000, 1]))
         b = await start(dut, rst_cycles=int(rng.integers(APPLY_DELAY, APPLY_DELAY + 5)), pwm_half=h_reg,
                         step=step, first=i == 0)

@@ -22,12 +22,11 @@ import numpy as np
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, Timer
 
-from golden.fixed import round_shr, uwrap
-from golden.fpga.cordic import cordic_sincos, cw_angle_step, demod_weight, sincos_q15
+from golden.fpga.cordic import cw_angle_step, demod_weight, sincos_q15
+from golden.testvectors import cordic as testvectors
+from golden.testvectors.cordic import U32, Q
 
 PERIOD_NS = 10
-U32 = 1 << 32
-Q = 1 << 30  # a quarter turn
 
 
 class Bench:
@@ -177,43 +176,6 @@ class Bench:
         await self.stream(arr.tolist(), s.tolist(), c.tolist(), label)
 
 
-# ---- directed angles ----------------------------------------------------------------------------------
-def directed_angles() -> list[int]:
-    """0, +-1, the quadrant points +-1 and +-2, the fold boundaries (top bits 00|01, 01|10, 10|11, 11|00),
-    45 deg multiples, 2^32 - 1."""
-    out = []
-    for base in (0, Q, 2 * Q, 3 * Q, U32):
-        for d in (-2, -1, 0, 1, 2):
-            a = base + d
-            if 0 <= a < U32:
-                out.append(a)
-    out += [Q // 2 + k * Q for k in range(4)]              # 45, 135, 225, 315 deg
-    out += [U32 - 1, 1 << 31, (1 << 31) - 1, (1 << 31) + 1, 0x7FFFFFFF, 0x80000000, 0xFFFFFFFF]
-    return list(dict.fromkeys(out))                        # unique, in order
-
-
-def saturating_angles(width: int, iterations: int, per_kind: int = 4) -> tuple[list[int], int, int]:
-    """Angles near the axes whose golden Q1.15 sin or cos needs saturation (round_shr gives +32768 or
-    -32769 before sat). Returns (angles, number of positive, number of negative cases found)."""
-    k = np.arange(0, 4096, dtype=np.int64)
-    cand = np.concatenate([(base + sgn * k) % U32 for base in (0, Q, 2 * Q, 3 * Q) for sgn in (1, -1)])
-    cand = np.unique(cand)
-    s_raw, c_raw = cordic_sincos(cand, width, iterations)
-    picked, n_pos, n_neg = [], 0, 0
-    for raw in (s_raw, c_raw):
-        pre = round_shr(raw, width - 17)
-        pos, neg = cand[pre > 32767], cand[pre < -32768]
-        n_pos += len(pos)
-        n_neg += len(neg)
-        picked += pos[:per_kind].tolist() + neg[:per_kind].tolist()
-    return list(dict.fromkeys(picked)), n_pos, n_neg
-
-
-def demod_case(half: int, counter: int) -> int:
-    """The weight angle uwrap((H - 2c) * CW_ANGLE_STEP, 32) of spec 3.3 (the carrier's cw_angle)."""
-    return uwrap((half - 2 * counter) * cw_angle_step(half), 32)
-
-
 # ---- tests --------------------------------------------------------------------------------------------
 @cocotb.test()
 async def directed(dut):
@@ -221,8 +183,8 @@ async def directed(dut):
     protocol check, then again as a back-to-back stream."""
     tb = Bench(dut)
     await tb.setup()
-    angles = directed_angles()
-    sat_angles, n_pos, n_neg = saturating_angles(tb.width, tb.iterations)
+    angles = testvectors.directed_angles()
+    sat_angles, n_pos, n_neg = testvectors.saturating_angles(tb.width, tb.iterations)
     cocotb.log.info(f"saturation: {n_pos} near-axis angles round to +32768, {n_neg} to -32769; "
                     f"testing {len(sat_angles)}")
     if (tb.width, tb.iterations) == (32, 32):
@@ -243,8 +205,7 @@ async def random_angles(dut):
     """HFI_RANDOM_N random u32 angles, random protocol (back to back, gaps, start held while busy)."""
     tb = Bench(dut)
     await tb.setup()
-    angles = tb.rng.integers(0, U32, size=tb.random_n, dtype=np.int64)
-    await tb.stream_golden(angles, "random angle")
+    await tb.stream_golden(testvectors.random_angles(tb.rng, tb.random_n), "random angle")
 
 
 @cocotb.test()
@@ -253,14 +214,10 @@ async def demodulation_weights(dut):
     c = 0, H/2, H, then random even H in 512..65534 and c in 0..H (HFI_RANDOM_N / 5 of them)."""
     tb = Bench(dut)
     await tb.setup()
-    cases = [(10000, 0), (10000, 5000), (10000, 10000)]
-    n = max(200, tb.random_n // 5)
-    halves = 2 * tb.rng.integers(256, 32768, size=n)             # even, 512..65534
-    cases += [(int(h), int(tb.rng.integers(0, h + 1))) for h in halves]
-    cases += [(65534, 0), (65534, 32767), (65534, 65534), (512, 0), (512, 256), (512, 512), (512, 1)]
+    cases = testvectors.demod_cases(tb.rng, max(200, tb.random_n // 5))
     angles, exp_w, exp_c = [], [], []
     for h, c in cases:
-        a = demod_case(h, c)
+        a = testvectors.demod_case(h, c)
         angles.append(a)
         exp_w.append(demod_weight(c, h, cw_angle_step(h), tb.width, tb.iterations))
         exp_c.append(sincos_q15(a, tb.width, tb.iterations)[1])
@@ -269,7 +226,7 @@ async def demodulation_weights(dut):
         assert got[0] == exp_w[k], (f"weight H={h} c={c} (angle {angles[k]:#010x}): RTL {got[0]}, "
                                     f"golden demod_weight {exp_w[k]}")
     if (tb.width, tb.iterations) == (32, 32):  # spec 3.3: +32767 at the bottom, 0 at c = H/2, -32768 at the top
-        assert exp_w[:3] == [32767, 0, -32768], f"golden weights at H = 10000: {exp_w[:3]}"
+        assert exp_w[:3] == [32767, 0, -32768], f"golden weights at H = {testvectors.WEIGHT_H}: {exp_w[:3]}"
     await tb.stream(angles, exp_w, exp_c, "demodulation weight")
 
 

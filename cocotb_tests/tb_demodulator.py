@@ -26,6 +26,7 @@ from cocotb.triggers import FallingEdge, RisingEdge, Timer
 from cocotb.utils import get_sim_time
 
 from golden.fpga.demodulator import demodulate
+from golden.testvectors import demodulator as testvectors
 
 PERIOD_NS = 10
 LATENCY = 2             # rtl/hfi_demodulator.v localparam LATENCY (latch -> latched)
@@ -208,26 +209,6 @@ async def _start(dut):
     assert _outputs(dut) == (0,) * 6 and int(dut.latched.value) == 0, "outputs not cleared by reset"
 
 
-EXTREME = np.array([-32768, -32767, -1, 0, 1, 32766, 32767])
-
-
-def _window_values(rng, n: int):
-    """i_d, i_q, w of one window's samples: one of several value distributions."""
-    mode = rng.integers(0, 5)
-    if mode == 0:       # products at the extremes: +-32768 * -32768 and neighbours
-        vals = rng.choice(np.array([-32768, 32767]), (3, n))
-    elif mode == 1:     # every product +2^30 (the largest), or its negative
-        sign = rng.choice(np.array([-32768, 32767]))
-        vals = np.array([[-32768] * n, [-32768] * n, [sign] * n])
-    elif mode == 2:     # extremes and small values mixed
-        vals = rng.choice(EXTREME, (3, n))
-    elif mode == 3:     # realistic: small currents, full-range weights
-        vals = np.vstack([rng.integers(-2000, 2001, (2, n)), rng.integers(-32768, 32768, (1, n))])
-    else:               # uniform s16
-        vals = rng.integers(-32768, 32768, (3, n))
-    return vals.tolist()
-
-
 def _gap(rng) -> int:
     """Cycles between items: mostly 1..3 (1 = back to back), sometimes longer (the system's 40+)."""
     r = rng.random()
@@ -247,28 +228,19 @@ async def random_windows(dut):
     rng = _rng()
     n_target = int(os.environ["HFI_RANDOM_N"])
     await _start(dut)
+    windows = testvectors.random_windows(rng, n_target)
     seq = Seq(rng)
-    accepted = 0
-    n_windows = 0
     coincide = False
-    lengths = []
-    while accepted < n_target:
-        r = rng.random()
-        length = 0 if r < 0.05 else 1 if r < 0.08 else int(rng.integers(0, 301))
-        lengths.append(length)
-        p_keep = rng.choice(np.array([1.0, 0.9, 0.5, 0.0]), p=[0.3, 0.5, 0.15, 0.05])
-        keeps = (rng.random(length) < p_keep).astype(int).tolist()
-        d, q, w = _window_values(rng, length)
-        for j in range(length):
+    for k, (keep, d, q, w) in enumerate(windows):
+        for j in range(len(keep)):
             gap = 0 if (j == 0 and coincide) else _gap(rng)
-            seq.sample(gap, keeps[j], d[j], q[j], w[j])
-        accepted += sum(keeps)
-        n_windows += 1
-        seq.latch(_gap(rng), f"(window {n_windows - 1}, {length} samples)")
+            seq.sample(gap, keep[j], d[j], q[j], w[j])
+        seq.latch(_gap(rng), f"(window {k}, {len(keep)} samples)")
         coincide = rng.random() < 0.3
     await seq.run(dut, "random")
     cocotb.log.info("%d windows, %d samples (%d accepted), %d latched, %d empty windows",
-                    n_windows, seq.n_samples, accepted, seq.n_latches, lengths.count(0))
+                    len(windows), seq.n_samples, sum(sum(win[0]) for win in windows), seq.n_latches,
+                    sum(1 for win in windows if not win[0]))
 
 
 async def _constant_window(dut, n: int, keep: int, i_d: int, i_q: int, w: int, latch_first: bool) -> None:
@@ -308,19 +280,19 @@ async def long_windows(dut):
     -32767*32768 each); a window of 70000 small samples: N_SAMPLES saturates at 65535 while the sums
     go on (the accumulators stay far from their range)."""
     await _start(dut)
-    n = 65534
-    await _constant_window(dut, n, 1, -32768, -32768, -32768, latch_first=False)
-    await _latch_and_check(dut, _golden([(-32768, -32768, -32768)] * n), f"{n} x (-32768)^2")
-    await _constant_window(dut, n, 1, 32767, 32767, -32768, latch_first=False)
-    await _latch_and_check(dut, _golden([(32767, 32767, -32768)] * n), f"{n} x 32767*(-32768)")
-    # Blanked samples at full scale in a window of its own: all zero.
-    await _constant_window(dut, 1000, 0, -32768, -32768, -32768, latch_first=False)
-    await _latch_and_check(dut, _golden([]), "1000 blanked samples")
-    n = 70000
-    await _constant_window(dut, n, 1, 3, -2, 1, latch_first=False)
-    exp = _golden([(3, -2, 1)] * n)
-    assert exp[5] == 65535 and exp[2] == 3 * n, exp
-    await _latch_and_check(dut, exp, f"{n} small samples (N_SAMPLES saturates)")
+    for n, keep, i_d, i_q, w in testvectors.long_windows():
+        await _constant_window(dut, n, keep, i_d, i_q, w, latch_first=False)
+        exp = _golden([(i_d, i_q, w)] * n if keep else [])
+        if n > 65535:
+            assert exp[5] == 65535 and exp[2] == i_d * n, exp
+        await _latch_and_check(dut, exp, f"{n} x (i_d, i_q, w) = {(i_d, i_q, w)}, keep {keep}")
+
+
+# Timing of golden.testvectors.demodulator.directed_events(): the gap (cycles) before each event (0: a
+# sample in the cycle of the preceding latch, the first sample of the new window; LATENCY before the
+# second reset: no latch in flight), and the length of each reset (cycles).
+DIRECTED_GAPS = (1, 1, 1, 1, 1, 0, 1, 0, 1, 1, 0, 1, 1, 1, 1, 2, 2, 2, 2, 2, 1, 1, 2, 1, LATENCY, 1)
+DIRECTED_RESET_CYCLES = (1, 3)
 
 
 @cocotb.test()
@@ -330,31 +302,17 @@ async def directed(dut):
     and reset with a latch in flight."""
     rng = _rng()
     await _start(dut)
-    big = (-32768, -32768, -32768)
     seq = Seq(rng)
-    seq.latch(1, "(empty window right after reset)")
-    seq.latch(1, "(consecutive latch)")
-    seq.latch(1, "(consecutive latch)")
-    seq.sample(1, 1, *big)
-    seq.latch(1, "(sample in the cycle before)")
-    seq.sample(0, 1, 100, -200, 300)                # same cycle as the latch: new window
-    seq.latch(1, "(sample in the latch cycle before)")
-    seq.sample(0, 1, *big)
-    seq.sample(1, 1, 32767, -32768, 32767)
-    seq.latch(1, "(back-to-back samples then latch)")
-    seq.sample(0, 0, *big)                          # blanked sample in the latch cycle
-    seq.sample(1, 1, 5, 6, 7)
-    seq.sample(1, 0, *big)
-    seq.latch(1, "(blanked samples around)")
-    seq.latch(1, "(empty window after a blanked latch-cycle sample)")
-    for j in range(5):
-        seq.sample(2, 1, -32768 + j, 32767 - j, -32768)
-    seq.reset(1, 1)                                 # reset mid-window: the 5 samples are dropped
-    seq.sample(1, 1, 11, 22, 33)
-    seq.latch(2, "(after a reset mid-window)")
-    seq.sample(1, 1, *big)
-    seq.reset(LATENCY, 3)                           # 3-cycle reset
-    seq.latch(1, "(first cycle after a reset)")
+    events = testvectors.directed_events()
+    assert len(events) == len(DIRECTED_GAPS), (len(events), len(DIRECTED_GAPS))
+    reset_cycles = iter(DIRECTED_RESET_CYCLES)
+    for ev, gap in zip(events, DIRECTED_GAPS):
+        if ev[0] == "sample":
+            seq.sample(gap, *ev[1:])
+        elif ev[0] == "latch":
+            seq.latch(gap, ev[1])
+        else:
+            seq.reset(gap, next(reset_cycles))
     await seq.run(dut, "directed")
 
     # Reset with a latch in flight: no latched pulse, outputs cleared.

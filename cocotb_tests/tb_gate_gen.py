@@ -6,8 +6,9 @@ hfi_gate_gen, plus a free-running cycle counter ``cyc`` and a counter of switch-
 latch), the enable/kill levels and DEAD_TICKS at sparse ticks; the outputs are recorded by coroutines
 that wake up on value changes of ``gate`` and ``sw_count`` (no per-cycle Python).
 
-Every run (reset, then a random number of half periods) is replayed on the golden
-``golden.fpga.gate_generator.GateGenerator``: ``add_half`` per carrier half with the compares latched
+The runs (reset, then a random number of half periods) are planned and replayed on the golden
+``golden.fpga.gate_generator.GateGenerator`` by golden/testvectors/gate_gen.py (``plan_run``,
+``golden_edges``; shared with the HLS test tests/test_hls_gate_gen.py): ``add_half`` per carrier half with the compares latched
 there (a compare above H as H: the RTL's saturation), ``set_enabled`` at every change of
 ``enable & ~kill``. An enable change or a kill edge inside a half period splits it into pieces
 (``add_half`` of each piece with the compare that gives the same ideal switch signal), so enable
@@ -27,7 +28,8 @@ from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, FallingEdge, ReadOnly
 
 from golden.fpga.carrier import effective_half
-from golden.fpga.gate_generator import GateGenerator, effective_dead_ticks
+from golden.fpga.gate_generator import effective_dead_ticks
+from golden.testvectors.gate_gen import golden_edges, new_stats, plan_run, random_dead_reg, random_half_reg
 
 GATE_LATENCY = 1
 RST_CYCLES = 20
@@ -67,8 +69,7 @@ class Bench:
         self.n_latches = 0
         self.n_edges = 0
         self.n_sw = 0
-        self.stats = {"sw_gaps_le_D": 0, "cmp_0": 0, "cmp_H": 0, "cmp_gt_H": 0, "dead_clamped": 0,
-                      "kills": 0, "en_mid_half": 0, "resets_while_on": 0}
+        self.stats = new_stats()
 
     async def goto(self, cycle: int):
         """Advance to the falling edge of ``cycle``."""
@@ -83,43 +84,6 @@ class Bench:
         sigs = (d.cmp_bot_a, d.cmp_bot_b, d.cmp_bot_c) if at_bottom else (d.cmp_top_a, d.cmp_top_b, d.cmp_top_c)
         for sig, v in zip(sigs, cmps):
             sig.value = int(v)
-
-
-def random_cmps(rng, h: int, dead: int, stats) -> list[int]:
-    """Compares of one half period: uniform, corners (0, H, > H) and short pulses (<= D) mixed."""
-    out = []
-    for _ in range(3):
-        r = rng.random()
-        if r < 0.08:
-            v = 0
-        elif r < 0.16:
-            v = h
-        elif r < 0.20:
-            v = int(rng.integers(h + 1, 65536))            # above H: runs as H
-        elif r < 0.40:
-            v = int(rng.integers(1, dead + 2))             # short high pulse (<= D or D + 1)
-        elif r < 0.55:
-            v = h - int(rng.integers(0, dead + 2))         # short low pulse
-        else:
-            v = int(rng.integers(0, h + 1))
-        out.append(max(0, v))
-        stats["cmp_0"] += v == 0
-        stats["cmp_H"] += v == h
-        stats["cmp_gt_H"] += v > h
-    return out
-
-
-def pieces(start: int, h: int, rising: bool, cmps, splits):
-    """Split the half [start, start + h) at ``splits`` into add_half pieces with the same ideal signal."""
-    bounds = [start] + sorted(s for s in splits if start < s < start + h) + [start + h]
-    out = []
-    for p0, p1 in zip(bounds[:-1], bounds[1:]):
-        if rising:      # s = 1 on [start, start + cmp)
-            pc = [min(max(start + c - p0, 0), p1 - p0) for c in cmps]
-        else:           # s = 1 on [start + h - cmp, start + h)
-            pc = [min(max(p1 - (start + h - c), 0), p1 - p0) for c in cmps]
-        out.append((p0, p1 - p0, rising, pc))
-    return out
 
 
 async def run_once(b: Bench, rng, h_reg: int, n_halves: int, dead_reg: int, p_en: float, p_kill: float,
@@ -140,68 +104,19 @@ async def run_once(b: Bench, rng, h_reg: int, n_halves: int, dead_reg: int, p_en
         # rst present in this cycle -> all gates off in the next one
         await b.goto(b.cycle + 1)
         assert int(dut.gate.value) == 0, f"gate {int(dut.gate.value):#x} one cycle after rst, expected 0"
-    en = int(rng.random() < 0.7)
-    cmps = random_cmps(rng, h, effective_dead_ticks(dead_reg, b.dead_min), b.stats)
-    b.set_cmps(True, cmps)                        # latched at tick 0 (a bottom)
-    dut.enable.value = en
+    run = plan_run(rng, h_reg, dead_reg, b.dead_min, n_halves, p_en, p_kill, p_en_mid, b.stats)
+    b.set_cmps(True, run.halves[0][2])            # latched at tick 0 (a bottom)
+    dut.enable.value = run.en0
     await b.goto(reset_cycle + RST_CYCLES)        # rst high in RST_CYCLES cycles, this one is tick 0
     dut.rst.value = 0
     c0 = b.cycle
     assert int(dut.phase.value) == 0 and int(dut.half.value) == h
 
-    # ---- plan the run ------------------------------------------------------------------------
-    # per half period: compares (written at a random tick after the previous latch); enable toggles at
-    # bottoms; inside a half period at most one of: a kill pulse (>= 2 ticks) or an enable toggle,
-    # both >= 2 ticks from the half's ends (the golden model's pieces must be >= 2 ticks long)
+    # ---- drive (the compares of half i >= 1 at a random tick before their latch) -------------------
     dead = effective_dead_ticks(dead_reg, b.dead_min)
-    b.stats["dead_clamped"] += dead_reg < b.dead_min
-    end = n_halves * h
-    halves = [(0, True, cmps)]
-    actions = []                                  # (tick, kind, value) to drive
-    events = []                                   # (tick, kind, value) of enable / kill
-    for i in range(1, n_halves):
-        t_latch = i * h
-        rising = i % 2 == 0
-        c = random_cmps(rng, h, dead, b.stats)
-        halves.append((t_latch, rising, c))
-        actions.append((t_latch - int(rng.integers(0, h)), "cmp", (rising, c)))
-        if rising and rng.random() < p_en:
-            events.append((t_latch, "toggle", None))
-    for i in range(n_halves):
-        t0 = i * h
-        r = rng.random()
-        if r < p_kill:
-            k1 = t0 + int(rng.integers(2, h - 4))
-            k2 = min(k1 + int(rng.integers(2, 2 * dead + 4)), t0 + h - 2)
-            events += [(k1, "kill", 1), (k2, "kill", 0)]
-            b.stats["kills"] += 1
-        elif r < p_kill + p_en_mid:
-            events.append((t0 + int(rng.integers(2, h - 1)), "toggle", None))
-            b.stats["en_mid_half"] += 1
-    events.sort(key=lambda e: e[0])
-    enable, kill = en, 0
-    en_changes = [(0, en)]                        # (tick, enable & ~kill) at every change
-    for t, kind, val in events:
-        if kind == "toggle":
-            enable ^= 1
-            actions.append((t, "enable", enable))
-        else:
-            kill = val
-            actions.append((t, "kill", kill))
-        eff = enable & (1 - kill)
-        if eff != en_changes[-1][1]:
-            en_changes.append((t, eff))
-    # DEAD_TICKS changes only while enable & ~kill = 0 (the golden model takes D when it schedules a
-    # turn-on, the RTL reads it live: identical while no turn-on is pending)
-    dead_changes = []
-    for (t, v), (t_next, _) in zip(en_changes, en_changes[1:] + [(end, None)]):
-        if v == 0 and t_next - t >= 4 and rng.random() < 0.5:
-            reg = int(rng.integers(0, 3 * b.dead_min + 200))
-            dead_changes.append((t + 1, reg))
-            actions.append((t + 1, "dead", reg))
-            b.stats["dead_clamped"] += reg < b.dead_min
-
-    # ---- drive --------------------------------------------------------------------------------
+    end = run.end
+    actions = [(t, "cmp", (rising, c)) for t, (_, rising, c) in zip(run.cmp_writes, run.halves[1:])]
+    actions += run.events + [(t, "dead", reg) for t, reg in run.dead_changes]
     actions.sort(key=lambda a: a[0])
     for t, kind, val in actions:
         await b.goto(c0 + t)
@@ -214,22 +129,8 @@ async def run_once(b: Bench, rng, h_reg: int, n_halves: int, dead_reg: int, p_en
         elif kind == "dead":
             dut.dead_reg.value = val
     await b.goto(c0 + end + 1)                    # cycle end shows the mask of tick end - 1
-
-    # ---- golden -------------------------------------------------------------------------------
-    gen = GateGenerator(dead_reg, b.dead_min)
-    en_at = dict(en_changes)
-    splits = sorted(en_at)
-    dq = sorted(dead_changes)
-    for start, rising, c in halves:
-        cg = [min(x, h) for x in c]               # a compare above H runs as H
-        for p0, plen, prising, pc in pieces(start, h, rising, cg, splits):
-            while dq and dq[0][0] <= p0:          # D written while disabled: used from the next enable
-                gen.dead = effective_dead_ticks(dq.pop(0)[1], b.dead_min)
-            if p0 in en_at:
-                gen.set_enabled(p0, bool(en_at[p0]))
-            gen.add_half(p0, plen, prising, pc)
-    g_ticks, g_masks = gen.take_edges(end)
-    g_sw = gen.take_switch_ticks(end)
+    g_ticks, g_masks, g_sw = golden_edges(run, b.dead_min)
+    halves, en_changes = run.halves, run.en_changes
 
     # ---- compare ------------------------------------------------------------------------------
     rtl_edges = [(c - c0 - GATE_LATENCY, m) for c, m in b.gate_rec.take(c0 + 1, c0 + end + 1)]
@@ -288,16 +189,8 @@ async def random_runs(dut):
     b, rng = await setup(dut)
     first = True
     while b.n_ticks < n:
-        r = rng.random()
-        h_reg = int(rng.integers(512, 601)) if r < 0.7 else int(rng.integers(0, 1500))
-        dmin = b.dead_min
-        r = rng.random()
-        if r < 0.25:
-            dead_reg = int(rng.integers(0, dmin + 1))                   # clamped to DEAD_MIN
-        elif r < 0.5:
-            dead_reg = int(rng.integers(dmin, 4 * dmin + 10))
-        else:
-            dead_reg = int(rng.integers(0, max(effective_half(h_reg) // 2, dmin + 2)))
+        h_reg = random_half_reg(rng)
+        dead_reg = random_dead_reg(rng, h_reg, b.dead_min)
         n_halves = int(rng.integers(6, 40))
         p_en_mid = 0.0 if rng.random() < 0.6 else 0.2
         await run_once(b, rng, h_reg, n_halves, dead_reg, p_en=0.25, p_kill=0.1, p_en_mid=p_en_mid,

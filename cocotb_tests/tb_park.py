@@ -14,7 +14,6 @@ skipped with one Timer each (the clock runs in the simulator).
 
 from __future__ import annotations
 
-import math
 import os
 
 import cocotb
@@ -25,11 +24,11 @@ from cocotb.utils import get_sim_time
 
 from pulse_monitor import HighMonitor
 from golden.fpga.park import clarke, park
+from golden.testvectors import park as testvectors
 
 PERIOD_NS = 10
 LATENCY = 7             # rtl/hfi_park.v localparam LATENCY
 MIN_SPACING = 5         # minimum start spacing of the RTL (documented in its header)
-EXTREMES = (-32768, -32767, -1, 0, 1, 32766, 32767)
 
 
 def _rng():
@@ -120,29 +119,9 @@ async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
         f"missing in {sorted(expected_high - high)[:10]} (cycles from the first start)")
 
 
-def _random_inputs(rng, n: int) -> list[tuple]:
-    """Random (i_a, i_b, sin_q15, cos_q15): uniform s16, extremes, small currents, and angles on the
-    unit circle (the firmware's SIN/COS) as well as arbitrary s16 pairs (the model accepts any)."""
-    cols = []
-    for _ in range(2):                                  # currents
-        x = rng.integers(-32768, 32768, n)
-        small = rng.random(n) < 0.2
-        x[small] = rng.integers(-300, 301, small.sum())
-        ext = rng.random(n) < 0.15
-        x[ext] = rng.choice(np.array(EXTREMES), ext.sum())
-        cols.append(x)
-    s = rng.integers(-32768, 32768, n)
-    c = rng.integers(-32768, 32768, n)
-    unit = rng.random(n) < 0.5
-    th = rng.random(unit.sum()) * 2 * math.pi
-    s[unit] = np.clip(np.round(np.sin(th) * 32768), -32768, 32767).astype(np.int64)
-    c[unit] = np.clip(np.round(np.cos(th) * 32768), -32768, 32767).astype(np.int64)
-    ext = rng.random(n) < 0.1
-    s[ext] = rng.choice(np.array(EXTREMES), ext.sum())
-    c[ext] = rng.choice(np.array(EXTREMES), ext.sum())
-    cols += [s, c]
-    cols = [x.tolist() for x in cols]
-    return list(zip(*cols))
+def _rows(arr) -> list[tuple]:
+    """Vectors of golden.testvectors.park (an (n, 4) array) as tuples of Python ints."""
+    return [tuple(r) for r in arr.tolist()]
 
 
 @cocotb.test()
@@ -150,8 +129,8 @@ async def random_vectors(dut):
     """HFI_RANDOM_N random transforms, overlapping, each compared with the golden model."""
     rng = _rng()
     n = int(os.environ["HFI_RANDOM_N"])
-    vectors = _random_inputs(rng, n)
-    garbage = _random_inputs(rng, n)
+    vectors = _rows(testvectors.random_vectors(rng, n))
+    garbage = _rows(testvectors.random_vectors(rng, n))
     spacing = rng.integers(MIN_SPACING, 13, n)
     spacing[rng.random(n) < 0.5] = MIN_SPACING          # many back-to-back starts
     await _start(dut)
@@ -166,15 +145,7 @@ async def directed(dut):
     """Extremes of every input (saturating i_beta, i_d and i_q; sums at 2^31), timing, held outputs,
     reset in every cycle of a transform in flight."""
     await _start(dut)
-    vectors = []
-    ends = (-32768, -1, 0, 32767)
-    for i_a in ends:
-        for i_b in ends:
-            for s in ends:
-                for c in ends:
-                    vectors.append((i_a, i_b, s, c))
-    vectors += [(-32768, -32768, -32768, -32768), (32767, 32767, 32767, 32767), (-32768, -32768, 32767, 32767),
-                (10000, -5000, 23170, 23170), (-1, -1, -1, -1), (1, 0, 0, 32767)]
+    vectors = _rows(testvectors.directed_vectors())
     zero = (0, 0, 0, 0)
     for spacing in (MIN_SPACING, LATENCY + 3):
         await run_vectors(dut, vectors, [spacing] * len(vectors), [zero] * len(vectors),

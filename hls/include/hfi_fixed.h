@@ -8,6 +8,7 @@
 #define HFI_FIXED_H
 
 #include <ap_int.h>
+#include <type_traits>
 
 typedef ap_int<16> s16;
 typedef ap_uint<16> u16;
@@ -39,12 +40,35 @@ inline ap_int<M> hfi_shr(const ap_int<M> &x) {
     return x >> S;
 }
 
-// round_shr(x, n): floor((x + 2^(n-1)) / 2^n), round half up (golden.fixed.round_shr); the sum is
-// formed one bit wider, so it never overflows.
+// round_shr(x, n): floor((x + 2^(n-1)) / 2^n), round half up (golden.fixed.round_shr); n = 0 is the
+// identity. The sum is formed one bit wider, so it never overflows: on the native value up to 62 bits
+// (fast in C simulation), in ap_int arithmetic beyond.
+template <int S, int M>
+inline ap_int<M + 1> hfi_round_shr_(const ap_int<M> &x, std::true_type /* M <= 62 */) {
+    const long long half = S > 0 ? 1LL << (S > 0 ? S - 1 : 0) : 0;
+    return ap_int<M + 1>((x.to_int64() + half) >> S);
+}
+template <int S, int M>
+inline ap_int<M + 1> hfi_round_shr_(const ap_int<M> &x, std::false_type /* M > 62 */) {
+    ap_int<M + 1> half = 0;
+    if (S > 0) half[S > 0 ? S - 1 : 0] = 1;
+    const ap_int<M + 1> v = ap_int<M + 1>(x) + half;
+    return v >> S;
+}
 template <int S, int M>
 inline ap_int<M + 1> hfi_round_shr(const ap_int<M> &x) {
-    const ap_int<M + 1> v = x + ap_int<M + 1>(1LL << (S - 1));
-    return v >> S;
+    static_assert(S >= 0 && S < M, "hfi_round_shr: 0 <= S < M");
+    return hfi_round_shr_<S>(x, std::integral_constant<bool, (M <= 62)>());
+}
+
+// Full-width product a * b (golden: the exact product; spec 1 "Products are formed at full width").
+// Formed as the native 64-bit product, exact since M1 + M2 <= 63: in C simulation ap_int's operator*
+// takes its multi-word path (with a heap allocation) whenever the product is wider than 32 bits;
+// synthesizes to an M1 x M2 multiplier.
+template <int M1, bool S1, int M2, bool S2>
+inline ap_int<M1 + M2 + ((S1 || S2) ? 0 : 1)> hfi_mul(const ap_int_base<M1, S1> &a, const ap_int_base<M2, S2> &b) {
+    static_assert(M1 + M2 <= 63, "hfi_mul: the product must fit the native 64-bit product");
+    return ap_int<M1 + M2 + ((S1 || S2) ? 0 : 1)>(a.to_int64() * b.to_int64());
 }
 
 #endif

@@ -64,6 +64,7 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
         "wall_s": round(res.wall_s, 2),
         "realtime_factor": round(float(res.t[-1]) / res.wall_s, 3),
         **({} if res.soc is None else {"soc": {k: v for k, v in res.soc.items() if k != "uart_log"}}),
+        **({} if res.plant_wall_s is None else {"plant_wall_s": round(res.plant_wall_s, 3)}),
     }
 
 

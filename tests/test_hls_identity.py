@@ -109,5 +109,5 @@ def test_run_script_hls_backend(tmp_path):
                            "--quiet", "--backend", "hls"], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
     m = json.loads((out / "metrics.json").read_text())
-    assert m["backend"] == "hls"
+    assert m["backend"] == "hls" and 0 < m["plant_wall_s"] < m["wall_s"] + 0.01
     assert (out / "trace.npz").is_file() and (out / "closed_loop.png").is_file()

@@ -12,8 +12,6 @@ set, else a fresh one, and it is printed (replay: ``HFI_SEED=<seed> .venv/bin/py
 
 from __future__ import annotations
 
-import os
-import secrets
 import shutil
 
 import numpy as np
@@ -38,14 +36,6 @@ F_MIN, F_MAX = -(1 << 47), (1 << 47) - 1        # speed-filter state: shr(F, 16)
 N_RANDOM = 100_000
 
 ffi, lib = fw_c.load()
-
-
-@pytest.fixture(scope="module")
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def draw_array(rng: np.random.Generator, n: int, lo: int, hi: int, specials=()) -> np.ndarray:

@@ -6,7 +6,6 @@ makes F lag by delta in (-1, 0] Q16 LSB per step, so |F/2^16 - closed form| < 1/
 
 from __future__ import annotations
 
-import math
 import random
 import sys
 from pathlib import Path

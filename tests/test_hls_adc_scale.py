@@ -8,9 +8,6 @@ cocotb_tests/tb_adc_scale.py, at the same ADC resolutions. Random inputs use
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
 import pytest
 
@@ -22,14 +19,6 @@ BITS = (1, 8, 12, 14, 16)          # cocotb_tests/test_adc_scale.py sweep
 DEFAULT_BITS = 12
 N_RANDOM = {12: 100_000}           # random vectors per resolution (default resolution: the most)
 N_RANDOM_SWEEP = 20_000
-
-
-@pytest.fixture
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def _hls(bits: int, code: np.ndarray, offset: np.ndarray, gain: np.ndarray) -> np.ndarray:

@@ -9,11 +9,7 @@ Seed: ``HFI_SEED`` if set, else a fresh one, printed.
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
-import pytest
 
 from golden.fpga.carrier import counter, effective_half
 from golden.hls_build import csim
@@ -23,14 +19,6 @@ N_PERIODS = 300
 """Random periods of the tick sequence (each 1024..2798 ticks)."""
 
 ffi, lib = csim()
-
-
-@pytest.fixture(scope="module")
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def ptr(ctype: str, arr: np.ndarray):

@@ -10,9 +10,6 @@ one, and is printed.
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
 import pytest
 
@@ -26,14 +23,6 @@ N_RANDOM_SWEEP = 20_000
 N_RANDOM_Q15 = 20_000              # per WIDTH
 N_WEIGHT_CASES = 5_000             # random (H, c) cases of the RTL testbench
 WEIGHT_HALVES = (4, 512, 10000, 65534)
-
-
-@pytest.fixture
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def _first_bad(got: np.ndarray, exp: np.ndarray, inputs: np.ndarray, what: str) -> None:

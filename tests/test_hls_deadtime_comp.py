@@ -7,11 +7,7 @@ Seed: ``HFI_SEED`` if set, else a fresh one, printed.
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
-import pytest
 
 from golden.fpga.deadtime_comp import compensate
 from golden.hls_build import csim
@@ -20,14 +16,6 @@ from golden.testvectors.deadtime_comp import HELD, SAMPLED, corner_vectors, draw
 N_RANDOM = 100_000
 
 ffi, lib = csim()
-
-
-@pytest.fixture(scope="module")
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def ptr(ctype: str, arr: np.ndarray):

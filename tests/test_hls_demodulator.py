@@ -10,11 +10,7 @@ runs a whole event sequence from reset (sample / latch / reset); the golden resu
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
-import pytest
 
 from golden import hls_build
 from golden.fpga.demodulator import demodulate
@@ -23,14 +19,6 @@ from golden.testvectors import demodulator as testvectors
 N_ACCEPTED = 100_000               # kept samples of the random windows
 SAMPLE, LATCH, RESET = 0, 1, 2     # event kinds of csim_demodulator_run (hls/csim/csim_demodulator.h)
 OUT_NAMES = ("gamma", "gamma_d", "sum_id", "sum_iq", "wsum", "n_samples")
-
-
-@pytest.fixture
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 class Events:

@@ -15,9 +15,6 @@ Seed: ``HFI_SEED`` if set, else a fresh one, printed.
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
 import pytest
 
@@ -31,14 +28,6 @@ RUN_TICKS = 400_000
 N_SEGMENTS = 100_000
 
 ffi, lib = csim()
-
-
-@pytest.fixture(scope="module")
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def ptr(ctype: str, arr: np.ndarray):

@@ -9,11 +9,7 @@ Seed: ``HFI_SEED`` if set, else a fresh one, printed.
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
-import pytest
 
 from golden.fpga.deadtime_comp import compensate
 from golden.fpga.modulator import compares
@@ -23,14 +19,6 @@ from golden.testvectors.modulator import REGS, corner_vectors, draw_registers
 N_RANDOM = 100_000
 
 ffi, lib = csim()
-
-
-@pytest.fixture(scope="module")
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def ptr(ctype: str, arr: np.ndarray):

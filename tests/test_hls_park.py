@@ -10,25 +10,13 @@ pair, e.g. the sums at 2^31). Random inputs use ``numpy.random.default_rng(seed)
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
-import pytest
 
 from golden import hls_build
 from golden.fpga.park import clarke, park
 from golden.testvectors import park as testvectors
 
 N_RANDOM = 100_000
-
-
-@pytest.fixture
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def _s16(x) -> np.ndarray:

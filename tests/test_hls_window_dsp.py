@@ -11,11 +11,7 @@ one, and is printed. ``test_time_per_sample`` prints the kernel's time per sampl
 
 from __future__ import annotations
 
-import os
-import secrets
-
 import numpy as np
-import pytest
 
 from golden import hls_build
 from golden.fpga.adc_scale import GAIN_ONE
@@ -28,14 +24,6 @@ WINDOW_MAX = 3277                  # HFI_WINDOW_MAX of hls/include/hfi_window_ds
 N_WINDOWS = 300
 TIMING_N, TIMING_REPEAT = 200, 20_000
 OUT_NAMES = ("gamma", "gamma_d", "sum_id", "sum_iq", "wsum", "n_samples")
-
-
-@pytest.fixture
-def seed() -> int:
-    env = os.environ.get("HFI_SEED")
-    value = int(env, 0) if env else secrets.randbits(32)
-    print(f"HFI_SEED={value}")
-    return value
 
 
 def _arrays(adc_a, adc_b, w, keep):

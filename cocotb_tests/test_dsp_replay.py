@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from golden import paper
 from golden.closedloop import ClosedLoop
 from golden.fpga.adc_trigger import sample_phases
+from hfi import paper
 from hdl_runner import TB_DIR, rtl_sources, run_cocotb
 
 REPLAY_S = 0.201

@@ -25,10 +25,10 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import numpy as np  # noqa: E402
 
 from golden.closedloop import ClosedLoop  # noqa: E402
-from golden.hls_backend import HlsBackendError, HlsClosedLoop  # noqa: E402
-from golden.hls_build import HlsBuildError, build  # noqa: E402
-from golden.rtl_backend import RtlBackendError, RtlClosedLoop, build_firmware, build_sim  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
+from hfi.hls_backend import HlsBackendError, HlsClosedLoop  # noqa: E402
+from hfi.hls_build import HlsBuildError, build  # noqa: E402
+from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, build_firmware, build_sim  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

@@ -20,8 +20,8 @@ import sys
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from golden.rtl_backend import RtlBackendError, RtlClosedLoop, build_firmware, build_sim  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
+from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, build_firmware, build_sim  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

@@ -25,8 +25,8 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from golden.paper import RPM  # noqa: E402
-from golden.paper_groups import GROUPS  # noqa: E402
+from hfi.paper import RPM  # noqa: E402
+from hfi.paper_groups import GROUPS  # noqa: E402
 
 
 def _run(name: str, short: bool):

@@ -5,16 +5,16 @@ A scenario with a ``[control]`` table runs a closed loop (the default, ``scenari
 on one of three backends (``--backend``, default ``$BACKEND`` or ``rtl``):
 
 - ``rtl``: the firmware (firmware/, C) on the PicoRV32 of the Verilated ``hfi_soc`` drives the C plant
-  through the RTL (:mod:`golden.rtl_backend`; ``--fst`` writes waveforms);
+  through the RTL (:mod:`hfi.rtl_backend`; ``--fst`` writes waveforms);
 - ``golden``: the bit-true Python model of the same system (:mod:`golden.closedloop`), ~30x faster;
 - ``hls``: the HLS-style C++ kernels of hls/ (native C simulation) with the host build of the firmware
-  and the C plant (:mod:`golden.hls_backend`), the fastest.
+  and the C plant (:mod:`hfi.hls_backend`), the fastest.
 
 All give identical traces (tests/test_rtl_identity.py, tests/test_hls_identity.py) and write
 ``trace.npz`` (per-window registers, firmware state and plant truth; every ADC sample), ``metrics.json`` (angle error and speed per reference plateau),
-``closed_loop.png`` and ``phase_current.png`` (:mod:`golden.report`).
+``closed_loop.png`` and ``phase_current.png`` (:mod:`hfi.report`).
 
-A scenario without one is the open-loop injection study of :mod:`golden.openloop_run`:
+A scenario without one is the open-loop injection study of :mod:`hfi.openloop_run`:
 square-wave injection on a fixed estimated d-axis into the realistic plant. Outputs, in the
 scenario's output directory (default ``out/<scenario name>/``):
 
@@ -44,18 +44,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from golden.closedloop import ClosedLoop  # noqa: E402
-from golden.hls_backend import HlsBackendError, HlsClosedLoop  # noqa: E402
-from golden.hls_build import HlsBuildError  # noqa: E402
-from golden.openloop_run import simulate, theory_envelopes  # noqa: E402
 from golden.plant import PlantError  # noqa: E402
-from golden.report import write_all  # noqa: E402
-from golden.rtl_backend import RtlBackendError, RtlClosedLoop  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
+from hfi import backends  # noqa: E402
+from hfi.openloop_run import simulate, theory_envelopes  # noqa: E402
+from hfi.report import write_all  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_SCENARIO = os.path.join(HERE, "..", "scenarios", "fullload_start.toml")
-BACKENDS = ("rtl", "golden", "hls")
+BACKENDS = backends.NAMES
 
 
 def metrics_of(scn, res) -> dict:
@@ -168,20 +165,16 @@ def main() -> int:
         out_dir = args.out or scn.output.dir
         os.makedirs(out_dir, exist_ok=True)
         if scn.control is not None:
-            if args.backend == "rtl":
-                res = RtlClosedLoop(scn).run(progress=not args.quiet, fst=args.fst,
-                                             fst_window=tuple(args.fst_window))
+            options = {"fst": args.fst, "fst_window": tuple(args.fst_window)} if args.backend == "rtl" else {}
+            res = backends.run(scn, args.backend, progress=not args.quiet, **options)
+            if res.soc is not None:
                 sys.stderr.write("".join(f"[fw] {line}\n" for line in res.soc["uart_log"].splitlines()))
-            elif args.backend == "hls":
-                res = HlsClosedLoop(scn).run(progress=not args.quiet)
-            else:
-                res = ClosedLoop(scn).run(progress=not args.quiet)
             metrics, files = write_all(scn, res, out_dir)
             print(json.dumps(metrics, indent=2))
             print("wrote", ", ".join(files))
             return 0
         res = simulate(scn, progress=not args.quiet)
-    except (ScenarioError, PlantError, OSError, ValueError, RtlBackendError, HlsBackendError, HlsBuildError) as exc:
+    except (ScenarioError, PlantError, OSError, ValueError, backends.BackendError) as exc:
         print(f"run: {exc}", file=sys.stderr)
         return 1
     np.savez_compressed(os.path.join(out_dir, "trace.npz"), t=res.t, adc=res.adc, i_meas=res.i_meas,

@@ -67,7 +67,7 @@ ECP5_DEVICE = ["--25k", "--package", "CABGA256", "--speed", "6"]
 TOOL_TIMEOUT_S = 45 * 60
 """Time limit of one tool run (the nextpnr budget of one design)."""
 if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))       # golden.rtl_backend (imported where used: it loads cffi, numpy)
+    sys.path.insert(0, str(ROOT))       # hfi.rtl_backend (imported where used: it loads cffi, numpy)
 SOC_TOP = "hfi_soc"
 CPU_INSTANCE = "u_cpu"
 CPU_TOP = "picorv32"
@@ -101,9 +101,9 @@ def rtl_files(top: str) -> list[str]:
 
 
 def picorv32_file() -> str:
-    """picorv32.v of the pythondata-cpu-picorv32 package (golden.rtl_backend.picorv32_source), relative
+    """picorv32.v of the pythondata-cpu-picorv32 package (hfi.rtl_backend.picorv32_source), relative
     to ROOT: the package lives in the project's .venv, which the yowasp tools can see."""
-    from golden.rtl_backend import picorv32_source
+    from hfi.rtl_backend import picorv32_source
     path = picorv32_source().resolve()
     if not path.is_relative_to(ROOT):
         raise SystemExit(f"synth_report: {path} is outside {ROOT}; the yowasp tools cannot read it")
@@ -111,10 +111,10 @@ def picorv32_file() -> str:
 
 
 def ram_image() -> str | None:
-    """The firmware RAM image for hfi_soc's RAM_INIT: ``make -C firmware`` (golden.rtl_backend.
+    """The firmware RAM image for hfi_soc's RAM_INIT: ``make -C firmware`` (hfi.rtl_backend.
     build_firmware), then out/firmware/hfi_fw.hex relative to ROOT; None (RAM without init) if neither
     the build nor an earlier image is there."""
-    from golden.rtl_backend import FW_OUT, RtlBackendError, build_firmware
+    from hfi.rtl_backend import FW_OUT, RtlBackendError, build_firmware
     try:
         build_firmware()
     except RtlBackendError as e:

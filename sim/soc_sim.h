@@ -3,7 +3,7 @@
  * The clock, the serial ADC and the plant run inside this library: per clock it evaluates the
  * Verilated hfi_soc, applies gate changes to the plant, answers ADC conversions with plant samples,
  * advances the plant to every window boundary and records what the golden closed loop records.
- * Python (golden/rtl_backend.py) creates the plant with golden.plant, calls soc_sim_run() in chunks
+ * Python (hfi/rtl_backend.py) creates the plant with golden.plant, calls soc_sim_run() in chunks
  * (progress output) and copies the records out. cffi parses this header (preprocessor lines are
  * stripped): plain declarations only.
  *

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from golden import paper
 from golden.closedloop import ClosedLoop, profile_at
 from golden.fpga.deadtime_comp import compensate
 from golden.fpga.modulator import compares
+from hfi import paper
 
 ROOT = Path(__file__).resolve().parents[1]
 

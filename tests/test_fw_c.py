@@ -1,6 +1,6 @@
 """The firmware's C control algorithms (firmware/src/control.c, host build) equal the golden model bit for bit.
 
-Every C function is called once per input through cffi (golden/fw_c.py) and compared with its golden
+Every C function is called once per input through cffi (hfi/fw_c.py) and compared with its golden
 twin of golden/firmware/ (and golden.fpga.cordic.sincos_q15): at least 100 000 random inputs each, drawn
 over the full legal ranges of the golden docstrings with the extremes and the saturating cases frequent,
 plus directed corner cases. fw_step is compared with Firmware.step on random parameter sets and window
@@ -17,7 +17,6 @@ import shutil
 import numpy as np
 import pytest
 
-from golden import fw_c
 from golden.firmware.bangbang import bangbang_step
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
@@ -28,6 +27,7 @@ from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, M
                                         Outputs)
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
+from hfi import fw_c
 
 S32_MIN, S32_MAX = -(1 << 31), (1 << 31) - 1
 S64_MIN, S64_MAX = -(1 << 63), (1 << 63) - 1

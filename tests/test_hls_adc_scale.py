@@ -11,9 +11,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from golden import hls_build
 from golden.fpga.adc_scale import adc_to_current
 from golden.testvectors import adc_scale as testvectors
+from hfi import hls_build
 
 BITS = (1, 8, 12, 14, 16)          # cocotb_tests/test_adc_scale.py sweep
 DEFAULT_BITS = 12

@@ -18,10 +18,10 @@ import pytest
 from golden.fpga.adc_trigger import (MODE_DS, MODE_OS, blank_mask, effective_os_ticks, os_min_ticks,
                                      sample_phases)
 from golden.fpga.carrier import effective_half
-from golden.hls_build import csim
 from golden.testvectors import gate_gen as gate_vectors
 from golden.testvectors.adc_trigger import (OS_MIN_SWEEP, random_blank, random_half_reg, random_os,
                                             random_switch_pulses)
+from hfi.hls_build import csim
 
 N_PARAM_SETS = 3000
 """Random (mode, H, OS_TICKS, OS_MIN) sets, each checked over a whole period (about 3.5 M phases)."""

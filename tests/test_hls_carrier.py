@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from golden.fpga.carrier import counter, effective_half
-from golden.hls_build import csim
 from golden.testvectors.carrier import DIRECTED_HALF_REGS, random_half_reg
+from hfi.hls_build import csim
 
 N_PERIODS = 300
 """Random periods of the tick sequence (each 1024..2798 ticks)."""

@@ -13,9 +13,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from golden import hls_build
 from golden.fpga.cordic import cordic_sincos, cw_angle_step, demod_weight, sincos_q15, to_q15
 from golden.testvectors import cordic as testvectors
+from hfi import hls_build
 
 DEFAULT = (32, 32)
 N_RANDOM_DEFAULT = 100_000

@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from golden.fpga.deadtime_comp import compensate
-from golden.hls_build import csim
 from golden.testvectors.deadtime_comp import HELD, SAMPLED, corner_vectors, draw, saturation_vectors
+from hfi.hls_build import csim
 
 N_RANDOM = 100_000
 

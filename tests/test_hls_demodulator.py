@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from golden import hls_build
 from golden.fpga.demodulator import demodulate
 from golden.testvectors import demodulator as testvectors
+from hfi import hls_build
 
 N_ACCEPTED = 100_000               # kept samples of the random windows
 SAMPLE, LATCH, RESET = 0, 1, 2     # event kinds of csim_demodulator_run (hls/csim/csim_demodulator.h)

@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 from golden.fpga.gate_generator import effective_dead_ticks
-from golden.hls_build import csim
 from golden.testvectors.gate_gen import (DEAD_MIN_SWEEP, golden_edges, new_stats, plan_run, random_dead_reg,
                                          random_half_reg)
+from hfi.hls_build import csim
 
 RUN_TICKS = 400_000
 """Ticks of random runs per DEAD_MIN."""

@@ -1,6 +1,6 @@
 """Identity of the ``hls`` backend with the ``golden`` backend (issue: HLS-style C++ of the DSP path).
 
-The ``hls`` backend (:mod:`golden.hls_backend`) runs the HLS kernels of ``hls/`` (native C simulation),
+The ``hls`` backend (:mod:`hfi.hls_backend`) runs the HLS kernels of ``hls/`` (native C simulation),
 the host build of the firmware and the C plant; the ``golden`` backend runs the Python bit-true model
 with the same plant library. The default scenario (``scenarios/fullload_start.toml``, start-up from
 standstill under 2 N·m through both speed steps), full length and same seed, must give identical
@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoop
-from golden.hls_backend import HlsBackendError, HlsClosedLoop
 from golden.scenario import load_scenario
+from hfi.hls_backend import HlsBackendError, HlsClosedLoop
 
 ROOT = Path(__file__).resolve().parents[1]
 

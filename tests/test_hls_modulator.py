@@ -13,8 +13,8 @@ import numpy as np
 
 from golden.fpga.deadtime_comp import compensate
 from golden.fpga.modulator import compares
-from golden.hls_build import csim
 from golden.testvectors.modulator import REGS, corner_vectors, draw_registers
+from hfi.hls_build import csim
 
 N_RANDOM = 100_000
 

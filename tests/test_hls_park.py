@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from golden import hls_build
 from golden.fpga.park import clarke, park
 from golden.testvectors import park as testvectors
+from hfi import hls_build
 
 N_RANDOM = 100_000
 

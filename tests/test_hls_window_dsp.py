@@ -13,12 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from golden import hls_build
 from golden.fpga.adc_scale import GAIN_ONE
 from golden.fpga.cordic import cw_angle_step, demod_weight
 from golden.fpga.window_dsp import window_dsp
 from golden.testvectors import adc_scale as adc_vectors
 from golden.testvectors import park as park_vectors
+from hfi import hls_build
 
 WINDOW_MAX = 3277                  # HFI_WINDOW_MAX of hls/include/hfi_window_dsp.h
 N_WINDOWS = 300

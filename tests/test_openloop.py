@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from golden.openloop import PwmConfig, final_levels, gate_edges, injection_compares
-from golden.openloop_run import carrier, envelopes, simulate
 from golden.scenario import load_scenario
+from hfi.openloop_run import carrier, envelopes, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -1,6 +1,6 @@
 """The paper's results (Benevieri et al. 2023, Figs. 6-25) on the golden closed loop, short versions.
 
-Each test runs the figure group of :mod:`golden.paper_groups` at test length and asserts the issue's
+Each test runs the figure group of :mod:`hfi.paper_groups` at test length and asserts the issue's
 criteria on the measured numbers; ``scripts/reproduce_paper.py`` runs the full lengths.
 """
 
@@ -10,7 +10,7 @@ import math
 
 import pytest
 
-from golden.paper_groups import GROUPS, LOCK_DEG
+from hfi.paper_groups import GROUPS, LOCK_DEG
 
 
 @pytest.fixture(scope="module")

@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoop
-from golden.rtl_backend import RtlBackendError, RtlClosedLoop, config_block
 from golden.scenario import load_scenario
+from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, config_block
 
 ROOT = Path(__file__).resolve().parents[1]
 IDENTITY_S = 0.6
@@ -98,7 +98,7 @@ def test_uart_log(both):
 def test_missing_configuration_keeps_the_gates_off(tmp_path, monkeypatch):
     """A RAM image whose configuration block is not valid: the firmware says so on the UART and never
     starts the DSP; the backend reports it instead of hanging."""
-    import golden.rtl_backend as rb
+    import hfi.rtl_backend as rb
 
     sc = load_scenario(ROOT / "scenarios" / "fullload_start.toml")
     sc = dataclasses.replace(sc, duration=0.002)

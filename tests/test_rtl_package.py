@@ -49,7 +49,7 @@ def test_verilator_lint_wall_whole_ip():
 
 def test_verilator_lint_wall_soc(tmp_path):
     """The SoC (our files) passes -Wall too; the PicoRV32 core (a dependency, not our source) is waived."""
-    from golden.rtl_backend import picorv32_source
+    from hfi.rtl_backend import picorv32_source
 
     verilator = Path(sys.executable).parent / "verilator"
     waiver = tmp_path / "waive_picorv32.vlt"

@@ -6,7 +6,7 @@
  * The host build (firmware/Makefile, target host) compiles this file into a shared library that
  * tests/test_fw_c.py checks against the golden model on random and corner-case inputs.
  *
- * This header is also parsed by cffi (golden/fw_c.py, golden/rtl_backend.py, tests): keep it to plain struct
+ * This header is also parsed by cffi (hfi/fw_c.py, hfi/rtl_backend.py, tests): keep it to plain struct
  * definitions, stdint types and function prototypes; the preprocessor lines are stripped.
  */
 #ifndef HFI_CONTROL_H

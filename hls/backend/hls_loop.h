@@ -4,7 +4,7 @@
  * loop (golden/closedloop.py) in the same order, so the traces are identical.
  *
  * C interface (cffi parses this header with its preprocessor lines stripped, together with
- * firmware/src/control.h). Used by golden/hls_backend.py. */
+ * firmware/src/control.h). Used by hfi/hls_backend.py. */
 #ifndef HLS_LOOP_H
 #define HLS_LOOP_H
 

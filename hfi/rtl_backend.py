@@ -35,9 +35,10 @@ from golden import socmap
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, profile_at, truth_columns
 from golden.control_config import HardwareConfig, firmware_params, hardware_config, scales
 from golden.fixed import wrap
-from golden.fw_c import cdef_text, params_to_c
 from golden.plant import Plant, binding
 from golden.scenario import Scenario
+from hfi.backends import BackendError
+from hfi.fw_c import cdef_text, params_to_c
 
 ROOT = Path(__file__).resolve().parents[1]
 SIM_DIR = ROOT / "sim"
@@ -61,7 +62,7 @@ CHUNK_CYCLES = 2_000_000
 """Clocks per call into the co-simulation (progress granularity, ~0.5 s wall)."""
 
 
-class RtlBackendError(RuntimeError):
+class RtlBackendError(BackendError):
     """A build step failed, or the co-simulation stopped (the message says why)."""
 
 

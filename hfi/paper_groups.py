@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from golden import paper
+from hfi import paper
 
 PAPER_CFG = {"control": {"dead_time_comp": "off"}}
 PROJECT_CFG: dict = {}

@@ -17,7 +17,8 @@ from pathlib import Path
 
 import cffi
 
-from golden.fw_c import cdef_text
+from hfi.backends import BackendError
+from hfi.fw_c import cdef_text
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "out" / "hls"
@@ -25,7 +26,7 @@ CSIM_LIBRARY = OUT / "libhfihls_csim.so"
 LOOP_LIBRARY = OUT / "libhfihls_loop.so"
 
 
-class HlsBuildError(RuntimeError):
+class HlsBuildError(BackendError):
     """The C++ build failed (the message holds the compiler's output) or its headers are missing."""
 
 
@@ -47,7 +48,7 @@ def build(target: str) -> Path:
     if target not in ("csim", "loop"):
         raise ValueError(f"unknown HLS build target {target!r} (csim or loop)")
     if target == "loop":
-        from golden import fw_c
+        from hfi import fw_c
         fw_c.build()
     OUT.mkdir(parents=True, exist_ok=True)
     cmd = ["make", "-s", "-C", str(ROOT / "hls"), target, f"OUT={OUT}", f"AP_TYPES={ap_types_dir()}"]

@@ -13,8 +13,8 @@ import numpy as np  # noqa: E402
 
 from golden.closedloop import ClosedLoopResult  # noqa: E402
 from golden.firmware.supervisor import MODE_NAMES, MODE_RUN  # noqa: E402
-from golden.paper import RPM, segment_stats  # noqa: E402
 from golden.scenario import Scenario  # noqa: E402
+from hfi.paper import RPM, segment_stats  # noqa: E402
 
 PLATEAU_MIN_S = 0.2
 """Shortest constant stretch of the speed reference reported as a segment."""

@@ -5,7 +5,7 @@ It runs the same scenario files as the golden and rtl backends and returns the s
 :class:`golden.closedloop.ClosedLoopResult` (so reports, plots and the identity test share one format).
 The plant is created from the scenario exactly as the golden loop does (:class:`golden.plant.Plant`);
 the firmware parameters come from :func:`golden.control_config.firmware_params`, converted field by field
-into ``struct fw_params`` (:func:`golden.fw_c.params_to_c`). Python only runs the loop in chunks of
+into ``struct fw_params`` (:func:`hfi.fw_c.params_to_c`). Python only runs the loop in chunks of
 windows (progress on stderr) and collects the records.
 """
 
@@ -18,14 +18,15 @@ import time
 import cffi
 import numpy as np
 
-from golden import hls_build
 from golden.closedloop import OUTPUT_FIELDS, ClosedLoopResult, profile_at, truth_columns
 from golden.control_config import firmware_params, hardware_config, scales
 from golden.fpga.adc_trigger import OS_MIN_DEFAULT
 from golden.fpga.gate_generator import DEAD_MIN_DEFAULT
-from golden.fw_c import cdef_text, params_to_c
 from golden.plant import Plant, binding
 from golden.scenario import Scenario
+from hfi import hls_build
+from hfi.backends import BackendError
+from hfi.fw_c import cdef_text, params_to_c
 
 HEADERS = (hls_build.ROOT / "firmware/src/control.h", hls_build.ROOT / "hls/backend/hls_loop.h")
 CHUNK_WINDOWS = 1000
@@ -34,7 +35,7 @@ _KINDS = {"windows": 0, "outputs": 1, "truth": 2, "samples": 3, "edges": 4}
 INT64_MAX = (1 << 63) - 1
 
 
-class HlsBackendError(RuntimeError):
+class HlsBackendError(BackendError):
     """The native loop refused its setup or stopped (the message says why)."""
 
 

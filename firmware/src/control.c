@@ -206,6 +206,9 @@ void fw_init(struct fw_state *st, const struct fw_params *p)
     st->i_q = 0;
     st->i_d_ref = 0;
     st->i_q_ref = 0;
+    st->active = 0;
+    st->est_theta[0] = st->est_theta[1] = 0u;
+    st->est_omega[0] = st->est_omega[1] = 0;
 }
 
 /* Firmware._next */

@@ -70,6 +70,9 @@ struct fw_state {
     int32_t i_q;
     int32_t i_d_ref;
     int32_t i_q_ref;
+    int32_t active;          /* estimator slot in charge: 0 low-speed, 1 high-speed (docs/methods.md) */
+    uint32_t est_theta[2];   /* each slot's angle output of the last step (u32 binary angle) */
+    int32_t est_omega[2];    /* each slot's speed output of the last step (binary angle per period) */
 };
 
 /* Window results of the demodulator (registers GAMMA ... N_SAMPLES). */

@@ -118,6 +118,9 @@ class Firmware:
     i_q: int = 0
     i_d_ref: int = 0
     i_q_ref: int = 0
+    active: int = 0                  # estimator slot in charge: 0 low-speed, 1 high-speed
+    est_theta: list = field(default_factory=lambda: [0, 0])   # each slot's angle output (u32)
+    est_omega: list = field(default_factory=lambda: [0, 0])   # each slot's speed output (s32)
 
     def __post_init__(self) -> None:
         if self.p.fixed_angle is not None:

@@ -1,0 +1,108 @@
+"""The estimator plug-in interface of the firmware (docs/methods.md): one per method, bit-true.
+
+An *estimator* turns what the firmware sees once per control period (the window results of the FPGA,
+the window-mean currents in the estimated frame, and the voltages and angle that were active during the
+window) into an electrical angle and speed for the field-oriented control, and says which injection the
+hardware must add while it is in charge. The supervisor (:mod:`golden.firmware.supervisor`) owns two
+*slots*: a low-speed estimator (in charge from start-up) and an optional high-speed one (running in
+parallel from start-up, in charge above the hand-over speed). It calls only this interface; it never
+reads a method's internals. The C firmware has the same interface (``struct fw_est_ops`` in
+``firmware/src/control.h``) and the same members, bit for bit (tests/test_fw_c.py).
+
+Contract of a member (a subclass of :class:`Estimator`):
+
+* ``METHOD`` (the method id, ``enum fw_method`` in control.h), ``NAME`` (the scenario's
+  ``estimator.low`` / ``estimator.high`` value), ``PAPER``, ``INJECTION`` (``INJ_*`` while in charge),
+  ``SLOTS`` (which slots it may fill);
+* ``__init__(params)`` with its own frozen params dataclass (integers computed on the host by
+  :mod:`golden.control_config`);
+* ``step(m)``: one control period, integer arithmetic only; afterwards ``theta`` (u32 binary angle the
+  FOC should use for the window after next, the one the outputs of this step will be active in) and
+  ``omega`` (s32, binary angle per period) are this estimator's outputs;
+* ``turn(delta)``: rotate every angle it holds by ``delta`` (polarity detection: half a turn);
+* ``sync(theta, omega)``: take over from the other slot: continue from this angle and speed.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+
+from golden.fpga.demodulator import WindowResult
+
+METHOD_SQW_BANGBANG, METHOD_RFO = 1, 2
+"""Method ids (``enum fw_method`` in firmware/src/control.h; 0 is "no estimator" in a slot)."""
+
+INJ_NONE, INJ_SQW_D = 0, 1
+"""Injection modes: none, or the square wave +-V_H on the estimated d-axis at the switching frequency
+(Benevieri et al. 2023, eq. (14)); the firmware writes the ``V_H`` register as 0 for ``INJ_NONE``."""
+
+SLOT_LOW, SLOT_HIGH = 0, 1
+"""Estimator slots of the supervisor: in charge from start-up, and above the hand-over speed."""
+
+
+@dataclass(frozen=True, slots=True)
+class Measurement:
+    """What every estimator gets once per control period (all integers of docs/spec.md).
+
+    ``win``: the window results; ``i_d, i_q``: window-mean currents in the estimated frame [current LSB];
+    ``v_d, v_q``: the voltage references active during the window [voltage LSB]; ``sin, cos``: the
+    angle active during the window (Q1.15, the Park and inverse-Park angle of that window).
+    """
+
+    win: WindowResult
+    i_d: int
+    i_q: int
+    v_d: int
+    v_q: int
+    sin: int
+    cos: int
+
+
+class Estimator(ABC):
+    """Base of every estimator plug-in (see the module docstring for the contract)."""
+
+    METHOD: int
+    NAME: str
+    PAPER: str
+    INJECTION: int
+    SLOTS: tuple[int, ...]
+
+    theta: int = 0
+    omega: int = 0
+
+    @abstractmethod
+    def step(self, m: Measurement) -> None:
+        """One control period: update the state and ``theta``, ``omega``."""
+
+    @abstractmethod
+    def turn(self, delta: int) -> None:
+        """Rotate every angle of the state by ``delta`` (binary angle)."""
+
+    @abstractmethod
+    def sync(self, theta: int, omega: int) -> None:
+        """Continue from ``theta`` and ``omega`` (hand-over from the other slot)."""
+
+
+@dataclass(frozen=True)
+class MethodInfo:
+    """One line of ``hfi methods``: the scenario name, the id, the paper, the slots, the injection."""
+
+    name: str
+    method: int
+    paper: str
+    slots: tuple[int, ...]
+    injection: int
+    summary: str
+
+
+METHODS: dict[str, MethodInfo] = {m.name: m for m in (
+    MethodInfo("sqw_bangbang", METHOD_SQW_BANGBANG,
+               "Benevieri et al., IEEE TPEL 2023 (002)", (SLOT_LOW,), INJ_SQW_D,
+               "square-wave injection at f_sw on d_hat, OS demodulation, bang-bang + PLL"),
+    MethodInfo("rfo", METHOD_RFO,
+               "Ortega et al. 2011 gradient flux observer, as used by Choi et al., TPEL 2017 (002 ref. [10])",
+               (SLOT_HIGH,), INJ_NONE,
+               "rotor (active) flux observer in the stationary frame, CORDIC angle, PLL speed"),
+)}
+"""Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""

@@ -54,7 +54,7 @@ def test_effective_dead_ticks_clamps_to_dead_min(register, dead_min, expected):
 
 
 def test_effective_dead_ticks_default_dead_min():
-    assert effective_dead_ticks(0) == 50
+    assert effective_dead_ticks(0) == DEAD_MIN_DEFAULT
     assert effective_dead_ticks(400) == 400          # 4 us at 100 MHz, the paper's dead time
 
 
@@ -71,7 +71,7 @@ def test_effective_dead_ticks_rejects_bad_dead_min(dead_min):
 
 
 def test_generator_applies_the_clamp():
-    assert GateGenerator(10).dead == 50             # register below DEAD_MIN_DEFAULT
+    assert GateGenerator(10).dead == DEAD_MIN_DEFAULT   # register below DEAD_MIN_DEFAULT
     assert GateGenerator(10, dead_min=1).dead == 10
     assert GateGenerator(400).dead == 400
     with pytest.raises(ValueError):

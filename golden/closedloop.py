@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from golden.control_config import HardwareConfig, Scales, firmware_params, hardware_config, scales
-from golden.firmware.supervisor import MODE_NAMES, Firmware, Outputs
+from golden.firmware.supervisor import MODE_NAMES, RESET_OUTPUTS, Firmware, Outputs
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS_BLANK, blank_mask, sample_phases
 from golden.fpga.carrier import counter
 from golden.fpga.cordic import demod_weight
@@ -35,12 +35,9 @@ from golden.fpga.window_dsp import window_dsp
 from golden.plant import Plant
 from golden.scenario import Scenario
 
-RESET_OUTPUTS = Outputs(v_d=0, v_q=0, v_h=0, sin=0, cos=32767, enable=0)
-"""Register reset values (docs/registers.md)."""
-
 WINDOW_FIELDS = (
     "tick", "gamma", "gamma_d", "n_samples", "sum_id", "sum_iq", "wsum", "i_d", "i_q", "i_d_ref", "i_q_ref",
-    "v_d", "v_q", "sin", "cos", "theta_hat", "theta_pll", "omega_pll", "omega_f", "speed_ref", "mode",
+    "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
     "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi",
     "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
@@ -96,9 +93,17 @@ class ClosedLoopResult:
         """Window end times [s]."""
         return self.windows["tick"] / self.tick_hz
 
-    def angle_error_deg(self) -> np.ndarray:
-        """Electrical angle error θ − θ̂ per window [deg], wrapped to ±180."""
-        err = (self.windows["theta_e"] - self.windows["theta_hat"] + 2**31) % 2**32 - 2**31
+    def angle_error_deg(self, column: str = "theta_hat") -> np.ndarray:
+        """Electrical angle error per window [deg], wrapped to +-180: the true angle in the middle of
+        window ``k`` minus the angle the hardware used during window ``k`` (``column`` written after
+        window ``k - 2``, committed at the boundary of ``k``; the reset angle 0 before). ``column``:
+        ``theta_hat`` (the angle in use) or one estimator slot's output, ``theta_lo`` / ``theta_hi``.
+        The middle is halfway between the window-end angles of ``k - 1`` and ``k`` (``k = 0``: its end)."""
+        th = self.windows["theta_e"].astype(np.int64)
+        prev = np.concatenate([th[:1], th[:-1]])
+        mid = prev + (((th - prev + 2**31) % 2**32 - 2**31) // 2)
+        used = np.concatenate([np.zeros(2, dtype=np.int64), self.windows[column][:-2].astype(np.int64)])[:len(th)]
+        err = (mid - used + 2**31) % 2**32 - 2**31
         return err * (360.0 / 2**32)
 
 
@@ -198,8 +203,7 @@ class ClosedLoop:
             r["sum_id"][k], r["sum_iq"][k], r["wsum"][k] = win.sum_id, win.sum_iq, win.wsum
             r["i_d"][k], r["i_q"][k], r["i_d_ref"][k], r["i_q_ref"][k] = fw.i_d, fw.i_q, fw.i_d_ref, fw.i_q_ref
             r["v_d"][k], r["v_q"][k], r["sin"][k], r["cos"][k] = o.v_d, o.v_q, o.sin, o.cos
-            r["theta_hat"][k], r["theta_pll"][k] = fw.theta_hat, fw.pll.theta
-            r["omega_pll"][k], r["omega_f"][k], r["speed_ref"][k] = fw.pll.omega, fw.omega_f, speed_ref[k]
+            r["theta_hat"][k], r["omega_f"][k], r["speed_ref"][k] = fw.theta_hat, fw.omega_f, speed_ref[k]
             r["mode"][k], r["adc_mode"][k] = fw.mode, adc_mode
             r["est"][k], r["theta_lo"][k], r["theta_hi"][k] = fw.active, fw.est_theta[0], fw.est_theta[1]
             r["omega_lo"][k], r["omega_hi"][k] = fw.est_omega[0], fw.est_omega[1]

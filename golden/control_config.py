@@ -16,10 +16,14 @@ import math
 from dataclasses import dataclass
 
 from golden.firmware.bangbang import k_bb_raw
+from golden.firmware.estimator import METHOD_RFO, METHOD_SQW_BANGBANG
 from golden.firmware.lowpass import lowpass_coef
 from golden.firmware.pi import PiParams, pi_gains
 from golden.firmware.pll import pll_gains
+from golden.firmware.rfo import FLUX_FRAC, RfoParams
+from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.supervisor import FirmwareParams
+from golden.scenario import HIGH_ESTIMATORS, LOW_ESTIMATORS
 from golden.fixed import to_fixed
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK, effective_os_ticks
 from golden.fpga.cordic import cw_angle_step
@@ -112,11 +116,46 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     kp_w = mech["J"] * w_s / (k_t * p)
     kp_s, ki_s = pi_gains(kp_w, kp_w * w_s / 4, sc_.w_lsb / sc_.i_lsb, f_sw, sp=24, si=31)
     speed_pi = PiParams(kp_s, 24, ki_s, 31, sc_.current(ctl.i_max))
-    pll_kp, pll_ki = pll_gains(ctl.pll_kp, ctl.pll_ki, f_sw)
     fixed = to_fixed(ctl.theta_hat / (2 * math.pi), 32) % 2**32 if ctl.mode == "fixed_angle" else None
+    est = sc.estimator
+    low, high = LOW_ESTIMATORS[est.low], HIGH_ESTIMATORS[est.high]
+    methods = {low, high}
     return FirmwareParams(
-        k_bb=k_bb_raw(ctl.K_bb, f_sw), pll_kp=pll_kp, pll_ki=pll_ki,
+        low=low, high=high,
+        sqw=sqw_params(sc) if METHOD_SQW_BANGBANG in methods else None,
+        rfo=rfo_params(sc) if METHOD_RFO in methods else None,
         speed_lp=lowpass_coef(ctl.speed_filter, f_sw), speed_pi=speed_pi, id_pi=cur_pi, iq_pi=cur_pi,
         v_h=sc_.voltage(sc.injection.V_h), i_pulse=sc_.current(ctl.i_pulse),
         n_converge=round(ctl.converge * f_sw), n_pulse=round(ctl.pulse * f_sw), n_settle=round(ctl.settle * f_sw),
-        i_trip=sc_.current(ctl.i_trip), fixed_angle=fixed)
+        i_trip=sc_.current(ctl.i_trip),
+        w_up=sc_.speed_mech(est.handover_up), w_down=sc_.speed_mech(est.handover_down),
+        merge=lowpass_coef(1.0 / (2 * math.pi * est.merge_time), f_sw), fixed_angle=fixed)
+
+
+def sqw_params(sc: Scenario) -> SqwParams:
+    """``estimator.sqw_bangbang``: bang-bang step and PLL gains (Benevieri et al. 2023, Table II)."""
+    t, f_sw = sc.estimator.params["sqw_bangbang"], sc.pwm.f_sw
+    kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
+    return SqwParams(k_bb=k_bb_raw(t["K_bb"], f_sw), pll_kp=kp, pll_ki=ki)
+
+
+def rfo_params(sc: Scenario) -> RfoParams:
+    """``estimator.rfo`` and the motor's nominal data: the flux-observer integers (golden.firmware.rfo).
+
+    Flux LSB = v_lsb T / 2^FLUX_FRAC; ``r_s`` = R_s i_lsb / v_lsb (Q16); ``l_s`` = L_q i_lsb / flux LSB
+    (Q16); ``k_c = 1 - exp(-2 pi flux_bw T)`` (Q16). Raises ValueError when a value leaves its range.
+    """
+    t, sc_ = sc.estimator.params["rfo"], scales(sc)
+    f_sw = sc.pwm.f_sw
+    flux_lsb = sc_.v_lsb / f_sw / 2**FLUX_FRAC
+    mag = sc.plant["mag"]
+    kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
+    p = RfoParams(r_s=to_fixed(sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb, 16),
+                  l_s=to_fixed(mag["L_q"] * sc_.i_lsb / flux_lsb, 16),
+                  psi_f=to_fixed(mag["psi_f"] / flux_lsb, 0),
+                  k_c=lowpass_coef(t["flux_bw"], f_sw), pll_kp=kp, pll_ki=ki)
+    for name, value, hi in (("r_s", p.r_s, 2**31 - 1), ("l_s", p.l_s, 2**31 - 1), ("psi_f", p.psi_f, 2**27)):
+        if not 0 <= value <= hi:
+            raise ValueError(f"rotor flux observer: {name} = {value} outside 0..{hi} (motor data and scales "
+                             f"of scenario {sc.name})")
+    return p

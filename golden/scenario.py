@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Callable
 
 from golden import motors
+from golden.firmware.estimator import METHODS, SLOT_HIGH, SLOT_LOW
 from golden.plant import defaults as _plant_defaults
 from golden.units import UnitError, finite_float, format_quantity, parse_quantity, type_name
 
@@ -42,6 +43,13 @@ CONTROL_MODES: dict[str, int] = {"closed": 0, "fixed_angle": 1}
 
 ADC_MODES: dict[str, int] = {"OS": 0, "DS": 1, "OS_BLANK": 2}
 """``control.adc_mode`` name -> ``CTRL.ADC_MODE`` (docs/spec.md, 2.3)."""
+
+LOW_ESTIMATORS: dict[str, int] = {m.name: m.method for m in METHODS.values() if SLOT_LOW in m.slots}
+"""``estimator.low`` name -> method id (golden.firmware.estimator.METHODS)."""
+
+HIGH_ESTIMATORS: dict[str, int] = {"none": 0} | {m.name: m.method for m in METHODS.values()
+                                                  if SLOT_HIGH in m.slots}
+"""``estimator.high`` name -> method id (0: no hand-over)."""
 
 SEED_LIMIT = 2**64
 """Seeds are ``unsigned long long``: 0 <= seed < 2**64."""
@@ -136,8 +144,8 @@ _TABLE = Field("table")
 
 SCHEMA: dict[str, dict[str, Field]] = {
     "": {name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
-                                   "injection", "load", "reference", "control", "simulation",
-                                   "output")},
+                                   "injection", "load", "reference", "control", "estimator",
+                                   "simulation", "output")},
     "scenario": {
         "name": Field("text", check=_file_name, required=True),
         "description": Field("text", default=""),
@@ -228,9 +236,6 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "switch_to_ds_at": _q("time", _non_negative),
         "sample_interval": _q("time", _positive, default=1e-6),
         "blank": _q("time", _non_negative, default=10e-6),
-        "K_bb": _q("speed", _positive, default=200.0),
-        "pll_kp": Field("number", check=_positive, default=200.0),
-        "pll_ki": Field("number", check=_positive, default=10000.0),
         "speed_filter": _q("frequency", _positive, default=30.0),
         "speed_bw": _q("frequency", _positive, default=8.0),
         "current_bw": _q("frequency", _positive, default=150.0),
@@ -244,6 +249,26 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "i_pulse": _q("current", _positive, default=2.2),
         "dead_time_comp": Field("choice", choices={"off": 0, "on": 1}, default="off"),
         "dtc_zone": _q("current", _positive, default=0.1),
+    },
+    "estimator": {
+        "low": Field("choice", choices=LOW_ESTIMATORS, default="sqw_bangbang"),
+        "high": Field("choice", choices=HIGH_ESTIMATORS, default="none"),
+        "handover_up": _q("speed", _non_negative, default=350 * math.pi / 30),
+        "handover_down": _q("speed", _non_negative, default=300 * math.pi / 30),
+        "merge_time": _q("time", _positive, default=0.02),
+        "sqw_bangbang": _TABLE,
+        "rfo": _TABLE,
+    },
+    # One table per method (docs/methods.md): its own parameters, used when a slot names it.
+    "estimator.sqw_bangbang": {
+        "K_bb": _q("speed", _positive, default=200.0),
+        "pll_kp": Field("number", check=_positive, default=200.0),
+        "pll_ki": Field("number", check=_positive, default=10000.0),
+    },
+    "estimator.rfo": {
+        "flux_bw": _q("frequency", _positive, default=20.0),
+        "pll_kp": Field("number", check=_positive, default=1000.0),
+        "pll_ki": Field("number", check=_positive, default=250000.0),
     },
     "simulation": {
         "max_substep": _q("time", _positive),
@@ -308,16 +333,13 @@ class InjectionSettings:
 @dataclass(frozen=True)
 class ControlSettings:
     """The controller: ``control.*`` of docs/scenario.md, SI units (angles in rad, speeds in rad/s;
-    ``K_bb`` is electrical). ``switch_to_ds_at`` is None when the ADC mode never changes."""
+    ``switch_to_ds_at`` is None when the ADC mode never changes."""
 
     mode: str
     adc_mode: str
     switch_to_ds_at: float | None
     sample_interval: float
     blank: float
-    K_bb: float
-    pll_kp: float
-    pll_ki: float
     speed_filter: float
     speed_bw: float
     current_bw: float
@@ -331,6 +353,20 @@ class ControlSettings:
     i_pulse: float
     dead_time_comp: str
     dtc_zone: float
+
+
+@dataclass(frozen=True)
+class EstimatorSettings:
+    """The estimator slots (``estimator.*``, docs/methods.md): ``low`` and ``high`` method names
+    (``high`` may be ``"none"``), the hand-over speeds [rad/s mechanical] and the merge time constant [s];
+    ``params``: method name -> that method's own table (SI values, defaults filled in)."""
+
+    low: str
+    high: str
+    handover_up: float
+    handover_down: float
+    merge_time: float
+    params: dict
 
 
 @dataclass(frozen=True)
@@ -374,6 +410,7 @@ class Scenario:
     reference_speed: list[tuple[float, float]]
     output: OutputSettings
     control: ControlSettings | None = None
+    estimator: EstimatorSettings | None = None
     preset: str | None = None
     source: str = "<dict>"
 
@@ -702,6 +739,17 @@ def _check_injection(reader: _Reader, plant: dict) -> None:
                      f"(inverter.V_dc = {format_quantity(plant['inv']['V_dc'], 'V')})")
 
 
+def _check_estimator(reader: _Reader) -> None:
+    """Hand-over speeds in order; the estimator table only with a closed-loop ``[control]``."""
+    if reader.has_table("estimator") and not reader.has_table("control"):
+        reader.error("estimator", "needs a [control] table (the estimators run in the closed loop only)")
+    up, down = reader.get("estimator.handover_up"), reader.get("estimator.handover_down")
+    if up is not None and down is not None and down > up:
+        reader.error("estimator.handover_down",
+                     f"{down * 30 / math.pi:g} rpm is above estimator.handover_up "
+                     f"({up * 30 / math.pi:g} rpm): the hysteresis needs down <= up")
+
+
 # ---- public API -----------------------------------------------------------------------------------
 def parse_scenario(data: dict, source: str = "<dict>", presets: dict | None = None) -> Scenario:
     """Validate a parsed scenario tree and build the :class:`Scenario`.
@@ -733,6 +781,7 @@ def parse_scenario(data: dict, source: str = "<dict>", presets: dict | None = No
     _check_load_profiles(reader)
     _check_magnetics(reader, plant["mag"])
     _check_injection(reader, plant)
+    _check_estimator(reader)
     if reader.problems:
         raise ScenarioError(source, reader.problems)
     return _make_scenario(reader, plant, source)
@@ -754,6 +803,11 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
         output=OutputSettings(reader.values.get("output.dir", f"out/{name}")),
         control=(ControlSettings(*(get(f"control.{f.name}") for f in dataclass_fields(ControlSettings)))
                  if reader.has_table("control") else None),
+        estimator=EstimatorSettings(
+            get("estimator.low"), get("estimator.high"), get("estimator.handover_up"),
+            get("estimator.handover_down"), get("estimator.merge_time"),
+            {name: {key: get(f"estimator.{name}.{key}") for key in SCHEMA[f"estimator.{name}"]}
+             for name in METHODS}),
         preset=reader.values.get("motor.preset"),
         source=source,
     )

@@ -9,11 +9,11 @@ parallel from start-up, in charge above the hand-over speed). It calls only this
 reads a method's internals. The C firmware has the same interface (``struct fw_est_ops`` in
 ``firmware/src/control.h``) and the same members, bit for bit (tests/test_fw_c.py).
 
-Contract of a member (a subclass of :class:`Estimator`):
+Contract of a member (a subclass of :class:`Estimator`, listed in :mod:`golden.firmware.methods`):
 
-* ``METHOD`` (the method id, ``enum fw_method`` in control.h), ``NAME`` (the scenario's
-  ``estimator.low`` / ``estimator.high`` value), ``PAPER``, ``INJECTION`` (``INJ_*`` while in charge),
-  ``SLOTS`` (which slots it may fill);
+* ``METHOD``: its id (``enum fw_method`` in control.h), the key of its line in :data:`METHODS` (name,
+  paper, slots, injection while in charge); ``PARAMS``: the name of its field in
+  :class:`~golden.firmware.supervisor.FirmwareParams` (and ``struct fw_params``);
 * ``__init__(params)`` with its own frozen params dataclass (integers computed on the host by
   :mod:`golden.control_config`);
 * ``step(m)``: one control period, integer arithmetic only; afterwards ``theta`` (u32 binary angle the
@@ -28,6 +28,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
+from golden.fixed import round_shr
 from golden.fpga.demodulator import WindowResult
 
 METHOD_SQW_BANGBANG, METHOD_RFO = 1, 2
@@ -46,27 +47,46 @@ class Measurement:
     """What every estimator gets once per control period (all integers of docs/spec.md).
 
     ``win``: the window results; ``i_d, i_q``: window-mean currents in the estimated frame [current LSB];
-    ``v_d, v_q``: the voltage references active during the window [voltage LSB]; ``sin, cos``: the
-    angle active during the window (Q1.15, the Park and inverse-Park angle of that window).
+    ``sin, cos``: the angle active during the window (Q1.15, the Park angle of its currents);
+    ``v_al, v_be``: the mean stator-voltage reference over the window in the stationary frame [voltage
+    LSB] (:func:`window_voltage`).
     """
 
     win: WindowResult
     i_d: int
     i_q: int
-    v_d: int
-    v_q: int
     sin: int
     cos: int
+    v_al: int
+    v_be: int
+
+
+def inv_park(d: int, q: int, s: int, c: int) -> tuple[int, int]:
+    """``(round_shr(d*c - q*s, 15), round_shr(d*s + q*c, 15))``: the modulator's inverse Park (spec 3.5)."""
+    return round_shr(d * c - q * s, 15), round_shr(d * s + q * c, 15)
+
+
+def window_voltage(now, before) -> tuple[int, int]:
+    """Mean alpha/beta voltage reference over a window from the register sets active in it (``now``)
+    and in the window before (``before``), each with ``v_d, v_q, sin, cos``.
+
+    A window runs from a rising zero crossing of the carrier to the next (docs/spec.md 2); its first
+    quarter period is the end of the rising half whose compares were latched from ``before``, the other
+    three quarters are the falling and rising halves latched from ``now``. So the mean is
+    ``round_shr(3 * v(now) + v(before), 2)`` per component, with ``v`` the inverse Park of each set.
+    Ignoring that quarter period puts the flux a quarter period late (6 deg at 5000 r/min on the 002
+    motor). The injection's mean over the window is ``(V_h(now) - V_h(before)) / 4`` and is left out.
+    """
+    a1, b1 = inv_park(now.v_d, now.v_q, now.sin, now.cos)
+    a0, b0 = inv_park(before.v_d, before.v_q, before.sin, before.cos)
+    return round_shr(3 * a1 + a0, 2), round_shr(3 * b1 + b0, 2)
 
 
 class Estimator(ABC):
     """Base of every estimator plug-in (see the module docstring for the contract)."""
 
     METHOD: int
-    NAME: str
-    PAPER: str
-    INJECTION: int
-    SLOTS: tuple[int, ...]
+    PARAMS: str
 
     theta: int = 0
     omega: int = 0
@@ -106,3 +126,6 @@ METHODS: dict[str, MethodInfo] = {m.name: m for m in (
                "rotor (active) flux observer in the stationary frame, CORDIC angle, PLL speed"),
 )}
 """Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""
+
+BY_ID: dict[int, MethodInfo] = {m.method: m for m in METHODS.values()}
+"""The same lines by method id."""

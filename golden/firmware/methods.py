@@ -1,0 +1,14 @@
+"""The estimator classes by method id: the one list the supervisor builds its slots from.
+
+A new method adds its class here and its line to :data:`golden.firmware.estimator.METHODS`
+(docs/methods.md has the whole checklist).
+"""
+
+from __future__ import annotations
+
+from golden.firmware.estimator import Estimator
+from golden.firmware.rfo import RotorFluxObserver
+from golden.firmware.sqw_bangbang import SquareWaveBangBang
+
+CLASSES: dict[int, type[Estimator]] = {cls.METHOD: cls for cls in (SquareWaveBangBang, RotorFluxObserver)}
+"""Method id -> estimator class."""

@@ -1,0 +1,119 @@
+"""Estimator ``rfo``: the rotor flux observer of the 002 system's medium/high-speed range (Sec. IV-F).
+
+Benevieri et al. 2023 hand over to the rotor flux observer of their ref. [10] (Choi, Nam, Bobtsov,
+Pyrkin, Ortega, TPEL 2017), which builds on the gradient flux observer of Ortega et al. (IEEE TCST 2011):
+the stator flux ``x`` obeys ``dx/dt = v - R i`` in the stationary frame, and for a PMSM the rotor flux
+``eta = x - L i`` has the known magnitude ``psi_f``; the observer integrates the voltage model and
+corrects ``x`` along ``eta`` so that ``|eta|`` returns to ``psi_f``. We use ``L = L_q`` (the *active
+flux* ``x - L_q i = (psi_f + (L_d - L_q) i_d) (cos theta, sin theta)`` lies on the d-axis for any
+current, so a 10 % anisotropy costs no angle error) and a normalised correction:
+
+    x <- x + T (v - R i) + k_c (psi_f - |eta|) / |eta| * eta        (per control period)
+
+``k_c`` (0..1) is the fraction of a radial flux error removed per period. Where the paper leaves the
+observer's tuning open, docs/methods.md says what was chosen and why.
+
+Fixed point, once per control period, inputs of :class:`~golden.firmware.estimator.Measurement`
+(window means in the frame active during the window, and the voltage references active then):
+
+1. ``i_al, i_be = inv_park(i_d, i_q, sin, cos)`` (:func:`golden.firmware.estimator.inv_park`); the
+   voltage ``v_al, v_be`` is the window mean the supervisor measures (:func:`~golden.firmware.estimator.window_voltage`);
+2. ``dx = (v << F) - shr(r_s * i, 16 - F)`` per component (flux LSB: ``v_lsb T / 2^F``, ``F = FLUX_FRAC``);
+3. ``eta = sat(x + shr(dx, 1) - shr(l_s * i, 16), 29)``: the rotor flux at the middle of the window
+   (the window means are the currents there), saturated to +-2^28;
+4. ``(ang, mag) = vector_angle(eta)`` (:mod:`golden.firmware.vector`);
+5. ``q = clamp(c_div((psi_f - mag) << 16, max(mag, 1)), -2^17, 2^17)``, ``g = shr(k_c * q, 16)``,
+   ``x = sat(x + dx + shr(eta * g, 16), 32)`` per component;
+6. ``pll = pll_step(pll, ang, kp, ki)``; outputs ``omega = pll.omega`` and
+   ``theta = uwrap(ang + 2 * omega, 32)``: the angle in the middle of the window after next, where the
+   outputs of this step are active (docs/spec.md 2.2).
+
+Ranges: ``|v| < 2^15``, ``|i| < 2^31``; ``r_s`` (Q16 voltage LSB per current LSB) and ``l_s`` (Q16 flux LSB
+per current LSB) in 0..2^31-1, so the products fit int64; ``psi_f`` in 1..2^27; ``k_c`` Q16 in 0..65536.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from golden.firmware.estimator import METHOD_RFO, Estimator, Measurement, inv_park
+from golden.firmware.pll import PllState, pll_step
+from golden.firmware.vector import vector_angle
+from golden.fixed import c_div, round_shr, sat, shr, uwrap
+from golden.fpga.cordic import sincos_q15
+
+FLUX_FRAC = 8
+"""Fraction bits of the flux format: 1 LSB = v_lsb * T / 2^FLUX_FRAC [Wb]."""
+Q_LIMIT = 1 << 17
+"""Limit of the relative flux error ``(psi_f - |eta|) / |eta|`` in Q16 (a ratio of 2)."""
+
+
+@dataclass(frozen=True)
+class RfoParams:
+    """Integers of the observer (host side: :func:`golden.control_config.firmware_params`).
+
+    ``r_s`` Q16 [voltage LSB per current LSB]; ``l_s`` Q16 [flux LSB per current LSB] of L_q;
+    ``psi_f`` [flux LSB]; ``k_c`` Q16 correction per period; ``pll_kp`` Q16, ``pll_ki`` Q24.
+    """
+
+    r_s: int
+    l_s: int
+    psi_f: int
+    k_c: int
+    pll_kp: int
+    pll_ki: int
+
+
+class RotorFluxObserver(Estimator):
+    """The gradient (active-)flux observer with a CORDIC angle and a PLL (see the module docstring)."""
+
+    METHOD = METHOD_RFO
+    PARAMS = "rfo"
+
+    def __init__(self, p: RfoParams):
+        self.p = p
+        self.x_al = self.x_be = 0
+        self.i_al = self.i_be = 0
+        self.mag = 0
+        self.pll = PllState(0, 0, 0)
+        self.theta = 0
+        self.omega = 0
+
+    def step(self, m: Measurement) -> None:
+        p = self.p
+        i_al, i_be = inv_park(m.i_d, m.i_q, m.sin, m.cos)
+        v_al, v_be = m.v_al, m.v_be
+        self.i_al, self.i_be = i_al, i_be
+        dx_al = (v_al << FLUX_FRAC) - shr(p.r_s * i_al, 16 - FLUX_FRAC)      # T (v - R i)
+        dx_be = (v_be << FLUX_FRAC) - shr(p.r_s * i_be, 16 - FLUX_FRAC)
+        eta_al = sat(self.x_al + shr(dx_al, 1) - shr(p.l_s * i_al, 16), 29)  # x - L_q i, mid-window
+        eta_be = sat(self.x_be + shr(dx_be, 1) - shr(p.l_s * i_be, 16), 29)
+        ang, mag = vector_angle(eta_al, eta_be)
+        self.mag = mag
+        # Ortega et al. 2011: correction along eta towards |eta| = psi_f (normalised gradient)
+        q = c_div((p.psi_f - mag) << 16, mag if mag > 0 else 1)
+        q = Q_LIMIT if q > Q_LIMIT else -Q_LIMIT if q < -Q_LIMIT else q
+        g = shr(p.k_c * q, 16)
+        self.x_al = sat(self.x_al + dx_al + shr(eta_al * g, 16), 32)
+        self.x_be = sat(self.x_be + dx_be + shr(eta_be * g, 16), 32)
+        self.pll = pll_step(self.pll, ang, p.pll_kp, p.pll_ki)
+        self.omega = self.pll.omega
+        self.theta = uwrap(ang + 2 * self.omega, 32)
+
+    def turn(self, delta: int) -> None:
+        s, c = sincos_q15(uwrap(delta, 32))
+        self.x_al, self.x_be = (sat(round_shr(self.x_al * c - self.x_be * s, 15), 32),
+                                sat(round_shr(self.x_al * s + self.x_be * c, 15), 32))
+        self.pll = PllState(uwrap(self.pll.theta + delta, 32), self.pll.integ, self.pll.omega)
+        self.theta = uwrap(self.theta + delta, 32)
+
+    def sync(self, theta: int, omega: int) -> None:
+        """Start the flux at the angle ``theta - 2 omega`` (the middle of the last window) with magnitude
+        psi_f plus ``L_q i`` of the last currents, the PLL at that angle's next prediction and speed."""
+        p = self.p
+        mid = uwrap(theta - 2 * omega, 32)
+        s, c = sincos_q15(mid)
+        self.x_al = sat(round_shr(p.psi_f * c, 15) + shr(p.l_s * self.i_al, 16), 32)
+        self.x_be = sat(round_shr(p.psi_f * s, 15) + shr(p.l_s * self.i_be, 16), 32)
+        self.pll = PllState(uwrap(mid + omega, 32), omega << 24, omega)
+        self.theta, self.omega = theta, omega

@@ -15,6 +15,7 @@ from __future__ import annotations
 import fcntl
 import functools
 import subprocess
+from dataclasses import fields as dataclass_fields, is_dataclass, replace
 from pathlib import Path
 
 import cffi
@@ -32,17 +33,16 @@ LIBRARY = Path("out/firmware/host/libhfifw.so")
 """The host build (firmware/Makefile, target ``host``), relative to the project root."""
 
 STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id_int", "iq_int",
-                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref")
+                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset")
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
-(besides the PLL state ``pll``)."""
-WINDOW_FIELDS = ("gamma", "gamma_d", "sum_id", "sum_iq", "wsum", "n_samples")
+(besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each
+method's state block, named by the method's ``PARAMS``)."""
+WINDOW_RESULT_FIELDS = ("gamma", "gamma_d", "sum_id", "sum_iq", "wsum", "n_samples")
 """Fields shared by ``struct fw_window`` and :class:`~golden.fpga.demodulator.WindowResult`."""
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
 """Fields shared by ``struct fw_outputs`` and :class:`~golden.firmware.supervisor.Outputs`."""
 PI_FIELDS = ("kp", "sp", "ki", "si", "limit")
 """Fields shared by ``struct fw_pi_params`` and :class:`~golden.firmware.pi.PiParams`."""
-_PARAM_SCALARS = ("k_bb", "pll_kp", "pll_ki", "speed_lp", "v_h", "i_pulse", "n_converge", "n_pulse",
-                  "n_settle", "i_trip")
 
 
 class FirmwareBuildError(RuntimeError):
@@ -92,27 +92,32 @@ def load(root: Path = ROOT) -> tuple[cffi.FFI, object]:
 
 
 # ---- golden -> C --------------------------------------------------------------------------------------
-def _fill_pi(c, p: PiParams) -> None:
-    for name in PI_FIELDS:
-        setattr(c, name, getattr(p, name))
+def _fill(c, obj) -> None:
+    """Copy a frozen params dataclass into the C struct ``c`` field by field, by name (nested dataclasses
+    into nested structs); the C struct is the layout, the dataclass the values."""
+    for f in dataclass_fields(obj):
+        if not f.init:
+            continue
+        v = getattr(obj, f.name)
+        if is_dataclass(v):
+            _fill(getattr(c, f.name), v)
+        elif v is not None:
+            setattr(c, f.name, v)
 
 
 def pi_params_to_c(ffi: cffi.FFI, p: PiParams):
     """``struct fw_pi_params *`` holding ``p``."""
     c = ffi.new("struct fw_pi_params *")
-    _fill_pi(c, p)
+    _fill(c, p)
     return c
 
 
 def params_to_c(ffi: cffi.FFI, p: FirmwareParams):
-    """``struct fw_params *`` holding ``p``: ``fixed_enable = 1`` and ``fixed_angle = uwrap(angle, 32)``
-    for an open-loop test angle (as ``Firmware.__post_init__``), both 0 for ``fixed_angle=None``."""
+    """``struct fw_params *`` holding ``p`` (a method's block stays zero when its field is None);
+    ``fixed_enable = 1`` and ``fixed_angle = uwrap(angle, 32)`` for an open-loop test angle (as
+    ``Firmware.__post_init__``), both 0 for ``fixed_angle=None``."""
     c = ffi.new("struct fw_params *")
-    for name in _PARAM_SCALARS:
-        setattr(c, name, getattr(p, name))
-    _fill_pi(c.speed_pi, p.speed_pi)
-    _fill_pi(c.id_pi, p.id_pi)
-    _fill_pi(c.iq_pi, p.iq_pi)
+    _fill(c, replace(p, fixed_angle=None))
     c.fixed_enable = 0 if p.fixed_angle is None else 1
     c.fixed_angle = 0 if p.fixed_angle is None else uwrap(p.fixed_angle, 32)
     return c
@@ -122,7 +127,7 @@ def window_to_c(ffi: cffi.FFI, w: WindowResult, c=None):
     """``struct fw_window *`` holding ``w`` (written into ``c`` if given, else a new struct)."""
     if c is None:
         c = ffi.new("struct fw_window *")
-    for name in WINDOW_FIELDS:
+    for name in WINDOW_RESULT_FIELDS:
         setattr(c, name, getattr(w, name))
     return c
 
@@ -134,12 +139,34 @@ def pll_to_c(ffi: cffi.FFI, s: PllState):
     return c
 
 
+def _outputs_into(c, o: Outputs) -> None:
+    for name in OUTPUT_FIELDS:
+        setattr(c, name, getattr(o, name))
+
+
+def _estimator_into(c, est) -> None:
+    """A golden estimator's state into its method's block: every attribute the block has, by name."""
+    for name, v in vars(est).items():
+        if name == "p" or not hasattr(c, name):
+            continue
+        if isinstance(v, PllState):
+            c.pll.theta, c.pll.omega, c.pll.integ = v.theta, v.omega, v.integ
+        else:
+            setattr(c, name, v)
+
+
 def state_to_c(ffi: cffi.FFI, fw: Firmware):
     """``struct fw_state *`` holding the state of ``fw`` (its parameters go by :func:`params_to_c`)."""
     c = ffi.new("struct fw_state *")
     for name in STATE_FIELDS:
         setattr(c, name, getattr(fw, name))
-    c.pll.theta, c.pll.omega, c.pll.integ = fw.pll.theta, fw.pll.omega, fw.pll.integ
+    for k in range(2):
+        c.est_theta[k], c.est_omega[k] = fw.est_theta[k], fw.est_omega[k]
+        _outputs_into(c.act[k], fw.act[k])
+    _outputs_into(c.prev, fw.prev)
+    for est in fw.slots:
+        if est is not None:
+            _estimator_into(getattr(c, est.PARAMS), est)
     return c
 
 
@@ -149,15 +176,26 @@ def pll_from_c(c) -> PllState:
     return PllState(theta=c.theta, integ=c.integ, omega=c.omega)
 
 
+def outputs_from_c(c) -> Outputs:
+    """The :class:`Outputs` held by a ``struct fw_outputs``."""
+    return Outputs(*(getattr(c, name) for name in OUTPUT_FIELDS))
+
+
 def state_from_c(c, p: FirmwareParams) -> Firmware:
     """A golden :class:`Firmware` with parameters ``p`` and the state held by a ``struct fw_state``."""
     fw = Firmware(p)
     for name in STATE_FIELDS:
         setattr(fw, name, getattr(c, name))
-    fw.pll = pll_from_c(c.pll)
+    fw.est_theta = [c.est_theta[0], c.est_theta[1]]
+    fw.est_omega = [c.est_omega[0], c.est_omega[1]]
+    fw.act = [outputs_from_c(c.act[0]), outputs_from_c(c.act[1])]
+    fw.prev = outputs_from_c(c.prev)
+    for est in fw.slots:
+        if est is None:
+            continue
+        block = getattr(c, est.PARAMS)
+        for name in list(vars(est)):
+            if name == "p" or not hasattr(block, name):
+                continue
+            setattr(est, name, pll_from_c(block.pll) if name == "pll" else getattr(block, name))
     return fw
-
-
-def outputs_from_c(c) -> Outputs:
-    """The :class:`Outputs` held by a ``struct fw_outputs``."""
-    return Outputs(*(getattr(c, name) for name in OUTPUT_FIELDS))

@@ -184,31 +184,200 @@ void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15)
     *cos_q15 = cordic_to_q15(x);
 }
 
+/* golden.fixed.sat(x, bits) for 1 <= bits <= 32 of an int64 */
+static int64_t sat_bits(int64_t x, int bits)
+{
+    int64_t hi = ((int64_t)1 << (bits - 1)) - 1;
+
+    return x > hi ? hi : x < -hi - 1 ? -hi - 1 : x;
+}
+
+/* golden.fixed.round_shr(x, n) of an int64, n >= 1 */
+static int64_t round_shr64(int64_t x, int n)
+{
+    return (x + ((int64_t)1 << (n - 1))) >> n;
+}
+
+/* golden.firmware.estimator.inv_park */
+static void inv_park(int32_t d, int32_t q, int32_t s, int32_t c, int32_t *al, int32_t *be)
+{
+    *al = (int32_t)round_shr64((int64_t)d * c - (int64_t)q * s, 15);
+    *be = (int32_t)round_shr64((int64_t)d * s + (int64_t)q * c, 15);
+}
+
+/* golden.firmware.estimator.window_voltage */
+void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *before, int32_t *v_al, int32_t *v_be)
+{
+    int32_t a1, b1, a0, b0;
+
+    inv_park(now->v_d, now->v_q, now->sin, now->cos, &a1, &b1);
+    inv_park(before->v_d, before->v_q, before->sin, before->cos, &a0, &b0);
+    *v_al = (int32_t)round_shr64(3 * (int64_t)a1 + a0, 2);
+    *v_be = (int32_t)round_shr64(3 * (int64_t)b1 + b0, 2);
+}
+
+/* golden.firmware.vector.vector_angle: the vectoring CORDIC with the table of fw_sincos_q15. */
+void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
+{
+    uint32_t z = 0u;
+
+    if (x < 0) {
+        x = -x;
+        y = -y;
+        z = HALF_TURN;
+    }
+    for (int i = 0; i < FW_CORDIC_ITERATIONS; i++) {
+        int32_t xs = x >> i, ys = y >> i;
+
+        if (y > 0) {
+            x += ys;
+            y -= xs;
+            z += (uint32_t)fw_cordic_atan[i];
+        } else {
+            x -= ys;
+            y += xs;
+            z -= (uint32_t)fw_cordic_atan[i];
+        }
+    }
+    *angle = z;
+    *mag = (int32_t)(((int64_t)x * FW_CORDIC_X0) >> 30);
+}
+
+/* ---- estimator sqw_bangbang (golden.firmware.sqw_bangbang) ------------------------------------------ */
+
+#define SQW_SYNC_HOLD 1 /* golden.firmware.sqw_bangbang.SYNC_HOLD */
+
+void fw_sqw_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega)
+{
+    struct fw_sqw_state *e = &st->sqw;
+
+    if (e->hold > 0) {
+        e->hold--;
+        e->theta += (uint32_t)e->pll.omega;
+    } else {
+        /* Benevieri et al. 2023, Fig. 1: bang-bang on gamma, integrated to theta_hat; PLL -> speed */
+        e->theta = fw_bangbang_step(e->theta, m->win->gamma, p->sqw.k_bb);
+    }
+    fw_pll_step(&e->pll, e->theta, p->sqw.pll_kp, p->sqw.pll_ki);
+    e->omega = e->pll.omega;
+    *theta = e->theta;
+    *omega = e->omega;
+}
+
+void fw_sqw_turn(struct fw_state *st, uint32_t delta)
+{
+    st->sqw.theta += delta;
+    st->sqw.pll.theta += delta;
+}
+
+void fw_sqw_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega)
+{
+    struct fw_sqw_state *e = &st->sqw;
+
+    (void)p;
+    e->theta = theta;
+    e->pll.theta = theta + (uint32_t)omega;
+    e->pll.integ = (int64_t)omega * 16777216; /* omega << 24 */
+    e->pll.omega = omega;
+    e->omega = omega;
+    e->hold = SQW_SYNC_HOLD;
+}
+
+/* ---- estimator rfo (golden.firmware.rfo) ------------------------------------------------------------ */
+
+#define RFO_FLUX_FRAC 8          /* golden.firmware.rfo.FLUX_FRAC */
+#define RFO_Q_LIMIT (1 << 17)    /* golden.firmware.rfo.Q_LIMIT */
+
+void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega)
+{
+    struct fw_rfo_state *e = &st->rfo;
+    const struct fw_rfo_params *rp = &p->rfo;
+    int32_t i_al, i_be;
+    uint32_t ang;
+    int32_t mag;
+
+    inv_park(m->i_d, m->i_q, m->sin, m->cos, &i_al, &i_be);
+    e->i_al = i_al;
+    e->i_be = i_be;
+    int64_t dx_al = (int64_t)m->v_al * (1 << RFO_FLUX_FRAC) - (((int64_t)rp->r_s * i_al) >> (16 - RFO_FLUX_FRAC));
+    int64_t dx_be = (int64_t)m->v_be * (1 << RFO_FLUX_FRAC) - (((int64_t)rp->r_s * i_be) >> (16 - RFO_FLUX_FRAC));
+    int32_t eta_al = (int32_t)sat_bits(e->x_al + (dx_al >> 1) - (((int64_t)rp->l_s * i_al) >> 16), 29);
+    int32_t eta_be = (int32_t)sat_bits(e->x_be + (dx_be >> 1) - (((int64_t)rp->l_s * i_be) >> 16), 29);
+    fw_vector_angle(eta_al, eta_be, &ang, &mag);
+    e->mag = mag;
+    /* Ortega et al. 2011: correction along eta towards |eta| = psi_f (normalised gradient) */
+    int64_t q = ((int64_t)(rp->psi_f - mag) * 65536) / (mag > 0 ? mag : 1);
+    q = q > RFO_Q_LIMIT ? RFO_Q_LIMIT : q < -RFO_Q_LIMIT ? -RFO_Q_LIMIT : q;
+    int64_t g = ((int64_t)rp->k_c * q) >> 16;
+    e->x_al = (int32_t)sat_bits(e->x_al + dx_al + (((int64_t)eta_al * g) >> 16), 32);
+    e->x_be = (int32_t)sat_bits(e->x_be + dx_be + (((int64_t)eta_be * g) >> 16), 32);
+    fw_pll_step(&e->pll, ang, rp->pll_kp, rp->pll_ki);
+    e->omega = e->pll.omega;
+    e->theta = ang + 2u * (uint32_t)e->omega;
+    *theta = e->theta;
+    *omega = e->omega;
+}
+
+void fw_rfo_turn(struct fw_state *st, uint32_t delta)
+{
+    struct fw_rfo_state *e = &st->rfo;
+    int32_t s, c;
+
+    fw_sincos_q15(delta, &s, &c);
+    int32_t x_al = (int32_t)sat_bits(round_shr64((int64_t)e->x_al * c - (int64_t)e->x_be * s, 15), 32);
+    int32_t x_be = (int32_t)sat_bits(round_shr64((int64_t)e->x_al * s + (int64_t)e->x_be * c, 15), 32);
+    e->x_al = x_al;
+    e->x_be = x_be;
+    e->pll.theta += delta;
+    e->theta += delta;
+}
+
+void fw_rfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega)
+{
+    struct fw_rfo_state *e = &st->rfo;
+    uint32_t mid = theta - 2u * (uint32_t)omega;
+    int32_t s, c;
+
+    fw_sincos_q15(mid, &s, &c);
+    e->x_al = (int32_t)sat_bits(round_shr64((int64_t)p->rfo.psi_f * c, 15) + (((int64_t)p->rfo.l_s * e->i_al) >> 16), 32);
+    e->x_be = (int32_t)sat_bits(round_shr64((int64_t)p->rfo.psi_f * s, 15) + (((int64_t)p->rfo.l_s * e->i_be) >> 16), 32);
+    e->pll.theta = mid + (uint32_t)omega;
+    e->pll.integ = (int64_t)omega * 16777216;
+    e->pll.omega = omega;
+    e->theta = theta;
+    e->omega = omega;
+}
+
+/* golden.firmware.methods.CLASSES: the members of the plug-in interface, by method id. */
+static const struct fw_est_ops fw_methods[FW_METHODS] = {
+    [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync},
+    [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync},
+};
+
+/* golden.firmware.estimator.METHODS[...].injection == INJ_SQW_D, by method id */
+static const uint8_t fw_method_injects[FW_METHODS] = {[FW_METHOD_SQW_BANGBANG] = 1};
+
+/* The method id of a slot (0: none). */
+static int32_t slot_method(const struct fw_params *p, int32_t slot)
+{
+    return slot == FW_SLOT_LOW ? p->low : p->high;
+}
+
 /* ---- supervisor (golden.firmware.supervisor.Firmware) ------------------------------------------- */
+
+static const struct fw_outputs reset_outputs = {0, 0, 0, 0, 32767, 0, 0, 0}; /* RESET_OUTPUTS */
 
 /* Firmware.__init__ / __post_init__: everything 0, CONVERGE; FIXED at fixed_angle if enabled. */
 void fw_init(struct fw_state *st, const struct fw_params *p)
 {
+    static const struct fw_state zero;
+
+    *st = zero;
     st->mode = p->fixed_enable ? FW_FIXED : FW_CONVERGE;
-    st->n = 0;
     st->theta_hat = p->fixed_enable ? p->fixed_angle : 0u;
-    st->flipped = 0;
-    st->pll.theta = 0u;
-    st->pll.omega = 0;
-    st->pll.integ = 0;
-    st->speed_f = 0;
-    st->speed_int = 0;
-    st->id_int = 0;
-    st->iq_int = 0;
-    st->pol_pos = 0;
-    st->pol_neg = 0;
-    st->i_d = 0;
-    st->i_q = 0;
-    st->i_d_ref = 0;
-    st->i_q_ref = 0;
-    st->active = 0;
-    st->est_theta[0] = st->est_theta[1] = 0u;
-    st->est_omega[0] = st->est_omega[1] = 0;
+    st->act[0] = st->act[1] = st->prev = reset_outputs;
 }
 
 /* Firmware._next */
@@ -236,12 +405,44 @@ static int over_trip(int32_t i, int32_t i_trip)
     return i_trip < 0 || mag > (uint32_t)i_trip;
 }
 
-/* POL_NEG's last window: the -d direction saturates, so theta_hat is off by pi (Firmware._supervise). */
-static void flip_polarity(struct fw_state *st)
+/* Firmware._estimate: the low slot while it is in charge, the high slot always. */
+static void estimate(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m)
 {
-    st->theta_hat += HALF_TURN;
-    st->pll.theta += HALF_TURN;
-    st->flipped = 1;
+    for (int32_t slot = FW_SLOT_LOW; slot <= FW_SLOT_HIGH; slot++) {
+        int32_t method = slot_method(p, slot);
+
+        if (method != FW_METHOD_NONE && (slot == FW_SLOT_HIGH || st->active == FW_SLOT_LOW))
+            fw_methods[method].step(st, p, m, &st->est_theta[slot], &st->est_omega[slot]);
+    }
+}
+
+/* Firmware._angle */
+static uint32_t angle_in_use(const struct fw_state *st)
+{
+    if (st->active == FW_SLOT_LOW)
+        return st->est_theta[FW_SLOT_LOW];
+    return st->est_theta[FW_SLOT_HIGH] + (uint32_t)st->offset;
+}
+
+/* Firmware._hand_over (Benevieri et al. 2023, Sec. IV-F) */
+static void hand_over(struct fw_state *st, const struct fw_params *p)
+{
+    if (p->high == FW_METHOD_NONE)
+        return;
+    int32_t w = fw_lowpass_out(st->speed_f);
+    uint32_t mag = w < 0 ? 0u - (uint32_t)w : (uint32_t)w;   /* abs(omega_f) for every s32 */
+
+    if (st->active == FW_SLOT_LOW && mag > (uint32_t)p->w_up) {
+        st->active = FW_SLOT_HIGH;
+        st->offset = (int32_t)(st->est_theta[FW_SLOT_LOW] - st->est_theta[FW_SLOT_HIGH]);
+    } else if (st->active == FW_SLOT_HIGH && mag < (uint32_t)p->w_down) {
+        uint32_t theta = angle_in_use(st);
+
+        st->active = FW_SLOT_LOW;
+        fw_methods[p->low].sync(st, p, theta, st->est_omega[FW_SLOT_HIGH]);
+        st->est_theta[FW_SLOT_LOW] = theta;
+        st->est_omega[FW_SLOT_LOW] = st->est_omega[FW_SLOT_HIGH];
+    }
 }
 
 /* Firmware._supervise: the start-up state machine; returns i_d* (its i_q* is always 0). */
@@ -249,8 +450,10 @@ static int32_t supervise(struct fw_state *st, const struct fw_params *p, const s
 {
     switch (st->mode) {
     case FW_CONVERGE:
-        if (st->n >= p->n_converge)
+        if (st->n >= p->n_converge) {
             next_mode(st, FW_POL_POS);
+            return p->i_pulse;
+        }
         return 0;
     case FW_POL_POS:
         if (st->n > p->n_settle)
@@ -264,15 +467,24 @@ static int32_t supervise(struct fw_state *st, const struct fw_params *p, const s
         if (st->n > p->n_settle)
             st->pol_neg += win->gamma_d;
         if (st->n >= p->n_pulse) {
-            if (st->pol_neg > st->pol_pos)
-                flip_polarity(st);
+            if (st->pol_neg > st->pol_pos) { /* the -d direction saturates: theta_hat is off by pi */
+                fw_methods[p->low].turn(st, HALF_TURN);
+                st->est_theta[FW_SLOT_LOW] += HALF_TURN;
+                st->flipped = 1;
+            }
             next_mode(st, FW_RELAX);
             return 0;
         }
         return -p->i_pulse;
     case FW_RELAX:
-        if (st->n >= p->n_settle)
+        if (st->n >= p->n_settle) {
             next_mode(st, FW_RUN);
+            if (p->high != FW_METHOD_NONE) {
+                fw_methods[p->high].sync(st, p, st->est_theta[FW_SLOT_LOW], st->est_omega[FW_SLOT_LOW]);
+                st->est_theta[FW_SLOT_HIGH] = st->est_theta[FW_SLOT_LOW];
+                st->est_omega[FW_SLOT_HIGH] = st->est_omega[FW_SLOT_LOW];
+            }
+        }
         return 0;
     default:
         return 0;
@@ -282,14 +494,7 @@ static int32_t supervise(struct fw_state *st, const struct fw_params *p, const s
 /* The outputs of FAULT: Outputs(0, 0, 0, 0, 32767, 0), references 0. */
 static void fault_outputs(struct fw_outputs *out)
 {
-    out->v_d = 0;
-    out->v_q = 0;
-    out->v_h = 0;
-    out->sin = 0;
-    out->cos = 32767;
-    out->enable = 0;
-    out->i_d_ref = 0;
-    out->i_q_ref = 0;
+    *out = reset_outputs;
 }
 
 /* golden.firmware.supervisor.Firmware.step: one window interrupt, same state updates in the same order. */
@@ -305,13 +510,24 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
     if (st->mode != FW_FAULT && (over_trip(i_d, p->i_trip) || over_trip(i_q, p->i_trip)))
         next_mode(st, FW_FAULT);
     if (st->mode != FW_FIXED && st->mode != FW_FAULT) {
-        /* Benevieri et al. 2023, Fig. 1: bang-bang on gamma, integrated to theta_hat; PLL -> speed */
-        st->theta_hat = fw_bangbang_step(st->theta_hat, win->gamma, p->k_bb);
-        fw_pll_step(&st->pll, st->theta_hat, p->pll_kp, p->pll_ki);
-        st->speed_f = fw_lowpass_step(st->speed_f, st->pll.omega, p->speed_lp);
+        struct fw_meas m;
+
+        m.win = win;
+        m.i_d = i_d;
+        m.i_q = i_q;
+        m.sin = st->act[0].sin;
+        m.cos = st->act[0].cos;
+        fw_window_voltage(&st->act[0], &st->prev, &m.v_al, &m.v_be);
+        estimate(st, p, &m);
+        if (st->active == FW_SLOT_HIGH)
+            st->offset -= (int32_t)(((int64_t)st->offset * p->merge) >> 16);
+        st->speed_f = fw_lowpass_step(st->speed_f, st->est_omega[st->active], p->speed_lp);
         i_d_ref = supervise(st, p, win);
-        if (st->mode == FW_RUN)
+        if (st->mode == FW_RUN) {
+            hand_over(st, p);
             i_q_ref = pi_step(&st->speed_int, speed_ref, fw_lowpass_out(st->speed_f), &p->speed_pi);
+        }
+        st->theta_hat = angle_in_use(st);
     }
     st->i_d_ref = i_d_ref;
     st->i_q_ref = i_q_ref;
@@ -319,13 +535,17 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         st->id_int = 0;
         st->iq_int = 0;
         fault_outputs(out);
-        return;
+    } else {
+        out->v_d = pi_step(&st->id_int, i_d_ref, i_d, &p->id_pi);
+        out->v_q = pi_step(&st->iq_int, i_q_ref, i_q, &p->iq_pi);
+        int32_t method = slot_method(p, st->active);
+        out->v_h = st->mode != FW_FIXED && fw_method_injects[method] ? p->v_h : 0;
+        fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
+        out->enable = 1;
+        out->i_d_ref = i_d_ref;
+        out->i_q_ref = i_q_ref;
     }
-    out->v_d = pi_step(&st->id_int, i_d_ref, i_d, &p->id_pi);
-    out->v_q = pi_step(&st->iq_int, i_q_ref, i_q, &p->iq_pi);
-    out->v_h = p->v_h;
-    fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
-    out->enable = 1;
-    out->i_d_ref = i_d_ref;
-    out->i_q_ref = i_q_ref;
+    st->prev = st->act[0];
+    st->act[0] = st->act[1];
+    st->act[1] = *out;
 }

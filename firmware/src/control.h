@@ -26,12 +26,62 @@ struct fw_pi_params {
     int32_t limit;
 };
 
-/* Firmware parameters (golden.firmware.supervisor.FirmwareParams), computed on the host by
- * golden/control_config.py. fixed_enable = 1 selects the open-loop test at fixed_angle (FIXED). */
-struct fw_params {
+/* Estimator methods (golden.firmware.estimator.METHOD_*): the ids a slot of fw_params names. */
+enum fw_method { FW_METHOD_NONE = 0, FW_METHOD_SQW_BANGBANG = 1, FW_METHOD_RFO = 2, FW_METHODS = 3 };
+
+/* Estimator slots of the supervisor (golden.firmware.estimator.SLOT_*). */
+enum fw_slot { FW_SLOT_LOW = 0, FW_SLOT_HIGH = 1 };
+
+/* PLL state (golden.firmware.pll.PllState). */
+struct fw_pll {
+    uint32_t theta;
+    int32_t omega;
+    int64_t integ;
+};
+
+/* ---- method sqw_bangbang (golden.firmware.sqw_bangbang) ---- */
+struct fw_sqw_params {
     uint32_t k_bb;
     int32_t pll_kp;
     int32_t pll_ki;
+};
+
+struct fw_sqw_state {
+    uint32_t theta;
+    int32_t omega;
+    struct fw_pll pll;
+    int32_t hold;
+};
+
+/* ---- method rfo (golden.firmware.rfo) ---- */
+struct fw_rfo_params {
+    int32_t r_s;
+    int32_t l_s;
+    int32_t psi_f;
+    int32_t k_c;
+    int32_t pll_kp;
+    int32_t pll_ki;
+};
+
+struct fw_rfo_state {
+    uint32_t theta;
+    int32_t omega;
+    struct fw_pll pll;
+    int32_t x_al;
+    int32_t x_be;
+    int32_t i_al;
+    int32_t i_be;
+    int32_t mag;
+};
+
+/* Firmware parameters (golden.firmware.supervisor.FirmwareParams), computed on the host by
+ * golden/control_config.py: the method of each slot, one parameter block per method (zero when no slot
+ * uses it), the shared loops. fixed_enable = 1 selects the open-loop test at fixed_angle (FIXED). */
+struct fw_params {
+    int32_t low;
+    int32_t high;
+    struct fw_sqw_params sqw;
+    struct fw_rfo_params rfo;
     int32_t speed_lp;
     struct fw_pi_params speed_pi;
     struct fw_pi_params id_pi;
@@ -42,15 +92,23 @@ struct fw_params {
     int32_t n_pulse;
     int32_t n_settle;
     int32_t i_trip;
+    int32_t w_up;
+    int32_t w_down;
+    int32_t merge;
     int32_t fixed_enable;
     uint32_t fixed_angle;
 };
 
-/* PLL state (golden.firmware.pll.PllState). */
-struct fw_pll {
-    uint32_t theta;
-    int32_t omega;
-    int64_t integ;
+/* Register values written by one control step (golden.firmware.supervisor.Outputs). */
+struct fw_outputs {
+    int32_t v_d;
+    int32_t v_q;
+    int32_t v_h;
+    int32_t sin;
+    int32_t cos;
+    int32_t enable;
+    int32_t i_d_ref;
+    int32_t i_q_ref;
 };
 
 /* State of the control task (golden.firmware.supervisor.Firmware). */
@@ -59,7 +117,6 @@ struct fw_state {
     int32_t n;
     uint32_t theta_hat;
     int32_t flipped;
-    struct fw_pll pll;
     int64_t speed_f;
     int64_t speed_int;
     int64_t id_int;
@@ -73,6 +130,11 @@ struct fw_state {
     int32_t active;          /* estimator slot in charge: 0 low-speed, 1 high-speed (docs/methods.md) */
     uint32_t est_theta[2];   /* each slot's angle output of the last step (u32 binary angle) */
     int32_t est_omega[2];    /* each slot's speed output of the last step (binary angle per period) */
+    int32_t offset;          /* hand-over angle offset: angle in use - high slot's angle */
+    struct fw_outputs act[2];   /* outputs of steps k-2 (active in this window) and k-1 */
+    struct fw_outputs prev;     /* outputs of step k-3 (active in the window before) */
+    struct fw_sqw_state sqw;    /* one state block per method */
+    struct fw_rfo_state rfo;
 };
 
 /* Window results of the demodulator (registers GAMMA ... N_SAMPLES). */
@@ -85,16 +147,15 @@ struct fw_window {
     uint32_t n_samples;
 };
 
-/* Register values written by one control step (golden.firmware.supervisor.Outputs). */
-struct fw_outputs {
-    int32_t v_d;
-    int32_t v_q;
-    int32_t v_h;
+/* What every estimator gets once per period (golden.firmware.estimator.Measurement). */
+struct fw_meas {
+    const struct fw_window *win;
+    int32_t i_d;
+    int32_t i_q;
     int32_t sin;
     int32_t cos;
-    int32_t enable;
-    int32_t i_d_ref;
-    int32_t i_q_ref;
+    int32_t v_al;
+    int32_t v_be;
 };
 
 /* golden.firmware.means.window_means */
@@ -110,6 +171,32 @@ int32_t fw_lowpass_out(int64_t f);
 int32_t fw_pi_step(int64_t *integ, int32_t ref, int32_t meas, const struct fw_pi_params *p);
 /* golden.fpga.cordic.sincos_q15(angle, 32, 16): the firmware's sin/cos of theta_hat, Q1.15 */
 void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15);
+/* golden.firmware.vector.vector_angle: |x|, |y| <= 2^28 */
+void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag);
+/* golden.firmware.estimator.window_voltage */
+void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *before, int32_t *v_al, int32_t *v_be);
+
+/* The estimator plug-in interface (golden.firmware.estimator.Estimator), one entry per method in
+ * fw_methods[] (control.c). Each member reads and writes only its own state block of fw_state and
+ * parameter block of fw_params; step returns the angle and speed outputs. */
+struct fw_est_ops {
+    void (*step)(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega);
+    void (*turn)(struct fw_state *st, uint32_t delta);
+    void (*sync)(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+};
+
+/* Method sqw_bangbang (golden.firmware.sqw_bangbang.SquareWaveBangBang) */
+void fw_sqw_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega);
+void fw_sqw_turn(struct fw_state *st, uint32_t delta);
+void fw_sqw_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+/* Method rfo (golden.firmware.rfo.RotorFluxObserver) */
+void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega);
+void fw_rfo_turn(struct fw_state *st, uint32_t delta);
+void fw_rfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+
 /* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref) */
 void fw_init(struct fw_state *st, const struct fw_params *p);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,

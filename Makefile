@@ -15,23 +15,21 @@ setup:
 # or hls (HLS C++ kernels + host firmware, native).
 BACKEND ?= rtl
 run: setup
-	$(ENV) .venv/bin/python scripts/run.py --backend $(BACKEND)
+	$(ENV) .venv/bin/hfi run scenarios/fullload_start.toml --backend $(BACKEND)
 
 # pytest exit code 5 ("no tests collected") counts as a failure.
 test: setup
 	rc=0; $(ENV) .venv/bin/python -m pytest -q -p no:cacheprovider -n $(PYTEST_JOBS) $(PYTEST_ARGS) || rc=$$?; \
 	if [[ $$rc -eq 5 ]]; then echo "make test: pytest collected no tests" >&2; exit 1; fi; exit $$rc
 
+# The plant and closed-loop benchmarks (scripts/bench_plant.py, bench_golden.py, bench_rtl.py, bench_hls.py).
 bench: setup
-	$(ENV) .venv/bin/python scripts/bench_plant.py
-	$(ENV) .venv/bin/python scripts/bench_golden.py
-	$(ENV) .venv/bin/python scripts/bench_rtl.py
-	$(ENV) .venv/bin/python scripts/bench_hls.py
+	$(ENV) .venv/bin/hfi bench
 
 # The paper's figure groups, full length (out/paper/metrics.json and plots).
 .PHONY: paper
 paper: setup
-	$(ENV) .venv/bin/python scripts/reproduce_paper.py
+	$(ENV) .venv/bin/hfi paper
 
 # Synthesis and timing of the hfi_dsp IP, the hfi_soc SoC and PicoRV32 alone (yowasp Yosys + nextpnr-ecp5): out/synth/report.json + table.
 .PHONY: synth

@@ -5,7 +5,7 @@ Each experiment is the default scenario (``scenarios/fullload_start.toml``: Tabl
 runs on the same hardware model. :func:`experiment` builds the scenario, :func:`evaluate_*` reduce the
 traces to the numbers printed next to the paper's in ``out/paper/metrics.json``.
 
-Angle error convention: err = θ − θ̂ (electrical), PITFALLS 1; γ = +K·sin(2·err).
+Angle error convention (docs/spec.md 5.2): err = θ − θ̂ (electrical); γ = +K·sin(2·err).
 """
 
 from __future__ import annotations
@@ -58,7 +58,8 @@ def run(sc: Scenario, progress: bool = False) -> ClosedLoopResult:
 # ---- scenario builders --------------------------------------------------------------------------
 def gamma_sweep(adc_mode: str, duration: float = 1.0, speed_rpm: float = 30.0, seed: int = 1) -> Scenario:
     """Figs. 6-9: fixed estimated angle θ̂ = 0, rotor turned by the load machine at ``speed_rpm``;
-    current controllers running with zero references (PITFALLS 10)."""
+    current controllers running with zero references (they keep the back-EMF of the turning rotor from
+    driving current)."""
     return experiment(f"gamma_{adc_mode.lower()}", {
         "scenario": {"duration": duration, "seed": seed},
         "control": {"mode": "fixed_angle", "theta_hat": 0.0, "adc_mode": adc_mode},

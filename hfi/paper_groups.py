@@ -8,7 +8,7 @@ criteria.
 
 Configurations compared where the paper's own one fails in our model:
 ``paper``   4 µs dead time uncompensated (the paper's bench);
-``project`` the same with the dead-time compensation of docs/spec.md 3.7 (the default scenario).
+``project`` the same with the dead-time compensation of docs/spec.md 3.6 (the default scenario).
 """
 
 from __future__ import annotations
@@ -19,7 +19,11 @@ from hfi import paper
 
 PAPER_CFG = {"control": {"dead_time_comp": "off"}}
 PROJECT_CFG: dict = {}
-SPEED_BW_T3 = "6 Hz"
+SPEED_BW_T3 = "11 Hz"
+"""Speed-loop crossover of the Table III runs: the middle of the range (10-12 Hz) in which the angle
+holds through both the application and the release of 10 N*m at 50 and 250 r/min (slower loops let the
+speed overshoot after the release beyond what the bang-bang gain tracks, K_bb = 477 r/min; 15 Hz lets
+the dither through and loses the angle at 50 r/min)."""
 LOAD_RISE_T3 = 0.2
 LOCK_DEG = 60.0
 """Angle error beyond which the estimator counts as having lost the rotor (it then slips by 180°)."""
@@ -53,18 +57,21 @@ def group_fig8_9(short: bool) -> dict:
     cl_bl = paper.run(paper.speed_steps("blank_closed", 2.0, control={"adc_mode": "OS_BLANK"}, **kw))
     t_end = kw["duration"]
     s_os, s_bl = paper.segment_stats(cl_os, 0.15, t_end), paper.segment_stats(cl_bl, 0.15, t_end)
-    not_better = (f_bl["r2"] <= f_os["r2"] + 0.01) or (s_bl["err_rms_deg"] >= s_os["err_rms_deg"])
+    os_locked, bl_locked = paper.locked(cl_os, 0.15, LOCK_DEG), paper.locked(cl_bl, 0.15, LOCK_DEG)
     return {"ours": {"open_loop": {"OS": f_os, "OS_BLANK": f_bl},
-                     "closed_loop_full_load": {"OS": s_os, "OS_BLANK": s_bl,
-                                               "OS_BLANK_locked": paper.locked(cl_bl, 0.15, LOCK_DEG)}},
+                     "closed_loop_full_load": {"OS": s_os, "OS_BLANK": s_bl, "OS_locked": os_locked,
+                                               "OS_BLANK_locked": bl_locked}},
             "paper": {"OS_BLANK": "worse than plain OS (Fig. 9 vs Fig. 7); not used"},
-            "criteria": "blanking not better than OS: open-loop R^2 not higher by > 0.01, or closed-loop "
-                        "angle error not lower",
-            "pass": bool(not_better), "_results": {"OS": os_, "OS_BLANK": bl, "closed_OS_BLANK": cl_bl}}
+            "criteria": "closed loop under full load: OS holds the angle, OS_BLANK loses it (more than "
+                        f"{LOCK_DEG:g} deg); the open-loop fits (no fundamental current, nothing to leak) "
+                        "are reported",
+            "pass": bool(os_locked and not bl_locked),
+            "_results": {"OS": os_, "OS_BLANK": bl, "closed_OS_BLANK": cl_bl}}
 
 
 def group_fig11(short: bool) -> dict:
-    """OS -> DS at 250 r/min, swept over the sensor noise (PITFALLS 11: DS fails above a noise level)."""
+    """OS -> DS at 250 r/min, swept over the sensor noise: DS (one sample at each carrier peak) loses the
+    angle above a noise level that OS (1 µs oversampling) still tolerates (docs/spec.md, "Decisions")."""
     t_sw, dur = (0.8, 1.2) if short else (1.0, 1.6)
     noises = (30, 100) if short else (30, 60, 100, 150)
     out, results, threshold = {}, {}, None
@@ -183,8 +190,7 @@ def group_table3(short: bool) -> dict:
              "control": {"i_max": "6.5 A", "i_trip": "11 A", "speed_bw": SPEED_BW_T3}}
     out, results = {}, {}
     for rpm in ((250,) if short else (250, 50)):
-        # release 0.6 s after the application, once the speed has recovered (an earlier release meets a
-        # wound-up speed PI and overshoots beyond what the bang-bang gain can track, K_bb = 477 r/min)
+        # release 0.6 s after the application, once the speed has recovered
         kw = dict(duration=1.5, t_on=0.5, t_off=1.1) if short else dict(duration=2.2, t_on=0.8, t_off=1.4)
         res = paper.run(paper.load_steps(rpm, load_nm=10.0, rise=LOAD_RISE_T3, **kw, **motor))
         t_on = kw["t_on"]
@@ -196,11 +202,10 @@ def group_table3(short: bool) -> dict:
                             "peak_speed_after_release_rpm": round(float(
                                 np.max(res.windows["omega_m"][res.t >= kw["t_off"]]) / paper.RPM), 1)}
         results[f"{rpm}rpm"] = res
-    ok = all(v["locked_through_application"] for v in out.values())
+    ok = all(v["locked_through_application"] and v["locked_through_release"] for v in out.values())
     return {"ours": out, "paper": {"motor": "Table III, 10 N*m",
                                    "result": "full-load steps at 250 and 50 r/min handled (Figs. 33-36)"},
-            "criteria": "locked through the application of 10 N*m (the release is reported: with our "
-                        "speed-loop tuning the overshoot after it exceeds what K_bb can track)",
+            "criteria": "locked through the application and the release of 10 N*m",
             "pass": bool(ok),
             "_results": results}
 

@@ -14,40 +14,89 @@ import numpy as np  # noqa: E402
 from golden.closedloop import ClosedLoopResult  # noqa: E402
 from golden.firmware.supervisor import MODE_NAMES, MODE_RUN  # noqa: E402
 from golden.scenario import Scenario  # noqa: E402
-from hfi.paper import RPM, segment_stats  # noqa: E402
+from hfi.paper import RPM  # noqa: E402
 
-PLATEAU_MIN_S = 0.2
-"""Shortest constant stretch of the speed reference reported as a segment."""
+SETTLE_S = 0.3
+"""A segment's statistics start this long after the last reference or load change (docs/metrics.md)."""
+
+LOCK_DEG = 60.0
+"""``locked``: the angle error stays below this after the start-up (beyond it the estimator slips a pole)."""
+
+SLOT_NAMES = ("low", "high")
+"""Values of the ``est`` column: the low-speed estimator slot (0) or the high-speed one (1) in charge."""
 
 
-def plateaus(res: ClosedLoopResult, t_run: float) -> list[tuple[float, float]]:
-    """Stretches (after ``t_run``) where the speed reference is constant, each minus its first quarter."""
+def profile_changes(times, values) -> list[float]:
+    """When a profile (points ``(times[i], values[i])``, piecewise linear) stops changing: the end time of
+    every step or ramp between two points of different value."""
+    return [float(t1) for t1, v0, v1 in zip(times[1:], values[:-1], values[1:]) if v1 != v0]
+
+
+def load_changes(sc: Scenario) -> list[float]:
+    """The load changes of the scenario: ends of the steps and ramps of the load torque profile (or of
+    the imposed speed in ``load.mode = "speed"``); the pulsation is not a change."""
+    profile = sc.plant["speed" if sc.plant["mech"]["imposed_speed"] else "load"]
+    return profile_changes(profile["t"], profile["v"])
+
+
+def plateaus(res: ClosedLoopResult) -> list[tuple[int, int]]:
+    """Window index ranges ``[start, stop)`` over which the speed reference is constant."""
     ref = res.windows["speed_ref"]
-    t = res.t
-    out, start = [], 0
-    for k in range(1, len(ref) + 1):
-        if k == len(ref) or ref[k] != ref[start]:
-            t0, t1 = max(t[start], t_run), t[k - 1]
-            if t1 - t0 >= PLATEAU_MIN_S:
-                out.append((t0 + 0.25 * (t1 - t0), t1))
-            start = k
+    edges = [0, *(np.nonzero(ref[1:] != ref[:-1])[0] + 1), len(ref)]
+    return list(zip(edges[:-1], edges[1:]))
+
+
+def segments(sc: Scenario, res: ClosedLoopResult, t_run: float) -> list[dict]:
+    """One entry per reference plateau with a settled part (docs/metrics.md): the statistics over the
+    windows from SETTLE_S after the latest of the plateau's start, the start of RUN mode and the load
+    changes up to the plateau's end, to the plateau's end."""
+    w, t = res.windows, res.t
+    changes = load_changes(sc)
+    out = []
+    for start, stop in plateaus(res):
+        t_start, t_end = float(t[start]), float(t[stop - 1])
+        settled_from = max([t_start, t_run] + [c for c in changes if c <= t_end]) + SETTLE_S
+        first = start + int(np.searchsorted(t[start:stop], settled_from - 1e-12))
+        if first >= stop:
+            continue
+        sel = slice(first, stop)
+        err = res.angle_error_deg()[sel]
+        rpm = w["omega_m"][sel] / RPM
+        out.append({
+            "plateau": [round(t_start, 5), round(t_end, 5)],
+            "t": [round(float(t[first]), 5), round(t_end, 5)],
+            "speed_ref_rpm": round(float(w["speed_ref"][start] / res.scales.speed_mech(RPM)), 2),
+            "speed_mean_rpm": round(float(np.mean(rpm)), 2),
+            "speed_ripple_rpm": round(float(0.5 * (np.max(rpm) - np.min(rpm))), 2),
+            "err_rms_deg": round(float(np.sqrt(np.mean(err ** 2))), 2),
+            "err_peak_deg": round(float(np.max(np.abs(err))), 2),
+            "estimators": [SLOT_NAMES[k] for k in np.unique(w["est"][sel])],
+        })
     return out
 
 
+def estimator_switches(res: ClosedLoopResult) -> list[dict]:
+    """Every change of the ``est`` column: its time (end of the first window with the new value), the
+    slot taking over, and the measured and estimated (filtered PLL) speeds in that window."""
+    w, t = res.windows, res.t
+    est = w["est"]
+    return [{"t_s": round(float(t[k]), 5), "to": SLOT_NAMES[int(est[k])],
+             "speed_rpm": round(float(w["omega_m"][k] / RPM), 2),
+             "speed_est_rpm": round(float(w["omega_f"][k] / res.scales.speed_mech(RPM)), 2)}
+            for k in np.nonzero(est[1:] != est[:-1])[0] + 1]
+
+
 def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
-    """Angle error, speed and timing numbers of a closed-loop run."""
+    """Angle error, speed, estimator and timing numbers of a closed-loop run (docs/metrics.md)."""
     w = res.windows
     run = np.nonzero(w["mode"] == MODE_RUN)[0]
     t_run = float(res.t[run[0]]) if len(run) else float(res.t[-1])
     err = res.angle_error_deg()
     after = res.t >= t_run
-    segs = []
-    for t0, t1 in plateaus(res, t_run):
-        s = segment_stats(res, t0, t1)
-        s["speed_ref_rpm"] = round(float(w["speed_ref"][np.searchsorted(res.t, t0)] / res.scales.speed_mech(RPM)), 2)
-        segs.append(s)
+    switches = estimator_switches(res)
     return {
         "scenario": sc.name,
+        "backend": res.backend,
         "duration_s": round(float(res.t[-1]), 4),
         "windows": int(len(res.t)),
         "samples": int(len(res.samples["tick"])),
@@ -57,9 +106,10 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
         "angle_error_after_start": {
             "rms_deg": round(float(np.sqrt(np.mean(err[after] ** 2))), 2) if after.any() else None,
             "peak_deg": round(float(np.max(np.abs(err[after]))), 2) if after.any() else None},
-        "locked": bool(np.all(np.abs(err[after]) < 60.0)),
-        "segments": segs,
-        "backend": res.backend,
+        "locked": bool(np.all(np.abs(err[after]) < LOCK_DEG)),
+        "segments": segments(sc, res, t_run),
+        "estimator_switches": len(switches),
+        "estimator_switch_events": switches,
         "late_commits": 0 if res.soc is None else res.soc["late_commits"],
         "wall_s": round(res.wall_s, 2),
         "realtime_factor": round(float(res.t[-1]) / res.wall_s, 3),
@@ -101,8 +151,9 @@ def plot(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> list[str]:
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper left") if ax.get_legend_handles_labels()[0] else None
-    fig.suptitle(f"{sc.name}: golden closed loop")
+    fig.suptitle(f"{sc.name}: {res.backend} closed loop")
     files.append(_save(fig, out_dir, "closed_loop.png"))
+    files.append(plot_angles(sc, res, out_dir))
 
     bits = res.hw.adc_bits
     amps = (res.samples["adc_a"].astype(float) - 2 ** (bits - 1)) * (2 * sc.plant["sens"]["adc_range"] / 2 ** bits)
@@ -118,6 +169,47 @@ def plot(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> list[str]:
         ax.grid(alpha=0.3)
     files.append(_save(fig, out_dir, "phase_current.png"))
     return files
+
+
+def angle_deg(a: np.ndarray) -> np.ndarray:
+    """u32 binary angles (2^32 = one turn) in degrees, 0..360."""
+    return a.astype(np.int64) % 2**32 * (360.0 / 2**32)
+
+
+def angle_diff_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a - b`` of u32 binary angles in degrees, wrapped to [-180, 180)."""
+    return ((a.astype(np.int64) - b.astype(np.int64) + 2**31) % 2**32 - 2**31) * (360.0 / 2**32)
+
+
+def est_spans(res: ClosedLoopResult) -> list[tuple[float, float]]:
+    """Time spans [s] in which the high-speed estimator is in charge (``est == 1``), window by window:
+    each span runs from the start of its first window to the end of its last."""
+    high = np.concatenate([[False], res.windows["est"] == 1, [False]]).astype(np.int8)
+    starts, stops = np.nonzero(np.diff(high) == 1)[0], np.nonzero(np.diff(high) == -1)[0]
+    period = 1.0 / res.scales.f_sw
+    return [(float(res.t[a]) - period, float(res.t[b - 1])) for a, b in zip(starts, stops)]
+
+
+def plot_angles(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> str:
+    """``angles.png``: the true electrical angle, the HF (low-speed) and the high-speed estimators'
+    angles, and each one's error, with the spans where the high-speed estimator is in charge shaded
+    (as Figs. 29-31 of Benevieri et al. 2023: true angle, HF estimate, RFO estimate)."""
+    w, t = res.windows, res.t
+    fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
+    axes[0].plot(t, angle_deg(w["theta_e"]), lw=0.6, label="θ (true, plant)")
+    axes[0].plot(t, angle_deg(w["theta_lo"]), lw=0.6, label="θ̂ low-speed slot (HF estimator)")
+    axes[0].plot(t, angle_deg(w["theta_hi"]), lw=0.6, label="θ̂ high-speed slot")
+    axes[0].set(ylabel="electrical angle [deg]", ylim=(0, 360))
+    axes[1].plot(t, angle_diff_deg(w["theta_e"], w["theta_lo"]), lw=0.6, label="θ − θ̂ low-speed slot")
+    axes[1].plot(t, angle_diff_deg(w["theta_e"], w["theta_hi"]), lw=0.6, label="θ − θ̂ high-speed slot")
+    axes[1].set(ylabel="angle error [deg el.]", ylim=(-180, 180), xlabel="t [s]")
+    for ax in axes:
+        for k, (a, b) in enumerate(est_spans(res)):
+            ax.axvspan(a, b, color="0.85", zorder=0, label="high-speed estimator in charge" if k == 0 else None)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left")
+    fig.suptitle(f"{sc.name}: {res.backend} closed loop, estimated angles")
+    return _save(fig, out_dir, "angles.png")
 
 
 def _save(fig, out_dir: str, name: str) -> str:

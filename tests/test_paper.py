@@ -33,11 +33,12 @@ def test_fig6_7_os_follows_k_sin_2err_and_ds_does_not(groups):
     assert g["DS"]["zero_cross_spread_deg"] > 2 * g["OS"]["zero_cross_spread_deg"], g
 
 
-def test_fig8_9_blanking_is_not_better(groups):
-    g = groups("fig8_9")
-    ol, cl = g["ours"]["open_loop"], g["ours"]["closed_loop_full_load"]
-    assert ol["OS_BLANK"]["r2"] <= ol["OS"]["r2"] + 0.01 or cl["OS_BLANK"]["err_rms_deg"] >= cl["OS"]["err_rms_deg"]
-    assert g["pass"]
+def test_fig8_9_blanking_loses_the_angle_under_full_load(groups):
+    """Paper Fig. 9 vs Fig. 7: blanking is worse than plain OS. Under full load the blanked window's
+    non-zero weight sum lets i_q leak into gamma: OS keeps the angle, OS_BLANK loses it."""
+    cl = groups("fig8_9")["ours"]["closed_loop_full_load"]
+    assert cl["OS"]["err_peak_deg"] < LOCK_DEG, cl
+    assert cl["OS_BLANK"]["err_peak_deg"] > 90.0, cl   # past 90 deg gamma pulls toward the other pole
 
 
 def test_fig11_ds_loses_the_angle_above_a_noise_level(groups):
@@ -77,5 +78,7 @@ def test_random_starts_under_full_load(groups):
 
 
 def test_table3_motor_load_steps(groups):
-    g = groups("table3")
-    assert g["pass"], g["ours"]
+    """Paper Figs. 33-36: 10 N*m applied and released at 250 r/min on the Table III motor, angle kept."""
+    g = groups("table3")["ours"]["250rpm"]
+    assert g["locked_through_application"], g
+    assert g["locked_through_release"], g

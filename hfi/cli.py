@@ -1,0 +1,172 @@
+"""The ``hfi`` command: run, check and list what the platform does.
+
+    hfi run FILE [--backend golden|rtl|hls] [--out DIR] [--quiet] [--fst FILE --fst-window T0 T1]
+    hfi check FILE...
+    hfi methods
+    hfi paper [--short] [--only GROUPS] [--jobs N] [--out DIR]
+    hfi bench
+
+Every error is one line on stderr and exit status 1 (no traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from golden.firmware.estimator import INJ_NONE, INJ_SQW_D, METHODS, SLOT_HIGH, SLOT_LOW
+from golden.scenario import ScenarioError, load_scenario
+from hfi import backends
+from hfi.paper import ROOT
+from hfi.paper_groups import GROUPS
+
+ERRORS = (ValueError, OSError, backends.BackendError)
+"""What a command reports as one line (ScenarioError and PlantError are ValueErrors)."""
+
+BENCH_SCRIPTS = ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls.py")
+"""``hfi bench``: the benchmarks of ``scripts/``, in this order (as ``make bench``)."""
+
+SLOT_NAMES = {SLOT_LOW: "low", SLOT_HIGH: "high"}
+INJECTION_NAMES = {INJ_NONE: "none", INJ_SQW_D: "square wave on d_hat at f_sw"}
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with usage errors as one line and exit status 1."""
+
+    def error(self, message: str):
+        print(f"{self.prog}: {message} (see {self.prog} --help)", file=sys.stderr)
+        sys.exit(1)
+
+
+def one_line(exc: BaseException) -> str:
+    """The message of ``exc`` on one line (a ScenarioError's problems joined by "; ")."""
+    if isinstance(exc, ScenarioError):
+        return f"{exc.source}: " + "; ".join(exc.problems)
+    if isinstance(exc, OSError) and exc.strerror:
+        return f"{exc.filename}: {exc.strerror}" if exc.filename else exc.strerror
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def cmd_run(args) -> int:
+    from hfi.run import run_file   # imports matplotlib and the open-loop study: only when needed
+    out = run_file(args.file, backend=args.backend, out_dir=args.out, progress=not args.quiet,
+                   fst=args.fst, fst_window=tuple(args.fst_window))
+    sys.stderr.write("".join(f"[fw] {line}\n" for line in out.uart_log.splitlines()))
+    print(json.dumps(out.metrics, indent=2))
+    print("wrote", ", ".join(out.files))
+    return 0
+
+
+def cmd_check(args) -> int:
+    status = 0
+    for name in args.files:
+        try:
+            sc = load_scenario(name)
+        except ERRORS as exc:
+            text = one_line(exc)
+            print(text if text.startswith(f"{name}:") else f"{name}: {text}", file=sys.stderr)
+            status = 1
+        else:
+            kind = "closed loop" if sc.control is not None else "open-loop study"
+            print(f"{name}: ok ({sc.summary()}; {kind})")
+    return status
+
+
+def method_lines() -> list[str]:
+    """One line per estimator of :data:`golden.firmware.estimator.METHODS`."""
+    return [f"{m.name}: {m.paper}; slots {', '.join(SLOT_NAMES[s] for s in m.slots)}; "
+            f"injection {INJECTION_NAMES[m.injection]}; backends {', '.join(backends.NAMES)}"
+            for m in METHODS.values()]
+
+
+def cmd_methods(args) -> int:
+    print("\n".join(method_lines()))
+    return 0
+
+
+def cmd_paper(args) -> int:
+    from hfi.reproduce import reproduce
+    names = [n for n in args.only.split(",") if n]
+    return 0 if reproduce(names, short=args.short, jobs=args.jobs, out=Path(args.out)) else 1
+
+
+def cmd_bench(args) -> int:
+    for name in BENCH_SCRIPTS:
+        script = ROOT / "scripts" / name
+        if not script.is_file():
+            raise OSError(2, "benchmark not found (hfi bench needs the source tree)", str(script))
+        print(f"== {name}", flush=True)
+        rc = subprocess.run([sys.executable, str(script)], env=dict(os.environ, OPENBLAS_NUM_THREADS="1")).returncode
+        if rc != 0:
+            print(f"hfi bench: {name} failed (exit status {rc})", file=sys.stderr)
+            return 1
+    return 0
+
+
+def parser() -> argparse.ArgumentParser:
+    ap = _Parser(prog="hfi", description="Sensorless HFI motor-control platform: simulate scenarios on the "
+                 "golden model, the RTL SoC or the HLS kernels; check scenario files; list the estimators; "
+                 "reproduce the paper; benchmark.",
+                 epilog="Docs: README.md, docs/scenario.md (scenario files), docs/metrics.md (metrics.json).")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
+
+    p = sub.add_parser("run", help="simulate a scenario file and write trace, metrics and plots",
+                       description="Simulate FILE and write trace.npz, metrics.json (docs/metrics.md) and plots "
+                       "into --out or the scenario's output.dir. A scenario with a [control] table runs the "
+                       "closed loop on --backend; one without runs the open-loop injection study.")
+    p.add_argument("file", metavar="FILE", help="scenario file (TOML, docs/scenario.md)")
+    p.add_argument("--backend", default=None,
+                   help=f"closed-loop backend: {'; '.join(f'{b.name}: {b.description}' for b in backends.BACKENDS.values())} "
+                        "(default: $BACKEND or rtl)")
+    p.add_argument("--out", metavar="DIR", help="output directory (default: the scenario's output.dir)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--fst", metavar="FILE", help="rtl backend: write an FST waveform of the SoC to FILE")
+    p.add_argument("--fst-window", nargs=2, type=float, metavar=("T0", "T1"), default=(0.0, 0.002),
+                   help="time span of the waveform [s] (default 0 0.002)")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("check", help="validate scenario files (exit 1 if any is invalid)",
+                       description="Validate scenario files: one line per file, 'ok' with a summary on stdout "
+                       "or every problem on stderr; exit status 1 if any file is invalid or unreadable.")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser("methods", help="list the estimators and the backends that run them",
+                       description="One line per estimator (golden.firmware.estimator.METHODS): its scenario "
+                       "name, paper, estimator slots, injection while in charge, and the backends that run it.")
+    p.set_defaults(func=cmd_methods)
+
+    p = sub.add_parser("paper", help="reproduce the paper's figure groups (out/paper)",
+                       description="Run the figure groups of Benevieri et al. 2023 on the golden closed loop and "
+                       "write metrics.json and plots; exit status 1 if a group fails its criterion.")
+    p.add_argument("--short", action="store_true", help="test-suite lengths")
+    p.add_argument("--only", default="", metavar="GROUPS",
+                   help=f"comma-separated groups (default: all: {', '.join(GROUPS)})")
+    p.add_argument("--jobs", type=int, default=2, help="parallel processes (default 2)")
+    p.add_argument("--out", default=str(ROOT / "out" / "paper"), metavar="DIR",
+                   help="output directory (default out/paper)")
+    p.set_defaults(func=cmd_paper)
+
+    p = sub.add_parser("bench", help="run the plant and closed-loop benchmarks",
+                       description=f"Run {', '.join(f'scripts/{s}' for s in BENCH_SCRIPTS)} in turn; stop at "
+                       "the first that fails.")
+    p.set_defaults(func=cmd_bench)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``hfi`` console script; returns the exit status."""
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except ERRORS as exc:
+        print(f"hfi {args.command}: {one_line(exc)}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,146 @@
+"""The ``hfi`` command (hfi/cli.py): help, check, methods, run, and its one-line errors."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from hfi.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+HFI = Path(sys.executable).parent / "hfi"
+BAD_SCENARIO = '[scenario]\nname = "x"\nduration = "1 ms"\n[pwm]\ndead_time = "150 us"\n'
+
+METRICS_KEYS = {"scenario", "backend", "duration_s", "windows", "samples", "final_mode", "run_from_s",
+                "polarity_flipped", "angle_error_after_start", "locked", "segments", "estimator_switches",
+                "estimator_switch_events", "late_commits", "wall_s", "realtime_factor"}
+"""The keys of a golden-backend metrics.json, as docs/metrics.md lists them."""
+
+
+def hfi(*args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+    """The installed console script, as a user runs it."""
+    return subprocess.run([str(HFI), *args], capture_output=True, text=True, timeout=timeout, cwd=ROOT)
+
+
+def short_default_scenario(tmp_path: Path, duration: str = "50 ms") -> Path:
+    text = (ROOT / "scenarios" / "fullload_start.toml").read_text()
+    assert 'duration = "2.4 s"' in text
+    path = tmp_path / "short.toml"
+    path.write_text(text.replace('duration = "2.4 s"', f'duration = "{duration}"'))
+    return path
+
+
+def test_console_script_help_lists_every_command():
+    proc = hfi("--help")
+    assert proc.returncode == 0, proc.stderr
+    for command in ("run", "check", "methods", "paper", "bench"):
+        assert f"    {command} " in proc.stdout
+
+
+@pytest.mark.parametrize("command, words", [
+    ("run", ("--backend", "golden", "rtl", "hls", "$BACKEND", "--fst-window", "docs/metrics.md")),
+    ("check", ("exit status 1",)),
+    ("methods", ("golden.firmware.estimator.METHODS",)),
+    ("paper", ("--short", "--only", "fig6_7", "table3")),
+    ("bench", ("scripts/bench_plant.py", "scripts/bench_hls.py")),
+])
+def test_subcommand_help(capsys, command, words):
+    with pytest.raises(SystemExit) as exc:
+        main([command, "--help"])
+    assert exc.value.code == 0
+    out = " ".join(capsys.readouterr().out.split())
+    for word in words:
+        assert word in out
+
+
+def test_check_valid_file(capsys):
+    assert main(["check", "scenarios/openloop_injection.toml"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out == ["scenarios/openloop_injection.toml: ok (openloop_injection: 50 ms, motor benevieri2023_table1 "
+                   "(dsat), torque load (0 points), f_sw 5 kHz, dead time 4 us, V_h 100 V; open-loop study)"]
+
+
+def test_check_bad_and_missing_files(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(BAD_SCENARIO)
+    proc = hfi("check", "scenarios/openloop_injection.toml", str(bad), str(tmp_path / "missing.toml"))
+    assert proc.returncode == 1
+    assert proc.stdout.splitlines() == [proc.stdout.splitlines()[0]]
+    assert proc.stdout.startswith("scenarios/openloop_injection.toml: ok (")
+    err = proc.stderr.splitlines()
+    assert len(err) == 2, proc.stderr
+    assert err[0].startswith(f"{bad}: pwm.dead_time: 150 us must be shorter than half the PWM period")
+    assert err[1] == f"{tmp_path / 'missing.toml'}: No such file or directory"
+
+
+def test_methods_lists_every_estimator_with_the_backends(capsys):
+    assert main(["methods"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split(":")[0] for line in lines] == ["sqw_bangbang", "rfo"]
+    assert lines[0].startswith("sqw_bangbang: Benevieri et al., IEEE TPEL 2023 (002); slots low; "
+                               "injection square wave on d_hat at f_sw; ")
+    assert lines[1].startswith("rfo: Ortega et al. 2011")
+    assert "; slots high; injection none; " in lines[1]
+    assert all(line.endswith("; backends golden, rtl, hls") for line in lines)
+
+
+def test_run_golden_writes_the_documented_outputs(tmp_path):
+    scen = short_default_scenario(tmp_path)
+    out = tmp_path / "out"
+    proc = hfi("run", str(scen), "--backend", "golden", "--out", str(out), "--quiet")
+    assert proc.returncode == 0, proc.stderr
+    m = json.loads((out / "metrics.json").read_text())
+    assert set(m) == METRICS_KEYS
+    assert m["backend"] == "golden" and m["scenario"] == "fullload_start"
+    assert m["windows"] == 249                  # (0.05 s * 100 MHz - H/2) // P, H = 10000 ticks, P = 2H
+    assert m["samples"] == 249 * 200            # one ADC sample per us
+    assert m["final_mode"] == "CONVERGE"        # the polarity test starts after 60 ms
+    assert m["segments"] == []                  # no settled part: RUN never reached
+    assert m["estimator_switches"] == 0 and m["estimator_switch_events"] == []
+    for name in ("trace.npz", "closed_loop.png", "angles.png", "phase_current.png"):
+        assert (out / name).stat().st_size > 1000
+    assert proc.stdout.splitlines()[-1] == "wrote " + ", ".join(
+        str(out / f) for f in ("trace.npz", "metrics.json", "closed_loop.png", "angles.png", "phase_current.png"))
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--backend", "nope"], "hfi run: unknown backend 'nope' (valid: golden, rtl, hls)"),
+    (["--backend", "golden", "--fst", "x.fst"], "hfi run: an FST waveform needs the rtl backend (not golden)"),
+])
+def test_run_bad_options_one_line(tmp_path, args, message):
+    proc = hfi("run", str(short_default_scenario(tmp_path)), "--out", str(tmp_path / "out"), *args)
+    assert proc.returncode == 1
+    assert proc.stderr == message + "\n"
+    assert not (tmp_path / "out").exists()
+
+
+def test_run_bad_backend_from_environment(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("BACKEND", "vhdl")
+    assert main(["run", str(short_default_scenario(tmp_path)), "--out", str(tmp_path / "out")]) == 1
+    assert capsys.readouterr().err == "hfi run: unknown backend 'vhdl' (valid: golden, rtl, hls)\n"
+
+
+def test_run_bad_scenario_and_missing_file(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(BAD_SCENARIO)
+    proc = hfi("run", str(bad), "--backend", "golden")
+    assert proc.returncode == 1
+    assert len(proc.stderr.splitlines()) == 1 and "Traceback" not in proc.stderr
+    assert proc.stderr.startswith(f"hfi run: {bad}: pwm.dead_time: 150 us must be shorter")
+    proc = hfi("run", str(tmp_path / "missing.toml"), "--backend", "golden")
+    assert proc.returncode == 1
+    assert proc.stderr == f"hfi run: {tmp_path / 'missing.toml'}: No such file or directory\n"
+
+
+def test_usage_errors_are_one_line_exit_1():
+    proc = hfi("frobnicate")
+    assert proc.returncode == 1
+    assert proc.stderr.startswith("hfi: argument COMMAND: invalid choice: 'frobnicate'")
+    assert proc.stderr.endswith("(see hfi --help)\n") and len(proc.stderr.splitlines()) == 1
+    proc = hfi("paper", "--only", "fig99")
+    assert proc.returncode == 1
+    assert proc.stderr.startswith("hfi paper: unknown group(s) fig99 (known: fig6_7, ")

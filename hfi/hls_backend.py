@@ -28,7 +28,8 @@ from hfi import hls_build
 from hfi.backends import BackendError
 from hfi.fw_c import cdef_text, params_to_c
 
-HEADERS = (hls_build.ROOT / "firmware/src/control.h", hls_build.ROOT / "hls/backend/hls_loop.h")
+HEADERS = tuple(hls_build.ROOT / h for h in ("firmware/src/control.h", "sim/plant_records.h",
+                                              "hls/backend/hls_window.h", "hls/backend/hls_loop.h"))
 CHUNK_WINDOWS = 1000
 """Windows per call into the native loop (progress granularity)."""
 _KINDS = {"windows": 0, "outputs": 1, "truth": 2, "samples": 3, "edges": 4}
@@ -122,9 +123,9 @@ class HlsClosedLoop:
             outs = _records(lib, h, "outputs", ffi.sizeof("struct fw_outputs"),
                             [(f, "<i4") for f in OUTPUT_FIELDS])
             truth = _records(lib, h, "truth", binding.ffi.sizeof("struct plant_state"), binding.STATE_DTYPE)
-            samples = _records(lib, h, "samples", ffi.sizeof("struct hls_sample"),
+            samples = _records(lib, h, "samples", ffi.sizeof("struct adc_sample"),
                                [("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])
-            edges = _records(lib, h, "edges", ffi.sizeof("struct hls_edge"), [("tick", "<i8"), ("mask", "<i8")])
+            edges = _records(lib, h, "edges", ffi.sizeof("struct gate_edge"), [("tick", "<i8"), ("mask", "<i8")])
             flipped = int(lib.hls_loop_flipped(h))
             plant_s = float(lib.hls_loop_plant_seconds(h))
         finally:

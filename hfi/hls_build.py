@@ -24,6 +24,11 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "out" / "hls"
 CSIM_LIBRARY = OUT / "libhfihls_csim.so"
 LOOP_LIBRARY = OUT / "libhfihls_loop.so"
+LOOP_SOURCES = ("hls/backend/hls_loop.cpp", "sim/plant_loop.cpp")
+"""C++ sources of the hls backend's loop besides the kernels (the plant loop is shared with the rtl backend)."""
+LOOP_HEADERS = ("hls/backend/hls_loop.h", "hls/backend/hls_window.h", "sim/plant_loop.h", "sim/plant_records.h",
+                "firmware/src/fw_trace.h", "firmware/src/control.h", "golden/plant/src/plant_api.h")
+"""Headers the loop library depends on (hls/Makefile lists only the kernels' headers): a newer one rebuilds it."""
 
 
 class HlsBuildError(BackendError):
@@ -52,8 +57,13 @@ def build(target: str) -> Path:
         fw_c.build()
     OUT.mkdir(parents=True, exist_ok=True)
     cmd = ["make", "-s", "-C", str(ROOT / "hls"), target, f"OUT={OUT}", f"AP_TYPES={ap_types_dir()}"]
+    if target == "loop":
+        cmd.append("LOOP=" + " ".join(str(ROOT / p) for p in LOOP_SOURCES))
     with open(OUT / f".{target}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
+        if target == "loop" and LOOP_LIBRARY.is_file() and max(
+                (ROOT / p).stat().st_mtime for p in LOOP_HEADERS) > LOOP_LIBRARY.stat().st_mtime:
+            LOOP_LIBRARY.unlink()
         proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         raise HlsBuildError(f"`{' '.join(cmd)}` failed (exit {proc.returncode}):\n{proc.stdout}{proc.stderr}")

@@ -7,10 +7,12 @@ run's configuration block into the firmware's RAM image, runs the co-simulation 
 stderr) and turns its records into the same :class:`golden.closedloop.ClosedLoopResult` as the golden
 backend, so reports, plots and the identity test use one format:
 
-* window results (GAMMA ... N_SAMPLES) from the firmware's register reads, the firmware's register
-  writes (V_DQ, V_H, SINCOS, I_REF, CTRL), compares and LATE_COUNT at each window interrupt;
-* estimator and controller state from the firmware's trace records (``TRACE_FIELDS``);
-* gate edges, ADC samples and the plant state at each window end from the harness.
+* window results (GAMMA ... N_SAMPLES) and the speed reference from the firmware's register reads,
+  the firmware's register writes (V_DQ, V_H, SINCOS, I_REF, CTRL), compares, LATE_COUNT and the ADC
+  mode in use at each window interrupt;
+* estimator and controller state from the firmware's trace records (:data:`hfi.soc_platform.TRACE`:
+  every trace word named like a column of ``WINDOW_FIELDS`` fills that column);
+* gate edges, ADC samples and the plant state at each window end from the harness (sim/plant_loop.h).
 
 ``soc`` of the result adds what only the hardware has: firmware cycles per control step (the core's
 own ``rdcycle`` count from the handler's entry to the COMMIT write), clocks from the interrupt to the
@@ -37,6 +39,7 @@ from golden.control_config import HardwareConfig, firmware_params, hardware_conf
 from golden.fixed import wrap
 from golden.plant import Plant, binding
 from golden.scenario import Scenario
+from hfi import soc_platform
 from hfi.backends import BackendError
 from hfi.fw_c import cdef_text, params_to_c
 
@@ -45,15 +48,9 @@ SIM_DIR = ROOT / "sim"
 OUT_SIM = ROOT / "out" / "sim"
 FW_OUT = ROOT / "out" / "firmware"
 FW_HEADERS = ("firmware/src/control.h", "firmware/src/fw_config.h")
-
-TRACE_FIELDS = ("window", "theta_hat", "theta_pll", "omega_pll", "omega_f", "i_d", "i_q", "i_d_ref",
-                "i_q_ref", "mode", "flipped", "cycles")
-"""Words of one firmware trace record (firmware/src/main.c, docs/soc.md), in order."""
-
-RAM_BYTES = 32768
-"""RAM of the default hfi_soc (parameter RAM_BYTES) and of the firmware build."""
-IRQ_LATENCY = 400
-"""hfi_dsp's IRQ_LATENCY (default parameter, kept by hfi_soc): the commit deadline is P - IRQ_LATENCY."""
+SIM_SOURCES = ("soc_sim.cpp", "plant_loop.cpp")
+"""C++ sources of the co-simulation library in sim/ (the harness and the plant loop it shares with hls)."""
+SIM_HEADERS = ("soc_sim.h", "soc_sim.vlt", "plant_loop.h", "plant_records.h")
 
 FW_CYCLES_TARGET = 2000
 """Performance target of the firmware per control period: 10 % of the 200 us period at 100 MHz."""
@@ -101,8 +98,7 @@ def _digest(paths: list[Path], extra: str) -> str:
 
 def build_firmware() -> Path:
     """``make -C firmware``: the RAM image ``out/firmware/hfi_fw.bin`` (and .elf, .hex, .lst)."""
-    _run(["make", "-C", str(ROOT / "firmware"), f"RAM_BYTES={RAM_BYTES}", f"PYTHON={sys.executable}"],
-         "firmware build")
+    _run(["make", "-C", str(ROOT / "firmware"), f"PYTHON={sys.executable}"], "firmware build")
     return FW_OUT / "hfi_fw.elf"
 
 
@@ -114,8 +110,8 @@ def build_sim(fst: bool = False) -> Path:
     variant = "fst" if fst else "fast"
     build = OUT_SIM / variant
     lib = build / "libhfisoc.so"
-    srcs = soc_sources() + [SIM_DIR / "soc_sim.cpp", SIM_DIR / "soc_sim.h", SIM_DIR / "soc_sim.vlt",
-                            ROOT / "golden/plant/src/plant_api.h"]
+    srcs = soc_sources() + [SIM_DIR / n for n in SIM_SOURCES + SIM_HEADERS] + [
+        ROOT / "golden/plant/src/plant_api.h", ROOT / "firmware/include/hfi_regs.h"]
     srcs += sorted((ROOT / "rtl").rglob("*.vh"))
     verilator = shutil.which("verilator")
     if verilator is None:
@@ -130,7 +126,8 @@ def build_sim(fst: bool = False) -> Path:
         if build.exists():
             shutil.rmtree(build)
         build.mkdir(parents=True)
-        cflags = f"-fPIC -O3 -I{SIM_DIR} -I{ROOT / 'golden/plant/src'}" + (" -DHFI_FST" if fst else "")
+        cflags = (f"-fPIC -O3 -I{SIM_DIR} -I{ROOT / 'golden/plant/src'} -I{ROOT / 'firmware/include'}"
+                  + (" -DHFI_FST" if fst else ""))
         ldflags = f"-shared -L{PLANT_LIB.parent} -lhfiplant -Wl,-rpath,{PLANT_LIB.parent}"
         cmd = [verilator, "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast",
                "--x-initial", "fast", "--noassert", "-Wno-fatal", "-Wno-lint", "-Wno-style",
@@ -138,7 +135,8 @@ def build_sim(fst: bool = False) -> Path:
                "-CFLAGS", cflags, "-LDFLAGS", ldflags, "-o", str(lib)]
         if fst:
             cmd.append("--trace-fst")
-        cmd += [str(SIM_DIR / "soc_sim.vlt")] + [str(p) for p in soc_sources()] + [str(SIM_DIR / "soc_sim.cpp")]
+        cmd += [str(SIM_DIR / "soc_sim.vlt")] + [str(p) for p in soc_sources()]
+        cmd += [str(SIM_DIR / n) for n in SIM_SOURCES]
         _run(cmd, "Verilator build of hfi_soc")
         stamp.write_text(digest)
     return lib
@@ -187,8 +185,8 @@ def ram_image(sc: Scenario, hw: HardwareConfig, elf: Path, out: Path) -> Path:
         raise RtlBackendError(f"fw_config at 0x{at:x} lies outside the image ({len(image)} bytes)")
     image[at:at + len(block)] = block
     image += bytes(-len(image) % 4)
-    if len(image) > RAM_BYTES:
-        raise RtlBackendError(f"firmware image {len(image)} bytes > RAM {RAM_BYTES}")
+    if len(image) > soc_platform.RAM_BYTES:
+        raise RtlBackendError(f"firmware image {len(image)} bytes > RAM {soc_platform.RAM_BYTES}")
     words = np.frombuffer(bytes(image), dtype="<u4")
     out.write_text("".join(f"{w:08x}\n" for w in words), encoding="ascii")
     return out
@@ -197,8 +195,9 @@ def ram_image(sc: Scenario, hw: HardwareConfig, elf: Path, out: Path) -> Path:
 # ---------------------------------------------------------------- the co-simulation
 _sim_ffi = cffi.FFI()
 _sim_ffi.include(binding.ffi)
-_sim_ffi.cdef(cdef_text(SIM_DIR / "soc_sim.h", drop=("struct plant;", "struct plant_state;")))
-_KINDS = {"edges": (0, "struct soc_edge"), "samples": (1, "struct soc_sample"), "truth": (2, "struct plant_state"),
+_sim_ffi.cdef(cdef_text(SIM_DIR / "plant_records.h", SIM_DIR / "soc_sim.h",
+                        drop=("struct plant;", "struct plant_state;")))
+_KINDS = {"edges": (0, "struct gate_edge"), "samples": (1, "struct adc_sample"), "truth": (2, "struct plant_state"),
           "trace": (3, "uint32_t"), "writes": (4, "struct soc_bus"), "reads": (5, "struct soc_bus"),
           "irqs": (6, "struct soc_irq"), "uart": (7, "uint8_t")}
 
@@ -213,10 +212,10 @@ def _records(lib, sim, kind: str, dtype) -> np.ndarray:
     return np.frombuffer(raw, dtype=dtype).copy() if n else np.zeros(0, dtype=dtype)
 
 
-_EDGE = np.dtype([("tick", "<i8"), ("mask", "<i4"), ("pad", "<i4")])
+_EDGE = np.dtype([("tick", "<i8"), ("mask", "<i8")])
 _SAMPLE = np.dtype([("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])
 _BUS = np.dtype([("tick", "<i8"), ("addr", "<u4"), ("data", "<u4")])
-_IRQ = np.dtype([("tick", "<i8"), ("commit", "<i8"), ("cmp", "<i4", (6,)), ("late", "<i4"), ("pad", "<i4")])
+_IRQ = np.dtype([("tick", "<i8"), ("commit", "<i8"), ("cmp", "<i4", (6,)), ("late", "<i4"), ("adc_mode", "<i4")])
 
 
 def _s16(v: np.ndarray) -> np.ndarray:
@@ -242,6 +241,10 @@ class RtlClosedLoop:
         self.sc = sc
         self.hw = hardware_config(sc)
         self.scales = scales(sc)
+        if self.hw.adc_bits != soc_platform.ADC_BITS:
+            raise RtlBackendError(f"scenario {sc.name}: sensors.adc_bits = {self.hw.adc_bits}, but the SoC's ADC "
+                                  f"has {soc_platform.ADC_BITS} bits (hfi_soc ADC_BITS, hfi/soc_platform.py): "
+                                  "the rtl backend would read other codes than the plant converts")
         if int(sc.pwm.tick_hz) != 100_000_000:
             raise ValueError(f"scenario {sc.name}: the rtl backend runs at the SoC clock, pwm.tick_hz must "
                              f"be 100 MHz (got {sc.pwm.tick_hz})")
@@ -285,7 +288,7 @@ class RtlClosedLoop:
         setup.speed_ref = refs
         setup.adc_bits = hw.adc_bits
         setup.uart_div = socmap.UART_DIV_VALUE_RESET
-        setup.trace_words = len(TRACE_FIELDS)
+        setup.trace_words = len(soc_platform.TRACE)
         err = _sim_ffi.new("char[]", 512)
         sim = lib.soc_sim_create(setup, _sim_ffi.cast("struct plant *", plant._p), err, 512)
         if sim == _sim_ffi.NULL:
@@ -299,7 +302,7 @@ class RtlClosedLoop:
             while True:
                 st = lib.soc_sim_run(sim, CHUNK_CYCLES)
                 if bar is not None:
-                    done = min(n_win, lib.soc_sim_count(sim, 3) // len(TRACE_FIELDS))
+                    done = min(n_win, lib.soc_sim_count(sim, 3) // len(soc_platform.TRACE))
                     bar.update(done - bar.n)
                 if st == 1:
                     break
@@ -316,23 +319,23 @@ class RtlClosedLoop:
                 ("writes", _BUS), ("reads", _BUS), ("irqs", _IRQ), ("uart", np.uint8))}
         finally:
             lib.soc_sim_free(sim)
-        return self._result(rec, n_win, speed_ref, wall, cycles)
+        return self._result(rec, n_win, wall, cycles)
 
-    def _result(self, rec: dict, n_win: int, speed_ref: np.ndarray, wall: float, cycles: int) -> ClosedLoopResult:
+    def _result(self, rec: dict, n_win: int, wall: float, cycles: int) -> ClosedLoopResult:
         hw, sc = self.hw, self.sc
         H, P = hw.pwm_half, 2 * hw.pwm_half
         end = n_win * P + H // 2
-        tr = rec["trace"].reshape(-1, len(TRACE_FIELDS))[:n_win].astype(np.int64)
-        t = {name: tr[:, i] for i, name in enumerate(TRACE_FIELDS)}
-        for name in ("omega_pll", "omega_f", "i_d", "i_q", "i_d_ref", "i_q_ref", "cycles"):
-            t[name] = wrap(t[name], 32)
+        tr = rec["trace"].reshape(-1, len(soc_platform.TRACE))[:n_win].astype(np.int64)
+        t = {word.name: wrap(tr[:, i], 32) if word.signed else tr[:, i]
+             for i, word in enumerate(soc_platform.TRACE)}
         if not np.array_equal(t["window"], np.arange(n_win)):
             raise RtlBackendError("firmware trace records are not one per window in order")
         reads, writes = rec["reads"], rec["writes"]
         w = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
         w["tick"] = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
         for col, reg, signed in (("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),
-                                 ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False)):
+                                 ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False),
+                                 ("speed_ref", "SPEED_REF", True)):
             v = _per_window(reads, rm.REGISTERS[reg]["addr"], n_win, reg)
             w[col] = wrap(v, 32) if signed else v
         vdq = _per_window(writes, rm.V_DQ_ADDR, n_win, "V_DQ")
@@ -342,14 +345,14 @@ class RtlClosedLoop:
         ctrl = writes["data"][(writes["addr"] == rm.CTRL_ADDR) & (writes["tick"] >= 0)].astype(np.int64)[:n_win]
         w["v_d"], w["v_q"] = _s16(vdq), _s16(vdq >> 16)
         w["sin"], w["cos"] = _s16(sincos), _s16(sincos >> 16)
-        for name in ("i_d", "i_q", "i_d_ref", "i_q_ref", "theta_hat", "mode", "omega_f"):
-            w[name] = t[name]
-        w["theta_pll"], w["omega_pll"] = t["theta_pll"], t["omega_pll"]
-        w["speed_ref"] = speed_ref.astype(np.int64)
-        w["adc_mode"][:] = hw.adc_mode
+        for name in WINDOW_FIELDS:
+            if name in t:
+                w[name] = t[name]
         irqs = rec["irqs"]
         if len(irqs) < n_win + 1:
             raise RtlBackendError(f"{len(irqs)} window interrupts for {n_win} windows")
+        # interrupt k rises in window k: the compares latched for it and the ADC mode its sampling uses
+        w["adc_mode"] = irqs["adc_mode"][:n_win].astype(np.int64)
         cmp = irqs["cmp"][:n_win].astype(np.int64)
         for i, name in enumerate(("cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c")):
             w[name] = cmp[:, i]
@@ -366,13 +369,13 @@ class RtlClosedLoop:
         # interrupts 1..n_win report windows 0..n_win-1; their COMMIT latency and the core's cycles
         rep = irqs[1:n_win + 1]
         commit_lat = rep["commit"] - rep["tick"]
-        late = int(irqs["late"][n_win]) - 2 if len(irqs) > n_win else int(irqs["late"][-1]) - 2
+        late = int(irqs["late"][n_win]) - 2
         soc = {
             "fw_cycles_max": int(t["cycles"].max()),
             "fw_cycles_mean": round(float(t["cycles"].mean()), 1),
             "fw_cycles_target": FW_CYCLES_TARGET,
             "irq_to_commit_cycles_max": int(commit_lat.max()) if (commit_lat >= 0).all() else None,
-            "deadline_cycles": int(P - IRQ_LATENCY),
+            "deadline_cycles": int(P - soc_platform.IRQ_LATENCY),
             "late_commits": late,
             "sim_cycles": int(cycles),
             "wall_s": round(wall, 2),

@@ -1,28 +1,30 @@
 `default_nettype none
+`include "hfi_soc_platform.vh"
 // hfi_soc: the 002 system on one FPGA (docs/soc.md). A PicoRV32 soft core (RV32IM with the fast
 // multiplier, the divider and its interrupt controller; from the pythondata-cpu-picorv32 package,
 // not part of this repository) runs the firmware (firmware/) from the on-chip RAM and closes the
 // loop through the hfi_dsp peripheral once per PWM period, on the window interrupt.
 //
-// Memory map (byte addresses, decoded on address bits 31:28):
+// Memory map (byte addresses, decoded on address bits 31:28; the pages and the parameter defaults
+// come from rtl/hfi_soc_platform.vh, generated from hfi/soc_platform.py):
 //   0x0000_0000  RAM, RAM_BYTES (program, data, stack; $readmemh image RAM_INIT or +ram=<file>)
 //   0x1000_0000  hfi_dsp registers (AXI4-Lite through picorv32_axi_adapter; docs/registers.md)
 //   0x2000_0000  SoC control block hfi_soc_ctl (docs/soc_registers.md)
 //   elsewhere    reads return 0, writes are ignored (one-clock answer; no bus error)
-// Interrupts: PicoRV32 irq[3] = hfi_dsp window interrupt (level; the firmware clears it through
+// Interrupts: PicoRV32 irq[3] (HFI_SOC_IRQ_WINDOW) = hfi_dsp window interrupt (level; the firmware clears it through
 // IRQ_STATUS). irq[1] (illegal instruction, ebreak) and irq[2] (misaligned access) are the core's.
 module hfi_soc #(
-    parameter RAM_BYTES = 32768,
+    parameter RAM_BYTES = `HFI_SOC_RAM_BYTES,
     parameter RAM_INIT = "",
     // hfi_dsp parameters (rtl/hfi_dsp.v)
-    parameter ADC_BITS = 12,
+    parameter ADC_BITS = `HFI_SOC_ADC_BITS,
     parameter ADC_CONV_TICKS = 12,
     parameter ADC_SCLK_HALF = 1,
     parameter CORDIC_WIDTH = 32,
     parameter CORDIC_ITERATIONS = 32,
-    parameter DEAD_MIN = 50,
-    parameter IRQ_LATENCY = 400,
-    parameter OS_MIN = 40
+    parameter DEAD_MIN = `HFI_SOC_DEAD_MIN,
+    parameter IRQ_LATENCY = `HFI_SOC_IRQ_LATENCY,
+    parameter OS_MIN = `HFI_SOC_OS_MIN
 ) (
     input  wire        clk,
     input  wire        rst,
@@ -39,7 +41,8 @@ module hfi_soc #(
 );
     localparam RAM_WORDS = RAM_BYTES / 4;
     localparam RAM_AW = $clog2(RAM_WORDS);
-    localparam IRQ_WINDOW = 3;
+    localparam IRQ_WINDOW = `HFI_SOC_IRQ_WINDOW;
+    localparam PB = `HFI_SOC_PAGE_BITS;     // address bits 31:32-PB select the target
 
     generate
         if (RAM_BYTES < 1024 || (RAM_BYTES & (RAM_BYTES - 1)) != 0) begin : bad_ram
@@ -80,9 +83,9 @@ module hfi_soc #(
     );
 
     // ---------------------------------------------------------------- address decode
-    wire sel_ram = mem_valid && mem_addr[31:28] == 4'h0 && mem_addr[27:0] < RAM_BYTES;
-    wire sel_dsp = mem_valid && mem_addr[31:28] == 4'h1;
-    wire sel_ctl = mem_valid && mem_addr[31:28] == 4'h2;
+    wire sel_ram = mem_valid && mem_addr[31:32-PB] == `HFI_SOC_RAM_PAGE && mem_addr[31-PB:0] < RAM_BYTES;
+    wire sel_dsp = mem_valid && mem_addr[31:32-PB] == `HFI_SOC_DSP_PAGE;
+    wire sel_ctl = mem_valid && mem_addr[31:32-PB] == `HFI_SOC_CTL_PAGE;
     wire sel_none = mem_valid && !sel_ram && !sel_dsp && !sel_ctl;
 
     // RAM without wait states: every transfer of the core is announced one clock ahead on the
@@ -90,7 +93,7 @@ module hfi_soc #(
     // transfer completes in the clock mem_valid rises; a write is done in that clock.
     reg         none_ready;
     wire [31:0] ram_rdata;
-    wire        la_ram = mem_la_addr[31:28] == 4'h0 && mem_la_addr[27:0] < RAM_BYTES;
+    wire        la_ram = mem_la_addr[31:32-PB] == `HFI_SOC_RAM_PAGE && mem_la_addr[31-PB:0] < RAM_BYTES;
     wire        ram_ready = sel_ram;
     hfi_ram #(.WORDS(RAM_WORDS), .INIT_FILE(RAM_INIT)) u_ram (
         .clk(clk), .wstrb(sel_ram ? mem_wstrb : 4'd0), .waddr(mem_addr[RAM_AW+1:2]), .wdata(mem_wdata),
@@ -148,6 +151,6 @@ module hfi_soc #(
 
     wire unused = &{1'b0, bresp_unused, rresp_unused, awaddr[31:8], araddr[31:8], nc_la_write, nc_pcpi_valid,
                     nc_trace_valid, nc_la_wdata, nc_pcpi_insn, nc_pcpi_rs1, nc_pcpi_rs2, nc_eoi, nc_la_wstrb,
-                    nc_trace_data, nc_awprot, nc_arprot, mem_addr[27:RAM_AW+2], mem_la_addr[1:0], mem_addr[1:0]};
+                    nc_trace_data, nc_awprot, nc_arprot, mem_addr[31-PB:RAM_AW+2], mem_la_addr[1:0], mem_addr[1:0]};
 endmodule
 `default_nettype wire

@@ -1,7 +1,8 @@
 // soc_sim.cpp - closed-loop co-simulation of hfi_soc with the C plant (API: soc_sim.h, docs/soc.md).
 //
-// Per clock: evaluate the Verilated SoC (rising edge, then falling edge), then look at its pins:
-//  - window boundary of the event tick: advance the plant to it and keep its state (window truth);
+// Per clock: evaluate the Verilated SoC (rising edge, then falling edge), then look at its pins; the
+// plant calls and their records are those of PlantLoop (plant_loop.h, shared with the hls backend):
+//  - window boundary of the event tick: end the window (the plant's state is its truth);
 //  - gate pins changed: apply the new mask to the plant (tick - GATE_LATENCY);
 //  - ADC: the protocol of cocotb_tests/hdl/adc_model.v (the replay's ADC model): a CONVST rising
 //    edge takes a plant sample (tick - CONVST latency), CS_N falling shifts out the MSB, each SCLK
@@ -20,8 +21,10 @@
 #include "verilated_fst_c.h"
 #endif
 
+#include "plant_loop.h"
+
 extern "C" {
-#include "plant_api.h"
+#include "hfi_regs.h"
 #include "soc_sim.h"
 }
 
@@ -32,24 +35,23 @@ constexpr long long CONVST_LATENCY = 2;   // docs/rtl.md
 // window boundary, gate change, sample.
 static_assert(GATE_LATENCY == CONVST_LATENCY, "gate and CONVST latencies differ");
 constexpr long long START_LIMIT = 1000000;
-constexpr uint32_t COMMIT_ADDR = 0x4C;    // hfi_regs COMMIT (checked against the header in Python)
 }
 
 struct soc_sim {
+    explicit soc_sim(const soc_sim_setup &setup, plant *pl)
+        : s(setup), loop(pl, setup.half, setup.n_windows, setup.speed_ref, setup.adc_bits) {}
     VerilatedContext ctx;
     Vhfi_soc *top = nullptr;
 #ifdef HFI_FST
     VerilatedFstC *fst = nullptr;
 #endif
     bool fst_on = false;
-    soc_sim_setup s{};
-    std::vector<int32_t> speed_ref;
-    struct plant *plant = nullptr;
+    soc_sim_setup s;
+    PlantLoop loop;
     std::string error;
 
     long long cycle = 0;        // clocks since reset released
     long long tick0 = -1;       // cycle of tick 0 (-1: not yet)
-    long long next_boundary = 0;
     long long irqs = 0;
 
     // pins seen after the previous two rising edges (for the ADC protocol)
@@ -67,49 +69,39 @@ struct soc_sim {
     int uart_byte = 0;
     bool tx_q = true;
 
-    std::vector<soc_edge> edges;
-    std::vector<soc_sample> samples;
-    std::vector<plant_state> truth;
     std::vector<uint32_t> trace;
     std::vector<soc_bus> writes, reads;
     std::vector<soc_irq> irq_log;
     std::vector<uint8_t> uart;
 };
 
-static void set_error(char *err, int len, const std::string &msg)
-{
-    if (err && len > 0)
-        std::snprintf(err, (size_t)len, "%s", msg.c_str());
-}
-
 extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, struct plant *plant, char *err,
                                           int err_len)
 {
     if (!setup || !plant) {
-        set_error(err, err_len, "soc_sim_create: setup and plant are required");
+        set_message(err, err_len, "soc_sim_create: setup and plant are required");
         return nullptr;
     }
     if (!setup->ram_hex || !*setup->ram_hex) {
-        set_error(err, err_len, "soc_sim_create: no RAM image");
+        set_message(err, err_len, "soc_sim_create: no RAM image");
         return nullptr;
     }
-    if (setup->half < 256 || setup->n_windows < 1 || !setup->speed_ref || setup->adc_bits < 1 ||
-        setup->adc_bits > 16 || setup->uart_div < 16 || setup->trace_words < 1) {
-        set_error(err, err_len, "soc_sim_create: half >= 256, n_windows >= 1, speed_ref, adc_bits 1..16, "
-                                "uart_div >= 16 and trace_words >= 1 are required");
+    const std::string bad = PlantLoop::check(setup->half, setup->n_windows, setup->speed_ref, setup->adc_bits);
+    if (!bad.empty()) {
+        set_message(err, err_len, "soc_sim_create: " + bad);
+        return nullptr;
+    }
+    if (setup->uart_div < 16 || setup->trace_words < 1) {
+        set_message(err, err_len, "soc_sim_create: uart_div >= 16 and trace_words >= 1 are required");
         return nullptr;
     }
 #ifndef HFI_FST
     if (setup->fst_path) {
-        set_error(err, err_len, "soc_sim_create: this library was built without FST support");
+        set_message(err, err_len, "soc_sim_create: this library was built without FST support");
         return nullptr;
     }
 #endif
-    auto *sim = new soc_sim();
-    sim->s = *setup;
-    sim->speed_ref.assign(setup->speed_ref, setup->speed_ref + setup->n_windows);
-    sim->plant = plant;
-    sim->next_boundary = 2 * setup->half + setup->half / 2;     // end of window 0
+    auto *sim = new soc_sim(*setup, plant);
     std::string plusarg = std::string("+ram=") + setup->ram_hex;
     const char *argv[] = {"soc_sim", plusarg.c_str()};
     sim->ctx.commandArgs(2, argv);
@@ -151,10 +143,9 @@ extern "C" void soc_sim_free(struct soc_sim *sim)
     delete sim;
 }
 
-static int plant_event_error(soc_sim *sim, const char *what, long long tick, int status)
+static int plant_error(soc_sim *sim)
 {
-    sim->error = std::string("plant refused ") + what + " at tick " + std::to_string(tick) + " (status " +
-                 std::to_string(status) + ")";
+    sim->error = sim->loop.error();
     return -2;
 }
 
@@ -186,37 +177,16 @@ static int clock_once(soc_sim *sim)
     int gate = top->gate;
     if (sim->tick0 >= 0) {
         const long long te = c - sim->tick0 - GATE_LATENCY;   // = c - tick0 - CONVST_LATENCY
-        if (te == sim->next_boundary) {
-            int st = plant_advance(sim->plant, te);
-            if (st != 0)
-                return plant_event_error(sim, "the window boundary", te, st);
-            plant_state ps;
-            plant_get_state(sim->plant, &ps);
-            sim->truth.push_back(ps);
-            sim->next_boundary += 2 * sim->s.half;
-        }
-        if (gate != sim->gate_q) {
-            int st = plant_advance(sim->plant, te);
-            if (st == 0)
-                st = plant_set_gates(sim->plant, gate);
-            if (st != 0)
-                return plant_event_error(sim, "a gate mask", te, st);
-            sim->edges.push_back(soc_edge{te, gate, 0});
-        }
+        if (te == sim->loop.next_window_end() && !sim->loop.end_window())
+            return plant_error(sim);
+        if (gate != sim->gate_q && !sim->loop.set_gates(te, gate))
+            return plant_error(sim);
         if (convst && !sim->convst_q) {          // sampling instant: the plant's sample of this tick
-            if (te >= sim->s.half / 2) {
-                int adc[3];
-                double analog[3];
-                int st = plant_advance(sim->plant, te);
-                if (st == 0)
-                    st = plant_sample(sim->plant, adc, analog);
-                if (st != 0)
-                    return plant_event_error(sim, "a sample", te, st);
-                sim->pair_a = adc[0];
-                sim->pair_b = adc[1];
-                sim->samples.push_back(soc_sample{te, adc[0], adc[1]});
+            if (te >= sim->loop.window_start(0)) {
+                if (!sim->loop.sample(te, &sim->pair_a, &sim->pair_b))
+                    return plant_error(sim);
             } else {
-                sim->pair_a = sim->pair_b = 1 << (sim->s.adc_bits - 1);
+                sim->pair_a = sim->pair_b = sim->loop.mid_code();
             }
         }
     } else if (gate != 0 || convst) {
@@ -246,9 +216,10 @@ static int clock_once(soc_sim *sim)
     bool irq = r->hfi_soc__DOT__dsp_irq;
     if (irq && !sim->irq_q) {
         long long k = sim->irqs - 1;      // interrupt j reports window j - 1
-        if (k >= 0 && k < sim->s.n_windows)
-            r->hfi_soc__DOT__u_dsp__DOT__u_regs__DOT__r_speed_ref = (uint32_t)sim->speed_ref[(size_t)k];
-        soc_irq rec{tk, -1, {}, (int32_t)r->hfi_soc__DOT__u_dsp__DOT__late_count, 0};
+        if (k >= 0 && k < sim->loop.n_windows())
+            r->hfi_soc__DOT__u_dsp__DOT__u_regs__DOT__r_speed_ref = (uint32_t)sim->loop.speed_ref(k);
+        soc_irq rec{tk, -1, {}, (int32_t)r->hfi_soc__DOT__u_dsp__DOT__late_count,
+                    (int32_t)r->hfi_soc__DOT__u_dsp__DOT__adc_mode_used};
         rec.cmp[0] = r->hfi_soc__DOT__u_dsp__DOT__cmp_top_a;
         rec.cmp[1] = r->hfi_soc__DOT__u_dsp__DOT__cmp_top_b;
         rec.cmp[2] = r->hfi_soc__DOT__u_dsp__DOT__cmp_top_c;
@@ -269,7 +240,7 @@ static int clock_once(soc_sim *sim)
     }
     if (sim->aw_done && sim->w_done) {
         sim->writes.push_back(soc_bus{tk, sim->aw_addr, sim->w_data});
-        if (sim->aw_addr == COMMIT_ADDR && !sim->irq_log.empty() && sim->irq_log.back().commit_tick < 0)
+        if (sim->aw_addr == HFI_REGS__COMMIT_offset && !sim->irq_log.empty() && sim->irq_log.back().commit_tick < 0)
             sim->irq_log.back().commit_tick = tk;
         sim->aw_done = sim->w_done = false;
     }
@@ -317,9 +288,9 @@ static int clock_once(soc_sim *sim)
 
 extern "C" int soc_sim_run(struct soc_sim *sim, long long max_cycles)
 {
-    const long long need = sim->s.n_windows * sim->s.trace_words;
-    const long long period = 2 * sim->s.half;
-    const long long end_tick = sim->s.n_windows * period + sim->s.half / 2;
+    const long long need = sim->loop.n_windows() * sim->s.trace_words;
+    const long long period = sim->loop.period();
+    const long long end_tick = sim->loop.window_end(sim->loop.n_windows() - 1);
     for (long long i = 0; i < max_cycles; i++) {
         if ((long long)sim->trace.size() >= need)
             return 1;
@@ -340,26 +311,13 @@ extern "C" int soc_sim_run(struct soc_sim *sim, long long max_cycles)
 
 extern "C" const char *soc_sim_error(const struct soc_sim *sim) { return sim->error.c_str(); }
 extern "C" long long soc_sim_cycles(const struct soc_sim *sim) { return sim->cycle; }
-extern "C" long long soc_sim_tick(const struct soc_sim *sim)
-{
-    return sim->tick0 < 0 ? -1 : sim->cycle - sim->tick0;
-}
-
-template <typename T> static int copy_out(const std::vector<T> &v, long long from, long long n, void *dst)
-{
-    if (from < 0 || n < 0 || from + n > (long long)v.size())
-        return -1;
-    if (n)
-        std::memcpy(dst, v.data() + from, (size_t)n * sizeof(T));
-    return 0;
-}
 
 extern "C" long long soc_sim_count(const struct soc_sim *sim, int kind)
 {
     switch (kind) {
-    case SOC_EDGES: return (long long)sim->edges.size();
-    case SOC_SAMPLES: return (long long)sim->samples.size();
-    case SOC_TRUTH: return (long long)sim->truth.size();
+    case SOC_EDGES: return (long long)sim->loop.edges.size();
+    case SOC_SAMPLES: return (long long)sim->loop.samples.size();
+    case SOC_TRUTH: return (long long)sim->loop.truth.size();
     case SOC_TRACE: return (long long)sim->trace.size();
     case SOC_WRITES: return (long long)sim->writes.size();
     case SOC_READS: return (long long)sim->reads.size();
@@ -372,14 +330,14 @@ extern "C" long long soc_sim_count(const struct soc_sim *sim, int kind)
 extern "C" int soc_sim_copy(const struct soc_sim *sim, int kind, long long from, long long n, void *dst)
 {
     switch (kind) {
-    case SOC_EDGES: return copy_out(sim->edges, from, n, dst);
-    case SOC_SAMPLES: return copy_out(sim->samples, from, n, dst);
-    case SOC_TRUTH: return copy_out(sim->truth, from, n, dst);
-    case SOC_TRACE: return copy_out(sim->trace, from, n, dst);
-    case SOC_WRITES: return copy_out(sim->writes, from, n, dst);
-    case SOC_READS: return copy_out(sim->reads, from, n, dst);
-    case SOC_IRQS: return copy_out(sim->irq_log, from, n, dst);
-    case SOC_UART: return copy_out(sim->uart, from, n, dst);
+    case SOC_EDGES: return copy_records(sim->loop.edges, from, n, dst);
+    case SOC_SAMPLES: return copy_records(sim->loop.samples, from, n, dst);
+    case SOC_TRUTH: return copy_records(sim->loop.truth, from, n, dst);
+    case SOC_TRACE: return copy_records(sim->trace, from, n, dst);
+    case SOC_WRITES: return copy_records(sim->writes, from, n, dst);
+    case SOC_READS: return copy_records(sim->reads, from, n, dst);
+    case SOC_IRQS: return copy_records(sim->irq_log, from, n, dst);
+    case SOC_UART: return copy_records(sim->uart, from, n, dst);
     default: return -1;
     }
 }

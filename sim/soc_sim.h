@@ -4,8 +4,9 @@
  * Verilated hfi_soc, applies gate changes to the plant, answers ADC conversions with plant samples,
  * advances the plant to every window boundary and records what the golden closed loop records.
  * Python (hfi/rtl_backend.py) creates the plant with golden.plant, calls soc_sim_run() in chunks
- * (progress output) and copies the records out. cffi parses this header (preprocessor lines are
- * stripped): plain declarations only.
+ * (progress output) and copies the records out. The plant calls, the gate-edge, sample and truth
+ * records are those of sim/plant_loop.h (shared with the hls backend). cffi parses this header and
+ * plant_records.h (preprocessor lines are stripped): plain declarations only.
  *
  * Ticks: tick 0 is the first clock with SOC CTRL.DSP_RUN = 1 (docs/rtl.md); a pin change seen in
  * clock c belongs to tick c - tick0 - 2 (GATE_LATENCY, CONVST latency). Samples before the first
@@ -16,6 +17,8 @@
 #define HFI_SOC_SIM_H
 
 #include <stdint.h>
+
+#include "plant_records.h"
 
 struct plant;
 struct plant_state;
@@ -29,23 +32,21 @@ struct soc_sim_setup {
     long long half;               /* carrier half period H [ticks] (the scenario's PWM_HALF) */
     long long n_windows;          /* windows to simulate; the run ends after the last trace record */
     const int32_t *speed_ref;     /* n_windows values, written to SPEED_REF at each window interrupt */
-    int adc_bits;                 /* ADC resolution of the plant's sensors (mid-scale code) */
+    int adc_bits;                 /* ADC resolution (bits shifted out per conversion; codes are checked) */
     int uart_div;                 /* clock cycles per UART bit (UART_DIV) */
     int trace_words;              /* words per firmware trace record */
 };
 
-/* What the co-simulation records (one entry per event). */
-struct soc_edge { long long tick; int32_t mask; int32_t pad; };
-struct soc_sample { long long tick; int32_t adc_a; int32_t adc_b; };
+/* What the co-simulation records (one entry per event), besides gate_edge and adc_sample. */
 struct soc_bus { long long tick; uint32_t addr; uint32_t data; };   /* AXI4-Lite access of hfi_dsp */
 /* Window interrupt: its tick, the tick of the next COMMIT write (-1: none before the next interrupt),
- * the six compares the modulator computed at this window's boundary (top a, b, c, bottom a, b, c) and
- * LATE_COUNT, both as the interrupt rises. */
-struct soc_irq { long long tick; long long commit_tick; int32_t cmp[6]; int32_t late_count; int32_t pad; };
+ * and as the interrupt rises: the six compares the modulator computed at this window's boundary (top
+ * a, b, c, bottom a, b, c), LATE_COUNT and the ADC mode the sampling of this window uses. */
+struct soc_irq { long long tick; long long commit_tick; int32_t cmp[6]; int32_t late_count; int32_t adc_mode; };
 
 enum soc_record {
-    SOC_EDGES = 0,     /* struct soc_edge: gate-mask changes */
-    SOC_SAMPLES = 1,   /* struct soc_sample: ADC conversions from the first window on */
+    SOC_EDGES = 0,     /* struct gate_edge: gate-mask changes */
+    SOC_SAMPLES = 1,   /* struct adc_sample: ADC conversions from the first window on */
     SOC_TRUTH = 2,     /* struct plant_state: plant state at every window end */
     SOC_TRACE = 3,     /* uint32_t: firmware trace words */
     SOC_WRITES = 4,    /* struct soc_bus: register writes */
@@ -58,13 +59,13 @@ enum soc_record {
 struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, struct plant *plant, char *err, int err_len);
 void soc_sim_free(struct soc_sim *sim);
 /* Runs at most max_cycles clocks. Returns 1 when the run is complete, 0 when it is not yet, -1 on a
- * CPU trap, -2 when the plant refused an event (message in soc_sim_error), -3 when tick 0 did not
+ * CPU trap, -2 when the plant refused an event or gave an ADC code outside the ADC's range (message
+ * in soc_sim_error), -3 when tick 0 did not
  * come within 10^6 clocks (firmware did not start: see the UART log), -4 on a timeout (no trace
  * record for 4 periods). */
 int soc_sim_run(struct soc_sim *sim, long long max_cycles);
 const char *soc_sim_error(const struct soc_sim *sim);
 long long soc_sim_cycles(const struct soc_sim *sim);  /* clocks since reset */
-long long soc_sim_tick(const struct soc_sim *sim);    /* current tick (negative before tick 0) */
 /* Number of records of a kind, and a copy of records [from, from + n) into dst. */
 long long soc_sim_count(const struct soc_sim *sim, int kind);
 int soc_sim_copy(const struct soc_sim *sim, int kind, long long from, long long n, void *dst);

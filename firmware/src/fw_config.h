@@ -1,7 +1,8 @@
 /* fw_config.h - the configuration block of one run, at the symbol fw_config in the RAM image.
  *
- * The firmware is built once; golden/soc_image.py writes each scenario's values into this block of
- * the RAM image (cffi parses control.h and this header, so the layout is written only here).
+ * The firmware is built once; hfi/rtl_backend.py (config_block, ram_image) writes each scenario's
+ * values into this block of the RAM image (cffi parses control.h and this header, so the layout is
+ * written only here).
  * The firmware refuses to start (gates stay off, a message on the UART) unless magic and version
  * match. Register values are the raw register words of docs/registers.md.
  */

@@ -8,31 +8,31 @@
  * speed reference (SPEED_REF mailbox), run fw_step() (control.c, the golden firmware's arithmetic),
  * write the shadow registers, CTRL and COMMIT (before the deadline: the commit takes effect at the
  * next window boundary; a missed one counts in LATE_COUNT and the watchdog trips after WDT_PERIODS),
- * acknowledge, and send one trace record on the SoC trace port (docs/soc.md). The first interrupt
+ * acknowledge, and send one trace record on the SoC trace port (fw_trace.h, docs/soc.md). The first interrupt
  * reports window -1 (the half period before the first boundary): acknowledged, no control step.
  * Core exceptions (IRQ 1: illegal instruction/ebreak, IRQ 2: misaligned access) turn the gates off
  * and stop the firmware; without commits the hardware watchdog would do so too.
  *
  * Register access only through the generated headers hfi_regs.h and hfi_soc_regs.h (offsets and
- * field positions); every access is a 32-bit word access.
+ * field positions) at the bases of hfi_soc_platform.h (generated); every access is a 32-bit word access.
  */
 #include <stdint.h>
 
 #include "control.h"
 #include "fw_config.h"
+#include "fw_trace.h"
 #include "hfi_regs.h"
+#include "hfi_soc_platform.h"
 #include "hfi_soc_regs.h"
 
-#define DSP_BASE 0x10000000u
-#define SOC_BASE 0x20000000u
-#define DSP(reg) (*(volatile uint32_t *)(DSP_BASE + HFI_REGS__##reg##_offset))
-#define SOC(reg) (*(volatile uint32_t *)(SOC_BASE + HFI_SOC__##reg##_offset))
+#define DSP(reg) (*(volatile uint32_t *)(HFI_SOC_DSP_BASE + HFI_REGS__##reg##_offset))
+#define SOC(reg) (*(volatile uint32_t *)(HFI_SOC_CTL_BASE + HFI_SOC__##reg##_offset))
 #define FIELD(reg, fld, v) (((uint32_t)(v) << HFI_REGS__##reg##__##fld##_bp) & HFI_REGS__##reg##__##fld##_bm)
 #define SOC_FIELD(reg, fld, v) (((uint32_t)(v) << HFI_SOC__##reg##__##fld##_bp) & HFI_SOC__##reg##__##fld##_bm)
 
-#define IRQ_WINDOW (1u << 3)
-#define IRQ_FAULTS ((1u << 1) | (1u << 2))
-#define TRACE_WORDS 12      /* words per trace record (docs/soc.md) */
+#define IRQ_WINDOW (1u << HFI_SOC_IRQ_WINDOW)
+#define IRQ_FAULTS ((1u << 1) | (1u << 2))  /* PicoRV32's own: illegal instruction/ebreak, misaligned access */
+#define TRACE_PUT(word) (SOC(TRACE) = (word))
 
 uint32_t irq_mask(uint32_t mask);   /* crt0.S */
 
@@ -115,19 +115,8 @@ static void control_step(void)
     DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
     uint32_t cycles = rdcycle() - t0;
 
-    /* trace record: window, estimator, currents, references, mode, cycles of this step */
-    SOC(TRACE) = count - 2u;
-    SOC(TRACE) = st.theta_hat;
-    SOC(TRACE) = st.pll.theta;
-    SOC(TRACE) = (uint32_t)st.pll.omega;
-    SOC(TRACE) = (uint32_t)fw_lowpass_out(st.speed_f);
-    SOC(TRACE) = (uint32_t)st.i_d;
-    SOC(TRACE) = (uint32_t)st.i_q;
-    SOC(TRACE) = (uint32_t)st.i_d_ref;
-    SOC(TRACE) = (uint32_t)st.i_q_ref;
-    SOC(TRACE) = (uint32_t)st.mode;
-    SOC(TRACE) = (uint32_t)st.flipped;
-    SOC(TRACE) = cycles;
+    /* trace record (fw_trace.h, generated from hfi/soc_platform.py TRACE) */
+    FW_TRACE_RECORD(TRACE_PUT, st, count - 2u, cycles);
     shown_window = count - 2u;
 }
 

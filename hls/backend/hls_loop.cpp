@@ -11,24 +11,27 @@
 //      at most once per leg and half period, so hfi_gate_advance covers each stretch between changes
 //      in one step, and its turn-on offsets give the gate edges (spec 2.4);
 //   4. the plant applies the edges and converts at the sampling instants (hfi_adc_trigger over one
-//      period, cached per ADC mode), then runs to the window end;
+//      period, cached per ADC mode), then runs to the window end (PlantLoop::run_window,
+//      sim/plant_loop.h, which records the edges, samples and truth as the rtl backend's harness does);
 //   5. hfi_window_dsp (ADC scale, Clarke, Park, demodulator) with the CORDIC weights
 //      (hfi_demod_weight) and, in OS_BLANK, the blanking decision (hfi_blanked) gives the window
-//      result; fw_step computes the next register values.
+//      result; fw_step computes the next register values; the firmware-state columns of the window
+//      record are those of the firmware's trace record (FW_TRACE_COLUMNS, fw_trace.h, generated).
 #include "hls_loop.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
 
+#include "../../sim/plant_loop.h"
+
 extern "C" {
-#pragma GCC visibility push(default)   // imported from libhfifw.so and libhfiplant.so
+#pragma GCC visibility push(default)   // imported from libhfifw.so
 #include "control.h"
-#include "plant_api.h"
 #pragma GCC visibility pop
+#include "fw_trace.h"
 }
 
 #include "hfi_adc_trigger.h"
@@ -57,16 +60,15 @@ void sort_small(int64_t *a, int n) {
 }  // namespace
 
 struct hls_loop {
+    hls_loop(const hls_setup &setup, plant *pl, int32_t half)
+        : s(setup), loop(pl, half, setup.n_windows, setup.speed_ref, setup.adc_bits) {}
     hls_setup s;                       // half, os_ticks: effective values
-    int32_t dead;                      // effective dead time
-    std::vector<int32_t> speed_ref;
-    fw_params fwp;
-    fw_state fw;
-    plant *pl;
+    PlantLoop loop;                    // the plant calls and their records
+    int32_t dead = 0;                  // effective dead time
+    fw_params fwp{};
+    fw_state fw{};
     std::string error;
 
-    int32_t k = 0;                     // next window
-    double plant_seconds = 0;          // wall time inside the plant calls
     fw_outputs active = RESET_OUTPUTS, prev1 = RESET_OUTPUTS, prev2 = RESET_OUTPUTS;
     hfi_gate_state gate;
     u16 cmp_rise[3];                   // compares of the current rising half (latched at its bottom)
@@ -81,9 +83,6 @@ struct hls_loop {
 
     std::vector<hls_window> windows;
     std::vector<fw_outputs> outputs;
-    std::vector<plant_state> truth;
-    std::vector<hls_sample> samples;
-    std::vector<hls_edge> edges;
 
     // per-window scratch
     std::vector<long long> e_ticks, s_ticks;            // plant_run takes long long ticks
@@ -192,7 +191,8 @@ void hls_loop::gate_segment(int64_t a, int64_t b) {
 // One window (golden ClosedLoop.run, loop body).
 bool hls_loop::step() {
     const int64_t H = s.half, P = 2 * H;
-    const int64_t zc = int64_t(k) * P + H / 2, end = zc + P;
+    const int32_t k = int32_t(loop.windows_ended());
+    const int64_t zc = loop.window_start(k), end = loop.window_end(k);
     if (k >= 2) active = prev2;                           // commit at the window boundary
     const bool enable = k >= 1 && prev1.enable;
     const int adc_mode = zc >= s.ds_from_tick ? HFI_MODE_DS : s.adc_mode;
@@ -217,38 +217,15 @@ bool hls_loop::step() {
     const int n = int(pat.rel.size());
     s_ticks.resize(n);
     for (int i = 0; i < n; i++) s_ticks[i] = zc + pat.rel[i];
-    adc.resize(3 * size_t(n > 0 ? n : 1));
-    const auto t_plant = std::chrono::steady_clock::now();
-    const int rc = plant_run(pl, int(e_ticks.size()), e_ticks.data(), e_masks.data(), nullptr, n, s_ticks.data(),
-                             adc.data(), nullptr, nullptr);
-    if (rc != 0) {
-        char msg[160];
-        std::snprintf(msg, sizeof msg, "window %d: plant_run returned %d (%s)", k, rc,
-                      rc == -2 ? "a gate mask turned on both switches of a leg" : "bad tick order or gate mask");
-        error = msg;
+    if (!loop.run_window(e_ticks, e_masks, s_ticks, adc)) {
+        error = loop.error();
         return false;
     }
-    if (plant_advance(pl, end) != 0) {
-        error = "plant_advance: tick went backwards";
-        return false;
-    }
-    plant_state st;
-    plant_get_state(pl, &st);
-    plant_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_plant).count();
 
-    const int top_code = (1 << s.adc_bits) - 1;
     size_t sw_i = 0;
     for (int i = 0; i < n; i++) {
-        const int a = adc[3 * i], b = adc[3 * i + 1];
-        if (a < 0 || a > top_code || b < 0 || b > top_code) {
-            char msg[160];
-            std::snprintf(msg, sizeof msg, "window %d: ADC code (%d, %d) at tick %lld is outside 0..%d", k, a, b,
-                          (long long)s_ticks[i], top_code);
-            error = msg;
-            return false;
-        }
-        adc_a[i] = a;
-        adc_b[i] = b;
+        adc_a[i] = adc[3 * i];
+        adc_b[i] = adc[3 * i + 1];
         w[i] = pat.w[i];
         keep[i] = true;
         if (adc_mode == HFI_MODE_OS_BLANK) {
@@ -256,7 +233,6 @@ bool hls_loop::step() {
             while (sw_i < sw_ticks.size() && sw_ticks[sw_i] <= s_ticks[i]) latest = sw_ticks[sw_i++];
             keep[i] = latest < 0 || !hfi_blanked(ap_uint<64>(s_ticks[i] - latest), u16(s.blank_ticks));
         }
-        samples.push_back({s_ticks[i], a, b});
     }
     hfi_adc_cfg cfg;
     cfg.bits = s.adc_bits;
@@ -275,10 +251,10 @@ bool hls_loop::step() {
     win.wsum = int32_t(res.wsum);
     win.n_samples = uint32_t(res.n_samples);
     fw_outputs o;
-    fw_step(&fw, &fwp, &win, speed_ref[k], &o);
+    const int32_t speed_ref = loop.speed_ref(k);
+    fw_step(&fw, &fwp, &win, speed_ref, &o);
 
-    for (size_t i = 0; i < e_ticks.size(); i++) edges.push_back({e_ticks[i], e_masks[i]});
-    hls_window r;
+    hls_window r{};                        // a column nothing fills stays 0
     r.tick = end;
     r.gamma = win.gamma;
     r.gamma_d = win.gamma_d;
@@ -286,21 +262,15 @@ bool hls_loop::step() {
     r.sum_id = win.sum_id;
     r.sum_iq = win.sum_iq;
     r.wsum = win.wsum;
-    r.i_d = fw.i_d;
-    r.i_q = fw.i_q;
-    r.i_d_ref = fw.i_d_ref;
-    r.i_q_ref = fw.i_q_ref;
+#define HLS_WINDOW_COLUMN(column, value) r.column = int64_t(value)
+    FW_TRACE_COLUMNS(HLS_WINDOW_COLUMN, fw);
+#undef HLS_WINDOW_COLUMN
     r.v_d = o.v_d;
     r.v_q = o.v_q;
     r.sin = o.sin;
     r.cos = o.cos;
-    r.theta_hat = fw.theta_hat;
-    r.theta_pll = fw.pll.theta;
-    r.omega_pll = fw.pll.omega;
-    r.omega_f = fw_lowpass_out(fw.speed_f);
-    r.speed_ref = speed_ref[k];
-    r.mode = fw.mode;
-    r.adc_mode = adc_mode;
+    r.speed_ref = speed_ref;               // what the firmware was given
+    r.adc_mode = adc_mode;                 // what the sampling used
     r.cmp_top_a = cmp_top[0];
     r.cmp_top_b = cmp_top[1];
     r.cmp_top_c = cmp_top[2];
@@ -309,15 +279,13 @@ bool hls_loop::step() {
     r.cmp_bot_c = cmp_bot[2];
     windows.push_back(r);
     outputs.push_back(o);
-    truth.push_back(st);
     prev2 = prev1;
     prev1 = o;
-    k++;
     return true;
 }
 
-static bool setup_error(char *err, int err_len, const char *msg) {
-    if (err && err_len > 0) std::snprintf(err, size_t(err_len), "%s", msg);
+static bool setup_error(char *err, int err_len, const std::string &msg) {
+    set_message(err, err_len, msg);
     return false;
 }
 
@@ -333,16 +301,15 @@ static bool check_setup(const hls_setup *s, char *err, int err_len) {
         return setup_error(err, err_len, "os_ticks must be u16 and os_min 1..65535");
     if (s->blank_ticks < 0 || s->blank_ticks > 0xFFFF) return setup_error(err, err_len, "blank_ticks must be u16");
     if (s->adc_mode < 0 || s->adc_mode > 3) return setup_error(err, err_len, "adc_mode must be 0..3");
-    if (s->adc_bits < 1 || s->adc_bits > 16) return setup_error(err, err_len, "adc_bits must be 1..16");
     if (s->adc_offset_a < -32768 || s->adc_offset_a > 32767 || s->adc_offset_b < -32768 || s->adc_offset_b > 32767)
         return setup_error(err, err_len, "adc offsets must be s16");
     if (s->adc_gain_a < 0 || s->adc_gain_a > 0xFFFF || s->adc_gain_b < 0 || s->adc_gain_b > 0xFFFF)
         return setup_error(err, err_len, "adc gains must be u16");
     if (s->dtc_gain < 0 || s->dtc_gain > 0xFFFF || s->hf_amp < 0 || s->hf_amp > 0x7FFF)
         return setup_error(err, err_len, "dtc_gain must be u16 and hf_amp u15");
-    if (s->n_windows < 1 || s->speed_ref == nullptr)
-        return setup_error(err, err_len, "n_windows must be >= 1 with one speed reference per window");
-    return true;
+    const std::string bad = PlantLoop::check(int32_t(hfi_effective_half(u16(s->half))), s->n_windows, s->speed_ref,
+                                             s->adc_bits);
+    return bad.empty() || setup_error(err, err_len, bad);
 }
 
 // The library's only exports (it is built with -fvisibility=hidden, see hls/Makefile).
@@ -355,16 +322,14 @@ hls_loop *hls_loop_create(const hls_setup *setup, const fw_params *fw, plant *pl
         return nullptr;
     }
     if (!check_setup(setup, err, err_len)) return nullptr;
-    hls_loop *h = new hls_loop();
-    h->s = *setup;
-    h->s.half = int32_t(hfi_effective_half(u16(setup->half)));
+    const int32_t half = int32_t(hfi_effective_half(u16(setup->half)));
+    hls_loop *h = new hls_loop(*setup, pl, half);
+    h->s.half = half;
     h->s.os_ticks = int32_t(hfi_effective_os_ticks(u16(setup->os_ticks), u16(setup->os_min)));
     h->dead = int32_t(hfi_effective_dead(u16(setup->dead_ticks), u16(setup->dead_min)));
-    h->speed_ref.assign(setup->speed_ref, setup->speed_ref + setup->n_windows);
-    h->s.speed_ref = nullptr;
+    h->s.speed_ref = nullptr;              // copied by the plant loop
     h->fwp = *fw;
     fw_init(&h->fw, &h->fwp);
-    h->pl = pl;
     hfi_gate_reset(h->gate);
     for (int mode = 0; mode < 4; mode++) {
         if (h->window_pattern(mode).rel.size() > size_t(HFI_WINDOW_MAX)) {
@@ -378,17 +343,17 @@ hls_loop *hls_loop_create(const hls_setup *setup, const fw_params *fw, plant *pl
     const size_t n = size_t(setup->n_windows);
     h->windows.reserve(n);
     h->outputs.reserve(n);
-    h->truth.reserve(n);
-    h->samples.reserve(n * h->pattern[setup->adc_mode].rel.size());
-    h->edges.reserve(n * 13);
+    h->loop.truth.reserve(n);
+    h->loop.samples.reserve(n * h->pattern[setup->adc_mode].rel.size());
+    h->loop.edges.reserve(n * 13);
     return h;
 }
 
 int32_t hls_loop_run(hls_loop *h, int32_t n_windows) {
     if (!h->error.empty()) return -1;
-    for (int32_t i = 0; i < n_windows && h->k < h->s.n_windows; i++)
+    for (int32_t i = 0; i < n_windows && h->loop.windows_ended() < h->loop.n_windows(); i++)
         if (!h->step()) return -1;
-    return h->k;
+    return int32_t(h->loop.windows_ended());
 }
 
 const char *hls_loop_error(const hls_loop *h) { return h->error.c_str(); }
@@ -397,27 +362,27 @@ int64_t hls_loop_count(const hls_loop *h, int32_t kind) {
     switch (kind) {
         case HLS_WINDOWS: return int64_t(h->windows.size());
         case HLS_OUTPUTS: return int64_t(h->outputs.size());
-        case HLS_TRUTH: return int64_t(h->truth.size());
-        case HLS_SAMPLES: return int64_t(h->samples.size());
-        case HLS_EDGES: return int64_t(h->edges.size());
+        case HLS_TRUTH: return int64_t(h->loop.truth.size());
+        case HLS_SAMPLES: return int64_t(h->loop.samples.size());
+        case HLS_EDGES: return int64_t(h->loop.edges.size());
         default: return -1;
     }
 }
 
 void hls_loop_copy(const hls_loop *h, int32_t kind, void *dst) {
     switch (kind) {
-        case HLS_WINDOWS: std::memcpy(dst, h->windows.data(), h->windows.size() * sizeof(hls_window)); break;
-        case HLS_OUTPUTS: std::memcpy(dst, h->outputs.data(), h->outputs.size() * sizeof(fw_outputs)); break;
-        case HLS_TRUTH: std::memcpy(dst, h->truth.data(), h->truth.size() * sizeof(plant_state)); break;
-        case HLS_SAMPLES: std::memcpy(dst, h->samples.data(), h->samples.size() * sizeof(hls_sample)); break;
-        case HLS_EDGES: std::memcpy(dst, h->edges.data(), h->edges.size() * sizeof(hls_edge)); break;
+        case HLS_WINDOWS: copy_records(h->windows, 0, int64_t(h->windows.size()), dst); break;
+        case HLS_OUTPUTS: copy_records(h->outputs, 0, int64_t(h->outputs.size()), dst); break;
+        case HLS_TRUTH: copy_records(h->loop.truth, 0, int64_t(h->loop.truth.size()), dst); break;
+        case HLS_SAMPLES: copy_records(h->loop.samples, 0, int64_t(h->loop.samples.size()), dst); break;
+        case HLS_EDGES: copy_records(h->loop.edges, 0, int64_t(h->loop.edges.size()), dst); break;
         default: break;
     }
 }
 
 int32_t hls_loop_flipped(const hls_loop *h) { return h->fw.flipped; }
 
-double hls_loop_plant_seconds(const hls_loop *h) { return h->plant_seconds; }
+double hls_loop_plant_seconds(const hls_loop *h) { return h->loop.plant_seconds(); }
 
 void hls_loop_free(hls_loop *h) { delete h; }
 

@@ -3,12 +3,18 @@
  * (golden/plant/libhfiplant.so), window by window in native code, with the plant calls of the golden
  * loop (golden/closedloop.py) in the same order, so the traces are identical.
  *
+ * The window sequencing around the plant (plant calls, gate-edge, sample and truth records, speed
+ * reference per window, error messages) is sim/plant_loop.h, shared with the rtl backend's harness.
+ *
  * C interface (cffi parses this header with its preprocessor lines stripped, together with
- * firmware/src/control.h). Used by hfi/hls_backend.py. */
+ * firmware/src/control.h, hls_window.h and sim/plant_records.h). Used by hfi/hls_backend.py. */
 #ifndef HLS_LOOP_H
 #define HLS_LOOP_H
 
 #include <stdint.h>
+
+#include "../../sim/plant_records.h"
+#include "hls_window.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -39,23 +45,6 @@ struct hls_setup {
     const int32_t *speed_ref;  /* n_windows speed references (firmware input, one per window) */
 };
 
-/* One record per window: the integer trace columns of golden.closedloop.WINDOW_FIELDS. */
-struct hls_window {
-    int64_t tick, gamma, gamma_d, n_samples, sum_id, sum_iq, wsum, i_d, i_q, i_d_ref, i_q_ref;
-    int64_t v_d, v_q, sin, cos, theta_hat, theta_pll, omega_pll, omega_f, speed_ref, mode, adc_mode;
-    int64_t cmp_top_a, cmp_top_b, cmp_top_c, cmp_bot_a, cmp_bot_b, cmp_bot_c;
-};
-
-struct hls_sample {            /* one ADC conversion */
-    int64_t tick;
-    int32_t adc_a, adc_b;
-};
-
-struct hls_edge {              /* one gate-mask change: the mask after the tick */
-    int64_t tick;
-    int64_t mask;
-};
-
 /* Record kinds of hls_loop_count / hls_loop_copy. */
 enum hls_kind { HLS_WINDOWS = 0, HLS_OUTPUTS = 1, HLS_TRUTH = 2, HLS_SAMPLES = 3, HLS_EDGES = 4 };
 
@@ -66,8 +55,9 @@ struct hls_loop *hls_loop_create(const struct hls_setup *setup, const struct fw_
  * (hls_loop_error says which; the records up to it stay readable). */
 int32_t hls_loop_run(struct hls_loop *h, int32_t n_windows);
 const char *hls_loop_error(const struct hls_loop *h);
-/* Records of one kind so far: struct hls_window, struct fw_outputs (the firmware's writes after each
- * window), struct plant_state (the plant at each window end), struct hls_sample, struct hls_edge. */
+/* Records of one kind so far: struct hls_window (hls_window.h, generated from WINDOW_FIELDS), struct
+ * fw_outputs (the firmware's writes after each window), struct plant_state (the plant at each window
+ * end), struct adc_sample, struct gate_edge (sim/plant_records.h). */
 int64_t hls_loop_count(const struct hls_loop *h, int32_t kind);
 void hls_loop_copy(const struct hls_loop *h, int32_t kind, void *dst);
 /* The firmware's polarity-flip flag (struct fw_state.flipped) now. */

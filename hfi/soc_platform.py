@@ -1,0 +1,87 @@
+"""The facts of the hfi_soc platform that more than one language needs, written once (docs/soc.md).
+
+``scripts/gen_regs.py`` (``make regs``; its platform part is ``scripts/gen_platform.py``) generates
+from this module:
+
+* ``firmware/include/hfi_soc_platform.h``: the memory map, the RAM size and the window interrupt of the
+  firmware (C);
+* ``firmware/src/fw_trace.h``: the firmware trace record (``TRACE``) as the macro ``FW_TRACE_RECORD``
+  and its length ``FW_TRACE_WORDS``;
+* ``firmware/hfi_soc_memory.ld`` (the linker script's ``MEMORY``) and ``firmware/hfi_soc_platform.mk``
+  (``RAM_BYTES`` of the RAM image);
+* ``rtl/hfi_soc_platform.vh``: the address decode and the parameter defaults of ``rtl/hfi_soc.v``;
+* ``hls/backend/hls_window.h``: ``struct hls_window``, the integer columns of
+  :data:`golden.closedloop.WINDOW_FIELDS` (that tuple is the source of the per-window record).
+
+Python (``hfi/rtl_backend.py``) imports the constants. The dead-time floor and the shortest sampling
+interval are facts of the golden model (``golden.fpga``): they are re-exported here, not restated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from golden.fpga.adc_trigger import OS_MIN_DEFAULT
+from golden.fpga.gate_generator import DEAD_MIN_DEFAULT
+
+# ---------------------------------------------------------------- memory map (hfi_soc address decode)
+PAGE_BITS = 4
+"""The SoC decodes the top PAGE_BITS address bits (31:28): one page of 256 MiB per target."""
+RAM_BASE = 0x0000_0000
+"""RAM: code, data, stack (the stack grows down from the end)."""
+DSP_BASE = 0x1000_0000
+"""hfi_dsp registers (docs/registers.md)."""
+CTL_BASE = 0x2000_0000
+"""SoC control block hfi_soc_ctl (docs/soc_registers.md)."""
+RAM_BYTES = 32768
+"""On-chip RAM of hfi_soc (parameter RAM_BYTES), the firmware's link region and its RAM image."""
+
+# ---------------------------------------------------------------- hfi_dsp parameters of the SoC
+ADC_BITS = 12
+"""Resolution of the serial ADC the SoC's hfi_dsp reads (a scenario's sens.adc_bits must equal it)."""
+IRQ_LATENCY = 400
+"""Window interrupt, clocks after the window boundary; the commit deadline is P - IRQ_LATENCY."""
+DEAD_MIN = DEAD_MIN_DEFAULT
+"""Dead-time floor [clocks] (docs/spec.md 2.4)."""
+OS_MIN = OS_MIN_DEFAULT
+"""Shortest oversampling interval [clocks] (docs/spec.md 2.3)."""
+IRQ_WINDOW = 3
+"""PicoRV32 interrupt line of the hfi_dsp window interrupt."""
+
+
+# ---------------------------------------------------------------- firmware trace record
+@dataclass(frozen=True)
+class TraceWord:
+    """One 32-bit word of the firmware trace record.
+
+    ``expr``: its C expression in ``FW_TRACE_RECORD(put, st, window, cycles)`` (``st`` the firmware's
+    ``struct fw_state``); ``signed``: the word is an int32 (else uint32). A word whose name is a column
+    of golden.closedloop.WINDOW_FIELDS fills that column in the rtl backend.
+    """
+
+    name: str
+    expr: str
+    signed: bool
+
+
+TRACE = (
+    TraceWord("window", "window", False),                  # window index k (WINDOW_COUNT - 2)
+    TraceWord("theta_hat", "st.theta_hat", False),
+    TraceWord("omega_f", "fw_lowpass_out(st.speed_f)", True),
+    TraceWord("i_d", "st.i_d", True),
+    TraceWord("i_q", "st.i_q", True),
+    TraceWord("i_d_ref", "st.i_d_ref", True),
+    TraceWord("i_q_ref", "st.i_q_ref", True),
+    TraceWord("mode", "st.mode", True),
+    TraceWord("flipped", "st.flipped", True),
+    TraceWord("est", "st.active", True),                   # estimator slot in charge
+    TraceWord("theta_lo", "st.est_theta[0]", False),
+    TraceWord("theta_hi", "st.est_theta[1]", False),
+    TraceWord("omega_lo", "st.est_omega[0]", True),
+    TraceWord("omega_hi", "st.est_omega[1]", True),
+    TraceWord("cycles", "cycles", False),                  # rdcycle count of the control step
+)
+"""The firmware trace record (one per window, on the SoC trace port), in order."""
+
+TRACE_FIELDS = tuple(w.name for w in TRACE)
+"""Names of the trace words, in order."""

@@ -15,10 +15,12 @@ one-clock pulse; reads 0), ``rc`` (clear on read).
 
 ``pack(reg, **fields)`` builds a register value (fields not named are 0); ``unpack(reg, value)``
 splits one (signed fields sign-extended). Both raise ValueError on unknown registers or fields and on
-values that do not fit.
+values that do not fit (golden.regfields.RegisterFields, shared by every generated map).
 """
 
 from __future__ import annotations
+
+from golden.regfields import RegisterFields
 
 REGWIDTH = 32
 
@@ -406,58 +408,7 @@ REGISTERS = {
     }},
 }
 
-
-def _reg(reg_name: str) -> dict:
-    try:
-        return REGISTERS[reg_name]
-    except KeyError:
-        raise ValueError(f"unknown register {reg_name!r} (known: {', '.join(REGISTERS)})") from None
-
-
-def field_range(reg_name: str, field_name: str) -> tuple[int, int]:
-    """Inclusive range of the values a field accepts in ``pack`` (signed range for signed fields)."""
-    reg = _reg(reg_name)
-    if field_name not in reg["fields"]:
-        raise ValueError(f"register {reg_name} has no field {field_name!r} (fields: {', '.join(reg['fields'])})")
-    width = reg["fields"][field_name][1]
-    if field_name in reg["signed"]:
-        return -(1 << (width - 1)), (1 << (width - 1)) - 1
-    return 0, (1 << width) - 1
-
-
-def pack(reg_name: str, **fields: int) -> int:
-    """Register value with the given field values (fields not named are 0).
-
-    Signed fields take values in their signed range (stored in two's complement), unsigned fields in
-    0 .. 2^width - 1. Raises ValueError on an unknown register or field or a value that does not fit.
-    """
-    reg = _reg(reg_name)
-    value = 0
-    for name, v in fields.items():
-        lo, hi = field_range(reg_name, name)
-        if not isinstance(v, int):
-            raise ValueError(f"{reg_name}.{name} = {v!r}: not an integer")
-        if not lo <= v <= hi:
-            kind = "signed" if name in reg["signed"] else "unsigned"
-            raise ValueError(f"{reg_name}.{name} = {v} does not fit the {kind} {reg['fields'][name][1]}-bit "
-                             f"field ({lo} .. {hi})")
-        lsb, width = reg["fields"][name][:2]
-        value |= (v & ((1 << width) - 1)) << lsb
-    return value
-
-
-def unpack(reg_name: str, value: int) -> dict[str, int]:
-    """Field values of a register value (signed fields sign-extended).
-
-    Raises ValueError on an unknown register or a value outside 0 .. 2^REGWIDTH - 1.
-    """
-    reg = _reg(reg_name)
-    if not isinstance(value, int) or not 0 <= value < (1 << REGWIDTH):
-        raise ValueError(f"{reg_name} value {value!r} is not a {REGWIDTH}-bit unsigned integer")
-    out = {}
-    for name, (lsb, width, _reset, _access) in reg["fields"].items():
-        v = (value >> lsb) & ((1 << width) - 1)
-        if name in reg["signed"] and v >> (width - 1):
-            v -= 1 << width
-        out[name] = v
-    return out
+_FIELDS = RegisterFields(REGISTERS, REGWIDTH)
+field_range = _FIELDS.field_range
+pack = _FIELDS.pack
+unpack = _FIELDS.unpack

@@ -15,7 +15,8 @@ Outputs (paths relative to the repository root), all written deterministically:
   ``_reset`` macros, the ``<top>_t`` block struct), plus a block of register byte-offset macros
   ``<TOP>__<REG>_offset`` (``HFI_REGS__CTRL_offset``, ``HFI_SOC__CTRL_offset``) added here
   (PeakRDL-cheader 1.1 has none) with C11 static checks of ``<top>_t`` against them;
-- Python constants and ``pack``/``unpack`` helpers, from our own walker;
+- Python constants, from our own walker, with ``pack``/``unpack``/``field_range`` bound from the shared
+  helper ``golden/regfields.py``;
 - Markdown: PeakRDL-markdown;
 - HTML: PeakRDL-html (static site, 8 MB of fonts and scripts: built, not committed; open
   ``index.html``);
@@ -31,6 +32,9 @@ Usage::
     python scripts/gen_regs.py --check    # regenerate into a temporary directory; exit 1 and list
                                           # the outputs that differ from the files in the tree
     python scripts/gen_regs.py --map hfi_soc [--check]   # one map only
+
+Without ``--map`` it also runs ``scripts/gen_platform.py`` (the platform files of hfi_soc: memory map,
+trace record, window record), so ``make regs`` regenerates every generated interface file.
 
 An error in an RDL prints the compiler's message and exits with status 1 (nothing is written).
 """
@@ -208,66 +212,15 @@ one-clock pulse; reads 0), ``rc`` (clear on read).
 
 ``pack(reg, **fields)`` builds a register value (fields not named are 0); ``unpack(reg, value)``
 splits one (signed fields sign-extended). Both raise ValueError on unknown registers or fields and on
-values that do not fit.
+values that do not fit (golden.regfields.RegisterFields, shared by every generated map).
 """
 '''
 
 REGMAP_HELPERS = '''
-
-def _reg(reg_name: str) -> dict:
-    try:
-        return REGISTERS[reg_name]
-    except KeyError:
-        raise ValueError(f"unknown register {reg_name!r} (known: {', '.join(REGISTERS)})") from None
-
-
-def field_range(reg_name: str, field_name: str) -> tuple[int, int]:
-    """Inclusive range of the values a field accepts in ``pack`` (signed range for signed fields)."""
-    reg = _reg(reg_name)
-    if field_name not in reg["fields"]:
-        raise ValueError(f"register {reg_name} has no field {field_name!r} (fields: {', '.join(reg['fields'])})")
-    width = reg["fields"][field_name][1]
-    if field_name in reg["signed"]:
-        return -(1 << (width - 1)), (1 << (width - 1)) - 1
-    return 0, (1 << width) - 1
-
-
-def pack(reg_name: str, **fields: int) -> int:
-    """Register value with the given field values (fields not named are 0).
-
-    Signed fields take values in their signed range (stored in two's complement), unsigned fields in
-    0 .. 2^width - 1. Raises ValueError on an unknown register or field or a value that does not fit.
-    """
-    reg = _reg(reg_name)
-    value = 0
-    for name, v in fields.items():
-        lo, hi = field_range(reg_name, name)
-        if not isinstance(v, int):
-            raise ValueError(f"{reg_name}.{name} = {v!r}: not an integer")
-        if not lo <= v <= hi:
-            kind = "signed" if name in reg["signed"] else "unsigned"
-            raise ValueError(f"{reg_name}.{name} = {v} does not fit the {kind} {reg['fields'][name][1]}-bit "
-                             f"field ({lo} .. {hi})")
-        lsb, width = reg["fields"][name][:2]
-        value |= (v & ((1 << width) - 1)) << lsb
-    return value
-
-
-def unpack(reg_name: str, value: int) -> dict[str, int]:
-    """Field values of a register value (signed fields sign-extended).
-
-    Raises ValueError on an unknown register or a value outside 0 .. 2^REGWIDTH - 1.
-    """
-    reg = _reg(reg_name)
-    if not isinstance(value, int) or not 0 <= value < (1 << REGWIDTH):
-        raise ValueError(f"{reg_name} value {value!r} is not a {REGWIDTH}-bit unsigned integer")
-    out = {}
-    for name, (lsb, width, _reset, _access) in reg["fields"].items():
-        v = (value >> lsb) & ((1 << width) - 1)
-        if name in reg["signed"] and v >> (width - 1):
-            v -= 1 << width
-        out[name] = v
-    return out
+_FIELDS = RegisterFields(REGISTERS, REGWIDTH)
+field_range = _FIELDS.field_range
+pack = _FIELDS.pack
+unpack = _FIELDS.unpack
 '''
 
 
@@ -278,7 +231,8 @@ def _num(v: int | None) -> str:
 
 
 def render_regmap(m: RegMap, regs: list[RegInfo]) -> str:
-    lines = [regmap_doc(m), "from __future__ import annotations", "", "REGWIDTH = 32", ""]
+    lines = [regmap_doc(m), "from __future__ import annotations", "", "from golden.regfields import RegisterFields",
+             "", "REGWIDTH = 32", ""]
     for reg in regs:
         lines.append(f"# {reg.name} @ 0x{reg.addr:02X}: {reg.title}")
         lines.append(f"{reg.name}_ADDR = 0x{reg.addr:02X}")
@@ -453,6 +407,16 @@ def _rel(path: Path) -> str:
         return str(path)
 
 
+def _gen_platform():
+    """scripts/gen_platform.py as a module (scripts/ is not a package)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("gen_platform", ROOT / "scripts" / "gen_platform.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--check", action="store_true",
@@ -464,6 +428,10 @@ def main(argv: list[str] | None = None) -> int:
         ap.error("--rdl needs --map")
     maps = (MAPS_BY_TOP[args.map],) if args.map else MAPS
     sources = {args.map: args.rdl} if args.rdl is not None else {}
+    if args.map is None:
+        status = _gen_platform().main(["--check"] if args.check else [])
+        if status:
+            return status
     try:
         if args.check:
             problems = check(maps=maps, sources=sources)

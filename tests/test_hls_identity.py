@@ -7,6 +7,11 @@ standstill under 2 N·m through both speed steps), full length and same seed, mu
 per-window columns (window results, estimator and controller state, compares, plant truth), register
 writes, ADC samples and gate edges. Shorter runs cover the configurations the default scenario does not
 use: OS_BLANK sampling, DS sampling, a host-side switch to DS during the run, no dead-time compensation.
+
+Every column compared is one the hls backend *produces*, none is copied from the scenario into the
+result: ``speed_ref`` is the value the native loop passed to ``fw_step`` for that window, ``adc_mode``
+the mode its sampling used (so the host-side switch to DS is checked), the firmware state columns are
+read from the host firmware's state (``FW_TRACE_COLUMNS``, the same table as the rtl trace).
 """
 
 from __future__ import annotations

@@ -3,9 +3,16 @@
 The default scenario (``scenarios/fullload_start.toml``, start-up from standstill under 2 N·m) runs on
 the ``golden`` backend (Python bit-true model) and on the ``rtl`` backend (the C firmware on the
 PicoRV32 of the Verilated hfi_soc, the same C plant) with the same seed for ``IDENTITY_S`` seconds.
-Every per-window column (window results, estimator and controller state, register writes, compares,
-plant truth), every ADC sample and every gate edge must be equal: any difference is a bug in one of
-them. The firmware timing (cycles per control step, late commits) is checked against its budget.
+Every per-window column, every ADC sample and every gate edge must be equal: any difference is a bug
+in one of them. The firmware timing (cycles per control step, late commits) is checked against its
+budget.
+
+Every column compared is one the rtl backend *produces*, none is copied from the scenario: window
+results and ``speed_ref`` from the firmware's register reads (``speed_ref`` is the SPEED_REF the
+firmware read, so the host's mailbox write per window is checked), estimator and controller state
+(``est``, ``theta_lo/hi``, ``omega_lo/hi`` included) from the firmware's trace records, register
+values from its writes, compares and ``adc_mode`` (the mode hfi_dsp's sampling used) from the
+hardware at each window interrupt, plant truth from the harness.
 """
 
 from __future__ import annotations
@@ -106,6 +113,19 @@ def test_missing_configuration_keeps_the_gates_off(tmp_path, monkeypatch):
     with pytest.raises(RtlBackendError) as e:
         RtlClosedLoop(sc).run(progress=False, workdir=tmp_path)
     assert "tick 0" in str(e.value) and "no valid configuration block" in str(e.value)
+
+
+def test_adc_width_other_than_the_socs_is_refused():
+    """The plant's ADC (sensors.adc_bits) must have the resolution of the SoC's ADC interface, else the
+    SoC would read other codes than the plant converts."""
+    from hfi import soc_platform
+
+    sc = load_scenario(ROOT / "scenarios" / "fullload_start.toml")
+    assert sc.plant["sens"]["adc_bits"] == soc_platform.ADC_BITS == 12
+    sens = dict(sc.plant["sens"], adc_bits=16)
+    sc = dataclasses.replace(sc, plant=dict(sc.plant, sens=sens))
+    with pytest.raises(RtlBackendError, match="sensors.adc_bits = 16, but the SoC's ADC has 12 bits"):
+        RtlClosedLoop(sc)
 
 
 def test_host_side_ds_switch_is_refused():

@@ -12,7 +12,8 @@ ROOT = Path(__file__).resolve().parents[1]
 CORE = ROOT / "hfi_dsp.core"
 
 
-SOC_FILES = {"rtl/hfi_soc.v", "rtl/hfi_soc_ctl.v", "rtl/hfi_ram.v", "rtl/hfi_uart_tx.v", "rtl/regs/hfi_soc_map.vh"}
+SOC_FILES = {"rtl/hfi_soc.v", "rtl/hfi_soc_ctl.v", "rtl/hfi_ram.v", "rtl/hfi_uart_tx.v", "rtl/regs/hfi_soc_map.vh",
+             "rtl/hfi_soc_platform.vh"}
 """The SoC around the IP (docs/soc.md): not part of hfi_dsp.core."""
 
 

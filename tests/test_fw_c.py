@@ -18,10 +18,13 @@ import numpy as np
 import pytest
 
 from golden.firmware.bangbang import bangbang_step
+from golden.firmware.estimator import METHOD_RFO, METHOD_SQW_BANGBANG
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.pll import PllState, pll_step
+from golden.firmware.rfo import RfoParams
+from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, MODE_NAMES, MODE_POL_NEG,
                                         MODE_POL_POS, MODE_RELAX, MODE_RUN, Firmware, FirmwareParams,
                                         Outputs)
@@ -299,10 +302,8 @@ class Pair:
         self.check_state()
 
     def check_state(self, ctx=()) -> None:
-        got = fw_c.state_from_c(self.st, self.p)
-        if got != self.fw:
-            diff = {k: (getattr(got, k), getattr(self.fw, k)) for k in (*fw_c.STATE_FIELDS, "pll")
-                    if getattr(got, k) != getattr(self.fw, k)}
+        diff = state_diff(fw_c.state_from_c(self.st, self.p), self.fw)
+        if diff:
             pytest.fail(f"state differs (C, golden) {diff} {ctx}")
 
     def step(self, w: WindowResult, speed_ref: int, ctx=()) -> Outputs:
@@ -314,13 +315,37 @@ class Pair:
         return want
 
 
+def state_diff(a: Firmware, b: Firmware) -> dict:
+    """The fields of two firmware states that differ: the shared scalars, the slot outputs, the output
+    history and every attribute of each slot's estimator."""
+    diff = {k: (getattr(a, k), getattr(b, k)) for k in (*fw_c.STATE_FIELDS, "est_theta", "est_omega", "act", "prev")
+            if getattr(a, k) != getattr(b, k)}
+    for slot, (ea, eb) in enumerate(zip(a.slots, b.slots)):
+        if ea is not None:
+            diff.update({(slot, k): (v, vars(eb)[k]) for k, v in vars(ea).items() if v != vars(eb)[k]})
+    return diff
+
+
+def random_rfo(rng: np.random.Generator) -> RfoParams:
+    """Observer integers over their documented ranges (golden.firmware.rfo), with the 002 values frequent."""
+    r_s, l_s = draw(rng, 2, 0, S32_MAX, (2923, 11_700_000))
+    return RfoParams(r_s=r_s, l_s=l_s, psi_f=draw_one(rng, 1, 1 << 27, (11_000_000,)),
+                     k_c=draw_one(rng, 0, 1 << 16, (1644,)), pll_kp=draw_one(rng, 0, S32_MAX, (13107,)),
+                     pll_ki=draw_one(rng, 0, S32_MAX, (167772,)))
+
+
 def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
-    """Valid parameters (PiParams, pll_gains, lowpass_coef, k_bb_raw ranges), short start-up counts."""
+    """Valid parameters (PiParams, pll_gains, lowpass_coef, k_bb_raw ranges), short start-up counts; the
+    high slot is the rotor flux observer in two of three sets, with hand-over speeds that switch often."""
     k_bb, pll_kp, pll_ki = draw(rng, 3, 0, S32_MAX, (27_342_611, 2621, 6711))
     v_h, i_pulse = draw(rng, 2, -S32_MAX, S32_MAX, (300, 5851))
     n_converge, n_pulse = (int(v) for v in rng.integers(-1, 25, size=2))
+    high = METHOD_RFO if rng.random() < 2 / 3 else 0
+    w_down = draw_one(rng, 0, 1 << 24, (0, 100))
     return FirmwareParams(
-        k_bb=k_bb, pll_kp=pll_kp, pll_ki=pll_ki, speed_lp=draw_one(rng, 0, 1 << 16, (2425,)),
+        low=METHOD_SQW_BANGBANG, high=high, sqw=SqwParams(k_bb, pll_kp, pll_ki),
+        rfo=random_rfo(rng) if high else None, w_up=w_down + draw_one(rng, 0, 1 << 24, (0, 1)), w_down=w_down,
+        merge=draw_one(rng, 0, 1 << 16, (0, 1 << 16, 2000)), speed_lp=draw_one(rng, 0, 1 << 16, (2425,)),
         speed_pi=random_pi(rng), id_pi=random_pi(rng), iq_pi=random_pi(rng), v_h=v_h, i_pulse=i_pulse,
         n_converge=n_converge, n_pulse=n_pulse, n_settle=int(rng.integers(-1, 12)),
         i_trip=draw_one(rng, 0, S32_MAX, (1000, 32767)),
@@ -367,7 +392,7 @@ TRIP_FROM = (MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MO
 def test_fw_step_random_sequences(seed, chunk):
     """SEQS_PER_CHUNK sequences of SEQ_LEN windows; each trips (if at all) from a chosen state."""
     rng = np.random.default_rng(seed + 100 + chunk)
-    visited, trips_from, flips = set(), set(), set()
+    visited, trips_from, flips, switches = set(), set(), set(), set()
     for q in range(SEQS_PER_CHUNK):
         fixed = q % 8 == 0
         p = random_params(rng, fixed)
@@ -377,7 +402,7 @@ def test_fw_step_random_sequences(seed, chunk):
         speed_ref = draw_one(rng, S32_MIN, S32_MAX)
         windows = random_windows(rng, SEQ_LEN, p.i_trip, bias)
         for k, w in enumerate(windows):
-            before = pair.fw.mode
+            before, active = pair.fw.mode, pair.fw.active
             if before == trip_mode and rng.random() < 0.25:
                 w = trip_window(rng, p.i_trip)
             if rng.random() < 0.02:
@@ -388,6 +413,9 @@ def test_fw_step_random_sequences(seed, chunk):
                 trips_from.add(before)
             if before == MODE_POL_NEG and pair.fw.mode == MODE_RELAX:
                 flips.add(pair.fw.flipped)
+            if pair.fw.active != active:
+                switches.add(pair.fw.active)
+    assert switches == {0, 1}, switches          # hand-overs both ways
     assert visited == set(range(7)), visited
     assert trips_from == set(TRIP_FROM), trips_from
     assert flips == {0, 1}, flips
@@ -395,7 +423,8 @@ def test_fw_step_random_sequences(seed, chunk):
 
 def _params(**kw) -> FirmwareParams:
     pi = PiParams(kp=1 << 16, sp=16, ki=1 << 10, si=16, limit=2000)
-    base = dict(k_bb=27_342_611, pll_kp=2621, pll_ki=6711, speed_lp=2425, speed_pi=pi, id_pi=pi, iq_pi=pi,
+    base = dict(low=METHOD_SQW_BANGBANG, high=0, sqw=SqwParams(27_342_611, 2621, 6711), rfo=None,
+                speed_lp=2425, speed_pi=pi, id_pi=pi, iq_pi=pi,
                 v_h=5851, i_pulse=300, n_converge=3, n_pulse=4, n_settle=1, i_trip=1000, fixed_angle=None)
     base.update(kw)
     return FirmwareParams(**base)

@@ -201,8 +201,8 @@ static int64_t round_shr64(int64_t x, int n)
 /* golden.firmware.estimator.inv_park */
 static void inv_park(int32_t d, int32_t q, int32_t s, int32_t c, int32_t *al, int32_t *be)
 {
-    *al = (int32_t)round_shr64((int64_t)d * c - (int64_t)q * s, 15);
-    *be = (int32_t)round_shr64((int64_t)d * s + (int64_t)q * c, 15);
+    *al = (int32_t)sat_bits(round_shr64((int64_t)d * c - (int64_t)q * s, 15), 32);
+    *be = (int32_t)sat_bits(round_shr64((int64_t)d * s + (int64_t)q * c, 15), 32);
 }
 
 /* golden.firmware.estimator.window_voltage */

@@ -28,7 +28,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
-from golden.fixed import round_shr
+from golden.fixed import round_shr, sat
 from golden.fpga.demodulator import WindowResult
 
 METHOD_SQW_BANGBANG, METHOD_RFO = 1, 2
@@ -62,8 +62,9 @@ class Measurement:
 
 
 def inv_park(d: int, q: int, s: int, c: int) -> tuple[int, int]:
-    """``(round_shr(d*c - q*s, 15), round_shr(d*s + q*c, 15))``: the modulator's inverse Park (spec 3.5)."""
-    return round_shr(d * c - q * s, 15), round_shr(d * s + q * c, 15)
+    """``(sat(round_shr(d*c - q*s, 15), 32), sat(round_shr(d*s + q*c, 15), 32))``: the modulator's inverse
+    Park (spec 3.5) for s32 ``d, q`` and Q1.15 ``s, c`` (the saturation acts only beyond s16 inputs)."""
+    return sat(round_shr(d * c - q * s, 15), 32), sat(round_shr(d * s + q * c, 15), 32)
 
 
 def window_voltage(now, before) -> tuple[int, int]:

@@ -176,11 +176,6 @@ def angle_deg(a: np.ndarray) -> np.ndarray:
     return a.astype(np.int64) % 2**32 * (360.0 / 2**32)
 
 
-def angle_diff_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a - b`` of u32 binary angles in degrees, wrapped to [-180, 180)."""
-    return ((a.astype(np.int64) - b.astype(np.int64) + 2**31) % 2**32 - 2**31) * (360.0 / 2**32)
-
-
 def est_spans(res: ClosedLoopResult) -> list[tuple[float, float]]:
     """Time spans [s] in which the high-speed estimator is in charge (``est == 1``), window by window:
     each span runs from the start of its first window to the end of its last."""
@@ -200,8 +195,8 @@ def plot_angles(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> str:
     axes[0].plot(t, angle_deg(w["theta_lo"]), lw=0.6, label="θ̂ low-speed slot (HF estimator)")
     axes[0].plot(t, angle_deg(w["theta_hi"]), lw=0.6, label="θ̂ high-speed slot")
     axes[0].set(ylabel="electrical angle [deg]", ylim=(0, 360))
-    axes[1].plot(t, angle_diff_deg(w["theta_e"], w["theta_lo"]), lw=0.6, label="θ − θ̂ low-speed slot")
-    axes[1].plot(t, angle_diff_deg(w["theta_e"], w["theta_hi"]), lw=0.6, label="θ − θ̂ high-speed slot")
+    axes[1].plot(t, res.angle_error_deg("theta_lo"), lw=0.6, label="θ − θ̂ low-speed slot")
+    axes[1].plot(t, res.angle_error_deg("theta_hi"), lw=0.6, label="θ − θ̂ high-speed slot")
     axes[1].set(ylabel="angle error [deg el.]", ylim=(-180, 180), xlabel="t [s]")
     for ax in axes:
         for k, (a, b) in enumerate(est_spans(res)):

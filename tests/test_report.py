@@ -25,7 +25,9 @@ def synthetic() -> tuple[SimpleNamespace, ClosedLoopResult]:
     """2000 windows of 1 ms (t = 1 ms .. 2 s); one speed LSB = 1 r/min (w_lsb = 2 pi/60, one pole pair).
 
     mode: RUN from 0.1 s; reference: 0 r/min to 0.5 s, 50 to 0.6 s, 100 to 2 s;
-    angle error: 10 deg to 0.45 s, -30 deg to 1.85 s, 20 deg to 2 s;
+    true angle: 10 deg to 0.449 s, -30 deg to 1.849 s, 20 deg to 2 s; theta_hat 0: the angle error
+    (golden.closedloop, the true angle in the middle of the window) is that, and the midpoints -10 deg
+    at 0.450 s and -5 deg at 1.850 s;
     measured speed: 5 r/min before 0.45 s, -5 to 0.6 s, 100 to 1.9 s, 104 to 2 s;
     est: 1 (high-speed slot) from 1.2 s to 1.8 s (windows ending 1.200 .. 1.799).
     """
@@ -61,18 +63,19 @@ def test_segments_follow_the_settling_rule():
     m = report.metrics_of(sc, res)
     assert m["run_from_s"] == 0.1
     # plateau 0 r/min, windows 1..500 ms: settled from max(0.001, RUN 0.1) + 0.3 = 0.4 s to 0.5 s;
-    # 50 windows (400..449 ms) at +10 deg / 5 r/min, 51 (450..500 ms) at -30 deg / -5 r/min
+    # 50 windows (400..449 ms) at +10 deg / 5 r/min, 51 (450..500 ms) at -5 r/min, -10 deg then -30 deg
     # plateau 50 r/min (501..600 ms): settled part would start at 0.801 s, after its end: no segment
     # plateau 100 r/min (601..2000 ms): load changes at 1.0 and 1.4 s -> settled from 1.7 s to 2.0 s;
-    # 150 windows (1700..1849) at -30 deg, 151 (1850..2000) at +20 deg; 200 at 100 r/min, 101 at 104
+    # 150 windows (1700..1849) at -30 deg, 1850 at -5 deg, 150 (1851..2000) at +20 deg;
+    # 200 at 100 r/min, 101 at 104
     assert m["segments"] == [
         {"plateau": [0.001, 0.5], "t": [0.4, 0.5], "speed_ref_rpm": 0.0,
          "speed_mean_rpm": round((50 * 5 - 51 * 5) / 101, 2), "speed_ripple_rpm": 5.0,
-         "err_rms_deg": round(math.sqrt((50 * 100 + 51 * 900) / 101), 2), "err_peak_deg": 30.0,
+         "err_rms_deg": round(math.sqrt((50 * 100 + 100 + 50 * 900) / 101), 2), "err_peak_deg": 30.0,
          "estimators": ["low"]},
         {"plateau": [0.601, 2.0], "t": [1.7, 2.0], "speed_ref_rpm": 100.0,
          "speed_mean_rpm": round((200 * 100 + 101 * 104) / 301, 2), "speed_ripple_rpm": 2.0,
-         "err_rms_deg": round(math.sqrt((150 * 900 + 151 * 400) / 301), 2), "err_peak_deg": 30.0,
+         "err_rms_deg": round(math.sqrt((150 * 900 + 25 + 150 * 400) / 301), 2), "err_peak_deg": 30.0,
          "estimators": ["low", "high"]},
     ]
 
@@ -93,11 +96,10 @@ def test_locked_and_angle_error_after_start():
     assert m["locked"] is True                                      # 30 deg < 60 deg
     assert m["angle_error_after_start"]["peak_deg"] == 30.0
     assert m["realtime_factor"] == 0.5 and m["backend"] == "golden"
-    res.windows["theta_e"][1500] = round(61 / 360 * TURN)
+    res.windows["theta_e"][1500:1502] = round(61 / 360 * TURN)        # window 1501: 61 deg
     assert report.metrics_of(sc, res)["locked"] is False
 
 
-def test_angle_helpers_wrap():
-    a = np.array([0, TURN - 2**30, 2**31], dtype=np.int64)
-    assert report.angle_deg(a).tolist() == [0.0, 270.0, 180.0]
-    assert report.angle_diff_deg(a, np.array([2**30, 0, 0])).tolist() == [-90.0, -90.0, -180.0]
+def test_angle_deg_wraps():
+    a = np.array([0, TURN - 2**30, 2**31, TURN + 2**30], dtype=np.int64)
+    assert report.angle_deg(a).tolist() == [0.0, 270.0, 180.0, 90.0]

@@ -22,6 +22,9 @@ SETTLE_S = 0.3
 LOCK_DEG = 60.0
 """``locked``: the angle error stays below this after the start-up (beyond it the estimator slips a pole)."""
 
+ZOOM_S = 0.02
+"""Span of the zoomed panel of ``angles.png`` [s]."""
+
 SLOT_NAMES = ("low", "high")
 """Values of the ``est`` column: the low-speed estimator slot (0) or the high-speed one (1) in charge."""
 
@@ -188,21 +191,29 @@ def est_spans(res: ClosedLoopResult) -> list[tuple[float, float]]:
 def plot_angles(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> str:
     """``angles.png``: the true electrical angle, the HF (low-speed) and the high-speed estimators'
     angles, and each one's error, with the spans where the high-speed estimator is in charge shaded
-    (as Figs. 29-31 of Benevieri et al. 2023: true angle, HF estimate, RFO estimate)."""
+    (as Figs. 29-31 of Benevieri et al. 2023: true angle, HF estimate, RFO estimate); the third panel
+    zooms on ZOOM_S around the first estimator switch (the end of the run if there is none)."""
     w, t = res.windows, res.t
-    fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
-    axes[0].plot(t, angle_deg(w["theta_e"]), lw=0.6, label="θ (true, plant)")
-    axes[0].plot(t, angle_deg(w["theta_lo"]), lw=0.6, label="θ̂ low-speed slot (HF estimator)")
-    axes[0].plot(t, angle_deg(w["theta_hi"]), lw=0.6, label="θ̂ high-speed slot")
-    axes[0].set(ylabel="electrical angle [deg]", ylim=(0, 360))
+    switch = np.nonzero(w["est"][1:] != w["est"][:-1])[0]
+    center = t[switch[0] + 1] if len(switch) else t[-1] - ZOOM_S / 2
+    zoom = (t >= center - ZOOM_S / 2) & (t <= center + ZOOM_S / 2)
+    fig, axes = plt.subplots(3, 1, figsize=(10, 9))
+    for ax, sel in ((axes[0], slice(None)), (axes[2], zoom)):
+        ax.plot(t[sel], angle_deg(w["theta_e"][sel]), lw=0.8, label="θ (true, plant)")
+        ax.plot(t[sel], angle_deg(w["theta_lo"][sel]), lw=0.8, label="θ̂ low-speed slot (HF estimator)")
+        ax.plot(t[sel], angle_deg(w["theta_hi"][sel]), lw=0.8, label="θ̂ high-speed slot")
+        ax.set(ylabel="electrical angle [deg]", ylim=(0, 360))
     axes[1].plot(t, res.angle_error_deg("theta_lo"), lw=0.6, label="θ − θ̂ low-speed slot")
     axes[1].plot(t, res.angle_error_deg("theta_hi"), lw=0.6, label="θ − θ̂ high-speed slot")
     axes[1].set(ylabel="angle error [deg el.]", ylim=(-180, 180), xlabel="t [s]")
+    axes[2].set(xlabel="t [s]", title=f"{ZOOM_S * 1e3:g} ms around the first estimator switch" if len(switch)
+                else f"last {ZOOM_S * 1e3:g} ms (no estimator switch)")
     for ax in axes:
         for k, (a, b) in enumerate(est_spans(res)):
             ax.axvspan(a, b, color="0.85", zorder=0, label="high-speed estimator in charge" if k == 0 else None)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper left")
+    axes[2].set_xlim(float(t[zoom][0]), float(t[zoom][-1]))
     fig.suptitle(f"{sc.name}: {res.backend} closed loop, estimated angles")
     return _save(fig, out_dir, "angles.png")
 

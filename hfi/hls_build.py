@@ -27,7 +27,8 @@ LOOP_LIBRARY = OUT / "libhfihls_loop.so"
 LOOP_SOURCES = ("hls/backend/hls_loop.cpp", "sim/plant_loop.cpp")
 """C++ sources of the hls backend's loop besides the kernels (the plant loop is shared with the rtl backend)."""
 LOOP_HEADERS = ("hls/backend/hls_loop.h", "hls/backend/hls_window.h", "sim/plant_loop.h", "sim/plant_records.h",
-                "firmware/src/fw_trace.h", "firmware/src/control.h", "golden/plant/src/plant_api.h")
+                "firmware/src/fw_trace.h", "firmware/src/control.h", "firmware/include/hfi_regs.h",
+                "golden/plant/src/plant_api.h")
 """Headers the loop library depends on (hls/Makefile lists only the kernels' headers): a newer one rebuilds it."""
 
 

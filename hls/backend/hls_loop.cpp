@@ -32,6 +32,7 @@ extern "C" {
 #include "control.h"
 #pragma GCC visibility pop
 #include "fw_trace.h"
+#include "../../firmware/include/hfi_regs.h"
 }
 
 #include "hfi_adc_trigger.h"
@@ -44,7 +45,10 @@ extern "C" {
 
 namespace {
 
-const fw_outputs RESET_OUTPUTS = {0, 0, 0, 0, 32767, 0, 0, 0};   // register reset values (docs/registers.md)
+// The register reset values (hfi_regs.h, generated from rtl/regs/hfi_regs.rdl), in fw_outputs order.
+const fw_outputs RESET_OUTPUTS = {
+    HFI_REGS__V_DQ__V_D_reset, HFI_REGS__V_DQ__V_Q_reset, HFI_REGS__V_H__VALUE_reset, HFI_REGS__SINCOS__SIN_reset,
+    HFI_REGS__SINCOS__COS_reset, HFI_REGS__CTRL__ENABLE_reset, HFI_REGS__I_REF__I_D_reset, HFI_REGS__I_REF__I_Q_reset};
 
 struct Pattern {                       // sampling instants of one window, identical in every window
     std::vector<int64_t> rel;          // offsets from the window start, sorted

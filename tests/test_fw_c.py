@@ -341,7 +341,7 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
     v_h, i_pulse = draw(rng, 2, -S32_MAX, S32_MAX, (300, 5851))
     n_converge, n_pulse = (int(v) for v in rng.integers(-1, 25, size=2))
     high = METHOD_RFO if rng.random() < 2 / 3 else 0
-    w_down = draw_one(rng, 0, 1 << 24, (0, 100))
+    w_down = int(rng.integers(0, S32_MAX - (1 << 24))) if rng.random() < 0.5 else draw_one(rng, 0, 1 << 24, (0, 100))
     return FirmwareParams(
         low=METHOD_SQW_BANGBANG, high=high, sqw=SqwParams(k_bb, pll_kp, pll_ki),
         rfo=random_rfo(rng) if high else None, w_up=w_down + draw_one(rng, 0, 1 << 24, (0, 1)), w_down=w_down,

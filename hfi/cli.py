@@ -1,6 +1,6 @@
 """The ``hfi`` command: run, check and list what the platform does.
 
-    hfi run FILE [--backend golden|rtl|hls] [--out DIR] [--quiet] [--fst FILE --fst-window T0 T1]
+    hfi run [FILE] [--backend golden|rtl|hls] [--out DIR] [--quiet] [--fst FILE --fst-window T0 T1]
     hfi check FILE...
     hfi methods
     hfi paper [--short] [--only GROUPS] [--jobs N] [--out DIR]
@@ -21,6 +21,7 @@ from pathlib import Path
 from golden.firmware.estimator import INJ_NONE, INJ_SQW_D, METHODS, SLOT_HIGH, SLOT_LOW
 from golden.scenario import ScenarioError, load_scenario
 from hfi import backends
+from hfi.paper import BASE as DEFAULT_SCENARIO
 from hfi.paper import ROOT
 from hfi.paper_groups import GROUPS
 
@@ -118,7 +119,9 @@ def parser() -> argparse.ArgumentParser:
                        description="Simulate FILE and write trace.npz, metrics.json (docs/metrics.md) and plots "
                        "into --out or the scenario's output.dir. A scenario with a [control] table runs the "
                        "closed loop on --backend; one without runs the open-loop injection study.")
-    p.add_argument("file", metavar="FILE", help="scenario file (TOML, docs/scenario.md)")
+    p.add_argument("file", metavar="FILE", nargs="?", default=str(DEFAULT_SCENARIO),
+                   help="scenario file (TOML, docs/scenario.md; default: the default scenario "
+                        "scenarios/fullload_start.toml)")
     p.add_argument("--backend", default=None,
                    help=f"closed-loop backend: {'; '.join(f'{b.name}: {b.description}' for b in backends.BACKENDS.values())} "
                         "(default: $BACKEND or rtl)")

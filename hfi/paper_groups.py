@@ -2,7 +2,7 @@
 
 Each ``group_*`` function takes ``short`` (the test-suite length) and returns
 ``{"ours": {...}, "paper": {...}, "pass": bool, "criteria": str}`` plus the results it ran under
-``"_results"`` (for plots; not written to JSON). ``scripts/reproduce_paper.py`` runs the full versions
+``"_results"`` (for plots; not written to JSON). ``hfi paper`` (:mod:`hfi.reproduce`) runs the full versions
 and writes ``out/paper/metrics.json``; ``tests/test_paper.py`` runs the short ones and asserts the same
 criteria.
 

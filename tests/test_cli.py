@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from hfi.cli import main
+from hfi.cli import BENCH_SCRIPTS, main
 
 ROOT = Path(__file__).resolve().parents[1]
 HFI = Path(sys.executable).parent / "hfi"
@@ -144,3 +144,8 @@ def test_usage_errors_are_one_line_exit_1():
     proc = hfi("paper", "--only", "fig99")
     assert proc.returncode == 1
     assert proc.stderr.startswith("hfi paper: unknown group(s) fig99 (known: fig6_7, ")
+
+
+def test_bench_runs_the_four_benchmarks_of_make_bench():
+    assert BENCH_SCRIPTS == ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls.py")
+    assert sorted(p.name for p in (ROOT / "scripts").glob("bench_*.py")) == sorted(BENCH_SCRIPTS)

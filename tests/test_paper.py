@@ -1,7 +1,7 @@
 """The paper's results (Benevieri et al. 2023, Figs. 6-25) on the golden closed loop, short versions.
 
 Each test runs the figure group of :mod:`hfi.paper_groups` at test length and asserts the issue's
-criteria on the measured numbers; ``scripts/reproduce_paper.py`` runs the full lengths.
+criteria on the measured numbers; ``hfi paper`` runs the full lengths.
 """
 
 from __future__ import annotations

@@ -20,7 +20,9 @@ import dataclasses
 import pytest
 
 from golden.firmware.pi import PiParams
+from golden.firmware.estimator import METHOD_SQW_BANGBANG
 from golden.firmware.pll import PllState
+from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, MODE_NAMES, MODE_POL_NEG,
                                         MODE_POL_POS, MODE_RELAX, MODE_RUN, Firmware, FirmwareParams,
                                         Outputs)
@@ -36,12 +38,20 @@ I_TRIP = 1000
 UNIT_PI = PiParams(kp=1 << 16, sp=16, ki=0, si=16, limit=2000)     # u = clamp(ref - meas, +-2000)
 
 
-def params(**kw) -> FirmwareParams:
-    base = dict(k_bb=K_BB, pll_kp=0, pll_ki=0, speed_lp=2425, speed_pi=UNIT_PI, id_pi=UNIT_PI,
-                iq_pi=UNIT_PI, v_h=V_H, i_pulse=I_PULSE, n_converge=3, n_pulse=4, n_settle=1,
-                i_trip=I_TRIP, fixed_angle=None)
+def params(k_bb: int = K_BB, **kw) -> FirmwareParams:
+    """The square-wave estimator alone (PLL gains 0) with unit current PIs."""
+    base = dict(low=METHOD_SQW_BANGBANG, high=0, sqw=SqwParams(k_bb, 0, 0), rfo=None, speed_lp=2425,
+                speed_pi=UNIT_PI, id_pi=UNIT_PI, iq_pi=UNIT_PI, v_h=V_H, i_pulse=I_PULSE, n_converge=3,
+                n_pulse=4, n_settle=1, i_trip=I_TRIP, fixed_angle=None)
     base.update(kw)
     return FirmwareParams(**base)
+
+
+def firmware(p: FirmwareParams, theta_hat: int = 0) -> Firmware:
+    """A firmware whose low-speed estimator (and so the angle in use) starts at ``theta_hat``."""
+    fw = Firmware(p)
+    fw.slots[0].theta = fw.est_theta[0] = fw.theta_hat = theta_hat
+    return fw
 
 
 def win(gamma=0, gamma_d=0, sum_id=0, sum_iq=0, n=10, wsum=0) -> WindowResult:
@@ -60,7 +70,8 @@ def test_mode_constants():
 #   step  n  mode before -> after   returned i_d*
 #    1    1  CONVERGE               0
 #    2    2  CONVERGE               0
-#    3    3  CONVERGE -> POL_POS    0        (n >= 3; CONVERGE returns 0 on its last step)
+#    3    3  CONVERGE -> POL_POS    +I_p     (n >= 3; CONVERGE's last step starts the pulse: both pulses
+#                                            last n_pulse = 4 windows)
 #    4    1  POL_POS                +I_p
 #    5    2  POL_POS                +I_p     (n > n_settle: gamma_d summed into pol_pos)
 #    6    3  POL_POS                +I_p     (summed)
@@ -74,7 +85,7 @@ def test_mode_constants():
 # RUN: i_q* = clamp(speed_ref - omega_f, +-2000) = 123 - 0 = 123 (unit speed PI, omega_f = 0).
 SEQ_MODES = [MODE_CONVERGE, MODE_CONVERGE, MODE_POL_POS, MODE_POL_POS, MODE_POL_POS, MODE_POL_POS,
              MODE_POL_NEG, MODE_POL_NEG, MODE_POL_NEG, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_RUN]
-SEQ_ID_REF = [0, 0, 0, I_PULSE, I_PULSE, I_PULSE, -I_PULSE, -I_PULSE, -I_PULSE, -I_PULSE, 0, 0, 0]
+SEQ_ID_REF = [0, 0, I_PULSE, I_PULSE, I_PULSE, I_PULSE, -I_PULSE, -I_PULSE, -I_PULSE, -I_PULSE, 0, 0, 0]
 SEQ_IQ_REF = [0] * 11 + [123, 123]
 
 
@@ -115,7 +126,7 @@ def run_polarity(theta0: int, gd_pos, gd_neg):
     """Steps 1..11 of the start-up with gamma = 0; gd_pos / gd_neg: gamma_d of steps 5-7 / 9-11.
 
     The other windows carry large gamma_d values that must not be summed."""
-    fw = Firmware(params(), theta_hat=theta0)
+    fw = firmware(params(), theta0)
     gd = [10**6, -10**6, 10**6, 777_777] + list(gd_pos) + [-888_888] + list(gd_neg)
     outs = [fw.step(win(gamma_d=g), speed_ref=0) for g in gd]
     return fw, outs
@@ -132,7 +143,7 @@ def test_polarity_flip_when_negative_pulse_responds_more(theta0):
     assert (fw.pol_pos, fw.pol_neg) == (60, 63)
     assert fw.flipped == 1
     assert fw.theta_hat == expected
-    assert fw.pll == PllState(HALF_TURN, 0, 0)
+    assert fw.slots[0].pll == PllState(HALF_TURN, 0, 0)
     assert fw.mode == MODE_RELAX
     # outputs: the angle before the decision in steps 1..10, the turned one from step 11 on
     assert all((o.sin, o.cos) == sincos_q15(theta0) for o in outs[:10])
@@ -153,7 +164,7 @@ def test_polarity_no_flip(gd_pos, gd_neg, pos, neg):
     assert (fw.pol_pos, fw.pol_neg) == (pos, neg)
     assert fw.flipped == 0
     assert fw.theta_hat == 0x12345678
-    assert fw.pll == PllState(0, 0, 0)
+    assert fw.slots[0].pll == PllState(0, 0, 0)
     assert fw.mode == MODE_RELAX
     assert all((o.sin, o.cos) == sincos_q15(0x12345678) for o in outs)
 
@@ -184,7 +195,7 @@ def test_bangbang_sign_convention():
 
 def test_bangbang_wraps_at_the_top():
     # theta_hat = 2^32 - 10, gamma > 0: 2^32 - 10 + 1000 - 2^32 = 990
-    fw = Firmware(params(n_converge=1000), theta_hat=TURN - 10)
+    fw = firmware(params(n_converge=1000), TURN - 10)
     fw.step(win(gamma=1), speed_ref=0)
     assert fw.theta_hat == 990
 
@@ -208,7 +219,7 @@ FAULT_OUT = Outputs(v_d=0, v_q=0, v_h=0, sin=0, cos=32767, enable=0, i_d_ref=0, 
     (0, -10_010),     # i_q mean -1001
 ])
 def test_software_overcurrent_trips_and_latches(sum_id, sum_iq):
-    fw = Firmware(params(), theta_hat=0x40000000)
+    fw = firmware(params(), 0x40000000)
     fw.step(win(gamma=5), speed_ref=0)                     # theta_hat 0x40000000 + 1000
     o = fw.step(win(gamma=5, sum_id=sum_id, sum_iq=sum_iq), speed_ref=0)
     assert fw.mode == MODE_FAULT
@@ -257,7 +268,7 @@ def test_fixed_angle_mode(angle, theta):
         assert fw.mode == MODE_FIXED
         assert fw.theta_hat == theta
         assert o == Outputs(v_d=50, v_q=-30, v_h=V_H, sin=s, cos=c, enable=1, i_d_ref=0, i_q_ref=0)
-        assert fw.pll == PllState(0, 0, 0)      # estimator off
+        assert fw.slots[0].pll == PllState(0, 0, 0)      # estimator off
     assert fw.flipped == 0 and fw.pol_pos == 0 and fw.pol_neg == 0
 
 
@@ -266,7 +277,7 @@ def test_fixed_angle_mode(angle, theta):
                                     0x2AAAAAAB, 0xDEADBEEF])
 def test_sin_cos_follow_theta_hat(theta0):
     # CONVERGE, gamma > 0: theta_hat = theta0 + 1000 (mod 2^32); then gamma < 0: back to theta0
-    fw = Firmware(params(n_converge=1000), theta_hat=theta0)
+    fw = firmware(params(n_converge=1000), theta0)
     o = fw.step(win(gamma=1), speed_ref=0)
     t1 = (theta0 + 1000) % TURN
     assert fw.theta_hat == t1 and (o.sin, o.cos) == sincos_q15(t1)
@@ -277,4 +288,4 @@ def test_sin_cos_follow_theta_hat(theta0):
 def test_params_are_frozen():
     p = params()
     with pytest.raises(dataclasses.FrozenInstanceError):
-        p.k_bb = 1   # type: ignore[misc]
+        p.low = 2   # type: ignore[misc]

@@ -539,7 +539,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         out->v_d = pi_step(&st->id_int, i_d_ref, i_d, &p->id_pi);
         out->v_q = pi_step(&st->iq_int, i_q_ref, i_q, &p->iq_pi);
         int32_t method = slot_method(p, st->active);
-        out->v_h = st->mode != FW_FIXED && fw_method_injects[method] ? p->v_h : 0;
+        out->v_h = st->mode == FW_FIXED || fw_method_injects[method] ? p->v_h : 0;
         fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
         out->enable = 1;
         out->i_d_ref = i_d_ref;

@@ -28,7 +28,7 @@ States (``MODE_*``):
               upwards, the angle in use keeps its value and the difference to the new estimator decays
               by ``merge`` (Q16) per period; downwards, the low-speed estimator continues from the angle
               and speed in use (``sync``). The injection follows the estimator in charge.
-``FIXED``     open-loop test (paper Sec. IV-A): theta_hat fixed, estimators off, current references 0
+``FIXED``     open-loop test (paper Sec. IV-A): theta_hat fixed, injection on, estimators off, current references 0
               (the current loops keep the back-EMF from driving current).
 ``FAULT``     outputs disabled (software overcurrent on the window means).
 """
@@ -193,7 +193,7 @@ class Firmware:
             v_d, self.id_int = pi_step(self.id_int, i_d_ref, i_d, p.id_pi)
             v_q, self.iq_int = pi_step(self.iq_int, i_q_ref, i_q, p.iq_pi)
             s, c = sincos_q15(self.theta_hat)
-            inj = self.mode != MODE_FIXED and BY_ID[self.slots[self.active].METHOD].injection == INJ_SQW_D
+            inj = self.mode == MODE_FIXED or BY_ID[self.slots[self.active].METHOD].injection == INJ_SQW_D
             out = Outputs(v_d, v_q, p.v_h if inj else 0, s, c, 1, i_d_ref, i_q_ref)
         self.prev = self.act[0]
         self.act = [self.act[1], out]

@@ -107,6 +107,18 @@ class ClosedLoopResult:
         return err * (360.0 / 2**32)
 
 
+def speed_references(sc: Scenario, hw: HardwareConfig, sc_: Scales) -> np.ndarray:
+    """The firmware's speed reference of every window of the run (int32, one per window; its length is
+    the number of windows): the scenario's reference profile at each window end, in speed LSB.
+    Every backend runs exactly these windows. ValueError if the run is shorter than one window."""
+    H, P, tick_hz = hw.pwm_half, 2 * hw.pwm_half, sc.pwm.tick_hz
+    n_win = int((round(sc.duration * tick_hz) - H // 2) // P)
+    if n_win < 1:
+        raise ValueError(f"duration {sc.duration} s is shorter than one PWM period")
+    win_end = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
+    return np.array([sc_.speed_mech(v) for v in profile_at(sc.reference_speed, win_end / tick_hz)], dtype=np.int32)
+
+
 class ClosedLoop:
     """Closed-loop simulation of one scenario (``control.mode`` closed or fixed_angle)."""
 
@@ -145,11 +157,8 @@ class ClosedLoop:
         sc, hw, H = self.sc, self.hw, self.half
         P = 2 * H
         tick_hz = sc.pwm.tick_hz
-        n_win = int((round(sc.duration * tick_hz) - H // 2) // P)
-        if n_win < 1:
-            raise ValueError(f"duration {sc.duration} s is shorter than one PWM period")
-        win_end = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
-        speed_ref = [self.scales.speed_mech(v) for v in profile_at(sc.reference_speed, win_end / tick_hz)]
+        speed_ref = speed_references(sc, hw, self.scales).tolist()
+        n_win = len(speed_ref)
         ds_from = (math.inf if sc.control.switch_to_ds_at is None else sc.control.switch_to_ds_at) * tick_hz
         rec = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
         truths = []

@@ -18,7 +18,7 @@ import time
 import cffi
 import numpy as np
 
-from golden.closedloop import OUTPUT_FIELDS, ClosedLoopResult, profile_at, truth_columns
+from golden.closedloop import OUTPUT_FIELDS, ClosedLoopResult, speed_references, truth_columns
 from golden.control_config import firmware_params, hardware_config, scales
 from golden.fpga.adc_trigger import OS_MIN_DEFAULT
 from golden.fpga.gate_generator import DEAD_MIN_DEFAULT
@@ -74,14 +74,10 @@ class HlsClosedLoop:
 
     def run(self, progress: bool = True) -> ClosedLoopResult:
         sc, hw = self.sc, self.hw
-        H, P = hw.pwm_half, 2 * hw.pwm_half
+        H = hw.pwm_half
         tick_hz = sc.pwm.tick_hz
-        n_win = int((round(sc.duration * tick_hz) - H // 2) // P)
-        if n_win < 1:
-            raise ValueError(f"duration {sc.duration} s is shorter than one PWM period")
-        win_end = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
-        speed_ref = np.array([self.scales.speed_mech(v) for v in profile_at(sc.reference_speed, win_end / tick_hz)],
-                             dtype=np.int32)
+        speed_ref = speed_references(sc, hw, self.scales)
+        n_win = len(speed_ref)
         ffi, lib = _library()
         setup = ffi.new("struct hls_setup *")
         for name, value in (("half", H), ("dead_ticks", hw.dead_ticks),

@@ -20,6 +20,7 @@ import numpy as np  # noqa: E402
 
 from golden.scenario import Scenario  # noqa: E402
 from hfi.openloop_run import OpenLoopResult, estimated_frame, theory_envelopes  # noqa: E402
+from hfi.report import save_figure  # noqa: E402
 
 
 def metrics_of(scn: Scenario, res: OpenLoopResult) -> dict:
@@ -61,7 +62,7 @@ def plot(scn: Scenario, res: OpenLoopResult, out_dir: str) -> list[str]:
     ax.set(xlabel="t [ms]", ylabel="current [A]", title=f"{scn.name}: phase currents, last two PWM periods")
     ax.legend(ncol=3, fontsize=8)
     ax.grid(alpha=0.3)
-    files.append(_save(fig, out_dir, "phase_currents.png"))
+    files.append(save_figure(fig, out_dir, "phase_currents.png"))
 
     true_hat = estimated_frame(res.truth["i_abc"], scn.injection.theta_hat)
     fig, axes = plt.subplots(3, 1, figsize=(10, 7), sharex=True)
@@ -76,7 +77,7 @@ def plot(scn: Scenario, res: OpenLoopResult, out_dir: str) -> list[str]:
     axes[2].set(xlabel="t [ms]")
     fig.suptitle(f"{scn.name}: currents in the estimated frame (theta_hat = "
                  f"{math.degrees(scn.injection.theta_hat):.1f} deg)")
-    files.append(_save(fig, out_dir, "dq_estimated.png"))
+    files.append(save_figure(fig, out_dir, "dq_estimated.png"))
 
     err = float(res.truth["theta_e"][0]) - scn.injection.theta_hat
     a_d, a_q = theory_envelopes(scn, err)
@@ -94,16 +95,8 @@ def plot(scn: Scenario, res: OpenLoopResult, out_dir: str) -> list[str]:
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
     fig.suptitle(f"{scn.name}: HF envelopes per PWM period (angle error {math.degrees(err):.1f} deg)")
-    files.append(_save(fig, out_dir, "hf_envelopes.png"))
+    files.append(save_figure(fig, out_dir, "hf_envelopes.png"))
     return files
-
-
-def _save(fig, out_dir: str, name: str) -> str:
-    path = os.path.join(out_dir, name)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
 
 
 def write_all(scn: Scenario, res: OpenLoopResult, out_dir: str) -> tuple[dict, list[str]]:

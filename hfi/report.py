@@ -155,7 +155,7 @@ def plot(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> list[str]:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper left") if ax.get_legend_handles_labels()[0] else None
     fig.suptitle(f"{sc.name}: {res.backend} closed loop")
-    files.append(_save(fig, out_dir, "closed_loop.png"))
+    files.append(save_figure(fig, out_dir, "closed_loop.png"))
     files.append(plot_angles(sc, res, out_dir))
 
     bits = res.hw.adc_bits
@@ -170,7 +170,7 @@ def plot(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> list[str]:
     axes[1].set(xlabel="t [ms]", ylabel="i_a (ADC) [A]", title="last 2 ms (1 µs samples)")
     for ax in axes:
         ax.grid(alpha=0.3)
-    files.append(_save(fig, out_dir, "phase_current.png"))
+    files.append(save_figure(fig, out_dir, "phase_current.png"))
     return files
 
 
@@ -215,10 +215,11 @@ def plot_angles(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> str:
         ax.legend(fontsize=7, loc="upper left")
     axes[2].set_xlim(float(t[zoom][0]), float(t[zoom][-1]))
     fig.suptitle(f"{sc.name}: {res.backend} closed loop, estimated angles")
-    return _save(fig, out_dir, "angles.png")
+    return save_figure(fig, out_dir, "angles.png")
 
 
-def _save(fig, out_dir: str, name: str) -> str:
+def save_figure(fig, out_dir: str, name: str) -> str:
+    """Lay out, save as ``out_dir/name`` (110 dpi) and close ``fig``; returns the path."""
     path = os.path.join(out_dir, name)
     fig.tight_layout()
     fig.savefig(path, dpi=110)

@@ -34,7 +34,7 @@ import numpy as np
 
 from golden import regmap as rm
 from golden import socmap
-from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, profile_at, truth_columns
+from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, speed_references, truth_columns
 from golden.control_config import HardwareConfig, firmware_params, hardware_config, scales
 from golden.fixed import wrap
 from golden.plant import Plant, binding
@@ -254,14 +254,10 @@ class RtlClosedLoop:
         """Run the co-simulation. ``fst``: FST waveform file; ``fst_window``: its time span [s]
         (default: the first 2 ms)."""
         sc, hw = self.sc, self.hw
-        H, P = hw.pwm_half, 2 * hw.pwm_half
+        H = hw.pwm_half
         tick_hz = sc.pwm.tick_hz
-        n_win = int((round(sc.duration * tick_hz) - H // 2) // P)
-        if n_win < 1:
-            raise ValueError(f"duration {sc.duration} s is shorter than one PWM period")
-        win_end = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
-        speed_ref = np.array([self.scales.speed_mech(v) for v in profile_at(sc.reference_speed, win_end / tick_hz)],
-                             dtype=np.int32)
+        speed_ref = speed_references(sc, hw, self.scales)
+        n_win = len(speed_ref)
 
         elf = build_firmware()
         lib_path = build_sim(fst=fst is not None)

@@ -39,6 +39,7 @@ import numpy as np  # noqa: E402
 
 from golden.closedloop import WINDOW_FIELDS, truth_columns  # noqa: E402
 from golden.plant.binding import STATE_DTYPE  # noqa: E402
+from hfi import generated  # noqa: E402
 from hfi import soc_platform as sp  # noqa: E402
 
 HEADER = "firmware/include/hfi_soc_platform.h"
@@ -195,23 +196,12 @@ RENDERERS: dict[str, Callable[[], str]] = {
 
 def check(repo_root: Path = ROOT) -> list[str]:
     """``<path>: missing|differs`` for each output in ``repo_root`` that is not what its renderer gives."""
-    problems = []
-    for rel, fn in RENDERERS.items():
-        path = repo_root / rel
-        if not path.is_file():
-            problems.append(f"{rel}: missing")
-        elif path.read_text(encoding="utf-8") != fn():
-            problems.append(f"{rel}: differs")
-    return problems
+    return generated.stale(RENDERERS, repo_root)
 
 
 def write(repo_root: Path = ROOT) -> list[str]:
     """Write every output; the paths written."""
-    texts = {rel: fn() for rel, fn in RENDERERS.items()}     # all rendered before anything is written
-    for rel, text in texts.items():
-        (repo_root / rel).parent.mkdir(parents=True, exist_ok=True)
-        (repo_root / rel).write_text(text, encoding="utf-8")
-    return list(texts)
+    return generated.write_all(RENDERERS, repo_root)
 
 
 def main(argv: list[str] | None = None) -> int:

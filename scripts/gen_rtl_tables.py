@@ -41,6 +41,7 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from golden.fpga import cordic  # noqa: E402
+from hfi import generated  # noqa: E402
 
 OUTPUT = "rtl/hfi_cordic_tables.vh"  # relative to ROOT
 FW_OUTPUT = "firmware/src/fw_cordic_table.h"  # relative to ROOT
@@ -196,14 +197,7 @@ RENDERERS = {OUTPUT: render, FW_OUTPUT: render_fw, HLS_OUTPUT: render_hls}
 
 def check(repo_root: Path = ROOT) -> list[str]:
     """Problems of the generated files in ``repo_root`` (``[]`` if each is what its renderer gives)."""
-    problems = []
-    for rel, fn in RENDERERS.items():
-        path = repo_root / rel
-        if not path.is_file():
-            problems.append(f"{rel}: missing")
-        elif path.read_text() != fn():
-            problems.append(f"{rel}: differs")
-    return problems
+    return generated.stale(RENDERERS, repo_root)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -222,8 +216,7 @@ def main(argv: list[str] | None = None) -> int:
             return 1
         print("gen_rtl_tables: generated CORDIC tables are up to date")
         return 0
-    for rel, fn in RENDERERS.items():
-        (ROOT / rel).write_text(fn())
+    for rel in generated.write_all(RENDERERS, ROOT):
         print(f"wrote {rel}")
     return 0
 

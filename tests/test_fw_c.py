@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from golden.firmware.bangbang import bangbang_step
-from golden.firmware.estimator import METHOD_RFO, METHOD_SQW_BANGBANG
+from golden.firmware.estimator import METHOD_RFO, METHOD_SQW_BANGBANG, METHODS, SLOT_HIGH, SLOT_LOW
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
 from golden.firmware.pi import PiParams, pi_step
@@ -80,6 +80,13 @@ def test_header_parsed_and_modes_match_golden():
     assert c_modes == [MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT]
     assert len(MODE_NAMES) == len(c_modes)
     assert "#" not in fw_c.header_cdef()
+
+
+def test_method_ids_and_slots_match_golden():
+    """enum fw_method / fw_slot equal golden.firmware.estimator's ids; every registered method has a C entry."""
+    assert (lib.FW_METHOD_SQW_BANGBANG, lib.FW_METHOD_RFO) == (METHOD_SQW_BANGBANG, METHOD_RFO)
+    assert (lib.FW_SLOT_LOW, lib.FW_SLOT_HIGH) == (SLOT_LOW, SLOT_HIGH)
+    assert lib.FW_METHODS == 1 + max(m.method for m in METHODS.values())
 
 
 def test_build_failure_reports_make_output(tmp_path):
@@ -415,7 +422,7 @@ def test_fw_step_random_sequences(seed, chunk):
                 flips.add(pair.fw.flipped)
             if pair.fw.active != active:
                 switches.add(pair.fw.active)
-    assert switches == {0, 1}, switches          # hand-overs both ways
+    assert SLOT_HIGH in switches, switches       # hand-overs happen (both ways: test_hand_over_*)
     assert visited == set(range(7)), visited
     assert trips_from == set(TRIP_FROM), trips_from
     assert flips == {0, 1}, flips
@@ -491,3 +498,46 @@ def test_window_counter_saturates_at_int32_max():
     assert fw_c.outputs_from_c(pair.out) == want
     pair.fw.n = S32_MAX
     pair.check_state()
+
+
+def _running(active: int, speed_f: int, w_up: int, w_down: int) -> Firmware:
+    """A firmware in RUN with the rotor flux observer as the high slot, the given slot in charge and
+    filtered speed (Q16 state), distinct angles in the two slots."""
+    rfo = RfoParams(r_s=2923, l_s=11_700_000, psi_f=11_000_000, k_c=1644, pll_kp=13107, pll_ki=167772)
+    fw = Firmware(_params(high=METHOD_RFO, rfo=rfo, w_up=w_up, w_down=w_down, merge=2000))
+    fw.mode, fw.n, fw.active, fw.speed_f = MODE_RUN, 5, active, speed_f
+    fw.slots[SLOT_LOW].theta = fw.est_theta[SLOT_LOW] = 0x1000_0000
+    fw.slots[SLOT_HIGH].theta = fw.est_theta[SLOT_HIGH] = 0x1800_0000
+    fw.slots[SLOT_HIGH].x_al, fw.slots[SLOT_HIGH].x_be = 11_000_000, 3_000_000
+    fw.theta_hat = fw.est_theta[active]
+    return fw
+
+
+def test_hand_over_up_is_bumpless_and_stops_the_injection():
+    """|omega_f| > w_up with the low slot in charge: the high slot takes charge, the angle in use is the low
+    slot's (offset = low - high), no injection from this step on; C = golden."""
+    fw0 = _running(SLOT_LOW, (1 << 30) << 16, w_up=1 << 29, w_down=1 << 28)   # far above what one step moves
+    pair = Pair(fw0.p, fw0)
+    fw = pair.fw
+    out = pair.step(_win(gamma=0, sum_id=0, sum_iq=0), 4000)
+    assert fw.active == pair.st.active == SLOT_HIGH
+    assert fw.theta_hat == fw.est_theta[SLOT_LOW] == 0x1000_0000          # gamma 0: the bang-bang held
+    assert fw.offset == (fw.theta_hat - fw.est_theta[SLOT_HIGH] + 2**31) % 2**32 - 2**31
+    assert out.v_h == 0
+
+
+def test_hand_over_down_syncs_the_low_slot_and_restarts_the_injection():
+    """|omega_f| < w_down with the high slot in charge: the low slot continues from the angle in use and
+    the high slot's speed, holds gamma for one step, the injection is back; C = golden."""
+    fw0 = _running(SLOT_HIGH, 0, w_up=1 << 30, w_down=1 << 30)                 # far above what one step moves
+    fw0.offset = 1 << 20
+    pair = Pair(fw0.p, fw0)
+    fw = pair.fw
+    out = pair.step(_win(gamma=5, sum_id=0, sum_iq=0), 0)
+    lo = fw.slots[SLOT_LOW]
+    assert fw.active == pair.st.active == SLOT_LOW
+    assert lo.hold == 1 and lo.theta == fw.theta_hat == fw.est_theta[SLOT_LOW]
+    assert lo.omega == fw.est_omega[SLOT_HIGH]
+    assert out.v_h == fw.p.v_h
+    pair.step(_win(gamma=5, sum_id=0, sum_iq=0), 0)      # the hold step: gamma ignored, PLL speed added
+    assert lo.hold == 0

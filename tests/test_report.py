@@ -32,7 +32,6 @@ def synthetic() -> tuple[SimpleNamespace, ClosedLoopResult]:
     est: 1 (high-speed slot) from 1.2 s to 1.8 s (windows ending 1.200 .. 1.799).
     """
     ms = np.arange(1, 2001)
-    t = ms / 1000.0
     w = {name: np.zeros(len(ms), dtype=np.int64) for name in WINDOW_FIELDS}
     w["tick"] = ms * 100_000
     w["mode"][:] = np.where(ms >= 100, MODE["RUN"], MODE["CONVERGE"])

@@ -6,7 +6,8 @@ with the same plant library. The default scenario (``scenarios/fullload_start.to
 standstill under 2 N·m through both speed steps), full length and same seed, must give identical
 per-window columns (window results, estimator and controller state, compares, plant truth), register
 writes, ADC samples and gate edges. Shorter runs cover the configurations the default scenario does not
-use: OS_BLANK sampling, DS sampling, a host-side switch to DS during the run, no dead-time compensation.
+use: OS_BLANK sampling, DS sampling, a host-side switch to DS during the run, no dead-time compensation;
+the hand-over scenario (scenarios/handover_short.toml) runs both estimator methods in charge in turn.
 
 Every column compared is one the hls backend *produces*, none is copied from the scenario into the
 result: ``speed_ref`` is the value the native loop passed to ``fw_step`` for that window, ``adc_mode``
@@ -91,6 +92,14 @@ def test_other_configurations_identical(change):
     _assert_identical(gold, hls)
     if change.get("adc_mode") == "OS_BLANK":     # the blanking acted
         assert hls.windows["n_samples"].min() < 200
+
+
+def test_hand_over_scenario_identical():
+    """scenarios/handover_short.toml, full length: both estimator methods in charge in turn, identical."""
+    sc = load_scenario(ROOT / "scenarios" / "handover_short.toml")
+    gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
+    _assert_identical(gold, hls)
+    assert np.diff(hls.windows["est"]).tolist().count(1) == 1 and np.diff(hls.windows["est"]).tolist().count(-1) == 1
 
 
 def test_bad_setup_is_refused_with_a_message():

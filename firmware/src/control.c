@@ -491,12 +491,6 @@ static int32_t supervise(struct fw_state *st, const struct fw_params *p, const s
     }
 }
 
-/* The outputs of FAULT: Outputs(0, 0, 0, 0, 32767, 0), references 0. */
-static void fault_outputs(struct fw_outputs *out)
-{
-    *out = reset_outputs;
-}
-
 /* golden.firmware.supervisor.Firmware.step: one window interrupt, same state updates in the same order. */
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out)
@@ -534,7 +528,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
     if (st->mode == FW_FAULT) {
         st->id_int = 0;
         st->iq_int = 0;
-        fault_outputs(out);
+        *out = reset_outputs; /* FAULT: the reset values, gates off */
     } else {
         out->v_d = pi_step(&st->id_int, i_d_ref, i_d, &p->id_pi);
         out->v_q = pi_step(&st->iq_int, i_q_ref, i_q, &p->iq_pi);

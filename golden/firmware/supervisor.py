@@ -188,7 +188,7 @@ class Firmware:
         self.i_d_ref, self.i_q_ref = i_d_ref, i_q_ref
         if self.mode == MODE_FAULT:
             self.id_int = self.iq_int = 0
-            out = Outputs(0, 0, 0, 0, 32767, 0)
+            out = RESET_OUTPUTS
         else:
             v_d, self.id_int = pi_step(self.id_int, i_d_ref, i_d, p.id_pi)
             v_q, self.iq_int = pi_step(self.iq_int, i_q_ref, i_q, p.iq_pi)

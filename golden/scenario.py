@@ -269,6 +269,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "flux_bw": _q("frequency", _positive, default=20.0),
         "pll_kp": Field("number", check=_positive, default=1000.0),
         "pll_ki": Field("number", check=_positive, default=250000.0),
+        "i_d_min": _q("current", _non_negative, default=1.0),
     },
     "simulation": {
         "max_substep": _q("time", _positive),

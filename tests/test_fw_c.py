@@ -338,7 +338,7 @@ def random_rfo(rng: np.random.Generator) -> RfoParams:
     r_s, l_s = draw(rng, 2, 0, S32_MAX, (2923, 11_700_000))
     return RfoParams(r_s=r_s, l_s=l_s, psi_f=draw_one(rng, 1, 1 << 27, (11_000_000,)),
                      k_c=draw_one(rng, 0, 1 << 16, (1644,)), pll_kp=draw_one(rng, 0, S32_MAX, (13107,)),
-                     pll_ki=draw_one(rng, 0, S32_MAX, (167772,)))
+                     pll_ki=draw_one(rng, 0, S32_MAX, (167772,)), i_d=draw_one(rng, -S32_MAX, 0, (-2621,)))
 
 
 def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:

@@ -284,6 +284,12 @@ void fw_sqw_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
     e->hold = SQW_SYNC_HOLD;
 }
 
+int32_t fw_sqw_i_d(const struct fw_params *p)
+{
+    (void)p;
+    return 0;
+}
+
 /* ---- estimator rfo (golden.firmware.rfo) ------------------------------------------------------------ */
 
 #define RFO_FLUX_FRAC 8          /* golden.firmware.rfo.FLUX_FRAC */
@@ -350,10 +356,15 @@ void fw_rfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
     e->omega = omega;
 }
 
+int32_t fw_rfo_i_d(const struct fw_params *p)
+{
+    return p->rfo.i_d;
+}
+
 /* golden.firmware.methods.CLASSES: the members of the plug-in interface, by method id. */
 static const struct fw_est_ops fw_methods[FW_METHODS] = {
-    [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync},
-    [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync},
+    [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync, fw_sqw_i_d},
+    [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d},
 };
 
 /* golden.firmware.estimator.METHODS[...].injection == INJ_SQW_D, by method id */
@@ -519,6 +530,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         i_d_ref = supervise(st, p, win);
         if (st->mode == FW_RUN) {
             hand_over(st, p);
+            i_d_ref = fw_methods[slot_method(p, st->active)].i_d(p);
             i_q_ref = pi_step(&st->speed_int, speed_ref, fw_lowpass_out(st->speed_f), &p->speed_pi);
         }
         st->theta_hat = angle_in_use(st);

@@ -61,6 +61,7 @@ struct fw_rfo_params {
     int32_t k_c;
     int32_t pll_kp;
     int32_t pll_ki;
+    int32_t i_d;
 };
 
 struct fw_rfo_state {
@@ -184,6 +185,7 @@ struct fw_est_ops {
                  int32_t *omega);
     void (*turn)(struct fw_state *st, uint32_t delta);
     void (*sync)(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+    int32_t (*i_d)(const struct fw_params *p);   /* d-current reference while in charge (RUN) */
 };
 
 /* Method sqw_bangbang (golden.firmware.sqw_bangbang.SquareWaveBangBang) */
@@ -191,11 +193,13 @@ void fw_sqw_step(struct fw_state *st, const struct fw_params *p, const struct fw
                  int32_t *omega);
 void fw_sqw_turn(struct fw_state *st, uint32_t delta);
 void fw_sqw_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+int32_t fw_sqw_i_d(const struct fw_params *p);
 /* Method rfo (golden.firmware.rfo.RotorFluxObserver) */
 void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
                  int32_t *omega);
 void fw_rfo_turn(struct fw_state *st, uint32_t delta);
 void fw_rfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+int32_t fw_rfo_i_d(const struct fw_params *p);
 
 /* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref) */
 void fw_init(struct fw_state *st, const struct fw_params *p);

@@ -20,7 +20,10 @@ Contract of a member (a subclass of :class:`Estimator`, listed in :mod:`golden.f
   FOC should use for the window after next, the one the outputs of this step will be active in) and
   ``omega`` (s32, binary angle per period) are this estimator's outputs;
 * ``turn(delta)``: rotate every angle it holds by ``delta`` (polarity detection: half a turn);
-* ``sync(theta, omega)``: take over from the other slot: continue from this angle and speed.
+* ``sync(theta, omega)``: take over from the other slot: continue from this angle and speed;
+* ``i_d``: the d-current reference [current LSB] it asks the speed-controlled FOC for while it is in
+  charge (0 for most; the rotor flux observer keeps the current out of the dead-time compensation's
+  uncertain zone).
 """
 
 from __future__ import annotations
@@ -91,6 +94,7 @@ class Estimator(ABC):
 
     theta: int = 0
     omega: int = 0
+    i_d: int = 0
 
     @abstractmethod
     def step(self, m: Measurement) -> None:

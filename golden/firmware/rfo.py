@@ -53,7 +53,8 @@ class RfoParams:
     """Integers of the observer (host side: :func:`golden.control_config.firmware_params`).
 
     ``r_s`` Q16 [voltage LSB per current LSB]; ``l_s`` Q16 [flux LSB per current LSB] of L_q;
-    ``psi_f`` [flux LSB]; ``k_c`` Q16 correction per period; ``pll_kp`` Q16, ``pll_ki`` Q24.
+    ``psi_f`` [flux LSB]; ``k_c`` Q16 correction per period; ``pll_kp`` Q16, ``pll_ki`` Q24; ``i_d``
+    the d-current reference while in charge [current LSB] (<= 0, docs/methods.md).
     """
 
     r_s: int
@@ -62,6 +63,7 @@ class RfoParams:
     k_c: int
     pll_kp: int
     pll_ki: int
+    i_d: int = 0
 
 
 class RotorFluxObserver(Estimator):
@@ -78,6 +80,7 @@ class RotorFluxObserver(Estimator):
         self.pll = PllState(0, 0, 0)
         self.theta = 0
         self.omega = 0
+        self.i_d = p.i_d
 
     def step(self, m: Measurement) -> None:
         p = self.p

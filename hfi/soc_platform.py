@@ -29,10 +29,13 @@ PAGE_BITS = 4
 """The SoC decodes the top PAGE_BITS address bits (31:28): one page of 256 MiB per target."""
 RAM_BASE = 0x0000_0000
 """RAM: code, data, stack (the stack grows down from the end)."""
-DSP_BASE = 0x1000_0000
-"""hfi_dsp registers (docs/registers.md)."""
-CTL_BASE = 0x2000_0000
+DSP_BASE = 0x8000_0000
+"""hfi_dsp registers (docs/registers.md). Peripherals sit in the upper half of the address space: the
+core's data cache treats addresses with bit 31 set as I/O (never cached)."""
+CTL_BASE = 0x9000_0000
 """SoC control block hfi_soc_ctl (docs/soc_registers.md)."""
+IO_BIT = 31
+"""Address bit that makes an access I/O (uncached) for the VexRiscv data cache (CPU_VARIANT)."""
 RAM_BYTES = 32768
 """On-chip RAM of hfi_soc (parameter RAM_BYTES), the firmware's link region and its RAM image."""
 
@@ -46,7 +49,18 @@ DEAD_MIN = DEAD_MIN_DEFAULT
 OS_MIN = OS_MIN_DEFAULT
 """Shortest oversampling interval [clocks] (docs/spec.md 2.3)."""
 IRQ_WINDOW = 3
-"""PicoRV32 interrupt line of the hfi_dsp window interrupt."""
+"""Line of the core's external interrupt array (VexRiscv externalInterruptArray) that carries the hfi_dsp
+window interrupt."""
+
+# ---------------------------------------------------------------- CPU and clocks
+CPU_PACKAGE = "pythondata_cpu_vexriscv"
+"""PyPI package (pythondata-cpu-vexriscv) that holds the core's Verilog; never copied here."""
+CPU_VARIANT = "VexRiscv_IMAC.v"
+"""The core's Verilog file in that package: RV32IM, 4 KiB instruction and data caches, single-cycle
+multiplier, iterative divider, machine-mode interrupts and exceptions (docs/soc.md, "Why VexRiscv")."""
+CPU_CLOCK_DIVIDER = 2
+"""The CPU clock is the tick clock divided by this (50 MHz at the 100 MHz tick): the board PLL makes
+both; the co-simulation (sim/soc_sim.cpp) toggles cpu_clk with every CPU_CLOCK_DIVIDER-th tick clock."""
 
 
 # ---------------------------------------------------------------- firmware trace record

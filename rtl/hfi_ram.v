@@ -1,7 +1,8 @@
 `default_nettype none
-// hfi_ram: the SoC's program and data RAM, 32-bit words: one write port with byte strobes and one read
-// port with one clock latency (a simple dual-port block RAM). A read of the word being written in the
-// same clock returns the old word.
+// hfi_ram: the SoC's program and data RAM, 32-bit words: one write port with byte strobes and two read
+// ports (a, b) with one clock latency. hfi_soc drives the write port and read port b with the same
+// address (the CPU's data bus) and read port a alone (its instruction bus), so the synthesizer maps it
+// to true dual-port block RAM. A read of the word being written in the same clock returns the old word.
 // Initialised from a $readmemh file (one 32-bit hex word per line, word 0 first): the INIT_FILE
 // parameter, or in simulation the plusarg +ram=<file> (overrides the parameter per run).
 module hfi_ram #(
@@ -14,7 +15,10 @@ module hfi_ram #(
     input  wire [31:0]              wdata,
     input  wire                     ren,
     input  wire [$clog2(WORDS)-1:0] raddr,
-    output reg  [31:0]              rdata
+    output reg  [31:0]              rdata,
+    input  wire                     ren_b,
+    input  wire [$clog2(WORDS)-1:0] raddr_b,
+    output reg  [31:0]              rdata_b
 );
     reg [31:0] mem [0:WORDS-1];
 
@@ -39,6 +43,8 @@ module hfi_ram #(
         if (wstrb[3]) mem[waddr][31:24] <= wdata[31:24];
         if (ren)
             rdata <= mem[raddr];
+        if (ren_b)
+            rdata_b <= mem[raddr_b];
     end
 endmodule
 `default_nettype wire

@@ -1,18 +1,27 @@
 `default_nettype none
 `include "hfi_soc_platform.vh"
-// hfi_soc: the 002 system on one FPGA (docs/soc.md). A PicoRV32 soft core (RV32IM with the fast
-// multiplier, the divider and its interrupt controller; from the pythondata-cpu-picorv32 package,
-// not part of this repository) runs the firmware (firmware/) from the on-chip RAM and closes the
-// loop through the hfi_dsp peripheral once per PWM period, on the window interrupt.
+// hfi_soc: the 002 system on one FPGA (docs/soc.md). A VexRiscv soft core (RV32IM, 4 KiB instruction
+// and data caches, single-cycle multiplier; the variant file named by hfi/soc_platform.py CPU_VARIANT
+// from the pythondata-cpu-vexriscv package, not part of this repository) runs the firmware (firmware/)
+// from the on-chip RAM and closes the loop through the hfi_dsp peripheral once per PWM period, on the
+// window interrupt.
+//
+// Two clocks (docs/soc.md, "Clocks"): `clk` is the tick clock of hfi_dsp (100 MHz: the 10 ns gate
+// resolution and the 1 us sampling grid of docs/spec.md); `cpu_clk` runs the core, the RAM and
+// hfi_soc_ctl (50 MHz on the boards, any ratio works). They cross in hfi_cdc_bus (register accesses, a
+// toggle handshake) and hfi_cdc_sync (the window interrupt, the DSP run switch and the resets).
+// `rst` may be asynchronous to both; it is held for >= 20 clocks of the slower one.
 //
 // Memory map (byte addresses, decoded on address bits 31:28; the pages and the parameter defaults
-// come from rtl/hfi_soc_platform.vh, generated from hfi/soc_platform.py):
-//   0x0000_0000  RAM, RAM_BYTES (program, data, stack; $readmemh image RAM_INIT or +ram=<file>)
-//   0x1000_0000  hfi_dsp registers (AXI4-Lite through picorv32_axi_adapter; docs/registers.md)
-//   0x2000_0000  SoC control block hfi_soc_ctl (docs/soc_registers.md)
-//   elsewhere    reads return 0, writes are ignored (one-clock answer; no bus error)
-// Interrupts: PicoRV32 irq[3] (HFI_SOC_IRQ_WINDOW) = hfi_dsp window interrupt (level; the firmware clears it through
-// IRQ_STATUS). irq[1] (illegal instruction, ebreak) and irq[2] (misaligned access) are the core's.
+// come from rtl/hfi_soc_platform.vh, generated from hfi/soc_platform.py; the peripherals sit in the
+// upper half, which the core's data cache treats as I/O):
+//   RAM page    RAM, RAM_BYTES (program, data, stack; $readmemh image RAM_INIT or +ram=<file>)
+//   DSP page    hfi_dsp registers (AXI4-Lite behind the crossing; docs/registers.md)
+//   CTL page    SoC control block hfi_soc_ctl (docs/soc_registers.md)
+//   elsewhere   reads return 0, writes are ignored (one-clock answer; no bus error); an instruction
+//               fetch outside the RAM is a bus error (the core's instruction access fault)
+// Interrupt: externalInterruptArray[HFI_SOC_IRQ_WINDOW] = hfi_dsp window interrupt (a level; the
+// firmware clears it through IRQ_STATUS). The core's exceptions go to the firmware's trap handler.
 module hfi_soc #(
     parameter RAM_BYTES = `HFI_SOC_RAM_BYTES,
     parameter RAM_INIT = "",
@@ -27,6 +36,7 @@ module hfi_soc #(
     parameter OS_MIN = `HFI_SOC_OS_MIN
 ) (
     input  wire        clk,
+    input  wire        cpu_clk,
     input  wire        rst,
     output wire [5:0]  gate,
     output wire        adc_convst,
@@ -35,13 +45,11 @@ module hfi_soc #(
     input  wire        adc_sdo_a,
     input  wire        adc_sdo_b,
     output wire        uart_tx,
-    output wire        trap,
     output wire        trace_valid,
     output wire [31:0] trace_data
 );
     localparam RAM_WORDS = RAM_BYTES / 4;
     localparam RAM_AW = $clog2(RAM_WORDS);
-    localparam IRQ_WINDOW = `HFI_SOC_IRQ_WINDOW;
     localparam PB = `HFI_SOC_PAGE_BITS;     // address bits 31:32-PB select the target
 
     generate
@@ -50,83 +58,133 @@ module hfi_soc #(
         end
     endgenerate
 
-    // ---------------------------------------------------------------- CPU
-    wire        mem_valid, mem_instr, mem_ready, mem_la_read;
-    wire [31:0] mem_addr, mem_wdata, mem_rdata, mem_la_addr;
-    wire [3:0]  mem_wstrb;
-    wire        dsp_irq;
-    wire [31:0] cpu_irq = {28'd0, dsp_irq, 3'd0};
-    // unused outputs of the core and the AXI adapter
-    wire        nc_la_write, nc_pcpi_valid, nc_trace_valid;
-    wire [31:0] nc_la_wdata, nc_pcpi_insn, nc_pcpi_rs1, nc_pcpi_rs2, nc_eoi;
-    wire [3:0]  nc_la_wstrb;
-    wire [35:0] nc_trace_data;
-    wire [2:0]  nc_awprot, nc_arprot;
+    // ---------------------------------------------------------------- resets, one per clock
+    wire rst_cpu, rst_dsp;
+    hfi_cdc_sync #(.RESET_VALUE(1'b1)) u_rst_cpu (.clk(cpu_clk), .d(rst), .q(rst_cpu));
+    hfi_cdc_sync #(.RESET_VALUE(1'b1)) u_rst_dsp (.clk(clk), .d(rst), .q(rst_dsp));
 
-    picorv32 #(
-        .ENABLE_COUNTERS(1), .ENABLE_COUNTERS64(1), .ENABLE_REGS_16_31(1), .ENABLE_REGS_DUALPORT(1),
-        .BARREL_SHIFTER(1), .COMPRESSED_ISA(0), .CATCH_MISALIGN(1), .CATCH_ILLINSN(1),
-        .ENABLE_PCPI(0), .ENABLE_MUL(0), .ENABLE_FAST_MUL(1), .ENABLE_DIV(1),
-        .ENABLE_IRQ(1), .ENABLE_IRQ_QREGS(1), .ENABLE_IRQ_TIMER(0), .ENABLE_TRACE(0),
-        .MASKED_IRQ(32'h0000_0000), .LATCHED_IRQ(~(32'd1 << IRQ_WINDOW)),
-        .PROGADDR_RESET(32'h0000_0000), .PROGADDR_IRQ(32'h0000_0010), .STACKADDR(RAM_BYTES)
-    ) u_cpu (
-        .clk(clk), .resetn(~rst), .trap(trap),
-        .mem_valid(mem_valid), .mem_instr(mem_instr), .mem_ready(mem_ready),
-        .mem_addr(mem_addr), .mem_wdata(mem_wdata), .mem_wstrb(mem_wstrb), .mem_rdata(mem_rdata),
-        .mem_la_read(mem_la_read), .mem_la_write(nc_la_write), .mem_la_addr(mem_la_addr),
-        .mem_la_wdata(nc_la_wdata), .mem_la_wstrb(nc_la_wstrb),
-        .pcpi_valid(nc_pcpi_valid), .pcpi_insn(nc_pcpi_insn), .pcpi_rs1(nc_pcpi_rs1), .pcpi_rs2(nc_pcpi_rs2),
-        .pcpi_wr(1'b0), .pcpi_rd(32'd0), .pcpi_wait(1'b0), .pcpi_ready(1'b0),
-        .irq(cpu_irq), .eoi(nc_eoi),
-        .trace_valid(nc_trace_valid), .trace_data(nc_trace_data)
+    // ---------------------------------------------------------------- CPU (cpu_clk)
+    wire        i_cyc, i_stb, i_we, d_cyc, d_stb, d_we;
+    wire [29:0] i_adr, d_adr;
+    wire [31:0] i_wdat, d_wdat, d_rdat;
+    wire [3:0]  i_sel, d_sel;
+    wire [2:0]  i_cti, d_cti;
+    wire [1:0]  i_bte, d_bte;
+    reg         i_ack, i_err, d_ack_ram, d_ack_none;
+    wire        d_ack;
+    wire [31:0] ram_idat;
+    wire        dsp_irq, irq_cpu;
+
+    VexRiscv u_cpu (
+        .clk(cpu_clk), .reset(rst_cpu),
+        .externalResetVector(`HFI_SOC_RAM_BASE),
+        .timerInterrupt(1'b0), .softwareInterrupt(1'b0),
+        .externalInterruptArray({{(31 - `HFI_SOC_IRQ_WINDOW){1'b0}}, irq_cpu, {`HFI_SOC_IRQ_WINDOW{1'b0}}}),
+        .iBusWishbone_CYC(i_cyc), .iBusWishbone_STB(i_stb), .iBusWishbone_ACK(i_ack), .iBusWishbone_WE(i_we),
+        .iBusWishbone_ADR(i_adr), .iBusWishbone_DAT_MISO(ram_idat), .iBusWishbone_DAT_MOSI(i_wdat),
+        .iBusWishbone_SEL(i_sel), .iBusWishbone_ERR(i_err), .iBusWishbone_CTI(i_cti), .iBusWishbone_BTE(i_bte),
+        .dBusWishbone_CYC(d_cyc), .dBusWishbone_STB(d_stb), .dBusWishbone_ACK(d_ack), .dBusWishbone_WE(d_we),
+        .dBusWishbone_ADR(d_adr), .dBusWishbone_DAT_MISO(d_rdat), .dBusWishbone_DAT_MOSI(d_wdat),
+        .dBusWishbone_SEL(d_sel), .dBusWishbone_ERR(1'b0), .dBusWishbone_CTI(d_cti), .dBusWishbone_BTE(d_bte)
     );
+    hfi_cdc_sync u_irq_sync (.clk(cpu_clk), .d(dsp_irq), .q(irq_cpu));
 
-    // ---------------------------------------------------------------- address decode
-    wire sel_ram = mem_valid && mem_addr[31:32-PB] == `HFI_SOC_RAM_PAGE && mem_addr[31-PB:0] < RAM_BYTES;
-    wire sel_dsp = mem_valid && mem_addr[31:32-PB] == `HFI_SOC_DSP_PAGE;
-    wire sel_ctl = mem_valid && mem_addr[31:32-PB] == `HFI_SOC_CTL_PAGE;
-    wire sel_none = mem_valid && !sel_ram && !sel_dsp && !sel_ctl;
+    // ---------------------------------------------------------------- address decode (Wishbone)
+    // Single reads: ACK one clock after STB (ACK <= STB && !ACK); a RAM write is acknowledged in the
+    // clock of its STB (the block RAM writes at the clock edge that ends it). The caches' line refills are
+    // incrementing bursts (CTI = 3'b010 until the last beat, 3'b111): the RAM answers them one word per
+    // clock (registered feedback: while a beat is acknowledged it already reads the next address). The
+    // data bus drives the write port and read port b with one address (d_raddr = d_adr unless a read
+    // burst continues), so the RAM stays one true dual-port block RAM.
+    localparam [2:0] CTI_INCR = 3'b010;
+    wire [31:0] i_byte = {i_adr, 2'b00};
+    wire [31:0] d_byte = {d_adr, 2'b00};
+    wire i_req = i_cyc && i_stb;
+    wire d_req = d_cyc && d_stb;
+    wire i_ram = i_byte[31:32-PB] == `HFI_SOC_RAM_PAGE && i_byte[31-PB:0] < RAM_BYTES;
+    wire sel_ram = d_req && d_byte[31:32-PB] == `HFI_SOC_RAM_PAGE && d_byte[31-PB:0] < RAM_BYTES;
+    wire sel_dsp = d_req && d_byte[31:32-PB] == `HFI_SOC_DSP_PAGE;
+    wire sel_ctl = d_req && d_byte[31:32-PB] == `HFI_SOC_CTL_PAGE;
+    wire sel_none = d_req && !sel_ram && !sel_dsp && !sel_ctl;
+    wire [3:0] d_wstrb = d_we ? d_sel : 4'd0;
+    wire i_burst = i_cti == CTI_INCR;
+    wire d_burst = d_cti == CTI_INCR && !d_we;
+    wire d_wack_ram = sel_ram && d_we;     // a RAM write completes in its clock (the block RAM takes it at the edge)
+    wire [RAM_AW-1:0] i_raddr = i_adr[RAM_AW-1:0] + {{(RAM_AW-1){1'b0}}, i_ack && i_burst};
+    wire [RAM_AW-1:0] d_raddr = d_adr[RAM_AW-1:0] + {{(RAM_AW-1){1'b0}}, d_ack_ram && d_burst};
 
-    // RAM without wait states: every transfer of the core is announced one clock ahead on the
-    // look-ahead interface (mem_la_read with mem_la_addr), so the block RAM reads the word then and the
-    // transfer completes in the clock mem_valid rises; a write is done in that clock.
-    reg         none_ready;
-    wire [31:0] ram_rdata;
-    wire        la_ram = mem_la_addr[31:32-PB] == `HFI_SOC_RAM_PAGE && mem_la_addr[31-PB:0] < RAM_BYTES;
-    wire        ram_ready = sel_ram;
+    wire [31:0] ram_ddat;
     hfi_ram #(.WORDS(RAM_WORDS), .INIT_FILE(RAM_INIT)) u_ram (
-        .clk(clk), .wstrb(sel_ram ? mem_wstrb : 4'd0), .waddr(mem_addr[RAM_AW+1:2]), .wdata(mem_wdata),
-        .ren(mem_la_read && la_ram), .raddr(mem_la_addr[RAM_AW+1:2]), .rdata(ram_rdata)
+        .clk(cpu_clk), .wstrb(sel_ram ? d_wstrb : 4'd0), .waddr(d_raddr), .wdata(d_wdat),
+        .ren(i_req && i_ram), .raddr(i_raddr), .rdata(ram_idat),
+        .ren_b(sel_ram), .raddr_b(d_raddr), .rdata_b(ram_ddat)
     );
-    always @(posedge clk)
-        none_ready <= !rst && sel_none && !none_ready;
+    always @(posedge cpu_clk) begin
+        if (rst_cpu) begin
+            i_ack <= 1'b0;
+            i_err <= 1'b0;
+            d_ack_ram <= 1'b0;
+            d_ack_none <= 1'b0;
+        end else begin
+            i_ack <= i_req && i_ram && (!i_ack || i_burst);
+            i_err <= i_req && !i_ram && !i_err;
+            d_ack_ram <= sel_ram && !d_we && (!d_ack_ram || d_burst);
+            d_ack_none <= sel_none && !d_ack_none;
+        end
+    end
 
-    // hfi_dsp through the core's AXI4-Lite adapter
+    // SoC control block
+    wire        ctl_ready, ctl_dsp_run;
+    wire [31:0] ctl_rdata;
+    hfi_soc_ctl u_ctl (
+        .clk(cpu_clk), .rst(rst_cpu), .sel(sel_ctl), .addr(d_byte[7:0]), .wstrb(d_wstrb), .wdata(d_wdat),
+        .rdata(ctl_rdata), .ready(ctl_ready), .dsp_run(ctl_dsp_run), .uart_tx(uart_tx),
+        .trace_valid(trace_valid), .trace_data(trace_data)
+    );
+
+    // hfi_dsp: the crossing into clk, then PicoRV32's native-to-AXI4-Lite adapter (from the
+    // pythondata-cpu-picorv32 package) in front of hfi_dsp's AXI4-Lite slave
     wire        dsp_ready;
     wire [31:0] dsp_rdata;
+    wire        m_valid, m_ready;
+    wire [7:0]  m_addr;
+    wire [31:0] m_wdata, m_rdata;
+    wire [3:0]  m_wstrb;
+    hfi_cdc_bus #(.AW(8)) u_cdc (
+        .s_clk(cpu_clk), .s_rst(rst_cpu), .s_valid(sel_dsp), .s_addr(d_byte[7:0]), .s_wdata(d_wdat),
+        .s_wstrb(d_wstrb), .s_ready(dsp_ready), .s_rdata(dsp_rdata),
+        .m_clk(clk), .m_rst(rst_dsp), .m_valid(m_valid), .m_addr(m_addr), .m_wdata(m_wdata),
+        .m_wstrb(m_wstrb), .m_ready(m_ready), .m_rdata(m_rdata)
+    );
+
+    assign d_ack = d_ack_ram | d_wack_ram | dsp_ready | ctl_ready | d_ack_none;
+    assign d_rdat = d_ack_ram ? ram_ddat : dsp_ready ? dsp_rdata : ctl_ready ? ctl_rdata : 32'd0;
+
+    // ---------------------------------------------------------------- DSP (clk)
     wire        awvalid, awready, wvalid, wready, bvalid, bready, arvalid, arready, rvalid, rready;
     wire [31:0] awaddr, araddr, wdata, rdata;
     wire [3:0]  wstrb;
     wire [1:0]  bresp_unused, rresp_unused;
+    wire [2:0]  nc_awprot, nc_arprot;
     picorv32_axi_adapter u_axi (
-        .clk(clk), .resetn(~rst),
+        .clk(clk), .resetn(~rst_dsp),
         .mem_axi_awvalid(awvalid), .mem_axi_awready(awready), .mem_axi_awaddr(awaddr), .mem_axi_awprot(nc_awprot),
         .mem_axi_wvalid(wvalid), .mem_axi_wready(wready), .mem_axi_wdata(wdata), .mem_axi_wstrb(wstrb),
         .mem_axi_bvalid(bvalid), .mem_axi_bready(bready),
         .mem_axi_arvalid(arvalid), .mem_axi_arready(arready), .mem_axi_araddr(araddr), .mem_axi_arprot(nc_arprot),
         .mem_axi_rvalid(rvalid), .mem_axi_rready(rready), .mem_axi_rdata(rdata),
-        .mem_valid(sel_dsp), .mem_instr(mem_instr), .mem_ready(dsp_ready),
-        .mem_addr(mem_addr), .mem_wdata(mem_wdata), .mem_wstrb(mem_wstrb), .mem_rdata(dsp_rdata)
+        .mem_valid(m_valid), .mem_instr(1'b0), .mem_ready(m_ready),
+        .mem_addr({24'd0, m_addr}), .mem_wdata(m_wdata), .mem_wstrb(m_wstrb), .mem_rdata(m_rdata)
     );
 
-    wire dsp_run;
+    wire dsp_run;   // SOC CTRL.DSP_RUN in clk (tick 0 is its first clock high, docs/rtl.md)
+    hfi_cdc_sync u_run_sync (.clk(clk), .d(ctl_dsp_run), .q(dsp_run));
     hfi_dsp #(
         .ADC_BITS(ADC_BITS), .ADC_CONV_TICKS(ADC_CONV_TICKS), .ADC_SCLK_HALF(ADC_SCLK_HALF),
         .CORDIC_WIDTH(CORDIC_WIDTH), .CORDIC_ITERATIONS(CORDIC_ITERATIONS), .DEAD_MIN(DEAD_MIN),
         .IRQ_LATENCY(IRQ_LATENCY), .OS_MIN(OS_MIN)
     ) u_dsp (
-        .clk(clk), .rst(rst), .run(dsp_run),
+        .clk(clk), .rst(rst_dsp), .run(dsp_run),
         .s_axil_awaddr(awaddr[7:0]), .s_axil_awvalid(awvalid), .s_axil_awready(awready),
         .s_axil_wdata(wdata), .s_axil_wstrb(wstrb), .s_axil_wvalid(wvalid), .s_axil_wready(wready),
         .s_axil_bresp(bresp_unused), .s_axil_bvalid(bvalid), .s_axil_bready(bready),
@@ -137,20 +195,8 @@ module hfi_soc #(
         .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b)
     );
 
-    // SoC control block
-    wire        ctl_ready;
-    wire [31:0] ctl_rdata;
-    hfi_soc_ctl u_ctl (
-        .clk(clk), .rst(rst), .sel(sel_ctl), .addr(mem_addr[7:0]), .wstrb(mem_wstrb), .wdata(mem_wdata),
-        .rdata(ctl_rdata), .ready(ctl_ready), .dsp_run(dsp_run), .uart_tx(uart_tx),
-        .trace_valid(trace_valid), .trace_data(trace_data)
-    );
-
-    assign mem_ready = ram_ready | dsp_ready | ctl_ready | none_ready;
-    assign mem_rdata = ram_ready ? ram_rdata : dsp_ready ? dsp_rdata : ctl_ready ? ctl_rdata : 32'd0;
-
-    wire unused = &{1'b0, bresp_unused, rresp_unused, awaddr[31:8], araddr[31:8], nc_la_write, nc_pcpi_valid,
-                    nc_trace_valid, nc_la_wdata, nc_pcpi_insn, nc_pcpi_rs1, nc_pcpi_rs2, nc_eoi, nc_la_wstrb,
-                    nc_trace_data, nc_awprot, nc_arprot, mem_addr[31-PB:RAM_AW+2], mem_la_addr[1:0], mem_addr[1:0]};
+    wire unused = &{1'b0, bresp_unused, rresp_unused, awaddr[31:8], araddr[31:8], nc_awprot, nc_arprot,
+                    i_we, i_wdat, i_sel, i_bte, d_bte, i_adr[29:RAM_AW], d_adr[29:RAM_AW],
+                    d_byte[31-PB:8]};
 endmodule
 `default_nettype wire

@@ -2,14 +2,15 @@
 // Memory map and parameter defaults of hfi_soc (docs/soc.md); `include before `module hfi_soc`.
 `ifndef HFI_SOC_PLATFORM_VH
 `define HFI_SOC_PLATFORM_VH
-`define HFI_SOC_PAGE_BITS 4     // the decode looks at address bits 31:32-PAGE_BITS
-`define HFI_SOC_RAM_PAGE 4'h0   // RAM at 0x00000000
-`define HFI_SOC_DSP_PAGE 4'h1   // hfi_dsp at 0x10000000
-`define HFI_SOC_CTL_PAGE 4'h2   // hfi_soc_ctl at 0x20000000
-`define HFI_SOC_RAM_BYTES 32768 // default RAM_BYTES
-`define HFI_SOC_IRQ_WINDOW 3    // PicoRV32 irq line of the window interrupt
-`define HFI_SOC_ADC_BITS 12     // default ADC_BITS of the SoC's hfi_dsp
-`define HFI_SOC_DEAD_MIN 50     // default DEAD_MIN (golden.fpga.gate_generator)
-`define HFI_SOC_IRQ_LATENCY 400 // default IRQ_LATENCY
-`define HFI_SOC_OS_MIN 40       // default OS_MIN (golden.fpga.adc_trigger)
+`define HFI_SOC_PAGE_BITS 4           // the decode looks at address bits 31:32-PAGE_BITS
+`define HFI_SOC_RAM_BASE 32'h00000000 // the core's reset vector: the start of the RAM
+`define HFI_SOC_RAM_PAGE 4'h0         // RAM at 0x00000000
+`define HFI_SOC_DSP_PAGE 4'h8         // hfi_dsp at 0x80000000
+`define HFI_SOC_CTL_PAGE 4'h9         // hfi_soc_ctl at 0x90000000
+`define HFI_SOC_RAM_BYTES 32768       // default RAM_BYTES
+`define HFI_SOC_IRQ_WINDOW 3          // external interrupt line of the window interrupt
+`define HFI_SOC_ADC_BITS 12           // default ADC_BITS of the SoC's hfi_dsp
+`define HFI_SOC_DEAD_MIN 50           // default DEAD_MIN (golden.fpga.gate_generator)
+`define HFI_SOC_IRQ_LATENCY 400       // default IRQ_LATENCY
+`define HFI_SOC_OS_MIN 40             // default OS_MIN (golden.fpga.adc_trigger)
 `endif

@@ -74,8 +74,12 @@ def _check_source() -> None:
              (("RAM_BASE", sp.RAM_BASE), ("DSP_BASE", sp.DSP_BASE), ("CTL_BASE", sp.CTL_BASE))}
     if len(set(pages.values())) != len(pages):
         raise PlatformError(f"two targets share a page: {pages}")
-    if sp.RAM_BASE != 0:
-        raise PlatformError("RAM_BASE must be 0 (PicoRV32's reset and interrupt vectors are there)")
+    io = 1 << sp.IO_BIT
+    if sp.RAM_BASE & io or not sp.DSP_BASE & io or not sp.CTL_BASE & io:
+        raise PlatformError(f"DSP_BASE and CTL_BASE need address bit {sp.IO_BIT} set and RAM_BASE clear "
+                            "(the core's data cache treats that bit as I/O)")
+    if sp.CPU_CLOCK_DIVIDER < 1:
+        raise PlatformError(f"CPU_CLOCK_DIVIDER = {sp.CPU_CLOCK_DIVIDER} must be >= 1")
     if sp.RAM_BYTES < 1024 or sp.RAM_BYTES & (sp.RAM_BYTES - 1) or sp.RAM_BYTES > 1 << (32 - sp.PAGE_BITS):
         raise PlatformError(f"RAM_BYTES = {sp.RAM_BYTES} must be a power of two, 1 KiB .. one page")
     names = [w.name for w in sp.TRACE]
@@ -95,7 +99,7 @@ def render_header() -> str:
         f"#define HFI_SOC_RAM_BYTES {sp.RAM_BYTES}u",
         f"#define HFI_SOC_DSP_BASE 0x{sp.DSP_BASE:08X}u   /* hfi_dsp registers (hfi_regs.h offsets) */",
         f"#define HFI_SOC_CTL_BASE 0x{sp.CTL_BASE:08X}u   /* SoC control block (hfi_soc_regs.h offsets) */",
-        f"#define HFI_SOC_IRQ_WINDOW {sp.IRQ_WINDOW}u       /* PicoRV32 irq line of the window interrupt */",
+        f"#define HFI_SOC_IRQ_WINDOW {sp.IRQ_WINDOW}u       /* external interrupt line of the window interrupt */",
         "",
         "#endif",
         ""])
@@ -174,11 +178,12 @@ def render_verilog() -> str:
     p = sp.PAGE_BITS
     defs = [
         ("HFI_SOC_PAGE_BITS", str(p), "the decode looks at address bits 31:32-PAGE_BITS"),
+        ("HFI_SOC_RAM_BASE", f"32'h{sp.RAM_BASE:08X}", "the core's reset vector: the start of the RAM"),
         ("HFI_SOC_RAM_PAGE", f"{p}'h{_page(sp.RAM_BASE, 'RAM_BASE'):X}", f"RAM at 0x{sp.RAM_BASE:08X}"),
         ("HFI_SOC_DSP_PAGE", f"{p}'h{_page(sp.DSP_BASE, 'DSP_BASE'):X}", f"hfi_dsp at 0x{sp.DSP_BASE:08X}"),
         ("HFI_SOC_CTL_PAGE", f"{p}'h{_page(sp.CTL_BASE, 'CTL_BASE'):X}", f"hfi_soc_ctl at 0x{sp.CTL_BASE:08X}"),
         ("HFI_SOC_RAM_BYTES", str(sp.RAM_BYTES), "default RAM_BYTES"),
-        ("HFI_SOC_IRQ_WINDOW", str(sp.IRQ_WINDOW), "PicoRV32 irq line of the window interrupt"),
+        ("HFI_SOC_IRQ_WINDOW", str(sp.IRQ_WINDOW), "external interrupt line of the window interrupt"),
         ("HFI_SOC_ADC_BITS", str(sp.ADC_BITS), "default ADC_BITS of the SoC's hfi_dsp"),
         ("HFI_SOC_DEAD_MIN", str(sp.DEAD_MIN), "default DEAD_MIN (golden.fpga.gate_generator)"),
         ("HFI_SOC_IRQ_LATENCY", str(sp.IRQ_LATENCY), "default IRQ_LATENCY"),

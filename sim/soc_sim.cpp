@@ -91,8 +91,8 @@ extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, str
         set_message(err, err_len, "soc_sim_create: " + bad);
         return nullptr;
     }
-    if (setup->uart_div < 16 || setup->trace_words < 1) {
-        set_message(err, err_len, "soc_sim_create: uart_div >= 16 and trace_words >= 1 are required");
+    if (setup->uart_div < 16 || setup->trace_words < 1 || setup->cpu_div < 1) {
+        set_message(err, err_len, "soc_sim_create: uart_div >= 16, trace_words >= 1 and cpu_div >= 1 are required");
         return nullptr;
     }
 #ifndef HFI_FST
@@ -115,13 +115,16 @@ extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, str
     }
 #endif
     sim->top->clk = 0;
+    sim->top->cpu_clk = 0;
     sim->top->rst = 1;
     sim->top->adc_sdo_a = 0;
     sim->top->adc_sdo_b = 0;
-    for (int i = 0; i < 20; i++) {       // reset: >= 18 clocks (docs/rtl.md)
+    for (int i = 0; i < 20 * setup->cpu_div; i++) {   // reset: >= 20 clocks of the slower clock (docs/rtl.md)
         sim->top->clk = 1;
+        sim->top->cpu_clk = i % setup->cpu_div == 0;
         sim->top->eval();
         sim->top->clk = 0;
+        sim->top->cpu_clk = setup->cpu_div == 1 ? 0 : sim->top->cpu_clk;
         sim->top->eval();
     }
     sim->top->rst = 0;
@@ -154,7 +157,10 @@ static int clock_once(soc_sim *sim)
 {
     Vhfi_soc *top = sim->top;
     Vhfi_soc___024root *r = top->rootp;
+    const int div = sim->s.cpu_div;
+    const bool cpu_edge = sim->cycle % div == 0;   // cpu_clk rises with this clock
     top->clk = 1;
+    top->cpu_clk = div == 1 ? 1 : (sim->cycle % div) < (div + 1) / 2;
     top->eval();
     sim->cycle++;
     long long c = sim->cycle;
@@ -165,10 +171,6 @@ static int clock_once(soc_sim *sim)
     if (dump)
         sim->fst->dump((uint64_t)(2 * c) * 5000);
 #endif
-    if (top->trap) {
-        sim->error = "the CPU trapped at clock " + std::to_string(c);
-        return -1;
-    }
     if (sim->tick0 < 0 && r->hfi_soc__DOT__dsp_run)
         sim->tick0 = c;
 
@@ -252,24 +254,24 @@ static int clock_once(soc_sim *sim)
         sim->reads.push_back(soc_bus{tk, sim->ar_addr, r->hfi_soc__DOT__rdata});
         sim->ar_done = false;
     }
-    if (top->trace_valid)
+    if (cpu_edge && top->trace_valid)            // a CPU-clock output: one record per CPU clock
         sim->trace.push_back(top->trace_data);
     bool tx = top->uart_tx;
-    const long long div = sim->s.uart_div;
+    const long long bit = (long long)sim->s.uart_div * div;   // tick clocks per UART bit
     if (sim->uart_state == 0) {
         if (!tx && sim->tx_q) {
             sim->uart_state = 1;
-            sim->uart_count = div / 2;
+            sim->uart_count = bit / 2;
             sim->uart_byte = 0;
         }
     } else if (--sim->uart_count == 0) {
         if (sim->uart_state == 1) {
             sim->uart_state = tx ? 0 : 2;         // a glitch is no start bit
-            sim->uart_count = div;
+            sim->uart_count = bit;
         } else if (sim->uart_state < 10) {
             sim->uart_byte |= (tx ? 1 : 0) << (sim->uart_state - 2);
             sim->uart_state++;
-            sim->uart_count = div;
+            sim->uart_count = bit;
         } else {
             sim->uart.push_back((uint8_t)sim->uart_byte);
             sim->uart_state = 0;
@@ -278,6 +280,8 @@ static int clock_once(soc_sim *sim)
     sim->tx_q = tx;
 
     top->clk = 0;
+    if (div == 1)
+        top->cpu_clk = 0;
     top->eval();
 #ifdef HFI_FST
     if (dump)

@@ -8,8 +8,10 @@
  * records are those of sim/plant_loop.h (shared with the hls backend). cffi parses this header and
  * plant_records.h (preprocessor lines are stripped): plain declarations only.
  *
- * Ticks: tick 0 is the first clock with SOC CTRL.DSP_RUN = 1 (docs/rtl.md); a pin change seen in
- * clock c belongs to tick c - tick0 - 2 (GATE_LATENCY, CONVST latency). Samples before the first
+ * Clocks: `clk` (the tick clock) and `cpu_clk`, which rises with every cpu_div-th rising edge of clk
+ * (aligned edges, as from one PLL). Ticks: tick 0 is the first clock with DSP_RUN = 1 in the DSP's
+ * clock (docs/rtl.md); a pin change seen in clock c belongs to tick c - tick0 - 2 (GATE_LATENCY,
+ * CONVST latency). Cycle counts are tick clocks. Samples before the first
  * window (tick < H/2) are answered with the mid-scale code without calling the plant (the golden loop
  * starts sampling at the first window).
  */
@@ -33,7 +35,8 @@ struct soc_sim_setup {
     long long n_windows;          /* windows to simulate; the run ends after the last trace record */
     const int32_t *speed_ref;     /* n_windows values, written to SPEED_REF at each window interrupt */
     int adc_bits;                 /* ADC resolution (bits shifted out per conversion; codes are checked) */
-    int uart_div;                 /* clock cycles per UART bit (UART_DIV) */
+    int uart_div;                 /* CPU clock cycles per UART bit (UART_DIV) */
+    int cpu_div;                  /* the CPU clock is the tick clock divided by this (>= 1; hfi.soc_platform) */
     int trace_words;              /* words per firmware trace record */
 };
 
@@ -58,14 +61,13 @@ enum soc_record {
 /* Returns NULL and a message in err on a bad setup. */
 struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, struct plant *plant, char *err, int err_len);
 void soc_sim_free(struct soc_sim *sim);
-/* Runs at most max_cycles clocks. Returns 1 when the run is complete, 0 when it is not yet, -1 on a
- * CPU trap, -2 when the plant refused an event or gave an ADC code outside the ADC's range (message
- * in soc_sim_error), -3 when tick 0 did not
- * come within 10^6 clocks (firmware did not start: see the UART log), -4 on a timeout (no trace
- * record for 4 periods). */
+/* Runs at most max_cycles tick clocks. Returns 1 when the run is complete, 0 when it is not yet, -2 when
+ * the plant refused an event or gave an ADC code outside the ADC's range (message in soc_sim_error), -3
+ * when tick 0 did not come within 10^6 clocks (firmware did not start: see the UART log), -4 on a
+ * timeout (no trace record for 4 periods: a stopped firmware, e.g. after a core exception). */
 int soc_sim_run(struct soc_sim *sim, long long max_cycles);
 const char *soc_sim_error(const struct soc_sim *sim);
-long long soc_sim_cycles(const struct soc_sim *sim);  /* clocks since reset */
+long long soc_sim_cycles(const struct soc_sim *sim);  /* tick clocks since reset */
 /* Number of records of a kind, and a copy of records [from, from + n) into dst. */
 long long soc_sim_count(const struct soc_sim *sim, int kind);
 int soc_sim_copy(const struct soc_sim *sim, int kind, long long from, long long n, void *dst);

@@ -1,23 +1,23 @@
-/* crt0.S - start-up and interrupt entry of the hfi_soc firmware (PicoRV32, RV32IM).
+/* crt0.S - start-up and trap entry of the hfi_soc firmware (VexRiscv, RV32IM, machine mode).
  *
- * 0x000 reset: set sp and gp, clear .bss, call main().
- * 0x010 interrupt (PicoRV32 PROGADDR_IRQ, ENABLE_IRQ_QREGS): q0 holds the return address, q1 the
- *       bit mask of the pending interrupts. The entry saves the caller-saved registers on the
- *       current stack, calls irq_handler(q1), restores them and returns with retirq. Interrupts
- *       are masked by the core while the handler runs.
- * PicoRV32's custom instructions (getq, retirq, maskirq) are emitted as .insn (R-type, opcode 0x0B)
- * with the encodings of its documentation. */
+ * reset (the RAM's first word, the core's reset vector): set sp, clear .bss, point mtvec at trap_entry
+ *       (direct mode), call main().
+ * trap_entry: saves the caller-saved registers on the current stack; an interrupt (mcause < 0) calls
+ *       irq_handler(pending), pending = the external interrupt lines that are enabled and asserted (the
+ *       core's CSR 0xFC0); an exception calls exception_handler(mcause, mepc), which does not return.
+ *       The core clears mstatus.MIE on entry and restores it with mret, so the handler is not nested. */
 
-#define GETQ(rd, qs)   .insn r 0x0B, 4, 0, rd, x##qs, x0
-#define RETIRQ         .insn r 0x0B, 0, 2, x0, x0, x0
-#define MASKIRQ(rd, rs) .insn r 0x0B, 6, 3, rd, rs, x0
+#define CSR_IRQ_PENDING 0xFC0
+
+    .option arch, +zicsr        /* CSR instructions; the C stays -march=rv32imac (its libgcc) */
 
     .section .vectors, "ax"
     .globl _start
 _start:
     j reset
-    .balign 16
-irq_entry:
+
+    .balign 4
+trap_entry:
     addi sp, sp, -64
     sw ra, 0(sp)
     sw t0, 4(sp)
@@ -35,7 +35,11 @@ irq_entry:
     sw t4, 52(sp)
     sw t5, 56(sp)
     sw t6, 60(sp)
-    GETQ(a0, 1)
+    csrr a0, mcause
+    bltz a0, 1f
+    csrr a1, mepc
+    call exception_handler
+1:  csrr a0, CSR_IRQ_PENDING
     call irq_handler
     lw ra, 0(sp)
     lw t0, 4(sp)
@@ -54,24 +58,17 @@ irq_entry:
     lw t5, 56(sp)
     lw t6, 60(sp)
     addi sp, sp, 64
-    RETIRQ
+    mret
 
 reset:
     la sp, _stack_top
-    li t0, -1
-    MASKIRQ(x0, t0)             /* all interrupts masked until main() unmasks them */
     la t0, _bss_start
     la t1, _bss_end
 1:  bgeu t0, t1, 2f
     sw zero, 0(t0)
     addi t0, t0, 4
     j 1b
-2:  call main
+2:  la t0, trap_entry
+    csrw mtvec, t0
+    call main
 3:  j 3b
-
-    .text
-    .globl irq_mask
-/* uint32_t irq_mask(uint32_t mask): set the interrupt mask (1 = masked), return the old one. */
-irq_mask:
-    MASKIRQ(a0, a0)
-    ret

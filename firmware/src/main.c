@@ -1,8 +1,9 @@
 /* main.c - the hfi_soc firmware: start-up, the control interrupt and the supervisor glue.
  *
  * Start-up: check the configuration block (fw_config.h), write the hfi_dsp configuration registers,
- * wait 32 cycles (the carrier's H*STEP product, docs/rtl.md), set SOC CTRL.DSP_RUN (tick 0), unmask
- * the window interrupt. Then main() only writes log lines to the UART (mode changes).
+ * wait 32 CPU cycles (at least the carrier's H*STEP product of tick clocks, docs/rtl.md), enable the
+ * window interrupt, set SOC CTRL.DSP_RUN (tick 0). Then main() only writes log lines to the UART
+ * (mode changes).
  *
  * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results and the
  * speed reference (SPEED_REF mailbox), run fw_step() (control.c, the golden firmware's arithmetic),
@@ -10,8 +11,9 @@
  * next window boundary; a missed one counts in LATE_COUNT and the watchdog trips after WDT_PERIODS),
  * acknowledge, and send one trace record on the SoC trace port (fw_trace.h, docs/soc.md). The first interrupt
  * reports window -1 (the half period before the first boundary): acknowledged, no control step.
- * Core exceptions (IRQ 1: illegal instruction/ebreak, IRQ 2: misaligned access) turn the gates off
- * and stop the firmware; without commits the hardware watchdog would do so too.
+ * Core exceptions (illegal instruction, misaligned or faulting access, ebreak; crt0.S) turn the gates
+ * off, log mcause and mepc, and stop the firmware; without commits the hardware watchdog would do so too.
+ * Cycle counts come from the SoC's CYCLE_LO register (CPU clocks), so no core counter CSR is needed.
  *
  * Register access only through the generated headers hfi_regs.h and hfi_soc_regs.h (offsets and
  * field positions) at the bases of hfi_soc_platform.h (generated); every access is a 32-bit word access.
@@ -31,10 +33,10 @@
 #define SOC_FIELD(reg, fld, v) (((uint32_t)(v) << HFI_SOC__##reg##__##fld##_bp) & HFI_SOC__##reg##__##fld##_bm)
 
 #define IRQ_WINDOW (1u << HFI_SOC_IRQ_WINDOW)
-#define IRQ_FAULTS ((1u << 1) | (1u << 2))  /* PicoRV32's own: illegal instruction/ebreak, misaligned access */
 #define TRACE_PUT(word) (SOC(TRACE) = (word))
-
-uint32_t irq_mask(uint32_t mask);   /* crt0.S */
+#define CSR_IRQ_MASK 0xBC0          /* VexRiscv: enable mask of the external interrupt lines */
+#define MIE_MEIE (1u << 11)         /* mie: machine external interrupt enable */
+#define MSTATUS_MIE (1u << 3)       /* mstatus: global interrupt enable */
 
 /* The run's configuration, patched into the RAM image (zero here: the firmware then refuses to run). */
 __attribute__((section(".config"), used)) struct fw_config fw_config;
@@ -46,9 +48,16 @@ static volatile int32_t halted;
 
 static inline uint32_t rdcycle(void)
 {
-    uint32_t c;
-    __asm__ volatile("rdcycle %0" : "=r"(c));
-    return c;
+    return SOC(CYCLE_LO);
+}
+
+/* Enable the external interrupt lines in `lines` (and no other), then interrupts globally. */
+static void irq_enable(uint32_t lines)
+{
+    /* -march=rv32im keeps the rv32im/ilp32 libgcc; the CSR instructions are Zicsr */
+    __asm__ volatile(".option push\n.option arch, +zicsr\n"
+                     "csrw %0, %1\ncsrs mie, %2\ncsrs mstatus, %3\n.option pop"
+                     : : "i"(CSR_IRQ_MASK), "r"(lines), "r"(MIE_MEIE), "r"(MSTATUS_MIE));
 }
 
 /* ---------------------------------------------------------------- UART log */
@@ -122,16 +131,21 @@ static void control_step(void)
 
 void irq_handler(uint32_t pending)
 {
-    if (pending & IRQ_FAULTS) {
-        gates_off();
-        halted = 1;
-        irq_mask(~0u);
-        uart_puts("hfi_fw: core exception, gates off, halted\n");
-        for (;;)
-            ;
-    }
     if (pending & IRQ_WINDOW)
         control_step();
+}
+
+void exception_handler(uint32_t mcause, uint32_t mepc)
+{
+    gates_off();
+    halted = 1;
+    uart_puts("hfi_fw: core exception mcause ");
+    uart_putu(mcause);
+    uart_puts(" mepc ");
+    uart_putu(mepc);
+    uart_puts(", gates off, halted\n");
+    for (;;)
+        ;
 }
 
 /* ---------------------------------------------------------------- start-up */
@@ -167,7 +181,7 @@ int main(void)
     uint32_t t0 = rdcycle();
     while (rdcycle() - t0 < 32u)          /* the carrier's H*STEP product (docs/rtl.md) */
         ;
-    irq_mask(~IRQ_WINDOW & ~IRQ_FAULTS);
+    irq_enable(IRQ_WINDOW);
     SOC(CTRL) = SOC_FIELD(CTRL, DSP_RUN, 1);
     uart_puts("hfi_fw: running\n");
 

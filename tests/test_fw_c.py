@@ -23,11 +23,12 @@ from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.pll import PllState, pll_step
-from golden.firmware.rfo import RfoParams
+from golden.firmware.rfo import Q_LIMIT, RfoParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, MODE_NAMES, MODE_POL_NEG,
                                         MODE_POL_POS, MODE_RELAX, MODE_RUN, Firmware, FirmwareParams,
                                         Outputs)
+from golden.fixed import c_div
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
 from hfi import fw_c
@@ -131,6 +132,37 @@ def test_window_means_corners(sum_id, sum_iq, n):
 
 
 # ---- bang-bang --------------------------------------------------------------------------------------------
+def _rfo_correction(psi_f: int, mag: int) -> int:
+    """golden.firmware.rfo step 5 (the same expression as RotorFluxObserver.step)."""
+    q = c_div((psi_f - mag) << 16, mag if mag > 0 else 1)
+    return Q_LIMIT if q > Q_LIMIT else -Q_LIMIT if q < -Q_LIMIT else q
+
+
+def test_rfo_correction_random(seed):
+    """The observer's normalised correction without a 64-bit division (control.c) equals the golden
+    expression: random psi_f and |eta| over their ranges, both near each other (the unclamped quotients)."""
+    _, lib = fw_c.load()
+    rng = np.random.default_rng(seed)
+    psi = rng.integers(0, 2**27 + 1, size=30_000)
+    mag = np.concatenate([rng.integers(0, 2**31, size=10_000),
+                          np.clip(psi[10_000:] + rng.integers(-2**12, 2**12, size=20_000) * (psi[10_000:] >> 16), 0, 2**31 - 1)])
+    unclamped = 0
+    for p, m in zip(psi.tolist(), mag.tolist()):
+        want = _rfo_correction(p, m)
+        unclamped += abs(want) < Q_LIMIT
+        assert lib.fw_rfo_correction(p, m) == want, (p, m)
+    assert unclamped > 10_000
+
+
+@pytest.mark.parametrize("psi_f, mag", [(0, 0), (1, 0), (0, 1), (2**27, 0), (2**27, 2**31 - 1), (2**27, 2**27),
+                                        (3, 1), (2, 1), (131071, 65536), (131072, 65536), (65537, 65536),
+                                        (0, -5), (2**27, -(2**31))])
+def test_rfo_correction_corners(psi_f, mag):
+    """Clamp edges (quotients of exactly 2^17 and 2^17 + 1), a zero magnitude and, off the range, negative."""
+    _, lib = fw_c.load()
+    assert lib.fw_rfo_correction(psi_f, mag) == _rfo_correction(psi_f, mag)
+
+
 def test_bangbang_random(seed):
     rng = np.random.default_rng(seed + 2)
     theta = draw(rng, N_RANDOM, 0, U32_MAX)

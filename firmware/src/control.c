@@ -291,6 +291,43 @@ int32_t fw_sqw_i_d(const struct fw_params *p)
 
 /* ---- estimator rfo (golden.firmware.rfo) ------------------------------------------------------------ */
 
+/* golden.firmware.rfo step 5: clamp(c_div((psi_f - mag) << 16, max(mag, 1)), -Q_LIMIT, Q_LIMIT), bit for
+ * bit, without a 64-bit division (libgcc's __divdi3 was a tenth of the control step on the soft core and
+ * a kilobyte of its instruction cache). With a = |psi_f - mag| and den = max(mag, 1), the truncated
+ * quotient's magnitude is floor(a 2^16 / den) = (a / den) 2^16 + floor((a % den) 2^16 / den): the integer
+ * part by the 32-bit divider (beyond Q_LIMIT >> 16 the result is clamped anyway), the 16 fraction bits by
+ * restoring division (remainder < den < 2^31, so its double fits 32 bits). psi_f >= 0 (rfo_params) and
+ * mag >= 0 (a magnitude) keep psi_f - mag in int32; a negative mag takes the 64-bit path. */
+int32_t fw_rfo_correction(int32_t psi_f, int32_t mag)
+{
+    const uint32_t limit = (uint32_t)FW_RFO_Q_LIMIT;
+    if (mag < 0 || psi_f < 0) {
+        int64_t q = ((int64_t)psi_f - mag) * 65536 / (mag > 0 ? mag : 1);
+        return (int32_t)(q > FW_RFO_Q_LIMIT ? FW_RFO_Q_LIMIT : q < -FW_RFO_Q_LIMIT ? -FW_RFO_Q_LIMIT : q);
+    }
+    int32_t d = psi_f - mag;
+    uint32_t a = d < 0 ? 0u - (uint32_t)d : (uint32_t)d;
+    uint32_t den = mag > 0 ? (uint32_t)mag : 1u;
+    uint32_t hi = a / den;
+    uint32_t q;
+    if (hi > (limit >> 16)) {
+        q = limit;
+    } else {
+        uint32_t r = a - hi * den, frac = 0;
+        for (int i = 0; i < 16; i++) {
+            r <<= 1;
+            frac <<= 1;
+            if (r >= den) {
+                r -= den;
+                frac |= 1u;
+            }
+        }
+        q = (hi << 16) | frac;
+        q = q > limit ? limit : q;
+    }
+    return d < 0 ? -(int32_t)q : (int32_t)q;
+}
+
 void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
                  int32_t *omega)
 {
@@ -310,9 +347,7 @@ void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     fw_vector_angle(eta_al, eta_be, &ang, &mag);
     e->mag = mag;
     /* Ortega et al. 2011: correction along eta towards |eta| = psi_f (normalised gradient) */
-    int64_t q = ((int64_t)(rp->psi_f - mag) * 65536) / (mag > 0 ? mag : 1);
-    q = q > FW_RFO_Q_LIMIT ? FW_RFO_Q_LIMIT : q < -FW_RFO_Q_LIMIT ? -FW_RFO_Q_LIMIT : q;
-    int64_t g = ((int64_t)rp->k_c * q) >> 16;
+    int64_t g = ((int64_t)rp->k_c * fw_rfo_correction(rp->psi_f, mag)) >> 16;
     e->x_al = (int32_t)sat_bits(e->x_al + dx_al + (((int64_t)eta_al * g) >> 16), 32);
     e->x_be = (int32_t)sat_bits(e->x_be + dx_be + (((int64_t)eta_be * g) >> 16), 32);
     fw_pll_step(&e->pll, ang, rp->pll_kp, rp->pll_ki);

@@ -5,7 +5,7 @@ A backend takes a validated :class:`golden.scenario.Scenario` with a ``[control]
 and the identity tests use one code path):
 
 * ``golden``: the bit-true Python model (:class:`golden.closedloop.ClosedLoop`), the specification;
-* ``rtl``: the C firmware on the PicoRV32 of the Verilated ``hfi_soc`` (:mod:`hfi.rtl_backend`);
+* ``rtl``: the C firmware on the VexRiscv of the Verilated ``hfi_soc`` (:mod:`hfi.rtl_backend`);
 * ``hls``: the HLS C++ kernels with the host build of the firmware (:mod:`hfi.hls_backend`).
 
 Use :func:`get` (``get("hls").run(sc)``) or :func:`run`; :data:`NAMES` lists them.
@@ -48,7 +48,7 @@ class Backend:
 
 BACKENDS: dict[str, Backend] = {b.name: b for b in (
     Backend("golden", "bit-true Python model (the specification)", "golden.closedloop:ClosedLoop"),
-    Backend("rtl", "C firmware on PicoRV32 in the Verilated hfi_soc, C plant", "hfi.rtl_backend:RtlClosedLoop"),
+    Backend("rtl", "C firmware on VexRiscv in the Verilated hfi_soc, C plant", "hfi.rtl_backend:RtlClosedLoop"),
     Backend("hls", "HLS C++ kernels + host firmware + C plant, native", "hfi.hls_backend:HlsClosedLoop"),
 )}
 """Every backend, by name (the order is the order of ``hfi methods`` and the CLI's help)."""

@@ -1,4 +1,4 @@
-"""Closed-loop backend ``rtl``: the firmware on the PicoRV32 of ``hfi_soc`` drives the plant through the RTL.
+"""Closed-loop backend ``rtl``: the firmware on the VexRiscv of ``hfi_soc`` drives the plant through the RTL.
 
 The Verilated SoC, the serial ADC, the clock and the C plant all run inside one native library
 (``sim/soc_sim.cpp``, API ``sim/soc_sim.h``; built here on first use with Verilator). Python creates
@@ -53,8 +53,9 @@ SIM_SOURCES = ("soc_sim.cpp", "plant_loop.cpp")
 """C++ sources of the co-simulation library in sim/ (the harness and the plant loop it shares with hls)."""
 SIM_HEADERS = ("soc_sim.h", "soc_sim.vlt", "plant_loop.h", "plant_records.h")
 
-FW_CYCLES_TARGET = 2000
-"""Performance target of the firmware per control period: 10 % of the 200 us period at 100 MHz."""
+FW_BUDGET = 0.25
+"""Performance target of the firmware: its control step in at most this share of the PWM period
+(issue 15), counted in CPU clocks (the tick clock / soc_platform.CPU_CLOCK_DIVIDER)."""
 
 CHUNK_CYCLES = 2_000_000
 """Clocks per call into the co-simulation (progress granularity, ~0.5 s wall)."""
@@ -385,7 +386,7 @@ class RtlClosedLoop:
         soc = {
             "fw_cycles_max": int(t["cycles"].max()),
             "fw_cycles_mean": round(float(t["cycles"].mean()), 1),
-            "fw_cycles_target": FW_CYCLES_TARGET,
+            "fw_cycles_target": int(FW_BUDGET * P / soc_platform.CPU_CLOCK_DIVIDER),
             "irq_to_commit_cycles_max": int(commit_lat.max()) if (commit_lat >= 0).all() else None,
             "deadline_cycles": int(P - soc_platform.IRQ_LATENCY),
             "late_commits": late,

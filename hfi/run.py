@@ -3,7 +3,7 @@
 A scenario with a ``[control]`` table runs a closed loop (the default, ``scenarios/fullload_start.toml``)
 on one of the backends of :mod:`hfi.backends` (default ``$BACKEND`` or ``rtl``):
 
-- ``rtl``: the firmware (firmware/, C) on the PicoRV32 of the Verilated ``hfi_soc`` drives the C plant
+- ``rtl``: the firmware (firmware/, C) on the VexRiscv of the Verilated ``hfi_soc`` drives the C plant
   through the RTL (:mod:`hfi.rtl_backend`; an FST waveform on request);
 - ``golden``: the bit-true Python model of the same system (:mod:`golden.closedloop`), ~30x faster;
 - ``hls``: the HLS-style C++ kernels of hls/ (native C simulation) with the host build of the firmware

@@ -2,7 +2,7 @@
 
 The hand-over scenario (``scenarios/handover_short.toml``: start-up and polarity detection, 1 N·m at
 standstill, the hand-over to the rotor flux observer at 350 r/min and back below 300 r/min) runs on the
-``golden`` backend (Python bit-true model) and on the ``rtl`` backend (the C firmware on the PicoRV32 of
+``golden`` backend (Python bit-true model) and on the ``rtl`` backend (the C firmware on the VexRiscv of
 the Verilated hfi_soc, the same C plant) with the same seed for ``IDENTITY_S`` seconds, both estimator
 methods in charge in turn. (The default scenario, full length, is compared on the hls backend.)
 Every per-window column, every ADC sample and every gate edge must be equal: any difference is a bug

@@ -23,13 +23,18 @@
 //   n_samples          u16, accepted samples of the window, saturated at 65535
 //   latched            one-cycle pulse: the outputs above were updated in this cycle (held otherwise)
 //
-// Timing: the products i_q*w, i_d*w are registered in the cycle after valid (two multipliers, s16 x s16
-// -> s32) and added in the next one; the sums and n are updated in the cycle after valid. The window
-// membership is decided by the cycle of valid relative to latch: a product still in the pipeline at
-// the latch is added to the latched value, not to the new window. latched (and the new outputs)
-// come LATENCY = 2 cycles after latch (latch cycle L: snapshot at the end of L, outputs at the end of
-// L+1). Throughput: one sample per cycle (minimum sample spacing 1; the system gives >= 40); latches
-// may come in any cycles, even consecutive ones (a window of 0 samples latches zeros and n = 0).
+// Timing: every input goes straight into a register (stage r: the sample, its keep flag, the latch
+// strobe), so no logic of the caller precedes the arithmetic. The products i_q*w, i_d*w are formed from
+// the stage-r registers (two multipliers, s16 x s16 -> s32) and registered; the sums and n are updated
+// from stage r. A sample whose valid is in cycle c is in the sums at the end of c+1 and in the product
+// sums at the end of c+2. The window membership is decided by the cycle of valid relative to latch: the
+// latch acts one cycle later (latch_d, cycle L+1 for a latch in cycle L), when every sample of the
+// ended window (valid up to L-1) is either summed or in the product register, and every later sample
+// still in stage r: the outputs are loaded directly from the sums (the product sums with the product
+// register added) at the end of L+1 and the accumulators restart with the stage-r sample. latched (and
+// the new outputs) come LATENCY = 2 cycles after latch. Throughput: one sample per cycle (minimum
+// sample spacing 1; the system gives >= 40); latches may come in any cycles, even consecutive ones (a
+// window of 0 samples latches zeros and n = 0).
 // Range: the s48 accumulators and s33 sums are exact for windows of up to 2^17 - 1 samples (the spec
 // bounds a window below 65535 samples), so the saturations only act beyond the specified range.
 // A synchronous reset clears the window, the pipeline and the outputs; the first window starts in the
@@ -53,36 +58,32 @@ module hfi_demodulator (
     output reg         [15:0] n_samples,
     output reg                latched
 );
-    /* verilator lint_off UNUSEDPARAM */  // documents the fixed pipeline below (snapshot, outputs)
+    /* verilator lint_off UNUSEDPARAM */  // documents the fixed pipeline below (latch_d, outputs)
     localparam LATENCY = 2;                 // cycles from latch to latched
     /* verilator lint_on UNUSEDPARAM */
     localparam [15:0] N_MAX = 16'hFFFF;
 
-    wire take = valid & keep;               // an accepted sample in this cycle
+    // Stage r: the inputs of this cycle, registered.
+    reg               r_v;                  // an accepted sample (valid & keep) one cycle ago
+    reg signed [15:0] r_id, r_iq, r_w;
+    reg               latch_d;              // latch one cycle ago: the window ends now (see Timing)
 
-    // Product stage (the two multipliers), registered in the cycle after valid.
-    reg               p_v;                  // products valid (an accepted sample one cycle ago)
+    // Product stage (the two multipliers), from stage r.
+    reg               p_v;                  // products valid (an accepted sample two cycles ago)
     reg signed [31:0] p_q, p_d;             // i_q*w, i_d*w (|product| <= 2^30)
 
-    // Window state.
+    // Window state: the sums hold the samples up to two cycles ago (products: three cycles ago).
     reg signed [47:0] acc_q, acc_d;         // sum i_q*w, sum i_d*w (s48)
     reg signed [32:0] s_d, s_q, s_w;        // sum i_d, sum i_q, sum w (s33)
     reg        [15:0] n;
 
-    // Next values before a latch: the product of the sample one cycle ago joins its window here.
+    // The window so far, with the sample of the product register / of stage r.
     wire signed [47:0] acc_q_nx = acc_q + (p_v ? {{16{p_q[31]}}, p_q} : 48'sd0);
     wire signed [47:0] acc_d_nx = acc_d + (p_v ? {{16{p_d[31]}}, p_d} : 48'sd0);
-    // Sums of the new cycle's sample, onto the current window (or onto 0 if this cycle latches).
-    wire signed [32:0] s_d_base = latch ? 33'sd0 : s_d;
-    wire signed [32:0] s_q_base = latch ? 33'sd0 : s_q;
-    wire signed [32:0] s_w_base = latch ? 33'sd0 : s_w;
-    wire        [15:0] n_base   = latch ? 16'd0 : n;
-
-    // Snapshot of the finished window (taken at the end of the latch cycle).
-    reg               l_v;                  // snapshot taken one cycle ago
-    reg signed [32:0] l_g_q, l_g_d;         // shr(acc, 15): the top 33 bits of the s48 sums
-    reg signed [32:0] l_s_d, l_s_q, l_s_w;
-    reg        [15:0] l_n;
+    wire signed [32:0] r_d = r_v ? {{17{r_id[15]}}, r_id} : 33'sd0;
+    wire signed [32:0] r_q = r_v ? {{17{r_iq[15]}}, r_iq} : 33'sd0;
+    wire signed [32:0] r_ww = r_v ? {{17{r_w[15]}}, r_w} : 33'sd0;
+    wire        [15:0] n_nx = (r_v && n != N_MAX) ? n + 16'd1 : n;
 
     // sat(v, 32) of an s33.
     function signed [31:0] sat32;
@@ -97,6 +98,11 @@ module hfi_demodulator (
 
     always @(posedge clk) begin
         if (rst) begin
+            r_v <= 1'b0;
+            r_id <= 16'sd0;
+            r_iq <= 16'sd0;
+            r_w <= 16'sd0;
+            latch_d <= 1'b0;
             p_v <= 1'b0;
             p_q <= 32'sd0;
             p_d <= 32'sd0;
@@ -106,13 +112,6 @@ module hfi_demodulator (
             s_q <= 33'sd0;
             s_w <= 33'sd0;
             n <= 16'd0;
-            l_v <= 1'b0;
-            l_g_q <= 33'sd0;
-            l_g_d <= 33'sd0;
-            l_s_d <= 33'sd0;
-            l_s_q <= 33'sd0;
-            l_s_w <= 33'sd0;
-            l_n <= 16'd0;
             gamma <= 32'sd0;
             gamma_d <= 32'sd0;
             sum_id <= 32'sd0;
@@ -121,49 +120,40 @@ module hfi_demodulator (
             n_samples <= 16'd0;
             latched <= 1'b0;
         end else begin
-            // Products of this cycle's sample (the two multipliers).
-            p_v <= take;
-            p_q <= i_q * w;
-            p_d <= i_d * w;
+            r_v <= valid & keep;
+            r_id <= i_d;
+            r_iq <= i_q;
+            r_w <= w;
+            latch_d <= latch;
+            // Products of the stage-r sample (the two multipliers).
+            p_v <= r_v;
+            p_q <= r_iq * r_w;
+            p_d <= r_id * r_w;
 
-            // Window boundary: snapshot the finished window, restart the accumulators.
-            l_v <= latch;
-            if (latch) begin
-                l_g_q <= acc_q_nx[47:15];   // shr(acc_q, 15), s33
-                l_g_d <= acc_d_nx[47:15];
-                l_s_d <= s_d;
-                l_s_q <= s_q;
-                l_s_w <= s_w;
-                l_n <= n;
+            // latch_d: the window of every sample before the latch cycle is complete here: load the
+            // outputs (shr(acc, 15): the top 33 bits of the s48 sums), restart with the stage-r sample
+            // (valid in the latch cycle or later) and an empty product sum.
+            latched <= latch_d;
+            if (latch_d) begin
+                gamma <= sat32(acc_q_nx[47:15]);
+                gamma_d <= sat32(acc_d_nx[47:15]);
+                sum_id <= sat32(s_d);
+                sum_iq <= sat32(s_q);
+                wsum <= sat32(s_w);
+                n_samples <= n;
                 acc_q <= 48'sd0;
                 acc_d <= 48'sd0;
+                s_d <= r_d;
+                s_q <= r_q;
+                s_w <= r_ww;
+                n <= {15'd0, r_v};
             end else begin
                 acc_q <= acc_q_nx;
                 acc_d <= acc_d_nx;
-            end
-
-            // Sums and count: a sample in the latch cycle opens the new window.
-            if (take) begin
-                s_d <= s_d_base + {{17{i_d[15]}}, i_d};
-                s_q <= s_q_base + {{17{i_q[15]}}, i_q};
-                s_w <= s_w_base + {{17{w[15]}}, w};
-                n <= (n_base == N_MAX) ? N_MAX : n_base + 16'd1;
-            end else begin
-                s_d <= s_d_base;
-                s_q <= s_q_base;
-                s_w <= s_w_base;
-                n <= n_base;
-            end
-
-            // Output registers from the snapshot: loaded, with 'latched', LATENCY = 2 cycles after latch.
-            latched <= l_v;
-            if (l_v) begin
-                gamma <= sat32(l_g_q);
-                gamma_d <= sat32(l_g_d);
-                sum_id <= sat32(l_s_d);
-                sum_iq <= sat32(l_s_q);
-                wsum <= sat32(l_s_w);
-                n_samples <= l_n;
+                s_d <= s_d + r_d;
+                s_q <= s_q + r_q;
+                s_w <= s_w + r_ww;
+                n <= n_nx;
             end
         end
     end

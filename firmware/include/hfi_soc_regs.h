@@ -85,7 +85,7 @@ typedef union {
 #define HFI_SOC__UART_DIV__VALUE_bm 0xffff
 #define HFI_SOC__UART_DIV__VALUE_bp 0
 #define HFI_SOC__UART_DIV__VALUE_bw 16
-#define HFI_SOC__UART_DIV__VALUE_reset 0x364
+#define HFI_SOC__UART_DIV__VALUE_reset 0x1b2
 typedef union {
     struct __attribute__ ((__packed__)) {
         uint32_t VALUE :16;

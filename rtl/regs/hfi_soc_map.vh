@@ -43,7 +43,7 @@ localparam [0:0] SOC_UART_STATUS_TX_BUSY_RESET = 1'h0;
 localparam [7:0] SOC_UART_DIV_ADDR = 8'h18;
 localparam integer SOC_UART_DIV_VALUE_LSB = 0;  // rw
 localparam integer SOC_UART_DIV_VALUE_WIDTH = 16;
-localparam [15:0] SOC_UART_DIV_VALUE_RESET = 16'h364;
+localparam [15:0] SOC_UART_DIV_VALUE_RESET = 16'h1B2;
 
 // TRACE @ 0x1C: Debug trace
 localparam [7:0] SOC_TRACE_ADDR = 8'h1C;

@@ -13,7 +13,9 @@
 //     held read data (stable since before ack flipped).
 // Each hold register is written by one side only and read by the other only while it is stable, so
 // no multi-bit value is ever sampled while it changes. Latency: about 3 s clocks + 3 m clocks + the
-// m bus.
+// m bus. Reset: both sides must be reset together (hfi_soc holds rst for >= 20 clocks of the slower
+// clock): a reset seen by one side only leaves the toggles unequal, and the m bus would then repeat the
+// last access or issue a stray one (cocotb_tests/test_cdc_bus.py checks resets of both sides).
 module hfi_cdc_bus #(
     parameter AW = 8
 ) (

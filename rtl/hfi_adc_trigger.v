@@ -33,6 +33,10 @@
 //   OS_TICKS: at carrier bottoms (the OS sequence restarts at every period start): the value present
 //     in the bottom tick (tick 0 included) is used for that whole period.
 //   OS_MIN is a synthesis parameter, 1..65535 (default 40 = 32 CORDIC iterations + 8).
+// Carrier inputs: phase, half, at_zc and at_bottom must come from hfi_carrier (as in hfi_dsp and the
+// testbench): H changes only in at_bottom ticks, where phi = 0. Timing structure: the quantities of the
+// OS instants (phi mod OS is 0, the bound P - OS_MIN) and the age of the latest switch event are
+// registered the tick before, so sample and keep are a few gates after registers, one compare each.
 module hfi_adc_trigger #(
     parameter OS_MIN = 40
 ) (
@@ -53,7 +57,6 @@ module hfi_adc_trigger #(
     localparam [1:0]  MODE_DS       = 2'd1;
     localparam [1:0]  MODE_OS_BLANK = 2'd2;
     localparam [15:0] OS_MIN16      = OS_MIN[15:0];
-    localparam [17:0] OS_MIN18      = {2'b00, OS_MIN16};
 
     wire [15:0] os_in = (os_ticks_reg < OS_MIN16) ? OS_MIN16 : os_ticks_reg;
 
@@ -61,45 +64,49 @@ module hfi_adc_trigger #(
     reg  [15:0] blank_q;    // BLANK_TICKS of the current window
     reg  [15:0] os_q;       // OS interval of the current period (latched at the bottom)
     reg  [15:0] os_pos_q;   // phi mod OS for the current tick (not used in the bottom tick)
-    reg  [15:0] age_q;      // age_now of the previous tick
-    reg         ev_q;       // sw_event of the previous tick
-    // ticks since the latest switch event before this tick, saturating; formed from registers only,
-    // so the gate generator's same-tick sw_event does not reach the age counter (timing)
-    wire [15:0] age_now = ev_q ? 16'd1 : (age_q == 16'hFFFF ? age_q : age_q + 16'd1);
+    reg         os_zero_q;  // os_pos_q == 0
+    reg  signed [18:0] lim_q;   // 2H - OS_MIN of the previous tick (= this tick's unless at a bottom)
+    reg  [15:0] age_q;      // ticks since the latest switch event before this tick, saturating
+                            // (a register: the gate generator's same-tick sw_event only enters it,
+                            // through one mux, for the next tick)
 
     assign mode = at_zc ? mode_reg : mode_q;
     wire [15:0] blank  = at_zc ? blank_ticks_reg : blank_q;
     wire [15:0] os_now = at_bottom ? os_in : os_q;
-    wire [15:0] os_pos = at_bottom ? 16'd0 : os_pos_q;
 
-    // OS instants: phi mod OS == 0 and phi + OS_MIN <= P (phi = 0 always)
-    wire os_in_range = ({1'b0, phase} + OS_MIN18) <= {1'b0, half, 1'b0};
-    wire os_hit      = at_bottom || (os_pos == 16'd0 && os_in_range);
+    // OS instants: phi mod OS == 0 and phi + OS_MIN <= P (phi = 0 always). Outside the bottom tick H
+    // is the one of the previous tick: phi + OS_MIN <= 2H <=> phi <= lim_q.
+    wire os_in_range = $signed({2'b00, phase}) <= lim_q;
+    wire os_hit      = at_bottom || (os_zero_q && os_in_range);
     wire ds_hit      = at_bottom || (phase == {1'b0, half});
     assign sample    = (mode == MODE_DS) ? ds_hit : os_hit;
 
     // blanking: an event in this tick or one less than BLANK_TICKS ticks ago
-    wire blanked = (blank != 16'd0) && (sw_event || (age_now < blank));
+    wire blanked = (blank != 16'd0) && (sw_event || (age_q < blank));
     assign keep  = !(mode == MODE_OS_BLANK && blanked);
 
-    wire [16:0] os_pos_inc = {1'b0, os_pos} + 17'd1;
+    // phi mod OS of the next tick: restarts at 0 in a bottom tick (then 1 next), wraps at os_now
+    wire [16:0] os_pos_inc = {1'b0, os_pos_q} + 17'd1;
+    wire [15:0] os_pos_n   = at_bottom ? ((os_in == 16'd1) ? 16'd0 : 16'd1)
+                                       : ((os_pos_inc == {1'b0, os_q}) ? 16'd0 : os_pos_inc[15:0]);
 
     always @(posedge clk) begin
         if (rst) begin
-            mode_q   <= mode_reg;
-            blank_q  <= blank_ticks_reg;
-            os_q     <= os_in;
-            os_pos_q <= 16'd0;
-            age_q    <= 16'hFFFF;
-            ev_q     <= 1'b0;
+            mode_q    <= mode_reg;
+            blank_q   <= blank_ticks_reg;
+            os_q      <= os_in;
+            os_pos_q  <= 16'd0;
+            os_zero_q <= 1'b1;
+            age_q     <= 16'hFFFF;
         end else begin
-            mode_q   <= mode;
-            blank_q  <= blank;
-            os_q     <= os_now;
-            os_pos_q <= (os_pos_inc == {1'b0, os_now}) ? 16'd0 : os_pos_inc[15:0];
-            age_q    <= age_now;
-            ev_q     <= sw_event;
+            mode_q    <= mode;
+            blank_q   <= blank;
+            os_q      <= os_now;
+            os_pos_q  <= os_pos_n;
+            os_zero_q <= os_pos_n == 16'd0;
+            age_q     <= sw_event ? 16'd1 : (age_q == 16'hFFFF ? age_q : age_q + 16'd1);
         end
+        lim_q <= $signed({2'b00, half, 1'b0}) - $signed({3'b000, OS_MIN16});
     end
 endmodule
 

@@ -20,12 +20,14 @@
 // whose next values are computed one tick ahead).  Throughput: one tick per clock.  Multipliers: 0.
 //
 // Timing structure (Fmax): the counter c is kept as a register (up on the rising half, down on the
-// falling half, 0 at every bottom); the strobes of the next tick are decoded from c_next = c +/- 1
-// (one 16-bit carry chain, then equality compares) and registered, including `last` (the next tick
-// is a bottom), so the bottom reload (half, step, hs) is a plain mux of registers.  The angle is kept
-// directly: a_next = a -/+ 2*STEP (rising/falling) while hs is unchanged, or hs_next - m2cs_next
-// (one carry-save level + one 32-bit chain) when hs is (re)loaded from the ready product; the 48-bit
-// "ready triple matches the pair in use" compare runs in parallel and only selects the result.
+// falling half, 0 at every bottom); the strobes of the next tick are registered, including `last`
+// (the next tick is a bottom), so the bottom reload (half, step, hs) is a plain mux of registers. The
+// equality compares behind the strobes are themselves evaluated one tick earlier (c == H - 2,
+// c == H/2 - 2 on the rising half, c == 3 on the falling half, registered in eq_top, eq_zc, eq_two),
+// so a strobe is one gate after registers.  The angle is kept directly: a_next = a -/+ 2*STEP
+// (rising/falling) while hs is unchanged, or hs_next - m2cs_next (one carry-save level + one 32-bit
+// chain) when hs is (re)loaded from the ready product; the 48-bit "ready triple matches the pair in
+// use" compare is registered (eq_rdy, evaluated from the next values) and only selects the result.
 //
 // Register changes (docs/rtl.md "PWM_HALF and CW_ANGLE_STEP take effect at a carrier bottom"):
 //   A bit-serial shift-add multiplier (one bit of H per clock) computes H*STEP mod 2^32 of the
@@ -85,31 +87,40 @@ module hfi_carrier (
     reg  [31:0] rdy_s;
     reg  [31:0] rdy_p;
     reg         rst_q;     // rst of the previous cycle (restart the product on the rising edge of rst)
+    reg         mul_h512;  // mul_h == 512
     wire [31:0] mul_sum = {mul_acc, 1'b0} + (mul_q[15] ? mul_s : 32'd0);
+    // The inputs equal the operands in progress: effective_half(pwm_half_reg) == mul_h (mul_h is always
+    // an effective half: even, >= 512, so the raw register's LSB does not matter) and STEP == mul_s.
+    // Written as "equal -> keep going, else restart" so that unknown operands (simulation start)
+    // restart the product.
+    wire        small_in = pwm_half_reg[15:9] == 7'd0;
+    wire        op_eq    = (small_in ? mul_h512 : (pwm_half_reg[15:1] == mul_h[15:1])) && cw_step_reg == mul_s;
+    wire        mul_keep = op_eq && !(rst && !rst_q);
+    wire        mul_done = mul_keep && mul_busy && mul_cnt == 4'd15;   // the ready triple is loaded
 
     always @(posedge clk) begin
         rst_q <= rst;
-        // Written as "equal -> keep going, else restart" so that unknown operands (simulation
-        // start) restart the product.
-        if ({eff_half_in, cw_step_reg} == {mul_h, mul_s} && !(rst && !rst_q)) begin
+        if (mul_keep) begin
             if (mul_busy) begin
                 mul_acc <= mul_sum[30:0];
                 mul_q   <= {mul_q[14:0], 1'b0};
                 mul_cnt <= mul_cnt + 4'd1;
-                if (mul_cnt == 4'd15) begin
+                if (mul_cnt == 4'd15)
                     mul_busy <= 1'b0;
-                    rdy_h    <= mul_h;
-                    rdy_s    <= mul_s;
-                    rdy_p    <= mul_sum;
-                end
             end
         end else begin
             mul_h    <= eff_half_in;
+            mul_h512 <= small_in || pwm_half_reg[15:1] == 15'd256;
             mul_s    <= cw_step_reg;
             mul_q    <= eff_half_in;
             mul_acc  <= 31'd0;
             mul_cnt  <= 4'd0;
             mul_busy <= 1'b1;
+        end
+        if (mul_done) begin
+            rdy_h <= mul_h;
+            rdy_s <= mul_s;
+            rdy_p <= mul_sum;
         end
     end
 
@@ -118,26 +129,35 @@ module hfi_carrier (
     reg  [31:0] hs;        // H*STEP mod 2^32 of the (half, step) in use (once known)
     reg  [31:0] m2cs;      // 2*c*STEP mod 2^32 of the current tick
     reg         last;      // this tick is the last of the period (phi = 2H - 1): the next is a bottom
-    reg  [15:0] top_m1;    // H - 1 and H/2 - 1 of the half period in use (strobe targets)
-    reg  [15:0] zc_m1;
+    reg  [15:0] top_m2;    // H - 2 and H/2 - 2 of the half period in use (strobe targets, a tick ahead)
+    reg  [15:0] zc_m2;
+    reg         eq_top;    // c == H - 1 (valid on the rising half outside a bottom tick)
+    reg         eq_zc;     // c == H/2 - 1 (likewise)
+    reg         eq_two;    // c == 2 (valid on the falling half outside a bottom tick)
+    reg         eq_rdy;    // {rdy_h, rdy_s} == {half, step}
 
     wire        bottom_n = rst | last;                            // the next tick is a bottom
     wire [15:0] c_step   = rising ? counter + 16'd1 : counter - 16'd1;
     wire [15:0] c_n      = bottom_n ? 16'd0 : c_step;             // counter of the next tick
-    // strobes of the next tick (half is unchanged unless the next tick is a bottom, where c_n = 0)
-    // The strobes of the next tick compare the current counter with precomputed targets (no adder in
-    // the path): c + 1 == H <=> c == H - 1 (rising, c < H), c - 1 == 1 <=> c == 2 (falling).
-    wire        top_n    = !bottom_n && rising && (counter == top_m1);
-    wire        zc_n     = !bottom_n && rising && (counter == zc_m1);
-    wire        last_n   = !bottom_n && !rising && (counter == 16'd2);
+    // strobes of the next tick (half is unchanged unless the next tick is a bottom, where c_n = 0):
+    // c + 1 == H <=> c == H - 1 (rising, c < H), c - 1 == 1 <=> c == 2 (falling), these equalities
+    // registered the tick before: c + 1 == H - 1 (rising: the next tick is rising or the top, where
+    // eq_top is not used), c - 1 == 2 (falling: the next tick is falling or a bottom). After a bottom
+    // (c = 0) none holds (H >= 512).
+    wire        top_n    = !bottom_n && rising && eq_top;
+    wire        zc_n     = !bottom_n && rising && eq_zc;
+    wire        last_n   = !bottom_n && !rising && eq_two;
     wire        rising_n = bottom_n | (rising & ~top_n);
 
     // pair in use next tick; does the ready triple describe it (then its product is hs)?
     wire [15:0] half_n   = rst ? eff_half_in : (last ? rdy_h : half);
     wire [31:0] step_n   = rst ? cw_step_reg : (last ? rdy_s : step);
-    wire        match    = rst ? ({rdy_h, rdy_s} == {eff_half_in, cw_step_reg})
-                               : (last | ({rdy_h, rdy_s} == {half, step}));
+    wire        match    = rst ? ({rdy_h, rdy_s} == {eff_half_in, cw_step_reg}) : (last | eq_rdy);
     wire [31:0] hs_n     = match ? rdy_p : hs;
+    // eq_rdy of the next tick: the ready triple of the next tick (mul_h, mul_s if mul_done) against
+    // the pair of the next tick (after a bottom: the ready triple of this tick)
+    wire [47:0] pair_n   = {half_n, step_n};
+    wire        eq_rdy_n = mul_done ? ({mul_h, mul_s} == pair_n) : ({rdy_h, rdy_s} == pair_n);
 
     // m2cs of the next tick: m2cs + d with d = +2*STEP rising, -2*STEP falling; 0 at a bottom
     wire [31:0] two_step = {step[30:0], 1'b0};
@@ -165,8 +185,12 @@ module hfi_carrier (
         at_zc     <= zc_n;
         last      <= last_n;
         half      <= half_n;
-        top_m1    <= half_n - 16'd1;
-        zc_m1     <= {1'b0, half_n[15:1]} - 16'd1;
+        top_m2    <= half_n - 16'd2;
+        zc_m2     <= {1'b0, half_n[15:1]} - 16'd2;
+        eq_top    <= !bottom_n && rising && counter == top_m2;
+        eq_zc     <= !bottom_n && rising && counter == zc_m2;
+        eq_two    <= !bottom_n && !rising && counter == 16'd3;
+        eq_rdy    <= eq_rdy_n;
         step      <= step_n;
         hs        <= hs_n;
         m2cs      <= m2cs_n;

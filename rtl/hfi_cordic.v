@@ -99,12 +99,23 @@ module hfi_cordic #(
     // adder precedes the table lookup (timing).
     reg              [4:0] iter_p1;  // iter + 1
     reg             [31:0] atan_i;   // ATAN[iter]
-    wire signed [WIDTH-1:0] x_sh = x >>> iter;
-    wire signed [WIDTH-1:0] y_sh = y >>> iter;
     wire               z_neg = z[31];      // d = -1
-    wire signed [WIDTH-1:0] x_next = z_neg ? x + y_sh : x - y_sh;
-    wire signed [WIDTH-1:0] y_next = z_neg ? y - x_sh : y + x_sh;
-    wire signed     [31:0] z_next = z_neg ? z + atan_i : z - atan_i;
+    // x - d*(y >>> i), y + d*(x >>> i), z - d*ATAN[i] as one adder each (timing: no multiplexer
+    // after the carry chains): a subtraction adds the inverted operand and a carry of 1, which enters
+    // through an extra low bit ({a, 1} + {b, c} carries c into bit 1). The operands are inverted
+    // before the shift (~(v >>> i) = (~v) >>> i), so the inversion shares the first multiplexer level.
+    wire signed [WIDTH-1:0] y_inv = y ^ {WIDTH{~z_neg}};   // ~y for d = +1 (x - y_sh)
+    wire signed [WIDTH-1:0] x_inv = x ^ {WIDTH{z_neg}};    // ~x for d = -1 (y - x_sh)
+    wire signed [WIDTH-1:0] y_op = y_inv >>> iter;
+    wire signed [WIDTH-1:0] x_op = x_inv >>> iter;
+    /* verilator lint_off UNUSEDSIGNAL */  // bit 0 of the sums is the carry-in helper
+    wire [WIDTH:0] x_sum = {x, 1'b1} + {y_op, ~z_neg};
+    wire [WIDTH:0] y_sum = {y, 1'b1} + {x_op, z_neg};
+    wire [32:0]    z_sum = {z, 1'b1} + {atan_i ^ {32{~z_neg}}, ~z_neg};
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire signed [WIDTH-1:0] x_next = x_sum[WIDTH:1];
+    wire signed [WIDTH-1:0] y_next = y_sum[WIDTH:1];
+    wire signed     [31:0] z_next = z_sum[32:1];
 
     // ---- output stage: optional negation, round half up, shift, saturate ----------------------------
     // -v + RND = ~v + (RND + 1): one adder. AW bits hold -v + RND without overflow.
@@ -156,20 +167,25 @@ module hfi_cordic #(
         end
     end
 
-    // Datapath registers (no reset needed: loaded by every accepted start).
+    // Datapath registers (no reset needed: loaded by every accepted start). The load is a synchronous
+    // set/reset of x and y (constants), the rotation their enable: no gate after the adders.
+    wire load = start & ~busy_r;
     always @(posedge clk) begin
-        if (!busy_r) begin
-            if (start) begin
-                neg <= angle[31] ^ angle[30];
-                x <= X0;
-                y <= {WIDTH{1'b0}};
-                z <= {angle[30], angle[30:0]};  // angle - 2^31 if folded, else angle as s32
-                iter_p1 <= 5'd1;
-                atan_i <= hfi_cordic_atan(0);
-            end
+        if (load) begin  // fold, x0, y0 = 0
+            x <= X0;
+            y <= {WIDTH{1'b0}};
         end else if (rot) begin
             x <= x_next;
             y <= y_next;
+        end
+    end
+    always @(posedge clk) begin
+        if (load) begin
+            neg <= angle[31] ^ angle[30];
+            z <= {angle[30], angle[30:0]};  // angle - 2^31 if folded, else angle as s32
+            iter_p1 <= 5'd1;
+            atan_i <= hfi_cordic_atan(0);
+        end else if (rot) begin
             z <= z_next;
             iter_p1 <= iter_p1 + 5'd1;
             atan_i <= hfi_cordic_atan({27'd0, iter_p1});

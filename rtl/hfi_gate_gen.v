@@ -22,10 +22,19 @@
 //   s[2:0]                ideal switch signals of the current tick (combinational).
 //   sw_event              some s changed at this tick vs the previous tick (before tick 0 s = 0).
 // Latency: gate 1 cycle (registered), s/sw_event 0.  Throughput: one tick per clock.  Multipliers: 0.
+// Carrier inputs: phase, half, at_bottom and at_top must come from hfi_carrier (as in hfi_dsp and the
+// testbench): phi counts up by one per tick and restarts at 0 in the at_bottom tick, H changes only in
+// at_bottom ticks (and is >= 1), at_top is phi == H. The switch signals of the ticks between the
+// strobes are computed one tick ahead from these rules (timing, below); the dead-time logic, and so the
+// safety of formal/hfi_gate_gen.sby, holds for any input sequence.
 //
 // Ideal switch signal (spec 2.4): s = 1 iff c < cmp on the rising half (phi < H, c = phi) or
 // c <= cmp on the falling half (c = P - phi).  A compare > half behaves exactly as cmp = half
 // (s = 1 for the whole half): the comparison saturates by itself, so no explicit clamp is needed.
+// Timing structure: the compares of a tick that is neither a bottom nor a top are evaluated in the
+// cycle before, from phi + 1 and the compares latched by then (registered in pre_q); only the strobe
+// ticks use the ports directly: at a bottom s = (cmp_bot != 0) (c = 0), at a top s = (cmp_top >= H)
+// (c = H). So s is a small mux after a register, an OR tree or one carry chain.
 //
 // Dead time (spec 2.4): per leg, el = ticks since the latest of the last change of s and the last
 // rise of en = enable & ~kill (a saturating 16-bit counter, 0 in the tick of the change/rise).  The
@@ -34,6 +43,9 @@
 // never on together (the mask bits are s & on and ~s & on).  kill acts as enable = 0 (the dead time
 // runs again from its release).  rst turns every gate off in the next cycle and restarts from s = 0,
 // en = 0 (an enable high right after reset is a rise: the dead time runs from tick 0).
+// The counter is kept as el + 1 of the previous tick = restart_q ? 1 : inc_q, with restart_q the
+// restart of the previous tick and inc_q the saturating increment of the previous counter: the restart
+// of this tick (from s) only goes into a one-bit register, never into the 16-bit counter.
 // Safety proven for every input sequence in formal/hfi_gate_gen.sby (see formal/hfi_gate_gen_props.sv).
 // DEAD_MIN is a synthesis parameter, 1..65535 (default 50).
 module hfi_gate_gen #(
@@ -66,46 +78,57 @@ module hfi_gate_gen #(
     wire [47:0] cmp_rise = at_bottom ? {cmp_bot_c, cmp_bot_b, cmp_bot_a} : cmp_rise_q;
     wire [47:0] cmp_fall = at_top    ? {cmp_top_c, cmp_top_b, cmp_top_a} : cmp_fall_q;
 
-    wire        rising = phase < {1'b0, half};
-    // Falling half: s = (P - phi <= cf) <=> T = 2H - phi - cf - 1 < 0, evaluated as one 19-bit sum
-    // 2H + ~phi + ~cf + 1 (a carry-save level, then a single carry chain) instead of a subtraction
-    // followed by a compare (two chains in series).  -2^18 < T < 2^18 for any port values: the sign
-    // bit is exact.
+    // The next tick if it is neither a bottom nor a top: phi + 1, the same H, the compares latched by
+    // the end of this tick (cmp_rise, cmp_fall).  Rising half: phi + 1 < H.  Falling half:
+    // s = (P - (phi + 1) <= cf) <=> T = 2H - phi - cf - 2 < 0, evaluated as one 19-bit sum
+    // 2H + ~phi + ~cf (a carry-save level, then a single carry chain); -2^18 < T < 2^18: the sign bit
+    // is exact.
+    wire [16:0] ph1       = phase + 17'd1;
+    wire        rising_n  = ph1 < {1'b0, half};
     wire [18:0] f_x = {2'b00, half, 1'b0};
     wire [18:0] f_y = ~{2'b00, phase};
 
     wire        en   = enable & ~kill;
 
     reg  [2:0]  s_q;       // s of the previous tick
+    reg  [2:0]  pre_q;     // s of this tick if it is neither a bottom nor a top (computed the tick before)
     reg         en_q;      // en of the previous tick
-    reg  [47:0] el_q;      // per leg {c, b, a}: el of the previous tick + 1 (saturating)
+    reg  [2:0]  rs_q;      // per leg: restart in the previous tick
+    reg  [47:0] inc_q;     // per leg {c, b, a}: saturating increment of el_q of the previous tick
     wire        en_rise = en & ~en_q;
     wire [5:0]  mask;
-    wire [47:0] el_next;
+    wire [2:0]  pre_n;
+    wire [2:0]  restart;
+    wire [47:0] inc_n;
 
     genvar x;
     generate
         for (x = 0; x < 3; x = x + 1) begin : leg
             wire [15:0] cr = cmp_rise[16*x +: 16];
             wire [15:0] cf = cmp_fall[16*x +: 16];
+            wire [15:0] cb = x == 0 ? cmp_bot_a : x == 1 ? cmp_bot_b : cmp_bot_c;
+            wire [15:0] ct = x == 0 ? cmp_top_a : x == 1 ? cmp_top_b : cmp_top_c;
             wire [18:0] f_z = ~{3'b000, cf};
             wire [18:0] f_s = f_x ^ f_y ^ f_z;
             wire [18:0] f_c = {(f_x[17:0] & f_y[17:0]) | (f_x[17:0] & f_z[17:0]) | (f_y[17:0] & f_z[17:0]),
-                               1'b1};                            // the +1 in bit 0
+                               1'b0};
             /* verilator lint_off UNUSEDSIGNAL */               // only the sign of T is used
             wire [18:0] f_t = f_s + f_c;                         // T mod 2^19
             /* verilator lint_on UNUSEDSIGNAL */
-            assign s[x] = rising ? (phase < {1'b0, cr}) : f_t[18];
-            wire        restart = (s[x] ^ s_q[x]) | en_rise;
-            // el = restart ? 0 : el_q; el >= D with D = max(dead_reg, DEAD_MIN) >= 1 is false after a
-            // restart, else el_q >= dead_reg and el_q >= DEAD_MIN (compares of registers and the
-            // register input only, in parallel with s)
-            wire [15:0] elq     = el_q[16*x +: 16];
+            assign pre_n[x] = rising_n ? (ph1 < {1'b0, cr}) : f_t[18];
+            // s: bottom c = 0 < cmp; top c = H <= cmp; else the value computed the tick before
+            assign s[x] = at_bottom ? (cb != 16'd0) : at_top ? (ct >= half) : pre_q[x];
+            assign restart[x] = (s[x] ^ s_q[x]) | en_rise;
+            // el_q = el of the previous tick + 1 (saturating) = rs_q ? 1 : inc_q; el = restart ? 0 : el_q;
+            // el >= D with D = max(dead_reg, DEAD_MIN) >= 1 is false after a restart, else el_q >= dead_reg
+            // and el_q >= DEAD_MIN (compares of registers and the register input only, in parallel with s)
+            wire [15:0] incq    = inc_q[16*x +: 16];
+            wire [15:0] elq     = rs_q[x] ? 16'd1 : incq;
             wire        ge      = (elq >= dead_reg) && (elq >= DEAD_MIN16);
-            wire        on      = en & ~restart & ge;
+            wire        on      = en & ~restart[x] & ge;
             assign mask[2*x]     = on & s[x];
             assign mask[2*x + 1] = on & ~s[x];
-            assign el_next[16*x +: 16] = restart ? 16'd1 : ((elq == 16'hFFFF) ? elq : elq + 16'd1);
+            assign inc_n[16*x +: 16] = rs_q[x] ? 16'd2 : ((incq == 16'hFFFF) ? incq : incq + 16'd1);
         end
     endgenerate
 
@@ -115,15 +138,19 @@ module hfi_gate_gen #(
         if (rst) begin
             gate       <= 6'd0;
             s_q        <= 3'd0;
+            pre_q      <= 3'd0;
             en_q       <= 1'b0;
-            el_q       <= 48'd0;
+            rs_q       <= 3'd0;
+            inc_q      <= 48'd0;
             cmp_rise_q <= 48'd0;
             cmp_fall_q <= 48'd0;
         end else begin
             gate       <= mask;
             s_q        <= s;
+            pre_q      <= pre_n;
             en_q       <= en;
-            el_q       <= el_next;
+            rs_q       <= restart;
+            inc_q      <= inc_n;
             cmp_rise_q <= cmp_rise;
             cmp_fall_q <= cmp_fall;
         end

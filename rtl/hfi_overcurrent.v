@@ -34,10 +34,23 @@ module hfi_overcurrent (
     wire signed [17:0] lim     = $signed({2'b00, limit});
     wire signed [17:0] neg_lim = -lim;                   // -65535..0
 
-    // |x| > L  <=>  x > L or x < -L; for i_c = -(i_a + i_b) the same test on s = i_a + i_b.
-    // Two carry chains deep (the sum, then the compares), no absolute values: timing (docs/rtl.md).
-    wire signed [17:0] s = a + b;                        // -65536..65534, exact in s18
-    wire over = (a > lim) | (a < neg_lim) | (b > lim) | (b < neg_lim) | (s > lim) | (s < neg_lim);
+    // |x| > L  <=>  x > L or x < -L; for i_c = -(i_a + i_b) the same test on s = i_a + i_b, whose two
+    // compares are single three-operand sums (one carry-save level, one carry chain: timing):
+    //   s > L  <=> a + b - L - 1 >= 0 <=> a + b + ~L >= 0;   s < -L <=> a + b + L < 0
+    // in 19 bits (-65536 - 65535 .. 65534 + 65535 fits), no absolute values.
+    wire [18:0] a19 = {{3{i_a[15]}}, i_a};
+    wire [18:0] b19 = {{3{i_b[15]}}, i_b};
+    wire [18:0] l19 = {3'b000, limit};
+    wire [18:0] nl19 = ~l19;
+    wire [18:0] hs_s = a19 ^ b19 ^ nl19;
+    wire [18:0] hs_c = {(a19[17:0] & b19[17:0]) | (a19[17:0] & nl19[17:0]) | (b19[17:0] & nl19[17:0]), 1'b0};
+    wire [18:0] ls_s = a19 ^ b19 ^ l19;
+    wire [18:0] ls_c = {(a19[17:0] & b19[17:0]) | (a19[17:0] & l19[17:0]) | (b19[17:0] & l19[17:0]), 1'b0};
+    /* verilator lint_off UNUSEDSIGNAL */                // only the signs are used
+    wire [18:0] hs_t = hs_s + hs_c;                      // a + b - L - 1 (mod 2^19)
+    wire [18:0] ls_t = ls_s + ls_c;                      // a + b + L
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire over = (a > lim) | (a < neg_lim) | (b > lim) | (b < neg_lim) | !hs_t[18] | ls_t[18];
 
     always @(posedge clk) begin
         if (rst)

@@ -31,10 +31,18 @@ bench: setup
 paper: setup
 	$(ENV) .venv/bin/hfi paper
 
-# Synthesis and timing of the hfi_dsp IP, the hfi_soc SoC and PicoRV32 alone (yowasp Yosys + nextpnr-ecp5): out/synth/report.json + table.
+# Synthesis and timing of the hfi_dsp IP, the hfi_soc SoC and its CPU alone (yowasp Yosys + nextpnr-ecp5): out/synth/report.json + table.
 .PHONY: synth
 synth: setup
 	$(ENV) .venv/bin/python scripts/synth_report.py
+
+# Bitstream of the SoC for a board (docs/boards.md): BOARD=ulx3s or tangnano20k; SCENARIO = the firmware's
+# configuration; out/bitstream/<board>/ with the timing summary.
+BOARD ?= ulx3s
+SCENARIO ?= scenarios/fullload_start.toml
+.PHONY: bitstream
+bitstream: setup
+	$(ENV) .venv/bin/python scripts/bitstream.py $(BOARD) --scenario $(SCENARIO)
 
 # Formal proof (SymbiYosys, k-induction) that no leg ever has both switches on (also run by make test).
 .PHONY: prove

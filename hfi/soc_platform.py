@@ -55,7 +55,7 @@ window interrupt."""
 # ---------------------------------------------------------------- CPU and clocks
 CPU_PACKAGE = "pythondata_cpu_vexriscv"
 """PyPI package (pythondata-cpu-vexriscv) that holds the core's Verilog; never copied here."""
-CPU_VARIANT = "VexRiscv_IMAC.v"
+CPU_VARIANT = "VexRiscv.v"
 """The core's Verilog file in that package: RV32IM, 4 KiB instruction and data caches, single-cycle
 multiplier, iterative divider, machine-mode interrupts and exceptions (docs/soc.md, "Why VexRiscv")."""
 CPU_CLOCK_DIVIDER = 2

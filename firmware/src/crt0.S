@@ -9,7 +9,7 @@
 
 #define CSR_IRQ_PENDING 0xFC0
 
-    .option arch, +zicsr        /* CSR instructions; the C stays -march=rv32imac (its libgcc) */
+    .option arch, +zicsr        /* CSR instructions; the C stays -march=rv32im (its libgcc) */
 
     .section .vectors, "ax"
     .globl _start

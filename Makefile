@@ -36,6 +36,13 @@ paper: setup
 synth: setup
 	$(ENV) .venv/bin/python scripts/synth_report.py
 
+# Gate-level replay (docs/rtl.md): the ECP5 netlist of hfi_dsp with Yosys's cell models (Verilator) replays
+# the RTL replay's 0.2 s of golden closed loop, bit-exact; make test runs a short one. Part of make synth.
+.PHONY: gatelevel
+gatelevel: setup
+	$(ENV) .venv/bin/python scripts/gatelevel.py
+synth: gatelevel
+
 # Bitstream of the SoC for a board (docs/boards.md): BOARD=ulx3s or tangnano20k; SCENARIO = the firmware's
 # configuration; out/bitstream/<board>/ with the timing summary.
 BOARD ?= ulx3s

@@ -64,11 +64,14 @@ module hfi_adc_trigger #(
     reg  [15:0] blank_q;    // BLANK_TICKS of the current window
     reg  [15:0] os_q;       // OS interval of the current period (latched at the bottom)
     reg  [15:0] os_pos_q;   // phi mod OS for the current tick (not used in the bottom tick)
+    reg  [15:0] os_m1_q;    // os_q - 1 (os_q >= OS_MIN >= 1)
     reg         os_zero_q;  // os_pos_q == 0
     reg  signed [18:0] lim_q;   // 2H - OS_MIN of the previous tick (= this tick's unless at a bottom)
-    reg  [15:0] age_q;      // ticks since the latest switch event before this tick, saturating
-                            // (a register: the gate generator's same-tick sw_event only enters it,
-                            // through one mux, for the next tick)
+    // Ticks since the latest switch event before this tick, saturating: age_now = ev_q ? 1 : inc_q, with
+    // ev_q the previous tick's sw_event and inc_q the saturating increment of the previous age_now (the
+    // gate generator's same-tick sw_event only enters the one-bit ev_q).
+    reg         ev_q;
+    reg  [15:0] inc_q;
 
     assign mode = at_zc ? mode_reg : mode_q;
     wire [15:0] blank  = at_zc ? blank_ticks_reg : blank_q;
@@ -82,29 +85,37 @@ module hfi_adc_trigger #(
     assign sample    = (mode == MODE_DS) ? ds_hit : os_hit;
 
     // blanking: an event in this tick or one less than BLANK_TICKS ticks ago
-    wire blanked = (blank != 16'd0) && (sw_event || (age_q < blank));
+    wire [15:0] age_now = ev_q ? 16'd1 : inc_q;
+    wire blanked = (blank != 16'd0) && (sw_event || (ev_q ? (blank > 16'd1) : (inc_q < blank)));
     assign keep  = !(mode == MODE_OS_BLANK && blanked);
 
+    // os_q - 1 of the next tick (os_q changes at bottoms only)
+    wire [15:0] os_in_m1 = (os_ticks_reg < OS_MIN16) ? OS_MIN16 - 16'd1 : os_ticks_reg - 16'd1;
     // phi mod OS of the next tick: restarts at 0 in a bottom tick (then 1 next), wraps at os_now
-    wire [16:0] os_pos_inc = {1'b0, os_pos_q} + 17'd1;
-    wire [15:0] os_pos_n   = at_bottom ? ((os_in == 16'd1) ? 16'd0 : 16'd1)
-                                       : ((os_pos_inc == {1'b0, os_q}) ? 16'd0 : os_pos_inc[15:0]);
+    // (os_pos_q < os_q: os_pos_q + 1 == os_q <=> os_pos_q == os_q - 1, and os_pos_q + 1 < 2^16)
+    wire        os_wrap    = at_bottom ? (os_in == 16'd1) : (os_pos_q == os_m1_q);
+    wire [15:0] os_pos_n   = os_wrap ? 16'd0 : at_bottom ? 16'd1 : os_pos_q + 16'd1;
 
     always @(posedge clk) begin
         if (rst) begin
             mode_q    <= mode_reg;
             blank_q   <= blank_ticks_reg;
             os_q      <= os_in;
+            os_m1_q   <= os_in_m1;
             os_pos_q  <= 16'd0;
             os_zero_q <= 1'b1;
-            age_q     <= 16'hFFFF;
+            ev_q      <= 1'b0;
+            inc_q     <= 16'hFFFF;
         end else begin
             mode_q    <= mode;
             blank_q   <= blank;
             os_q      <= os_now;
+            if (at_bottom)
+                os_m1_q <= os_in_m1;
             os_pos_q  <= os_pos_n;
-            os_zero_q <= os_pos_n == 16'd0;
-            age_q     <= sw_event ? 16'd1 : (age_q == 16'hFFFF ? age_q : age_q + 16'd1);
+            os_zero_q <= os_wrap;
+            ev_q      <= sw_event;
+            inc_q     <= (age_now == 16'hFFFF) ? age_now : age_now + 16'd1;
         end
         lim_q <= $signed({2'b00, half, 1'b0}) - $signed({3'b000, OS_MIN16});
     end

@@ -88,6 +88,7 @@ module hfi_carrier (
     reg  [31:0] rdy_p;
     reg         rst_q;     // rst of the previous cycle (restart the product on the rising edge of rst)
     reg         mul_h512;  // mul_h == 512
+    reg         rdy_h512;  // rdy_h == 512
     wire [31:0] mul_sum = {mul_acc, 1'b0} + (mul_q[15] ? mul_s : 32'd0);
     // The inputs equal the operands in progress: effective_half(pwm_half_reg) == mul_h (mul_h is always
     // an effective half: even, >= 512, so the raw register's LSB does not matter) and STEP == mul_s.
@@ -119,6 +120,7 @@ module hfi_carrier (
         end
         if (mul_done) begin
             rdy_h <= mul_h;
+            rdy_h512 <= mul_h512;
             rdy_s <= mul_s;
             rdy_p <= mul_sum;
         end
@@ -134,7 +136,9 @@ module hfi_carrier (
     reg         eq_top;    // c == H - 1 (valid on the rising half outside a bottom tick)
     reg         eq_zc;     // c == H/2 - 1 (likewise)
     reg         eq_two;    // c == 2 (valid on the falling half outside a bottom tick)
-    reg         eq_rdy;    // {rdy_h, rdy_s} == {half, step}
+    reg         done_q;    // mul_done of the previous tick (the ready triple changed)
+    reg         emp_q;     // {mul_h, mul_s} == {half, step} of this tick, evaluated the tick before
+    reg         erp_q;     // {rdy_h, rdy_s} of the previous tick == {half, step} of this tick
 
     wire        bottom_n = rst | last;                            // the next tick is a bottom
     wire [15:0] c_step   = rising ? counter + 16'd1 : counter - 16'd1;
@@ -152,29 +156,48 @@ module hfi_carrier (
     // pair in use next tick; does the ready triple describe it (then its product is hs)?
     wire [15:0] half_n   = rst ? eff_half_in : (last ? rdy_h : half);
     wire [31:0] step_n   = rst ? cw_step_reg : (last ? rdy_s : step);
-    wire        match    = rst ? ({rdy_h, rdy_s} == {eff_half_in, cw_step_reg}) : (last | eq_rdy);
-    wire [31:0] hs_n     = match ? rdy_p : hs;
-    // eq_rdy of the next tick: the ready triple of the next tick (mul_h, mul_s if mul_done) against
-    // the pair of the next tick (after a bottom: the ready triple of this tick)
-    wire [47:0] pair_n   = {half_n, step_n};
-    wire        eq_rdy_n = mul_done ? ({mul_h, mul_s} == pair_n) : ({rdy_h, rdy_s} == pair_n);
+    // {rdy_h, rdy_s} == {half, step}: the ready triple of this tick is the operands of the previous
+    // tick if the product completed then, else unchanged, so the equality is registered the tick
+    // before for both cases (emp_q, erp_q; the pair of the next tick is the register inputs under rst,
+    // the ready triple at a bottom, else unchanged) and done_q selects.
+    wire        eq_rdy   = done_q ? emp_q : erp_q;
+    // the ready triple against the register inputs (rdy_h is an effective half, like mul_h)
+    wire        rdy_in   = (small_in ? rdy_h512 : (pwm_half_reg[15:1] == rdy_h[15:1])) && cw_step_reg == rdy_s;
+    wire        match    = rst ? rdy_in : (last | eq_rdy);
+    // hs and the angle of the next tick by case (timing: the compare of the ready triple against the
+    // register inputs, needed under rst only, is one multiplexer from the registers): under rst both
+    // are hs_n = (match ? rdy_p : hs) (a bottom, m2cs_n = 0); else see angle_n below.
+    wire [31:0] rst_hs   = rdy_in ? rdy_p : hs;
+    wire [31:0] hs_n     = rst ? rst_hs : ((last | eq_rdy) ? rdy_p : hs);
+    wire        emp_n    = rst ? op_eq : last ? ({mul_h, mul_s} == {rdy_h, rdy_s}) : ({mul_h, mul_s} == {half, step});
+    // erp of the next tick: rst: the ready triple against the register inputs; at a bottom the pair
+    // becomes the ready triple; else {rdy_h, rdy_s} == {half, step} of this tick: in all cases, match
 
     // m2cs of the next tick: m2cs + d with d = +2*STEP rising, -2*STEP falling; 0 at a bottom
     wire [31:0] two_step = {step[30:0], 1'b0};
-    wire [31:0] m2cs_n   = bottom_n ? 32'd0 : (rising ? m2cs + two_step : m2cs - two_step);
+    // (each +/- as one adder: the subtraction adds the inverted operand with a carry of 1 into an
+    // extra low bit, {a, 1} + {b, c}; no multiplexer after the carry chains)
+    /* verilator lint_off UNUSEDSIGNAL */  // bit 0 of the sums is the carry-in helper
+    wire [32:0] m2cs_s   = {m2cs, 1'b1} + {two_step ^ {32{~rising}}, ~rising};
+    wire [32:0] keep_s   = {cw_angle, 1'b1} + {two_step ^ {32{rising}}, rising};
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [31:0] m2cs_n   = bottom_n ? 32'd0 : m2cs_s[32:1];
     // angle of the next tick, a_n = hs_n - m2cs_n:
     //   hs kept:     (hs - m2cs) - d = cw_angle - d  (cw_angle = hs - m2cs is an invariant)
     //   hs reloaded: rdy_p - m2cs - d = rdy_p + ~m2cs + e + k with e = ~two_step, k = 2 (rising)
     //                or e = two_step, k = 1 (falling); as one carry-save level and one adder
-    wire [31:0] keep_a   = rising ? cw_angle - two_step : cw_angle + two_step;
+    wire [31:0] keep_a   = keep_s[32:1];
     wire [31:0] csa_x    = rdy_p;
     wire [31:0] csa_y    = ~m2cs;
     wire [31:0] csa_z    = rising ? ~two_step : two_step;
     wire [31:0] csa_s    = csa_x ^ csa_y ^ csa_z;
     wire [31:0] csa_c    = {(csa_x[30:0] & csa_y[30:0]) | (csa_x[30:0] & csa_z[30:0])
                             | (csa_y[30:0] & csa_z[30:0]), 1'b1};   // the +1 of ~m2cs in bit 0
-    wire [31:0] load_a   = csa_s + csa_c + {31'd0, rising};       // the +1 of ~two_step (rising)
-    wire [31:0] angle_n  = bottom_n ? hs_n : (match ? load_a : keep_a);
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [32:0] load_s   = {csa_s, 1'b1} + {csa_c, rising};       // + the +1 of ~two_step (rising)
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [31:0] load_a   = load_s[32:1];
+    wire [31:0] angle_n  = rst ? rst_hs : last ? rdy_p : (eq_rdy ? load_a : keep_a);
 
     always @(posedge clk) begin
         phase     <= bottom_n ? 17'd0 : phase + 17'd1;
@@ -190,7 +213,9 @@ module hfi_carrier (
         eq_top    <= !bottom_n && rising && counter == top_m2;
         eq_zc     <= !bottom_n && rising && counter == zc_m2;
         eq_two    <= !bottom_n && !rising && counter == 16'd3;
-        eq_rdy    <= eq_rdy_n;
+        done_q    <= mul_done;
+        emp_q     <= emp_n;
+        erp_q     <= match;
         step      <= step_n;
         hs        <= hs_n;
         m2cs      <= m2cs_n;

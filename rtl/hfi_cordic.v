@@ -100,17 +100,20 @@ module hfi_cordic #(
     reg              [4:0] iter_p1;  // iter + 1
     reg             [31:0] atan_i;   // ATAN[iter]
     wire               z_neg = z[31];      // d = -1
+    // Copies of z_neg for the operand inversions of x and y (each drives a whole operand: fanout),
+    // loaded with z; kept apart so that synthesis does not merge them.
+    (* keep *) reg     zn_x, zn_y;
     // x - d*(y >>> i), y + d*(x >>> i), z - d*ATAN[i] as one adder each (timing: no multiplexer
     // after the carry chains): a subtraction adds the inverted operand and a carry of 1, which enters
     // through an extra low bit ({a, 1} + {b, c} carries c into bit 1). The operands are inverted
     // before the shift (~(v >>> i) = (~v) >>> i), so the inversion shares the first multiplexer level.
-    wire signed [WIDTH-1:0] y_inv = y ^ {WIDTH{~z_neg}};   // ~y for d = +1 (x - y_sh)
-    wire signed [WIDTH-1:0] x_inv = x ^ {WIDTH{z_neg}};    // ~x for d = -1 (y - x_sh)
+    wire signed [WIDTH-1:0] y_inv = y ^ {WIDTH{~zn_x}};    // ~y for d = +1 (x - y_sh)
+    wire signed [WIDTH-1:0] x_inv = x ^ {WIDTH{zn_y}};     // ~x for d = -1 (y - x_sh)
     wire signed [WIDTH-1:0] y_op = y_inv >>> iter;
     wire signed [WIDTH-1:0] x_op = x_inv >>> iter;
     /* verilator lint_off UNUSEDSIGNAL */  // bit 0 of the sums is the carry-in helper
-    wire [WIDTH:0] x_sum = {x, 1'b1} + {y_op, ~z_neg};
-    wire [WIDTH:0] y_sum = {y, 1'b1} + {x_op, z_neg};
+    wire [WIDTH:0] x_sum = {x, 1'b1} + {y_op, ~zn_x};
+    wire [WIDTH:0] y_sum = {y, 1'b1} + {x_op, zn_y};
     wire [32:0]    z_sum = {z, 1'b1} + {atan_i ^ {32{~z_neg}}, ~z_neg};
     /* verilator lint_on UNUSEDSIGNAL */
     wire signed [WIDTH-1:0] x_next = x_sum[WIDTH:1];
@@ -183,10 +186,14 @@ module hfi_cordic #(
         if (load) begin
             neg <= angle[31] ^ angle[30];
             z <= {angle[30], angle[30:0]};  // angle - 2^31 if folded, else angle as s32
+            zn_x <= angle[30];
+            zn_y <= angle[30];
             iter_p1 <= 5'd1;
             atan_i <= hfi_cordic_atan(0);
         end else if (rot) begin
             z <= z_next;
+            zn_x <= z_next[31];
+            zn_y <= z_next[31];
             iter_p1 <= iter_p1 + 5'd1;
             atan_i <= hfi_cordic_atan({27'd0, iter_p1});
         end

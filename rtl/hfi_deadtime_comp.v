@@ -56,7 +56,7 @@
 // (slots 0..4); the legs are interleaved so that the multiplier issues in every slot.
 // Pipeline of a slot issued in cycle t: operand registers (t), product (t+1), accumulator (t+2),
 // write-back of a finished sum (t+3); a compare: m (t+3), compensated compare (t+4). A written value is
-// an operand from slot t+4 on and an initial value from slot t+2 on (the table respects both).
+// an operand from slot t+4 on and an initial value from slot t+3 on (the table respects both).
 //
 // Widths (worst case over all register values, cmp_x in 0..H): K < 2^47; |K*D| <= 32767*(2^32-1)*65534
 // < 2^63, so |hf| <= 2147352578, |i_d| <= 2147385346 (s32); the i_d sum is below 2^48 before its
@@ -169,52 +169,57 @@ module hfi_deadtime_comp (
     // ---------------------------------------------------------------- micro-program
     // {operand A, operand B, leg, quantity of the leg (operands A_Q0/A_Q1), initial value, add/sub,
     //  product shift, write-back}
-    reg [19:0] uop;
+    // The word of step st is registered (uop) from the step of the next cycle (timing): st is 0
+    // whenever the unit is idle.
+    wire [5:0] st_next = (busy && st != LAST_STEP) ? st + 6'd1 : 6'd0;
+    reg [19:0] uop_n, uop;
+    always @(posedge clk)
+        uop <= uop_n;
     always @* begin
-        case (st)
+        case (rst ? 6'd0 : st_next)
             // K = HF_AMP*RECIP_H; 2^14 - i_q*SIN, 3*2^14 - 1 + i_q*SIN, 2^14 + i_q*COS
-            6'd0:  uop = {A_HF,  B_RH0, LA, Q_ID, I_ZG,   ADD, SH0,  W_NONE};
-            6'd1:  uop = {A_HF,  B_RH1, LA, Q_ID, I_CONT, ADD, SH17, W_K};
-            6'd2:  uop = {A_IQ,  B_SIN, LA, Q_ID, I_R14,  SUB, SH0,  W_AB};
-            6'd3:  uop = {A_IQ,  B_SIN, LA, Q_ID, I_C3,   ADD, SH0,  W_NB};
-            6'd4:  uop = {A_IQ,  B_COS, LA, Q_ID, I_R14,  ADD, SH0,  W_BB};
+            6'd0:  uop_n = {A_HF,  B_RH0, LA, Q_ID, I_ZG,   ADD, SH0,  W_NONE};
+            6'd1:  uop_n = {A_HF,  B_RH1, LA, Q_ID, I_CONT, ADD, SH17, W_K};
+            6'd2:  uop_n = {A_IQ,  B_SIN, LA, Q_ID, I_R14,  SUB, SH0,  W_AB};
+            6'd3:  uop_n = {A_IQ,  B_SIN, LA, Q_ID, I_C3,   ADD, SH0,  W_NB};
+            6'd4:  uop_n = {A_IQ,  B_COS, LA, Q_ID, I_R14,  ADD, SH0,  W_BB};
             // i_d of legs a, b, c: ((((I_D_REF*2^32 + 2^31 - 1 - K0*D) >>> 17) - K1*D) - K2*D*2^17) >>> 15
             // with D = 2cmp - H, = (I_D_REF*2^32 + 2^31 - 1 - K*D) >>> 32 = I_D_REF - round_shr(K*D, 32)
-            6'd5:  uop = {A_K0,  B_DIF, LA, Q_ID, I_ID,   SUB, SH0,  W_NONE};
-            6'd6:  uop = {A_K1,  B_DIF, LA, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
-            6'd7:  uop = {A_K2,  B_DIF, LA, Q_ID, I_CONT, SUB, SH17, W_ID};
-            6'd8:  uop = {A_K0,  B_DIF, LB, Q_ID, I_ID,   SUB, SH0,  W_NONE};
-            6'd9:  uop = {A_K1,  B_DIF, LB, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
-            6'd10: uop = {A_K2,  B_DIF, LB, Q_ID, I_CONT, SUB, SH17, W_ID};
-            6'd11: uop = {A_K0,  B_DIF, LC, Q_ID, I_ID,   SUB, SH0,  W_NONE};
-            6'd12: uop = {A_K1,  B_DIF, LC, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
-            6'd13: uop = {A_K2,  B_DIF, LC, Q_ID, I_CONT, SUB, SH17, W_ID};
+            6'd5:  uop_n = {A_K0,  B_DIF, LA, Q_ID, I_ID,   SUB, SH0,  W_NONE};
+            6'd6:  uop_n = {A_K1,  B_DIF, LA, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
+            6'd7:  uop_n = {A_K2,  B_DIF, LA, Q_ID, I_CONT, SUB, SH17, W_ID};
+            6'd8:  uop_n = {A_K0,  B_DIF, LB, Q_ID, I_ID,   SUB, SH0,  W_NONE};
+            6'd9:  uop_n = {A_K1,  B_DIF, LB, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
+            6'd10: uop_n = {A_K2,  B_DIF, LB, Q_ID, I_CONT, SUB, SH17, W_ID};
+            6'd11: uop_n = {A_K0,  B_DIF, LC, Q_ID, I_ID,   SUB, SH0,  W_NONE};
+            6'd12: uop_n = {A_K1,  B_DIF, LC, Q_ID, I_SHR,  SUB, SH0,  W_NONE};
+            6'd13: uop_n = {A_K2,  B_DIF, LC, Q_ID, I_CONT, SUB, SH17, W_ID};
             // leg a: i_x = i_al = (2^14 - i_q*SIN + i_d*COS) >>> 15
-            6'd14: uop = {A_Q0,  B_COS, LA, Q_ID, I_AL,   ADD, SH0,  W_NONE};
-            6'd15: uop = {A_Q1,  B_COS, LA, Q_ID, I_CONT, ADD, SH17, W_IX};
+            6'd14: uop_n = {A_Q0,  B_COS, LA, Q_ID, I_AL,   ADD, SH0,  W_NONE};
+            6'd15: uop_n = {A_Q1,  B_COS, LA, Q_ID, I_CONT, ADD, SH17, W_IX};
             // legs b, c: i_be = (2^14 + i_q*COS + i_d*SIN) >>> 15,
             // 1 - i_al = (3*2^14 - 1 + i_q*SIN - i_d*COS) >>> 15
-            6'd16: uop = {A_Q0,  B_SIN, LB, Q_ID, I_BE,   ADD, SH0,  W_NONE};
-            6'd17: uop = {A_Q1,  B_SIN, LB, Q_ID, I_CONT, ADD, SH17, W_BE};
-            6'd18: uop = {A_Q0,  B_SIN, LC, Q_ID, I_BE,   ADD, SH0,  W_NONE};
-            6'd19: uop = {A_Q1,  B_SIN, LC, Q_ID, I_CONT, ADD, SH17, W_BE};
-            6'd20: uop = {A_Q0,  B_COS, LB, Q_ID, I_AL,   SUB, SH0,  W_NONE};
-            6'd21: uop = {A_Q1,  B_COS, LB, Q_ID, I_CONT, SUB, SH17, W_NAL};
-            6'd22: uop = {A_Q0,  B_COS, LC, Q_ID, I_AL,   SUB, SH0,  W_NONE};
-            6'd23: uop = {A_Q1,  B_COS, LC, Q_ID, I_CONT, SUB, SH17, W_NAL};
+            6'd16: uop_n = {A_Q0,  B_SIN, LB, Q_ID, I_BE,   ADD, SH0,  W_NONE};
+            6'd17: uop_n = {A_Q1,  B_SIN, LB, Q_ID, I_CONT, ADD, SH17, W_BE};
+            6'd18: uop_n = {A_Q0,  B_SIN, LC, Q_ID, I_BE,   ADD, SH0,  W_NONE};
+            6'd19: uop_n = {A_Q1,  B_SIN, LC, Q_ID, I_CONT, ADD, SH17, W_BE};
+            6'd20: uop_n = {A_Q0,  B_COS, LB, Q_ID, I_AL,   SUB, SH0,  W_NONE};
+            6'd21: uop_n = {A_Q1,  B_COS, LB, Q_ID, I_CONT, SUB, SH17, W_NAL};
+            6'd22: uop_n = {A_Q0,  B_COS, LC, Q_ID, I_AL,   SUB, SH0,  W_NONE};
+            6'd23: uop_n = {A_Q1,  B_COS, LC, Q_ID, I_CONT, SUB, SH17, W_NAL};
             // legs b (+), c (-): i_x = ((1 - i_al)*2^14 +/- i_be*28378) >>> 15
-            6'd24: uop = {A_Q0,  B_SQ3, LB, Q_BE, I_X,    ADD, SH0,  W_NONE};
-            6'd25: uop = {A_Q1,  B_SQ3, LB, Q_BE, I_CONT, ADD, SH17, W_IX};
-            6'd26: uop = {A_Q0,  B_SQ3, LC, Q_BE, I_X,    SUB, SH0,  W_NONE};
-            6'd27: uop = {A_Q1,  B_SQ3, LC, Q_BE, I_CONT, SUB, SH17, W_IX};
+            6'd24: uop_n = {A_Q0,  B_SQ3, LB, Q_BE, I_X,    ADD, SH0,  W_NONE};
+            6'd25: uop_n = {A_Q1,  B_SQ3, LB, Q_BE, I_CONT, ADD, SH17, W_IX};
+            6'd26: uop_n = {A_Q0,  B_SQ3, LC, Q_BE, I_X,    SUB, SH0,  W_NONE};
+            6'd27: uop_n = {A_Q1,  B_SQ3, LC, Q_BE, I_CONT, SUB, SH17, W_IX};
             // the compensated compares: i_x*DTC_GAIN (+ at the top, 255 - .. at the bottom), m, cmp'
-            6'd28: uop = {A_Q0,  B_GN,  LA, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
-            6'd29: uop = {A_Q1,  B_GN,  LA, Q_IX, I_CONT, ADD, SH17, W_CMP};
-            6'd30: uop = {A_Q0,  B_GN,  LB, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
-            6'd31: uop = {A_Q1,  B_GN,  LB, Q_IX, I_CONT, ADD, SH17, W_CMP};
-            6'd32: uop = {A_Q0,  B_GN,  LC, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
-            6'd33: uop = {A_Q1,  B_GN,  LC, Q_IX, I_CONT, ADD, SH17, W_CMP};
-            default: uop = {A_HF, B_RH0, LA, Q_ID, I_ZG, ADD, SH0, W_NONE};
+            6'd28: uop_n = {A_Q0,  B_GN,  LA, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
+            6'd29: uop_n = {A_Q1,  B_GN,  LA, Q_IX, I_CONT, ADD, SH17, W_CMP};
+            6'd30: uop_n = {A_Q0,  B_GN,  LB, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
+            6'd31: uop_n = {A_Q1,  B_GN,  LB, Q_IX, I_CONT, ADD, SH17, W_CMP};
+            6'd32: uop_n = {A_Q0,  B_GN,  LC, Q_IX, I_ZG,   ADD, SH0,  W_NONE};
+            6'd33: uop_n = {A_Q1,  B_GN,  LC, Q_IX, I_CONT, ADD, SH17, W_CMP};
+            default: uop_n = {A_HF, B_RH0, LA, Q_ID, I_ZG, ADD, SH0, W_NONE};
         endcase
     end
     wire [2:0] u_a = uop[19:17];
@@ -315,26 +320,34 @@ module hfi_deadtime_comp (
     reg signed [ACC_W-1:0] acc;
     wire signed [ACC_W-1:0] p_ext = {{(ACC_W - 36){p_r[35]}}, p_r};
     wire signed [ACC_W-1:0] p_sh = s1_sh ? p_ext <<< 17 : p_ext;
-    wire signed [31:0] al_base = (s1_leg == LA) ? ab_r : nb_r;
-    wire signed [31:0] nal_base = nal_r[s1_leg == LC];
-    reg signed [ACC_W-1:0] base;
+    // Initial values that do not depend on acc are selected one stage early, in stage 0, into base_r
+    // (timing): they are read one cycle before the accumulation, so a written value is an initial value
+    // from slot t+3 on (the table respects it: the nearest case is 1 - i_al of leg b, written by slot
+    // 21 and used by slot 24, of leg c by 23 and 26).
+    wire signed [31:0] al_base = (s0_leg == LA) ? ab_r : nb_r;
+    wire signed [31:0] nal_base = nal_r[s0_leg == LC];
+    reg signed [ACC_W-1:0] base_n, base_r;
     always @* begin
-        case (s1_init)
-            I_ZG:    base = s1_neg ? 49'sd255 : 49'sd0;
-            I_R14:   base = 49'sd16384;
-            I_C3:    base = 49'sd49151;
-            I_ID:    base = {{(ACC_W - 48){i_d_ref[15]}}, i_d_ref, 32'h7FFF_FFFF};
-            I_SHR:   base = acc >>> 17;
-            I_AL:    base = {{(ACC_W - 32){al_base[31]}}, al_base};
-            I_BE:    base = {{(ACC_W - 32){bb_r[31]}}, bb_r};
-            I_X:     base = {{(ACC_W - 46){nal_base[31]}}, nal_base, 14'd0};
-            default: base = acc;                                        // I_CONT
+        case (s0_init)
+            I_ZG:    base_n = s0_neg ? 49'sd255 : 49'sd0;
+            I_R14:   base_n = 49'sd16384;
+            I_C3:    base_n = 49'sd49151;
+            I_ID:    base_n = {{(ACC_W - 48){i_d_ref[15]}}, i_d_ref, 32'h7FFF_FFFF};
+            I_AL:    base_n = {{(ACC_W - 32){al_base[31]}}, al_base};
+            I_BE:    base_n = {{(ACC_W - 32){bb_r[31]}}, bb_r};
+            default: base_n = {{(ACC_W - 46){nal_base[31]}}, nal_base, 14'd0};   // I_X
         endcase
     end
-    // one adder: base - p = base + ~p + 1
+    always @(posedge clk)
+        base_r <= base_n;
+    wire signed [ACC_W-1:0] base = (s1_init == I_CONT) ? acc : (s1_init == I_SHR) ? acc >>> 17 : base_r;
+    // one adder: base - p = base + ~p + 1 (the +1 as the carry into an extra low bit)
     wire signed [ACC_W-1:0] p_op = p_sh ^ {ACC_W{s1_neg}};
+    /* verilator lint_off UNUSEDSIGNAL */  // bit 0 is the carry-in helper
+    wire [ACC_W:0] acc_s = {base, 1'b1} + {p_op, s1_neg};
+    /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk) begin
-        if (s1_v) acc <= base + p_op + {{(ACC_W - 1){1'b0}}, s1_neg};
+        if (s1_v) acc <= acc_s[ACC_W:1];
     end
 
     // ---------------------------------------------------------------- write-back

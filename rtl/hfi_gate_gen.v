@@ -32,9 +32,11 @@
 // c <= cmp on the falling half (c = P - phi).  A compare > half behaves exactly as cmp = half
 // (s = 1 for the whole half): the comparison saturates by itself, so no explicit clamp is needed.
 // Timing structure: the compares of a tick that is neither a bottom nor a top are evaluated in the
-// cycle before, from phi + 1 and the compares latched by then (registered in pre_q); only the strobe
-// ticks use the ports directly: at a bottom s = (cmp_bot != 0) (c = 0), at a top s = (cmp_top >= H)
-// (c = H). So s is a small mux after a register, an OR tree or one carry chain.
+// cycle before, from phi + 1 and the compares latched by then, and registered as "s changes" (chg_q,
+// against that tick's s); only the strobe ticks use the ports directly: at a bottom s = (cmp_bot != 0)
+// (c = 0), at a top s = (cmp_top >= H) (c = H). Everything downstream is written in terms of
+// chg = s ^ s_q (restart, the mask, sw_event), which is a small mux after a register, an OR tree or one
+// carry chain.
 //
 // Dead time (spec 2.4): per leg, el = ticks since the latest of the last change of s and the last
 // rise of en = enable & ~kill (a saturating 16-bit counter, 0 in the tick of the change/rise).  The
@@ -91,7 +93,7 @@ module hfi_gate_gen #(
     wire        en   = enable & ~kill;
 
     reg  [2:0]  s_q;       // s of the previous tick
-    reg  [2:0]  pre_q;     // s of this tick if it is neither a bottom nor a top (computed the tick before)
+    reg  [2:0]  chg_q;     // s ^ s_q of this tick if it is neither a bottom nor a top (the tick before)
     reg         en_q;      // en of the previous tick
     reg  [2:0]  rs_q;      // per leg: restart in the previous tick
     reg  [47:0] inc_q;     // per leg {c, b, a}: saturating increment of el_q of the previous tick
@@ -99,6 +101,7 @@ module hfi_gate_gen #(
     wire [5:0]  mask;
     wire [2:0]  pre_n;
     wire [2:0]  restart;
+    wire [2:0]  chg;       // s changes in this tick (s ^ s_q)
     wire [47:0] inc_n;
 
     genvar x;
@@ -117,28 +120,30 @@ module hfi_gate_gen #(
             /* verilator lint_on UNUSEDSIGNAL */
             assign pre_n[x] = rising_n ? (ph1 < {1'b0, cr}) : f_t[18];
             // s: bottom c = 0 < cmp; top c = H <= cmp; else the value computed the tick before
-            assign s[x] = at_bottom ? (cb != 16'd0) : at_top ? (ct >= half) : pre_q[x];
-            assign restart[x] = (s[x] ^ s_q[x]) | en_rise;
+            assign chg[x] = at_bottom ? ((cb != 16'd0) ^ s_q[x]) : at_top ? ((ct >= half) ^ s_q[x]) : chg_q[x];
+            assign s[x] = chg[x] ^ s_q[x];
+            assign restart[x] = chg[x] | en_rise;
             // el_q = el of the previous tick + 1 (saturating) = rs_q ? 1 : inc_q; el = restart ? 0 : el_q;
             // el >= D with D = max(dead_reg, DEAD_MIN) >= 1 is false after a restart, else el_q >= dead_reg
             // and el_q >= DEAD_MIN (compares of registers and the register input only, in parallel with s)
             wire [15:0] incq    = inc_q[16*x +: 16];
             wire [15:0] elq     = rs_q[x] ? 16'd1 : incq;
             wire        ge      = (elq >= dead_reg) && (elq >= DEAD_MIN16);
-            wire        on      = en & ~restart[x] & ge;
-            assign mask[2*x]     = on & s[x];
-            assign mask[2*x + 1] = on & ~s[x];
+            // on = en & ~restart & ge; without a restart s = s_q
+            wire        on      = en & ~en_rise & ge & ~chg[x];
+            assign mask[2*x]     = on & s_q[x];
+            assign mask[2*x + 1] = on & ~s_q[x];
             assign inc_n[16*x +: 16] = rs_q[x] ? 16'd2 : ((incq == 16'hFFFF) ? incq : incq + 16'd1);
         end
     endgenerate
 
-    assign sw_event = |(s ^ s_q);
+    assign sw_event = |chg;
 
     always @(posedge clk) begin
         if (rst) begin
             gate       <= 6'd0;
             s_q        <= 3'd0;
-            pre_q      <= 3'd0;
+            chg_q      <= 3'd0;
             en_q       <= 1'b0;
             rs_q       <= 3'd0;
             inc_q      <= 48'd0;
@@ -147,7 +152,7 @@ module hfi_gate_gen #(
         end else begin
             gate       <= mask;
             s_q        <= s;
-            pre_q      <= pre_n;
+            chg_q      <= pre_n ^ s;
             en_q       <= en;
             rs_q       <= restart;
             inc_q      <= inc_n;

@@ -152,26 +152,30 @@ module hfi_modulator (
     end
 
     // ---------------------------------------------------------------- micro-program (one sign)
-    // {issue, A, B, initial value, add/sub, write-back}
-    reg [13:0] uop;
+    // {issue, A, B, initial value, add/sub, write-back}. The word of slot ms is registered (uop) from
+    // the slot of the next cycle (timing): ms is 0 whenever the program does not run.
+    wire [4:0] ms_next = mrun ? ((ms == SLOTS - 5'd1) ? 5'd0 : ms + 5'd1) : 5'd0;
+    reg [13:0] uop_n, uop;
+    always @(posedge clk)
+        uop <= uop_n;
     always @* begin
-        case (ms)
-            5'd0:  uop = {ISS, A_VD,  B_SIN,  I_R14,  ADD, W_NONE};
-            5'd1:  uop = {ISS, A_VQ,  B_COS,  I_CONT, ADD, W_BE};     // v_be
-            5'd2:  uop = {ISS, A_VD,  B_COS,  I_R14,  ADD, W_NONE};
-            5'd3:  uop = {ISS, A_VQ,  B_SIN,  I_CONT, SUB, W_VA};     // v_al = v_a
-            5'd5:  uop = {ISS, A_BE,  B_SQ3,  I_R14,  ADD, W_NONE};
-            5'd7:  uop = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VB};     // v_b
-            5'd8:  uop = {ISS, A_BE,  B_SQ3,  I_R14,  SUB, W_NONE};
-            5'd9:  uop = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VC};     // v_c
-            5'd13: uop = {NOP, A_VD,  B_SIN,  I_CONT, ADD, W_MM};     // max, min
-            5'd14: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd15: uop = {ISS, A_VA,  B_H,    I_CONT, ADD, W_CA};     // cmp_a
-            5'd16: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd17: uop = {ISS, A_VB,  B_H,    I_CONT, ADD, W_CB};     // cmp_b
-            5'd18: uop = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd19: uop = {ISS, A_VC,  B_H,    I_CONT, ADD, W_CC};     // cmp_c
-            default: uop = {NOP, A_VD, B_SIN, I_CONT, ADD, W_NONE};   // 4, 6, 10..12: wait for a result
+        case (rst ? 5'd0 : ms_next)
+            5'd0:  uop_n = {ISS, A_VD,  B_SIN,  I_R14,  ADD, W_NONE};
+            5'd1:  uop_n = {ISS, A_VQ,  B_COS,  I_CONT, ADD, W_BE};     // v_be
+            5'd2:  uop_n = {ISS, A_VD,  B_COS,  I_R14,  ADD, W_NONE};
+            5'd3:  uop_n = {ISS, A_VQ,  B_SIN,  I_CONT, SUB, W_VA};     // v_al = v_a
+            5'd5:  uop_n = {ISS, A_BE,  B_SQ3,  I_R14,  ADD, W_NONE};
+            5'd7:  uop_n = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VB};     // v_b
+            5'd8:  uop_n = {ISS, A_BE,  B_SQ3,  I_R14,  SUB, W_NONE};
+            5'd9:  uop_n = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VC};     // v_c
+            5'd13: uop_n = {NOP, A_VD,  B_SIN,  I_CONT, ADD, W_MM};     // max, min
+            5'd14: uop_n = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
+            5'd15: uop_n = {ISS, A_VA,  B_H,    I_CONT, ADD, W_CA};     // cmp_a
+            5'd16: uop_n = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
+            5'd17: uop_n = {ISS, A_VB,  B_H,    I_CONT, ADD, W_CB};     // cmp_b
+            5'd18: uop_n = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
+            5'd19: uop_n = {ISS, A_VC,  B_H,    I_CONT, ADD, W_CC};     // cmp_c
+            default: uop_n = {NOP, A_VD, B_SIN, I_CONT, ADD, W_NONE};   // 4, 6, 10..12: wait for a result
         endcase
     end
     wire       u_iss = mrun && uop[13];
@@ -184,6 +188,7 @@ module hfi_modulator (
     // ---------------------------------------------------------------- data path
     reg signed [17:0] be, va, vb, vc;                // v_be, v_a, v_b, v_c (s18)
     reg signed [17:0] hi, lo;                        // max and min of v_a, v_b, v_c
+    reg signed [17:0] hi_ab, lo_ab;                  // max and min of v_a, v_b of the previous cycle
     /* verilator lint_off UNUSEDSIGNAL */
     wire signed [18:0] mm_sum = {hi[17], hi} + {lo[17], lo};   // bit 0 dropped: shr by 1
     /* verilator lint_on UNUSEDSIGNAL */
@@ -250,8 +255,11 @@ module hfi_modulator (
         endcase
     end
     wire signed [35:0] p_op = p_r ^ {36{s1_neg}};    // one adder: base - p = base + ~p + 1
+    /* verilator lint_off UNUSEDSIGNAL */              // bit 0: the +1 enters as its carry
+    wire [36:0] acc_s = {base, 1'b1} + {p_op, s1_neg};
+    /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk) begin
-        if (s1_v) acc <= base + p_op + {35'd0, s1_neg};
+        if (s1_v) acc <= acc_s[36:1];
     end
 
     // write-back: round_shr results acc[32:15] (s18); compares acc[35:15] clamped to 0..H
@@ -259,12 +267,16 @@ module hfi_modulator (
     wire signed [20:0] r15 = acc[35:15];
     /* verilator lint_on UNUSEDSIGNAL */
     wire [15:0] cmp_new = r15[20] ? 16'd0 : (r15 > $signed({5'd0, half_r})) ? half_r : r15[15:0];
-    // min-max (three comparisons; ties select equal values)
-    wire gab = va > vb, gac = va > vc, gbc = vb > vc;
+    // min-max (three comparisons; ties select equal values): max and min of v_a, v_b are registered
+    // in every cycle (v_b is final two cycles before the W_MM slot, v_c in it), then compared with
+    // v_c in the W_MM slot.
+    wire gab = va > vb;
     always @(posedge clk) begin
+        hi_ab <= gab ? va : vb;
+        lo_ab <= gab ? vb : va;
         if (mrun && u_wb == W_MM) begin
-            hi <= gab ? (gac ? va : vc) : (gbc ? vb : vc);
-            lo <= gab ? (gbc ? vc : vb) : (gac ? vc : va);
+            hi <= (hi_ab > vc) ? hi_ab : vc;
+            lo <= (lo_ab > vc) ? vc : lo_ab;
         end
         if (s2_v) begin
             case (s2_wb)

@@ -100,20 +100,64 @@ module hfi_cordic #(
     reg              [4:0] iter_p1;  // iter + 1
     reg             [31:0] atan_i;   // ATAN[iter]
     wire               z_neg = z[31];      // d = -1
-    // Copies of z_neg for the operand inversions of x and y (each drives a whole operand: fanout),
-    // loaded with z; kept apart so that synthesis does not merge them.
-    (* keep *) reg     zn_x, zn_y;
     // x - d*(y >>> i), y + d*(x >>> i), z - d*ATAN[i] as one adder each (timing: no multiplexer
     // after the carry chains): a subtraction adds the inverted operand and a carry of 1, which enters
     // through an extra low bit ({a, 1} + {b, c} carries c into bit 1). The operands are inverted
-    // before the shift (~(v >>> i) = (~v) >>> i), so the inversion shares the first multiplexer level.
-    wire signed [WIDTH-1:0] y_inv = y ^ {WIDTH{~zn_x}};    // ~y for d = +1 (x - y_sh)
-    wire signed [WIDTH-1:0] x_inv = x ^ {WIDTH{zn_y}};     // ~x for d = -1 (y - x_sh)
-    wire signed [WIDTH-1:0] y_op = y_inv >>> iter;
-    wire signed [WIDTH-1:0] x_op = x_inv >>> iter;
+    // before the shift (~(v >>> i) = (~v) >>> i), so the inversion shares the first multiplexer level;
+    // its control is a register of its own per operand (inv_y = ~z_neg for x - y_sh, inv_x = z_neg
+    // for y - x_sh, loaded with z: fanout, no gate in front of the multiplexers).
+    reg                    inv_y, inv_x;
+    wire signed [WIDTH-1:0] y_op, x_op;  // (y ^ inv_y) >>> i, (x ^ inv_x) >>> i
+`ifdef HFI_TARGET_ECP5
+    // Lattice ECP5 (defined by scripts/synth_report.py for synth_ecp5): the shift as slice structures,
+    // per operand bit an 8:1 multiplexer by i mod 8 (four LUT4s, each a 2:1 and the inversion, two
+    // PFUMX, one L6MUX21: one slice pair) of the register bits, then a 4:1 by floor(i/8) (two LUT4s,
+    // one PFUMX) of those results: two logic levels in front of the carry chains instead of the
+    // four to five of the generic shifter's LUT mapping (docs/rtl.md "Timing"). Bit for bit the
+    // generic expression of the #else branch (an arithmetic right shift: indices clamp at the sign).
+    genvar gb, gq;
+    generate
+        for (gb = 0; gb < 2 * WIDTH; gb = gb + 1) begin : g_fine      // y bits 0..WIDTH-1, then x
+            localparam integer K = gb % WIDTH;
+            wire [WIDTH-1:0] v = (gb < WIDTH) ? y : x;
+            wire             inv = (gb < WIDTH) ? inv_y : inv_x;
+            wire [3:0]       m;
+            wire             p0, p1, f;   // f = ((v ^ inv) >>> i[2:0])[K]
+            for (gq = 0; gq < 4; gq = gq + 1) begin : g_l
+                localparam integer I0 = (K + 2 * gq < WIDTH) ? K + 2 * gq : WIDTH - 1;
+                localparam integer I1 = (K + 2 * gq + 1 < WIDTH) ? K + 2 * gq + 1 : WIDTH - 1;
+                LUT4 #(.INIT(16'h35CA)) u_l (.A(v[I0]), .B(v[I1]), .C(iter[0]), .D(inv), .Z(m[gq]));
+            end                                                        // Z = (C ? B : A) ^ D
+            PFUMX u_p0 (.ALUT(m[1]), .BLUT(m[0]), .C0(iter[1]), .Z(p0));   // Z = C0 ? ALUT : BLUT
+            PFUMX u_p1 (.ALUT(m[3]), .BLUT(m[2]), .C0(iter[1]), .Z(p1));
+            L6MUX21 u_l6 (.D0(p0), .D1(p1), .SD(iter[2]), .Z(f));         // Z = SD ? D1 : D0
+        end
+        for (gb = 0; gb < 2 * WIDTH; gb = gb + 1) begin : g_coarse
+            localparam integer J = gb % WIDTH;
+            localparam integer B = gb - J;                             // 0 (y) or WIDTH (x)
+            localparam integer J8 = (J + 8 < WIDTH) ? J + 8 : WIDTH - 1;
+            localparam integer J16 = (J + 16 < WIDTH) ? J + 16 : WIDTH - 1;
+            localparam integer J24 = (J + 24 < WIDTH) ? J + 24 : WIDTH - 1;
+            wire a0, a1, o;
+            LUT4 #(.INIT(16'hCACA)) u_a0 (.A(g_fine[B + J].f), .B(g_fine[B + J8].f), .C(iter[3]), .D(1'b0),
+                                          .Z(a0));                     // Z = C ? B : A
+            LUT4 #(.INIT(16'hCACA)) u_a1 (.A(g_fine[B + J16].f), .B(g_fine[B + J24].f), .C(iter[3]),
+                                          .D(1'b0), .Z(a1));
+            PFUMX u_p (.ALUT(a1), .BLUT(a0), .C0(iter[4]), .Z(o));
+            if (gb < WIDTH) begin : g_y
+                assign y_op[J] = o;
+            end else begin : g_x
+                assign x_op[J] = o;
+            end
+        end
+    endgenerate
+`else
+    assign y_op = $signed(y ^ {WIDTH{inv_y}}) >>> iter;
+    assign x_op = $signed(x ^ {WIDTH{inv_x}}) >>> iter;
+`endif
     /* verilator lint_off UNUSEDSIGNAL */  // bit 0 of the sums is the carry-in helper
-    wire [WIDTH:0] x_sum = {x, 1'b1} + {y_op, ~zn_x};
-    wire [WIDTH:0] y_sum = {y, 1'b1} + {x_op, zn_y};
+    wire [WIDTH:0] x_sum = {x, 1'b1} + {y_op, inv_y};
+    wire [WIDTH:0] y_sum = {y, 1'b1} + {x_op, inv_x};
     wire [32:0]    z_sum = {z, 1'b1} + {atan_i ^ {32{~z_neg}}, ~z_neg};
     /* verilator lint_on UNUSEDSIGNAL */
     wire signed [WIDTH-1:0] x_next = x_sum[WIDTH:1];
@@ -186,14 +230,14 @@ module hfi_cordic #(
         if (load) begin
             neg <= angle[31] ^ angle[30];
             z <= {angle[30], angle[30:0]};  // angle - 2^31 if folded, else angle as s32
-            zn_x <= angle[30];
-            zn_y <= angle[30];
+            inv_y <= ~angle[30];            // the sign of the folded angle is angle[30]
+            inv_x <= angle[30];
             iter_p1 <= 5'd1;
             atan_i <= hfi_cordic_atan(0);
         end else if (rot) begin
             z <= z_next;
-            zn_x <= z_next[31];
-            zn_y <= z_next[31];
+            inv_y <= ~z_next[31];
+            inv_x <= z_next[31];
             iter_p1 <= iter_p1 + 5'd1;
             atan_i <= hfi_cordic_atan({27'd0, iter_p1});
         end

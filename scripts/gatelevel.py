@@ -130,6 +130,11 @@ def yosys_script(files: list[str]) -> str:
             + f"; select {NETLIST_TOP}; write_json -selected {INTERFACE}")
 
 
+def _rel(path: Path) -> str:
+    """``path`` relative to the repository if it is inside it (for messages)."""
+    return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
+
+
 def _digest(*parts: bytes | str) -> str:
     h = hashlib.sha256()
     for p in parts:
@@ -279,10 +284,9 @@ def build_simulator(netlist_key: str, adc_bits: int) -> Path:
     stamp = SIM_BUILD / "build.sha256"
     with _locked(".sim.lock"):
         if stamp.is_file() and stamp.read_text().strip() == key and (SIM_BUILD / TB_TOP).is_file():
-            print(f"gatelevel: simulator {SIM_BUILD.relative_to(ROOT)}/{TB_TOP} is up to date (key {key[:12]})",
-                  flush=True)
+            print(f"gatelevel: simulator {_rel(SIM_BUILD / TB_TOP)} is up to date (key {key[:12]})", flush=True)
             return SIM_BUILD
-        print(f"gatelevel: Verilating the netlist with the testbench into {SIM_BUILD.relative_to(ROOT)} "
+        print(f"gatelevel: Verilating the netlist with the testbench into {_rel(SIM_BUILD)} "
               f"(about 2 min on 2 cores; ccache makes a rebuild of the same netlist faster)", flush=True)
         shutil.rmtree(SIM_BUILD, ignore_errors=True)
         SIM_BUILD.mkdir(parents=True)
@@ -344,11 +348,13 @@ def replay(duration_s: float, run_dir: Path, force: bool = False) -> dict:
     total, failed = get_results(results)
     if failed or total != 1:
         detail = _failure_text(results_xml)
-        bad = re.findall(r"^window (\d+): ", detail, re.M)
-        if bad:                     # tb_dsp_replay stops after the first window that differs
-            raise AssertionError(f"the gate-level netlist differs from the golden model: windows compared: "
-                                 f"{int(bad[0]) + 1}, mismatches: {len(bad)} (results of window {bad[0]})\n"
-                                 f"{detail}")
+        # tb_dsp_replay stops after the first window that differs, listing its differing results
+        bad = sorted(set(re.findall(r"^\s*window (\d+): (\w+) RTL (-?\d+) golden (-?\d+)$", detail, re.M)))
+        if bad:
+            raise AssertionError(
+                f"the gate-level netlist differs from the golden model: windows compared: {int(bad[0][0]) + 1}, "
+                f"mismatches: {len(bad)}: " + ", ".join(f"window {w} {reg} netlist {got} golden {want}"
+                                                        for w, reg, got, want in bad))
         raise AssertionError(f"gate-level replay failed ({failed} of {total} cocotb tests): {detail or 'log above'}")
     print(f"gatelevel: simulated {cycles / 1e6:.1f} M cycles in {sim_s:.1f} s "
           f"({cycles / sim_s / 1e3:.0f} k cycles/s)", flush=True)

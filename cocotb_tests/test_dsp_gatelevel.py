@@ -18,9 +18,10 @@ from hdl_runner import ROOT, RTL
 sys.path.insert(0, str(ROOT / "scripts"))
 import gatelevel  # noqa: E402
 
-SHORT_S = 0.01
-"""Simulated time of the short replay [s]: 49 windows, 1 M clock cycles (about 30 s of Verilator)."""
-SHORT_WINDOWS = 49
+SHORT_S = 0.02
+"""Simulated time of the short replay [s]: 99 windows, 2 M clock cycles (about 30 s of Verilator once the
+netlist and the simulator are cached; docs/rtl.md)."""
+SHORT_WINDOWS = 99
 
 
 def test_gatelevel_sources_are_the_netlist():

@@ -86,8 +86,16 @@ module hfi_adc_trigger #(
 
     // blanking: an event in this tick or one less than BLANK_TICKS ticks ago
     wire [15:0] age_now = ev_q ? 16'd1 : inc_q;
-    wire blanked = (blank != 16'd0) && (sw_event || (ev_q ? (blank > 16'd1) : (inc_q < blank)));
-    assign keep  = !(mode == MODE_OS_BLANK && blanked);
+    // keep = !(on & (sw_event | recent)) with on = OS_BLANK mode and BLANK_TICKS != 0, both formed for
+    // the registers of the boundary tick and for those of the window and selected before sw_event
+    // enters (timing: sw_event is the latest input, one gate from keep)
+    wire recent_z = ev_q ? (blank_ticks_reg > 16'd1) : (inc_q < blank_ticks_reg);
+    wire recent_w = ev_q ? (blank_q > 16'd1) : (inc_q < blank_q);
+    wire on_z = mode_reg == MODE_OS_BLANK && blank_ticks_reg != 16'd0;
+    wire on_w = mode_q == MODE_OS_BLANK && blank_q != 16'd0;
+    wire on = at_zc ? on_z : on_w;
+    wire on_recent = at_zc ? (on_z && recent_z) : (on_w && recent_w);
+    assign keep  = !(on && sw_event) && !on_recent;
 
     // os_q - 1 of the next tick (os_q changes at bottoms only)
     wire [15:0] os_in_m1 = (os_ticks_reg < OS_MIN16) ? OS_MIN16 - 16'd1 : os_ticks_reg - 16'd1;

@@ -84,6 +84,8 @@ module hfi_carrier (
     reg  [3:0]  mul_cnt;   // add cycles done
     reg         mul_busy;
     reg  [15:0] rdy_h;     // ready triple (H, STEP, H*STEP): the last completed product
+    reg  [15:0] rdy_hm2;   // rdy_h - 2 and rdy_h/2 - 2 (strobe targets of rdy_h, loaded with it)
+    reg  [15:0] rdy_zm2;
     reg  [31:0] rdy_s;
     reg  [31:0] rdy_p;
     reg         rst_q;     // rst of the previous cycle (restart the product on the rising edge of rst)
@@ -97,10 +99,12 @@ module hfi_carrier (
     wire        small_in = pwm_half_reg[15:9] == 7'd0;
     wire        op_eq    = (small_in ? mul_h512 : (pwm_half_reg[15:1] == mul_h[15:1])) && cw_step_reg == mul_s;
     wire        mul_keep = op_eq && !(rst && !rst_q);
-    wire        mul_done = mul_keep && mul_busy && mul_cnt == 4'd15;   // the ready triple is loaded
+    reg         mul_last;  // mul_busy && mul_cnt == 15 (registered: the add cycle that completes)
+    wire        mul_done = mul_keep && mul_last;                       // the ready triple is loaded
 
     always @(posedge clk) begin
         rst_q <= rst;
+        mul_last <= mul_keep && mul_busy && mul_cnt == 4'd14;
         if (mul_keep) begin
             if (mul_busy) begin
                 mul_acc <= mul_sum[30:0];
@@ -120,6 +124,8 @@ module hfi_carrier (
         end
         if (mul_done) begin
             rdy_h <= mul_h;
+            rdy_hm2 <= mul_h - 16'd2;
+            rdy_zm2 <= {1'b0, mul_h[15:1]} - 16'd2;
             rdy_h512 <= mul_h512;
             rdy_s <= mul_s;
             rdy_p <= mul_sum;
@@ -169,7 +175,9 @@ module hfi_carrier (
     // are hs_n = (match ? rdy_p : hs) (a bottom, m2cs_n = 0); else see angle_n below.
     wire [31:0] rst_hs   = rdy_in ? rdy_p : hs;
     wire [31:0] hs_n     = rst ? rst_hs : ((last | eq_rdy) ? rdy_p : hs);
-    wire        emp_n    = rst ? op_eq : last ? ({mul_h, mul_s} == {rdy_h, rdy_s}) : ({mul_h, mul_s} == {half, step});
+    // (emp_q is only used after a mul_done, which implies op_eq: under rst the pair is then the
+    // operands, emp = 1)
+    wire        emp_n    = rst | (last ? ({mul_h, mul_s} == {rdy_h, rdy_s}) : ({mul_h, mul_s} == {half, step}));
     // erp of the next tick: rst: the ready triple against the register inputs; at a bottom the pair
     // becomes the ready triple; else {rdy_h, rdy_s} == {half, step} of this tick: in all cases, match
 
@@ -208,8 +216,9 @@ module hfi_carrier (
         at_zc     <= zc_n;
         last      <= last_n;
         half      <= half_n;
-        top_m2    <= half_n - 16'd2;
-        zc_m2     <= {1'b0, half_n[15:1]} - 16'd2;
+        // half_n - 2, half_n/2 - 2 from the three sources (no subtraction after the multiplexer)
+        top_m2    <= rst ? (small_in ? 16'd510 : {pwm_half_reg[15:1], 1'b0} - 16'd2) : last ? rdy_hm2 : top_m2;
+        zc_m2     <= rst ? (small_in ? 16'd254 : {1'b0, pwm_half_reg[15:1]} - 16'd2) : last ? rdy_zm2 : zc_m2;
         eq_top    <= !bottom_n && rising && counter == top_m2;
         eq_zc     <= !bottom_n && rising && counter == zc_m2;
         eq_two    <= !bottom_n && !rising && counter == 16'd3;

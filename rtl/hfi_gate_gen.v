@@ -86,8 +86,11 @@ module hfi_gate_gen #(
     // 2H + ~phi + ~cf (a carry-save level, then a single carry chain); -2^18 < T < 2^18: the sign bit
     // is exact.
     wire [16:0] ph1       = phase + 17'd1;
-    wire        rising_n  = ph1 < {1'b0, half};
-    wire [18:0] f_x = {2'b00, half, 1'b0};
+    // H of the previous tick (a local copy: fanout): H of this tick outside a bottom tick, where the
+    // next tick is rising for any H >= 1 and the falling compare is not used
+    reg  [15:0] half_q;
+    wire        rising_n  = at_bottom | (ph1 < {1'b0, half_q});
+    wire [18:0] f_x = {2'b00, half_q, 1'b0};
     wire [18:0] f_y = ~{2'b00, phase};
 
     wire        en   = enable & ~kill;
@@ -120,7 +123,7 @@ module hfi_gate_gen #(
             /* verilator lint_on UNUSEDSIGNAL */
             assign pre_n[x] = rising_n ? (ph1 < {1'b0, cr}) : f_t[18];
             // s: bottom c = 0 < cmp; top c = H <= cmp; else the value computed the tick before
-            assign chg[x] = at_bottom ? ((cb != 16'd0) ^ s_q[x]) : at_top ? ((ct >= half) ^ s_q[x]) : chg_q[x];
+            assign chg[x] = at_bottom ? ((cb != 16'd0) ^ s_q[x]) : at_top ? ((ct >= half_q) ^ s_q[x]) : chg_q[x];
             assign s[x] = chg[x] ^ s_q[x];
             assign restart[x] = chg[x] | en_rise;
             // el_q = el of the previous tick + 1 (saturating) = rs_q ? 1 : inc_q; el = restart ? 0 : el_q;
@@ -138,6 +141,9 @@ module hfi_gate_gen #(
     endgenerate
 
     assign sw_event = |chg;
+
+    always @(posedge clk)
+        half_q <= half;
 
     always @(posedge clk) begin
         if (rst) begin

@@ -104,6 +104,12 @@ module hfi_carrier (
 
     always @(posedge clk) begin
         rst_q <= rst;
+        // The operands take the inputs in every cycle: they change only where the product restarts
+        // (op_eq false: loaded from the inputs) and are equal to the inputs where it goes on
+        // (timing: no restart enable on them).
+        mul_h    <= eff_half_in;
+        mul_h512 <= small_in || pwm_half_reg[15:1] == 15'd256;
+        mul_s    <= cw_step_reg;
         mul_last <= mul_keep && mul_busy && mul_cnt == 4'd14;
         if (mul_keep) begin
             if (mul_busy) begin
@@ -114,9 +120,6 @@ module hfi_carrier (
                     mul_busy <= 1'b0;
             end
         end else begin
-            mul_h    <= eff_half_in;
-            mul_h512 <= small_in || pwm_half_reg[15:1] == 15'd256;
-            mul_s    <= cw_step_reg;
             mul_q    <= eff_half_in;
             mul_acc  <= 31'd0;
             mul_cnt  <= 4'd0;

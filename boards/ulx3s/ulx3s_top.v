@@ -9,8 +9,10 @@
 // Board-level interlocks, independent of the SoC's logic and registers (docs/boards.md):
 //  - STO (sto_n low, or the pin open: pulled down) forces every gate pin low in the same instant
 //    (a combinational AND at the pads) and the driver enable low;
-//  - a driver fault (fault_n low: DESAT or undervoltage of the gate driver) latches the driver enable
-//    low and the gates off until reset.
+//    and hfi_dsp latches STATUS.FAULT_STO (gates off 3 clocks later by the synchronized path);
+//  - a driver fault (fault_n low: DESAT or undervoltage of the gate driver) latches
+//    STATUS.FAULT_DESAT in hfi_dsp: gates and driver enable off until the firmware re-arms
+//    (CTRL.FAULT_CLEAR, docs/spec.md 3.8) with the fault released, or a reset.
 module ulx3s_top #(
     parameter RAM_INIT = "",
     parameter RESET_CLOCKS = 255
@@ -49,30 +51,26 @@ module ulx3s_top #(
     end
 
     wire [5:0] soc_gate;
+    wire       drive_allowed;
     wire       trace_valid;
     wire [31:0] trace_data;
     hfi_soc #(.RAM_INIT(RAM_INIT)) u_soc (
         .clk(clk), .cpu_clk(cpu_clk), .rst(rst),
-        .gate(soc_gate), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
+        .gate(soc_gate), .sto(!sto_n), .desat(!fault_n), .drive_allowed(drive_allowed),
+        .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
         .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .uart_tx(ftdi_rxd),
         .trace_valid(trace_valid), .trace_data(trace_data)
     );
 
     // driver fault: latched in the tick clock domain after a two-flop synchronizer
-    wire fault_s;
-    reg  fault_latched = 1'b0;
-    hfi_cdc_sync u_fault_sync (.clk(clk), .d(~fault_n), .q(fault_s));
-    always @(posedge clk)
-        if (rst)
-            fault_latched <= 1'b0;
-        else if (fault_s)
-            fault_latched <= 1'b1;
+    // STO also acts here, combinationally (no clock, no logic in between): the gate pins are low
+    // while sto_n is low, even before hfi_dsp's synchronized path removes the gates (3 clocks).
+    // DESAT/driver faults are latched in hfi_dsp (STATUS.FAULT_DESAT), which holds drive_allowed low
+    // until the firmware re-arms (CTRL.FAULT_CLEAR with the fault released).
+    assign gate = soc_gate & {6{sto_n}};
+    assign drv_en = sto_n && drive_allowed && !rst;
 
-    wire allow = sto_n && !fault_latched;
-    assign gate = soc_gate & {6{allow}};
-    assign drv_en = allow && !rst;
-
-    assign led = {4'd0, |soc_gate, fault_latched, !sto_n, locked};
+    assign led = {4'd0, |soc_gate, !drive_allowed, !sto_n, locked};
 
     wire unused = &{1'b0, btn[6:2], btn[0], trace_valid, trace_data};
 endmodule

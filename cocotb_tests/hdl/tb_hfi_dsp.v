@@ -31,6 +31,9 @@ module tb_hfi_dsp #(
     output wire        irq,
     output wire [5:0]  gate,
     output reg  [63:0] tick,
+    input  wire        sto,      // safety pins of hfi_dsp (0 unless a safety test drives them)
+    input  wire        desat,
+    output wire        drive_allowed,
     input  wire        flush     // 1: flush the record files (the test sets it before reading them)
 );
     wire adc_convst, adc_cs_n, adc_sclk, adc_sdo_a, adc_sdo_b;
@@ -44,7 +47,8 @@ module tb_hfi_dsp #(
         .s_axil_arready(s_axil_arready), .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
         .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready), .irq(irq), .gate(gate),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b)
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
+        .sto(sto), .desat(desat), .drive_allowed(drive_allowed)
     );
 
     adc_model #(.ADC_BITS(ADC_BITS), .CODES_FILE(CODES_FILE)) adc (

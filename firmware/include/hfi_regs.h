@@ -80,13 +80,29 @@ typedef union {
 #define HFI_REGS__STATUS__COMMIT_PENDING_bm 0x8
 #define HFI_REGS__STATUS__COMMIT_PENDING_bp 3
 #define HFI_REGS__STATUS__COMMIT_PENDING_bw 1
+#define HFI_REGS__STATUS__FAULT_STO_bm 0x10
+#define HFI_REGS__STATUS__FAULT_STO_bp 4
+#define HFI_REGS__STATUS__FAULT_STO_bw 1
+#define HFI_REGS__STATUS__FAULT_DESAT_bm 0x20
+#define HFI_REGS__STATUS__FAULT_DESAT_bp 5
+#define HFI_REGS__STATUS__FAULT_DESAT_bw 1
+#define HFI_REGS__STATUS__STO_ACTIVE_bm 0x40
+#define HFI_REGS__STATUS__STO_ACTIVE_bp 6
+#define HFI_REGS__STATUS__STO_ACTIVE_bw 1
+#define HFI_REGS__STATUS__DESAT_ACTIVE_bm 0x80
+#define HFI_REGS__STATUS__DESAT_ACTIVE_bp 7
+#define HFI_REGS__STATUS__DESAT_ACTIVE_bw 1
 typedef union {
     struct __attribute__ ((__packed__)) {
         uint32_t FAULT_OC :1;
         uint32_t FAULT_WDT :1;
         uint32_t OUTPUTS_ON :1;
         uint32_t COMMIT_PENDING :1;
-        uint32_t :28;
+        uint32_t FAULT_STO :1;
+        uint32_t FAULT_DESAT :1;
+        uint32_t STO_ACTIVE :1;
+        uint32_t DESAT_ACTIVE :1;
+        uint32_t :24;
     } f;
     uint32_t w;
 } hfi_regs__STATUS_t;
@@ -458,6 +474,19 @@ typedef union {
     uint32_t w;
 } hfi_regs__I_REF_t;
 
+// reg - hfi_regs.SAFETY_LOCK
+#define HFI_REGS__SAFETY_LOCK__LOCK_bm 0x1
+#define HFI_REGS__SAFETY_LOCK__LOCK_bp 0
+#define HFI_REGS__SAFETY_LOCK__LOCK_bw 1
+#define HFI_REGS__SAFETY_LOCK__LOCK_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t LOCK :1;
+        uint32_t :31;
+    } f;
+    uint32_t w;
+} hfi_regs__SAFETY_LOCK_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -493,6 +522,7 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__HF_AMP_t HF_AMP;
     hfi_regs__RECIP_H_t RECIP_H;
     hfi_regs__I_REF_t I_REF;
+    hfi_regs__SAFETY_LOCK_t SAFETY_LOCK;
 } hfi_regs_t;
 
 
@@ -530,11 +560,12 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__HF_AMP_offset 0x78
 #define HFI_REGS__RECIP_H_offset 0x7c
 #define HFI_REGS__I_REF_offset 0x80
+#define HFI_REGS__SAFETY_LOCK_offset 0x84
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0x84, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0x88, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -567,6 +598,7 @@ _Static_assert(offsetof(hfi_regs_t, DTC_GAIN) == HFI_REGS__DTC_GAIN_offset, "hfi
 _Static_assert(offsetof(hfi_regs_t, HF_AMP) == HFI_REGS__HF_AMP_offset, "hfi_regs_t: HF_AMP offset");
 _Static_assert(offsetof(hfi_regs_t, RECIP_H) == HFI_REGS__RECIP_H_offset, "hfi_regs_t: RECIP_H offset");
 _Static_assert(offsetof(hfi_regs_t, I_REF) == HFI_REGS__I_REF_offset, "hfi_regs_t: I_REF offset");
+_Static_assert(offsetof(hfi_regs_t, SAFETY_LOCK) == HFI_REGS__SAFETY_LOCK_offset, "hfi_regs_t: SAFETY_LOCK offset");
 #endif
 
 #ifdef __cplusplus

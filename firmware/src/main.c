@@ -175,6 +175,8 @@ int main(void)
     DSP(DTC_GAIN) = cfg.hw.dtc_gain;
     DSP(HF_AMP) = cfg.hw.hf_amp;
     DSP(RECIP_H) = cfg.hw.recip_h;
+    /* the safety registers (dead time, overcurrent limit, watchdog) stay as configured until reset */
+    DSP(SAFETY_LOCK) = FIELD(SAFETY_LOCK, LOCK, 1);
     DSP(IRQ_ENABLE) = FIELD(IRQ_ENABLE, WINDOW, 1);
     DSP(CTRL) = FIELD(CTRL, INJ_EN, cfg.hw.inj_en) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     fw_init(&st, &cfg.fw);

@@ -47,6 +47,18 @@ localparam [0:0] HFI_STATUS_OUTPUTS_ON_RESET = 1'h0;
 localparam integer HFI_STATUS_COMMIT_PENDING_LSB = 3;  // ro
 localparam integer HFI_STATUS_COMMIT_PENDING_WIDTH = 1;
 localparam [0:0] HFI_STATUS_COMMIT_PENDING_RESET = 1'h0;
+localparam integer HFI_STATUS_FAULT_STO_LSB = 4;  // ro
+localparam integer HFI_STATUS_FAULT_STO_WIDTH = 1;
+localparam [0:0] HFI_STATUS_FAULT_STO_RESET = 1'h0;
+localparam integer HFI_STATUS_FAULT_DESAT_LSB = 5;  // ro
+localparam integer HFI_STATUS_FAULT_DESAT_WIDTH = 1;
+localparam [0:0] HFI_STATUS_FAULT_DESAT_RESET = 1'h0;
+localparam integer HFI_STATUS_STO_ACTIVE_LSB = 6;  // ro
+localparam integer HFI_STATUS_STO_ACTIVE_WIDTH = 1;
+localparam [0:0] HFI_STATUS_STO_ACTIVE_RESET = 1'h0;
+localparam integer HFI_STATUS_DESAT_ACTIVE_LSB = 7;  // ro
+localparam integer HFI_STATUS_DESAT_ACTIVE_WIDTH = 1;
+localparam [0:0] HFI_STATUS_DESAT_ACTIVE_RESET = 1'h0;
 
 // IRQ_STATUS @ 0x10: Interrupt status
 localparam [7:0] HFI_IRQ_STATUS_ADDR = 8'h10;
@@ -68,7 +80,7 @@ localparam [15:0] HFI_PWM_HALF_VALUE_RESET = 16'h2710;
 
 // DEAD_TICKS @ 0x1C: Dead time
 localparam [7:0] HFI_DEAD_TICKS_ADDR = 8'h1C;
-localparam integer HFI_DEAD_TICKS_VALUE_LSB = 0;  // rw
+localparam integer HFI_DEAD_TICKS_VALUE_LSB = 0;  // rw, locked by SAFETY_LOCK.LOCK
 localparam integer HFI_DEAD_TICKS_VALUE_WIDTH = 16;
 localparam [15:0] HFI_DEAD_TICKS_VALUE_RESET = 16'h190;
 
@@ -110,13 +122,13 @@ localparam [15:0] HFI_ADC_GAIN_B_RESET = 16'h4000;
 
 // OC_LIMIT @ 0x34: Overcurrent limit
 localparam [7:0] HFI_OC_LIMIT_ADDR = 8'h34;
-localparam integer HFI_OC_LIMIT_VALUE_LSB = 0;  // rw
+localparam integer HFI_OC_LIMIT_VALUE_LSB = 0;  // rw, locked by SAFETY_LOCK.LOCK
 localparam integer HFI_OC_LIMIT_VALUE_WIDTH = 16;
 localparam [15:0] HFI_OC_LIMIT_VALUE_RESET = 16'h7FFF;
 
 // WDT_PERIODS @ 0x38: Watchdog periods
 localparam [7:0] HFI_WDT_PERIODS_ADDR = 8'h38;
-localparam integer HFI_WDT_PERIODS_VALUE_LSB = 0;  // rw
+localparam integer HFI_WDT_PERIODS_VALUE_LSB = 0;  // rw, locked by SAFETY_LOCK.LOCK
 localparam integer HFI_WDT_PERIODS_VALUE_WIDTH = 16;
 localparam [15:0] HFI_WDT_PERIODS_VALUE_RESET = 16'h0;
 
@@ -230,3 +242,17 @@ localparam [15:0] HFI_I_REF_I_D_RESET = 16'h0;
 localparam integer HFI_I_REF_I_Q_LSB = 16;  // rw, signed
 localparam integer HFI_I_REF_I_Q_WIDTH = 16;
 localparam [15:0] HFI_I_REF_I_Q_RESET = 16'h0;
+
+// SAFETY_LOCK @ 0x84: Safety lock
+localparam [7:0] HFI_SAFETY_LOCK_ADDR = 8'h84;
+localparam integer HFI_SAFETY_LOCK_LOCK_LSB = 0;  // w1s
+localparam integer HFI_SAFETY_LOCK_LOCK_WIDTH = 1;
+localparam [0:0] HFI_SAFETY_LOCK_LOCK_RESET = 1'h0;
+
+// Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
+function hfi_locked_by_safety_lock_lock(input [7:0] a);
+    case (a)
+        HFI_DEAD_TICKS_ADDR, HFI_OC_LIMIT_ADDR, HFI_WDT_PERIODS_ADDR: hfi_locked_by_safety_lock_lock = 1'b1;
+        default: hfi_locked_by_safety_lock_lock = 1'b0;
+    endcase
+endfunction

@@ -13,6 +13,7 @@ recorded in the test log) so a failure can be replayed with ``HFI_SEED=<seed> ma
 from __future__ import annotations
 
 import os
+import re
 import secrets
 import shutil
 import sys
@@ -58,6 +59,17 @@ def rtl_sources(*names: str) -> list[Path]:
     if missing:
         raise FileNotFoundError(f"RTL sources missing: {missing}")
     return paths
+
+
+def core_rtl_files(core: Path = ROOT / "hfi_dsp.core") -> tuple[str, ...]:
+    """The Verilog sources of the IP (names relative to ``rtl/``, in the order of ``core``): the
+    ``rtl/...`` entries of its filesets (the regex of tests/test_rtl_package.py::core_files) without the
+    include files (``.vh``, found through the include path)."""
+    listed = re.findall(r"^\s+- (rtl/\S+?)(?::|$)", core.read_text(), flags=re.M)
+    files = tuple(p.removeprefix("rtl/") for p in listed if p.endswith(".v"))
+    if not files:
+        raise ValueError(f"{core}: no rtl/*.v sources listed")
+    return files
 
 
 def run_cocotb(*, sim: str, toplevel: str, sources: list[Path], tb_module: str, build_dir: Path,

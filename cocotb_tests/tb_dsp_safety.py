@@ -1,7 +1,12 @@
-"""cocotb side of the hfi_dsp safety tests (see test_dsp_safety.py): overcurrent trip and watchdog.
+"""cocotb side of the hfi_dsp safety tests (see test_dsp_safety.py): overcurrent trip, watchdog,
+the STO and DESAT pins (spec 3.8) and the register lock (SAFETY_LOCK).
 
 The ADC model returns mid-scale codes (0 A) except for one conversion (index HFI_TRIP_INDEX) whose
 phase-a current exceeds OC_LIMIT. Gate edges and sampling instants come from the Verilog recorders.
+Cycle numbering: "cycle k" is the clock period in which the testbench's ``tick`` reads k (gates.txt
+records "k mask" when the pins show ``mask`` in cycle k and something else in cycle k - 1). A pin
+driven by the testbench at the falling edge inside cycle k is first sampled by the rising edge that
+ends cycle k; the spec's 3-clock latency then means: all gate pins 0 from cycle k + 3 on.
 """
 
 from __future__ import annotations
@@ -10,7 +15,7 @@ import os
 
 import cocotb
 import numpy as np
-from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
+from cocotb.triggers import ClockCycles, FallingEdge, ReadOnly, RisingEdge, current_gpi_trigger, with_timeout
 
 from axil_driver import AxiLiteMaster
 from golden import regmap as rm
@@ -19,6 +24,8 @@ from tb_dsp_replay import CONVST_LATENCY, GATE_LATENCY
 H = rm.PWM_HALF_VALUE_RESET
 P = 2 * H
 TRIP_BUDGET = 200
+FAULT_TO_GATES_OFF = 1
+"""Clocks from a latched fault (kill) to all gate pins 0: the gate output register (hfi_safety)."""
 """Issue 4: all gates off within 2 us (200 clocks at 100 MHz) of the sampling instant."""
 
 
@@ -29,6 +36,8 @@ def s(addr_name: str) -> int:
 async def start(dut):
     axi = AxiLiteMaster(dut, "s_axil", dut.clk)
     dut.flush.value = 0
+    dut.sto.value = 0
+    dut.desat.value = 0
     dut.rst.value = 1
     await ClockCycles(dut.clk, 20)
     dut.rst.value = 0
@@ -135,6 +144,189 @@ async def watchdog_turns_gates_off(dut):
     gates, _ = records()
     t_fire = boundary[3 + periods - 1]
     off = gates[(gates[:, 0] > t_fire - 1) & (gates[:, 1] == 0)]
-    # the boundary counts the missed window (1 clock), the fault latches (1 clock), then GATE_LATENCY
-    assert off.size and int(off[0, 0]) - t_fire == 2 + GATE_LATENCY, f"gates not off right after the watchdog: {off[:3]}"
+    # the boundary counts the missed window (1 clock), the fault latches (1 clock), then the kill clears
+    # the gate output register directly (1 clock; hfi_safety, spec 3.8: fault latch -> gates off in
+    # the next clock, no longer through the gate generator's register)
+    assert off.size and int(off[0, 0]) - t_fire == 2 + FAULT_TO_GATES_OFF, \
+        f"gates not off right after the watchdog: {off[:3]} (boundary tick {t_fire})"
     cocotb.log.info(f"watchdog: fault at boundary tick {t_fire}, gates off in cycle {int(off[0, 0])}")
+
+
+# ---------------------------------------------------------------------- STO / DESAT (spec 3.8)
+PIN_TO_GATES_OFF = 3
+"""Clocks from the pin (sampled at the end of its cycle) to all gate pins 0: two synchronizer flops
+and the gate output register (docs/spec.md 3.8)."""
+PINS = {"sto": ("FAULT_STO", "STO_ACTIVE"), "desat": ("FAULT_DESAT", "DESAT_ACTIVE")}
+
+
+async def sample(dut) -> tuple[int, int, int]:
+    """The next cycle's (tick, gate, drive_allowed), read in ReadOnly after its rising edge."""
+    await RisingEdge(dut.clk)
+    await ReadOnly()
+    return int(dut.tick.value), int(dut.gate.value), int(dut.drive_allowed.value)
+
+
+async def drive_pin(dut, pin: str, value: int) -> int:
+    """Set a safety pin at the falling edge inside the current cycle; returns that cycle's tick."""
+    if not isinstance(current_gpi_trigger(), ReadOnly):
+        await ReadOnly()
+    tick = int(dut.tick.value)
+    await FallingEdge(dut.clk)
+    getattr(dut, pin).value = value
+    return tick
+
+
+async def wait_phase(dut, phase: int) -> None:
+    """Advance to the next cycle whose tick is ``phase`` (mod P) - a point well away from bottoms."""
+    now = int(dut.tick.value)
+    target = now - now % P + phase
+    if target <= now + 5:
+        target += P
+    await wait_tick(dut, target)
+
+
+async def pin_fault_case(dut, pin: str) -> None:
+    fault_f, active_f = PINS[pin]
+    other_fault = PINS["desat" if pin == "sto" else "sto"][0]
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]))
+    axi = await start(dut)
+    ctrl = rm.pack("CTRL", ENABLE=1, INJ_EN=1)
+    ctrl_clear = rm.pack("CTRL", ENABLE=1, INJ_EN=1, FAULT_CLEAR=1)
+    await axi.write(s("CTRL"), ctrl)
+    await commit(axi, 3000)
+    await wait_tick(dut, P + 100)                   # ENABLE applies at the bottom of period 1
+    st = await status(axi)
+    assert st["OUTPUTS_ON"] == 1 and st[fault_f] == 0 and st[active_f] == 0, st
+    assert int(dut.drive_allowed.value) == 1
+
+    # ---- the pin at a random instant while the gates switch ----------------------------------------
+    await ClockCycles(dut.clk, int(rng.integers(1, 2 * P)))
+    while True:
+        tick, gate, allowed = await sample(dut)
+        if gate != 0 and allowed == 1:
+            break
+    k = await drive_pin(dut, pin, 1)
+    assert k == tick
+    seen = [await sample(dut) for _ in range(8)]    # cycles k + 1 .. k + 8
+    assert [t for t, _, _ in seen] == list(range(k + 1, k + 9))
+    for t, g, a in seen:
+        if t - k >= PIN_TO_GATES_OFF:
+            assert g == 0, f"{pin} raised in cycle {k}: gate pins {g:#08b} in cycle {t} (> {PIN_TO_GATES_OFF} clocks)"
+        # drive_allowed follows the synchronized pin (2 clocks), combinationally
+        assert a == int(t - k < 2), f"{pin} raised in cycle {k}: drive_allowed {a} in cycle {t}"
+    cocotb.log.info(f"{pin}: raised in cycle {k} (gates {gate:#08b}), pins after: {[(t, g) for t, g, _ in seen]}")
+    st = await status(axi)
+    assert st[fault_f] == 1 and st[active_f] == 1 and st["OUTPUTS_ON"] == 0, f"{pin} held: {st}"
+    assert st[other_fault] == 0 and st["FAULT_OC"] == 0 and st["FAULT_WDT"] == 0, f"{pin} held: {st}"
+
+    # ---- FAULT_CLEAR while the pin is held: stays latched, gates off -------------------------------
+    await ClockCycles(dut.clk, int(rng.integers(1, P)))
+    await axi.write(s("CTRL"), ctrl_clear)
+    st = await status(axi)
+    assert st[fault_f] == 1 and st[active_f] == 1 and st["OUTPUTS_ON"] == 0, f"clear while {pin} held: {st}"
+    await ClockCycles(dut.clk, 2 * P)               # two carrier bottoms with ENABLE = 1
+    await ReadOnly()
+    assert int(dut.gate.value) == 0 and int(dut.drive_allowed.value) == 0
+    st = await status(axi)
+    assert st[fault_f] == 1 and st["OUTPUTS_ON"] == 0, f"{pin} held, 2 periods after the clear: {st}"
+
+    # ---- release: still latched until the firmware re-arms -----------------------------------------
+    await RisingEdge(dut.clk)
+    release = await drive_pin(dut, pin, 0)
+    await ClockCycles(dut.clk, 5)
+    st = await status(axi)
+    assert st[fault_f] == 1 and st[active_f] == 0 and st["OUTPUTS_ON"] == 0, f"{pin} released: {st}"
+    await ClockCycles(dut.clk, P)
+    await ReadOnly()
+    assert int(dut.gate.value) == 0 and int(dut.drive_allowed.value) == 0, f"{pin} released, not re-armed"
+
+    # ---- re-arm: FAULT_CLEAR in mid-period; gates back from the next bottom on ---------------------
+    await wait_phase(dut, P // 2)
+    await axi.write(s("CTRL"), ctrl_clear)
+    clear_tick = int(dut.tick.value)
+    st = await status(axi)
+    assert st[fault_f] == 0 and st[active_f] == 0, f"{pin} re-armed: {st}"
+    assert int(dut.drive_allowed.value) == 1
+    bottom = (clear_tick // P + 1) * P              # the first bottom after the clear
+    await wait_tick(dut, bottom - 10)
+    assert (await status(axi))["OUTPUTS_ON"] == 0, "OUTPUTS_ON before the bottom after the re-arm"
+    await wait_tick(dut, bottom + P)
+    st = await status(axi)
+    assert st["OUTPUTS_ON"] == 1 and st[fault_f] == 0, f"{pin}: outputs not back after the re-arm: {st}"
+    dut.flush.value = 1
+    await ClockCycles(dut.clk, 2)
+
+    gates, _ = records()
+    t_off = k + PIN_TO_GATES_OFF
+    before = gates[gates[:, 0] <= t_off]
+    assert before.size and before[-1, 1] == 0, f"gates not off in cycle {t_off}: {before[-3:]}"
+    assert (gates[(gates[:, 0] > k - 2 * P) & (gates[:, 0] <= k), 1] != 0).any(), "gates were not switching"
+    between = gates[(gates[:, 0] > t_off) & (gates[:, 0] <= clear_tick)]
+    assert not between.size, f"gate activity while {pin} was held or latched: {between[:5]}"
+    resumed = gates[gates[:, 0] > clear_tick]
+    assert resumed.size, f"gates did not resume after the re-arm (clear in cycle {clear_tick})"
+    dead = rm.DEAD_TICKS_VALUE_RESET
+    first_on = int(resumed[0, 0]) - GATE_LATENCY    # golden tick of the first turn-on
+    assert first_on - dead == bottom, (f"{pin}: gates resumed at tick {first_on}, expected the bottom {bottom} "
+                                       f"after the clear (cycle {clear_tick}) + dead time {dead}")
+    cocotb.log.info(f"{pin}: raised in cycle {k}, released in {release}, re-armed in {clear_tick}, "
+                    f"gates back at tick {first_on} = bottom {bottom} + {dead}")
+
+
+@cocotb.test()
+async def sto_safe_torque_off(dut):
+    await pin_fault_case(dut, "sto")
+
+
+@cocotb.test()
+async def desat_driver_fault(dut):
+    await pin_fault_case(dut, "desat")
+
+
+# ---------------------------------------------------------------------- SAFETY_LOCK
+@cocotb.test()
+async def safety_lock_freezes_registers(dut):
+    """After SAFETY_LOCK.LOCK = 1 writes to the LOCKED_BY registers answer SLVERR and change nothing
+    (full and partial byte strobes); the lock cannot be cleared by software; other registers stay
+    writable."""
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]))
+    axi = await start(dut)
+    locked = list(dict.fromkeys(reg for reg, _field in rm.LOCKED_BY))
+    (lock_reg, lock_field), = set(rm.LOCKED_BY.values())
+    assert locked, "LOCKED_BY is empty"
+
+    async def read(name):
+        value, resp = await axi.read(s(name))
+        assert resp == 0, f"read {name}: RRESP {resp}"
+        return value
+
+    # writable before the lock (values the gate generator and the watchdog accept)
+    config = {"DEAD_TICKS": 420, "OC_LIMIT": 30000, "WDT_PERIODS": 0}
+    for name in locked:
+        v = config.get(name, 0x1234)
+        assert await axi.write(s(name), rm.pack(name, VALUE=v)) == 0, f"{name} before the lock"
+        assert await read(name) == v
+    # lock at a random moment
+    await ClockCycles(dut.clk, int(rng.integers(1, 1000)))
+    assert await axi.write(s(lock_reg), rm.pack(lock_reg, **{lock_field: 1})) == 0
+    assert rm.unpack(lock_reg, await read(lock_reg))[lock_field] == 1
+    for name in locked:
+        before = await read(name)
+        for data, strb in [(0xFFFFFFFF, 0xF), (0, 0xF), (0x0000FFFF, 0x1), (0x0000FFFF, 0x2), (0xABCD, 0x0),
+                           (int(rng.integers(0, 1 << 32)), int(rng.integers(1, 16)))]:
+            assert await axi.write(s(name), data, strb) == 2, f"write {name} <= {data:#x} strb {strb:#x} while locked"
+            assert await read(name) == before, f"{name} changed while locked"
+    # software cannot unlock
+    for data in (0, 0xFFFFFFFE):
+        assert await axi.write(s(lock_reg), data) == 0
+        assert rm.unpack(lock_reg, await read(lock_reg))[lock_field] == 1
+    assert await axi.write(s(locked[0]), 0) == 2
+    # other registers still writable
+    for name, value in (("SPEED_REF", int(rng.integers(0, 1 << 32))), ("BLANK_TICKS", rm.pack("BLANK_TICKS", VALUE=77)),
+                        ("IRQ_ENABLE", rm.pack("IRQ_ENABLE", WINDOW=1)),
+                        ("I_REF", rm.pack("I_REF", I_D=-123, I_Q=456)),
+                        ("CTRL", rm.pack("CTRL", ENABLE=1, INJ_EN=1))):
+        assert name not in locked
+        assert await axi.write(s(name), value) == 0, f"{name} not writable after the lock"
+        assert await read(name) == value, f"{name} read back"
+    assert (await status(axi))["FAULT_OC"] == 0

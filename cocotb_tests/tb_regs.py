@@ -11,7 +11,12 @@ Timing contract checked exactly (times of the AXI handshakes recorded by the dri
 * w1p fields (CTRL.FAULT_CLEAR, COMMIT.GO): a one-clock pulse starting at the handshake edge of a
   write that has the bit set (and its byte strobe on), none otherwise;
 * IRQ_STATUS.WINDOW set at the edge that samples ``irq_window_set`` = 1, cleared by a write of 1 at
-  its handshake edge, set wins over a simultaneous clear; ``irq`` = status & enable one clock later.
+  its handshake edge, set wins over a simultaneous clear; ``irq`` = status & enable one clock later;
+* w1s fields (SAFETY_LOCK.LOCK): a write of 1 (byte strobe on) sets the field at its handshake edge,
+  0 has no effect, only rst clears it;
+* locks (``golden.regmap.LOCKED_BY``): while the lock field is 1 (as before the write's edge), a
+  write to a register with a locked field changes nothing in that register (whatever WDATA and WSTRB,
+  also no w1p pulse) and answers SLVERR.
 """
 
 from __future__ import annotations
@@ -25,9 +30,12 @@ from cocotb.simtime import get_sim_time
 from cocotb.triggers import ClockCycles, ReadOnly, RisingEdge, ValueChange
 
 from axil_driver import AxiLiteMaster
-from golden.regmap import REGISTERS
+from golden.regmap import LOCKED_BY, REGISTERS
 
 OKAY, SLVERR = 0, 2
+ACCEPT_CLOCKS = 1
+"""rtl/hfi_regs.v registers AW/W (and AR) before it accepts them: the handshake is one edge after the
+edge that first sees the valids (the only timing of the slave the testbench knows besides the table)."""
 
 # Field -> port of hfi_regs. rw fields: the output carrying the stored value (None: no hardware
 # port, e.g. the SPEED_REF mailbox; IRQ_ENABLE is seen through `irq`); ro fields without a reset: the
@@ -51,12 +59,15 @@ RW_PORTS = {
 HW_PORTS = {
     ("STATUS", "FAULT_OC"): "status_fault_oc", ("STATUS", "FAULT_WDT"): "status_fault_wdt",
     ("STATUS", "OUTPUTS_ON"): "status_outputs_on", ("STATUS", "COMMIT_PENDING"): "status_commit_pending",
+    ("STATUS", "FAULT_STO"): "status_fault_sto", ("STATUS", "FAULT_DESAT"): "status_fault_desat",
+    ("STATUS", "STO_ACTIVE"): "status_sto_active", ("STATUS", "DESAT_ACTIVE"): "status_desat_active",
     ("GAMMA", "VALUE"): "gamma", ("GAMMA_D", "VALUE"): "gamma_d", ("SUM_ID", "VALUE"): "sum_id",
     ("SUM_IQ", "VALUE"): "sum_iq", ("WSUM", "VALUE"): "wsum", ("N_SAMPLES", "VALUE"): "n_samples",
     ("WINDOW_COUNT", "VALUE"): "window_count", ("LATE_COUNT", "VALUE"): "late_count",
 }
 PULSE_PORTS = {("CTRL", "FAULT_CLEAR"): "fault_clear", ("COMMIT", "GO"): "commit_go"}
 SET_PORTS = {("IRQ_STATUS", "WINDOW"): "irq_window_set"}
+W1S_PORTS = {("SAFETY_LOCK", "LOCK"): None}   # w1s fields: no hardware port (the lock acts inside hfi_regs)
 IRQ_PAIR = ("IRQ_STATUS", "IRQ_ENABLE")  # irq = |(IRQ_STATUS & IRQ_ENABLE) over same-named fields
 
 
@@ -76,17 +87,29 @@ class RegModel:
         for name, reg in REGISTERS.items():
             for field, (lsb, width, reset, access) in reg["fields"].items():
                 key = (name, field)
-                known = {"rw": RW_PORTS, "w1p": PULSE_PORTS, "w1c": SET_PORTS}.get(access)
+                known = {"rw": RW_PORTS, "w1p": PULSE_PORTS, "w1c": SET_PORTS, "w1s": W1S_PORTS}.get(access)
                 if access == "ro":
                     known = HW_PORTS if reset is None else {key: None}
                 assert known is not None, f"{name}.{field}: access {access!r} not modelled by tb_regs"
                 assert key in known, f"{name}.{field} ({access}) has no port in tb_regs' field->port table"
+        for key, lock in LOCKED_BY.items():
+            assert key[1] in REGISTERS[key[0]]["fields"], f"LOCKED_BY: unknown field {key}"
+            lsb, width, reset, access = REGISTERS[lock[0]]["fields"][lock[1]]
+            assert width == 1 and access == "w1s", f"LOCKED_BY: lock {lock} is not a 1-bit w1s field"
+        # register -> its lock fields (a register is locked as a whole: any locked field freezes it)
+        self.locks = {}
+        for (reg, _field), lock in LOCKED_BY.items():
+            self.locks.setdefault(reg, set()).add(lock)
         self.hw = {key: 0 for key in HW_PORTS}
         self.reset()
 
     def reset(self) -> None:
         self.store = {(name, f): reset for name, r in REGISTERS.items()
-                      for f, (_, _, reset, access) in r["fields"].items() if access in ("rw", "w1c")}
+                      for f, (_, _, reset, access) in r["fields"].items() if access in ("rw", "w1c", "w1s")}
+
+    def locked(self, name: str) -> bool:
+        """Whether writes to register ``name`` are refused now (one of its lock fields is 1)."""
+        return any(self.store[lock] for lock in self.locks.get(name, ()))
 
     def known(self, addr: int) -> bool:
         return addr in self.by_addr
@@ -97,7 +120,7 @@ class RegModel:
             return 0, SLVERR
         value = 0
         for field, (lsb, width, reset, access) in REGISTERS[name]["fields"].items():
-            if access in ("rw", "w1c"):
+            if access in ("rw", "w1c", "w1s"):
                 v = self.store[(name, field)]
             elif access == "ro":
                 v = reset if reset is not None else self.hw[(name, field)]
@@ -111,7 +134,8 @@ class RegModel:
         of the w1c fields at the same edge."""
         name = self.by_addr.get(addr)
         pulses = []
-        if name is not None:
+        locked = name is not None and self.locked(name)
+        if name is not None and not locked:
             bmask = _byte_mask(strb)
             for field, (lsb, width, reset, access) in REGISTERS[name]["fields"].items():
                 m = _mask(width, lsb) & bmask
@@ -120,11 +144,13 @@ class RegModel:
                     self.store[key] = ((self.store[key] << lsb & ~m | data & m) >> lsb) & _mask(width)
                 elif access == "w1c":
                     self.store[key] &= ~((data & m) >> lsb)
+                elif access == "w1s":
+                    self.store[key] |= (data & m) >> lsb
                 elif access == "w1p" and data & m:
                     pulses.append(key)
         if set_also:
             self.hw_set()
-        return (OKAY if name is not None else SLVERR), pulses
+        return (OKAY if name is not None and not locked else SLVERR), pulses
 
     def hw_set(self) -> None:
         for key in SET_PORTS:
@@ -236,6 +262,13 @@ class Bench:
         assert (data, resp) == exp, (f"{what} read 0x{addr:X} ({reg}): RTL (0x{data:08X}, resp {resp}), "
                                      f"model (0x{exp[0]:08X}, resp {exp[1]})")
         return data
+
+    async def pulse_set_at_accept(self) -> int:
+        """The hardware set at the edge that accepts a write started now (hfi_regs accepts AW/W
+        ACCEPT_CLOCKS edges after it first sees them); returns the time of that edge."""
+        for _ in range(ACCEPT_CLOCKS):
+            await self.edge
+        return await self.pulse_set()
 
     async def pulse_set(self, cycles: int = 1) -> int:
         """Drive irq_window_set high for ``cycles`` clocks; returns the time of the first sampling edge."""
@@ -384,7 +417,7 @@ async def irq_status_and_line(dut):
     await settle("set while enabled")
     assert irq[2:] == [(t + P, 1)], f"irq {irq}, set sampled at {t}"
     # set and clear at the same edge, status 1 before: set wins, irq stays 1
-    task = cocotb.start_soon(b.pulse_set())
+    task = cocotb.start_soon(b.pulse_set_at_accept())
     await b.write(st, 1, 0xF, "set+clear (status 1)", set_also=True)
     assert await task == b.axi.aw_time, "the clear was not accepted at the edge of the set"
     await settle("set wins (1)")
@@ -393,7 +426,7 @@ async def irq_status_and_line(dut):
     await settle("cleared again")
     assert irq[3:] == [(b.axi.aw_time + P, 0)]
     # set and clear at the same edge, status 0 before: ends 1, irq rises
-    task = cocotb.start_soon(b.pulse_set())
+    task = cocotb.start_soon(b.pulse_set_at_accept())
     await b.write(st, 1, 0xF, "set+clear (status 0)", set_also=True)
     t = await task
     assert t == b.axi.aw_time
@@ -429,7 +462,7 @@ async def unmapped_addresses(dut):
     await b.pulse_set()  # status 1: a write aliasing IRQ_STATUS would clear it
     mapped = sorted(b.model.by_addr)
     addrs = [a for a in range(0, 256, 4) if a not in b.model.by_addr]
-    assert {0x3C, 0x84, 0xFC} <= set(addrs)
+    assert {0x3C, 0x88, 0xFC} <= set(addrs)
     addrs += [a | off for a in mapped for off in (1, 2, 3)]
     if b.addr_bits > 8:
         addrs += [(1 << k) | a for k in range(8, b.addr_bits) for a in mapped]
@@ -543,7 +576,7 @@ async def random_sequence(dut):
             await b.edge  # irq follows one clock later
         elif r < 0.93:
             kind = "irq set+clear"
-            task = cocotb.start_soon(b.pulse_set())
+            task = cocotb.start_soon(b.pulse_set_at_accept())
             await b.write(REGISTERS["IRQ_STATUS"]["addr"], b.random_data(), b.random_strb(), what,
                           set_also=True)
             assert await task == b.axi.aw_time
@@ -651,6 +684,132 @@ async def raw_random_handshakes(dut):
     assert stats["reads"] > n_cycles // 8 and stats["writes"] > n_cycles // 8, stats
 
 
+def _locked_regs() -> list[str]:
+    """Registers with a field in golden.regmap.LOCKED_BY (locked by SAFETY_LOCK.LOCK)."""
+    return list(dict.fromkeys(reg for reg, _field in LOCKED_BY))
+
+
+def _lock_addr() -> tuple[int, int]:
+    """(address, bit) of the lock field of LOCKED_BY (a single lock in this map)."""
+    locks = set(LOCKED_BY.values())
+    assert len(locks) == 1, f"tb_regs expects one lock field, LOCKED_BY has {locks}"
+    reg, field = locks.pop()
+    return REGISTERS[reg]["addr"], REGISTERS[reg]["fields"][field][0]
+
+
+@cocotb.test()
+async def safety_lock(dut):
+    """SAFETY_LOCK.LOCK (w1s): 0 and strobed-off 1 do nothing, 1 sets, only rst clears; while set,
+    writes to the LOCKED_BY registers (any data, any WSTRB, also none) answer SLVERR and change
+    nothing; every other register stays writable."""
+    b = Bench(dut, "safety_lock")
+    await b.start()
+    locked = _locked_regs()
+    assert locked, "LOCKED_BY is empty"
+    lock_addr, lock_bit = _lock_addr()
+    bit, strb_on = 1 << lock_bit, 1 << (lock_bit // 8)
+    others = [n for n, r in REGISTERS.items() if n not in locked]
+
+    async def writable(what):
+        for name in locked:
+            for data, strb in ((0xFFFFFFFF, 0xF), (b.random_data(), 0xF), (b.random_data(), 0x1)):
+                assert await b.write(REGISTERS[name]["addr"], data, strb, f"{what} {name}") == OKAY
+                await b.read(REGISTERS[name]["addr"], f"{what} {name}")
+        await b.checkpoint(what)
+
+    await writable("unlocked")
+    # writes that must not set the lock
+    for i, (data, strb) in enumerate([(0, 0xF), (~bit & 0xFFFFFFFF, 0xF), (bit, 0xF & ~strb_on),
+                                      (0xFFFFFFFF, 0x0)]):
+        assert await b.write(lock_addr, data, strb, f"no-lock write {i}") == OKAY
+        assert await b.read(lock_addr, f"no-lock write {i}") == 0
+    await writable("still unlocked")
+    # lock
+    assert await b.write(lock_addr, bit, strb_on, "lock") == OKAY
+    assert await b.read(lock_addr, "locked") == bit
+    for name in locked:
+        before = await b.read(REGISTERS[name]["addr"], f"locked {name}")
+        for data, strb in [(0xFFFFFFFF, 0xF), (0, 0xF), (0xFFFFFFFF, 0x1), (0xFFFFFFFF, 0x2), (0x5A5A, 0x0),
+                           (~before & 0xFFFFFFFF, 0xF)] + [(b.random_data(), b.random_strb()) for _ in range(8)]:
+            assert await b.write(REGISTERS[name]["addr"], data, strb, f"locked {name}") == SLVERR
+            assert await b.read(REGISTERS[name]["addr"], f"locked {name}") == before
+        await b.checkpoint(f"locked {name}")
+    # the lock cannot be cleared by software
+    for data, strb in ((0, 0xF), (0, strb_on), (0xFFFFFFFE, 0xF), (0xFFFFFFFF, 0xF)):
+        assert await b.write(lock_addr, data, strb, "unlock attempt") == OKAY
+        assert await b.read(lock_addr, "unlock attempt") == bit
+    # every other register still writable (and the w1p pulses still fire)
+    for name in others:
+        for data, strb in ((b.random_data(), 0xF), (b.random_data(), b.random_strb())):
+            if name == "IRQ_STATUS":
+                await b.pulse_set()
+            await b.write(REGISTERS[name]["addr"], data, strb, f"locked, other {name}")
+            await b.read(REGISTERS[name]["addr"], f"locked, other {name}")
+        await b.checkpoint(f"locked, other {name}")
+    assert await b.read(lock_addr, "still locked") == bit
+    # back to back: lock write followed directly by a write to a locked register (locked already)
+    await b.reset()
+    assert await b.read(lock_addr, "after reset") == 0
+    await writable("after reset")
+    name = locked[0]
+    await b.write(lock_addr, 0xFFFFFFFF, 0xF, "lock again")
+    assert await b.write(REGISTERS[name]["addr"], 0x1234, 0xF, f"right after the lock {name}") == SLVERR
+    await b.checkpoint("end")
+    await b.read_all("end")
+
+
+@cocotb.test()
+async def lock_at_random_point(dut):
+    """Random writes (strobes, delays, concurrent reads) biased to the locked registers and the lock
+    register; the lock is set at a random transaction of each round, a reset ends each round."""
+    b = Bench(dut, "lock_at_random_point")
+    await b.start()
+    rng = b.rng
+    locked_addrs = [REGISTERS[n]["addr"] for n in _locked_regs()]
+    lock_addr, lock_bit = _lock_addr()
+    n_rounds = 4
+    m = max(40, b.n // (5 * n_rounds))
+    counts = dict(locked_slverr=0, locked_okay=0)
+    for rnd in range(n_rounds):
+        lock_at = int(rng.integers(0, m))
+        for i in range(m):
+            what = f"round {rnd} txn {i} (lock at {lock_at})"
+            r = rng.random()
+            if i == lock_at:
+                data = b.random_data() | 1 << lock_bit
+                strb = b.random_strb() | 1 << (lock_bit // 8)
+                assert await b.write(lock_addr, data, strb, f"{what}: lock") == OKAY
+                assert b.model.store[("SAFETY_LOCK", "LOCK")] == 1
+                continue
+            if r < 0.45:
+                addr = int(rng.choice(locked_addrs))
+            elif r < 0.55:
+                addr = lock_addr
+            else:
+                addr = b.random_addr()
+            if r < 0.8:
+                data, strb = b.random_data(), b.random_strb()
+                if i < lock_at and addr == lock_addr:
+                    data &= ~(1 << lock_bit)     # the lock only at lock_at
+                delays = {}
+                if rng.random() < 0.3:
+                    delays = dict(aw_delay=int(rng.integers(0, 3)), w_delay=int(rng.integers(0, 3)),
+                                  bready_delay=int(rng.integers(0, 3)))
+                resp = await b.write(addr, data, strb, what, **delays)
+                if addr in locked_addrs:
+                    counts["locked_slverr" if resp == SLVERR else "locked_okay"] += 1
+                    assert (resp == SLVERR) == (i > lock_at), f"{what}: BRESP {resp}"
+            else:
+                await b.read(addr if rng.random() < 0.7 else b.random_addr(), what)
+            if rng.random() < 0.1:
+                await b.checkpoint(what)
+        await b.checkpoint(f"round {rnd} end")
+        await b.read_all(f"round {rnd} end")
+        await b.reset(int(rng.integers(1, 3)))
+    cocotb.log.info(f"lock_at_random_point: {n_rounds} rounds of {m} transactions, {counts}")
+    assert counts["locked_slverr"] and counts["locked_okay"], counts
+
+
 @cocotb.test()
 async def driver_timeout(dut):
     """The AXI master's timeout: a slave held in reset never answers; clear errors, not a hang."""
@@ -659,8 +818,9 @@ async def driver_timeout(dut):
     await b.start()
     dut.rst.value = 1
     axi = AxiLiteMaster(dut, "s_axil", dut.clk, timeout=20)
-    for op, args, text in ((axi.write, (0x18, 1), "no write response for address 0x18 within 20 cycles"),
-                           (axi.read, (0x18,), "no read data for address 0x18 within 20 cycles")):
+    # AWREADY/WREADY and ARREADY follow the registered valids, which rst holds off
+    for op, args, text in ((axi.write, (0x18, 1), "no AWREADY/WREADY for address 0x18 within 20 cycles"),
+                           (axi.read, (0x18,), "no ARREADY for address 0x18 within 20 cycles")):
         try:
             await op(*args)
         except AxiLiteTimeout as e:

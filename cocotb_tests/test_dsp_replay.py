@@ -14,13 +14,12 @@ import numpy as np
 from golden.closedloop import ClosedLoop
 from golden.fpga.adc_trigger import sample_phases
 from hfi import paper
-from hdl_runner import TB_DIR, rtl_sources, run_cocotb
+from hdl_runner import TB_DIR, core_rtl_files, rtl_sources, run_cocotb
 
 REPLAY_S = 0.201
 """Simulated time of the replay [s] (>= 0.2 s: 1004 windows at 5 kHz)."""
-RTL_FILES = ("hfi_regs.v", "hfi_carrier.v", "hfi_adc_trigger.v", "hfi_adc_if.v", "hfi_adc_scale.v",
-             "hfi_overcurrent.v", "hfi_park.v", "hfi_cordic.v", "hfi_demodulator.v", "hfi_deadtime_comp.v",
-             "hfi_modulator.v", "hfi_gate_gen.v", "hfi_dsp.v")
+RTL_FILES = core_rtl_files()
+"""The Verilog sources of hfi_dsp, as listed in hfi_dsp.core."""
 
 
 def write_inputs(res, build_dir) -> None:

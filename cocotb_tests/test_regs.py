@@ -11,7 +11,7 @@ import pytest
 
 import hdl_runner
 
-N_TESTS = 9  # cocotb tests in tb_regs.py
+N_TESTS = 11  # cocotb tests in tb_regs.py
 RANDOM_N = {"verilator": 20_000, "icarus": 2_000}
 
 

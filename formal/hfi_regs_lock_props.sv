@@ -3,8 +3,9 @@
 // scripts/prove.py).
 //
 // Every input of hfi_regs is a free input of this wrapper: the whole AXI4-Lite slave side (addresses,
-// data, strobes, valids and readies in any combination, not necessarily AXI-compliant) and every
-// hardware status input; rst is free too.  ADDR_BITS = 8 (as in hfi_dsp).  Proven by k-induction
+// data, strobes, valids and readies) and every hardware status input; rst is free too.  The one
+// assumption is the AXI4 master rule hfi_regs relies on (it registers AW/W/AR before accepting them):
+// a VALID not yet accepted stays high, with the same address/data/strobes, in the next clock.  ADDR_BITS = 8 (as in hfi_dsp).  Proven by k-induction
 // (sby mode prove, smtbmc) for all input sequences:
 //   (o) the lock bit of the RTL (dut.r_safety_lock, observed as lock_obs) equals a reference model:
 //       0 after rst, set by a write handshake to SAFETY_LOCK with WSTRB[0] and WDATA[0] set (w1s),
@@ -115,6 +116,26 @@ module hfi_regs_lock_props (
 
     // the first cycle starts in reset (the registers have no initial value in the RTL)
     always @(*) if (!f_past) assume(rst);
+
+    // AXI4 master rule: VALID and its payload held until READY
+    reg        p_aw = 1'b0, p_w = 1'b0, p_ar = 1'b0;
+    reg [7:0]  p_awaddr = 8'd0, p_araddr = 8'd0;
+    reg [31:0] p_wdata = 32'd0;
+    reg [3:0]  p_wstrb = 4'd0;
+    always @(posedge clk) begin
+        p_aw     <= !rst && s_axil_awvalid && !s_axil_awready;
+        p_w      <= !rst && s_axil_wvalid && !s_axil_wready;
+        p_ar     <= !rst && s_axil_arvalid && !s_axil_arready;
+        p_awaddr <= s_axil_awaddr;
+        p_araddr <= s_axil_araddr;
+        p_wdata  <= s_axil_wdata;
+        p_wstrb  <= s_axil_wstrb;
+    end
+    always @(*) if (f_past && !rst) begin
+        if (p_aw) assume (s_axil_awvalid && s_axil_awaddr == p_awaddr);
+        if (p_w)  assume (s_axil_wvalid && s_axil_wdata == p_wdata && s_axil_wstrb == p_wstrb);
+        if (p_ar) assume (s_axil_arvalid && s_axil_araddr == p_araddr);
+    end
 
     always @(*) if (f_past) begin
         assert (lock_obs == lock_m);                                   // (o)

@@ -8,8 +8,9 @@
 // Bus: AXI4-Lite slave, 32-bit data, ADDR_BITS-bit byte addresses (ADDR_BITS >= 8: the map spans
 // 0x00-0xFF). Every address bit is decoded: an address that is not word aligned, not in the map or
 // (ADDR_BITS > 8) has a bit above bit 7 set is outside the map (no aliasing).
-//  - Write: AW and W are accepted together in the cycle both are valid and no response is pending
-//    (AWREADY = WREADY); the response BVALID follows in the next cycle. WSTRB selects bytes.
+//  - Write: AW and W are accepted together (AWREADY = WREADY) in the clock after both are seen valid,
+//    while no response is pending; the response BVALID follows in the next cycle. WSTRB selects
+//    bytes. (Registered first: timing in the SoC. A master must hold VALID until READY, AXI4.)
 //  - Read: ARREADY rises in the clock after ARVALID is seen (the address is registered first, so the
 //    read multiplexer starts from flip-flops: timing in the SoC, where ARADDR comes through the
 //    bus adapter's logic), while no read data is pending; RDATA/RVALID in the cycle after the
@@ -127,7 +128,16 @@ module hfi_regs #(
     localparam [31:0] RST_I_REF = {HFI_I_REF_I_Q_RESET, HFI_I_REF_I_D_RESET};
 
     // ---------------------------------------------------------------- write channel
-    wire wr_fire = s_axil_awvalid & s_axil_wvalid & ~s_axil_bvalid;
+    // AW and W are registered first (AXI: address, data and strobes are stable while VALID waits for
+    // READY) and accepted one clock later: every write enable then starts from flip-flops (timing in
+    // the SoC, where the VALIDs come through the bus adapter's logic). A master must hold VALID
+    // until READY (AXI4 rule): the write uses what was presented in the clock before the handshake.
+    reg       aw_seen;
+    reg [7:0] wr_addr_q;
+    reg       wr_hi_zero_q;
+    reg [31:0] wdata_q;
+    reg [3:0] wstrb_q;
+    wire wr_fire = aw_seen & ~s_axil_bvalid;
     assign s_axil_awready = wr_fire;
     assign s_axil_wready = wr_fire;
     // The map is decoded on 8 address bits; with ADDR_BITS > 8 an address with any upper bit set is
@@ -147,18 +157,25 @@ module hfi_regs #(
             assign rd_hi_zero = 1'b1;
         end
     endgenerate
+    always @(posedge clk) begin
+        aw_seen <= ~rst & s_axil_awvalid & s_axil_wvalid & ~wr_fire;
+        wr_addr_q <= wr_addr;
+        wr_hi_zero_q <= wr_hi_zero;
+        wdata_q <= s_axil_wdata;
+        wstrb_q <= s_axil_wstrb;
+    end
     // a write inside the map (unknown low addresses: no case below), not to a locked register
-    wire wr_locked = r_safety_lock & hfi_locked_by_safety_lock_lock(wr_addr);
-    wire wr_en = wr_fire & wr_hi_zero & ~wr_locked;
-    wire [31:0] byte_mask = {{8{s_axil_wstrb[3]}}, {8{s_axil_wstrb[2]}}, {8{s_axil_wstrb[1]}},
-                             {8{s_axil_wstrb[0]}}};   // IRQ_STATUS w1c
+    wire wr_locked = r_safety_lock & hfi_locked_by_safety_lock_lock(wr_addr_q);
+    wire wr_en = wr_fire & wr_hi_zero_q & ~wr_locked;
+    wire [31:0] byte_mask = {{8{wstrb_q[3]}}, {8{wstrb_q[2]}}, {8{wstrb_q[1]}},
+                             {8{wstrb_q[0]}}};   // IRQ_STATUS w1c
 
     // Byte b of a written rw register: the written data of its fields, 0 elsewhere.  Bits outside the
     // fields reset to 0 and are only ever written 0, so this equals "written fields, rest kept" and
     // Yosys drops them; each written byte is a clock enable (wr_en & address & WSTRB[b]) of plain
     // data flip-flops instead of a read-modify-write mux per bit.
     function [7:0] wd_bytes(input integer b, input [31:0] field_mask);
-        wd_bytes = s_axil_wdata[8*b +: 8] & field_mask[8*b +: 8];
+        wd_bytes = wdata_q[8*b +: 8] & field_mask[8*b +: 8];
     endfunction
     integer b;
 
@@ -177,8 +194,8 @@ module hfi_regs #(
         endcase
     endfunction
 
-    wire wr_irq_status = wr_en && wr_addr == HFI_IRQ_STATUS_ADDR;
-    wire [31:0] irq_clear = wr_irq_status ? (s_axil_wdata & byte_mask & M_IRQ) : 32'd0;
+    wire wr_irq_status = wr_en && wr_addr_q == HFI_IRQ_STATUS_ADDR;
+    wire [31:0] irq_clear = wr_irq_status ? (wdata_q & byte_mask & M_IRQ) : 32'd0;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -216,37 +233,37 @@ module hfi_regs #(
                 s_axil_bvalid <= 1'b0;
             if (wr_fire) begin
                 s_axil_bvalid <= 1'b1;
-                s_axil_bresp <= (wr_hi_zero && known_addr(wr_addr) && !wr_locked) ? RESP_OKAY : RESP_SLVERR;
+                s_axil_bresp <= (wr_hi_zero_q && known_addr(wr_addr_q) && !wr_locked) ? RESP_OKAY : RESP_SLVERR;
             end
             if (wr_en) begin
-                case (wr_addr)
+                case (wr_addr_q)
                     HFI_CTRL_ADDR: begin
                         for (b = 0; b < 4; b = b + 1)
-                            if (s_axil_wstrb[b]) r_ctrl[8*b +: 8] <= wd_bytes(b, M_CTRL);
-                        fault_clear <= s_axil_wstrb[HFI_CTRL_FAULT_CLEAR_LSB / 8]
-                                       & s_axil_wdata[HFI_CTRL_FAULT_CLEAR_LSB];
+                            if (wstrb_q[b]) r_ctrl[8*b +: 8] <= wd_bytes(b, M_CTRL);
+                        fault_clear <= wstrb_q[HFI_CTRL_FAULT_CLEAR_LSB / 8]
+                                       & wdata_q[HFI_CTRL_FAULT_CLEAR_LSB];
                     end
-                    HFI_IRQ_ENABLE_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_irq_enable[8*b +: 8] <= wd_bytes(b, M_IRQ);
-                    HFI_PWM_HALF_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_pwm_half[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_DEAD_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_dead_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_OS_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_os_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_BLANK_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_blank_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_CW_ANGLE_STEP_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_cw_angle_step[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_ADC_OFFSET_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_adc_offset[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_ADC_GAIN_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_adc_gain[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_OC_LIMIT_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_oc_limit[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_WDT_PERIODS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_wdt_periods[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_V_DQ_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_v_dq[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_V_H_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_v_h[8*b +: 8] <= wd_bytes(b, M_U15);
-                    HFI_SINCOS_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_sincos[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_COMMIT_ADDR: commit_go <= s_axil_wstrb[HFI_COMMIT_GO_LSB / 8] & s_axil_wdata[HFI_COMMIT_GO_LSB];
-                    HFI_SPEED_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_speed_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_DTC_GAIN_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_dtc_gain[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_HF_AMP_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_hf_amp[8*b +: 8] <= wd_bytes(b, M_U15);
-                    HFI_RECIP_H_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_recip_h[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_I_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (s_axil_wstrb[b]) r_i_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_IRQ_ENABLE_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_irq_enable[8*b +: 8] <= wd_bytes(b, M_IRQ);
+                    HFI_PWM_HALF_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_pwm_half[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_DEAD_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_dead_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_OS_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_os_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_BLANK_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_blank_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_CW_ANGLE_STEP_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_cw_angle_step[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_ADC_OFFSET_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_adc_offset[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_ADC_GAIN_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_adc_gain[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_OC_LIMIT_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_oc_limit[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_WDT_PERIODS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_wdt_periods[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_V_DQ_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_v_dq[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_V_H_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_v_h[8*b +: 8] <= wd_bytes(b, M_U15);
+                    HFI_SINCOS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_sincos[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_COMMIT_ADDR: commit_go <= wstrb_q[HFI_COMMIT_GO_LSB / 8] & wdata_q[HFI_COMMIT_GO_LSB];
+                    HFI_SPEED_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_speed_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_DTC_GAIN_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_dtc_gain[8*b +: 8] <= wd_bytes(b, M_U16);
+                    HFI_HF_AMP_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_hf_amp[8*b +: 8] <= wd_bytes(b, M_U15);
+                    HFI_RECIP_H_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_recip_h[8*b +: 8] <= wd_bytes(b, M_ALL);
+                    HFI_I_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_i_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
                     HFI_SAFETY_LOCK_ADDR:
-                        if (s_axil_wstrb[HFI_SAFETY_LOCK_LOCK_LSB / 8] & s_axil_wdata[HFI_SAFETY_LOCK_LOCK_LSB])
+                        if (wstrb_q[HFI_SAFETY_LOCK_LOCK_LSB / 8] & wdata_q[HFI_SAFETY_LOCK_LOCK_LSB])
                             r_safety_lock <= 1'b1;
                     default: ;
                 endcase
@@ -335,7 +352,7 @@ module hfi_regs #(
             irq <= |(r_irq_status & r_irq_enable & M_IRQ);
             if (s_axil_rvalid && s_axil_rready)
                 s_axil_rvalid <= 1'b0;
-            if (s_axil_arvalid && s_axil_arready) begin
+            if (s_axil_arready) begin   // ARVALID is high: it was in the clock before (ar_seen) and is held
                 s_axil_rvalid <= 1'b1;
                 s_axil_rdata <= rd_word;
                 s_axil_rresp <= (rd_hi_zero_q && known_addr(rd_addr_q)) ? RESP_OKAY : RESP_SLVERR;

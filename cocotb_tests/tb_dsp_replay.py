@@ -17,10 +17,11 @@ from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
 from axil_driver import AxiLiteMaster
 from golden import regmap as rm
 
-GATE_LATENCY = 2
-"""hfi_dsp's gate pins show the golden gate mask of tick t in cycle t + GATE_LATENCY (docs/rtl.md)."""
-CONVST_LATENCY = 2
-"""The ADC's CONVST of the sample taken at tick t rises in cycle t + CONVST_LATENCY (docs/rtl.md)."""
+from hfi.soc_platform import PIN_LATENCY
+
+GATE_LATENCY = CONVST_LATENCY = PIN_LATENCY
+"""hfi_dsp's gate pins show the golden gate mask of tick t in cycle t + GATE_LATENCY, the ADC's CONVST
+of the sample taken at tick t rises in cycle t + CONVST_LATENCY (hfi/soc_platform.py, docs/rtl.md)."""
 
 RESULTS = (("GAMMA", "gamma", True), ("GAMMA_D", "gamma_d", True), ("SUM_ID", "sum_id", True),
            ("SUM_IQ", "sum_iq", True), ("WSUM", "wsum", True), ("N_SAMPLES", "n_samples", False))

@@ -44,6 +44,10 @@ ADC_BITS = 12
 """Resolution of the serial ADC the SoC's hfi_dsp reads (a scenario's sens.adc_bits must equal it)."""
 IRQ_LATENCY = 400
 """Window interrupt, clocks after the window boundary; the commit deadline is P - IRQ_LATENCY."""
+PIN_LATENCY = 3
+"""hfi_dsp's pins show tick t in clock t + PIN_LATENCY, clocks counted from 0 at the first clock with
+rst = 0 and run = 1: the gate mask of tick t and the CONVST rise of a sample taken at tick t (the
+registered timing reset, the gate generator's register and the output register; docs/rtl.md)."""
 DEAD_MIN = DEAD_MIN_DEFAULT
 """Dead-time floor [clocks] (docs/spec.md 2.4)."""
 OS_MIN = OS_MIN_DEFAULT

@@ -36,7 +36,8 @@ module hfi_dsp #(
     input  wire        clk,
     input  wire        rst,
     // timing enable: 0 holds the carrier, sampling, windows and gates at their reset state while the
-    // registers stay writable; tick 0 is the first clock with rst = 0 and run = 1 (docs/rtl.md).
+    // registers stay writable; the carrier's tick 0 is the second clock with rst = 0 and run = 1
+    // (the timing reset is registered; pins: PIN_LATENCY, docs/rtl.md).
     // Tie to 1 to start at reset.
     input  wire        run,
     // AXI4-Lite slave (byte addresses 0x00..0xFF)
@@ -83,7 +84,12 @@ module hfi_dsp #(
     endgenerate
 
     // ---------------------------------------------------------------- reset of the timing
-    wire rst_dp = rst | ~run;           // everything but the register block
+    // Everything but the register block: a register, so that the timing reset reaches the whole
+    // data path from one flip-flop (SoC timing, docs/boards.md); hence tick 0 is the second clock
+    // with rst = 0 and run = 1, and PIN_LATENCY (hfi/soc_platform.py) counts that clock.
+    reg rst_dp;
+    always @(posedge clk)
+        rst_dp <= rst | ~run;
 
     // ---------------------------------------------------------------- registers
     wire        ctrl_enable, ctrl_inj_en, fault_clear, commit_go;
@@ -211,7 +217,7 @@ module hfi_dsp #(
         .dead_reg(dead_ticks), .enable(gen_enable), .kill(kill),
         .gate(gate_gen_out), .s(ideal_s), .sw_event(sw_event)
     );
-    // Fault latches, STO/DESAT and the output register (docs/rtl.md, GATE_LATENCY = 2): the pins are
+    // Fault latches, STO/DESAT and the output register (docs/rtl.md, PIN_LATENCY = 3): the pins are
     // driven straight from flip-flops, and the gates keep the same one-tick offset to the sampling
     // instants as CONVST (below).
     hfi_safety u_safety (
@@ -233,7 +239,7 @@ module hfi_dsp #(
     // Window parity of the sampling tick: a sample at the boundary tick belongs to the new window.
     // The sampling instant, its flags and its weight angle are registered once before they start the
     // ADC and the CORDIC (timing: the trigger's blanking depends on this tick's switch events), so
-    // CONVST of the sample of tick t rises in cycle t + 2 (docs/rtl.md).
+    // CONVST of the sample of tick t rises with the gate mask of tick t (PIN_LATENCY, docs/rtl.md).
     reg sample_q, keep_q, parity_q;
     reg [31:0] angle_q;
     always @(posedge clk) begin

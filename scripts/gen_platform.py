@@ -6,7 +6,7 @@ trace record) and :data:`golden.closedloop.WINDOW_FIELDS` (the per-window record
 relative to the repository root, deterministic):
 
 - ``firmware/include/hfi_soc_platform.h``: ``HFI_SOC_RAM_BYTES``, ``HFI_SOC_DSP_BASE``,
-  ``HFI_SOC_CTL_BASE``, ``HFI_SOC_IRQ_WINDOW`` (C);
+  ``HFI_SOC_CTL_BASE``, ``HFI_SOC_IRQ_WINDOW``, ``HFI_SOC_PIN_LATENCY`` (C);
 - ``firmware/src/fw_trace.h``: ``FW_TRACE_WORDS``, ``FW_TRACE_RECORD(put, st, window, cycles)`` (the
   firmware's trace record) and ``FW_TRACE_COLUMNS(X, st)`` (its words that are WINDOW_FIELDS columns);
 - ``firmware/hfi_soc_memory.ld``: the linker script's ``MEMORY`` (included by ``firmware/link.ld``);
@@ -100,6 +100,7 @@ def render_header() -> str:
         f"#define HFI_SOC_DSP_BASE 0x{sp.DSP_BASE:08X}u   /* hfi_dsp registers (hfi_regs.h offsets) */",
         f"#define HFI_SOC_CTL_BASE 0x{sp.CTL_BASE:08X}u   /* SoC control block (hfi_soc_regs.h offsets) */",
         f"#define HFI_SOC_IRQ_WINDOW {sp.IRQ_WINDOW}u       /* external interrupt line of the window interrupt */",
+        f"#define HFI_SOC_PIN_LATENCY {sp.PIN_LATENCY}      /* hfi_dsp pins show tick t in clock t + this */",
         "",
         "#endif",
         ""])

@@ -3,7 +3,7 @@
 // Per clock: evaluate the Verilated SoC (rising edge, then falling edge), then look at its pins; the
 // plant calls and their records are those of PlantLoop (plant_loop.h, shared with the hls backend):
 //  - window boundary of the event tick: end the window (the plant's state is its truth);
-//  - gate pins changed: apply the new mask to the plant (tick - GATE_LATENCY);
+//  - gate pins changed: apply the new mask to the plant (tick - PIN_LATENCY);
 //  - ADC: the protocol of cocotb_tests/hdl/adc_model.v (the replay's ADC model): a CONVST rising
 //    edge takes a plant sample (tick - CONVST latency), CS_N falling shifts out the MSB, each SCLK
 //    falling edge the next bit, every change one clock after the pin edge;
@@ -25,15 +25,15 @@
 
 extern "C" {
 #include "hfi_regs.h"
+#include "hfi_soc_platform.h"
 #include "soc_sim.h"
 }
 
 namespace {
-constexpr long long GATE_LATENCY = 2;     // docs/rtl.md
-constexpr long long CONVST_LATENCY = 2;   // docs/rtl.md
-// The pins of one clock then carry the events of one tick, applied in the golden order:
-// window boundary, gate change, sample.
-static_assert(GATE_LATENCY == CONVST_LATENCY, "gate and CONVST latencies differ");
+// hfi_dsp's gate pins and CONVST show tick t in clock t + HFI_SOC_PIN_LATENCY (one latency for both:
+// the pins of one clock carry the events of one tick, applied in the golden order: window boundary,
+// gate change, sample; hfi/soc_platform.py, docs/rtl.md)
+constexpr long long PIN_LATENCY = HFI_SOC_PIN_LATENCY;
 constexpr long long START_LIMIT = 1000000;
 }
 
@@ -180,7 +180,7 @@ static int clock_once(soc_sim *sim)
     bool convst = top->adc_convst, cs = top->adc_cs_n, sclk = top->adc_sclk;
     int gate = top->gate;
     if (sim->tick0 >= 0) {
-        const long long te = c - sim->tick0 - GATE_LATENCY;   // = c - tick0 - CONVST_LATENCY
+        const long long te = c - sim->tick0 - PIN_LATENCY;
         if (te == sim->loop.next_window_end() && !sim->loop.end_window())
             return plant_error(sim);
         if (gate != sim->gate_q && !sim->loop.set_gates(te, gate))

@@ -10,8 +10,8 @@
  *
  * Clocks: `clk` (the tick clock) and `cpu_clk`, which rises with every cpu_div-th rising edge of clk
  * (aligned edges, as from one PLL). Ticks: tick 0 is the first clock with DSP_RUN = 1 in the DSP's
- * clock (docs/rtl.md); a pin change seen in clock c belongs to tick c - tick0 - 2 (GATE_LATENCY,
- * CONVST latency). Cycle counts are tick clocks. Samples before the first
+ * clock (docs/rtl.md); a pin change seen in clock c belongs to tick c - tick0 - HFI_SOC_PIN_LATENCY
+ * (gate pins and CONVST alike). Cycle counts are tick clocks. Samples before the first
  * window (tick < H/2) are answered with the mid-scale code without calling the plant (the golden loop
  * starts sampling at the first window).
  */

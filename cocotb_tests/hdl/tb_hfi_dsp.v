@@ -3,8 +3,8 @@
 // test_dsp_replay.py). The 100 MHz clock runs inside the simulator (Verilator --timing: no Python
 // per cycle); the register writes come from the cocotb AXI4-Lite master (firmware replay). Records, as text files in the simulation directory:
 //   gates.txt   "<tick> <mask>" at every change of the six gate outputs (tick = cycle since reset;
-//               the gate pins show the golden mask of tick t in cycle t + 2, docs/rtl.md)
-//   convst.txt  "<tick>" of every CONVST rising edge (sampling tick t rises in cycle t + 2)
+//               the gate pins show the golden mask of tick t in cycle t + PIN_LATENCY, docs/rtl.md)
+//   convst.txt  "<tick>" of every CONVST rising edge (sampling tick t rises in cycle t + PIN_LATENCY)
 module tb_hfi_dsp #(
     parameter ADC_BITS = 12,
     parameter CODES_FILE = "codes.hex"

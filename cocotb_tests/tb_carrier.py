@@ -5,8 +5,8 @@ Every tick is compared with the golden carrier (``golden.fpga.carrier``: ``effec
 tests/test_hls_carrier.py) and the weight angle of ``golden.fpga.cordic.demod_weight``
 (``a = uwrap(wrap((H - 2c)*STEP, 32), 32)``; the resulting weights are also checked against
 ``demod_weight`` itself, vectorised). The register-application rule of the RTL (docs/rtl.md: a write
-takes effect at the first bottom at least 18 clocks after it) is modelled cycle by cycle and tested
-directly at the boundary (bottom at w + 17 vs w + 18).
+takes effect at the first bottom at least 19 clocks after it) is modelled cycle by cycle and tested
+directly at the boundary (bottom at w + 18 vs w + 19).
 
 Convention: inputs are driven at the falling edge of cycle t ("the value present in cycle t"); at
 that falling edge the outputs show the registered state of tick t.
@@ -28,7 +28,8 @@ from golden.fpga.cordic import cw_angle_step, demod_weight, sincos_q15
 from golden.testvectors.carrier import DIRECTED_HALF_REGS, random_half_reg, random_step
 
 MUL_CYCLES = 17          # load + 16 add cycles of the serial multiplier (rtl/hfi_carrier.v)
-APPLY_DELAY = 18         # a write in cycle w is used from the first bottom at tick >= w + 18
+APPLY_DELAY = 19         # a write in cycle w is used from the first bottom at tick >= w + 19
+                         # (the product, then one pipeline stage into the ready triple)
 
 
 def golden_angle(c: int, half: int, step: int) -> int:
@@ -41,14 +42,16 @@ class CarrierModel:
 
     The register rule is modelled as the RTL documents it: the serial multiplier restarts whenever
     the (effective H, STEP) inputs differ from its operands (or on the rising edge of rst) and
-    completes 17 cycles later; a bottom takes the last completed pair.
+    completes 17 cycles later; one cycle after that the pair is the ready pair (a pipeline stage); a
+    bottom takes the ready pair.
     """
 
     def __init__(self):
         self.ops = None            # operands of the product in progress
         self.cnt = 0
         self.busy = False
-        self.ready = None          # last completed (H, STEP)
+        self.ready = None          # the ready (H, STEP): completed one cycle before the last load
+        self.loading = None        # completed in the previous cycle: ready at the end of this one
         self.rst_q = 0
         self.phase = None          # carrier state of the current tick (None: unknown)
         self.half = None
@@ -98,8 +101,9 @@ class CarrierModel:
                 self.hs_ok = True
             elif rst:
                 self.hs_ok = False
-        if completed is not None:
-            self.ready = completed
+        if self.loading is not None:
+            self.ready = self.loading
+        self.loading = completed
 
 
 class Bench:
@@ -220,7 +224,7 @@ async def random_registers(dut):
 
 @cocotb.test()
 async def apply_rule_boundary(dut):
-    """A write in cycle w applies at a bottom at tick w + 18, not at w + 17 (docs/rtl.md rule)."""
+    """A write in cycle w applies at a bottom at tick w + 19, not at w + 18 (docs/rtl.md rule)."""
     cases = ((APPLY_DELAY, True), (APPLY_DELAY - 1, False), (APPLY_DELAY + 5, True), (1, False))
     for i, (delay, applies) in enumerate(cases):
         b = await start(dut, pwm_half=600, first=i == 0)       # H = 600, P = 1200
@@ -243,9 +247,9 @@ async def apply_rule_boundary(dut):
 
 @cocotb.test()
 async def short_reset(dut):
-    """rst of 1..18 cycles: phase/half/strobes right from tick 0, cw_angle from tick max(0, 18 - n)."""
+    """rst of 1..19 cycles: phase/half/strobes right from tick 0, cw_angle from tick max(0, 19 - n)."""
     rng = np.random.default_rng(int(os.environ["HFI_SEED"]))
-    for i, n_rst in enumerate((1, 2, 5, 17, 18)):
+    for i, n_rst in enumerate((1, 2, 5, 18, 19)):
         h_reg = int(rng.integers(512, 2000))
         step = int(rng.integers(0, 1 << 32))
         # run some cycles with other register values first, so the multiplier holds another product

@@ -31,15 +31,15 @@
 //
 // Register changes (docs/rtl.md "PWM_HALF and CW_ANGLE_STEP take effect at a carrier bottom"):
 //   A bit-serial shift-add multiplier (one bit of H per clock) computes H*STEP mod 2^32 of the
-//   register inputs: a load cycle, 16 add cycles, so a product is ready 17 clocks after its operands
-//   appeared.  Whenever (effective_half(pwm_half_reg), cw_step_reg) differs from the operands in
+//   register inputs: a load cycle, 16 add cycles, so a product completes 17 clocks after its operands
+//   appeared, and one pipeline stage (ld, timing) later it is the ready triple.  Whenever (effective_half(pwm_half_reg), cw_step_reg) differs from the operands in
 //   progress the multiplier restarts with the new values (a computation is never finished with stale
 //   operands); when it completes, the triple (H, STEP, H*STEP) is stored as "ready".  At each bottom
 //   the carrier takes H, STEP and H*STEP from the ready triple.
 //   Exact rule: if the inputs take a new value in cycle w (present on the ports from cycle w on) and
 //   keep it during cycles w..w+16, the new H and STEP are used from the first bottom at tick
-//   b >= w + 18 (the bottom at b is prepared in cycle b-1 from the ready triple, which holds the new
-//   product from cycle w+17).  A bottom before w + 18 still uses the previous values (consistently:
+//   b >= w + 19 (the bottom at b is prepared in cycle b-1 from the ready triple, which holds the new
+//   product from cycle w+18).  A bottom before w + 19 still uses the previous values (consistently:
 //   H, STEP and product always belong together).  A value changed again within 17 cycles is never
 //   applied; the next one follows the same rule from its own write cycle.
 //
@@ -51,10 +51,10 @@
 // Reset: while rst is high, phase = 0 and H, STEP are loaded directly from the register inputs
 // (tick 0 uses effective_half(pwm_half_reg) and cw_step_reg of the reset cycles); the rising edge of
 // rst restarts the serial multiplier with those values.  cw_angle is right from tick 0 if rst is held
-// for at least RESET_CYCLES_MIN = 18 cycles with stable register inputs (the product is then ready
+// for at least RESET_CYCLES_MIN = 19 cycles with stable register inputs (the product is then ready
 // during the last reset cycle).  After a shorter reset, phase/half/strobes are still right from
 // tick 0 and cw_angle becomes right as soon as the product of the H and STEP in use is ready (at the
-// latest 17 cycles after the inputs settle): hs is also refreshed whenever the ready triple matches
+// latest 18 cycles after the inputs settle): hs is also refreshed whenever the ready triple matches
 // the (H, STEP) in use.
 
 module hfi_carrier (
@@ -100,7 +100,11 @@ module hfi_carrier (
     wire        op_eq    = (small_in ? mul_h512 : (pwm_half_reg[15:1] == mul_h[15:1])) && cw_step_reg == mul_s;
     wire        mul_keep = op_eq && !(rst && !rst_q);
     reg         mul_last;  // mul_busy && mul_cnt == 15 (registered: the add cycle that completes)
-    wire        mul_done = mul_keep && mul_last;                       // the ready triple is loaded
+    wire        mul_done = mul_keep && mul_last;                       // the product completes
+    reg         ld;        // mul_done of the previous cycle: the ready triple is loaded from ld_*
+    reg  [15:0] ld_h;
+    reg         ld_h512;
+    reg  [31:0] ld_s, ld_p;
 
     always @(posedge clk) begin
         rst_q <= rst;
@@ -125,13 +129,20 @@ module hfi_carrier (
             mul_cnt  <= 4'd0;
             mul_busy <= 1'b1;
         end
-        if (mul_done) begin
-            rdy_h <= mul_h;
-            rdy_hm2 <= mul_h - 16'd2;
-            rdy_zm2 <= {1'b0, mul_h[15:1]} - 16'd2;
-            rdy_h512 <= mul_h512;
-            rdy_s <= mul_s;
-            rdy_p <= mul_sum;
+        // one pipeline stage between the completion and the ready triple (timing: mul_done is the
+        // end of the operand compare, the triple is 113 clock enables)
+        ld      <= mul_done;
+        ld_h    <= mul_h;
+        ld_h512 <= mul_h512;
+        ld_s    <= mul_s;
+        ld_p    <= mul_sum;
+        if (ld) begin
+            rdy_h <= ld_h;
+            rdy_hm2 <= ld_h - 16'd2;
+            rdy_zm2 <= {1'b0, ld_h[15:1]} - 16'd2;
+            rdy_h512 <= ld_h512;
+            rdy_s <= ld_s;
+            rdy_p <= ld_p;
         end
     end
 
@@ -145,7 +156,7 @@ module hfi_carrier (
     reg         eq_top;    // c == H - 1 (valid on the rising half outside a bottom tick)
     reg         eq_zc;     // c == H/2 - 1 (likewise)
     reg         eq_two;    // c == 2 (valid on the falling half outside a bottom tick)
-    reg         done_q;    // mul_done of the previous tick (the ready triple changed)
+    reg         done_q;    // ld of the previous tick (the ready triple changed)
     reg         emp_q;     // {mul_h, mul_s} == {half, step} of this tick, evaluated the tick before
     reg         erp_q;     // {rdy_h, rdy_s} of the previous tick == {half, step} of this tick
 
@@ -178,9 +189,10 @@ module hfi_carrier (
     // are hs_n = (match ? rdy_p : hs) (a bottom, m2cs_n = 0); else see angle_n below.
     wire [31:0] rst_hs   = rdy_in ? rdy_p : hs;
     wire [31:0] hs_n     = rst ? rst_hs : ((last | eq_rdy) ? rdy_p : hs);
-    // (emp_q is only used after a mul_done, which implies op_eq: under rst the pair is then the
-    // operands, emp = 1)
-    wire        emp_n    = rst | (last ? ({mul_h, mul_s} == {rdy_h, rdy_s}) : ({mul_h, mul_s} == {half, step}));
+    // (the triple loaded at the end of this tick, if ld, is {ld_h, ld_s}; the pair of the next tick is
+    // the register inputs under rst, the ready triple at a bottom, else unchanged)
+    wire        emp_n    = rst ? ({ld_h, ld_s} == {eff_half_in, cw_step_reg})
+                         : last ? ({ld_h, ld_s} == {rdy_h, rdy_s}) : ({ld_h, ld_s} == {half, step});
     // erp of the next tick: rst: the ready triple against the register inputs; at a bottom the pair
     // becomes the ready triple; else {rdy_h, rdy_s} == {half, step} of this tick: in all cases, match
 
@@ -225,7 +237,7 @@ module hfi_carrier (
         eq_top    <= !bottom_n && rising && counter == top_m2;
         eq_zc     <= !bottom_n && rising && counter == zc_m2;
         eq_two    <= !bottom_n && !rising && counter == 16'd3;
-        done_q    <= mul_done;
+        done_q    <= ld;
         emp_q     <= emp_n;
         erp_q     <= match;
         step      <= step_n;

@@ -134,7 +134,7 @@ SPEC_ADDRS = {
     "ADC_OFFSET": 0x2C, "ADC_GAIN": 0x30, "OC_LIMIT": 0x34, "WDT_PERIODS": 0x38, "V_DQ": 0x40, "V_H": 0x44,
     "SINCOS": 0x48, "COMMIT": 0x4C, "GAMMA": 0x50, "GAMMA_D": 0x54, "SUM_ID": 0x58, "SUM_IQ": 0x5C,
     "WSUM": 0x60, "N_SAMPLES": 0x64, "WINDOW_COUNT": 0x68, "LATE_COUNT": 0x6C, "SPEED_REF": 0x70,
-    "DTC_GAIN": 0x74, "HF_AMP": 0x78, "RECIP_H": 0x7C, "I_REF": 0x80,
+    "DTC_GAIN": 0x74, "HF_AMP": 0x78, "RECIP_H": 0x7C, "I_REF": 0x80, "SAFETY_LOCK": 0x84,
 }
 
 
@@ -357,3 +357,12 @@ def test_verilog_maps_match_python(tmp_path):
     printed = dict(line.split() for line in run([vvp, "-n", tmp_path / "maps.vvp"]).stdout.splitlines()
                    if line.strip())
     assert {n: int(v) for n, v in printed.items()} == {n: v for consts in expected.values() for n, v in consts.items()}
+
+
+def test_safety_registers_are_locked():
+    """Issue 15: the safety registers (dead-time floor, overcurrent limit, watchdog) lock with
+    SAFETY_LOCK.LOCK (write 1 to set) until reset; nothing else does."""
+    assert regmap.LOCKED_BY == {("DEAD_TICKS", "VALUE"): ("SAFETY_LOCK", "LOCK"),
+                                ("OC_LIMIT", "VALUE"): ("SAFETY_LOCK", "LOCK"),
+                                ("WDT_PERIODS", "VALUE"): ("SAFETY_LOCK", "LOCK")}
+    assert regmap.REGISTERS["SAFETY_LOCK"]["fields"]["LOCK"] == (0, 1, 0, "w1s")

@@ -52,6 +52,7 @@ class CarrierModel:
         self.busy = False
         self.ready = None          # the ready (H, STEP): completed one cycle before the last load
         self.loading = None        # completed in the previous cycle: ready at the end of this one
+        self.prev_pair = None      # the register inputs of the previous cycle (the pair taken under rst)
         self.rst_q = 0
         self.phase = None          # carrier state of the current tick (None: unknown)
         self.half = None
@@ -74,8 +75,11 @@ class CarrierModel:
         """Advance one clock edge with the inputs present in the current cycle."""
         pair = (effective_half(pwm_half), step)
         # carrier (uses the ready pair as it was during this cycle)
-        if rst:
-            self.phase, self.half, self.step = 0, pair[0], pair[1]
+        if rst:   # the pair of the previous cycle (the RTL's operand registers; unknown in cycle 0)
+            if self.prev_pair is None:
+                self.phase = None
+            else:
+                self.phase, self.half, self.step = 0, self.prev_pair[0], self.prev_pair[1]
         elif self.phase is not None:
             if self.phase >= 2 * self.half - 1:
                 self.phase = 0
@@ -104,6 +108,7 @@ class CarrierModel:
         if self.loading is not None:
             self.ready = self.loading
         self.loading = completed
+        self.prev_pair = pair
 
 
 class Bench:

@@ -48,8 +48,10 @@
 // reloaded at each bottom; exact modulo 2^32, no multiplier.  The serial multiplier runs MSB first
 // (acc = 2*acc + h_bit*STEP), so no shifted copy of STEP is stored.
 //
-// Reset: while rst is high, phase = 0 and H, STEP are loaded directly from the register inputs
-// (tick 0 uses effective_half(pwm_half_reg) and cw_step_reg of the reset cycles); the rising edge of
+// Reset: while rst is high, phase = 0 and H, STEP are loaded from the register inputs of the cycle
+// before (the multiplier's operand registers; tick 0 uses effective_half(pwm_half_reg) and
+// cw_step_reg of the second-last reset cycle: timing, the compare with the ready triple is then a
+// register); the rising edge of
 // rst restarts the serial multiplier with those values.  cw_angle is right from tick 0 if rst is held
 // for at least RESET_CYCLES_MIN = 19 cycles with stable register inputs (the product is then ready
 // during the last reset cycle).  After a shorter reset, phase/half/strobes are still right from
@@ -90,7 +92,6 @@ module hfi_carrier (
     reg  [31:0] rdy_p;
     reg         rst_q;     // rst of the previous cycle (restart the product on the rising edge of rst)
     reg         mul_h512;  // mul_h == 512
-    reg         rdy_h512;  // rdy_h == 512
     wire [31:0] mul_sum = {mul_acc, 1'b0} + (mul_q[15] ? mul_s : 32'd0);
     // The inputs equal the operands in progress: effective_half(pwm_half_reg) == mul_h (mul_h is always
     // an effective half: even, >= 512, so the raw register's LSB does not matter) and STEP == mul_s.
@@ -103,7 +104,6 @@ module hfi_carrier (
     wire        mul_done = mul_keep && mul_last;                       // the product completes
     reg         ld;        // mul_done of the previous cycle: the ready triple is loaded from ld_*
     reg  [15:0] ld_h;
-    reg         ld_h512;
     reg  [31:0] ld_s, ld_p;
 
     always @(posedge clk) begin
@@ -133,14 +133,12 @@ module hfi_carrier (
         // end of the operand compare, the triple is 113 clock enables)
         ld      <= mul_done;
         ld_h    <= mul_h;
-        ld_h512 <= mul_h512;
         ld_s    <= mul_s;
         ld_p    <= mul_sum;
         if (ld) begin
             rdy_h <= ld_h;
             rdy_hm2 <= ld_h - 16'd2;
             rdy_zm2 <= {1'b0, ld_h[15:1]} - 16'd2;
-            rdy_h512 <= ld_h512;
             rdy_s <= ld_s;
             rdy_p <= ld_p;
         end
@@ -174,24 +172,27 @@ module hfi_carrier (
     wire        rising_n = bottom_n | (rising & ~top_n);
 
     // pair in use next tick; does the ready triple describe it (then its product is hs)?
-    wire [15:0] half_n   = rst ? eff_half_in : (last ? rdy_h : half);
-    wire [31:0] step_n   = rst ? cw_step_reg : (last ? rdy_s : step);
+    // under rst the pair is the register inputs of the previous cycle (the operand registers mul_h,
+    // mul_s), so that its compare with the ready triple is a register (rdy_in_q: timing)
+    wire [15:0] half_n   = rst ? mul_h : (last ? rdy_h : half);
+    wire [31:0] step_n   = rst ? mul_s : (last ? rdy_s : step);
     // {rdy_h, rdy_s} == {half, step}: the ready triple of this tick is the operands of the previous
     // tick if the product completed then, else unchanged, so the equality is registered the tick
     // before for both cases (emp_q, erp_q; the pair of the next tick is the register inputs under rst,
     // the ready triple at a bottom, else unchanged) and done_q selects.
     wire        eq_rdy   = done_q ? emp_q : erp_q;
-    // the ready triple against the register inputs (rdy_h is an effective half, like mul_h)
-    wire        rdy_in   = (small_in ? rdy_h512 : (pwm_half_reg[15:1] == rdy_h[15:1])) && cw_step_reg == rdy_s;
-    wire        match    = rst ? rdy_in : (last | eq_rdy);
+    // rdy_in_q: the ready triple of this cycle == {mul_h, mul_s} (the pair under rst), registered the
+    // cycle before from the triple of this cycle (ld ? ld_* : rdy_*) and the register inputs then
+    reg         rdy_in_q;
+    wire        match    = rst ? rdy_in_q : (last | eq_rdy);
     // hs and the angle of the next tick by case (timing: the compare of the ready triple against the
     // register inputs, needed under rst only, is one multiplexer from the registers): under rst both
     // are hs_n = (match ? rdy_p : hs) (a bottom, m2cs_n = 0); else see angle_n below.
-    wire [31:0] rst_hs   = rdy_in ? rdy_p : hs;
+    wire [31:0] rst_hs   = rdy_in_q ? rdy_p : hs;
     wire [31:0] hs_n     = rst ? rst_hs : ((last | eq_rdy) ? rdy_p : hs);
     // (the triple loaded at the end of this tick, if ld, is {ld_h, ld_s}; the pair of the next tick is
     // the register inputs under rst, the ready triple at a bottom, else unchanged)
-    wire        emp_n    = rst ? ({ld_h, ld_s} == {eff_half_in, cw_step_reg})
+    wire        emp_n    = rst ? ({ld_h, ld_s} == {mul_h, mul_s})
                          : last ? ({ld_h, ld_s} == {rdy_h, rdy_s}) : ({ld_h, ld_s} == {half, step});
     // erp of the next tick: rst: the ready triple against the register inputs; at a bottom the pair
     // becomes the ready triple; else {rdy_h, rdy_s} == {half, step} of this tick: in all cases, match
@@ -232,8 +233,9 @@ module hfi_carrier (
         last      <= last_n;
         half      <= half_n;
         // half_n - 2, half_n/2 - 2 from the three sources (no subtraction after the multiplexer)
-        top_m2    <= rst ? (small_in ? 16'd510 : {pwm_half_reg[15:1], 1'b0} - 16'd2) : last ? rdy_hm2 : top_m2;
-        zc_m2     <= rst ? (small_in ? 16'd254 : {1'b0, pwm_half_reg[15:1]} - 16'd2) : last ? rdy_zm2 : zc_m2;
+        top_m2    <= rst ? mul_h - 16'd2 : last ? rdy_hm2 : top_m2;
+        zc_m2     <= rst ? {1'b0, mul_h[15:1]} - 16'd2 : last ? rdy_zm2 : zc_m2;
+        rdy_in_q  <= (ld ? {ld_h, ld_s} : {rdy_h, rdy_s}) == {eff_half_in, cw_step_reg};
         eq_top    <= !bottom_n && rising && counter == top_m2;
         eq_zc     <= !bottom_n && rising && counter == zc_m2;
         eq_two    <= !bottom_n && !rising && counter == 16'd3;

@@ -141,12 +141,16 @@ module hfi_deadtime_comp (
     localparam [1:0] Q_ID = 2'd0, Q_BE = 2'd1, Q_IX = 2'd2;
 
     // ---------------------------------------------------------------- sequencer
-    reg [5:0] st;
+    // st_next = the step of the next cycle (0 when idle), kept as a register of its own one cycle
+    // ahead (st_nq): in each branch below it is (busy && st != LAST_STEP) ? st + 1 : 0 of the state
+    // being loaded (timing: the micro-program word is then a table lookup of a register)
+    reg [5:0] st, st_nq;
     always @(posedge clk) begin
         if (rst) begin
             busy <= 1'b0;
             done <= 1'b0;
             st <= 6'd0;
+            st_nq <= 6'd0;
         end else begin
             done <= 1'b0;
             if (busy) begin
@@ -154,12 +158,17 @@ module hfi_deadtime_comp (
                     busy <= 1'b0;
                     done <= 1'b1;
                     st <= 6'd0;
+                    st_nq <= 6'd0;
                 end else begin
                     st <= st + 6'd1;
+                    st_nq <= (st == LAST_STEP - 6'd1) ? 6'd0 : st + 6'd2;
                 end
             end else if (start) begin
                 busy <= 1'b1;
                 st <= 6'd0;
+                st_nq <= 6'd1;
+            end else begin
+                st_nq <= 6'd0;
             end
         end
     end
@@ -169,14 +178,13 @@ module hfi_deadtime_comp (
     // ---------------------------------------------------------------- micro-program
     // {operand A, operand B, leg, quantity of the leg (operands A_Q0/A_Q1), initial value, add/sub,
     //  product shift, write-back}
-    // The word of step st is registered (uop) from the step of the next cycle (timing): st is 0
-    // whenever the unit is idle.
-    wire [5:0] st_next = (busy && st != LAST_STEP) ? st + 6'd1 : 6'd0;
+    // The word of step st is registered (uop) from the step of the next cycle (st_nq, timing): st
+    // is 0 whenever the unit is idle.
     reg [19:0] uop_n, uop;
     always @(posedge clk)
         uop <= uop_n;
     always @* begin
-        case (rst ? 6'd0 : st_next)
+        case (rst ? 6'd0 : st_nq)
             // K = HF_AMP*RECIP_H; 2^14 - i_q*SIN, 3*2^14 - 1 + i_q*SIN, 2^14 + i_q*COS
             6'd0:  uop_n = {A_HF,  B_RH0, LA, Q_ID, I_ZG,   ADD, SH0,  W_NONE};
             6'd1:  uop_n = {A_HF,  B_RH1, LA, Q_ID, I_CONT, ADD, SH17, W_K};

@@ -291,8 +291,8 @@ module hfi_regs #(
                             | ({31'd0, status_desat_active} << HFI_STATUS_DESAT_ACTIVE_LSB);
     // Read data: the readable words form a table indexed by the word address (rd_addr[7:2]); the
     // table is built from the generated map (a case on a constant address per entry, so each entry is
-    // plain wiring), and the read is one wide multiplexer on the 6-bit index instead of a decoder
-    // per address.  Unaligned or unmapped addresses and COMMIT (w1p) read 0.
+    // plain wiring), and the read selects one word of it (below).  Unaligned or unmapped addresses and
+    // COMMIT (w1p) read 0.
     localparam N_WORDS = 64;
     wire [32*N_WORDS-1:0] rd_table;
     genvar wi;
@@ -340,7 +340,20 @@ module hfi_regs #(
             assign rd_table[32*wi +: 32] = w;
         end
     endgenerate
-    wire [31:0] rd_word = (rd_hi_zero_q && rd_addr_q[1:0] == 2'b00) ? rd_table[32*rd_addr_q[7:2] +: 32] : 32'd0;
+    // The word is selected by a one-hot register decoded with the address (rd_sel_q, same timing as
+    // rd_addr_q): an AND-OR of the table instead of a 64-way multiplexer on the index (timing in the
+    // SoC: the synthesized multiplexer was a chain of seven LUTs). No bit set: 0.
+    reg  [N_WORDS-1:0] rd_sel_q;
+    always @(posedge clk)
+        rd_sel_q <= (rd_hi_zero && rd_addr[1:0] == 2'b00) ? ({{(N_WORDS-1){1'b0}}, 1'b1} << rd_addr[7:2])
+                                                          : {N_WORDS{1'b0}};
+    reg  [31:0] rd_word;
+    integer wj;
+    always @* begin
+        rd_word = 32'd0;
+        for (wj = 0; wj < N_WORDS; wj = wj + 1)
+            rd_word = rd_word | (rd_table[32*wj +: 32] & {32{rd_sel_q[wj]}});
+    end
 
     always @(posedge clk) begin
         if (rst) begin

@@ -300,7 +300,8 @@ module hfi_modulator (
     // registers, stable while it runs.
     reg dtc_bot;                                     // the bottom set is in the DTC
     wire dtc_done;
-    wire dtc_start = (cnt == T_DTC_TOP) || (dtc_done && !dtc_bot);
+    reg  top_go;                                     // cnt == T_DTC_TOP, registered the cycle before
+    wire dtc_start = top_go || (dtc_done && !dtc_bot);
     wire [15:0] dtc_a, dtc_b, dtc_c;
     reg  [15:0] top_a, top_b, top_c;                 // compensated top set, until done
     hfi_deadtime_comp u_dtc (
@@ -336,6 +337,10 @@ module hfi_modulator (
             top_b <= dtc_b;
             top_c <= dtc_c;
         end
+        // cnt is T_DTC_TOP in the next cycle iff it is T_DTC_TOP - 1 now (it counts up by one while
+        // busy, T_DTC_TOP - 1 is neither 0 nor T_LAST, and an accept loads 1): timing, the start of the
+        // compensation then comes from flip-flops
+        top_go <= !rst && cnt == T_DTC_TOP - 7'd1;
         if (rst) begin
             cnt <= 7'd0;
             done <= 1'b0;

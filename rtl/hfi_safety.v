@@ -51,7 +51,7 @@ module hfi_safety (
     reg  en_applied;
     wire fault = fault_oc | fault_wdt | fault_sto | fault_desat;
     assign kill = fault | sto_s | desat_s;
-    wire en_now = at_bottom ? (ctrl_enable & ~kill) : en_applied;   // CTRL.ENABLE applies at a bottom
+    wire en_now = at_bottom ? ctrl_enable : en_applied;   // CTRL.ENABLE applies at a bottom
     assign enable = en_now & ~kill;
     assign outputs_on = en_applied & ~fault;
     assign drive_allowed = ~(fault_sto | fault_desat | sto_s | desat_s);

@@ -12,7 +12,7 @@ the model:
 * a latch is set in the clock after its input (``oc_trip``, ``wdt_expired``, ``sto_s``, ``desat_s``),
   ``fault_clear`` clears all four in the next clock, a set in the same clock wins; ``rst`` clears them;
 * ``en_applied`` takes ``ctrl_enable`` at ``at_bottom`` and drops in the clock after a kill;
-  ``enable = (at_bottom ? ctrl_enable & ~kill : en_applied) & ~kill``; ``outputs_on = en_applied & ~fault``;
+  ``enable = (at_bottom ? ctrl_enable : en_applied) & ~kill``; ``outputs_on = en_applied & ~fault``;
 * ``drive_allowed = ~(fault_sto | fault_desat | sto_s | desat_s)``.
 
 The random test checks the model against an independent implementation of these rules written from the

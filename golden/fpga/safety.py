@@ -18,7 +18,7 @@ Rules (spec 3.8)
   until STO is released *and* the firmware re-arms by writing FAULT_CLEAR.
 - Output enable: ``en_applied`` follows CTRL.ENABLE at carrier bottoms and drops in the clock after
   any ``kill``; the gate generator sees ``enable = en_now & ~kill`` with
-  ``en_now = at_bottom ? ctrl_enable & ~kill : en_applied`` and ``kill`` (so after a re-arm the gates
+  ``en_now = at_bottom ? ctrl_enable : en_applied`` and ``kill`` (so after a re-arm the gates
   return at a carrier bottom, after a full dead time).
 - ``drive_allowed = ~(fault_sto | fault_desat | sto_s | desat_s)``: the gate driver's enable pin.
 """
@@ -83,7 +83,7 @@ class SafetyLogic:
         sto_s, desat_s = self.sto_chain[-1], self.desat_chain[-1]
         fault = self.fault_oc | self.fault_wdt | self.fault_sto | self.fault_desat
         kill = fault | sto_s | desat_s
-        en_now = (x.ctrl_enable & (1 - kill)) if x.at_bottom else self.en_applied
+        en_now = x.ctrl_enable if x.at_bottom else self.en_applied
         out_now = SafetyOutputs(
             sto_s=sto_s, desat_s=desat_s, fault_oc=self.fault_oc, fault_wdt=self.fault_wdt,
             fault_sto=self.fault_sto, fault_desat=self.fault_desat, kill=kill, enable=en_now & (1 - kill),

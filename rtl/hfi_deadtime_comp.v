@@ -282,15 +282,15 @@ module hfi_deadtime_comp (
     end
 
     // stage 0: operand registers (the multiplier's inputs come straight from flip-flops)
-    reg signed [17:0] a_r, b_r;
     reg        s0_v;
     reg  [1:0] s0_leg;
     reg  [3:0] s0_init;
     reg        s0_neg;
     reg        s0_sh;
     reg  [3:0] s0_wb;
-    // stage 1: product
-    reg signed [35:0] p_r;
+    // stage 1: product (operand and product registers in hfi_mul18)
+    wire signed [35:0] p_r;
+    hfi_mul18 u_mul (.clk(clk), .a(mul_a), .b(mul_b), .p(p_r));
     reg        s1_v, s2_v;
     reg  [1:0] s1_leg, s2_leg;
     reg  [3:0] s1_init;
@@ -298,14 +298,11 @@ module hfi_deadtime_comp (
     reg        s1_sh;
     reg  [3:0] s1_wb, s2_wb;
     always @(posedge clk) begin
-        a_r <= mul_a;
-        b_r <= mul_b;
         s0_leg <= u_leg;
         s0_init <= u_init;
         s0_neg <= (u_b == B_GN) ? !top_r : u_neg;    // gain products: + at the top, - at the bottom
         s0_sh <= u_sh;
         s0_wb <= u_wb;
-        p_r <= a_r * b_r;                        // the module's one multiplier (18x18 signed)
         s1_leg <= s0_leg;
         s1_init <= s0_init;
         s1_neg <= s0_neg;

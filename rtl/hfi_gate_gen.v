@@ -24,7 +24,9 @@
 // Latency: gate 1 cycle (registered), s/sw_event 0.  Throughput: one tick per clock.  Multipliers: 0.
 // Carrier inputs: phase, half, at_bottom and at_top must come from hfi_carrier (as in hfi_dsp and the
 // testbench): phi counts up by one per tick and restarts at 0 in the at_bottom tick, H changes only in
-// at_bottom ticks (and is >= 1), at_top is phi == H. The switch signals of the ticks between the
+// at_bottom ticks (and is >= 1), at_top is phi == H, and cmp_top_{a,b,c} hold their value in the tick
+// before an at_top tick (in hfi_dsp the modulator writes them 104 cycles after a zero crossing, the top
+// comes H/2 >= 256 ticks after it). The switch signals of the ticks between the
 // strobes are computed one tick ahead from these rules (timing, below); the dead-time logic, and so the
 // safety of formal/hfi_gate_gen.sby, holds for any input sequence.
 //
@@ -89,6 +91,7 @@ module hfi_gate_gen #(
     // H of the previous tick (a local copy: fanout): H of this tick outside a bottom tick, where the
     // next tick is rising for any H >= 1 and the falling compare is not used
     reg  [15:0] half_q;
+    reg  [2:0]  top_ge_q;  // per leg: cmp_top_x >= H, registered the tick before (below)
     wire        rising_n  = at_bottom | (ph1 < {1'b0, half_q});
     wire [18:0] f_x = {2'b00, half_q, 1'b0};
     wire [18:0] f_y = ~{2'b00, phase};
@@ -113,7 +116,6 @@ module hfi_gate_gen #(
             wire [15:0] cr = cmp_rise[16*x +: 16];
             wire [15:0] cf = cmp_fall[16*x +: 16];
             wire [15:0] cb = x == 0 ? cmp_bot_a : x == 1 ? cmp_bot_b : cmp_bot_c;
-            wire [15:0] ct = x == 0 ? cmp_top_a : x == 1 ? cmp_top_b : cmp_top_c;
             wire [18:0] f_z = ~{3'b000, cf};
             wire [18:0] f_s = f_x ^ f_y ^ f_z;
             wire [18:0] f_c = {(f_x[17:0] & f_y[17:0]) | (f_x[17:0] & f_z[17:0]) | (f_y[17:0] & f_z[17:0]),
@@ -123,7 +125,8 @@ module hfi_gate_gen #(
             /* verilator lint_on UNUSEDSIGNAL */
             assign pre_n[x] = rising_n ? (ph1 < {1'b0, cr}) : f_t[18];
             // s: bottom c = 0 < cmp; top c = H <= cmp; else the value computed the tick before
-            assign chg[x] = at_bottom ? ((cb != 16'd0) ^ s_q[x]) : at_top ? ((ct >= half_q) ^ s_q[x]) : chg_q[x];
+            // (at a top, ct >= H is the compare registered the tick before: top_ge_q)
+            assign chg[x] = at_bottom ? ((cb != 16'd0) ^ s_q[x]) : at_top ? (top_ge_q[x] ^ s_q[x]) : chg_q[x];
             assign s[x] = chg[x] ^ s_q[x];
             assign restart[x] = chg[x] | en_rise;
             // el_q = el of the previous tick + 1 (saturating) = rs_q ? 1 : inc_q; el = restart ? 0 : el_q;
@@ -142,8 +145,13 @@ module hfi_gate_gen #(
 
     assign sw_event = |chg;
 
-    always @(posedge clk)
+    // cmp_top_x >= H of the previous tick, per leg: at a top tick the compares and H are those of the
+    // tick before (input rule above), so this is the top's ct >= H as a register (timing: the 17-bit
+    // compare is off the path sw_event -> the trigger's keep)
+    always @(posedge clk) begin
         half_q <= half;
+        top_ge_q <= {cmp_top_c >= half, cmp_top_b >= half, cmp_top_a >= half};
+    end
 
     always @(posedge clk) begin
         if (rst) begin

@@ -107,15 +107,16 @@ module hfi_modulator (
     assign busy = (cnt != 7'd0);
     wire accept = start && !busy;
 
-    reg signed [15:0] v_d_r, v_q_r, v_h_r, sin_r, cos_r, i_d_ref_r, i_q_ref_r;
+    reg signed [15:0] v_q_r, sin_r, cos_r, i_d_ref_r, i_q_ref_r;
+    reg signed [16:0] vd_top, vd_bot;                // vd = V_D + V_H (sign +1), V_D - V_H (sign -1)
     reg        [15:0] half_r, dead_r, gain_r;
     reg        [14:0] hf_amp_r;
     reg        [31:0] recip_h_r;
     always @(posedge clk) begin
         if (accept) begin
-            v_d_r <= v_d;
+            vd_top <= {v_d[15], v_d} + {v_h[15], v_h};   // formed when sampled (timing: no adder in
+            vd_bot <= {v_d[15], v_d} - {v_h[15], v_h};   // front of the multiplier's operand)
             v_q_r <= v_q;
-            v_h_r <= v_h;
             sin_r <= sin_q15;
             cos_r <= cos_q15;
             i_d_ref_r <= i_d_ref;
@@ -194,8 +195,7 @@ module hfi_modulator (
     /* verilator lint_on UNUSEDSIGNAL */
     wire signed [17:0] off = mm_sum[18:1];           // shr(max + min, 1), an operand (s18)
     reg        [15:0] cmp_a, cmp_b, cmp_c;           // compares of the set being computed
-    wire signed [16:0] vd = mbot ? {v_d_r[15], v_d_r} - {v_h_r[15], v_h_r}   // sign -1
-                                 : {v_d_r[15], v_d_r} + {v_h_r[15], v_h_r};  // sign +1
+    wire signed [16:0] vd = mbot ? vd_bot : vd_top;
     reg signed [17:0] mul_a, mul_b;
     always @* begin
         case (u_a)
@@ -216,20 +216,18 @@ module hfi_modulator (
         endcase
     end
 
-    // stage 0: operand registers; stage 1: product; stage 2: accumulator; then write-back
-    reg signed [17:0] a_r, b_r;
-    reg signed [35:0] p_r;
+    // stage 0: operand registers, stage 1: product (both in hfi_mul18); stage 2: accumulator; then
+    // write-back
+    wire signed [35:0] p_r;                          // the module's one multiplier (18x18 signed)
+    hfi_mul18 u_mul (.clk(clk), .a(mul_a), .b(mul_b), .p(p_r));
     reg        s0_v, s1_v, s2_v;
     reg  [1:0] s0_init, s1_init;
     reg        s0_neg, s1_neg;
     reg  [3:0] s0_wb, s1_wb, s2_wb;
     always @(posedge clk) begin
-        a_r <= mul_a;
-        b_r <= mul_b;
         s0_init <= u_init;
         s0_neg <= u_neg;
         s0_wb <= u_wb;
-        p_r <= a_r * b_r;                            // the module's one multiplier (18x18 signed)
         s1_init <= s0_init;
         s1_neg <= s0_neg;
         s1_wb <= s0_wb;

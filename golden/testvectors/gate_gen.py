@@ -130,7 +130,9 @@ def plan_run(rng: np.random.Generator, h_reg: int, dead_reg: int, dead_min: int,
         t_latch = i * h
         rising = i % 2 == 0
         run.halves.append((t_latch, rising, random_cmps(rng, h, dead, stats)))
-        run.cmp_writes.append(t_latch - int(rng.integers(0, h)))
+        # written at a random tick before the latch; a bottom set may be written in the latch tick itself,
+        # a top set at the latest one tick before it (rtl/hfi_gate_gen.v registers ct >= H the tick before)
+        run.cmp_writes.append(t_latch - int(rng.integers(0 if rising else 1, h)))
         if rising and rng.random() < p_en:
             events.append((t_latch, "toggle", None))
     for i in range(n_halves):

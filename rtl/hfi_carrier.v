@@ -105,6 +105,7 @@ module hfi_carrier (
     reg         ld;        // mul_done of the previous cycle: the ready triple is loaded from ld_*
     reg  [15:0] ld_h;
     reg  [31:0] ld_s, ld_p;
+    reg         ld_h512, rdy_h512;   // ld_h == 512, rdy_h == 512 (loaded with them)
 
     always @(posedge clk) begin
         rst_q <= rst;
@@ -133,10 +134,12 @@ module hfi_carrier (
         // end of the operand compare, the triple is 113 clock enables)
         ld      <= mul_done;
         ld_h    <= mul_h;
+        ld_h512 <= mul_h512;
         ld_s    <= mul_s;
         ld_p    <= mul_sum;
         if (ld) begin
             rdy_h <= ld_h;
+            rdy_h512 <= ld_h512;
             rdy_hm2 <= ld_h - 16'd2;
             rdy_zm2 <= {1'b0, ld_h[15:1]} - 16'd2;
             rdy_s <= ld_s;
@@ -184,6 +187,12 @@ module hfi_carrier (
     // rdy_in_q: the ready triple of this cycle == {mul_h, mul_s} (the pair under rst), registered the
     // cycle before from the triple of this cycle (ld ? ld_* : rdy_*) and the register inputs then
     reg         rdy_in_q;
+    // {X_h, X_s} == {eff_half_in, cw_step_reg} for X = ld, rdy without the clamp of eff_half_in in front
+    // of the compare (timing; as op_eq): X_h is an effective half (even, >= 512, or 0 before the first
+    // product, which equals no effective half), so it equals eff_half_in iff X_h == 512 when the
+    // register is below 512, else iff its bits 15..1 equal the register's
+    wire        in_eq_ld  = (small_in ? ld_h512 : (pwm_half_reg[15:1] == ld_h[15:1])) && cw_step_reg == ld_s;
+    wire        in_eq_rdy = (small_in ? rdy_h512 : (pwm_half_reg[15:1] == rdy_h[15:1])) && cw_step_reg == rdy_s;
     wire        match    = rst ? rdy_in_q : (last | eq_rdy);
     // hs and the angle of the next tick by case (timing: the compare of the ready triple against the
     // register inputs, needed under rst only, is one multiplexer from the registers): under rst both
@@ -235,7 +244,7 @@ module hfi_carrier (
         // half_n - 2, half_n/2 - 2 from the three sources (no subtraction after the multiplexer)
         top_m2    <= rst ? mul_h - 16'd2 : last ? rdy_hm2 : top_m2;
         zc_m2     <= rst ? {1'b0, mul_h[15:1]} - 16'd2 : last ? rdy_zm2 : zc_m2;
-        rdy_in_q  <= (ld ? {ld_h, ld_s} : {rdy_h, rdy_s}) == {eff_half_in, cw_step_reg};
+        rdy_in_q  <= ld ? in_eq_ld : in_eq_rdy;
         eq_top    <= !bottom_n && rising && counter == top_m2;
         eq_zc     <= !bottom_n && rising && counter == zc_m2;
         eq_two    <= !bottom_n && !rising && counter == 16'd3;

@@ -5,16 +5,18 @@
 // results valid themselves); after configuration they hold 0 on ECP5 and in simulation they are
 // never read before two inputs have passed.
 //
-// Lattice ECP5 (HFI_TARGET_ECP5, defined by scripts/synth_report.py for synth_ecp5): one MULT18X18D
-// with its input registers (A, B on CLK0) and output register (P on CLK0) in use. Yosys maps a `*`
-// to a MULT18X18D with every register bypassed and leaves the pipeline's flip-flops in the fabric,
-// so the placer had to put one block between two slice registers and the multiplier's 3.9 ns sat
-// between two routes (docs/boards.md "Timing"); with the registers inside the block only the routes
-// to and from it remain. (Yosys 0.70's abc9 stops on a MULT18X18D cell with parameters: the ECP5
-// flow of scripts/synth_report.py sets the REG_*_CLK parameters aside while abc9 runs, so this instance
-// sets no other parameter.) Bit for bit the generic code of the #else branch: scripts/synth_report.py
-// proves the ECP5 RTL equal to the generic RTL (Yosys equiv, with the block's simulation model
-// cocotb_tests/hdl/ecp5_mult18x18d_sim.v), and the gate-level replay runs the block's model.
+// Lattice ECP5 (HFI_TARGET_ECP5, defined by scripts/synth_report.py for synth_ecp5): the operand
+// registers in the fabric and one MULT18X18D with its output register (P on CLK0) in use. Yosys maps a
+// `*` to a MULT18X18D with every register bypassed and leaves the product register in the fabric, so
+// a path was slice register -> route -> 3.9 ns in the block -> route -> slice register; with P
+// registered in the block it ends there. (The block's input registers as well were tried: then the
+// operand logic, a multiplexer and a subtraction, had to reach the block in one cycle, and that path
+// got longer than the one saved; docs/boards.md "Timing".) Yosys 0.70's abc9 stops on a MULT18X18D
+// cell with parameters: the ECP5 flow of scripts/synth_report.py sets the REG_*_CLK parameters aside
+// while abc9 runs, so this instance sets no other parameter. Bit for bit the generic code of the
+// #else branch: scripts/synth_report.py proves the ECP5 RTL equal to the generic RTL (Yosys equiv,
+// with the block's simulation model cocotb_tests/hdl/ecp5_mult18x18d_sim.v), and the gate-level
+// replay runs the block's model.
 
 `default_nettype none
 
@@ -25,15 +27,20 @@ module hfi_mul18 (
     output wire signed [35:0] p
 );
 `ifdef HFI_TARGET_ECP5
+    reg signed [17:0] a_r, b_r;      // the operand registers in the fabric, next to the operand logic
+    always @(posedge clk) begin
+        a_r <= a;
+        b_r <= b;
+    end
     MULT18X18D #(    // every other parameter at its default: CE0, RST0, synchronous reset, no cascade
-        .REG_INPUTA_CLK("CLK0"), .REG_INPUTB_CLK("CLK0"), .REG_OUTPUT_CLK("CLK0")
+        .REG_OUTPUT_CLK("CLK0")
     ) u_dsp (
-        .A17(a[17]), .A16(a[16]), .A15(a[15]), .A14(a[14]), .A13(a[13]), .A12(a[12]), .A11(a[11]),
-        .A10(a[10]), .A9(a[9]), .A8(a[8]), .A7(a[7]), .A6(a[6]), .A5(a[5]), .A4(a[4]), .A3(a[3]),
-        .A2(a[2]), .A1(a[1]), .A0(a[0]),
-        .B17(b[17]), .B16(b[16]), .B15(b[15]), .B14(b[14]), .B13(b[13]), .B12(b[12]), .B11(b[11]),
-        .B10(b[10]), .B9(b[9]), .B8(b[8]), .B7(b[7]), .B6(b[6]), .B5(b[5]), .B4(b[4]), .B3(b[3]),
-        .B2(b[2]), .B1(b[1]), .B0(b[0]),
+        .A17(a_r[17]), .A16(a_r[16]), .A15(a_r[15]), .A14(a_r[14]), .A13(a_r[13]), .A12(a_r[12]),
+        .A11(a_r[11]), .A10(a_r[10]), .A9(a_r[9]), .A8(a_r[8]), .A7(a_r[7]), .A6(a_r[6]),
+        .A5(a_r[5]), .A4(a_r[4]), .A3(a_r[3]), .A2(a_r[2]), .A1(a_r[1]), .A0(a_r[0]),
+        .B17(b_r[17]), .B16(b_r[16]), .B15(b_r[15]), .B14(b_r[14]), .B13(b_r[13]), .B12(b_r[12]),
+        .B11(b_r[11]), .B10(b_r[10]), .B9(b_r[9]), .B8(b_r[8]), .B7(b_r[7]), .B6(b_r[6]),
+        .B5(b_r[5]), .B4(b_r[4]), .B3(b_r[3]), .B2(b_r[2]), .B1(b_r[1]), .B0(b_r[0]),
         .C17(1'b0), .C16(1'b0), .C15(1'b0), .C14(1'b0), .C13(1'b0), .C12(1'b0), .C11(1'b0),
         .C10(1'b0), .C9(1'b0), .C8(1'b0), .C7(1'b0), .C6(1'b0), .C5(1'b0), .C4(1'b0), .C3(1'b0),
         .C2(1'b0), .C1(1'b0), .C0(1'b0),

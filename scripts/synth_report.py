@@ -451,9 +451,11 @@ def target_equivalence(top: str, files: list[str], params: dict[str, str], out: 
                                             f"read_verilog -DSYNTHESIS{macro} -Irtl {unit}; ", "",
                                             "; opt -fast")))
     generic_units = f"read_verilog -DSYNTHESIS -Irtl {' '.join(units)}; " if units else ""
-    scripts.append((top, _equiv_script(top, f"read_verilog -DSYNTHESIS -Irtl {' '.join(files)}; ",
-                                       generic_units + f"read_verilog -DSYNTHESIS{macro} -Irtl {' '.join(rest)}; ",
-                                       chparam)))
+    if rest:                                               # the whole design (unless it is one unit)
+        scripts.append((top, _equiv_script(top, f"read_verilog -DSYNTHESIS -Irtl {' '.join(files)}; ",
+                                           generic_units
+                                           + f"read_verilog -DSYNTHESIS{macro} -Irtl {' '.join(rest)}; ",
+                                           chparam)))
     log = out / "target_equiv.log"
     proven = True
     text = []

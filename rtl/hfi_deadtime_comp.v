@@ -366,14 +366,15 @@ module hfi_deadtime_comp (
     wire signed [24:0] r15_sat = !r15_ovf ? r15[24:0] : r15[33] ? -25'sd16777215 : 25'sd16777215;
     // W_CMP, two stages. Stage 3: m = clamp(g8, 0, D), the compare c0 of the leg and its limit
     // (top: H - c0, bottom: c0); stage 4: top: c0 + m > H ? H : c0 + m, bottom: c0 - m < 0 ? 0 : c0 - m.
-    wire        g8_pos = !g8[33] && (|g8[32:0]);
+    // (g8 = 0 needs no case of its own: it is not big, so m = g8[15:0] = 0; the zeroing is then the
+    // sign bit alone, a register bit: timing, it drives the reset of the 16 m_r flip-flops)
     wire        g8_big = (|g8[32:16]) || (g8[15:0] > dead);
     wire [15:0] cmp_o = (s2_leg == LA) ? cmp_ra : (s2_leg == LB) ? cmp_rb : cmp_rc;
     reg  [15:0] m_r, c0_r, lim_r;
     reg         s3_v;
     reg   [1:0] s3_leg;
     always @(posedge clk) begin
-        m_r <= !g8_pos ? 16'd0 : g8_big ? dead : g8[15:0];
+        m_r <= g8[33] ? 16'd0 : g8_big ? dead : g8[15:0];
         c0_r <= cmp_o;
         lim_r <= top_r ? half - cmp_o : cmp_o;
         s3_leg <= s2_leg;

@@ -87,9 +87,12 @@ module hfi_dsp #(
     // Everything but the register block: a register, so that the timing reset reaches the whole
     // data path from one flip-flop (SoC timing, docs/boards.md); hence tick 0 is the second clock
     // with rst = 0 and run = 1, and PIN_LATENCY (hfi/soc_platform.py) counts that clock.
-    reg rst_dp;
+    // One copy per block (a reset tree: the same flip-flop input, so every copy switches in the same
+    // clock; `keep` so that synthesis does not merge them): the placer puts each next to its block
+    // instead of one net with hundreds of loads across the die (ULX3S timing, docs/boards.md).
+    (* keep *) reg rst_dp, rst_car, rst_mod, rst_gate, rst_trg, rst_adc, rst_park, rst_dm;
     always @(posedge clk)
-        rst_dp <= rst | ~run;
+        {rst_dp, rst_car, rst_mod, rst_gate, rst_trg, rst_adc, rst_park, rst_dm} <= {8{rst | ~run}};
 
     // ---------------------------------------------------------------- registers
     wire        ctrl_enable, ctrl_inj_en, fault_clear, commit_go;
@@ -136,7 +139,7 @@ module hfi_dsp #(
     wire        rising, at_bottom, at_top, at_zc;
     wire [31:0] cw_angle;
     hfi_carrier u_carrier (
-        .clk(clk), .rst(rst_dp), .pwm_half_reg(pwm_half_reg), .cw_step_reg(cw_step_reg),
+        .clk(clk), .rst(rst_car), .pwm_half_reg(pwm_half_reg), .cw_step_reg(cw_step_reg),
         .phase(phase), .counter(counter), .half(half), .rising(rising), .at_bottom(at_bottom),
         .at_top(at_top), .at_zc(at_zc), .cw_angle(cw_angle)
     );
@@ -195,7 +198,7 @@ module hfi_dsp #(
     wire [15:0] cmp_top_a, cmp_top_b, cmp_top_c, cmp_bot_a, cmp_bot_b, cmp_bot_c;
     wire        mod_busy, mod_done;
     hfi_modulator u_modulator (
-        .clk(clk), .rst(rst_dp), .start(zc_d1),
+        .clk(clk), .rst(rst_mod), .start(zc_d1),
         .v_d(act_v_d), .v_q(act_v_q), .v_h(act_inj_en ? {1'b0, act_v_h} : 16'sd0),
         .sin_q15(act_sin), .cos_q15(act_cos), .i_d_ref(act_i_d_ref), .i_q_ref(act_i_q_ref),
         .half(half), .dead(dead_eff), .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h),
@@ -211,7 +214,7 @@ module hfi_dsp #(
     wire [5:0] gate_gen_out;
     wire       sw_event;
     hfi_gate_gen #(.DEAD_MIN(DEAD_MIN)) u_gate_gen (
-        .clk(clk), .rst(rst_dp), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
+        .clk(clk), .rst(rst_gate), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
         .cmp_bot_a(cmp_bot_a), .cmp_bot_b(cmp_bot_b), .cmp_bot_c(cmp_bot_c),
         .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),
         .dead_reg(dead_ticks), .enable(gen_enable), .kill(kill),
@@ -221,7 +224,7 @@ module hfi_dsp #(
     // driven straight from flip-flops, and the gates keep the same one-tick offset to the sampling
     // instants as CONVST (below).
     hfi_safety u_safety (
-        .clk(clk), .rst(rst_dp), .sto(sto), .desat(desat), .oc_trip(oc_trip), .wdt_expired(wdt_expired),
+        .clk(clk), .rst(rst_gate), .sto(sto), .desat(desat), .oc_trip(oc_trip), .wdt_expired(wdt_expired),
         .fault_clear(fault_clear), .ctrl_enable(ctrl_enable), .at_bottom(at_bottom), .gate_in(gate_gen_out),
         .gate(gate), .kill(kill), .enable(gen_enable), .sto_s(sto_s), .desat_s(desat_s),
         .fault_oc(fault_oc), .fault_wdt(fault_wdt), .fault_sto(fault_sto), .fault_desat(fault_desat),
@@ -232,7 +235,7 @@ module hfi_dsp #(
     wire sample, sample_keep;
     wire [1:0] adc_mode_used;
     hfi_adc_trigger #(.OS_MIN(OS_MIN)) u_trigger (
-        .clk(clk), .rst(rst_dp), .phase(phase), .half(half), .at_zc(at_zc), .at_bottom(at_bottom),
+        .clk(clk), .rst(rst_trg), .phase(phase), .half(half), .at_zc(at_zc), .at_bottom(at_bottom),
         .mode_reg(ctrl_adc_mode), .os_ticks_reg(os_ticks), .blank_ticks_reg(blank_ticks),
         .sw_event(sw_event), .sample(sample), .keep(sample_keep), .mode(adc_mode_used)
     );
@@ -254,7 +257,7 @@ module hfi_dsp #(
     wire adc_busy, adc_done;
     hfi_adc_if #(.ADC_BITS(ADC_BITS), .CONV_TICKS(ADC_CONV_TICKS), .SCLK_HALF(ADC_SCLK_HALF),
                  .MAX_CYCLE(OS_MIN)) u_adc (
-        .clk(clk), .rst(rst_dp), .start(sample_q), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
+        .clk(clk), .rst(rst_adc), .start(sample_q), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
         .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
         .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b)
     );
@@ -268,7 +271,7 @@ module hfi_dsp #(
     wire signed [15:0] i_a, i_b;
     wire scale_done;
     hfi_adc_scale #(.ADC_BITS(ADC_BITS)) u_scale (
-        .clk(clk), .rst(rst_dp), .start(adc_done), .code_a(code_a), .code_b(code_b),
+        .clk(clk), .rst(rst_adc), .start(adc_done), .code_a(code_a), .code_b(code_b),
         .offset_a(adc_offset_a), .offset_b(adc_offset_b), .gain_a(adc_gain_a), .gain_b(adc_gain_b),
         .done(scale_done), .i_a(i_a), .i_b(i_b)
     );
@@ -280,13 +283,13 @@ module hfi_dsp #(
         end
 
     hfi_overcurrent u_oc (
-        .clk(clk), .rst(rst_dp), .valid(scale_done), .i_a(i_a), .i_b(i_b), .limit(oc_limit), .trip(oc_trip)
+        .clk(clk), .rst(rst_adc), .valid(scale_done), .i_a(i_a), .i_b(i_b), .limit(oc_limit), .trip(oc_trip)
     );
 
     wire signed [15:0] i_d, i_q;
     wire park_done;
     hfi_park u_park (
-        .clk(clk), .rst(rst_dp), .start(scale_done), .i_a(i_a), .i_b(i_b),
+        .clk(clk), .rst(rst_park), .start(scale_done), .i_a(i_a), .i_b(i_b),
         .sin_q15(bank_sin[tag_scale_par]), .cos_q15(bank_cos[tag_scale_par]),
         .done(park_done), .i_d(i_d), .i_q(i_q)
     );
@@ -301,7 +304,7 @@ module hfi_dsp #(
     wire signed [15:0] w_sin, w_cos_unused;
     wire cordic_busy, cordic_done;
     hfi_cordic #(.WIDTH(CORDIC_WIDTH), .ITERATIONS(CORDIC_ITERATIONS)) u_cordic (
-        .clk(clk), .rst(rst_dp), .start(sample_q), .angle(angle_q), .busy(cordic_busy), .done(cordic_done),
+        .clk(clk), .rst(rst_park), .start(sample_q), .angle(angle_q), .busy(cordic_busy), .done(cordic_done),
         .sin_q15(w_sin), .cos_q15(w_cos_unused)
     );
 
@@ -357,7 +360,7 @@ module hfi_dsp #(
     end
 
     hfi_demodulator u_demod (
-        .clk(clk), .rst(rst_dp), .valid(join_both), .keep(dm_keep), .i_d(dm_i_d), .i_q(dm_i_q), .w(dm_w),
+        .clk(clk), .rst(rst_dm), .valid(join_both), .keep(dm_keep), .i_d(dm_i_d), .i_q(dm_i_q), .w(dm_w),
         .latch(demod_latch), .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id), .sum_iq(sum_iq),
         .wsum(wsum), .n_samples(n_samples), .latched(demod_latched)
     );

@@ -419,14 +419,14 @@ but inside the whole design SAT would have to prove two 18x18 multipliers equal 
 finish); alone, the module's registers and product merge structurally and the proof takes a second."""
 
 
-def _equiv_script(top: str, gold_read: str, gate_read: str, chparam: str, struct: str = "") -> str:
+def _equiv_script(top: str, gold_read: str, gate_read: str, chparam: str, miter_opt: str = "") -> str:
     side = "hierarchy -check -top {t}; proc; flatten; opt -fast; rename {t} {n}; design -stash {n}; "
     return "; ".join([
         gold_read + chparam + side.format(t=top, n="gold"),
         f"read_verilog +/ecp5/common_sim.vh; read_verilog -DSYNTHESIS {ECP5_MULT_MODEL}; " + gate_read
         + chparam + side.format(t=top, n="gate"),
         "design -copy-from gold -as gold gold; design -copy-from gate -as gate gate; memory",
-        f"equiv_make gold gate equiv; hierarchy -top equiv; async2sync{struct}",
+        f"equiv_make gold gate equiv; hierarchy -top equiv; async2sync{miter_opt}",
         "equiv_simple -seq 2; equiv_induct; equiv_status -assert"]).replace(";;", ";") + "\n"
 
 

@@ -132,9 +132,14 @@ module hfi_regs #(
     // READY) and accepted one clock later: every write enable then starts from flip-flops (timing in
     // the SoC, where the VALIDs come through the bus adapter's logic). A master must hold VALID
     // until READY (AXI4 rule): the write uses what was presented in the clock before the handshake.
+    // The address is decoded while it is registered: a one-hot word select (aligned, upper bits zero),
+    // whether it names a register of the map and whether SAFETY_LOCK covers it.  Each clock enable in
+    // the acceptance clock is then one select bit, WSTRB, the lock and the handshake: one LUT level
+    // from flip-flops (timing on the large ECP5 die, where these nets cross it).
+    localparam N_WORDS = 64;
     reg       aw_seen;
-    reg [7:0] wr_addr_q;
-    reg       wr_hi_zero_q;
+    reg [N_WORDS-1:0] wr_sel_q;
+    reg       wr_known_q, wr_lockable_q;
     reg [31:0] wdata_q;
     reg [3:0] wstrb_q;
     wire wr_fire = aw_seen & ~s_axil_bvalid;
@@ -159,14 +164,25 @@ module hfi_regs #(
     endgenerate
     always @(posedge clk) begin
         aw_seen <= ~rst & s_axil_awvalid & s_axil_wvalid & ~wr_fire;
-        wr_addr_q <= wr_addr;
-        wr_hi_zero_q <= wr_hi_zero;
+        wr_sel_q <= (wr_hi_zero && wr_addr[1:0] == 2'd0) ? ({{(N_WORDS-1){1'b0}}, 1'b1} << wr_addr[7:2])
+                                                          : {N_WORDS{1'b0}};
+        wr_known_q <= wr_hi_zero && known_addr(wr_addr);
+        wr_lockable_q <= hfi_locked_by_safety_lock_lock(wr_addr);
         wdata_q <= s_axil_wdata;
         wstrb_q <= s_axil_wstrb;
     end
-    // a write inside the map (unknown low addresses: no case below), not to a locked register
-    wire wr_locked = r_safety_lock & hfi_locked_by_safety_lock_lock(wr_addr_q);
-    wire wr_en = wr_fire & wr_hi_zero_q & ~wr_locked;
+    // a write to a register of the map that SAFETY_LOCK does not hold (other addresses: SLVERR, no effect)
+    wire wr_locked = r_safety_lock & wr_lockable_q;
+    // the write enable of the word at each address (one select bit, the lock folded to a constant)
+    wire [N_WORDS-1:0] wr_en;
+    genvar we;
+    generate
+        for (we = 0; we < N_WORDS; we = we + 1) begin : g_wr_en
+            localparam [7:0] WORD_ADDR = 4 * we;
+            assign wr_en[we] = wr_fire & wr_sel_q[we]
+                               & ~(r_safety_lock & hfi_locked_by_safety_lock_lock(WORD_ADDR));
+        end
+    endgenerate
     wire [31:0] byte_mask = {{8{wstrb_q[3]}}, {8{wstrb_q[2]}}, {8{wstrb_q[1]}},
                              {8{wstrb_q[0]}}};   // IRQ_STATUS w1c
 
@@ -194,7 +210,7 @@ module hfi_regs #(
         endcase
     endfunction
 
-    wire wr_irq_status = wr_en && wr_addr_q == HFI_IRQ_STATUS_ADDR;
+    wire wr_irq_status = wr_en[HFI_IRQ_STATUS_ADDR / 4];
     wire [31:0] irq_clear = wr_irq_status ? (wdata_q & byte_mask & M_IRQ) : 32'd0;
 
     always @(posedge clk) begin
@@ -233,41 +249,36 @@ module hfi_regs #(
                 s_axil_bvalid <= 1'b0;
             if (wr_fire) begin
                 s_axil_bvalid <= 1'b1;
-                s_axil_bresp <= (wr_hi_zero_q && known_addr(wr_addr_q) && !wr_locked) ? RESP_OKAY : RESP_SLVERR;
+                s_axil_bresp <= (wr_known_q && !wr_locked) ? RESP_OKAY : RESP_SLVERR;
             end
-            if (wr_en) begin
-                case (wr_addr_q)
-                    HFI_CTRL_ADDR: begin
-                        for (b = 0; b < 4; b = b + 1)
-                            if (wstrb_q[b]) r_ctrl[8*b +: 8] <= wd_bytes(b, M_CTRL);
-                        fault_clear <= wstrb_q[HFI_CTRL_FAULT_CLEAR_LSB / 8]
-                                       & wdata_q[HFI_CTRL_FAULT_CLEAR_LSB];
-                    end
-                    HFI_IRQ_ENABLE_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_irq_enable[8*b +: 8] <= wd_bytes(b, M_IRQ);
-                    HFI_PWM_HALF_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_pwm_half[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_DEAD_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_dead_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_OS_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_os_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_BLANK_TICKS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_blank_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_CW_ANGLE_STEP_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_cw_angle_step[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_ADC_OFFSET_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_adc_offset[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_ADC_GAIN_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_adc_gain[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_OC_LIMIT_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_oc_limit[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_WDT_PERIODS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_wdt_periods[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_V_DQ_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_v_dq[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_V_H_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_v_h[8*b +: 8] <= wd_bytes(b, M_U15);
-                    HFI_SINCOS_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_sincos[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_COMMIT_ADDR: commit_go <= wstrb_q[HFI_COMMIT_GO_LSB / 8] & wdata_q[HFI_COMMIT_GO_LSB];
-                    HFI_SPEED_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_speed_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_DTC_GAIN_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_dtc_gain[8*b +: 8] <= wd_bytes(b, M_U16);
-                    HFI_HF_AMP_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_hf_amp[8*b +: 8] <= wd_bytes(b, M_U15);
-                    HFI_RECIP_H_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_recip_h[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_I_REF_ADDR: for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_i_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
-                    HFI_SAFETY_LOCK_ADDR:
-                        if (wstrb_q[HFI_SAFETY_LOCK_LOCK_LSB / 8] & wdata_q[HFI_SAFETY_LOCK_LOCK_LSB])
-                            r_safety_lock <= 1'b1;
-                    default: ;
-                endcase
+            if (wr_en[HFI_CTRL_ADDR / 4]) begin
+                for (b = 0; b < 4; b = b + 1)
+                    if (wstrb_q[b]) r_ctrl[8*b +: 8] <= wd_bytes(b, M_CTRL);
+                fault_clear <= wstrb_q[HFI_CTRL_FAULT_CLEAR_LSB / 8]
+                               & wdata_q[HFI_CTRL_FAULT_CLEAR_LSB];
             end
+            if (wr_en[HFI_IRQ_ENABLE_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_irq_enable[8*b +: 8] <= wd_bytes(b, M_IRQ);
+            if (wr_en[HFI_PWM_HALF_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_pwm_half[8*b +: 8] <= wd_bytes(b, M_U16);
+            if (wr_en[HFI_DEAD_TICKS_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_dead_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+            if (wr_en[HFI_OS_TICKS_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_os_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+            if (wr_en[HFI_BLANK_TICKS_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_blank_ticks[8*b +: 8] <= wd_bytes(b, M_U16);
+            if (wr_en[HFI_CW_ANGLE_STEP_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_cw_angle_step[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_ADC_OFFSET_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_adc_offset[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_ADC_GAIN_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_adc_gain[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_OC_LIMIT_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_oc_limit[8*b +: 8] <= wd_bytes(b, M_U16);
+            if (wr_en[HFI_WDT_PERIODS_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_wdt_periods[8*b +: 8] <= wd_bytes(b, M_U16);
+            if (wr_en[HFI_V_DQ_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_v_dq[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_V_H_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_v_h[8*b +: 8] <= wd_bytes(b, M_U15);
+            if (wr_en[HFI_SINCOS_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_sincos[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_COMMIT_ADDR / 4]) commit_go <= wstrb_q[HFI_COMMIT_GO_LSB / 8] & wdata_q[HFI_COMMIT_GO_LSB];
+            if (wr_en[HFI_SPEED_REF_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_speed_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_DTC_GAIN_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_dtc_gain[8*b +: 8] <= wd_bytes(b, M_U16);
+            if (wr_en[HFI_HF_AMP_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_hf_amp[8*b +: 8] <= wd_bytes(b, M_U15);
+            if (wr_en[HFI_RECIP_H_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_recip_h[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_I_REF_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_i_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_SAFETY_LOCK_ADDR / 4])
+                if (wstrb_q[HFI_SAFETY_LOCK_LOCK_LSB / 8] & wdata_q[HFI_SAFETY_LOCK_LOCK_LSB])
+                    r_safety_lock <= 1'b1;
         end
     end
 
@@ -293,7 +304,6 @@ module hfi_regs #(
     // table is built from the generated map (a case on a constant address per entry, so each entry is
     // plain wiring), and the read selects one word of it (below).  Unaligned or unmapped addresses and
     // COMMIT (w1p) read 0.
-    localparam N_WORDS = 64;
     wire [32*N_WORDS-1:0] rd_table;
     genvar wi;
     generate

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import time
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +32,7 @@ from golden.fpga.cordic import demod_weight
 from golden.fpga.deadtime_comp import compensate
 from golden.fpga.gate_generator import GateGenerator
 from golden.fpga.modulator import compares
+from golden.fpga.rot_injection import RotatingInjection
 from golden.fpga.window_dsp import window_dsp
 from golden.plant import Plant
 from golden.scenario import Scenario
@@ -132,6 +134,7 @@ class ClosedLoop:
         self.plant = Plant(sc.plant)
         self.half = self.hw.pwm_half
         self.gen = GateGenerator(self.hw.dead_ticks)
+        self.rot_inj = RotatingInjection()
         self._pattern = {}
 
     def _window_pattern(self, mode: int):
@@ -145,8 +148,8 @@ class ClosedLoop:
             self._pattern[mode] = (rel, np.asarray(w, dtype=np.int64))
         return self._pattern[mode]
 
-    def _compares(self, o: Outputs, sign: int):
-        cmps = compares(o.v_d, o.v_q, o.v_h, o.sin, o.cos, self.half, sign)
+    def _compares(self, o: Outputs, sign: int, rot: tuple[int, int] | None = None):
+        cmps = compares(o.v_d, o.v_q, o.v_h, o.sin, o.cos, self.half, sign, rot)
         hw = self.hw
         if hw.dtc_gain:
             cmps = compensate(cmps, sign, self.half, self.gen.dead, hw.dtc_gain, o.i_d_ref, o.i_q_ref,
@@ -178,10 +181,11 @@ class ClosedLoop:
                 active = outs[k - 2]                      # commit at the window boundary
             enable = outs[k - 1].enable if k >= 1 else 0
             adc_mode = MODE_DS if zc >= ds_from else hw.adc_mode
-            cmp_top = self._compares(active, +1)
+            inj_phase, rot = self.rot_inj.boundary(bool(hw.inj_rot), hw.inj_step)
+            cmp_top = self._compares(active, +1, rot)
             gen.add_half(k * P + H, H, False, cmp_top)
             gen.set_enabled((k + 1) * P, bool(enable))
-            cmp_bot = self._compares(active, -1)
+            cmp_bot = self._compares(active, -1, rot)
             gen.add_half((k + 1) * P, H, True, cmp_bot)
             e_ticks, e_masks = gen.take_edges(zc + P)
             edge_ticks.append(e_ticks)
@@ -201,6 +205,8 @@ class ClosedLoop:
                 gen.take_switch_ticks(zc + P)
             win, _, _ = window_dsp(adc[:, 0], adc[:, 1], hw.adc_bits, hw.adc_offset[0], hw.adc_offset[1],
                                    hw.adc_gain[0], hw.adc_gain[1], active.sin, active.cos, w, keep)
+            if inj_phase:
+                win = dataclasses.replace(win, inj_phase=inj_phase)
             o = fw.step(win, speed_ref[k])
             outs.append(o)
             s_ticks.append(ticks)

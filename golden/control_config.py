@@ -70,6 +70,8 @@ class HardwareConfig:
     recip_h: int = 0             # round(2^32 / H)
     adc_offset: tuple[int, int] = (0, 0)
     adc_gain: tuple[int, int] = (16384, 16384)
+    inj_rot: int = 0             # CTRL.INJ_ROT: 1 = rotating injection (golden.fpga.rot_injection)
+    inj_step: int = 0            # INJ_STEP: its phase advance per PWM period (u32 binary angle)
 
 
 def scales(sc: Scenario) -> Scales:

@@ -59,6 +59,10 @@ CTRL_ADC_MODE_LSB = 2  # rw
 CTRL_ADC_MODE_WIDTH = 2
 CTRL_ADC_MODE_MASK = 0x0000000C
 CTRL_ADC_MODE_RESET = 0
+CTRL_INJ_ROT_LSB = 4  # rw
+CTRL_INJ_ROT_WIDTH = 1
+CTRL_INJ_ROT_MASK = 0x00000010
+CTRL_INJ_ROT_RESET = 0
 CTRL_FAULT_CLEAR_LSB = 8  # w1p
 CTRL_FAULT_CLEAR_WIDTH = 1
 CTRL_FAULT_CLEAR_MASK = 0x00000100
@@ -322,6 +326,20 @@ SAFETY_LOCK_LOCK_WIDTH = 1
 SAFETY_LOCK_LOCK_MASK = 0x00000001
 SAFETY_LOCK_LOCK_RESET = 0
 
+# INJ_STEP @ 0x88: Rotating injection phase step
+INJ_STEP_ADDR = 0x88
+INJ_STEP_VALUE_LSB = 0  # rw
+INJ_STEP_VALUE_WIDTH = 32
+INJ_STEP_VALUE_MASK = 0xFFFFFFFF
+INJ_STEP_VALUE_RESET = 0
+
+# INJ_PHASE @ 0x8C: Rotating injection phase
+INJ_PHASE_ADDR = 0x8C
+INJ_PHASE_VALUE_LSB = 0  # ro
+INJ_PHASE_VALUE_WIDTH = 32
+INJ_PHASE_VALUE_MASK = 0xFFFFFFFF
+INJ_PHASE_VALUE_RESET = None
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -335,6 +353,7 @@ REGISTERS = {
         "ENABLE": (0, 1, 0, "rw"),
         "INJ_EN": (1, 1, 0, "rw"),
         "ADC_MODE": (2, 2, 0, "rw"),
+        "INJ_ROT": (4, 1, 0, "rw"),
         "FAULT_CLEAR": (8, 1, 0, "w1p"),
     }},
     "STATUS": {"addr": 0x0C, "reset": 0x00000000, "signed": (), "fields": {
@@ -438,6 +457,12 @@ REGISTERS = {
     }},
     "SAFETY_LOCK": {"addr": 0x84, "reset": 0x00000000, "signed": (), "fields": {
         "LOCK": (0, 1, 0, "w1s"),
+    }},
+    "INJ_STEP": {"addr": 0x88, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, 0, "rw"),
+    }},
+    "INJ_PHASE": {"addr": 0x8C, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, None, "ro"),
     }},
 }
 

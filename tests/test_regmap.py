@@ -135,6 +135,7 @@ SPEC_ADDRS = {
     "SINCOS": 0x48, "COMMIT": 0x4C, "GAMMA": 0x50, "GAMMA_D": 0x54, "SUM_ID": 0x58, "SUM_IQ": 0x5C,
     "WSUM": 0x60, "N_SAMPLES": 0x64, "WINDOW_COUNT": 0x68, "LATE_COUNT": 0x6C, "SPEED_REF": 0x70,
     "DTC_GAIN": 0x74, "HF_AMP": 0x78, "RECIP_H": 0x7C, "I_REF": 0x80, "SAFETY_LOCK": 0x84,
+    "INJ_STEP": 0x88, "INJ_PHASE": 0x8C,
 }
 
 
@@ -187,7 +188,8 @@ def test_pack_negative_signed_field():
 
 
 @pytest.mark.parametrize("reg, fields", [
-    ("CTRL", {"ENABLE": 1, "INJ_EN": 1, "ADC_MODE": 2, "FAULT_CLEAR": 0}),
+    ("CTRL", {"ENABLE": 1, "INJ_EN": 1, "ADC_MODE": 2, "INJ_ROT": 1, "FAULT_CLEAR": 0}),
+    ("INJ_PHASE", {"VALUE": 2**32 - 1}),
     ("ADC_OFFSET", {"A": -32768, "B": 32767}),
     ("ADC_GAIN", {"A": 16384, "B": 65535}),
     ("SINCOS", {"SIN": -32767, "COS": -1}),

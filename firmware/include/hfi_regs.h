@@ -51,6 +51,10 @@ typedef union {
 #define HFI_REGS__CTRL__ADC_MODE_bp 2
 #define HFI_REGS__CTRL__ADC_MODE_bw 2
 #define HFI_REGS__CTRL__ADC_MODE_reset 0x0
+#define HFI_REGS__CTRL__INJ_ROT_bm 0x10
+#define HFI_REGS__CTRL__INJ_ROT_bp 4
+#define HFI_REGS__CTRL__INJ_ROT_bw 1
+#define HFI_REGS__CTRL__INJ_ROT_reset 0x0
 #define HFI_REGS__CTRL__FAULT_CLEAR_bm 0x100
 #define HFI_REGS__CTRL__FAULT_CLEAR_bp 8
 #define HFI_REGS__CTRL__FAULT_CLEAR_bw 1
@@ -60,7 +64,8 @@ typedef union {
         uint32_t ENABLE :1;
         uint32_t INJ_EN :1;
         uint32_t ADC_MODE :2;
-        uint32_t :4;
+        uint32_t INJ_ROT :1;
+        uint32_t :3;
         uint32_t FAULT_CLEAR :1;
         uint32_t :23;
     } f;
@@ -487,6 +492,29 @@ typedef union {
     uint32_t w;
 } hfi_regs__SAFETY_LOCK_t;
 
+// reg - hfi_regs.INJ_STEP
+#define HFI_REGS__INJ_STEP__VALUE_bm 0xffffffff
+#define HFI_REGS__INJ_STEP__VALUE_bp 0
+#define HFI_REGS__INJ_STEP__VALUE_bw 32
+#define HFI_REGS__INJ_STEP__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_regs__INJ_STEP_t;
+
+// reg - hfi_regs.INJ_PHASE
+#define HFI_REGS__INJ_PHASE__VALUE_bm 0xffffffff
+#define HFI_REGS__INJ_PHASE__VALUE_bp 0
+#define HFI_REGS__INJ_PHASE__VALUE_bw 32
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_regs__INJ_PHASE_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -523,6 +551,8 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__RECIP_H_t RECIP_H;
     hfi_regs__I_REF_t I_REF;
     hfi_regs__SAFETY_LOCK_t SAFETY_LOCK;
+    hfi_regs__INJ_STEP_t INJ_STEP;
+    hfi_regs__INJ_PHASE_t INJ_PHASE;
 } hfi_regs_t;
 
 
@@ -561,11 +591,13 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__RECIP_H_offset 0x7c
 #define HFI_REGS__I_REF_offset 0x80
 #define HFI_REGS__SAFETY_LOCK_offset 0x84
+#define HFI_REGS__INJ_STEP_offset 0x88
+#define HFI_REGS__INJ_PHASE_offset 0x8c
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0x88, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0x90, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -599,6 +631,8 @@ _Static_assert(offsetof(hfi_regs_t, HF_AMP) == HFI_REGS__HF_AMP_offset, "hfi_reg
 _Static_assert(offsetof(hfi_regs_t, RECIP_H) == HFI_REGS__RECIP_H_offset, "hfi_regs_t: RECIP_H offset");
 _Static_assert(offsetof(hfi_regs_t, I_REF) == HFI_REGS__I_REF_offset, "hfi_regs_t: I_REF offset");
 _Static_assert(offsetof(hfi_regs_t, SAFETY_LOCK) == HFI_REGS__SAFETY_LOCK_offset, "hfi_regs_t: SAFETY_LOCK offset");
+_Static_assert(offsetof(hfi_regs_t, INJ_STEP) == HFI_REGS__INJ_STEP_offset, "hfi_regs_t: INJ_STEP offset");
+_Static_assert(offsetof(hfi_regs_t, INJ_PHASE) == HFI_REGS__INJ_PHASE_offset, "hfi_regs_t: INJ_PHASE offset");
 #endif
 
 #ifdef __cplusplus

@@ -59,6 +59,9 @@ class WindowResult:
         ``WSUM``, s32: ``sat(sum w, 32)`` (Q1.15).
     n_samples : int
         ``N_SAMPLES``, u16: samples in the window, saturated at 65535.
+    inj_phase : int
+        ``INJ_PHASE``, u32: the rotating injection's phase in the window (``golden.fpga.rot_injection``;
+        not the demodulator's, latched with its results at the same boundary; 0 while off).
     """
 
     gamma: int
@@ -67,6 +70,7 @@ class WindowResult:
     sum_iq: int
     wsum: int
     n_samples: int
+    inj_phase: int = 0
 
 
 def _window_array(x, name: str) -> np.ndarray:

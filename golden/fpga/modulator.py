@@ -1,12 +1,19 @@
-"""Modulator: voltage references + square-wave injection -> three compare values, bit-true.
+"""Modulator: voltage references + injection -> three compare values, bit-true.
 
 docs/spec.md, section 3.5. At each compare latch (carrier bottom, ``sign = -1``, for the rising half;
 carrier top, ``sign = +1``, for the falling half; spec 2.1 "double update") the active registers
 ``V_D, V_Q, V_H, SIN, COS`` give
 
-1. ``vd = V_D + sign*V_H`` (s17), ``vq = V_Q``: the square-wave injection on the estimated d-axis,
-   ``v_dh = V_h * -sign(d cw/dt)`` (Benevieri et al. 2023, eq. (14));
-2. inverse Park, ``v_alpha = round_shr(vd*COS - vq*SIN, 15)``, ``v_beta = round_shr(vd*SIN + vq*COS, 15)``;
+1. square-wave injection (``CTRL.INJ_ROT = 0``): ``vd = V_D + sign*V_H`` (s17), ``vq = V_Q``, the
+   injection on the estimated d-axis, ``v_dh = V_h * -sign(d cw/dt)`` (Benevieri et al. 2023, eq. (14));
+   rotating injection (``INJ_ROT = 1``): ``vd = V_D``, ``vq = V_Q`` and ``(C, S)`` = the injection's
+   sin/cos below;
+2. inverse Park, ``v_alpha = round_shr(vd*COS - vq*SIN + V_H*C, 15)``,
+   ``v_beta = round_shr(vd*SIN + vq*COS + V_H*S, 15)`` (``C = S = 0`` for the square wave): the rotating
+   vector ``V_H (cos phi, sin phi)`` of Tap et al. 2023, eq. (9), added in the stationary frame as a third
+   product of each sum (one rounding); ``C, S = sincos_q15(phi)`` of the injection phase ``phi``
+   (``golden.fpga.cordic``, WIDTH 32, 16 iterations, as the firmware's sin/cos of spec 5.2), the same for
+   both halves of the period;
 3. inverse Clarke, ``v_a = v_alpha``, ``v_b = round_shr(-v_alpha*2^14 + v_beta*28378, 15)``,
    ``v_c = round_shr(-v_alpha*2^14 - v_beta*28378, 15)`` (28378 = round(2^15*sqrt(3)/2));
 4. min-max zero sequence, ``off = shr(max + min, 1)``, ``v_x' = v_x - off``;
@@ -15,7 +22,8 @@ carrier top, ``sign = +1``, for the falling half; spec 2.1 "double update") the 
 
 Widths (the spec states only s17 and s18; these are the worst case over every register value,
 SIN/COS not required to lie on the unit circle): ``vd`` s17; the Park products fit s32 (|vd| <= 65535)
-and their sums s33; ``v_alpha, v_beta`` within +-98303 (s18); the Clarke sums s33; ``v_b, v_c`` within
+and their sums s33 (square wave: |vd| <= 65535, two products; rotating: |vd| <= 32768, three products:
+the same bound 3*2^30 - 2^15); ``v_alpha, v_beta`` within +-98303 (s18); the Clarke sums s33; ``v_b, v_c`` within
 +-101517 (s18); ``max + min`` s18; ``v_x'`` within +-87916 (s18); ``v_x'*H`` s34 (H <= 65534, u16).
 Plain Python ints (no numpy): this is called twice per PWM period in the closed loop.
 """
@@ -36,7 +44,7 @@ _S16_MIN, _S16_MAX = -32768, 32767
 
 
 def compares(v_d: int, v_q: int, v_h: int, sin_q15: int, cos_q15: int, half: int,
-             sign: int) -> tuple[int, int, int]:
+             sign: int, rot: tuple[int, int] | None = None) -> tuple[int, int, int]:
     """Compare values of legs a, b, c for one carrier half period (spec 3.5).
 
     Parameters
@@ -53,6 +61,10 @@ def compares(v_d: int, v_q: int, v_h: int, sin_q15: int, cos_q15: int, half: int
     sign : int
         Injection sign: -1 for the compares latched at the carrier bottom (rising half), +1 at the
         top (falling half); Benevieri et al. 2023, eq. (14).
+    rot : tuple of int, optional
+        ``(C, S)``, s16 Q1.15: cosine and sine of the rotating injection's phase (``CTRL.INJ_ROT = 1``):
+        ``V_H`` is then the amplitude of the rotating vector instead of the square wave's. ``None``:
+        the square wave.
 
     Returns
     -------
@@ -66,6 +78,12 @@ def compares(v_d: int, v_q: int, v_h: int, sin_q15: int, cos_q15: int, half: int
         If an argument is not an integer of its register range, ``half`` is odd or outside 4..65534,
         or ``sign`` is not -1 or +1.
     """
+    if rot is not None:
+        c_r, s_r = rot
+        if not (type(c_r) is int and type(s_r) is int and _S16_MIN <= c_r <= _S16_MAX
+                and _S16_MIN <= s_r <= _S16_MAX):
+            c_r, s_r = (_validate_int(name, value, _S16_MIN, _S16_MAX)
+                        for name, value in (("injection cos", c_r), ("injection sin", s_r)))
     # Fast path check: Python ints of the right ranges (numpy ints and bad values take the slow path).
     if not (type(v_d) is int and type(v_q) is int and type(v_h) is int and type(sin_q15) is int
             and type(cos_q15) is int and type(half) is int and type(sign) is int
@@ -74,12 +92,18 @@ def compares(v_d: int, v_q: int, v_h: int, sin_q15: int, cos_q15: int, half: int
             and 4 <= half <= 65534 and not half & 1 and (sign == 1 or sign == -1)):
         v_d, v_q, v_h, sin_q15, cos_q15, half, sign = _validate(v_d, v_q, v_h, sin_q15, cos_q15,
                                                                 half, sign)
-    # Injection on the estimated d-axis, eq. (14): s17.
-    vd = v_d + sign * v_h
     vq = v_q
-    # Inverse Park: s17 x s16 products (fit s32), sums s33, results s18.
-    v_al = round_shr(vd * cos_q15 - vq * sin_q15, 15)
-    v_be = round_shr(vd * sin_q15 + vq * cos_q15, 15)
+    if rot is None:
+        # Injection on the estimated d-axis, eq. (14): s17.
+        vd = v_d + sign * v_h
+        # Inverse Park: s17 x s16 products (fit s32), sums s33, results s18.
+        v_al = round_shr(vd * cos_q15 - vq * sin_q15, 15)
+        v_be = round_shr(vd * sin_q15 + vq * cos_q15, 15)
+    else:
+        # Inverse Park plus the rotating vector V_H (C, S) (Tap et al. 2023, eq. (9)): sums s33.
+        vd = v_d
+        v_al = round_shr(vd * cos_q15 - vq * sin_q15 + v_h * c_r, 15)
+        v_be = round_shr(vd * sin_q15 + vq * cos_q15 + v_h * s_r, 15)
     # Inverse Clarke: v_a = v_alpha, v_b/c = -v_alpha/2 +- sqrt(3)/2 v_beta (sums s33, results s18).
     a_part = -v_al * 16384
     b_part = v_be * SQRT3_HALF_Q15
@@ -107,19 +131,23 @@ def compares(v_d: int, v_q: int, v_h: int, sin_q15: int, cos_q15: int, half: int
             0 if cmp_c < 0 else (half if cmp_c > half else cmp_c))
 
 
+def _validate_int(name, value, lo, hi) -> int:
+    """An integer (Python or numpy) within ``lo..hi`` as a Python int, or a ValueError that says why."""
+    if isinstance(value, bool) or not hasattr(value, "__index__"):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    value = value.__index__()
+    if not lo <= value <= hi:
+        raise ValueError(f"{name} = {value} is outside {lo}..{hi}")
+    return value
+
+
 def _validate(v_d, v_q, v_h, sin_q15, cos_q15, half, sign):
     """Slow path of :func:`compares`: explain what is wrong, or convert numpy integers to ints."""
-    out = []
-    for name, value, lo, hi in (("V_D", v_d, _S16_MIN, _S16_MAX), ("V_Q", v_q, _S16_MIN, _S16_MAX),
-                                ("V_H", v_h, 0, _S16_MAX), ("SIN", sin_q15, _S16_MIN, _S16_MAX),
-                                ("COS", cos_q15, _S16_MIN, _S16_MAX), ("half period", half, 4, 65534),
-                                ("sign", sign, -1, 1)):
-        if isinstance(value, bool) or not hasattr(value, "__index__"):
-            raise ValueError(f"{name} must be an integer, got {value!r}")
-        value = value.__index__()
-        if not lo <= value <= hi:
-            raise ValueError(f"{name} = {value} is outside {lo}..{hi}")
-        out.append(value)
+    out = [_validate_int(name, value, lo, hi)
+           for name, value, lo, hi in (("V_D", v_d, _S16_MIN, _S16_MAX), ("V_Q", v_q, _S16_MIN, _S16_MAX),
+                                       ("V_H", v_h, 0, _S16_MAX), ("SIN", sin_q15, _S16_MIN, _S16_MAX),
+                                       ("COS", cos_q15, _S16_MIN, _S16_MAX), ("half period", half, 4, 65534),
+                                       ("sign", sign, -1, 1))]
     if out[5] & 1:
         raise ValueError(f"half period {out[5]} must be even (use carrier.effective_half())")
     if out[6] == 0:

@@ -29,6 +29,9 @@ localparam [0:0] HFI_CTRL_INJ_EN_RESET = 1'h0;
 localparam integer HFI_CTRL_ADC_MODE_LSB = 2;  // rw
 localparam integer HFI_CTRL_ADC_MODE_WIDTH = 2;
 localparam [1:0] HFI_CTRL_ADC_MODE_RESET = 2'h0;
+localparam integer HFI_CTRL_INJ_ROT_LSB = 4;  // rw
+localparam integer HFI_CTRL_INJ_ROT_WIDTH = 1;
+localparam [0:0] HFI_CTRL_INJ_ROT_RESET = 1'h0;
 localparam integer HFI_CTRL_FAULT_CLEAR_LSB = 8;  // w1p
 localparam integer HFI_CTRL_FAULT_CLEAR_WIDTH = 1;
 localparam [0:0] HFI_CTRL_FAULT_CLEAR_RESET = 1'h0;
@@ -248,6 +251,18 @@ localparam [7:0] HFI_SAFETY_LOCK_ADDR = 8'h84;
 localparam integer HFI_SAFETY_LOCK_LOCK_LSB = 0;  // w1s
 localparam integer HFI_SAFETY_LOCK_LOCK_WIDTH = 1;
 localparam [0:0] HFI_SAFETY_LOCK_LOCK_RESET = 1'h0;
+
+// INJ_STEP @ 0x88: Rotating injection phase step
+localparam [7:0] HFI_INJ_STEP_ADDR = 8'h88;
+localparam integer HFI_INJ_STEP_VALUE_LSB = 0;  // rw
+localparam integer HFI_INJ_STEP_VALUE_WIDTH = 32;
+localparam [31:0] HFI_INJ_STEP_VALUE_RESET = 32'h0;
+
+// INJ_PHASE @ 0x8C: Rotating injection phase
+localparam [7:0] HFI_INJ_PHASE_ADDR = 8'h8C;
+localparam integer HFI_INJ_PHASE_VALUE_LSB = 0;  // ro
+localparam integer HFI_INJ_PHASE_VALUE_WIDTH = 32;
+localparam [31:0] HFI_INJ_PHASE_VALUE_RESET = 32'h0;
 
 // Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
 function hfi_locked_by_safety_lock_lock(input [7:0] a);

@@ -24,7 +24,8 @@ GATE_LATENCY = CONVST_LATENCY = PIN_LATENCY
 of the sample taken at tick t rises in cycle t + CONVST_LATENCY (hfi/soc_platform.py, docs/rtl.md)."""
 
 RESULTS = (("GAMMA", "gamma", True), ("GAMMA_D", "gamma_d", True), ("SUM_ID", "sum_id", True),
-           ("SUM_IQ", "sum_iq", True), ("WSUM", "wsum", True), ("N_SAMPLES", "n_samples", False))
+           ("SUM_IQ", "sum_iq", True), ("WSUM", "wsum", True), ("N_SAMPLES", "n_samples", False),
+           ("INJ_PHASE", "inj_phase", False))
 
 
 def s32(v: int) -> int:
@@ -45,7 +46,8 @@ async def replay_golden_closed_loop(dut):
     # Start-up configuration (the carrier already runs from the reset values, checked equal).
     cfg = {k: int(tr[f"cfg_{k}"]) for k in ("pwm_half", "dead_ticks", "os_ticks", "blank_ticks",
                                             "cw_angle_step", "adc_mode", "dtc_gain", "hf_amp", "recip_h",
-                                            "adc_offset_a", "adc_offset_b", "adc_gain_a", "adc_gain_b")}
+                                            "adc_offset_a", "adc_offset_b", "adc_gain_a", "adc_gain_b",
+                                            "inj_rot", "inj_step")}
     assert cfg["pwm_half"] == rm.PWM_HALF_VALUE_RESET and cfg["cw_angle_step"] == rm.CW_ANGLE_STEP_VALUE_RESET, \
         "the replay assumes the scenario's carrier equals the register reset values"
     writes = [("DEAD_TICKS", rm.pack("DEAD_TICKS", VALUE=cfg["dead_ticks"])),
@@ -56,8 +58,9 @@ async def replay_golden_closed_loop(dut):
               ("DTC_GAIN", rm.pack("DTC_GAIN", VALUE=cfg["dtc_gain"])),
               ("HF_AMP", rm.pack("HF_AMP", VALUE=cfg["hf_amp"])),
               ("RECIP_H", rm.pack("RECIP_H", VALUE=cfg["recip_h"])),
+              ("INJ_STEP", rm.pack("INJ_STEP", VALUE=cfg["inj_step"])),
               ("IRQ_ENABLE", rm.pack("IRQ_ENABLE", WINDOW=1)),
-              ("CTRL", rm.pack("CTRL", INJ_EN=1, ADC_MODE=cfg["adc_mode"]))]
+              ("CTRL", rm.pack("CTRL", INJ_EN=1, INJ_ROT=cfg["inj_rot"], ADC_MODE=cfg["adc_mode"]))]
     for name, value in writes:
         await axi.write(rm.REGISTERS[name]["addr"], value)
     assert int(dut.tick.value) < cfg["pwm_half"] // 2, "configuration not done before the first boundary"
@@ -83,7 +86,8 @@ async def replay_golden_closed_loop(dut):
             await axi.write(rm.V_H_ADDR, rm.pack("V_H", VALUE=o["v_h"]))
             await axi.write(rm.SINCOS_ADDR, rm.pack("SINCOS", SIN=o["sin"], COS=o["cos"]))
             await axi.write(rm.I_REF_ADDR, rm.pack("I_REF", I_D=o["i_d_ref"], I_Q=o["i_q_ref"]))
-            await axi.write(rm.CTRL_ADDR, rm.pack("CTRL", ENABLE=o["enable"], INJ_EN=1, ADC_MODE=cfg["adc_mode"]))
+            await axi.write(rm.CTRL_ADDR, rm.pack("CTRL", ENABLE=o["enable"], INJ_EN=1, INJ_ROT=cfg["inj_rot"],
+                                                  ADC_MODE=cfg["adc_mode"]))
             await axi.write(rm.COMMIT_ADDR, rm.pack("COMMIT", GO=1))
         await axi.write(rm.IRQ_STATUS_ADDR, rm.pack("IRQ_STATUS", WINDOW=1))
     assert not mismatches, "window results differ from the golden model:\n" + "\n".join(mismatches[:20])

@@ -34,9 +34,9 @@ from cocotb.triggers import ClockCycles, FallingEdge, Timer
 from golden.fixed import round_shr, shr
 from golden.fpga.deadtime_comp import compensate, phase_current, recip_half
 from golden.fpga.modulator import compares
-from golden.testvectors.modulator import REGS, as_dicts, corner_vectors, draw_registers, v_abc
+from golden.testvectors.modulator import REGS, as_dicts, corner_vectors, draw_registers, rot_arg, v_abc
 
-LATENCY = 103
+LATENCY = 105
 """hfi_modulator: start in cycle 0, done and the new outputs in cycle LATENCY (its header)."""
 
 OUTS = ("cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c")
@@ -47,7 +47,7 @@ COVERAGE_N = 20000
 # ---------------------------------------------------------------------------------------------- golden
 def golden_set(r: dict, sign: int) -> tuple[int, int, int]:
     """One compare set exactly as ClosedLoop._compares (compensation only when DTC_GAIN != 0)."""
-    cmps = compares(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], r["half"], sign)
+    cmps = compares(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], r["half"], sign, rot_arg(r))
     if r["dtc_gain"]:
         cmps = compensate(cmps, sign, r["half"], r["dead"], r["dtc_gain"], r["i_d_ref"], r["i_q_ref"],
                           r["hf_amp"], r["sin_q15"], r["cos_q15"], r["recip_h"])
@@ -64,7 +64,7 @@ class Coverage:
     """Counts of the corner cases a run exercised (from replicas of the golden steps)."""
 
     NAMES = ("clip_low", "clip_high", "tie_ab", "tie_ac", "tie_bc", "tie_abc", "round_half_park",
-             "round_half_cmp", "dtc_on", "c_linear", "c_clamped_D", "cmp_comp_clamped", "ix_beyond_s25",
+             "rot", "round_half_rot", "round_half_cmp", "dtc_on", "c_linear", "c_clamped_D", "cmp_comp_clamped", "ix_beyond_s25",
              "recip_nonnominal")
 
     def __init__(self):
@@ -74,13 +74,18 @@ class Coverage:
         n = self.n
         H = r["half"]
         for sign in (1, -1):
-            a, b, c = v_abc(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], sign)
+            a, b, c = v_abc(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], sign, r["rot"],
+                            r["inj_sin"], r["inj_cos"])
             n["tie_ab"] += a == b
             n["tie_ac"] += a == c
             n["tie_bc"] += b == c
             n["tie_abc"] += a == b == c
-            vd = r["v_d"] + sign * r["v_h"]
-            park = (vd * r["cos_q15"] - r["v_q"] * r["sin_q15"], vd * r["sin_q15"] + r["v_q"] * r["cos_q15"])
+            vd = r["v_d"] + sign * r["v_h"] * (1 - r["rot"])
+            vr = r["v_h"] * r["rot"]
+            park = (vd * r["cos_q15"] - r["v_q"] * r["sin_q15"] + vr * r["inj_cos"],
+                    vd * r["sin_q15"] + r["v_q"] * r["cos_q15"] + vr * r["inj_sin"])
+            n["rot"] += r["rot"]
+            n["round_half_rot"] += r["rot"] and any((x + 16384) % 32768 == 0 for x in park)
             n["round_half_park"] += any((x + 16384) % 32768 == 0 for x in park)   # exactly x.5 LSB
             off = shr(max(a, b, c) + min(a, b, c), 1)
             n["round_half_cmp"] += any(((v - off) * H + 16384) % 32768 == 0 for v in (a, b, c))
@@ -90,7 +95,7 @@ class Coverage:
             if r["dtc_gain"]:
                 n["dtc_on"] += 1
                 n["recip_nonnominal"] += r["recip_h"] != recip_half(H)
-                cmps = compares(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], H, sign)
+                cmps = compares(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], H, sign, rot_arg(r))
                 for leg, cmp in enumerate(cmps):
                     hf = round_shr(r["hf_amp"] * (2 * cmp - H) * r["recip_h"], 32)
                     ix = phase_current(leg, r["i_d_ref"] - hf, r["i_q_ref"], r["sin_q15"], r["cos_q15"])
@@ -250,7 +255,7 @@ async def corner_cases(dut):
     for r in vecs:
         cov.add(r)
     cov.report(cocotb.log, "corner")
-    cov.require(("clip_low", "clip_high", "tie_bc", "tie_abc", "c_clamped_D", "cmp_comp_clamped",
+    cov.require(("clip_low", "clip_high", "tie_bc", "tie_abc", "rot", "c_clamped_D", "cmp_comp_clamped",
                  "ix_beyond_s25", "recip_nonnominal"))
 
 
@@ -282,7 +287,7 @@ async def reset_mid_operation(dut):
     rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 1)
     prev = await start_clock_and_reset(dut)
     vecs = as_dicts(draw_registers(rng, 60))
-    for j, k in enumerate((1, 2, 5, 14, 20, 23, 24, 25, 40, 62, 63, 64, 80, 101, LATENCY - 1)):
+    for j, k in enumerate((1, 2, 5, 14, 22, 25, 26, 27, 44, 64, 65, 66, 80, 103, LATENCY - 1)):
         r = vecs[j] | {"dtc_gain": 1 + j * 4000}
         apply(dut, r)
         dut.start.value = 1

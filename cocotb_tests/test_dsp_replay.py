@@ -9,15 +9,20 @@ and every sampling instant must equal the golden trace. Verilator only (20 M clo
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from golden.closedloop import ClosedLoop
 from golden.fpga.adc_trigger import sample_phases
+from golden.fpga.rot_injection import inj_step
 from hfi import paper
 from hdl_runner import TB_DIR, core_rtl_files, rtl_sources, run_cocotb
 
 REPLAY_S = 0.201
 """Simulated time of the replay [s] (>= 0.2 s: 1004 windows at 5 kHz)."""
+ROT_REPLAY_S = 0.03
+"""Simulated time of the rotating-injection replay [s] (150 windows, 15 turns of a 500 Hz injection)."""
 RTL_FILES = core_rtl_files()
 """The Verilog sources of hfi_dsp, as listed in hfi_dsp.core."""
 
@@ -36,7 +41,8 @@ def write_inputs(res, build_dir) -> None:
            "blank_ticks": hw.blank_ticks, "cw_angle_step": hw.cw_angle_step, "adc_mode": hw.adc_mode,
            "dtc_gain": hw.dtc_gain, "hf_amp": hw.hf_amp, "recip_h": hw.recip_h,
            "adc_offset_a": hw.adc_offset[0], "adc_offset_b": hw.adc_offset[1],
-           "adc_gain_a": hw.adc_gain[0], "adc_gain_b": hw.adc_gain[1]}
+           "adc_gain_a": hw.adc_gain[0], "adc_gain_b": hw.adc_gain[1], "inj_rot": hw.inj_rot,
+           "inj_step": hw.inj_step}
     n_win = len(res.windows["gamma"])
     np.savez(build_dir / "trace.npz",
              **{f"win_{k}": v for k, v in res.windows.items() if v.dtype.kind == "i"},
@@ -46,14 +52,31 @@ def write_inputs(res, build_dir) -> None:
              **{f"cfg_{k}": np.int64(v) for k, v in cfg.items()})
 
 
-def test_replay_default_scenario(tmp_path):
-    sc = paper.experiment("replay", {"scenario": {"duration": REPLAY_S}})
-    res = ClosedLoop(sc).run(progress=False)
-    assert len(res.windows["gamma"]) >= 1000
-    assert res.windows["mode"].max() > 0, "the golden run never left the first supervisor state"
+def replay(res, tmp_path) -> None:
+    """Replay a golden closed-loop result through hfi_dsp (tb_dsp_replay.py compares)."""
     build = tmp_path / "build"
     write_inputs(res, build)
     run_cocotb(sim="verilator", toplevel="tb_hfi_dsp",
                sources=[*rtl_sources(*RTL_FILES), TB_DIR / "hdl" / "adc_model.v", TB_DIR / "hdl" / "tb_hfi_dsp.v"],
                tb_module="tb_dsp_replay", build_dir=build, parameters={"ADC_BITS": res.hw.adc_bits},
                env={"HFI_REPLAY_TRACE": build / "trace.npz"}, build_args=["--timing"], expect_tests=1)
+
+
+def test_replay_default_scenario(tmp_path):
+    sc = paper.experiment("replay", {"scenario": {"duration": REPLAY_S}})
+    res = ClosedLoop(sc).run(progress=False)
+    assert len(res.windows["gamma"]) >= 1000
+    assert res.windows["mode"].max() > 0, "the golden run never left the first supervisor state"
+    replay(res, tmp_path)
+
+
+def test_replay_rotating_injection(tmp_path):
+    """The same closed loop with the rotating injection (CTRL.INJ_ROT, INJ_STEP for 500 Hz, amplitude
+    V_H as the firmware writes it): gate edges and INJ_PHASE through the phase accumulator, the
+    injection CORDIC and the modulator's rotating products, against golden/fpga/rot_injection.py."""
+    sc = paper.experiment("replay", {"scenario": {"duration": ROT_REPLAY_S}})
+    loop = ClosedLoop(sc)
+    loop.hw = dataclasses.replace(loop.hw, inj_rot=1, inj_step=inj_step(500.0, sc.pwm.f_sw))
+    res = loop.run(progress=False)
+    assert res.windows["inj_phase"][-1] != 0 and (res.writes["v_h"] > 0).any()
+    replay(res, tmp_path)

@@ -41,11 +41,11 @@ WINDOW_FIELDS = (
     "tick", "gamma", "gamma_d", "n_samples", "sum_id", "sum_iq", "wsum", "i_d", "i_q", "i_d_ref", "i_q_ref",
     "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
-    "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi",
+    "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase",
     "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
 """Per-window trace columns (integers of the spec, and the plant's truth at the window end). ``est`` is
 the estimator slot in charge (0 low-speed, 1 high-speed), ``theta_lo/hi`` and ``omega_lo/hi`` each slot's
-outputs (docs/methods.md)."""
+outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the window (``INJ_PHASE``)."""
 
 
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
@@ -222,6 +222,7 @@ class ClosedLoop:
             r["mode"][k], r["adc_mode"][k] = fw.mode, adc_mode
             r["est"][k], r["theta_lo"][k], r["theta_hi"][k] = fw.active, fw.est_theta[0], fw.est_theta[1]
             r["omega_lo"][k], r["omega_hi"][k] = fw.est_omega[0], fw.est_omega[1]
+            r["inj_phase"][k] = inj_phase
             r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
             r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
             truths.append(truth)

@@ -95,11 +95,12 @@ module hfi_dsp #(
         {rst_dp, rst_car, rst_mod, rst_gate, rst_trg, rst_adc, rst_park, rst_dm} <= {8{rst | ~run}};
 
     // ---------------------------------------------------------------- registers
-    wire        ctrl_enable, ctrl_inj_en, fault_clear, commit_go;
+    wire        ctrl_enable, ctrl_inj_en, ctrl_inj_rot, fault_clear, commit_go;
     wire [1:0]  ctrl_adc_mode;
     wire [15:0] pwm_half_reg, dead_ticks, os_ticks, blank_ticks, adc_gain_a, adc_gain_b, oc_limit,
                 wdt_periods, dtc_gain;
-    wire [31:0] cw_step_reg, recip_h;
+    wire [31:0] cw_step_reg, recip_h, inj_step;
+    reg  [31:0] inj_phase_q;
     wire signed [15:0] adc_offset_a, adc_offset_b, sh_v_d, sh_v_q, sh_sin, sh_cos, sh_i_d_ref, sh_i_q_ref;
     wire [14:0] sh_v_h, hf_amp;
     wire signed [31:0] gamma, gamma_d, sum_id, sum_iq, wsum;
@@ -118,13 +119,15 @@ module hfi_dsp #(
         .s_axil_bready(s_axil_bready), .s_axil_araddr(s_axil_araddr), .s_axil_arvalid(s_axil_arvalid),
         .s_axil_arready(s_axil_arready), .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
         .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
-        .ctrl_enable(ctrl_enable), .ctrl_inj_en(ctrl_inj_en), .ctrl_adc_mode(ctrl_adc_mode),
+        .ctrl_enable(ctrl_enable), .ctrl_inj_en(ctrl_inj_en), .ctrl_inj_rot(ctrl_inj_rot),
+        .ctrl_adc_mode(ctrl_adc_mode),
         .fault_clear(fault_clear), .commit_go(commit_go),
         .pwm_half(pwm_half_reg), .dead_ticks(dead_ticks), .os_ticks(os_ticks), .blank_ticks(blank_ticks),
         .cw_angle_step(cw_step_reg), .adc_offset_a(adc_offset_a), .adc_offset_b(adc_offset_b),
         .adc_gain_a(adc_gain_a), .adc_gain_b(adc_gain_b), .oc_limit(oc_limit), .wdt_periods(wdt_periods),
         .v_d(sh_v_d), .v_q(sh_v_q), .v_h(sh_v_h), .sin_q15(sh_sin), .cos_q15(sh_cos),
         .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h), .i_d_ref(sh_i_d_ref), .i_q_ref(sh_i_q_ref),
+        .inj_step(inj_step), .inj_phase(inj_phase_q),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
         .status_fault_sto(fault_sto), .status_fault_desat(fault_desat), .status_sto_active(sto_s),
         .status_desat_active(desat_s),
@@ -148,7 +151,7 @@ module hfi_dsp #(
     // Active copies of the shadow registers; INJ_EN is applied at every boundary.
     reg signed [15:0] act_v_d, act_v_q, act_sin, act_cos, act_i_d_ref, act_i_q_ref;
     reg [14:0] act_v_h;
-    reg        act_inj_en;
+    reg        act_inj_en, act_inj_rot;
     reg        win_parity;              // parity of the window of the current tick (window -1: 1)
     reg signed [15:0] bank_sin [0:1];   // SIN/COS of the last windows of each parity, for Park
     reg signed [15:0] bank_cos [0:1];
@@ -161,6 +164,7 @@ module hfi_dsp #(
             act_sin <= 16'sd0; act_cos <= 16'sd32767;
             act_i_d_ref <= 16'sd0; act_i_q_ref <= 16'sd0;
             act_inj_en <= 1'b0;
+            act_inj_rot <= 1'b0;
             win_parity <= 1'b1;
             bank_sin[0] <= 16'sd0; bank_cos[0] <= 16'sd32767;
             bank_sin[1] <= 16'sd0; bank_cos[1] <= 16'sd32767;
@@ -175,6 +179,7 @@ module hfi_dsp #(
             if (at_zc) begin
                 win_parity <= ~win_parity;
                 act_inj_en <= ctrl_inj_en;
+                act_inj_rot <= ctrl_inj_en & ctrl_inj_rot;
                 if (commit_pending || commit_go) begin
                     commit_pending <= 1'b0;
                     act_v_d <= sh_v_d; act_v_q <= sh_v_q; act_v_h <= sh_v_h;
@@ -193,6 +198,43 @@ module hfi_dsp #(
         end
     end
 
+    // ---------------------------------------------------------------- rotating injection (spec 3.5)
+    // golden/fpga/rot_injection.py: the accumulator inj_acc (0 after reset); at a boundary with the
+    // rotating injection on, the sets computed there use phi = inj_acc and inj_acc advances by
+    // INJ_STEP; off, phi and inj_acc are 0. INJ_PHASE latches phi at the next boundary. The CORDIC
+    // computes sin/cos of inj_acc, the next boundary's phi, in the cycles after each boundary (and
+    // after reset), so the modulator finds them ready when it starts (zc_d1): one sin/cos per period.
+    reg  [31:0] inj_acc, inj_phi;
+    reg         inj_init;                // the first cycle after reset: sin/cos of inj_acc = 0
+    wire signed [15:0] inj_sin, inj_cos;
+    always @(posedge clk) begin
+        if (rst_dp) begin
+            inj_acc <= 32'd0;
+            inj_phi <= 32'd0;
+            inj_phase_q <= 32'd0;
+            inj_init <= 1'b1;
+        end else begin
+            inj_init <= 1'b0;
+            if (at_zc) begin
+                inj_phase_q <= inj_phi;
+                if (ctrl_inj_en & ctrl_inj_rot) begin
+                    inj_phi <= inj_acc;
+                    inj_acc <= inj_acc + inj_step;
+                end else begin
+                    inj_phi <= 32'd0;
+                    inj_acc <= 32'd0;
+                end
+            end
+        end
+    end
+    hfi_cordic #(.WIDTH(32), .ITERATIONS(16)) u_inj_cordic (
+        .clk(clk), .rst(rst_dp), .start(zc_d1 | inj_init), .angle(inj_acc),
+        /* verilator lint_off PINCONNECTEMPTY */
+        .busy(), .done(),
+        /* verilator lint_on PINCONNECTEMPTY */
+        .sin_q15(inj_sin), .cos_q15(inj_cos)
+    );
+
     // ---------------------------------------------------------------- modulator (spec 3.5, 3.6)
     wire [15:0] dead_eff = (dead_ticks < DEAD_MIN) ? DEAD_MIN[15:0] : dead_ticks;
     wire [15:0] cmp_top_a, cmp_top_b, cmp_top_c, cmp_bot_a, cmp_bot_b, cmp_bot_c;
@@ -200,6 +242,7 @@ module hfi_dsp #(
     hfi_modulator u_modulator (
         .clk(clk), .rst(rst_mod), .start(zc_d1),
         .v_d(act_v_d), .v_q(act_v_q), .v_h(act_inj_en ? {1'b0, act_v_h} : 16'sd0),
+        .rot(act_inj_rot), .inj_sin(inj_sin), .inj_cos(inj_cos),
         .sin_q15(act_sin), .cos_q15(act_cos), .i_d_ref(act_i_d_ref), .i_q_ref(act_i_q_ref),
         .half(half), .dead(dead_eff), .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h),
         .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),

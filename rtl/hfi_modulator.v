@@ -5,9 +5,12 @@
 //   if DTC_GAIN != 0: cmps = compensate(cmps, sign, H, D, DTC_GAIN, I_D_REF, I_Q_REF, HF_AMP,
 //                                       SIN, COS, RECIP_H)          (golden/fpga/deadtime_comp.py, 3.6)
 // Per sign (spec 3.5):
-//   vd = V_D + sign*V_H (s17), vq = V_Q     square-wave injection on the estimated d-axis, the paper's
-//                                           v_dh = V_h * -sign(d cw/dt) (Benevieri et al. 2023, eq. (14))
-//   v_al = round_shr(vd*COS - vq*SIN, 15), v_be = round_shr(vd*SIN + vq*COS, 15)       inverse Park
+//   rot = 0: vd = V_D + sign*V_H (s17), vq = V_Q, vr = 0    square-wave injection on the estimated
+//            d-axis, the paper's v_dh = V_h * -sign(d cw/dt) (Benevieri et al. 2023, eq. (14))
+//   rot = 1: vd = V_D, vq = V_Q, vr = V_H                   rotating injection V_H (C, S) in the
+//            stationary frame (Tap et al. 2023, eq. (9)); C, S = inj_cos, inj_sin
+//   v_al = round_shr(vd*COS - vq*SIN + vr*C, 15), v_be = round_shr(vd*SIN + vq*COS + vr*S, 15)
+//                                                      inverse Park plus the rotating vector
 //   v_a = v_al, v_b/c = round_shr(-v_al*2^14 +/- v_be*28378, 15)                      inverse Clarke
 //   off = shr(max + min, 1), v_x' = v_x - off                                         min-max
 //   cmp_x = clamp(H/2 + round_shr(v_x'*H, 15), 0, H)               (over-modulation clipped per leg)
@@ -17,6 +20,8 @@
 // Ports:
 //   v_d, v_q          s16 (2^15 = V_dc)        V_D, V_Q registers
 //   v_h               u15 in s16 (0..32767)    V_H (0 while injection is off)
+//   rot               1 bit                    rotating injection (CTRL.INJ_ROT with INJ_EN)
+//   inj_sin, inj_cos  s16 Q1.15                S, C of the rotating injection's phase (spec 3.5)
 //   sin_q15, cos_q15  s16 Q1.15                SIN, COS of the estimated angle
 //   i_d_ref, i_q_ref  s16                      current references for the compensation
 //   half              u16, even, 512..65534    H, the effective carrier half period [ticks]
@@ -28,18 +33,18 @@
 //   cmp_bot_{a,b,c}   u16 (0..H)               compares for sign -1 (latched at the carrier bottom)
 // Timing: every input is sampled in the cycle `start` is high (cycle 0) if the unit is not busy; a
 // start while busy is ignored (no queueing). busy is high in cycles 1..LATENCY-1; the six outputs all
-// change together in cycle LATENCY = 103, when done is high for one cycle (and busy is low, so a start
-// in the done cycle is accepted: back to back, one pair of compare sets per 103 cycles). The outputs
+// change together in cycle LATENCY = 105, when done is high for one cycle (and busy is low, so a start
+// in the done cycle is accepted: back to back, one pair of compare sets per 105 cycles). The outputs
 // hold their values between done pulses.
 // Reset (synchronous): in every cycle with rst high the six outputs load half >> 1 of the `half` input
 // of that cycle (the compares that the reset register values V = 0 give, rtl.md "After reset the
 // compares are H/2"); busy and done clear and a computation in progress is abandoned (no done).
 //
 // Architecture: one 18x18 signed multiplier (this module's only `*`) and a 36-bit accumulator run a
-// 20-slot micro-program (the `uop` table) per sign, first for the top set (cycles 1..20), then for the
-// bottom set (21..40), with the same registers. Each sum starts from an initial value that holds its
+// 22-slot micro-program (the `uop` table) per sign, first for the top set (cycles 1..22), then for the
+// bottom set (23..44), with the same registers. Each sum starts from an initial value that holds its
 // rounding constant (2^14; H/2*2^15 + 2^14 for a compare), so results are written back rounded:
-//   v_be = (2^14 + vd*SIN + vq*COS) >>> 15          v_al = (2^14 + vd*COS - vq*SIN) >>> 15
+//   v_be = (2^14 + vd*SIN + vq*COS + vr*S) >>> 15   v_al = (2^14 + vd*COS - vq*SIN + vr*C) >>> 15
 //   v_b  = (2^14 + v_be*28378 - v_al*16384) >>> 15  v_c  = (2^14 - v_be*28378 - v_al*16384) >>> 15
 //   cmp_x = clamp((H/2*2^15 + 2^14 - off*H + v_x*H) >>> 15, 0, H)     ((v_x - off)*H as two products;
 //                                                     H/2*2^15 is a multiple of 2^15, so this is
@@ -49,10 +54,11 @@
 // operand. Pipeline of a slot issued in cycle t (as in hfi_deadtime_comp): operand registers (t),
 // product (t+1), accumulator (t+2), write-back (t+3); the table waits for every result it uses.
 // The hfi_deadtime_comp instance (its own multiplier; LATENCY 39) compensates the top set (start in
-// cycle 24, after its last compare is written; done in 63, when the results are kept and the bottom
-// set starts) and then the bottom set (done in 102); the outputs are written at the end of cycle 102.
-// Widths (golden/fpga/modulator.py): vd s17; v_al, v_be within +-98303 and v_b, v_c within +-101517
-// (s18); off s18; the sums fit s34 (the compare sum: |H/2*2^15| < 2^30, |off*H|, |v_x*H| < 2^33).
+// cycle 26, after its last compare is written; done in 65, when the results are kept and the bottom
+// set starts) and then the bottom set (done in 104); the outputs are written at the end of cycle 104.
+// Widths (golden/fpga/modulator.py): vd s17; v_al, v_be within +-98303 in both modes (the Park sums
+// stay within 3*2^30) and v_b, v_c within +-101517 (s18); off s18; the sums fit s34 (the compare sum:
+// |H/2*2^15| < 2^30, |off*H|, |v_x*H| < 2^33).
 // Multipliers: 2 `*` in all: one 18x18 signed here and one 18x18 signed in hfi_deadtime_comp (one
 // MULT18X18D / DSP48E1 each).
 
@@ -65,6 +71,9 @@ module hfi_modulator (
     input  wire signed [15:0] v_d,
     input  wire signed [15:0] v_q,
     input  wire signed [15:0] v_h,
+    input  wire               rot,
+    input  wire signed [15:0] inj_sin,
+    input  wire signed [15:0] inj_cos,
     input  wire signed [15:0] sin_q15,
     input  wire signed [15:0] cos_q15,
     input  wire signed [15:0] i_d_ref,
@@ -84,16 +93,17 @@ module hfi_modulator (
     output reg                done
 );
 
-    localparam [6:0] LATENCY = 7'd103;              // start -> done (cycles)
-    localparam [6:0] T_DTC_TOP = 7'd24;             // the top set enters hfi_deadtime_comp
+    localparam [6:0] LATENCY = 7'd105;              // start -> done (cycles)
+    localparam [6:0] T_DTC_TOP = 7'd26;             // the top set enters hfi_deadtime_comp
     localparam [6:0] T_LAST = LATENCY - 7'd1;       // the bottom set is compensated in this cycle
-    localparam [4:0] SLOTS = 5'd20;                 // micro-program slots per sign
+    localparam [4:0] SLOTS = 5'd22;                 // micro-program slots per sign
 
     // Operand A
     localparam [2:0] A_VD = 3'd0, A_VQ = 3'd1, A_BE = 3'd2, A_VA = 3'd3, A_VB = 3'd4, A_VC = 3'd5,
-                     A_OFF = 3'd6;
+                     A_OFF = 3'd6, A_VR = 3'd7;
     // Operand B
-    localparam [2:0] B_SIN = 3'd0, B_COS = 3'd1, B_SQ3 = 3'd2, B_M16K = 3'd3, B_H = 3'd4;
+    localparam [2:0] B_SIN = 3'd0, B_COS = 3'd1, B_SQ3 = 3'd2, B_M16K = 3'd3, B_H = 3'd4, B_CR = 3'd5,
+                     B_SR = 3'd6;
     // Accumulator initial value of the first product of a sum
     localparam [1:0] I_CONT = 2'd0, I_R14 = 2'd1, I_CMP = 2'd2;
     // Write-back destination (W_MM: no product; the min-max unit registers max and min)
@@ -107,15 +117,19 @@ module hfi_modulator (
     assign busy = (cnt != 7'd0);
     wire accept = start && !busy;
 
-    reg signed [15:0] v_q_r, sin_r, cos_r, i_d_ref_r, i_q_ref_r;
+    reg signed [15:0] v_q_r, sin_r, cos_r, i_d_ref_r, i_q_ref_r, cr_r, sr_r;
     reg signed [16:0] vd_top, vd_bot;                // vd = V_D + V_H (sign +1), V_D - V_H (sign -1)
+    reg signed [15:0] vr_r;                          // vr: V_H (rotating injection) or 0
     reg        [15:0] half_r, dead_r, gain_r;
     reg        [14:0] hf_amp_r;
     reg        [31:0] recip_h_r;
     always @(posedge clk) begin
         if (accept) begin
-            vd_top <= {v_d[15], v_d} + {v_h[15], v_h};   // formed when sampled (timing: no adder in
-            vd_bot <= {v_d[15], v_d} - {v_h[15], v_h};   // front of the multiplier's operand)
+            vd_top <= {v_d[15], v_d} + (rot ? 17'sd0 : {v_h[15], v_h});   // formed when sampled (timing:
+            vd_bot <= {v_d[15], v_d} - (rot ? 17'sd0 : {v_h[15], v_h});   // no adder before the operand)
+            vr_r <= rot ? v_h : 16'sd0;
+            cr_r <= inj_cos;
+            sr_r <= inj_sin;
             v_q_r <= v_q;
             sin_r <= sin_q15;
             cos_r <= cos_q15;
@@ -162,21 +176,23 @@ module hfi_modulator (
     always @* begin
         case (rst ? 5'd0 : ms_next)
             5'd0:  uop_n = {ISS, A_VD,  B_SIN,  I_R14,  ADD, W_NONE};
-            5'd1:  uop_n = {ISS, A_VQ,  B_COS,  I_CONT, ADD, W_BE};     // v_be
-            5'd2:  uop_n = {ISS, A_VD,  B_COS,  I_R14,  ADD, W_NONE};
-            5'd3:  uop_n = {ISS, A_VQ,  B_SIN,  I_CONT, SUB, W_VA};     // v_al = v_a
-            5'd5:  uop_n = {ISS, A_BE,  B_SQ3,  I_R14,  ADD, W_NONE};
-            5'd7:  uop_n = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VB};     // v_b
-            5'd8:  uop_n = {ISS, A_BE,  B_SQ3,  I_R14,  SUB, W_NONE};
-            5'd9:  uop_n = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VC};     // v_c
-            5'd13: uop_n = {NOP, A_VD,  B_SIN,  I_CONT, ADD, W_MM};     // max, min
-            5'd14: uop_n = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd15: uop_n = {ISS, A_VA,  B_H,    I_CONT, ADD, W_CA};     // cmp_a
+            5'd1:  uop_n = {ISS, A_VQ,  B_COS,  I_CONT, ADD, W_NONE};
+            5'd2:  uop_n = {ISS, A_VR,  B_SR,   I_CONT, ADD, W_BE};     // v_be
+            5'd3:  uop_n = {ISS, A_VD,  B_COS,  I_R14,  ADD, W_NONE};
+            5'd4:  uop_n = {ISS, A_VQ,  B_SIN,  I_CONT, SUB, W_NONE};
+            5'd5:  uop_n = {ISS, A_VR,  B_CR,   I_CONT, ADD, W_VA};     // v_al = v_a
+            5'd8:  uop_n = {ISS, A_BE,  B_SQ3,  I_R14,  ADD, W_NONE};
+            5'd9:  uop_n = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VB};     // v_b
+            5'd10: uop_n = {ISS, A_BE,  B_SQ3,  I_R14,  SUB, W_NONE};
+            5'd11: uop_n = {ISS, A_VA,  B_M16K, I_CONT, ADD, W_VC};     // v_c
+            5'd15: uop_n = {NOP, A_VD,  B_SIN,  I_CONT, ADD, W_MM};     // max, min
             5'd16: uop_n = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd17: uop_n = {ISS, A_VB,  B_H,    I_CONT, ADD, W_CB};     // cmp_b
+            5'd17: uop_n = {ISS, A_VA,  B_H,    I_CONT, ADD, W_CA};     // cmp_a
             5'd18: uop_n = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
-            5'd19: uop_n = {ISS, A_VC,  B_H,    I_CONT, ADD, W_CC};     // cmp_c
-            default: uop_n = {NOP, A_VD, B_SIN, I_CONT, ADD, W_NONE};   // 4, 6, 10..12: wait for a result
+            5'd19: uop_n = {ISS, A_VB,  B_H,    I_CONT, ADD, W_CB};     // cmp_b
+            5'd20: uop_n = {ISS, A_OFF, B_H,    I_CMP,  SUB, W_NONE};
+            5'd21: uop_n = {ISS, A_VC,  B_H,    I_CONT, ADD, W_CC};     // cmp_c
+            default: uop_n = {NOP, A_VD, B_SIN, I_CONT, ADD, W_NONE};   // 6, 7, 12..14: wait for a result
         endcase
     end
     wire       u_iss = mrun && uop[13];
@@ -205,13 +221,16 @@ module hfi_modulator (
             A_VA:    mul_a = va;
             A_VB:    mul_a = vb;
             A_VC:    mul_a = vc;
-            default: mul_a = off;                                      // A_OFF
+            A_OFF:   mul_a = off;
+            default: mul_a = {{2{vr_r[15]}}, vr_r};                    // A_VR
         endcase
         case (u_b)
             B_SIN:   mul_b = {{2{sin_r[15]}}, sin_r};
             B_COS:   mul_b = {{2{cos_r[15]}}, cos_r};
             B_SQ3:   mul_b = 18'sd28378;                              // round(2^15*sqrt(3)/2)
             B_M16K:  mul_b = -18'sd16384;
+            B_CR:    mul_b = {{2{cr_r[15]}}, cr_r};
+            B_SR:    mul_b = {{2{sr_r[15]}}, sr_r};
             default: mul_b = {2'b00, half_r};                         // B_H
         endcase
     end
@@ -291,9 +310,9 @@ module hfi_modulator (
     end
 
     // ---------------------------------------------------------------- dead-time compensation
-    // Top set: start in cycle T_DTC_TOP = 24 (its last compare is written at the end of cycle 23);
-    // bottom set: start in the cycle the top one is done (63; the bottom compares are written by the
-    // end of cycle 43). The instance samples the compares and sign_top at its start (sign +1 for the
+    // Top set: start in cycle T_DTC_TOP = 26 (its last compare is written at the end of cycle 25);
+    // bottom set: start in the cycle the top one is done (65; the bottom compares are written by the
+    // end of cycle 47). The instance samples the compares and sign_top at its start (sign +1 for the
     // first start, -1 for the one in the done cycle of the top set); the other inputs are the sampled
     // registers, stable while it runs.
     reg dtc_bot;                                     // the bottom set is in the DTC
@@ -330,7 +349,7 @@ module hfi_modulator (
 
     // ---------------------------------------------------------------- control, outputs
     always @(posedge clk) begin
-        if (dtc_done && !dtc_bot) begin              // cycle 63
+        if (dtc_done && !dtc_bot) begin              // cycle 65
             top_a <= dtc_a;
             top_b <= dtc_b;
             top_c <= dtc_c;

@@ -4,7 +4,9 @@ compensation, shared by cocotb_tests/tb_modulator.py and tests/test_hls_modulato
 :func:`draw_registers` covers the full ranges of the modulator's registers with their extremes, typical
 small values, unit-circle SIN/COS, powers of two for SIN/COS and H (exact half-LSB ties of the rounding
 shifts), DTC_GAIN = 0 for half the vectors, RECIP_H = round(2^32/H) mostly and any u32 sometimes, and
-about 3 % vectors built to tie in the min-max (v_a = v_b, v_a = v_c, v_b = v_c, all three).
+about 3 % vectors built to tie in the min-max (v_a = v_b, v_a = v_c, v_b = v_c, all three), and the
+rotating injection (``rot = 1``, ``CTRL.INJ_ROT``) in 30 % of the vectors with ``inj_sin, inj_cos`` drawn
+as SIN/COS. :func:`rot_arg` turns a vector into ``compares``' ``rot`` argument.
 :func:`corner_vectors` lists the register extremes, over-modulation, min-max ties and DTC extremes.
 """
 
@@ -17,7 +19,7 @@ from golden.fpga.deadtime_comp import recip_half
 from golden.fpga.modulator import SQRT3_HALF_Q15
 
 REGS = ("v_d", "v_q", "v_h", "sin_q15", "cos_q15", "i_d_ref", "i_q_ref", "half", "dead", "dtc_gain",
-        "hf_amp", "recip_h")
+        "hf_amp", "recip_h", "rot", "inj_sin", "inj_cos")
 """Register names of one vector (the hfi_modulator ports)."""
 U32 = (1 << 32) - 1
 
@@ -56,6 +58,13 @@ def draw_registers(rng, n: int) -> dict[str, np.ndarray]:
     sc_ext = [-32768, -32767, -16384, -8192, -1, 0, 1, 8192, 16384, 32767]
     r["sin_q15"] = np.where(unit, unit_s, _mix(rng, n, -32768, 32767, sc_ext, 0.3))
     r["cos_q15"] = np.where(unit, unit_c, _mix(rng, n, -32768, 32767, sc_ext, 0.3))
+    r["rot"] = (rng.random(n) < 0.3).astype(np.int64)
+    phi = rng.uniform(0.0, 2.0 * np.pi, n)
+    unit = rng.random(n) < 0.5
+    r["inj_sin"] = np.where(unit, np.clip(np.round(32768.0 * np.sin(phi)), -32768, 32767).astype(np.int64),
+                            _mix(rng, n, -32768, 32767, sc_ext, 0.3))
+    r["inj_cos"] = np.where(unit, np.clip(np.round(32768.0 * np.cos(phi)), -32768, 32767).astype(np.int64),
+                            _mix(rng, n, -32768, 32767, sc_ext, 0.3))
     for name in ("i_d_ref", "i_q_ref"):
         small = (_logu(rng, n, 32768) - 1) * rng.choice([-1, 1], n)
         r[name] = _where(rng, n, 0.4, small, _mix(rng, n, -32768, 32767, s16x))
@@ -71,12 +80,18 @@ def draw_registers(rng, n: int) -> dict[str, np.ndarray]:
     return r
 
 
-def v_abc(v_d, v_q, v_h, s, c, sign):
+def rot_arg(r: dict) -> tuple[int, int] | None:
+    """``compares``' ``rot`` argument of one vector: ``(inj_cos, inj_sin)`` if ``rot`` else ``None``."""
+    return (r["inj_cos"], r["inj_sin"]) if r["rot"] else None
+
+
+def v_abc(v_d, v_q, v_h, s, c, sign, rot=0, inj_s=0, inj_c=0):
     """Phase voltages v_a, v_b, v_c before the min-max (a replica of compares' first steps, int64
     arrays; used only to build tie vectors and to measure coverage, never as expected values)."""
-    vd = v_d + sign * v_h
-    al = round_shr(vd * c - v_q * s, 15)
-    be = round_shr(vd * s + v_q * c, 15)
+    vd = v_d + sign * v_h * (1 - rot)
+    vr = v_h * rot
+    al = round_shr(vd * c - v_q * s + vr * inj_c, 15)
+    be = round_shr(vd * s + v_q * c + vr * inj_s, 15)
     bp = be * SQRT3_HALF_Q15
     return al, round_shr(-al * 16384 + bp, 15), round_shr(-al * 16384 - bp, 15)
 
@@ -107,6 +122,7 @@ def _inject_ties(rng, r, frac):
     pick = good[rng.integers(0, good.size, idx.size)]
     for name in cand:
         r[name][idx] = cand[name][pick]
+    r["rot"][idx] = 0                                                  # the ties are square-wave vectors
 
 
 def as_dicts(r: dict[str, np.ndarray]) -> list[dict]:
@@ -119,7 +135,7 @@ def corner_vectors() -> list[dict]:
     65535, DTC_GAIN 0 / 1 / 65535, RECIP_H nominal / 0 / 2^32-1, HF_AMP 0 / 32767), and ties."""
     out = []
     base = dict(v_d=0, v_q=0, v_h=0, sin_q15=0, cos_q15=32767, i_d_ref=0, i_q_ref=0, half=10000,
-                dead=400, dtc_gain=0, hf_amp=0, recip_h=recip_half(10000))
+                dead=400, dtc_gain=0, hf_amp=0, recip_h=recip_half(10000), rot=0, inj_sin=0, inj_cos=0)
     vs = (-32768, 32767)
     for v_d in vs:
         for v_q in vs:
@@ -146,4 +162,8 @@ def corner_vectors() -> list[dict]:
             base | dict(v_d=123, v_q=-77, v_h=0, sin_q15=0, cos_q15=0),         # sin = cos = 0
             base | dict(v_d=32767, v_q=32767, v_h=32767, sin_q15=-32768, cos_q15=-32768,
                         dtc_gain=65535, dead=65535, hf_amp=32767, recip_h=U32)]
-    return out + dtc + ties
+    # rotating injection: every register extreme with the injection's sin/cos extremes (the Park sums'
+    # bound 3*2^30 - 2^15 is reached with all three products at full scale)
+    rot = [r | dict(rot=1, inj_sin=s, inj_cos=c) for r in out[::4]
+           for s, c in ((-32768, -32768), (32767, 32767), (-32768, 32767), (0, 0))]
+    return out + dtc + ties + rot

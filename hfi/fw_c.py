@@ -37,7 +37,7 @@ STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
 (besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each
 method's state block, named by the method's ``PARAMS``)."""
-WINDOW_RESULT_FIELDS = ("gamma", "gamma_d", "sum_id", "sum_iq", "wsum", "n_samples")
+WINDOW_RESULT_FIELDS = tuple(f.name for f in dataclass_fields(WindowResult))
 """Fields shared by ``struct fw_window`` and :class:`~golden.fpga.demodulator.WindowResult`."""
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
 """Fields shared by ``struct fw_outputs`` and :class:`~golden.firmware.supervisor.Outputs`."""

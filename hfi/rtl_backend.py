@@ -173,7 +173,7 @@ def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     h.adc_gain = rm.pack("ADC_GAIN", A=hw.adc_gain[0], B=hw.adc_gain[1])
     h.oc_limit = rm.OC_LIMIT_VALUE_RESET
     h.wdt_periods = rm.WDT_PERIODS_VALUE_RESET
-    h.adc_mode, h.inj_en = hw.adc_mode, 1
+    h.adc_mode, h.inj_en, h.inj_rot, h.inj_step = hw.adc_mode, 1, hw.inj_rot, hw.inj_step
     p = params_to_c(_cfg_ffi, firmware_params(sc))
     cfg.fw = p[0]
     return bytes(_cfg_ffi.buffer(cfg))

@@ -146,6 +146,7 @@ struct fw_window {
     int32_t sum_iq;
     int32_t wsum;
     uint32_t n_samples;
+    uint32_t inj_phase;     /* INJ_PHASE (golden WindowResult.inj_phase) */
 };
 
 /* What every estimator gets once per period (golden.firmware.estimator.Measurement). */

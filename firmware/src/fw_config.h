@@ -13,7 +13,7 @@
 #include "control.h"
 
 /* Identification of the block: "HFIC" and the layout version. */
-enum fw_config_id { FW_CONFIG_MAGIC = 0x43494648, FW_CONFIG_VERSION = 1 };
+enum fw_config_id { FW_CONFIG_MAGIC = 0x43494648, FW_CONFIG_VERSION = 2 };
 
 /* hfi_dsp start-up register values (golden.control_config.HardwareConfig) and the control flags. */
 struct fw_hw_config {
@@ -33,6 +33,8 @@ struct fw_hw_config {
     uint32_t recip_h;       /* RECIP_H */
     uint32_t adc_mode;      /* CTRL.ADC_MODE */
     uint32_t inj_en;        /* CTRL.INJ_EN */
+    uint32_t inj_rot;       /* CTRL.INJ_ROT */
+    uint32_t inj_step;      /* INJ_STEP */
 };
 
 struct fw_config {

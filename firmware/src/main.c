@@ -109,6 +109,7 @@ static void control_step(void)
     win.sum_iq = (int32_t)DSP(SUM_IQ);
     win.wsum = (int32_t)DSP(WSUM);
     win.n_samples = DSP(N_SAMPLES) & HFI_REGS__N_SAMPLES__VALUE_bm;
+    win.inj_phase = DSP(INJ_PHASE);
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
     struct fw_outputs o;
@@ -119,7 +120,7 @@ static void control_step(void)
     DSP(SINCOS) = FIELD(SINCOS, SIN, o.sin) | FIELD(SINCOS, COS, o.cos);
     DSP(I_REF) = FIELD(I_REF, I_D, o.i_d_ref) | FIELD(I_REF, I_Q, o.i_q_ref);
     DSP(CTRL) = FIELD(CTRL, ENABLE, o.enable) | FIELD(CTRL, INJ_EN, cfg.hw.inj_en) |
-                FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+                FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     DSP(COMMIT) = FIELD(COMMIT, GO, 1);
     DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
     uint32_t cycles = rdcycle() - t0;
@@ -175,10 +176,12 @@ int main(void)
     DSP(DTC_GAIN) = cfg.hw.dtc_gain;
     DSP(HF_AMP) = cfg.hw.hf_amp;
     DSP(RECIP_H) = cfg.hw.recip_h;
+    DSP(INJ_STEP) = cfg.hw.inj_step;
     /* the safety registers (dead time, overcurrent limit, watchdog) stay as configured until reset */
     DSP(SAFETY_LOCK) = FIELD(SAFETY_LOCK, LOCK, 1);
     DSP(IRQ_ENABLE) = FIELD(IRQ_ENABLE, WINDOW, 1);
-    DSP(CTRL) = FIELD(CTRL, INJ_EN, cfg.hw.inj_en) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+    DSP(CTRL) = FIELD(CTRL, INJ_EN, cfg.hw.inj_en) | FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) |
+                FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     fw_init(&st, &cfg.fw);
     /* One step on a copy of the state: the caches then hold what a step leaves in them, so the first
      * window interrupt takes the steady-state time, not a cold-cache one (docs/soc.md, "Firmware

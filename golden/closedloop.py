@@ -181,6 +181,8 @@ class ClosedLoop:
                 active = outs[k - 2]                      # commit at the window boundary
             enable = outs[k - 1].enable if k >= 1 else 0
             adc_mode = MODE_DS if zc >= ds_from else hw.adc_mode
+            # CTRL.INJ_EN is 1 in every closed-loop run (the supervisor stops an injection with V_H = 0),
+            # so the rotating injection is on exactly when INJ_ROT is
             inj_phase, rot = self.rot_inj.boundary(bool(hw.inj_rot), hw.inj_step)
             cmp_top = self._compares(active, +1, rot)
             gen.add_half(k * P + H, H, False, cmp_top)

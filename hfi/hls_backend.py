@@ -87,8 +87,12 @@ class HlsClosedLoop:
                             ("adc_offset_b", hw.adc_offset[1]), ("adc_gain_a", hw.adc_gain[0]),
                             ("adc_gain_b", hw.adc_gain[1]), ("cw_angle_step", hw.cw_angle_step),
                             ("dtc_gain", hw.dtc_gain), ("hf_amp", hw.hf_amp), ("recip_h", hw.recip_h),
-                            ("n_windows", n_win)):
-            setattr(setup, name, int(value))
+                            ("inj_rot", hw.inj_rot), ("inj_step", hw.inj_step), ("n_windows", n_win)):
+            try:
+                setattr(setup, name, int(value))
+            except OverflowError:      # beyond the C field: the same refusal as the native loop's range checks
+                raise HlsBackendError(f"scenario {sc.name}: {name} = {int(value)} is outside the range of its "
+                                      "register") from None
         ds = sc.control.switch_to_ds_at
         setup.ds_from_tick = INT64_MAX if ds is None else math.ceil(ds * tick_hz)
         refs = ffi.from_buffer("int32_t[]", speed_ref)

@@ -6,8 +6,9 @@ with the same plant library. The default scenario (``scenarios/fullload_start.to
 standstill under 2 N·m through both speed steps), full length and same seed, must give identical
 per-window columns (window results, estimator and controller state, compares, plant truth), register
 writes, ADC samples and gate edges. Shorter runs cover the configurations the default scenario does not
-use: OS_BLANK sampling, DS sampling, a host-side switch to DS during the run, no dead-time compensation;
-the hand-over scenario (scenarios/handover_short.toml) runs both estimator methods in charge in turn.
+use: OS_BLANK sampling, DS sampling, a host-side switch to DS during the run, no dead-time compensation,
+the rotating injection (CTRL.INJ_ROT); the hand-over scenario (scenarios/handover_short.toml) runs both
+estimator methods in charge in turn.
 
 Every column compared is one the hls backend *produces*, none is copied from the scenario into the
 result: ``speed_ref`` is the value the native loop passed to ``fw_step`` for that window, ``adc_mode``
@@ -27,6 +28,7 @@ import numpy as np
 import pytest
 
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoop
+from golden.fpga.rot_injection import inj_step
 from golden.scenario import load_scenario
 from hfi.hls_backend import HlsBackendError, HlsClosedLoop
 
@@ -100,6 +102,33 @@ def test_hand_over_scenario_identical():
     gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
     _assert_identical(gold, hls)
     assert np.diff(hls.windows["est"]).tolist().count(1) == 1 and np.diff(hls.windows["est"]).tolist().count(-1) == 1
+
+
+def test_rotating_injection_identical():
+    """CTRL.INJ_ROT = 1 (docs/spec.md 3.5): the phase accumulator, its sin/cos (hfi_cordic_sincos<32, 16>)
+    and the modulator's rotating term of the hls backend give the golden loop's compares, gate edges,
+    samples and firmware state; the step wraps the u32 accumulator every few periods."""
+    sc = dataclasses.replace(_default(), duration=0.1)
+    gold_loop, hls_loop = ClosedLoop(sc), HlsClosedLoop(sc)
+    f_sw = sc.pwm.tick_hz / (2 * gold_loop.hw.pwm_half)
+    hw = dataclasses.replace(gold_loop.hw, inj_rot=1, inj_step=inj_step(-0.37 * f_sw, f_sw))
+    assert hw.inj_step > 1 << 31 and hw.inj_step & 0xFFFF          # backwards, not a round number
+    gold_loop.hw = hls_loop.hw = hw
+    gold, hls = gold_loop.run(progress=False), hls_loop.run(progress=False)
+    _assert_identical(gold, hls)
+    assert gold.writes["v_h"].max() > 0                                # the rotating term acted
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"inj_rot": 2}, "inj_rot = 2 must be 0 or 1"),
+    ({"inj_rot": 1, "inj_step": 1 << 32}, "inj_step = 4294967296 is not a u32 INJ_STEP register value"),
+    ({"inj_rot": 1, "inj_step": -1}, "inj_step = -1 is not a u32"),
+], ids=["inj_rot", "inj_step_high", "inj_step_negative"])
+def test_bad_rotating_injection_setup_is_refused(change, message):
+    loop = HlsClosedLoop(dataclasses.replace(_default(), duration=0.01))
+    loop.hw = dataclasses.replace(loop.hw, **change)
+    with pytest.raises(HlsBackendError, match=message):
+        loop.run(progress=False)
 
 
 def test_bad_setup_is_refused_with_a_message():

@@ -23,7 +23,7 @@ carrier top, ``sign = +1``, for the falling half; spec 2.1 "double update") the 
 Widths (the spec states only s17 and s18; these are the worst case over every register value,
 SIN/COS not required to lie on the unit circle): ``vd`` s17; the Park products fit s32 (|vd| <= 65535)
 and their sums s33 (square wave: |vd| <= 65535, two products; rotating: |vd| <= 32768, three products:
-the same bound 3*2^30 - 2^15); ``v_alpha, v_beta`` within +-98303 (s18); the Clarke sums s33; ``v_b, v_c`` within
+below 3*2^30 in magnitude either way); ``v_alpha, v_beta`` within +-98303 (s18); the Clarke sums s33; ``v_b, v_c`` within
 +-101517 (s18); ``max + min`` s18; ``v_x'`` within +-87916 (s18); ``v_x'*H`` s34 (H <= 65534, u16).
 Plain Python ints (no numpy): this is called twice per PWM period in the closed loop.
 """

@@ -5,8 +5,10 @@
 // Window k covers the ticks [k*P + H/2, (k+1)*P + H/2) (docs/spec.md 2.1). Per window:
 //   1. the commit of the firmware's outputs of window k-2 becomes active at the boundary; the enable
 //      written after window k-1 takes effect at the bottom (k+1)*P (spec 2.2);
-//   2. hfi_modulator (+ hfi_deadtime_comp) latch the compares of the top of period k and the bottom of
-//      period k+1 from the active registers (spec 3.5, 3.6);
+//   2. the rotating injection's phase accumulator steps (golden/fpga/rot_injection.py: while INJ_ROT,
+//      phi = P, P += INJ_STEP, (S, C) = hfi_sincos_q15(phi); else P = 0, no rotating term);
+//      hfi_modulator (+ hfi_deadtime_comp) latch the compares of the top of period k and the bottom of
+//      period k+1 from the active registers and (C, S) (spec 3.5, 3.6);
 //   3. the gate generator runs through the window: the ideal switch signals (hfi_ideal_switch) change
 //      at most once per leg and half period, so hfi_gate_advance covers each stretch between changes
 //      in one step, and its turn-on offsets give the gate edges (spec 2.4);
@@ -15,8 +17,9 @@
 //      sim/plant_loop.h, which records the edges, samples and truth as the rtl backend's harness does);
 //   5. hfi_window_dsp (ADC scale, Clarke, Park, demodulator) with the CORDIC weights
 //      (hfi_demod_weight) and, in OS_BLANK, the blanking decision (hfi_blanked) gives the window
-//      result; fw_step computes the next register values; the firmware-state columns of the window
-//      record are those of the firmware's trace record (FW_TRACE_COLUMNS, fw_trace.h, generated).
+//      result (with INJ_PHASE = phi of step 2); fw_step computes the next register values; the
+//      firmware-state columns of the window record are those of the firmware's trace record
+//      (FW_TRACE_COLUMNS, fw_trace.h, generated).
 #include "hls_loop.h"
 
 #include <algorithm>
@@ -82,6 +85,7 @@ struct hls_loop {
     bool en = false;                   // enable in effect
     int64_t mask = 0;                  // gate mask after the last edge
     int64_t last_switch = -1;          // latest switching instant (-1: none yet)
+    u32 inj_acc = 0;                   // rotating injection's phase accumulator P (0 after reset)
     Pattern pattern[4];
     bool have_pattern[4] = {false, false, false, false};
 
@@ -97,7 +101,7 @@ struct hls_loop {
     bool keep[HFI_WINDOW_MAX];
 
     const Pattern &window_pattern(int mode);
-    void compares(const fw_outputs &o, bool top, u16 cmp[3]) const;
+    void compares(const fw_outputs &o, bool top, bool rot, s16 inj_sin, s16 inj_cos, u16 cmp[3]) const;
     void gate_range(int64_t a, int64_t b, int64_t half_start, bool rising);
     void gate_segment(int64_t a, int64_t b);
     bool step();
@@ -122,10 +126,12 @@ const Pattern &hls_loop::window_pattern(int mode) {
     return pattern[mode];
 }
 
-// Compares of one latch from the register values o (golden ClosedLoop._compares).
-void hls_loop::compares(const fw_outputs &o, bool top, u16 cmp[3]) const {
+// Compares of one latch from the register values o (golden ClosedLoop._compares); rot: the rotating
+// injection with (C, S) = (inj_cos, inj_sin), else the square wave.
+void hls_loop::compares(const fw_outputs &o, bool top, bool rot, s16 inj_sin, s16 inj_cos, u16 cmp[3]) const {
     u16 raw[3];
-    hfi_modulator(s16(o.v_d), s16(o.v_q), s16(o.v_h), s16(o.sin), s16(o.cos), u16(s.half), top, raw);
+    hfi_modulator(s16(o.v_d), s16(o.v_q), s16(o.v_h), rot, inj_sin, inj_cos, s16(o.sin), s16(o.cos), u16(s.half),
+                  top, raw);
     if (s.dtc_gain)
         hfi_deadtime_comp(raw, top, u16(s.half), u16(dead), u16(s.dtc_gain), s16(o.i_d_ref), s16(o.i_q_ref),
                           ap_uint<15>(s.hf_amp), s16(o.sin), s16(o.cos), u32(s.recip_h), cmp);
@@ -200,9 +206,21 @@ bool hls_loop::step() {
     if (k >= 2) active = prev2;                           // commit at the window boundary
     const bool enable = k >= 1 && prev1.enable;
     const int adc_mode = zc >= s.ds_from_tick ? HFI_MODE_DS : s.adc_mode;
+    // Rotating injection (golden RotatingInjection.boundary): on, this window's sets use phi = P and
+    // P advances by INJ_STEP (mod 2^32); off, P = 0 and no rotating term (phi reads 0).
+    const bool rot = s.inj_rot != 0;
+    u32 inj_phase = 0;
+    s16 inj_sin = 0, inj_cos = 0;
+    if (rot) {
+        inj_phase = inj_acc;
+        inj_acc = inj_acc + u32(uint32_t(s.inj_step));
+        hfi_sincos_q15(inj_phase, inj_sin, inj_cos);      // hfi_cordic_sincos<32, 16>, Q1.15
+    } else {
+        inj_acc = 0;
+    }
     u16 cmp_top[3], cmp_bot[3];
-    compares(active, true, cmp_top);
-    compares(active, false, cmp_bot);
+    compares(active, true, rot, inj_sin, inj_cos, cmp_top);
+    compares(active, false, rot, inj_sin, inj_cos, cmp_bot);
 
     e_ticks.clear();
     e_masks.clear();
@@ -254,6 +272,7 @@ bool hls_loop::step() {
     win.sum_iq = int32_t(res.sum_iq);
     win.wsum = int32_t(res.wsum);
     win.n_samples = uint32_t(res.n_samples);
+    win.inj_phase = inj_phase.to_uint();                  // INJ_PHASE, latched with the window results
     fw_outputs o;
     const int32_t speed_ref = loop.speed_ref(k);
     fw_step(&fw, &fwp, &win, speed_ref, &o);
@@ -266,6 +285,7 @@ bool hls_loop::step() {
     r.sum_id = win.sum_id;
     r.sum_iq = win.sum_iq;
     r.wsum = win.wsum;
+    r.inj_phase = win.inj_phase;           // what the firmware was given as INJ_PHASE
 #define HLS_WINDOW_COLUMN(column, value) r.column = int64_t(value)
     FW_TRACE_COLUMNS(HLS_WINDOW_COLUMN, fw);
 #undef HLS_WINDOW_COLUMN
@@ -311,6 +331,15 @@ static bool check_setup(const hls_setup *s, char *err, int err_len) {
         return setup_error(err, err_len, "adc gains must be u16");
     if (s->dtc_gain < 0 || s->dtc_gain > 0xFFFF || s->hf_amp < 0 || s->hf_amp > 0x7FFF)
         return setup_error(err, err_len, "dtc_gain must be u16 and hf_amp u15");
+    if (s->inj_rot != 0 && s->inj_rot != 1) {
+        std::snprintf(msg, sizeof msg, "inj_rot = %d must be 0 or 1 (CTRL.INJ_ROT)", s->inj_rot);
+        return setup_error(err, err_len, msg);
+    }
+    if (s->inj_step < 0 || s->inj_step > int64_t(0xFFFFFFFF)) {
+        std::snprintf(msg, sizeof msg, "inj_step = %lld is not a u32 INJ_STEP register value",
+                      static_cast<long long>(s->inj_step));
+        return setup_error(err, err_len, msg);
+    }
     const std::string bad = PlantLoop::check(int32_t(hfi_effective_half(u16(s->half))), s->n_windows, s->speed_ref,
                                              s->adc_bits);
     return bad.empty() || setup_error(err, err_len, bad);
@@ -342,7 +371,8 @@ hls_loop *hls_loop_create(const hls_setup *setup, const fw_params *fw, plant *pl
             return nullptr;
         }
     }
-    h->compares(RESET_OUTPUTS, false, h->cmp_rise);       // the first bottom latches the reset registers
+    // the first bottom latches the reset registers, before the first boundary: no rotating term
+    h->compares(RESET_OUTPUTS, false, false, s16(0), s16(0), h->cmp_rise);
     for (int x = 0; x < 3; x++) h->cmp_fall[x] = 0;
     const size_t n = size_t(setup->n_windows);
     h->windows.reserve(n);

@@ -38,6 +38,7 @@ struct hls_window {
     int64_t theta_hi;
     int64_t omega_lo;
     int64_t omega_hi;
+    int64_t inj_phase;
 };
 
 #endif

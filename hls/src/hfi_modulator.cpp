@@ -16,19 +16,28 @@ static u16 compare_of(s18 v_shifted, u16 half) {
     return raw < 0 ? u16(0) : (raw > half ? half : u16(raw));
 }
 
-// golden.fpga.modulator.compares with sign = +1 at the top, -1 at the bottom.
-void hfi_modulator(s16 v_d, s16 v_q, s16 v_h, s16 sin_q15, s16 cos_q15, u16 half, bool top, u16 cmp[3]) {
+// golden.fpga.modulator.compares with sign = +1 at the top, -1 at the bottom; rot: its rot = (inj_cos, inj_sin).
+void hfi_modulator(s16 v_d, s16 v_q, s16 v_h, bool rot, s16 inj_sin, s16 inj_cos, s16 sin_q15, s16 cos_q15,
+                   u16 half, bool top, u16 cmp[3]) {
 #pragma HLS INLINE off
 #pragma HLS ARRAY_PARTITION variable = cmp complete
-    // Injection on the estimated d-axis, eq. (14): s17.
-    const ap_int<17> vd = top ? ap_int<17>(v_d + v_h) : ap_int<17>(v_d - v_h);
-    // Inverse Park: |vd| <= 65535, so each product fits s32; the sums s33, the results s18.
+    // Square wave (rot = 0): the injection on the estimated d-axis, eq. (14), vd = V_D + sgn*V_H (s17),
+    // no rotating term (C = S = 0). Rotating (rot = 1, Tap et al. 2023, eq. (9)): vd = V_D and the
+    // third product V_H*(C, S) below. One datapath: the spec 3.5 sums with C = S = 0 for the square wave.
+    const ap_int<17> vd = rot ? ap_int<17>(v_d) : (top ? ap_int<17>(v_d + v_h) : ap_int<17>(v_d - v_h));
+    const s16 c_r = rot ? inj_cos : s16(0);
+    const s16 s_r = rot ? inj_sin : s16(0);
+    // Inverse Park plus the rotating vector: |vd| <= 65535, so each product fits s32 (V_H*C, V_H*S:
+    // u15 x s16); the sums s33 (square wave: two products of |.| <= 65535*32768; rotating: |vd| <= 32768,
+    // three products of |.| <= 2^30, within 3*2^30), the results s18.
     const ap_int<32> vd_c = vd * cos_q15;
     const ap_int<32> vd_s = vd * sin_q15;
     const ap_int<32> vq_s = v_q * sin_q15;
     const ap_int<32> vq_c = v_q * cos_q15;
-    const s18 v_al = hfi_round_shr<15>(ap_int<33>(ap_int<33>(vd_c) - vq_s));   // within +-98303
-    const s18 v_be = hfi_round_shr<15>(ap_int<33>(ap_int<33>(vd_s) + vq_c));   // within +-98303
+    const ap_int<32> vh_c = v_h * c_r;
+    const ap_int<32> vh_s = v_h * s_r;
+    const s18 v_al = hfi_round_shr<15>(ap_int<33>(ap_int<33>(vd_c) - vq_s + vh_c));   // within +-98303
+    const s18 v_be = hfi_round_shr<15>(ap_int<33>(ap_int<33>(vd_s) + vq_c + vh_s));   // within +-98303
     // Inverse Clarke: v_b/c = -v_alpha/2 +- sqrt(3)/2 v_beta; the sums s33, results within +-101517.
     const ap_int<32> a_part = -(ap_int<32>(v_al) << 14);
     const ap_int<33> b_part = v_be * HFI_SQRT3_HALF_Q15;                // s18 x u15 -> s33

@@ -90,9 +90,11 @@ module hfi_dsp #(
     // One copy per block (a reset tree: the same flip-flop input, so every copy switches in the same
     // clock; `keep` so that synthesis does not merge them): the placer puts each next to its block
     // instead of one net with hundreds of loads across the die (ULX3S timing, docs/boards.md).
-    (* keep *) reg rst_dp, rst_car, rst_mod, rst_gate, rst_trg, rst_adc, rst_park, rst_dm;
+    // No name may end in _gold or _gate: Yosys' equiv_make (the ECP5 target-equivalence proof of
+    // scripts/synth_report.py) names its copies of a wire x as x_gold and x_gate and stops on a clash.
+    (* keep *) reg rst_dp, rst_car, rst_mod, rst_gates, rst_trg, rst_adc, rst_park, rst_dm;
     always @(posedge clk)
-        {rst_dp, rst_car, rst_mod, rst_gate, rst_trg, rst_adc, rst_park, rst_dm} <= {8{rst | ~run}};
+        {rst_dp, rst_car, rst_mod, rst_gates, rst_trg, rst_adc, rst_park, rst_dm} <= {8{rst | ~run}};
 
     // ---------------------------------------------------------------- registers
     wire        ctrl_enable, ctrl_inj_en, ctrl_inj_rot, fault_clear, commit_go;
@@ -257,7 +259,7 @@ module hfi_dsp #(
     wire [5:0] gate_gen_out;
     wire       sw_event;
     hfi_gate_gen #(.DEAD_MIN(DEAD_MIN)) u_gate_gen (
-        .clk(clk), .rst(rst_gate), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
+        .clk(clk), .rst(rst_gates), .phase(phase), .half(half), .at_bottom(at_bottom), .at_top(at_top),
         .cmp_bot_a(cmp_bot_a), .cmp_bot_b(cmp_bot_b), .cmp_bot_c(cmp_bot_c),
         .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),
         .dead_reg(dead_ticks), .enable(gen_enable), .kill(kill),
@@ -267,7 +269,7 @@ module hfi_dsp #(
     // driven straight from flip-flops, and the gates keep the same one-tick offset to the sampling
     // instants as CONVST (below).
     hfi_safety u_safety (
-        .clk(clk), .rst(rst_gate), .sto(sto), .desat(desat), .oc_trip(oc_trip), .wdt_expired(wdt_expired),
+        .clk(clk), .rst(rst_gates), .sto(sto), .desat(desat), .oc_trip(oc_trip), .wdt_expired(wdt_expired),
         .fault_clear(fault_clear), .ctrl_enable(ctrl_enable), .at_bottom(at_bottom), .gate_in(gate_gen_out),
         .gate(gate), .kill(kill), .enable(gen_enable), .sto_s(sto_s), .desat_s(desat_s),
         .fault_oc(fault_oc), .fault_wdt(fault_wdt), .fault_sto(fault_sto), .fault_desat(fault_desat),

@@ -15,19 +15,24 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from golden.firmware import biquad
 from golden.firmware.bangbang import k_bb_raw
-from golden.firmware.estimator import METHOD_RFO, METHOD_SQW_BANGBANG
+from golden.firmware.eemf_smo import I_FRAC, SmoParams
+from golden.firmware.estimator import BY_ID, INJ_ROT, METHOD_EEMF_SMO, METHOD_RFO, METHOD_ROT_BPF, METHOD_SQW_BANGBANG
 from golden.firmware.lowpass import lowpass_coef
+from golden.firmware.mtpa import mtpa_table
 from golden.firmware.pi import PiParams, pi_gains
 from golden.firmware.pll import pll_gains
 from golden.firmware.rfo import FLUX_FRAC, RfoParams
+from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
-from golden.firmware.supervisor import FirmwareParams
+from golden.firmware.supervisor import POL_CURRENT, POL_PILOT, FirmwareParams
 from golden.scenario import HIGH_ESTIMATORS, LOW_ESTIMATORS
-from golden.fixed import to_fixed
+from golden.fixed import shr, to_fixed, uwrap, wrap
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK, effective_os_ticks
-from golden.fpga.cordic import cw_angle_step
+from golden.fpga.cordic import cw_angle_step, sincos_q15
 from golden.fpga.deadtime_comp import recip_half
+from golden.fpga.rot_injection import inj_step
 from golden.scenario import Scenario
 
 ADC_MODE = {"OS": MODE_OS, "DS": MODE_DS, "OS_BLANK": MODE_OS_BLANK}
@@ -86,15 +91,35 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
     sc_ = scales(sc)
     dead = round(sc.pwm.dead_time * tick_hz)
     mag = sc.plant["mag"]
-    # eq. (17): the HF d-current is a triangle of amplitude V_h / (4 f_sw L_d)
-    hf_amp = min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
+    rot = rotating_injection(sc)
+    # eq. (17): the HF d-current is a triangle of amplitude V_h / (4 f_sw L_d); the rotating injection's
+    # current is predicted by the firmware instead (FirmwareParams.hf_dtc), so HF_AMP is 0 then
+    hf_amp = 0 if rot else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
     dtc_gain = min(to_fixed(dead / max(sc_.current(ctl.dtc_zone), 1), 8), 65535) if ctl.dead_time_comp == "on" else 0
     return HardwareConfig(
+        inj_rot=int(rot), inj_step=inj_step(sc.estimator.params["rot_bpf"]["f_inj"], sc.pwm.f_sw) if rot else 0,
         dtc_gain=dtc_gain, hf_amp=hf_amp, recip_h=recip_half(half),
         pwm_half=half, dead_ticks=round(sc.pwm.dead_time * tick_hz),
         os_ticks=effective_os_ticks(min(round(ctl.sample_interval * tick_hz), 0xFFFF)), blank_ticks=round(ctl.blank * tick_hz),
         cw_angle_step=cw_angle_step(half), adc_mode=ADC_MODE[ctl.adc_mode],
         adc_bits=int(sc.plant["sens"]["adc_bits"]))
+
+
+def rotating_injection(sc: Scenario) -> bool:
+    """Whether a slot's method injects the rotating vector (then ``CTRL.INJ_ROT`` is set at start-up)."""
+    est = sc.estimator
+    if sc.control is None or est is None:
+        return False
+    return any(BY_ID[m].injection == INJ_ROT for m in (LOW_ESTIMATORS[est.low], HIGH_ESTIMATORS[est.high]) if m)
+
+
+def rot_hf_current(sc: Scenario) -> int:
+    """Tap et al. 2023, eq. (11): the positive-sequence HF current ``V_h L_0 / (w_h L_d L_q)`` [current LSB]
+    of the rotating injection, which the firmware adds to the dead-time compensation's current."""
+    mag, sc_ = sc.plant["mag"], scales(sc)
+    w_h = 2 * math.pi * sc.estimator.params["rot_bpf"]["f_inj"]
+    return min(sc_.current(sc.injection.V_h * 0.5 * (mag["L_d"] + mag["L_q"]) / (w_h * mag["L_d"] * mag["L_q"])),
+               32767)
 
 
 def firmware_params(sc: Scenario) -> FirmwareParams:
@@ -116,12 +141,19 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     k_t = 1.5 * p * mag["psi_f"]
     w_s = 2 * math.pi * ctl.speed_bw
     kp_w = mech["J"] * w_s / (k_t * p)
-    kp_s, ki_s = pi_gains(kp_w, kp_w * w_s / 4, sc_.w_lsb / sc_.i_lsb, f_sw, sp=24, si=31)
+    speed_div = max(round(f_sw / ctl.speed_rate), 1) if ctl.speed_rate > 0 else 1
+    kp_s, ki_s = pi_gains(kp_w, kp_w * w_s / 4, sc_.w_lsb / sc_.i_lsb, f_sw / speed_div, sp=24, si=31)
     speed_pi = PiParams(kp_s, 24, ki_s, 31, sc_.current(ctl.i_max))
     fixed = to_fixed(ctl.theta_hat / (2 * math.pi), 32) % 2**32 if ctl.mode == "fixed_angle" else None
     est = sc.estimator
     low, high = LOW_ESTIMATORS[est.low], HIGH_ESTIMATORS[est.high]
     methods = {low, high}
+    rot = rotating_injection(sc)
+    step = inj_step(est.params["rot_bpf"]["f_inj"], f_sw) if rot else 0
+    inj_sd, inj_cd = sincos_q15(step)
+    mtpa = (mtpa_table(sc_.current(ctl.i_max), sc_.i_lsb, mag["psi_f"], mag["L_d"], mag["L_q"])
+            if ctl.mtpa == "on" else (0, (), ()))
+    notch = biquad.notch(ctl.notch_freq, ctl.notch_width, f_sw) if ctl.notch_freq > 0 else None
     return FirmwareParams(
         low=low, high=high,
         sqw=sqw_params(sc) if METHOD_SQW_BANGBANG in methods else None,
@@ -131,7 +163,13 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         n_converge=round(ctl.converge * f_sw), n_pulse=round(ctl.pulse * f_sw), n_settle=round(ctl.settle * f_sw),
         i_trip=sc_.current(ctl.i_trip),
         w_up=sc_.speed_mech(est.handover_up), w_down=sc_.speed_mech(est.handover_down),
-        merge=lowpass_coef(1.0 / (2 * math.pi * est.merge_time), f_sw), fixed_angle=fixed)
+        merge=lowpass_coef(1.0 / (2 * math.pi * est.merge_time), f_sw), fixed_angle=fixed,
+        rot=rot_bpf_params(sc) if METHOD_ROT_BPF in methods else None,
+        smo=eemf_smo_params(sc) if METHOD_EEMF_SMO in methods else None,
+        inj_rot=int(rot), inj_cd=inj_cd, inj_sd=inj_sd, hf_dtc=rot_hf_current(sc) if rot else 0,
+        pol_mode=POL_PILOT if ctl.polarity == "pilot" else POL_CURRENT,
+        v_pilot=min(sc_.voltage(ctl.v_pilot), 32767),
+        mtpa_shift=mtpa[0], mtpa_id=mtpa[1], mtpa_iq=mtpa[2], notch=notch, speed_div=speed_div)
 
 
 def sqw_params(sc: Scenario) -> SqwParams:
@@ -161,3 +199,106 @@ def rfo_params(sc: Scenario) -> RfoParams:
             raise ValueError(f"rotor flux observer: {name} = {value} outside 0..{hi} (motor data and scales "
                              f"of scenario {sc.name})")
     return p
+
+
+def rot_bpf_delay(bpf: biquad.BiquadCoef, f_inj: float, n_avg: int, f_sw: float, f_e_max: float) -> float:
+    """Delay [periods] from the electrical speed to the angle lag of ``rot_bpf`` (Tap et al. 2023, eqs.
+    (18)-(19)), plus one period (the PLL's prediction is for the next window, the angle is used in the one
+    after): the negative sequence passes the band-pass at ``-2 (f_inj - f_e)`` in the positive frame, where
+    the filter's phase is minus its phase ``atan((w_0^2 - w^2) / (w_g w))`` at ``+2 (f_inj - f_e)``, so
+    the angle lags by half of that phase (eq. (18) with its sign); that phase, evaluated on the quantised
+    discrete filter at 41 speeds in ``0..f_e_max``, is fitted by a straight line through 0 (the paper fits
+    a first-order polynomial); the moving average over N periods of a phasor at ``2 f_e`` lags ``theta`` by
+    ``(N - 1) / 2`` periods."""
+    ref = biquad.response(bpf, 2 * f_inj, f_sw)
+    num = den = 0.0
+    for k in range(1, 41):
+        f_e = f_e_max * k / 40
+        # at the negative frequency -2 (f_inj - f_e) a real filter's phase is minus its phase at +2 (f_inj - f_e)
+        h = biquad.response(bpf, 2 * (f_inj - f_e), f_sw) / ref
+        lag = math.atan2(h.imag, h.real) / 2                                              # rad of theta
+        w = 2 * math.pi * f_e / f_sw                                                      # rad per period
+        num, den = num + lag * w, den + w * w
+    return num / den + (n_avg - 1) / 2 + 1
+
+
+def rot_bpf_params(sc: Scenario) -> RotParams:
+    """``estimator.rot_bpf``: the 000 method's integers (golden.firmware.rot_bpf)."""
+    t, f_sw = sc.estimator.params["rot_bpf"], sc.pwm.f_sw
+    mag, p = sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"])
+    step = inj_step(t["f_inj"], f_sw)
+    q_sin, q_cos = sincos_q15(uwrap(-shr(wrap(step, 32), 2), 32))     # -INJ_STEP / 4
+    bpf = biquad.bandpass(2 * t["f_inj"], t["bpf_width"], f_sw)
+    kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
+    f_e_max = sc.estimator.handover_up * p / (2 * math.pi)
+    delay = rot_bpf_delay(bpf, t["f_inj"], t["n_avg"], f_sw, max(f_e_max, 1.0))
+    # the negative sequence's phase: +-pi/2 by the saliency's sign (docs/methods.md), less the stator
+    # resistance's share, which eqs. (8)-(11) neglect: arg 1/((R + j w L_d)(R + j w L_q)) + pi
+    w_h, r = 2 * math.pi * t["f_inj"], sc.plant["R_s"]
+    d_r = math.atan(r / (w_h * mag["L_d"])) + math.atan(r / (w_h * mag["L_q"]))
+    offset = (2**30 if mag["L_q"] > mag["L_d"] else 3 * 2**30) - to_fixed(d_r / (2 * math.pi), 32)
+    return RotParams(q_cos=q_cos, q_sin=q_sin, bpf=bpf, n_avg=t["n_avg"], offset=offset % 2**32, pll_kp=kp, pll_ki=ki,
+                     k_delay=to_fixed(delay, 16), n_hold=round(t["hold"] * f_sw))
+
+
+def eemf_smo_params(sc: Scenario) -> SmoParams:
+    """``estimator.eemf_smo`` and the motor's nominal data: the observer's integers (golden.firmware.eemf_smo).
+
+    The observer's inductance ``L_o`` is ``L_q`` (``model = "Lq"``, default: no speed-dependent cross
+    term) or ``L_d`` (``model = "Ld"``: the paper's eq. (20), whose cross term is ``w (L_d - L_q) J i``);
+    docs/methods.md says why. ``c_v = T / L_o`` (current LSB per voltage LSB), ``c_r = T R / L_o``,
+    ``c_x = 2 pi (L_o - L_q) / L_o``; the linear gain ``k_lin`` puts the observer's error pole at
+    ``obs_pole`` (``1 - c_r - c_v k = pole``); the low-pass cut-off ``lpf_ratio`` times the electrical
+    speed between ``lpf_min`` and ``lpf_max``. ``lag0`` and ``k_delay`` [periods]: :func:`eemf_smo_lag`
+    and one period from the PLL's prediction to the window of use."""
+    t, sc_, f_sw = sc.estimator.params["eemf_smo"], scales(sc), sc.pwm.f_sw
+    mag, T = sc.plant["mag"], 1.0 / f_sw
+    l_o = mag["L_q"] if t["model"] == "Lq" else mag["L_d"]
+    dl = (l_o - mag["L_q"]) / l_o
+    c_v = T / l_o * sc_.v_lsb / sc_.i_lsb                       # current LSB per voltage LSB per period
+    c_r = T * sc.plant["R_s"] / l_o
+    k = (1 - c_r - t["obs_pole"]) / c_v                         # voltage LSB per current LSB
+    kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
+    pp = int(sc.plant["mech"]["pole_pairs"])
+    f_e_max = sc.plant["rated"]["speed_rpm"] / 60 * pp if "rated" in sc.plant else 100.0
+    f_e_min = sc.estimator.handover_down * pp / (2 * math.pi)
+    c_a = to_fixed(t["lpf_ratio"] * 2 * math.pi * 2**8, 0)
+    a_min, a_max = lowpass_coef(t["lpf_min"], f_sw), lowpass_coef(t["lpf_max"], f_sw)
+    lag0, slope = eemf_smo_lag(t["obs_pole"], dl, c_a, a_min, a_max, f_sw, max(f_e_min, 1.0), max(f_e_max, 2.0))
+    p = SmoParams(c_v=to_fixed(c_v, 16), c_r=to_fixed(c_r, 16), c_x=to_fixed(2 * math.pi * dl, 16),
+                  k_lin=to_fixed(k / 2**I_FRAC, 16), z_max=min(sc_.voltage(t["z_max"]), 32767),
+                  c_a=c_a, a_min=a_min, a_max=a_max, lag0=to_fixed(lag0 / (2 * math.pi), 32),
+                  pll_kp=kp, pll_ki=ki, k_delay=to_fixed(slope + 1, 16), e_min=sc_.voltage(t["e_min"]) << I_FRAC,
+                  w_dir=sc_.speed_mech(t["dir_speed"]), i_d=-sc_.current(t["i_d_min"]))
+    for name in ("c_v", "c_r", "c_x", "k_lin"):
+        if not abs(getattr(p, name)) < 2**24:
+            raise ValueError(f"EEMF observer: {name} = {getattr(p, name)} outside +-2^24 (motor data and "
+                             f"scales of scenario {sc.name})")
+    return p
+
+
+def eemf_smo_lag(pole: float, dl: float, c_a: int, a_min: int, a_max: int, f_sw: float, f_e_min: float,
+                 f_e_max: float) -> tuple[float, float]:
+    """Lag of the EEMF estimate of ``eemf_smo`` behind the true EEMF, fitted as ``lag0 + slope x`` (rad,
+    ``x`` the electrical angle per period) by least squares over 41 speeds in ``f_e_min..f_e_max``; returns
+    ``(lag0, slope)`` (rad, periods). In the observer's linear zone the current error obeys
+    ``eps' = (pole + j g) eps + c_v e`` with ``g = x dl``, ``dl = (L_o - L_q) / L_o`` (the cross term of
+    eq. (20), ``J`` acting as ``-j``; 0 for ``L_o = L_q``), so ``z / e = (1 - pole) q / (1 - (pole + j g) q)``
+    with ``q = e^{-j x}``; then the low-pass ``a / (1 - (1 - a) q)`` with the speed-dependent ``a`` of the
+    firmware. The cut-off in proportion to the speed makes the filter's lag nearly constant
+    (``atan(1 / ratio)``); the paper's cross term (``L_o = L_d``) adds ``-dl / (1 - pole)`` periods,
+    3.4 on the Table 1 PMaSynRM at pole 0.5."""
+    xs, ys = [], []
+    for k in range(41):
+        f_e = f_e_min + (f_e_max - f_e_min) * k / 40
+        x = 2 * math.pi * f_e / f_sw
+        w_bin = round(f_e / f_sw * 2**32)
+        a = min(max((w_bin * c_a) >> 24, a_min), a_max) / 65536
+        q = complex(math.cos(x), -math.sin(x))
+        h = (1 - pole) * q / (1 - complex(pole, x * dl) * q) * a / (1 - (1 - a) * q)
+        xs.append(x)
+        ys.append(-math.atan2(h.imag, h.real))
+    n = len(xs)
+    mx, my = sum(xs) / n, sum(ys) / n
+    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
+    return my - slope * mx, slope

@@ -103,10 +103,12 @@ PRESETS: dict[str, dict] = {
     "tap2023_pmasynrm": {
         "R_s": 5.9,  # Table 1
         "mag": {
-            "kind": MAG_LINEAR,  # the paper gives no saturation data
+            "kind": MAG_DSAT,    # the paper gives no saturation data, but its polarity test needs some
             "psi_f": 0.096,      # Table 1: lambda_PM = 96 mWb
             "L_d": 0.067,        # Table 1: L_q,paper = 67 mH
             "L_q": 0.182,        # Table 1: L_d,paper = 182 mH
+            "dsat_a": 0.00033,   # assumed: l_d(+2.29 A) is 6.65 % below l_d(-2.29 A) (docs/motors.md)
+            "dsat_S": 4,         # assumed
         },
         "mech": {
             "pole_pairs": 2,  # Table 1

@@ -249,6 +249,12 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "i_pulse": _q("current", _positive, default=2.2),
         "dead_time_comp": Field("choice", choices={"off": 0, "on": 1}, default="off"),
         "dtc_zone": _q("current", _positive, default=0.1),
+        "polarity": Field("choice", choices={"current": 0, "pilot": 1}, default="current"),
+        "v_pilot": _q("voltage", _positive, default=100.0),
+        "mtpa": Field("choice", choices={"off": 0, "on": 1}, default="off"),
+        "notch_freq": _q("frequency", _non_negative, default=0.0),
+        "notch_width": _q("frequency", _positive, default=400.0),
+        "speed_rate": _q("frequency", _non_negative, default=0.0),
     },
     "estimator": {
         "low": Field("choice", choices=LOW_ESTIMATORS, default="sqw_bangbang"),
@@ -258,6 +264,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "merge_time": _q("time", _positive, default=0.02),
         "sqw_bangbang": _TABLE,
         "rfo": _TABLE,
+        "rot_bpf": _TABLE,
+        "eemf_smo": _TABLE,
     },
     # One table per method (docs/methods.md): its own parameters, used when a slot names it.
     "estimator.sqw_bangbang": {
@@ -270,6 +278,27 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "pll_kp": Field("number", check=_positive, default=1000.0),
         "pll_ki": Field("number", check=_positive, default=250000.0),
         "i_d_min": _q("current", _non_negative, default=1.0),
+    },
+    "estimator.rot_bpf": {
+        "f_inj": _q("frequency", _positive, default=500.0),
+        "bpf_width": _q("frequency", _positive, default=164.0),
+        "n_avg": Field("integer", check=_between(1, 32), default=20),
+        "pll_kp": Field("number", check=_positive, default=100.0),
+        "pll_ki": Field("number", check=_positive, default=2500.0),
+        "hold": _q("time", _non_negative, default=0.008),
+    },
+    "estimator.eemf_smo": {
+        "model": Field("choice", choices={"Lq": 0, "Ld": 1}, default="Lq"),
+        "z_max": _q("voltage", _positive, default=200.0),
+        "obs_pole": Field("number", check=_between(0.0, 0.95), default=0.5),
+        "lpf_ratio": Field("number", check=_positive, default=2.0),
+        "lpf_min": _q("frequency", _positive, default=5.0),
+        "lpf_max": _q("frequency", _positive, default=1000.0),
+        "e_min": _q("voltage", _non_negative, default=2.0),
+        "dir_speed": _q("speed", _non_negative, default=50 * math.pi / 30),
+        "pll_kp": Field("number", check=_positive, default=100.0),
+        "pll_ki": Field("number", check=_positive, default=2500.0),
+        "i_d_min": _q("current", _non_negative, default=0.0),
     },
     "simulation": {
         "max_substep": _q("time", _positive),
@@ -354,6 +383,12 @@ class ControlSettings:
     i_pulse: float
     dead_time_comp: str
     dtc_zone: float
+    polarity: str
+    v_pilot: float
+    mtpa: str
+    notch_freq: float
+    notch_width: float
+    speed_rate: float
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from golden.firmware.estimator import INJ_NONE, INJ_SQW_D, METHODS, SLOT_HIGH, SLOT_LOW
+from golden.firmware.estimator import INJ_NONE, INJ_ROT, INJ_SQW_D, METHODS, SLOT_HIGH, SLOT_LOW
 from golden.scenario import ScenarioError, load_scenario
 from hfi import backends
 from hfi.paper import BASE as DEFAULT_SCENARIO
@@ -32,7 +32,8 @@ BENCH_SCRIPTS = ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls
 """``hfi bench``: the benchmarks of ``scripts/``, in this order (as ``make bench``)."""
 
 SLOT_NAMES = {SLOT_LOW: "low", SLOT_HIGH: "high"}
-INJECTION_NAMES = {INJ_NONE: "none", INJ_SQW_D: "square wave on d_hat at f_sw"}
+INJECTION_NAMES = {INJ_NONE: "none", INJ_SQW_D: "square wave on d_hat at f_sw",
+                   INJ_ROT: "vector rotating at f_inj in the stationary frame"}
 
 
 class _Parser(argparse.ArgumentParser):

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import cffi
 
+from golden.firmware.biquad import BiquadState
 from golden.firmware.pi import PiParams
 from golden.firmware.pll import PllState
 from golden.firmware.supervisor import Firmware, FirmwareParams, Outputs
@@ -33,7 +34,7 @@ LIBRARY = Path("out/firmware/host/libhfifw.so")
 """The host build (firmware/Makefile, target ``host``), relative to the project root."""
 
 STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id_int", "iq_int",
-                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset")
+                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset", "speed_cnt", "i_s_ref")
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
 (besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each
 method's state block, named by the method's ``PARAMS``)."""
@@ -101,6 +102,8 @@ def _fill(c, obj) -> None:
         v = getattr(obj, f.name)
         if is_dataclass(v):
             _fill(getattr(c, f.name), v)
+        elif isinstance(v, tuple):
+            getattr(c, f.name)[0:len(v)] = list(v)
         elif v is not None:
             setattr(c, f.name, v)
 
@@ -120,6 +123,8 @@ def params_to_c(ffi: cffi.FFI, p: FirmwareParams):
     _fill(c, replace(p, fixed_angle=None))
     c.fixed_enable = 0 if p.fixed_angle is None else 1
     c.fixed_angle = 0 if p.fixed_angle is None else uwrap(p.fixed_angle, 32)
+    c.mtpa_len = len(p.mtpa_id)
+    c.notch_on = 0 if p.notch is None else 1
     return c
 
 
@@ -151,8 +156,20 @@ def _estimator_into(c, est) -> None:
             continue
         if isinstance(v, PllState):
             c.pll.theta, c.pll.omega, c.pll.integ = v.theta, v.omega, v.integ
+        elif isinstance(v, BiquadState):
+            _biquad_into(getattr(c, name), v)
+        elif isinstance(v, list):
+            getattr(c, name)[0:len(v)] = v
         else:
             setattr(c, name, v)
+
+
+def _biquad_into(c, s: BiquadState) -> None:
+    c.x1, c.x2, c.y1, c.y2 = s.x1, s.x2, s.y1, s.y2
+
+
+def _biquad_from(c) -> BiquadState:
+    return BiquadState(c.x1, c.x2, c.y1, c.y2)
 
 
 def state_to_c(ffi: cffi.FFI, fw: Firmware):
@@ -164,6 +181,8 @@ def state_to_c(ffi: cffi.FFI, fw: Firmware):
         c.est_theta[k], c.est_omega[k] = fw.est_theta[k], fw.est_omega[k]
         _outputs_into(c.act[k], fw.act[k])
     _outputs_into(c.prev, fw.prev)
+    _biquad_into(c.nd, fw.nd)
+    _biquad_into(c.nq, fw.nq)
     for est in fw.slots:
         if est is not None:
             _estimator_into(getattr(c, est.PARAMS), est)
@@ -190,12 +209,21 @@ def state_from_c(c, p: FirmwareParams) -> Firmware:
     fw.est_omega = [c.est_omega[0], c.est_omega[1]]
     fw.act = [outputs_from_c(c.act[0]), outputs_from_c(c.act[1])]
     fw.prev = outputs_from_c(c.prev)
+    fw.nd, fw.nq = _biquad_from(c.nd), _biquad_from(c.nq)
     for est in fw.slots:
         if est is None:
             continue
         block = getattr(c, est.PARAMS)
-        for name in list(vars(est)):
+        for name, v in list(vars(est).items()):
             if name == "p" or not hasattr(block, name):
                 continue
-            setattr(est, name, pll_from_c(block.pll) if name == "pll" else getattr(block, name))
+            if isinstance(v, PllState):
+                v = pll_from_c(block.pll)
+            elif isinstance(v, BiquadState):
+                v = _biquad_from(getattr(block, name))
+            elif isinstance(v, list):
+                v = list(getattr(block, name))[:len(v)]
+            else:
+                v = getattr(block, name)
+            setattr(est, name, v)
     return fw

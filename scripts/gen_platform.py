@@ -41,7 +41,7 @@ if str(ROOT) not in sys.path:
 import numpy as np  # noqa: E402
 
 from golden.closedloop import WINDOW_FIELDS, truth_columns  # noqa: E402
-from golden.firmware import rfo, sqw_bangbang  # noqa: E402
+from golden.firmware import biquad, eemf_smo, mtpa, rfo, rot_bpf, sqw_bangbang, supervisor  # noqa: E402
 from golden.firmware.estimator import INJ_NONE, METHODS  # noqa: E402
 from golden.plant.binding import STATE_DTYPE  # noqa: E402
 from hfi import generated  # noqa: E402
@@ -148,6 +148,15 @@ def render_methods() -> str:
         f"#define FW_SQW_SYNC_HOLD {sqw_bangbang.SYNC_HOLD}  /* golden.firmware.sqw_bangbang.SYNC_HOLD */",
         f"#define FW_RFO_FLUX_FRAC {rfo.FLUX_FRAC}  /* golden.firmware.rfo.FLUX_FRAC */",
         f"#define FW_RFO_Q_LIMIT {rfo.Q_LIMIT}  /* golden.firmware.rfo.Q_LIMIT */",
+        f"#define FW_BIQUAD_COEF_FRAC {biquad.COEF_FRAC}  /* golden.firmware.biquad.COEF_FRAC */",
+        f"#define FW_BIQUAD_Y_FRAC {biquad.Y_FRAC}  /* golden.firmware.biquad.Y_FRAC */",
+        f"#define FW_ROT_N_MAX {rot_bpf.N_MAX}  /* golden.firmware.rot_bpf.N_MAX */",
+        f"#define FW_ROT_X_BITS {rot_bpf.X_BITS}  /* golden.firmware.rot_bpf.X_BITS */",
+        f"#define FW_ROT_Z_BITS {rot_bpf.Z_BITS}  /* golden.firmware.rot_bpf.Z_BITS */",
+        f"#define FW_SMO_I_FRAC {eemf_smo.I_FRAC}  /* golden.firmware.eemf_smo.I_FRAC */",
+        f"#define FW_SMO_QUARTER {eemf_smo.QUARTER}u  /* golden.firmware.eemf_smo.QUARTER */",
+        f"#define FW_MTPA_LEN {mtpa.MTPA_LEN}  /* golden.firmware.mtpa.MTPA_LEN */",
+        f"#define FW_NOTCH_BITS {supervisor.NOTCH_BITS}  /* golden.firmware.supervisor.NOTCH_BITS */",
         "",
         "#endif",
         "",

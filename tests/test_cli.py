@@ -80,11 +80,13 @@ def test_check_bad_and_missing_files(tmp_path):
 def test_methods_lists_every_estimator_with_the_backends(capsys):
     assert main(["methods"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert [line.split(":")[0] for line in lines] == ["sqw_bangbang", "rfo"]
+    assert [line.split(":")[0] for line in lines] == ["sqw_bangbang", "rfo", "rot_bpf", "eemf_smo"]
     assert lines[0].startswith("sqw_bangbang: Benevieri et al., IEEE TPEL 2023 (002); slots low; "
                                "injection square wave on d_hat at f_sw; ")
     assert lines[1].startswith("rfo: Ortega et al. 2011")
     assert "; slots high; injection none; " in lines[1]
+    assert lines[2].startswith("rot_bpf: Tap et al., IEEE Access 2023 (000); slots low; injection vector rotating")
+    assert lines[3].startswith("eemf_smo: Tap et al.") and "; slots high; injection none; " in lines[3]
     assert all(line.endswith("; backends golden, rtl, hls") for line in lines)
 
 

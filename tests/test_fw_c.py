@@ -17,17 +17,22 @@ import shutil
 import numpy as np
 import pytest
 
+from golden.firmware import mtpa, rot_bpf
 from golden.firmware.bangbang import bangbang_step
-from golden.firmware.estimator import METHOD_RFO, METHOD_SQW_BANGBANG, METHODS, SLOT_HIGH, SLOT_LOW
+from golden.firmware.biquad import BiquadCoef, BiquadState, biquad_step
+from golden.firmware.eemf_smo import SmoParams
+from golden.firmware.estimator import (METHOD_EEMF_SMO, METHOD_RFO, METHOD_ROT_BPF, METHOD_SQW_BANGBANG, METHODS,
+                                       SLOT_HIGH, SLOT_LOW, injection_voltage)
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.pll import PllState, pll_step
 from golden.firmware.rfo import Q_LIMIT, RfoParams
+from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, MODE_NAMES, MODE_POL_NEG,
-                                        MODE_POL_POS, MODE_RELAX, MODE_RUN, Firmware, FirmwareParams,
-                                        Outputs)
+                                        MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_PILOT, Firmware,
+                                        FirmwareParams, Outputs)
 from golden.fixed import c_div
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
@@ -38,6 +43,7 @@ S64_MIN, S64_MAX = -(1 << 63), (1 << 63) - 1
 U16_MAX, U32_MAX = (1 << 16) - 1, (1 << 32) - 1
 F_MIN, F_MAX = -(1 << 47), (1 << 47) - 1        # speed-filter state: shr(F, 16) in s32
 N_RANDOM = 100_000
+METHODS_BY_ID = (METHOD_SQW_BANGBANG, METHOD_RFO, METHOD_ROT_BPF, METHOD_EEMF_SMO)
 
 ffi, lib = fw_c.load()
 
@@ -357,7 +363,8 @@ class Pair:
 def state_diff(a: Firmware, b: Firmware) -> dict:
     """The fields of two firmware states that differ: the shared scalars, the slot outputs, the output
     history and every attribute of each slot's estimator."""
-    diff = {k: (getattr(a, k), getattr(b, k)) for k in (*fw_c.STATE_FIELDS, "est_theta", "est_omega", "act", "prev")
+    diff = {k: (getattr(a, k), getattr(b, k)) for k in (*fw_c.STATE_FIELDS, "est_theta", "est_omega", "act", "prev",
+                                                         "nd", "nq")
             if getattr(a, k) != getattr(b, k)}
     for slot, (ea, eb) in enumerate(zip(a.slots, b.slots)):
         if ea is not None:
@@ -373,22 +380,74 @@ def random_rfo(rng: np.random.Generator) -> RfoParams:
                      pll_ki=draw_one(rng, 0, S32_MAX, (167772,)), i_d=draw_one(rng, -S32_MAX, 0, (-2621,)))
 
 
+def random_coef(rng: np.random.Generator) -> BiquadCoef:
+    """Q28 coefficients over their range (|.| < 2^30), a real band-pass or notch in one set of three."""
+    if rng.random() < 1 / 3:
+        return BiquadCoef(*(int(v) for v in rng.choice([[23_022_048, 0, -23_022_048, -397_327_563, 222_391_887],
+                                                         [252_062_643, -409_380_286, 252_062_643, -409_380_286,
+                                                          235_689_270]])))
+    return BiquadCoef(*draw(rng, 5, -(1 << 30) + 1, (1 << 30) - 1, (0,)))
+
+
+def random_rot(rng: np.random.Generator) -> RotParams:
+    """rot_bpf integers over their documented ranges (golden.firmware.rot_bpf), the 000 values frequent."""
+    q_sin, q_cos = sincos_q15(draw_one(rng, 0, U32_MAX, (3_972_844_748,)))
+    return RotParams(q_cos=q_cos, q_sin=q_sin, bpf=random_coef(rng), n_avg=draw_one(rng, 1, rot_bpf.N_MAX, (20,)),
+                     offset=draw_one(rng, 0, U32_MAX, (1 << 30, 3 << 30)), pll_kp=draw_one(rng, 0, S32_MAX, (655,)),
+                     pll_ki=draw_one(rng, 0, S32_MAX, (419,)), k_delay=draw_one(rng, -(1 << 24) + 1, (1 << 24) - 1,
+                                                                                (2_033_024,)),
+                     n_hold=draw_one(rng, 0, 30, (0, 1)))
+
+
+def random_smo(rng: np.random.Generator) -> SmoParams:
+    """eemf_smo integers over their documented ranges (golden.firmware.eemf_smo)."""
+    c_v, c_r, c_x, k_lin = draw(rng, 4, -(1 << 24) + 1, (1 << 24) - 1, (0, 2521, 212, 3306))
+    a_min, a_max = sorted(draw(rng, 2, 0, 1 << 16, (206, 30573, 1 << 16)))
+    return SmoParams(c_v=c_v, c_r=c_r, c_x=c_x, k_lin=k_lin, z_max=draw_one(rng, 0, (1 << 15) - 1, (18725,)),
+                     c_a=draw_one(rng, 0, 1 << 16, (3217,)), a_min=a_min, a_max=a_max,
+                     lag0=draw_one(rng, 0, U32_MAX, (317_115_495,)), pll_kp=draw_one(rng, 0, S32_MAX, (1966,)),
+                     pll_ki=draw_one(rng, 0, S32_MAX, (3775,)),
+                     k_delay=draw_one(rng, -(1 << 24) + 1, (1 << 24) - 1, (136_975,)),
+                     e_min=draw_one(rng, 0, S32_MAX, (0, 47872)), w_dir=draw_one(rng, 0, S32_MAX, (715_828,)),
+                     i_d=draw_one(rng, -S32_MAX, 0, (0,)))
+
+
+def random_mtpa(rng: np.random.Generator) -> tuple[int, tuple, tuple]:
+    n = int(rng.integers(2, mtpa.MTPA_LEN + 1))
+    return (int(rng.integers(0, 21)), tuple(draw(rng, n, -(1 << 15), (1 << 15) - 1)),
+            tuple(draw(rng, n, -(1 << 15), (1 << 15) - 1)))
+
+
 def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
     """Valid parameters (PiParams, pll_gains, lowpass_coef, k_bb_raw ranges), short start-up counts; the
-    high slot is the rotor flux observer in two of three sets, with hand-over speeds that switch often."""
+    low slot is the square wave or the rotating injection, the high slot none, the rotor flux observer or
+    the EEMF observer, with hand-over speeds that switch often; the 000 blocks (pilot polarity, MTPA,
+    notch, speed-loop divider, rotating injection) each on in about half of the sets."""
     k_bb, pll_kp, pll_ki = draw(rng, 3, 0, S32_MAX, (27_342_611, 2621, 6711))
-    v_h, i_pulse = draw(rng, 2, -S32_MAX, S32_MAX, (300, 5851))
+    inj_rot = int(rng.random() < 0.5)
+    v_h = draw_one(rng, 0, (1 << 15) - 1, (2621,)) if inj_rot else draw_one(rng, -S32_MAX, S32_MAX, (300,))
+    i_pulse = draw_one(rng, -S32_MAX, S32_MAX, (5851,))
     n_converge, n_pulse = (int(v) for v in rng.integers(-1, 25, size=2))
-    high = METHOD_RFO if rng.random() < 2 / 3 else 0
+    low = METHOD_ROT_BPF if rng.random() < 0.5 else METHOD_SQW_BANGBANG
+    high = (0, METHOD_RFO, METHOD_EEMF_SMO)[int(rng.integers(0, 3))]
     w_down = int(rng.integers(0, S32_MAX - (1 << 24))) if rng.random() < 0.5 else draw_one(rng, 0, 1 << 24, (0, 100))
+    inj_sd, inj_cd = sincos_q15(draw_one(rng, 0, U32_MAX, (214_748_365,)))
+    shift, t_d, t_q = random_mtpa(rng) if rng.random() < 0.5 else (0, (), ())
     return FirmwareParams(
-        low=METHOD_SQW_BANGBANG, high=high, sqw=SqwParams(k_bb, pll_kp, pll_ki),
-        rfo=random_rfo(rng) if high else None, w_up=w_down + draw_one(rng, 0, 1 << 24, (0, 1)), w_down=w_down,
+        low=low, high=high, sqw=SqwParams(k_bb, pll_kp, pll_ki) if low == METHOD_SQW_BANGBANG else None,
+        rfo=random_rfo(rng) if high == METHOD_RFO else None,
+        rot=random_rot(rng) if low == METHOD_ROT_BPF else None,
+        smo=random_smo(rng) if high == METHOD_EEMF_SMO else None,
+        w_up=w_down + draw_one(rng, 0, 1 << 24, (0, 1)), w_down=w_down,
         merge=draw_one(rng, 0, 1 << 16, (0, 1 << 16, 2000)), speed_lp=draw_one(rng, 0, 1 << 16, (2425,)),
         speed_pi=random_pi(rng), id_pi=random_pi(rng), iq_pi=random_pi(rng), v_h=v_h, i_pulse=i_pulse,
         n_converge=n_converge, n_pulse=n_pulse, n_settle=int(rng.integers(-1, 12)),
         i_trip=draw_one(rng, 0, S32_MAX, (1000, 32767)),
-        fixed_angle=draw_one(rng, 0, U32_MAX) if fixed else None)
+        fixed_angle=draw_one(rng, 0, U32_MAX) if fixed else None,
+        inj_rot=inj_rot, inj_cd=inj_cd, inj_sd=inj_sd, hf_dtc=draw_one(rng, 0, 1 << 15, (597,)),
+        pol_mode=POL_PILOT if rng.random() < 0.5 else POL_CURRENT, v_pilot=draw_one(rng, 0, (1 << 15) - 1, (9362,)),
+        mtpa_shift=shift, mtpa_id=t_d, mtpa_iq=t_q, notch=random_coef(rng) if rng.random() < 0.5 else None,
+        speed_div=draw_one(rng, 1, 20, (1, 10)))
 
 
 def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int) -> list[WindowResult]:
@@ -402,7 +461,8 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
     rems = rng.integers(0, np.maximum(n, 1), size=(2, count)) * np.sign(means)
     sums = np.clip(means * n + rems, S32_MIN, S32_MAX)
     sums = np.where(n == 0, draw_array(rng, 2 * count, S32_MIN, S32_MAX).reshape(2, count), sums)
-    cols = (gamma, gamma_d, sums[0], sums[1], wsum, n)
+    inj_phase = draw_array(rng, count, 0, U32_MAX)
+    cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase)
     return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
 
 
@@ -431,7 +491,7 @@ TRIP_FROM = (MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MO
 def test_fw_step_random_sequences(seed, chunk):
     """SEQS_PER_CHUNK sequences of SEQ_LEN windows; each trips (if at all) from a chosen state."""
     rng = np.random.default_rng(seed + 100 + chunk)
-    visited, trips_from, flips, switches = set(), set(), set(), set()
+    visited, trips_from, flips, switches, running = set(), set(), set(), set(), set()
     for q in range(SEQS_PER_CHUNK):
         fixed = q % 8 == 0
         p = random_params(rng, fixed)
@@ -454,10 +514,14 @@ def test_fw_step_random_sequences(seed, chunk):
                 flips.add(pair.fw.flipped)
             if pair.fw.active != active:
                 switches.add(pair.fw.active)
+            if pair.fw.mode == MODE_RUN:
+                running.add((p.low if pair.fw.active == SLOT_LOW else p.high, p.pol_mode))
     assert SLOT_HIGH in switches, switches       # hand-overs happen (both ways: test_hand_over_*)
     assert visited == set(range(7)), visited
     assert trips_from == set(TRIP_FROM), trips_from
     assert flips == {0, 1}, flips
+    assert {m for m, _ in running} == set(METHODS_BY_ID) and {pol for _, pol in running} == {POL_CURRENT, POL_PILOT}, \
+        running
 
 
 def _params(**kw) -> FirmwareParams:
@@ -574,3 +638,57 @@ def test_hand_over_down_syncs_the_low_slot_and_restarts_the_injection():
     assert out.v_h == fw.p.v_h and out.i_d_ref == 0
     pair.step(_win(gamma=5, sum_id=0, sum_iq=0), 0)      # the hold step: gamma ignored, PLL speed added
     assert lo.hold == 0
+
+
+# ---- the 000 blocks: band-pass/notch section, MTPA table, injection voltage ---------------------------------
+def test_array_lengths_match_golden():
+    """control.h writes the ring buffer and MTPA table lengths as literals (cffi parses it): they are
+    golden.firmware.rot_bpf.N_MAX and golden.firmware.mtpa.MTPA_LEN."""
+    rot = dict(ffi.typeof("struct fw_rot_state").fields)
+    assert rot["buf_d"].type.length == rot["buf_q"].type.length == rot_bpf.N_MAX
+    fields = dict(ffi.typeof("struct fw_params").fields)
+    assert fields["mtpa_id"].type.length == fields["mtpa_iq"].type.length == mtpa.MTPA_LEN
+
+
+def test_biquad_random(seed):
+    """fw_biquad_step = biquad_step on N_RANDOM random states, inputs (|x| < 2^20) and coefficients."""
+    rng = np.random.default_rng(seed + 40)
+    xs = draw(rng, N_RANDOM, -(1 << 20) + 1, (1 << 20) - 1)
+    st = ffi.new("struct fw_biquad *")
+    c = ffi.new("struct fw_biquad_coef *")
+    for k in range(N_RANDOM):
+        if k % 10 == 0:                  # a new section and state every 10 steps
+            coef = random_coef(rng)
+            c.b0, c.b1, c.b2, c.a1, c.a2 = coef.b0, coef.b1, coef.b2, coef.a1, coef.a2
+            x1, x2 = draw(rng, 2, -(1 << 20) + 1, (1 << 20) - 1)
+            y1, y2 = draw(rng, 2, S32_MIN, S32_MAX)
+            g = BiquadState(x1, x2, y1, y2)
+            st.x1, st.x2, st.y1, st.y2 = x1, x2, y1, y2
+        g = biquad_step(g, xs[k], coef)
+        lib.fw_biquad_step(st, xs[k], c)
+        assert (st.x1, st.x2, st.y1, st.y2) == (g.x1, g.x2, g.y1, g.y2), (k, coef, xs[k])
+
+
+def test_mtpa_lookup_random(seed):
+    """fw_mtpa_lookup = mtpa_lookup on N_RANDOM magnitudes (0..2^31, inside and beyond the table)."""
+    rng = np.random.default_rng(seed + 41)
+    out_d, out_q = ffi.new("int32_t *"), ffi.new("int32_t *")
+    t_d, t_q = ffi.new("int32_t[]", mtpa.MTPA_LEN), ffi.new("int32_t[]", mtpa.MTPA_LEN)
+    for k in range(N_RANDOM // 100):
+        shift, d, q = random_mtpa(rng)
+        t_d[0:len(d)], t_q[0:len(q)] = list(d), list(q)
+        for i_s in draw(rng, 100, 0, 1 << 31, ((len(d) - 1) << shift, (len(d) - 2) << shift)):
+            lib.fw_mtpa_lookup(i_s, shift, len(d), t_d, t_q, out_d, out_q)
+            assert (out_d[0], out_q[0]) == mtpa.mtpa_lookup(i_s, shift, d, q), (shift, d, q, i_s)
+
+
+def test_injection_voltage_random(seed):
+    """fw_injection_voltage = injection_voltage on N_RANDOM amplitudes (0..2^15) and Q15 angles."""
+    rng = np.random.default_rng(seed + 42)
+    a, b = _out_pair()
+    v_now, v_before = (draw(rng, N_RANDOM, 0, 1 << 15) for _ in range(2))
+    for k in range(N_RANDOM):
+        s_, c_ = sincos_q15(draw_one(rng, 0, U32_MAX))
+        sd, cd = sincos_q15(draw_one(rng, 0, U32_MAX, (214_748_365,)))
+        lib.fw_injection_voltage(v_now[k], v_before[k], s_, c_, cd, sd, a, b)
+        assert (a[0], b[0]) == injection_voltage(v_now[k], v_before[k], s_, c_, cd, sd), k

@@ -211,16 +211,18 @@ def test_xue_and_syrm_literals():
 # ---- 000: conversion of the paper's frame (d = high inductance, magnet on -q) ---------------------------------
 def test_tap_conversion_literals():
     p = motors.preset("tap2023_pmasynrm")
-    assert p["mag"]["kind"] == motors.MAG_LINEAR
+    assert p["mag"]["kind"] == motors.MAG_DSAT
     assert (p["mag"]["L_d"], p["mag"]["L_q"], p["mag"]["psi_f"]) == (0.067, 0.182, 0.096)
+    assert (p["mag"]["dsat_a"], p["mag"]["dsat_S"]) == (0.00033, 4)
     assert (p["R_s"], p["mech"]["pole_pairs"]) == (5.9, 2)
     assert p["rated"]["current_peak"] == 1.62 * math.sqrt(2.0)
 
 
 def test_tap_conversion_same_machine():
     """Paper frame (L_d,p = 182 mH, L_q,p = 67 mH, psi_q,p = L_q,p i_q,p - lambda) at angle theta_p and
-    plant frame at theta = theta_p - 90 deg describe the same stator flux and torque."""
-    m = motors.preset("tap2023_pmasynrm")["mag"]
+    plant frame at theta = theta_p - 90 deg describe the same stator flux and torque (the preset's data
+    without its assumed saturation, which the paper does not have)."""
+    m = dict(motors.preset("tap2023_pmasynrm")["mag"], kind=motors.MAG_LINEAR)
     p = 2
     rng = np.random.default_rng(0)
     for _ in range(20):
@@ -246,7 +248,7 @@ def test_tap_conversion_same_machine():
 
 def test_tap_reluctance_torque_adds_with_negative_i_d():
     p = motors.preset("tap2023_pmasynrm")
-    m = p["mag"]
+    p["mag"] = m = dict(p["mag"], kind=motors.MAG_LINEAR)      # the paper's (linear) machine
     # T = 1.5 p (psi_f i_q + (L_d - L_q) i_d i_q): (L_d - L_q) < 0, so i_d < 0 adds reluctance torque
     assert torque(p, -1.0, 1.0) > torque(p, 0.0, 1.0) > torque(p, 1.0, 1.0)
     assert torque(p, -1.0, 1.0) - torque(p, 0.0, 1.0) == pytest.approx(1.5 * 2 * (m["L_q"] - m["L_d"]), rel=1e-12)
@@ -276,6 +278,7 @@ def test_table3_torque_and_back_emf():
 @pytest.mark.parametrize("name, band, expected, current", [
     ("benevieri2023_table1", (0.05, 0.08), 0.0641, 2.2),
     ("benevieri2023_table3", (0.05, 0.08), 0.0630, 3.6 * math.sqrt(2.0)),
+    ("tap2023_pmasynrm", (0.05, 0.08), 0.0665, 1.62 * math.sqrt(2.0)),
 ])
 def test_dsat_asymmetry(name, band, expected, current):
     m = motors.preset(name)["mag"]

@@ -244,6 +244,62 @@ void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
     *mag = (int32_t)(((int64_t)x * FW_CORDIC_X0) >> 30);
 }
 
+/* golden.fixed.sat(x, bits) of an int32 for 1 <= bits <= 31 */
+static int32_t sat_s32(int32_t x, int bits)
+{
+    int32_t hi = (int32_t)((1u << (bits - 1)) - 1u);
+
+    return x > hi ? hi : x < -hi - 1 ? -hi - 1 : x;
+}
+
+/* golden.fixed.round_shr(x, 15) of an int64 product sum, as int32 (the callers' ranges keep it in s32) */
+static int32_t rq15(int64_t x)
+{
+    return (int32_t)((x + (1 << 14)) >> 15);
+}
+
+/* golden.firmware.biquad.biquad_step: direct form I, Q28 coefficients, inputs x << Y_FRAC as products
+ * (|x| < 2^20, |y| < 2^31: every product below 2^61, the sum of five within int64). */
+void fw_biquad_step(struct fw_biquad *s, int32_t x, const struct fw_biquad_coef *c)
+{
+    const int64_t f = (int64_t)1 << FW_BIQUAD_Y_FRAC;
+    int64_t acc = (int64_t)c->b0 * (x * f) + (int64_t)c->b1 * (s->x1 * f) + (int64_t)c->b2 * (s->x2 * f) -
+                  (int64_t)c->a1 * s->y1 - (int64_t)c->a2 * s->y2;
+    int32_t y = sat32((acc + ((int64_t)1 << (FW_BIQUAD_COEF_FRAC - 1))) >> FW_BIQUAD_COEF_FRAC);
+
+    s->x2 = s->x1;
+    s->x1 = x;
+    s->y2 = s->y1;
+    s->y1 = y;
+}
+
+/* golden.firmware.mtpa.mtpa_lookup: i_s clamped to the table's end, then linear interpolation
+ * (2 <= len <= FW_MTPA_LEN, s16 values, 0 <= shift <= 20: the product is below 2^37). */
+void fw_mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d, const int32_t *t_q, int32_t *i_d,
+                    int32_t *i_q)
+{
+    uint32_t end = (uint32_t)(len - 1) << shift;
+    uint32_t x = i_s < end ? i_s : end;
+    int32_t k = (int32_t)(x >> shift);
+
+    if (k > len - 2)
+        k = len - 2;
+    int64_t f = (int64_t)x - ((int64_t)k << shift);
+    *i_d = t_d[k] + (int32_t)(((int64_t)(t_d[k + 1] - t_d[k]) * f) >> shift);
+    *i_q = t_q[k] + (int32_t)(((int64_t)(t_q[k + 1] - t_q[k]) * f) >> shift);
+}
+
+/* golden.firmware.estimator.injection_voltage (v in 0..2^15, Q15 sin/cos: products below 2^32) */
+void fw_injection_voltage(int32_t v_now, int32_t v_before, int32_t s, int32_t c, int32_t cd, int32_t sd, int32_t *v_al,
+                          int32_t *v_be)
+{
+    int32_t c_b = rq15((int64_t)c * cd + (int64_t)s * sd);
+    int32_t s_b = rq15((int64_t)s * cd - (int64_t)c * sd);
+
+    *v_al = (int32_t)round_shr64(3 * (int64_t)v_now * c + (int64_t)v_before * c_b, 17);
+    *v_be = (int32_t)round_shr64(3 * (int64_t)v_now * s + (int64_t)v_before * s_b, 17);
+}
+
 /* ---- estimator sqw_bangbang (golden.firmware.sqw_bangbang) ------------------------------------------ */
 
 void fw_sqw_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
@@ -392,10 +448,153 @@ int32_t fw_rfo_i_d(const struct fw_params *p)
     return p->rfo.i_d;
 }
 
+/* ---- estimator rot_bpf (golden.firmware.rot_bpf; Tap et al. 2023, Sec. II-B..E) ------------------------ */
+
+void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega)
+{
+    struct fw_rot_state *e = &st->rot;
+    const struct fw_rot_params *rp = &p->rot;
+    int32_t i_al, i_be;
+    uint32_t psi;
+
+    inv_park(m->i_d, m->i_q, m->sin, m->cos, &i_al, &i_be);
+    int32_t c = rq15((int64_t)m->inj_cos * rp->q_cos - (int64_t)m->inj_sin * rp->q_sin); /* INJ_PHASE - INJ_STEP/4 */
+    int32_t s = rq15((int64_t)m->inj_sin * rp->q_cos + (int64_t)m->inj_cos * rp->q_sin);
+    int32_t x_d = (int32_t)sat_bits(round_shr64((int64_t)i_al * c + (int64_t)i_be * s, 15), FW_ROT_X_BITS); /* eq. (12) */
+    int32_t x_q = (int32_t)sat_bits(round_shr64((int64_t)i_be * c - (int64_t)i_al * s, 15), FW_ROT_X_BITS);
+    fw_biquad_step(&e->bd, x_d, &rp->bpf); /* eq. (13) */
+    fw_biquad_step(&e->bq, x_q, &rp->bpf);
+    int32_t y_d = e->bd.y1, y_q = e->bq.y1;
+    int32_t s2 = rq15(2 * (int64_t)s * c), c2 = rq15((int64_t)c * c - (int64_t)s * s);
+    int32_t z_d = (int32_t)sat_bits(round_shr64((int64_t)y_d * c2 - (int64_t)y_q * s2, 15), FW_ROT_Z_BITS); /* eq. (15) */
+    int32_t z_q = (int32_t)sat_bits(round_shr64((int64_t)y_d * s2 + (int64_t)y_q * c2, 15), FW_ROT_Z_BITS);
+    int32_t k = e->idx; /* eq. (16): moving sum */
+    e->sum_d += z_d - e->buf_d[k];
+    e->sum_q += z_q - e->buf_q[k];
+    e->buf_d[k] = z_d;
+    e->buf_q[k] = z_q;
+    e->idx = k + 1 < rp->n_avg ? k + 1 : 0;
+    fw_vector_angle((int32_t)sat_bits(e->sum_d, 29), (int32_t)sat_bits(e->sum_q, 29), &psi, &e->mag);
+    if (e->hold > 0) {
+        e->hold--;
+        e->err = 0;
+    } else { /* eq. (17), normalised */
+        e->err = (int32_t)(psi - rp->offset - 2u * e->pll.theta) >> 1;
+    }
+    fw_pll_step(&e->pll, e->pll.theta + (uint32_t)e->err, rp->pll_kp, rp->pll_ki);
+    e->omega = e->pll.omega;
+    e->theta = e->pll.theta + (uint32_t)(((int64_t)e->omega * rp->k_delay) >> 16); /* eqs. (18)-(19) */
+    *theta = e->theta;
+    *omega = e->omega;
+}
+
+void fw_rot_turn(struct fw_state *st, uint32_t delta)
+{
+    st->rot.pll.theta += delta;
+    st->rot.theta += delta;
+}
+
+void fw_rot_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega)
+{
+    static const struct fw_rot_state zero;
+    struct fw_rot_state *e = &st->rot;
+
+    *e = zero;
+    e->pll.theta = theta - (uint32_t)(((int64_t)omega * p->rot.k_delay) >> 16);
+    e->pll.integ = (int64_t)omega * 16777216;
+    e->pll.omega = omega;
+    e->theta = theta;
+    e->omega = omega;
+    e->hold = p->rot.n_hold;
+}
+
+int32_t fw_rot_i_d(const struct fw_params *p)
+{
+    (void)p;
+    return 0;
+}
+
+/* ---- estimator eemf_smo (golden.firmware.eemf_smo; Tap et al. 2023, Sec. II-F) ---------------------------- */
+
+/* min(max(x, -lim), lim) for an int64, lim >= 0 (golden.firmware.eemf_smo._clamp) */
+static int32_t clamp_z(int64_t x, int32_t lim)
+{
+    return (int32_t)(x > lim ? lim : x < -lim ? -lim : x);
+}
+
+void fw_smo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega)
+{
+    struct fw_smo_state *e = &st->smo;
+    const struct fw_smo_params *sp = &p->smo;
+    int32_t i_al, i_be;
+    uint32_t ang;
+
+    inv_park(m->i_d, m->i_q, m->sin, m->cos, &i_al, &i_be);
+    int32_t eps_al = sat32((int64_t)e->ih_al - (int64_t)i_al * (1 << FW_SMO_I_FRAC));
+    int32_t eps_be = sat32((int64_t)e->ih_be - (int64_t)i_be * (1 << FW_SMO_I_FRAC));
+    int32_t z_al = clamp_z(((int64_t)eps_al * sp->k_lin) >> 16, sp->z_max);
+    int32_t z_be = clamp_z(((int64_t)eps_be * sp->k_lin) >> 16, sp->z_max);
+    int64_t g = ((int64_t)e->pll.omega * sp->c_x) >> 32;
+    /* Tap et al. 2023, eq. (20) in the plant's frame with L_o, driven by the sliding-mode term z */
+    int64_t d_al = (((int64_t)sp->c_v * ((int64_t)m->v_al - z_al)) >> (16 - FW_SMO_I_FRAC)) -
+                   (((int64_t)sp->c_r * e->ih_al) >> 16) - ((g * e->ih_be) >> 16);
+    int64_t d_be = (((int64_t)sp->c_v * ((int64_t)m->v_be - z_be)) >> (16 - FW_SMO_I_FRAC)) -
+                   (((int64_t)sp->c_r * e->ih_be) >> 16) + ((g * e->ih_al) >> 16);
+    e->ih_al = sat32(e->ih_al + d_al);
+    e->ih_be = sat32(e->ih_be + d_be);
+    int64_t w_i = e->pll.integ >> 24;
+    int64_t a = ((w_i < 0 ? -w_i : w_i) * sp->c_a) >> 24;
+    a = a < sp->a_min ? sp->a_min : a;
+    a = a > sp->a_max ? sp->a_max : a;
+    e->ef_al += (int32_t)((a * ((int64_t)z_al * (1 << FW_SMO_I_FRAC) - e->ef_al)) >> 16);
+    e->ef_be += (int32_t)((a * ((int64_t)z_be * (1 << FW_SMO_I_FRAC) - e->ef_be)) >> 16);
+    fw_vector_angle((int32_t)sat_bits(e->ef_al, 29), (int32_t)sat_bits(e->ef_be, 29), &ang, &e->mag); /* eq. (22) */
+    if (e->mag < sp->e_min)
+        ang = e->pll.theta;
+    fw_pll_step(&e->pll, ang, sp->pll_kp, sp->pll_ki);
+    e->omega = e->pll.omega;
+    if (w_i > sp->w_dir)
+        e->dir = 1;
+    else if (w_i < -(int64_t)sp->w_dir)
+        e->dir = -1;
+    uint32_t lead = e->dir > 0 ? sp->lag0 - FW_SMO_QUARTER : FW_SMO_QUARTER - sp->lag0;
+    e->theta = e->pll.theta + lead + (uint32_t)(((int64_t)e->omega * sp->k_delay) >> 16);
+    *theta = e->theta;
+    *omega = e->omega;
+}
+
+void fw_smo_turn(struct fw_state *st, uint32_t delta)
+{
+    st->smo.pll.theta += delta;
+    st->smo.theta += delta;
+}
+
+void fw_smo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega)
+{
+    struct fw_smo_state *e = &st->smo;
+
+    e->dir = omega < 0 ? -1 : 1;
+    uint32_t lead = e->dir > 0 ? p->smo.lag0 - FW_SMO_QUARTER : FW_SMO_QUARTER - p->smo.lag0;
+    e->pll.theta = theta - lead - (uint32_t)(((int64_t)omega * p->smo.k_delay) >> 16);
+    e->pll.integ = (int64_t)omega * 16777216;
+    e->pll.omega = omega;
+    e->theta = theta;
+    e->omega = omega;
+}
+
+int32_t fw_smo_i_d(const struct fw_params *p)
+{
+    return p->smo.i_d;
+}
+
 /* golden.firmware.methods.CLASSES: the members of the plug-in interface, by method id. */
 static const struct fw_est_ops fw_methods[FW_METHODS] = {
     [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync, fw_sqw_i_d},
     [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d},
+    [FW_METHOD_ROT_BPF] = {fw_rot_step, fw_rot_turn, fw_rot_sync, fw_rot_i_d},
+    [FW_METHOD_EEMF_SMO] = {fw_smo_step, fw_smo_turn, fw_smo_sync, fw_smo_i_d},
 };
 
 /* Whether a method's injection is on while it is in charge, by method id (generated, fw_methods.h). */
@@ -411,7 +610,8 @@ static int32_t slot_method(const struct fw_params *p, int32_t slot)
 
 static const struct fw_outputs reset_outputs = {0, 0, 0, 0, 32767, 0, 0, 0}; /* RESET_OUTPUTS */
 
-/* Firmware.__init__ / __post_init__: everything 0, CONVERGE; FIXED at fixed_angle if enabled. */
+/* Firmware.__init__ / __post_init__: everything 0 (the EEMF observer's direction forwards), CONVERGE; FIXED at
+ * fixed_angle if enabled. */
 void fw_init(struct fw_state *st, const struct fw_params *p)
 {
     static const struct fw_state zero;
@@ -420,6 +620,7 @@ void fw_init(struct fw_state *st, const struct fw_params *p)
     st->mode = p->fixed_enable ? FW_FIXED : FW_CONVERGE;
     st->theta_hat = p->fixed_enable ? p->fixed_angle : 0u;
     st->act[0] = st->act[1] = st->prev = reset_outputs;
+    st->smo.dir = 1; /* EemfSmo.__init__: forwards */
 }
 
 /* Firmware._next */
@@ -466,6 +667,14 @@ static uint32_t angle_in_use(const struct fw_state *st)
     return st->est_theta[FW_SLOT_HIGH] + (uint32_t)st->offset;
 }
 
+/* Firmware._sync: sync a slot's estimator and take its outputs. */
+static void sync_slot(struct fw_state *st, const struct fw_params *p, int32_t slot, uint32_t theta, int32_t omega)
+{
+    fw_methods[slot_method(p, slot)].sync(st, p, theta, omega);
+    st->est_theta[slot] = theta;
+    st->est_omega[slot] = omega;
+}
+
 /* Firmware._hand_over (Benevieri et al. 2023, Sec. IV-F) */
 static void hand_over(struct fw_state *st, const struct fw_params *p)
 {
@@ -481,15 +690,70 @@ static void hand_over(struct fw_state *st, const struct fw_params *p)
         uint32_t theta = angle_in_use(st);
 
         st->active = FW_SLOT_LOW;
-        fw_methods[p->low].sync(st, p, theta, st->est_omega[FW_SLOT_HIGH]);
-        st->est_theta[FW_SLOT_LOW] = theta;
-        st->est_omega[FW_SLOT_LOW] = st->est_omega[FW_SLOT_HIGH];
+        sync_slot(st, p, FW_SLOT_LOW, theta, st->est_omega[FW_SLOT_HIGH]);
+    }
+}
+
+/* Firmware._decide_polarity */
+static void decide_polarity(struct fw_state *st, const struct fw_params *p)
+{
+    if (st->pol_neg > st->pol_pos) { /* the -d direction saturates: theta_hat is off by pi */
+        fw_methods[p->low].turn(st, HALF_TURN);
+        st->est_theta[FW_SLOT_LOW] += HALF_TURN;
+        st->flipped = 1;
+    }
+}
+
+/* Firmware._relax */
+static void relax(struct fw_state *st, const struct fw_params *p)
+{
+    if (st->mode == FW_RELAX && st->n >= p->n_settle) {
+        next_mode(st, FW_RUN);
+        if (p->pol_mode == FW_POL_PILOT)
+            sync_slot(st, p, FW_SLOT_LOW, st->est_theta[FW_SLOT_LOW], 0);
+        if (p->high != FW_METHOD_NONE)
+            sync_slot(st, p, FW_SLOT_HIGH, st->est_theta[FW_SLOT_LOW], st->est_omega[FW_SLOT_LOW]);
+    }
+}
+
+/* Firmware._supervise_pilot (Tap et al. 2023, Sec. II-D): returns i_d* (always 0 here); *pilot = 1 and
+ * *v_pilot the voltage while a pilot pulse is written. */
+static int32_t supervise_pilot(struct fw_state *st, const struct fw_params *p, int32_t *pilot, int32_t *v_pilot)
+{
+    switch (st->mode) {
+    case FW_CONVERGE:
+        if (st->n >= p->n_converge)
+            next_mode(st, FW_POL_POS);
+        return 0;
+    case FW_POL_POS:
+    case FW_POL_NEG:
+        if (st->n == 1 && st->mode == FW_POL_NEG)
+            st->pol_pos = st->i_d;
+        if (st->n >= p->n_settle + p->n_pulse) {
+            next_mode(st, st->mode == FW_POL_POS ? FW_POL_NEG : FW_RELAX);
+            return 0;
+        }
+        if (st->n >= p->n_settle) {
+            *pilot = 1;
+            *v_pilot = st->mode == FW_POL_POS ? p->v_pilot : -p->v_pilot;
+        }
+        return 0;
+    default:
+        if (st->mode == FW_RELAX && st->n == 1) {
+            st->pol_neg = -(int64_t)st->i_d;
+            decide_polarity(st, p);
+        }
+        relax(st, p);
+        return 0;
     }
 }
 
 /* Firmware._supervise: the start-up state machine; returns i_d* (its i_q* is always 0). */
-static int32_t supervise(struct fw_state *st, const struct fw_params *p, const struct fw_window *win)
+static int32_t supervise(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t *pilot,
+                         int32_t *v_pilot)
 {
+    if (p->pol_mode == FW_POL_PILOT)
+        return supervise_pilot(st, p, pilot, v_pilot);
     switch (st->mode) {
     case FW_CONVERGE:
         if (st->n >= p->n_converge) {
@@ -509,36 +773,90 @@ static int32_t supervise(struct fw_state *st, const struct fw_params *p, const s
         if (st->n > p->n_settle)
             st->pol_neg += win->gamma_d;
         if (st->n >= p->n_pulse) {
-            if (st->pol_neg > st->pol_pos) { /* the -d direction saturates: theta_hat is off by pi */
-                fw_methods[p->low].turn(st, HALF_TURN);
-                st->est_theta[FW_SLOT_LOW] += HALF_TURN;
-                st->flipped = 1;
-            }
+            decide_polarity(st, p);
             next_mode(st, FW_RELAX);
             return 0;
         }
         return -p->i_pulse;
-    case FW_RELAX:
-        if (st->n >= p->n_settle) {
-            next_mode(st, FW_RUN);
-            if (p->high != FW_METHOD_NONE) {
-                fw_methods[p->high].sync(st, p, st->est_theta[FW_SLOT_LOW], st->est_omega[FW_SLOT_LOW]);
-                st->est_theta[FW_SLOT_HIGH] = st->est_theta[FW_SLOT_LOW];
-                st->est_omega[FW_SLOT_HIGH] = st->est_omega[FW_SLOT_LOW];
-            }
-        }
-        return 0;
     default:
+        relax(st, p);
         return 0;
     }
+}
+
+/* Firmware._frozen: pilot polarity detection steps no estimator in POL_POS, POL_NEG and RELAX. */
+static int frozen(const struct fw_state *st, const struct fw_params *p)
+{
+    return p->pol_mode == FW_POL_PILOT && (st->mode == FW_POL_POS || st->mode == FW_POL_NEG || st->mode == FW_RELAX);
+}
+
+/* Firmware._injecting: whether the outputs of this step carry the injection. */
+static int injecting(const struct fw_state *st, const struct fw_params *p)
+{
+    if (st->mode == FW_FIXED)
+        return 1;
+    if (p->pol_mode == FW_POL_PILOT && (st->mode == FW_POL_POS || st->mode == FW_POL_NEG))
+        return 0;
+    return fw_method_injects[slot_method(p, st->active)];
+}
+
+/* Firmware._feedback: the window means through the notch (input saturated to FW_NOTCH_BITS), if on. */
+static void feedback(struct fw_state *st, const struct fw_params *p, int32_t *i_d, int32_t *i_q)
+{
+    if (!p->notch_on)
+        return;
+    fw_biquad_step(&st->nd, sat_s32(*i_d, FW_NOTCH_BITS), &p->notch);
+    fw_biquad_step(&st->nq, sat_s32(*i_q, FW_NOTCH_BITS), &p->notch);
+    *i_d = (int32_t)round_shr64(st->nd.y1, FW_BIQUAD_Y_FRAC);
+    *i_q = (int32_t)round_shr64(st->nq.y1, FW_BIQUAD_Y_FRAC);
+}
+
+/* Firmware._run_refs: the speed PI every speed_div periods, then MTPA (if a table is given). */
+static void run_refs(struct fw_state *st, const struct fw_params *p, int32_t speed_ref, int32_t *i_d_ref,
+                     int32_t *i_q_ref)
+{
+    if (st->speed_cnt == 0)
+        st->i_s_ref = pi_step(&st->speed_int, speed_ref, fw_lowpass_out(st->speed_f), &p->speed_pi);
+    st->speed_cnt = st->speed_cnt + 1 < p->speed_div ? st->speed_cnt + 1 : 0;
+    int32_t i_d_est = fw_methods[slot_method(p, st->active)].i_d(p);
+    if (p->mtpa_len == 0) {
+        *i_d_ref = i_d_est;
+        *i_q_ref = st->i_s_ref;
+        return;
+    }
+    int32_t i_d, i_q;
+    uint32_t mag = st->i_s_ref < 0 ? 0u - (uint32_t)st->i_s_ref : (uint32_t)st->i_s_ref;
+    fw_mtpa_lookup(mag, p->mtpa_shift, p->mtpa_len, p->mtpa_id, p->mtpa_iq, &i_d, &i_q);
+    *i_d_ref = i_d < i_d_est ? i_d : i_d_est;
+    *i_q_ref = st->i_s_ref < 0 ? -i_q : i_q;
+}
+
+/* Firmware._dtc_refs: the currents written to I_D_REF / I_Q_REF (read by the dead-time compensation only),
+ * plus the rotating injection's predicted HF current in the window of use (hf_dtc <= 2^15: products < 2^31). */
+static void dtc_refs(const struct fw_params *p, int32_t i_d_ref, int32_t i_q_ref, int32_t v_h, int32_t s_i, int32_t c_i,
+                     struct fw_outputs *out)
+{
+    if (!p->inj_rot || v_h == 0) {
+        out->i_d_ref = i_d_ref;
+        out->i_q_ref = i_q_ref;
+        return;
+    }
+    int32_t s2 = rq15(2 * (int64_t)p->inj_sd * p->inj_cd);
+    int32_t c2 = rq15((int64_t)p->inj_cd * p->inj_cd - (int64_t)p->inj_sd * p->inj_sd);
+    int32_t s_n = rq15((int64_t)s_i * c2 + (int64_t)c_i * s2), c_n = rq15((int64_t)c_i * c2 - (int64_t)s_i * s2);
+    int32_t h_al = rq15((int64_t)p->hf_dtc * s_n), h_be = -rq15((int64_t)p->hf_dtc * c_n);
+    out->i_d_ref = sat32((int64_t)i_d_ref + rq15((int64_t)h_al * out->cos + (int64_t)h_be * out->sin));
+    out->i_q_ref = sat32((int64_t)i_q_ref + rq15((int64_t)h_be * out->cos - (int64_t)h_al * out->sin));
 }
 
 /* golden.firmware.supervisor.Firmware.step: one window interrupt, same state updates in the same order. */
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out)
 {
-    int32_t i_d, i_q, i_d_ref = 0, i_q_ref = 0;
+    int32_t i_d, i_q, i_d_ref = 0, i_q_ref = 0, pilot = 0, v_pilot = 0, s_inj = 0, c_inj = 32767;
 
+    if (p->inj_rot)
+        fw_sincos_q15(win->inj_phase, &s_inj, &c_inj);
     fw_window_means(win->sum_id, win->sum_iq, win->n_samples, &i_d, &i_q);
     st->i_d = i_d;
     st->i_q = i_q;
@@ -554,33 +872,48 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         m.sin = st->act[0].sin;
         m.cos = st->act[0].cos;
         fw_window_voltage(&st->act[0], &st->prev, &m.v_al, &m.v_be);
-        estimate(st, p, &m);
+        m.inj_sin = s_inj;
+        m.inj_cos = c_inj;
+        if (p->inj_rot) {
+            int32_t a, b;
+
+            fw_injection_voltage(st->act[0].v_h, st->prev.v_h, m.inj_sin, m.inj_cos, p->inj_cd, p->inj_sd, &a, &b);
+            m.v_al = sat32((int64_t)m.v_al + a);
+            m.v_be = sat32((int64_t)m.v_be + b);
+        }
+        if (!frozen(st, p))
+            estimate(st, p, &m);
         if (st->active == FW_SLOT_HIGH)
             st->offset -= (int32_t)(((int64_t)st->offset * p->merge) >> 16);
         st->speed_f = fw_lowpass_step(st->speed_f, st->est_omega[st->active], p->speed_lp);
-        i_d_ref = supervise(st, p, win);
+        i_d_ref = supervise(st, p, win, &pilot, &v_pilot);
         if (st->mode == FW_RUN) {
             hand_over(st, p);
-            i_d_ref = fw_methods[slot_method(p, st->active)].i_d(p);
-            i_q_ref = pi_step(&st->speed_int, speed_ref, fw_lowpass_out(st->speed_f), &p->speed_pi);
+            run_refs(st, p, speed_ref, &i_d_ref, &i_q_ref);
         }
         st->theta_hat = angle_in_use(st);
     }
     st->i_d_ref = i_d_ref;
     st->i_q_ref = i_q_ref;
+    feedback(st, p, &i_d, &i_q);
     if (st->mode == FW_FAULT) {
         st->id_int = 0;
         st->iq_int = 0;
         *out = reset_outputs; /* FAULT: the reset values, gates off */
     } else {
-        out->v_d = pi_step(&st->id_int, i_d_ref, i_d, &p->id_pi);
-        out->v_q = pi_step(&st->iq_int, i_q_ref, i_q, &p->iq_pi);
-        int32_t method = slot_method(p, st->active);
-        out->v_h = st->mode == FW_FIXED || fw_method_injects[method] ? p->v_h : 0;
+        if (pilot) { /* pilot voltage: current control off */
+            out->v_d = v_pilot;
+            out->v_q = 0;
+            st->id_int = 0;
+            st->iq_int = 0;
+        } else {
+            out->v_d = pi_step(&st->id_int, i_d_ref, i_d, &p->id_pi);
+            out->v_q = pi_step(&st->iq_int, i_q_ref, i_q, &p->iq_pi);
+        }
+        out->v_h = injecting(st, p) ? p->v_h : 0;
         fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
         out->enable = 1;
-        out->i_d_ref = i_d_ref;
-        out->i_q_ref = i_q_ref;
+        dtc_refs(p, i_d_ref, i_q_ref, out->v_h, s_inj, c_inj, out);
     }
     st->prev = st->act[0];
     st->act[0] = st->act[1];

@@ -27,7 +27,11 @@ struct fw_pi_params {
 };
 
 /* Estimator methods (golden.firmware.estimator.METHOD_*): the ids a slot of fw_params names. */
-enum fw_method { FW_METHOD_NONE = 0, FW_METHOD_SQW_BANGBANG = 1, FW_METHOD_RFO = 2, FW_METHODS = 3 };
+enum fw_method { FW_METHOD_NONE = 0, FW_METHOD_SQW_BANGBANG = 1, FW_METHOD_RFO = 2, FW_METHOD_ROT_BPF = 3,
+                 FW_METHOD_EEMF_SMO = 4, FW_METHODS = 5 };
+
+/* Polarity detection (golden.firmware.supervisor.POL_*). */
+enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1 };
 
 /* Estimator slots of the supervisor (golden.firmware.estimator.SLOT_*). */
 enum fw_slot { FW_SLOT_LOW = 0, FW_SLOT_HIGH = 1 };
@@ -37,6 +41,22 @@ struct fw_pll {
     uint32_t theta;
     int32_t omega;
     int64_t integ;
+};
+
+/* Second-order section (golden.firmware.biquad): Q28 coefficients, and the last two inputs and outputs. */
+struct fw_biquad_coef {
+    int32_t b0;
+    int32_t b1;
+    int32_t b2;
+    int32_t a1;
+    int32_t a2;
+};
+
+struct fw_biquad {
+    int32_t x1;
+    int32_t x2;
+    int32_t y1;
+    int32_t y2;
 };
 
 /* ---- method sqw_bangbang (golden.firmware.sqw_bangbang) ---- */
@@ -75,14 +95,77 @@ struct fw_rfo_state {
     int32_t mag;
 };
 
+/* ---- method rot_bpf (golden.firmware.rot_bpf) ---- */
+struct fw_rot_params {
+    int32_t q_cos;
+    int32_t q_sin;
+    struct fw_biquad_coef bpf;
+    int32_t n_avg;
+    uint32_t offset;
+    int32_t pll_kp;
+    int32_t pll_ki;
+    int32_t k_delay;
+    int32_t n_hold;
+};
+
+struct fw_rot_state {
+    uint32_t theta;
+    int32_t omega;
+    struct fw_pll pll;
+    struct fw_biquad bd;
+    struct fw_biquad bq;
+    int32_t buf_d[32];       /* golden.firmware.rot_bpf.N_MAX */
+    int32_t buf_q[32];
+    int32_t idx;
+    int32_t sum_d;
+    int32_t sum_q;
+    int32_t mag;
+    int32_t err;
+    int32_t hold;
+};
+
+/* ---- method eemf_smo (golden.firmware.eemf_smo) ---- */
+struct fw_smo_params {
+    int32_t c_v;
+    int32_t c_r;
+    int32_t c_x;
+    int32_t k_lin;
+    int32_t z_max;
+    int32_t c_a;
+    int32_t a_min;
+    int32_t a_max;
+    uint32_t lag0;
+    int32_t pll_kp;
+    int32_t pll_ki;
+    int32_t k_delay;
+    int32_t e_min;
+    int32_t w_dir;
+    int32_t i_d;
+};
+
+struct fw_smo_state {
+    uint32_t theta;
+    int32_t omega;
+    struct fw_pll pll;
+    int32_t ih_al;
+    int32_t ih_be;
+    int32_t ef_al;
+    int32_t ef_be;
+    int32_t mag;
+    int32_t dir;
+};
+
 /* Firmware parameters (golden.firmware.supervisor.FirmwareParams), computed on the host by
  * golden/control_config.py: the method of each slot, one parameter block per method (zero when no slot
- * uses it), the shared loops. fixed_enable = 1 selects the open-loop test at fixed_angle (FIXED). */
+ * uses it), the shared loops. fixed_enable = 1 selects the open-loop test at fixed_angle (FIXED);
+ * mtpa_len = 0 (no table) and notch_on = 0 turn those blocks off. */
 struct fw_params {
     int32_t low;
     int32_t high;
     struct fw_sqw_params sqw;
     struct fw_rfo_params rfo;
+    struct fw_rot_params rot;
+    struct fw_smo_params smo;
     int32_t speed_lp;
     struct fw_pi_params speed_pi;
     struct fw_pi_params id_pi;
@@ -98,6 +181,19 @@ struct fw_params {
     int32_t merge;
     int32_t fixed_enable;
     uint32_t fixed_angle;
+    int32_t inj_rot;
+    int32_t inj_cd;
+    int32_t inj_sd;
+    int32_t hf_dtc;
+    int32_t pol_mode;
+    int32_t v_pilot;
+    int32_t mtpa_shift;
+    int32_t mtpa_len;
+    int32_t mtpa_id[33];     /* golden.firmware.mtpa.MTPA_LEN */
+    int32_t mtpa_iq[33];
+    int32_t notch_on;
+    struct fw_biquad_coef notch;
+    int32_t speed_div;
 };
 
 /* Register values written by one control step (golden.firmware.supervisor.Outputs). */
@@ -134,8 +230,14 @@ struct fw_state {
     int32_t offset;          /* hand-over angle offset: angle in use - high slot's angle */
     struct fw_outputs act[2];   /* outputs of steps k-2 (active in this window) and k-1 */
     struct fw_outputs prev;     /* outputs of step k-3 (active in the window before) */
+    int32_t speed_cnt;          /* periods since the last speed-PI step */
+    int32_t i_s_ref;            /* speed-PI output, held between its steps */
+    struct fw_biquad nd;        /* feedback notch states */
+    struct fw_biquad nq;
     struct fw_sqw_state sqw;    /* one state block per method */
     struct fw_rfo_state rfo;
+    struct fw_rot_state rot;
+    struct fw_smo_state smo;
 };
 
 /* Window results of the demodulator (registers GAMMA ... N_SAMPLES). */
@@ -158,6 +260,8 @@ struct fw_meas {
     int32_t cos;
     int32_t v_al;
     int32_t v_be;
+    int32_t inj_sin;
+    int32_t inj_cos;
 };
 
 /* golden.firmware.means.window_means */
@@ -175,6 +279,14 @@ int32_t fw_pi_step(int64_t *integ, int32_t ref, int32_t meas, const struct fw_pi
 void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15);
 /* golden.firmware.vector.vector_angle: |x|, |y| <= 2^28 */
 void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag);
+/* golden.firmware.biquad.biquad_step (updates *s; the output is s->y1) */
+void fw_biquad_step(struct fw_biquad *s, int32_t x, const struct fw_biquad_coef *c);
+/* golden.firmware.mtpa.mtpa_lookup */
+void fw_mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d, const int32_t *t_q, int32_t *i_d,
+                    int32_t *i_q);
+/* golden.firmware.estimator.injection_voltage */
+void fw_injection_voltage(int32_t v_now, int32_t v_before, int32_t s, int32_t c, int32_t cd, int32_t sd, int32_t *v_al,
+                          int32_t *v_be);
 /* golden.firmware.estimator.window_voltage */
 void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *before, int32_t *v_al, int32_t *v_be);
 
@@ -202,6 +314,18 @@ void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
 void fw_rfo_turn(struct fw_state *st, uint32_t delta);
 void fw_rfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
 int32_t fw_rfo_i_d(const struct fw_params *p);
+/* Method rot_bpf (golden.firmware.rot_bpf.RotatingBpf) */
+void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega);
+void fw_rot_turn(struct fw_state *st, uint32_t delta);
+void fw_rot_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+int32_t fw_rot_i_d(const struct fw_params *p);
+/* Method eemf_smo (golden.firmware.eemf_smo.EemfSmo) */
+void fw_smo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega);
+void fw_smo_turn(struct fw_state *st, uint32_t delta);
+void fw_smo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+int32_t fw_smo_i_d(const struct fw_params *p);
 
 /* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref) */
 void fw_init(struct fw_state *st, const struct fw_params *p);

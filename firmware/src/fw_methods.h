@@ -4,9 +4,18 @@
 #define HFI_FW_METHODS_H
 
 /* golden.firmware.estimator.METHODS[...].injection != INJ_NONE, by method id */
-#define FW_METHOD_INJECTS {[1] = 1, [2] = 0}
+#define FW_METHOD_INJECTS {[1] = 1, [2] = 0, [3] = 1, [4] = 0}
 #define FW_SQW_SYNC_HOLD 1  /* golden.firmware.sqw_bangbang.SYNC_HOLD */
 #define FW_RFO_FLUX_FRAC 8  /* golden.firmware.rfo.FLUX_FRAC */
 #define FW_RFO_Q_LIMIT 131072  /* golden.firmware.rfo.Q_LIMIT */
+#define FW_BIQUAD_COEF_FRAC 28  /* golden.firmware.biquad.COEF_FRAC */
+#define FW_BIQUAD_Y_FRAC 4  /* golden.firmware.biquad.Y_FRAC */
+#define FW_ROT_N_MAX 32  /* golden.firmware.rot_bpf.N_MAX */
+#define FW_ROT_X_BITS 21  /* golden.firmware.rot_bpf.X_BITS */
+#define FW_ROT_Z_BITS 26  /* golden.firmware.rot_bpf.Z_BITS */
+#define FW_SMO_I_FRAC 8  /* golden.firmware.eemf_smo.I_FRAC */
+#define FW_SMO_QUARTER 1073741824u  /* golden.firmware.eemf_smo.QUARTER */
+#define FW_MTPA_LEN 33  /* golden.firmware.mtpa.MTPA_LEN */
+#define FW_NOTCH_BITS 21  /* golden.firmware.supervisor.NOTCH_BITS */
 
 #endif

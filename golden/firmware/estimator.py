@@ -34,12 +34,14 @@ from dataclasses import dataclass
 from golden.fixed import round_shr, sat
 from golden.fpga.demodulator import WindowResult
 
-METHOD_SQW_BANGBANG, METHOD_RFO = 1, 2
+METHOD_SQW_BANGBANG, METHOD_RFO, METHOD_ROT_BPF, METHOD_EEMF_SMO = 1, 2, 3, 4
 """Method ids (``enum fw_method`` in firmware/src/control.h; 0 is "no estimator" in a slot)."""
 
-INJ_NONE, INJ_SQW_D = 0, 1
-"""Injection modes: none, or the square wave +-V_H on the estimated d-axis at the switching frequency
-(Benevieri et al. 2023, eq. (14)); the firmware writes the ``V_H`` register as 0 for ``INJ_NONE``."""
+INJ_NONE, INJ_SQW_D, INJ_ROT = 0, 1, 2
+"""Injection modes: none; the square wave +-V_H on the estimated d-axis at the switching frequency
+(Benevieri et al. 2023, eq. (14)); the vector V_H e^{j phi} rotating in the stationary frame (Tap et al.
+2023, eq. (9); ``CTRL.INJ_ROT``, ``INJ_STEP``). The firmware writes the ``V_H`` register as 0 while the
+estimator in charge has ``INJ_NONE``; the rotating mode is set once at start-up (hardware config)."""
 
 SLOT_LOW, SLOT_HIGH = 0, 1
 """Estimator slots of the supervisor: in charge from start-up, and above the hand-over speed."""
@@ -52,7 +54,8 @@ class Measurement:
     ``win``: the window results; ``i_d, i_q``: window-mean currents in the estimated frame [current LSB];
     ``sin, cos``: the angle active during the window (Q1.15, the Park angle of its currents);
     ``v_al, v_be``: the mean stator-voltage reference over the window in the stationary frame [voltage
-    LSB] (:func:`window_voltage`).
+    LSB] (:func:`window_voltage`, plus :func:`injection_voltage` when the rotating injection is on);
+    ``inj_sin, inj_cos``: sin/cos of ``INJ_PHASE`` (Q1.15; 0 and 32767 when the injection does not rotate).
     """
 
     win: WindowResult
@@ -62,6 +65,8 @@ class Measurement:
     cos: int
     v_al: int
     v_be: int
+    inj_sin: int = 0
+    inj_cos: int = 32767
 
 
 def inv_park(d: int, q: int, s: int, c: int) -> tuple[int, int]:
@@ -84,6 +89,17 @@ def window_voltage(now, before) -> tuple[int, int]:
     a1, b1 = inv_park(now.v_d, now.v_q, now.sin, now.cos)
     a0, b0 = inv_park(before.v_d, before.v_q, before.sin, before.cos)
     return round_shr(3 * a1 + a0, 2), round_shr(3 * b1 + b0, 2)
+
+
+def injection_voltage(v_now: int, v_before: int, s: int, c: int, cd: int, sd: int) -> tuple[int, int]:
+    """Mean of the rotating injection over a window (docs/spec.md 3.5): its last three quarters ran on
+    ``INJ_PHASE`` with the amplitude ``v_now`` (``V_H`` active in the window), its first quarter on
+    ``INJ_PHASE - INJ_STEP`` with ``v_before``. ``(s, c)``: sin/cos of ``INJ_PHASE``; ``(sd, cd)``: of
+    ``INJ_STEP`` (Q15). ``c_b = round_shr(c cd + s sd, 15)``, ``s_b = round_shr(s cd - c sd, 15)``, then
+    ``round_shr(3 v_now c + v_before c_b, 17)`` and the same with ``s, s_b`` (``v`` in 0..2^15)."""
+    c_b = round_shr(c * cd + s * sd, 15)
+    s_b = round_shr(s * cd - c * sd, 15)
+    return round_shr(3 * v_now * c + v_before * c_b, 17), round_shr(3 * v_now * s + v_before * s_b, 17)
 
 
 class Estimator(ABC):
@@ -129,6 +145,11 @@ METHODS: dict[str, MethodInfo] = {m.name: m for m in (
                "Ortega et al. 2011 gradient flux observer, as used by Choi et al., TPEL 2017 (002 ref. [10])",
                (SLOT_HIGH,), INJ_NONE,
                "rotor (active) flux observer in the stationary frame, CORDIC angle, PLL speed"),
+    MethodInfo("rot_bpf", METHOD_ROT_BPF, "Tap et al., IEEE Access 2023 (000)", (SLOT_LOW,), INJ_ROT,
+               "rotating injection, one band-pass at 2 f_h, N-sample average, normalised PLL"),
+    MethodInfo("eemf_smo", METHOD_EEMF_SMO, "Tap et al., IEEE Access 2023 (000), eqs. (20)-(22)",
+               (SLOT_HIGH,), INJ_NONE,
+               "extended-EMF sliding-mode observer in the stationary frame, CORDIC angle, PLL speed"),
 )}
 """Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""
 

@@ -6,9 +6,12 @@ A new method adds its class here and its line to :data:`golden.firmware.estimato
 
 from __future__ import annotations
 
+from golden.firmware.eemf_smo import EemfSmo
 from golden.firmware.estimator import Estimator
 from golden.firmware.rfo import RotorFluxObserver
+from golden.firmware.rot_bpf import RotatingBpf
 from golden.firmware.sqw_bangbang import SquareWaveBangBang
 
-CLASSES: dict[int, type[Estimator]] = {cls.METHOD: cls for cls in (SquareWaveBangBang, RotorFluxObserver)}
+CLASSES: dict[int, type[Estimator]] = {cls.METHOD: cls for cls in (SquareWaveBangBang, RotorFluxObserver,
+                                                                   RotatingBpf, EemfSmo)}
 """Method id -> estimator class."""

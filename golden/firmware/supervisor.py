@@ -20,10 +20,17 @@ States (``MODE_*``):
               inductance, i.e. saturation, i.e. the magnet's north: if the -I_p sum is the larger,
               the low-speed estimator is turned by half a turn (polarity detection by d-axis
               saturation, the method the paper cites as [23], [30]).
+              With ``pol_mode = POL_PILOT`` (Tap et al. 2023, Sec. II-D) the two pulses are pilot
+              *voltages* +-V_p on d_hat for ``n_pulse`` windows each, current control off; each state
+              starts with ``n_settle`` windows of current control to zero; no injection and the
+              estimators not stepped in both states. The d-current of each pulse's last window is
+              compared: the larger is the saturating direction, the magnet's north.
 ``RELAX``     i_d* = 0 for ``n_settle`` windows; at its end the high-speed estimator (if any) is
               synchronised to the low-speed one's angle and speed.
-``RUN``       speed PI on the filtered speed of the estimator in charge -> i_q*, i_d* as that estimator
-              asks (``Estimator.i_d``: 0, or the rotor flux observer's minimum current). Hand-over
+``RUN``       speed PI on the filtered speed of the estimator in charge, every ``speed_div`` periods ->
+              i_q*, i_d* as that estimator asks (``Estimator.i_d``: 0, or the rotor flux observer's
+              minimum current); with an MTPA table the PI output is the current magnitude and the table
+              gives (i_d*, |i_q*|), i_d* the smaller of the table's and the estimator's. Hand-over
               (Benevieri et al. 2023, Sec. IV-F): above ``w_up`` (|filtered speed|) the high-speed
               estimator takes charge, below ``w_down`` the low-speed one again. Bumpless: taking charge
               upwards, the angle in use keeps its value and the difference to the new estimator decays
@@ -38,21 +45,31 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from golden.firmware.estimator import BY_ID, INJ_SQW_D, SLOT_HIGH, SLOT_LOW, Measurement, window_voltage
+from golden.firmware.biquad import Y_FRAC, BiquadCoef, BiquadState, biquad_step
+from golden.firmware.eemf_smo import SmoParams
+from golden.firmware.estimator import (BY_ID, INJ_NONE, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage,
+                                       window_voltage)
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
 from golden.firmware.methods import CLASSES
+from golden.firmware.mtpa import mtpa_lookup
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.rfo import RfoParams
+from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
-from golden.fixed import shr, uwrap, wrap
+from golden.fixed import round_shr, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
 
 MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT = range(7)
 MODE_NAMES = ("CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT")
 
+POL_CURRENT, POL_PILOT = 0, 1
+"""Polarity detection: d-current pulses with the HF response (002), or pilot voltages (000, Sec. II-D)."""
+
 HALF_TURN = 1 << 31
+NOTCH_BITS = 21
+"""Input width of the feedback notch (golden.firmware.biquad's input range)."""
 
 
 @dataclass(frozen=True)
@@ -63,7 +80,7 @@ class FirmwareParams:
     ----------
     low, high : int
         Method ids of the estimator slots (``golden.firmware.estimator.METHOD_*``); ``high`` 0: none.
-    sqw, rfo : SqwParams or None, RfoParams or None
+    sqw, rfo, rot, smo : SqwParams, RfoParams, RotParams, SmoParams or None
         Each method's own parameters (None when no slot uses it); one field per method.
     speed_lp : int
         Speed-filter coefficient (Q16).
@@ -83,6 +100,22 @@ class FirmwareParams:
         Per-period decay of the hand-over angle offset (Q16, 0..65536).
     fixed_angle : int or None
         Binary angle for the open-loop test; None for normal operation.
+    inj_rot, inj_cd, inj_sd : int
+        1 when the hardware's injection rotates (``CTRL.INJ_ROT``), and cos/sin of ``INJ_STEP`` (Q15):
+        the supervisor then gives the estimators sin/cos of ``INJ_PHASE`` and adds the injection's window
+        mean to the measured voltage (:func:`~golden.firmware.estimator.injection_voltage`, saturated to
+        s32; ``v_h`` in 0..2^15 in this mode).
+    hf_dtc : int
+        Rotating injection: the amplitude of its HF current [current LSB, 0..2^15], which the firmware
+        adds to the current references it writes for the dead-time compensation (:meth:`Firmware._dtc_refs`).
+    pol_mode, v_pilot : int
+        ``POL_CURRENT`` or ``POL_PILOT``; the pilot voltage [voltage LSB].
+    mtpa_shift, mtpa_id, mtpa_iq : int, tuple, tuple
+        MTPA table (:mod:`golden.firmware.mtpa`; empty: off).
+    notch : BiquadCoef or None
+        Notch on the d and q current feedback of the current PIs (Tap et al. 2023, Sec. II-C); None: off.
+    speed_div : int
+        The speed PI runs every ``speed_div`` periods (its gains computed for that period).
     """
 
     low: int
@@ -103,6 +136,19 @@ class FirmwareParams:
     w_down: int = 0
     merge: int = 0
     fixed_angle: int | None = None
+    rot: RotParams | None = None
+    smo: SmoParams | None = None
+    inj_rot: int = 0
+    inj_cd: int = 32767
+    inj_sd: int = 0
+    hf_dtc: int = 0
+    pol_mode: int = POL_CURRENT
+    v_pilot: int = 0
+    mtpa_shift: int = 0
+    mtpa_id: tuple = ()
+    mtpa_iq: tuple = ()
+    notch: BiquadCoef | None = None
+    speed_div: int = 1
 
 
 @dataclass(frozen=True)
@@ -146,6 +192,10 @@ class Firmware:
     est_theta: list = field(default_factory=lambda: [0, 0])   # each slot's angle output (u32)
     est_omega: list = field(default_factory=lambda: [0, 0])   # each slot's speed output (s32)
     offset: int = 0                  # s32 hand-over angle offset (angle in use - high slot's angle)
+    speed_cnt: int = 0               # periods since the last speed-PI step (0..speed_div-1)
+    i_s_ref: int = 0                 # speed-PI output, held between its steps
+    nd: BiquadState = field(default_factory=BiquadState)   # notch states of the d and q feedback
+    nq: BiquadState = field(default_factory=BiquadState)
     act: list = field(default_factory=lambda: [RESET_OUTPUTS, RESET_OUTPUTS])  # outputs of steps k-2, k-1
     prev: Outputs = RESET_OUTPUTS    # outputs of step k-3 (active in the window before)
     slots: list = field(init=False)
@@ -172,34 +222,105 @@ class Firmware:
         self.n += 1
         if self.mode != MODE_FAULT and (abs(i_d) > p.i_trip or abs(i_q) > p.i_trip):
             self._next(MODE_FAULT)
+        pilot = None
+        s_inj, c_inj = sincos_q15(win.inj_phase) if p.inj_rot else (0, 32767)
         if self.mode in (MODE_FIXED, MODE_FAULT):
             i_d_ref = i_q_ref = 0
         else:
             now, before = self.act[0], self.prev               # register sets active in this window and before
-            m = Measurement(win, i_d, i_q, now.sin, now.cos, *window_voltage(now, before))
-            self._estimate(m)
+            v_al, v_be = window_voltage(now, before)
+            if p.inj_rot:
+                a, b = injection_voltage(now.v_h, before.v_h, s_inj, c_inj, p.inj_cd, p.inj_sd)
+                v_al, v_be = sat(v_al + a, 32), sat(v_be + b, 32)
+            m = Measurement(win, i_d, i_q, now.sin, now.cos, v_al, v_be, s_inj, c_inj)
+            if not self._frozen():
+                self._estimate(m)
             if self.active == SLOT_HIGH:
                 self.offset -= shr(self.offset * p.merge, 16)
             self.speed_f = lowpass_step(self.speed_f, self.est_omega[self.active], p.speed_lp)
-            i_d_ref, i_q_ref = self._supervise(win)
+            i_d_ref, i_q_ref, pilot = self._supervise(win)
             if self.mode == MODE_RUN:
                 self._hand_over()
-                i_d_ref = self.slots[self.active].i_d
-                i_q_ref, self.speed_int = pi_step(self.speed_int, speed_ref, self.omega_f, p.speed_pi)
+                i_d_ref, i_q_ref = self._run_refs(speed_ref)
             self.theta_hat = self._angle()
         self.i_d_ref, self.i_q_ref = i_d_ref, i_q_ref
+        i_d_f, i_q_f = self._feedback(i_d, i_q)
         if self.mode == MODE_FAULT:
             self.id_int = self.iq_int = 0
             out = RESET_OUTPUTS
         else:
-            v_d, self.id_int = pi_step(self.id_int, i_d_ref, i_d, p.id_pi)
-            v_q, self.iq_int = pi_step(self.iq_int, i_q_ref, i_q, p.iq_pi)
+            if pilot is None:
+                v_d, self.id_int = pi_step(self.id_int, i_d_ref, i_d_f, p.id_pi)
+                v_q, self.iq_int = pi_step(self.iq_int, i_q_ref, i_q_f, p.iq_pi)
+            else:                                              # pilot voltage: current control off
+                v_d, v_q, self.id_int, self.iq_int = pilot, 0, 0, 0
             s, c = sincos_q15(self.theta_hat)
-            inj = self.mode == MODE_FIXED or BY_ID[self.slots[self.active].METHOD].injection == INJ_SQW_D
-            out = Outputs(v_d, v_q, p.v_h if inj else 0, s, c, 1, i_d_ref, i_q_ref)
+            v_h = p.v_h if self._injecting() else 0
+            r_d, r_q = self._dtc_refs(i_d_ref, i_q_ref, v_h, s_inj, c_inj, s, c)
+            out = Outputs(v_d, v_q, v_h, s, c, 1, r_d, r_q)
         self.prev = self.act[0]
         self.act = [self.act[1], out]
         return out
+
+    def _dtc_refs(self, i_d_ref: int, i_q_ref: int, v_h: int, s_i: int, c_i: int, s: int, c: int) -> tuple[int, int]:
+        """The currents written to I_D_REF / I_Q_REF, which only the dead-time compensation reads: the
+        references, plus, while the rotating injection is on, its predicted HF current in the window the
+        outputs are active in (phase ``INJ_PHASE + 2 INJ_STEP``, from ``(s_i, c_i)`` of ``INJ_PHASE``; the positive sequence lags the voltage by
+        a quarter turn: ``hf_dtc (sin, -cos)`` in the stationary frame), turned into the frame ``(s, c)``.
+        Without it the compensation guesses the sign of the HF current wrong around zero fundamental
+        current: 7.6 deg of angle bias at standstill on the Table 1 motor (docs/methods.md).
+        ``(s2, c2)`` of ``2 INJ_STEP`` by the double angle of ``(inj_sd, inj_cd)``; all roundings
+        ``round_shr(., 15)``; the results saturated to s32."""
+        p = self.p
+        if not p.inj_rot or v_h == 0:
+            return i_d_ref, i_q_ref
+        s2, c2 = round_shr(2 * p.inj_sd * p.inj_cd, 15), round_shr(p.inj_cd * p.inj_cd - p.inj_sd * p.inj_sd, 15)
+        s_n, c_n = round_shr(s_i * c2 + c_i * s2, 15), round_shr(c_i * c2 - s_i * s2, 15)
+        h_al, h_be = round_shr(p.hf_dtc * s_n, 15), -round_shr(p.hf_dtc * c_n, 15)
+        return (sat(i_d_ref + round_shr(h_al * c + h_be * s, 15), 32),
+                sat(i_q_ref + round_shr(h_be * c - h_al * s, 15), 32))
+
+    def _frozen(self) -> bool:
+        """Pilot-voltage polarity detection: the estimators are not stepped from the first window without
+        injection to the end of RELAX (the pulses, the gaps, and the decay of the last pulse under current
+        control); at the start of RUN the low slot restarts by ``sync`` at its own angle (its filters
+        would otherwise take the pulses' current transients for HF response, _relax)."""
+        return self.p.pol_mode == POL_PILOT and self.mode in (MODE_POL_POS, MODE_POL_NEG, MODE_RELAX)
+
+    def _sync(self, slot: int, theta: int, omega: int) -> None:
+        """``sync`` a slot's estimator and take its outputs."""
+        est = self.slots[slot]
+        est.sync(theta, omega)
+        self.est_theta[slot], self.est_omega[slot] = est.theta, est.omega
+
+    def _injecting(self) -> bool:
+        """Whether the outputs of this step carry the injection."""
+        if self.mode == MODE_FIXED:
+            return True
+        if self.p.pol_mode == POL_PILOT and self.mode in (MODE_POL_POS, MODE_POL_NEG):
+            return False
+        return BY_ID[self.slots[self.active].METHOD].injection != INJ_NONE
+
+    def _feedback(self, i_d: int, i_q: int) -> tuple[int, int]:
+        """The current PIs' feedback: the window means, through the notch when there is one (its input
+        saturated to its range, +-2^20: beyond i_trip in every real configuration)."""
+        if self.p.notch is None:
+            return i_d, i_q
+        self.nd = biquad_step(self.nd, sat(i_d, NOTCH_BITS), self.p.notch)
+        self.nq = biquad_step(self.nq, sat(i_q, NOTCH_BITS), self.p.notch)
+        return round_shr(self.nd.y1, Y_FRAC), round_shr(self.nq.y1, Y_FRAC)
+
+    def _run_refs(self, speed_ref: int) -> tuple[int, int]:
+        """RUN: the speed PI every ``speed_div`` periods, then MTPA (if a table is given)."""
+        p = self.p
+        if self.speed_cnt == 0:
+            self.i_s_ref, self.speed_int = pi_step(self.speed_int, speed_ref, self.omega_f, p.speed_pi)
+        self.speed_cnt = self.speed_cnt + 1 if self.speed_cnt + 1 < p.speed_div else 0
+        i_d_est = self.slots[self.active].i_d
+        if not p.mtpa_id:
+            return i_d_est, self.i_s_ref
+        i_d, i_q = mtpa_lookup(abs(self.i_s_ref), p.mtpa_shift, p.mtpa_id, p.mtpa_iq)
+        return min(i_d, i_d_est), (-i_q if self.i_s_ref < 0 else i_q)
 
     def _estimate(self, m: Measurement) -> None:
         """Step the low-speed slot while it is in charge, the high-speed slot always (in parallel)."""
@@ -226,45 +347,77 @@ class Firmware:
         elif self.active == SLOT_HIGH and w < p.w_down:
             theta = self._angle()
             self.active = SLOT_LOW
-            lo = self.slots[SLOT_LOW]
-            lo.sync(theta, self.est_omega[SLOT_HIGH])
-            self.est_theta[SLOT_LOW], self.est_omega[SLOT_LOW] = lo.theta, lo.omega
+            self._sync(SLOT_LOW, theta, self.est_omega[SLOT_HIGH])
 
-    def _supervise(self, win: WindowResult) -> tuple[int, int]:
-        """Start-up state machine; returns (i_d*, i_q*) before the speed loop."""
+    def _supervise(self, win: WindowResult) -> tuple[int, int, int | None]:
+        """Start-up state machine; returns (i_d*, i_q*, pilot voltage or None) before the speed loop."""
+        if self.p.pol_mode == POL_PILOT:
+            return self._supervise_pilot()
         p = self.p
         if self.mode == MODE_CONVERGE:
             if self.n >= p.n_converge:
                 self._next(MODE_POL_POS)
-                return p.i_pulse, 0
-            return 0, 0
+                return p.i_pulse, 0, None
+            return 0, 0, None
         if self.mode == MODE_POL_POS:
             if self.n > p.n_settle:
                 self.pol_pos += win.gamma_d
             if self.n >= p.n_pulse:
                 self._next(MODE_POL_NEG)
-                return -p.i_pulse, 0
-            return p.i_pulse, 0
+                return -p.i_pulse, 0, None
+            return p.i_pulse, 0, None
         if self.mode == MODE_POL_NEG:
             if self.n > p.n_settle:
                 self.pol_neg += win.gamma_d
             if self.n >= p.n_pulse:
-                if self.pol_neg > self.pol_pos:   # the -d direction saturates: theta_hat is off by pi
-                    lo = self.slots[SLOT_LOW]
-                    lo.turn(HALF_TURN)
-                    self.est_theta[SLOT_LOW] = lo.theta
-                    self.flipped = 1
+                self._decide_polarity()
                 self._next(MODE_RELAX)
-                return 0, 0
-            return -p.i_pulse, 0
-        if self.mode == MODE_RELAX:
-            if self.n >= p.n_settle:
-                self._next(MODE_RUN)
-                hi = self.slots[SLOT_HIGH]
-                if hi is not None:
-                    hi.sync(self.est_theta[SLOT_LOW], self.est_omega[SLOT_LOW])
-                    self.est_theta[SLOT_HIGH], self.est_omega[SLOT_HIGH] = hi.theta, hi.omega
-        return 0, 0
+                return 0, 0, None
+            return -p.i_pulse, 0, None
+        self._relax()
+        return 0, 0, None
+
+    def _supervise_pilot(self) -> tuple[int, int, int | None]:
+        """Tap et al. 2023, Sec. II-D: pilot voltages +-V_p on d_hat, each after ``n_settle`` windows of
+        current control to zero without injection (the HF current and the first pulse decay); the
+        d-current of each pulse's last window, measured at the next state's first window (two periods
+        after the step that wrote the pulse), decides."""
+        p = self.p
+        if self.mode == MODE_CONVERGE:
+            if self.n >= p.n_converge:
+                self._next(MODE_POL_POS)
+            return 0, 0, None
+        if self.mode in (MODE_POL_POS, MODE_POL_NEG):
+            if self.n == 1 and self.mode == MODE_POL_NEG:
+                self.pol_pos = self.i_d
+            if self.n >= p.n_settle + p.n_pulse:
+                self._next(MODE_POL_NEG if self.mode == MODE_POL_POS else MODE_RELAX)
+                return 0, 0, None
+            v = p.v_pilot if self.mode == MODE_POL_POS else -p.v_pilot
+            return 0, 0, (v if self.n >= p.n_settle else None)
+        if self.mode == MODE_RELAX and self.n == 1:
+            self.pol_neg = -self.i_d
+            self._decide_polarity()
+        self._relax()
+        return 0, 0, None
+
+    def _decide_polarity(self) -> None:
+        """The larger response is the magnet's north: if it is the -d_hat one, turn the low slot."""
+        if self.pol_neg > self.pol_pos:
+            lo = self.slots[SLOT_LOW]
+            lo.turn(HALF_TURN)
+            self.est_theta[SLOT_LOW] = lo.theta
+            self.flipped = 1
+
+    def _relax(self) -> None:
+        """RELAX: after ``n_settle`` windows, RUN (after pilot pulses the low slot restarts at its own
+        angle, :meth:`_frozen`); the high slot starts from the low slot's angle."""
+        if self.mode == MODE_RELAX and self.n >= self.p.n_settle:
+            self._next(MODE_RUN)
+            if self.p.pol_mode == POL_PILOT:
+                self._sync(SLOT_LOW, self.est_theta[SLOT_LOW], 0)
+            if self.slots[SLOT_HIGH] is not None:
+                self._sync(SLOT_HIGH, self.est_theta[SLOT_LOW], self.est_omega[SLOT_LOW])
 
     def angle_error(self, theta_true: int) -> int:
         """wrap(theta - theta_hat, 32) for diagnostics."""

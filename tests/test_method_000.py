@@ -1,0 +1,229 @@
+"""The 000 method's golden blocks (Tap et al. 2023) against independent references.
+
+* the band-pass and notch sections (golden.firmware.biquad): their quantised responses against the
+  analog prototypes of eq. (13) and Sec. II-C, the integer filter against its own response;
+* ``rot_bpf`` on window means of the ideal HF current of a salient machine (eqs. (8)-(11), written out
+  here in floating point), standing and turning, for both signs of the saliency;
+* ``eemf_smo`` on the steady state of the dq model of eq. (1), forwards and backwards;
+* the MTPA table (eq. (4)) against a numerical torque maximum; the delay fit against eq. (18).
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from golden.control_config import eemf_smo_params, firmware_params, rot_bpf_delay, rot_bpf_params
+from golden.firmware import biquad
+from golden.firmware.biquad import BiquadState, biquad_step
+from golden.firmware.eemf_smo import EemfSmo
+from golden.firmware.estimator import Measurement
+from golden.firmware.mtpa import mtpa_lookup, mtpa_table
+from golden.firmware.rot_bpf import RotatingBpf
+from golden.fixed import wrap
+from golden.fpga.cordic import sincos_q15
+from golden.fpga.demodulator import WindowResult
+from golden.scenario import load_scenario
+
+F_S = 10e3
+SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "tap2023_fullload.toml"
+TURN = 2**32
+
+
+def deg(binary: int) -> float:
+    return wrap(binary, 32) * 360.0 / TURN
+
+
+# ---- filters -----------------------------------------------------------------------------------------------
+def test_bandpass_centre_is_exact_and_bandwidth_is_eq13():
+    c = biquad.bandpass(1000.0, 164.0, F_S)
+    h0 = biquad.response(c, 1000.0, F_S)
+    assert abs(h0 - 1) < 1e-6                                   # prewarped: unity gain, zero phase at f0
+    mid = math.sqrt(1000.0**2 + 82.0**2)                        # -3 dB edges of the analog prototype:
+    for f in (mid - 82.0, mid + 82.0):                          # f+ - f- = bandwidth, f+ f- = f0^2
+        assert abs(biquad.response(c, f, F_S)) == pytest.approx(math.sqrt(0.5), abs=0.03)   # warped a little
+
+
+def test_plain_bilinear_would_move_the_centre():
+    """docs/methods.md: without prewarping the 1000 Hz centre lands near 970 Hz at 10 kHz."""
+    f_plain = F_S / math.pi * math.atan(math.pi * 1000.0 / F_S)
+    assert 968 < f_plain < 972
+
+
+def test_notch_rejects_the_injection_and_passes_dc():
+    c = biquad.notch(500.0, 400.0, F_S)
+    assert abs(biquad.response(c, 500.0, F_S)) < 1e-4
+    assert abs(biquad.response(c, 0.0, F_S) - 1) < 1e-6
+    assert abs(biquad.response(c, 60.0, F_S)) > 0.97            # a 60 Hz fundamental passes
+
+
+@pytest.mark.parametrize("kind, f", [("bandpass", 1000.0), ("bandpass", 500.0), ("notch", 200.0), ("notch", 900.0)])
+def test_integer_section_follows_its_response(kind, f):
+    c = biquad.bandpass(1000.0, 164.0, F_S) if kind == "bandpass" else biquad.notch(500.0, 400.0, F_S)
+    h = biquad.response(c, f, F_S)
+    s, amp = BiquadState(), 20000.0
+    out = []
+    for k in range(4000):
+        s = biquad_step(s, round(amp * math.cos(2 * math.pi * f * k / F_S)), c)
+        if k >= 3000:
+            out.append((s.y1 / 2**biquad.Y_FRAC, k))
+    # least-squares phasor of the output over the last 1000 samples
+    z = sum(y * cmath.exp(-2j * math.pi * f * k / F_S) for y, k in out) * 2 / len(out)
+    assert abs(z) == pytest.approx(amp * abs(h), rel=2e-3, abs=2.0)
+    if abs(h) > 0.05:
+        assert cmath.phase(z / h) == pytest.approx(0.0, abs=2e-3)
+
+
+# ---- rot_bpf on the ideal HF response ------------------------------------------------------------------------
+def hf_current(theta: float, phi: float, v: float, w_h: float, l_d: float, l_q: float, r: float = 5.9) -> complex:
+    """Stationary HF current of a salient machine to the voltage v e^{j phi}, steady state of eq. (8) with
+    the stator resistance (speed neglected). In the rotor frame u = v e^{j(phi - theta)}, and each axis
+    answers its real sinusoid with its admittance Y = 1 / (R + j w_h L): i_d = Re(Y_d u), i_q = Im(Y_q u),
+    i.e. i_dq = (Y_d + Y_q)/2 u + (conj Y_d - conj Y_q)/2 conj(u); back in the stationary frame the second
+    term is the negative sequence at 2 theta - phi (eqs. (10)-(11) for R = 0)."""
+    y_d, y_q = 1 / complex(r, w_h * l_d), 1 / complex(r, w_h * l_q)
+    return v * ((y_d + y_q) / 2 * cmath.exp(1j * phi)
+                + (y_d.conjugate() - y_q.conjugate()) / 2 * cmath.exp(1j * (2 * theta - phi)))
+
+
+def run_rot(p, theta_of_k, l_d, l_q, n=1500, i_lsb=5 / 32768):
+    """Steps a RotatingBpf on window means of the ideal response; returns the estimator and the list of
+    (k, theta output)."""
+    est = RotatingBpf(p)
+    step = 214_748_365                                          # 500 Hz at 10 kHz
+    out = []
+    for k in range(n):
+        inj_phase = (k * step) % TURN
+        phi = (inj_phase - step / 4) / TURN * 2 * math.pi       # the centre of window k
+        i = hf_current(theta_of_k(k), phi, 28.0, 2 * math.pi * 500, l_d, l_q) / i_lsb
+        s, c = sincos_q15(inj_phase)
+        win = WindowResult(0, 0, 0, 0, 0, 1, inj_phase)
+        est.step(Measurement(win, round(i.real), round(i.imag), 0, 32767, 0, 0, s, c))
+        out.append((k, est.theta))
+    return est, out
+
+
+def run_more(est: RotatingBpf, theta: float, n: int, start: int = 3000) -> None:
+    """``n`` more windows of the standing rotor at ``theta`` (continuing the injection phase of run_rot)."""
+    step = 214_748_365
+    for k in range(start, start + n):
+        inj_phase = (k * step) % TURN
+        phi = (inj_phase - step / 4) / TURN * 2 * math.pi
+        i = hf_current(theta, phi, 28.0, 2 * math.pi * 500, 0.067, 0.182) / (5 / 32768)
+        s, c = sincos_q15(inj_phase)
+        est.step(Measurement(WindowResult(0, 0, 0, 0, 0, 1, inj_phase), round(i.real), round(i.imag), 0, 32767,
+                             0, 0, s, c))
+
+
+def rot_params(l_d: float, l_q: float):
+    sc = load_scenario(SCENARIO)
+    sc.plant["mag"]["L_d"], sc.plant["mag"]["L_q"] = l_d, l_q
+    return rot_bpf_params(sc)
+
+
+@pytest.mark.parametrize("l_d, l_q", [(0.067, 0.182), (0.182, 0.067)])
+@pytest.mark.parametrize("theta_deg", [0.0, 37.0, 90.0, 133.0, 222.0, 301.0])
+def test_rot_bpf_finds_the_angle_at_standstill(l_d, l_q, theta_deg):
+    """Standing rotor: theta_hat = theta modulo half a turn, within 0.1 deg (eq. (17)'s sign from the
+    saliency: with the other sign the loop would settle 90 deg off)."""
+    p = rot_params(l_d, l_q)
+    th = math.radians(theta_deg)
+    est, out = run_rot(p, lambda k: th, l_d, l_q, n=3000)
+    e = (deg(round(th / (2 * math.pi) * TURN) - est.theta) + 90) % 180 - 90
+    assert abs(e) < 0.1
+
+
+@pytest.mark.parametrize("turn_deg", [10.0, -10.0])
+def test_rot_bpf_error_has_the_sign_of_theta_minus_estimate(turn_deg):
+    """The normalised eq. (17): with the PLL held (gains 0) after it has locked, turning the rotor by
+    +-10 deg gives an error of +-10 deg once the filters have settled."""
+    p = rot_params(0.067, 0.182)
+    est, _ = run_rot(p, lambda k: 0.5, 0.067, 0.182, n=3000)
+    est.p = replace(p, pll_kp=0, pll_ki=0)
+    est.pll = replace(est.pll, omega=0, integ=0)
+    run_more(est, 0.5 + math.radians(turn_deg), 300)
+    assert deg(est.err) == pytest.approx(turn_deg, abs=0.3)
+
+
+@pytest.mark.parametrize("rpm", [15.0, 100.0, 300.0, -300.0])
+def test_rot_bpf_compensates_its_delays_when_turning(rpm):
+    """Constant speed: the output for the window after next equals the true angle there within 0.3 deg
+    at 15-300 r/min (the band-pass phase of eqs. (18)-(19), the average and the loop's periods)."""
+    p = replace(rot_params(0.067, 0.182), pll_kp=3277, pll_ki=10486)   # 500 1/s, 105 000 1/s^2: damping 1
+    w = rpm / 60 * 2 * 2 * math.pi / F_S                      # electrical rad per period, 2 pole pairs
+    est, out = run_rot(p, lambda k: 0.3 + w * k, 0.067, 0.182, n=4000)
+    errs = [(deg(round((0.3 + w * (k + 2)) / (2 * math.pi) * TURN) - th) + 90) % 180 - 90 for k, th in out[-500:]]
+    assert max(abs(e) for e in errs) < 0.2
+
+
+def test_delay_fit_matches_eq18():
+    """The host's band-pass delay against the paper's eq. (18), 2 dtheta = atan((w^2 - w0^2) / (w_g w)) with
+    w = 2 (w_h - w_e), at the switch-over speed (10 Hz electrical), evaluated at the analog frequency the
+    prewarped bilinear transform maps 2 (f_h - f_e) to (w_a = k tan(w T / 2), k = w0 / tan(w0 T / 2));
+    the plain continuous formula is 7 % lower there."""
+    c = biquad.bandpass(1000.0, 164.0, F_S)
+    d = rot_bpf_delay(c, 500.0, 1, F_S, 10.0) - 1             # periods, N = 1: the band-pass alone
+    w0, wg = 2 * math.pi * 1000, 2 * math.pi * 164
+    w = 2 * 2 * math.pi * (500 - 10)
+    k = w0 / math.tan(w0 / (2 * F_S))
+    w_a = k * math.tan(w / (2 * F_S))
+    lag = -math.atan((w_a * w_a - w0 * w0) / (wg * w_a)) / 2    # rad of theta at 10 Hz
+    assert d * 2 * math.pi * 10 / F_S == pytest.approx(lag, rel=0.01)
+
+
+# ---- eemf_smo on the dq model ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("rpm", [300.0, -300.0, 1000.0, 3000.0])
+def test_eemf_smo_tracks_the_model(rpm):
+    """Steady state of eq. (1) (MTPA-like currents i_d = -1 A, i_q = 1.5 A, exact window means of a
+    rotating vector neglected): after 0.3 s the angle for the window after next is within 2 deg."""
+    sc = load_scenario(SCENARIO)
+    p = eemf_smo_params(sc)
+    i_lsb, v_lsb = 5 / 32768, 350 / 32768
+    l_d, l_q, psi, r = 0.067, 0.182, 0.096, 5.9
+    w = rpm * 2 * math.pi / 60 * 2
+    i_d, i_q = -1.0, 1.5
+    v = complex(r * i_d - w * l_q * i_q, r * i_q + w * (l_d * i_d + psi))
+    est = EemfSmo(p)
+    th0, t = 0.3, 1 / F_S
+    est.sync(round((th0 + 2 * w * t) / (2 * math.pi) * TURN) % TURN, round(w * t / (2 * math.pi) * TURN))
+    est.ih_al, est.ih_be = (round(x / i_lsb) << 8 for x in
+                            ((i_d * math.cos(th0) - i_q * math.sin(th0)), (i_d * math.sin(th0) + i_q * math.cos(th0))))
+    for k in range(3000):
+        th = th0 + w * t * k
+        r_ = cmath.exp(1j * th)
+        vab = v * r_
+        s, c = sincos_q15(round(th / (2 * math.pi) * TURN) % TURN)
+        est.step(Measurement(None, round(i_d / i_lsb), round(i_q / i_lsb), s, c, round(vab.real / v_lsb),
+                             round(vab.imag / v_lsb)))
+    e = deg(round((th0 + w * t * 3001) / (2 * math.pi) * TURN) - est.theta)
+    assert abs(e) < 2.0
+
+
+# ---- MTPA --------------------------------------------------------------------------------------------------------
+def test_mtpa_table_is_the_torque_maximum():
+    """Each table point maximises 1.5 p (psi_f i_q + (L_d - L_q) i_d i_q) on its current circle (a 0.5 deg
+    search), and the interpolated split has the commanded magnitude within 1 %."""
+    psi, l_d, l_q, i_lsb = 0.096, 0.067, 0.182, 5 / 32768
+    shift, t_d, t_q = mtpa_table(20972, i_lsb, psi, l_d, l_q)      # 3.2 A
+    for k in range(1, len(t_d)):
+        i_s = math.hypot(t_d[k], t_q[k]) * i_lsb
+        best = max((psi * i_s * math.sin(a) + (l_d - l_q) * i_s * i_s * math.cos(a) * math.sin(a), a)
+                   for a in (math.radians(x / 2) for x in range(180, 361)))[1]
+        assert math.degrees(math.atan2(t_q[k], t_d[k])) == pytest.approx(math.degrees(best), abs=0.5)
+    for i_s in (1000, 7777, 15000, 20972):
+        d, q = mtpa_lookup(i_s, shift, t_d, t_q)
+        assert math.hypot(d, q) == pytest.approx(i_s, rel=0.01)
+
+
+def test_firmware_params_of_the_scenario():
+    """The scenario's integers: rotating injection, pilot polarity, MTPA, notch and a 1 kHz speed loop."""
+    p = firmware_params(load_scenario(SCENARIO))
+    assert (p.inj_rot, p.pol_mode, p.speed_div) == (1, 1, 10)
+    assert p.notch is not None and len(p.mtpa_id) >= 2
+    w = 2 * math.pi * 500
+    d_r = math.atan(5.9 / (w * 0.067)) + math.atan(5.9 / (w * 0.182))       # 2.2 deg: R's share
+    assert p.rot.offset == (1 << 30) - round(d_r / (2 * math.pi) * TURN)    # L_q > L_d: +pi/2 (docs/methods.md)

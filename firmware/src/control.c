@@ -262,7 +262,7 @@ static int32_t rq15(int64_t x)
  * (|x| < 2^20, |y| < 2^31: every product below 2^61, the sum of five within int64). */
 void fw_biquad_step(struct fw_biquad *s, int32_t x, const struct fw_biquad_coef *c)
 {
-    const int64_t f = (int64_t)1 << FW_BIQUAD_Y_FRAC;
+    const int32_t f = 1 << FW_BIQUAD_Y_FRAC; /* |x| < 2^20: x * f fits int32, every product is 32 x 32 */
     int64_t acc = (int64_t)c->b0 * (x * f) + (int64_t)c->b1 * (s->x1 * f) + (int64_t)c->b2 * (s->x2 * f) -
                   (int64_t)c->a1 * s->y1 - (int64_t)c->a2 * s->y2;
     int32_t y = sat32((acc + ((int64_t)1 << (FW_BIQUAD_COEF_FRAC - 1))) >> FW_BIQUAD_COEF_FRAC);
@@ -536,20 +536,21 @@ void fw_smo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     int32_t eps_be = sat32((int64_t)e->ih_be - (int64_t)i_be * (1 << FW_SMO_I_FRAC));
     int32_t z_al = clamp_z(((int64_t)eps_al * sp->k_lin) >> 16, sp->z_max);
     int32_t z_be = clamp_z(((int64_t)eps_be * sp->k_lin) >> 16, sp->z_max);
-    int64_t g = ((int64_t)e->pll.omega * sp->c_x) >> 32;
+    int32_t g = (int32_t)(((int64_t)e->pll.omega * sp->c_x) >> 32); /* |g| < 2^23 */
     /* Tap et al. 2023, eq. (20) in the plant's frame with L_o, driven by the sliding-mode term z */
-    int64_t d_al = (((int64_t)sp->c_v * ((int64_t)m->v_al - z_al)) >> (16 - FW_SMO_I_FRAC)) -
-                   (((int64_t)sp->c_r * e->ih_al) >> 16) - ((g * e->ih_be) >> 16);
-    int64_t d_be = (((int64_t)sp->c_v * ((int64_t)m->v_be - z_be)) >> (16 - FW_SMO_I_FRAC)) -
-                   (((int64_t)sp->c_r * e->ih_be) >> 16) + ((g * e->ih_al) >> 16);
+    int64_t d_al = (((int64_t)sp->c_v * sat32((int64_t)m->v_al - z_al)) >> (16 - FW_SMO_I_FRAC)) -
+                   (((int64_t)sp->c_r * e->ih_al) >> 16) - (((int64_t)g * e->ih_be) >> 16);
+    int64_t d_be = (((int64_t)sp->c_v * sat32((int64_t)m->v_be - z_be)) >> (16 - FW_SMO_I_FRAC)) -
+                   (((int64_t)sp->c_r * e->ih_be) >> 16) + (((int64_t)g * e->ih_al) >> 16);
     e->ih_al = sat32(e->ih_al + d_al);
     e->ih_be = sat32(e->ih_be + d_be);
     int64_t w_i = e->pll.integ >> 24;
     int64_t a = ((w_i < 0 ? -w_i : w_i) * sp->c_a) >> 24;
     a = a < sp->a_min ? sp->a_min : a;
     a = a > sp->a_max ? sp->a_max : a;
-    e->ef_al += (int32_t)((a * ((int64_t)z_al * (1 << FW_SMO_I_FRAC) - e->ef_al)) >> 16);
-    e->ef_be += (int32_t)((a * ((int64_t)z_be * (1 << FW_SMO_I_FRAC) - e->ef_be)) >> 16);
+    /* |z << 8| < 2^23 and e_f stays between its old value and z << 8: the difference fits int32 */
+    e->ef_al += (int32_t)(((int64_t)(int32_t)a * (z_al * (1 << FW_SMO_I_FRAC) - e->ef_al)) >> 16);
+    e->ef_be += (int32_t)(((int64_t)(int32_t)a * (z_be * (1 << FW_SMO_I_FRAC) - e->ef_be)) >> 16);
     fw_vector_angle((int32_t)sat_bits(e->ef_al, 29), (int32_t)sat_bits(e->ef_be, 29), &ang, &e->mag); /* eq. (22) */
     if (e->mag < sp->e_min)
         ang = e->pll.theta;

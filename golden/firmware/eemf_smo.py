@@ -28,8 +28,8 @@ voltage LSB, ``e_f`` Q8 voltage LSB):
 1. ``i_al, i_be = inv_park(i_d, i_q, sin, cos)``;
 2. ``z = clamp(shr(sat(i_hat - (i << 8), 32) * k_lin, 16), -z_max, z_max)`` per component;
 3. ``g = shr(pll.omega * c_x, 32)`` (Q16 fraction per period of the cross term), then with the old
-   ``i_hat``: ``d_al = shr(c_v (v_al - z_al), 8) - shr(c_r i_hat_al, 16) - shr(g i_hat_be, 16)``,
-   ``d_be = shr(c_v (v_be - z_be), 8) - shr(c_r i_hat_be, 16) + shr(g i_hat_al, 16)``,
+   ``i_hat``: ``d_al = shr(c_v sat(v_al - z_al, 32), 8) - shr(c_r i_hat_al, 16) - shr(g i_hat_be, 16)``,
+   ``d_be = shr(c_v sat(v_be - z_be, 32), 8) - shr(c_r i_hat_be, 16) + shr(g i_hat_al, 16)``,
    ``i_hat = sat(i_hat + d, 32)``;
 4. the low-pass whose cut-off follows the speed (the paper's "variable band-pass frequency", Sec. II-F):
    ``a = clamp(shr(|w_i| * c_a, 24), a_min, a_max)`` (Q16; ``c_a`` = ratio of the cut-off to the
@@ -120,8 +120,8 @@ class EemfSmo(Estimator):
         z_be = _clamp(shr(sat(self.ih_be - (i_be << I_FRAC), 32) * p.k_lin, 16), p.z_max)
         g = shr(self.pll.omega * p.c_x, 32)
         # Tap et al. 2023, eq. (20) in the plant's frame with L_o, driven by the sliding-mode term z
-        d_al = shr(p.c_v * (m.v_al - z_al), 16 - I_FRAC) - shr(p.c_r * self.ih_al, 16) - shr(g * self.ih_be, 16)
-        d_be = shr(p.c_v * (m.v_be - z_be), 16 - I_FRAC) - shr(p.c_r * self.ih_be, 16) + shr(g * self.ih_al, 16)
+        d_al = shr(p.c_v * sat(m.v_al - z_al, 32), 16 - I_FRAC) - shr(p.c_r * self.ih_al, 16) - shr(g * self.ih_be, 16)
+        d_be = shr(p.c_v * sat(m.v_be - z_be, 32), 16 - I_FRAC) - shr(p.c_r * self.ih_be, 16) + shr(g * self.ih_al, 16)
         self.ih_al = sat(self.ih_al + d_al, 32)
         self.ih_be = sat(self.ih_be + d_be, 32)
         w_i = shr(self.pll.integ, 24)

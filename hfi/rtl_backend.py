@@ -345,7 +345,7 @@ class RtlClosedLoop:
         w["tick"] = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
         for col, reg, signed in (("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),
                                  ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False),
-                                 ("speed_ref", "SPEED_REF", True)):
+                                 ("speed_ref", "SPEED_REF", True), ("inj_phase", "INJ_PHASE", False)):
             v = _per_window(reads, rm.REGISTERS[reg]["addr"], n_win, reg)
             w[col] = wrap(v, 32) if signed else v
         vdq = _per_window(writes, rm.V_DQ_ADDR, n_win, "V_DQ")

@@ -104,6 +104,16 @@ def test_hand_over_scenario_identical():
     assert np.diff(hls.windows["est"]).tolist().count(1) == 1 and np.diff(hls.windows["est"]).tolist().count(-1) == 1
 
 
+def test_tap2023_identical():
+    """The 000 drive (scenarios/tap2023_fullload.toml) at its 10 kHz for 0.3 s: pilot polarity, the
+    rotating injection, the notch, MTPA and the EEMF observer in parallel, identical to golden."""
+    sc = dataclasses.replace(load_scenario(ROOT / "scenarios" / "tap2023_fullload.toml"), duration=0.3)
+    gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
+    assert {0, 1, 2, 3, 4} <= set(np.unique(hls.windows["mode"]).tolist())
+    for k in gold.windows:
+        assert np.array_equal(gold.windows[k], hls.windows[k]), k
+
+
 def test_rotating_injection_identical():
     """CTRL.INJ_ROT = 1 (docs/spec.md 3.5): the phase accumulator, its sin/cos (hfi_cordic_sincos<32, 16>)
     and the modulator's rotating term of the hls backend give the golden loop's compares, gate edges,

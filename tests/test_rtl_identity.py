@@ -4,7 +4,9 @@ The hand-over scenario (``scenarios/handover_short.toml``: start-up and polarity
 standstill, the hand-over to the rotor flux observer at 350 r/min and back below 300 r/min) runs on the
 ``golden`` backend (Python bit-true model) and on the ``rtl`` backend (the C firmware on the VexRiscv of
 the Verilated hfi_soc, the same C plant) with the same seed for ``IDENTITY_S`` seconds, both estimator
-methods in charge in turn. (The default scenario, full length, is compared on the hls backend.)
+methods in charge in turn; so does the 000 drive at 4 kHz (``tap2023_4khz``: pilot polarity, rotating
+injection, the EEMF observer in parallel). (The default scenario, full length, is compared on the hls
+backend.)
 Every per-window column, every ADC sample and every gate edge must be equal: any difference is a bug
 in one of them. The firmware timing (cycles per control step, late commits) is checked against its
 budget.
@@ -37,10 +39,28 @@ IDENTITY_S = 0.6
 """Simulated seconds compared (at least 0.5 s around the hand-overs): 2999 windows at 5 kHz."""
 
 
-@pytest.fixture(scope="module")
-def both():
-    sc = load_scenario(ROOT / "scenarios" / "handover_short.toml")
-    sc = dataclasses.replace(sc, duration=IDENTITY_S)
+def tap2023_4khz():
+    """The 000 drive (scenarios/tap2023_fullload.toml) at 4 kHz: its firmware step needs up to 8400 CPU
+    clocks, more than the 5000 of a 10 kHz period on the soft core (docs/soc.md); the first step's
+    CTRL.ENABLE must also land within three quarters of a period (9375 clocks at 4 kHz, 7500 at 5 kHz),
+    so the rtl backend runs it at 4 kHz with the paper's ratios (injection f_sw / 20 = 200 Hz, band-pass
+    66 Hz, notch at 200 Hz, 160 Hz wide)."""
+    sc = load_scenario(ROOT / "scenarios" / "tap2023_fullload.toml")
+    params = dict(sc.estimator.params, rot_bpf=dict(sc.estimator.params["rot_bpf"], f_inj=200.0, bpf_width=66.0))
+    return dataclasses.replace(sc, pwm=dataclasses.replace(sc.pwm, f_sw=4e3),
+                               control=dataclasses.replace(sc.control, notch_freq=200.0, notch_width=160.0),
+                               estimator=dataclasses.replace(sc.estimator, params=params))
+
+
+SCENARIOS = {"handover_short": lambda: load_scenario(ROOT / "scenarios" / "handover_short.toml"),
+             "tap2023_4khz": tap2023_4khz}
+"""The compared runs: the 002 method with its hand-over, and the 000 method (pilot polarity, rotating
+injection, EEMF observer in parallel)."""
+
+
+@pytest.fixture(scope="module", params=sorted(SCENARIOS))
+def both(request):
+    sc = dataclasses.replace(SCENARIOS[request.param](), duration=IDENTITY_S)
     return sc, ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
 
 
@@ -72,7 +92,7 @@ def test_samples_and_gate_edges_identical(both):
         g, r = getattr(gold, group), getattr(rtl, group)
         for k in g:
             assert np.array_equal(g[k], r[k]), f"{group}.{k}: {_first_difference(g[k], r[k])}"
-    assert len(gold.samples["tick"]) > 500_000 and len(gold.edges["tick"]) > 30_000
+    assert len(gold.samples["tick"]) > 500_000 and len(gold.edges["tick"]) > 4 * len(gold.t)
 
 
 def test_the_run_reaches_speed_control(both):
@@ -85,7 +105,9 @@ def test_the_run_reaches_speed_control(both):
 
 def test_the_run_hands_over_both_ways(both):
     """The compared stretch covers the hand-over to the rotor flux observer and back."""
-    _, gold, rtl = both
+    sc, gold, rtl = both
+    if sc.name != "handover_short":
+        pytest.skip("the 000 run stays below the hand-over speed in its first 0.6 s")
     assert np.array_equal(np.flatnonzero(np.diff(rtl.windows["est"])), np.flatnonzero(np.diff(gold.windows["est"])))
     assert np.diff(rtl.windows["est"]).tolist().count(1) == 1 and np.diff(rtl.windows["est"]).tolist().count(-1) == 1
 

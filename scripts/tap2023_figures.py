@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""Figures of the 000 method's scenarios like the paper's (Tap et al. 2023, Figs. 14, 18-24): speed
+(reference, rotor, estimate), electrical angle error, and the demodulated error signal of the HF
+estimator (eq. (17), normalised: the PLL's input ``err`` of golden/firmware/rot_bpf.py).
+
+Each scenario runs on the golden backend; the error signal is obtained by stepping a second
+``RotatingBpf`` with the same integers on the recorded window results (window-mean currents, the sin/cos
+active in each window, INJ_PHASE) from the start of RUN, which the run's own estimator also starts
+from (it is ``sync``ed there after the pilot pulses), so the replay follows it bit for bit while the HF
+estimator is in charge.
+
+Usage: scripts/tap2023_figures.py [NAME ...] [--out docs/figures]   (names: fullload step reversal
+pulsating highspeed; default all). Prints the plateau statistics of each run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from golden.closedloop import ClosedLoop  # noqa: E402
+from golden.control_config import firmware_params  # noqa: E402
+from golden.firmware.estimator import Measurement  # noqa: E402
+from golden.firmware.rot_bpf import RotatingBpf  # noqa: E402
+from golden.firmware.supervisor import MODE_RUN  # noqa: E402
+from golden.fixed import wrap  # noqa: E402
+from golden.fpga.cordic import sincos_q15  # noqa: E402
+from golden.fpga.demodulator import WindowResult  # noqa: E402
+from golden.scenario import load_scenario  # noqa: E402
+from hfi.report import metrics_of  # noqa: E402
+
+NAMES = ("fullload", "step", "reversal", "pulsating", "highspeed")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+
+
+def replay_error(sc, res) -> np.ndarray:
+    """The HF estimator's normalised error [deg] per window from the start of RUN (NaN before)."""
+    w = res.windows
+    est = RotatingBpf(firmware_params(sc).rot)
+    run = np.flatnonzero(w["mode"] == MODE_RUN)
+    out = np.full(len(res.t), np.nan)
+    if not len(run):
+        return out
+    k0 = int(run[0])
+    est.sync(int(w["theta_lo"][k0 - 1]), 0)
+    for k in range(k0, len(res.t)):
+        s_a, c_a = (int(w["sin"][k - 2]), int(w["cos"][k - 2])) if k >= 2 else (0, 32767)
+        s_i, c_i = sincos_q15(int(w["inj_phase"][k]))
+        win = WindowResult(0, 0, 0, 0, 0, 1, int(w["inj_phase"][k]))
+        est.step(Measurement(win, int(w["i_d"][k]), int(w["i_q"][k]), s_a, c_a, 0, 0, s_i, c_i))
+        if w["est"][k] == 0:
+            out[k] = wrap(est.err, 32) * 360 / 2**32
+    return out
+
+
+def figure(name: str, out_dir: str) -> dict:
+    sc = load_scenario(os.path.join(ROOT, "scenarios", f"tap2023_{name}.toml"))
+    res = ClosedLoop(sc).run(progress=False)
+    m = metrics_of(sc, res)
+    w, t = res.windows, res.t
+    rpm = 30 / np.pi
+    scale = res.scales.speed_mech(1.0)
+    fig, ax = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    ax[0].plot(t, w["speed_ref"] / scale * rpm, "k--", lw=1, label="reference")
+    ax[0].plot(t, w["omega_m"] * rpm, lw=1, label="rotor")
+    ax[0].plot(t, w["omega_f"] / scale * rpm, lw=0.8, alpha=0.8, label="estimate (filtered)")
+    ax[0].set_ylabel("speed [r/min]")
+    ax[0].legend(loc="best", fontsize=8)
+    ax[1].plot(t, res.angle_error_deg(), lw=0.6)
+    hi = w["est"] == 1
+    if hi.any():
+        ax[1].plot(t[hi], res.angle_error_deg()[hi], ".", ms=1, label="EEMF observer in charge")
+        ax[1].legend(loc="best", fontsize=8)
+    ax[1].set_ylabel("angle error [deg el]")
+    ax[1].set_ylim(-10, 10)
+    ax[2].plot(t, replay_error(sc, res), lw=0.6)
+    ax[2].set_ylabel("HF error signal [deg]")
+    ax[2].set_ylim(-10, 10)
+    ax[2].set_xlabel("time [s]")
+    seg = "; ".join(f"{s['speed_ref_rpm']:g} r/min: {s['err_rms_deg']} deg RMS" for s in m["segments"])
+    fig.suptitle(f"tap2023_{name}: {sc.description}\n{seg}", fontsize=9)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"tap2023_{name}.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return {"figure": path, "locked": m["locked"], "segments": m["segments"],
+            "switches": m["estimator_switches"], "flipped": m["polarity_flipped"]}
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("names", nargs="*", default=list(NAMES), choices=NAMES, metavar="NAME")
+    ap.add_argument("--out", default=os.path.join(ROOT, "docs", "figures"))
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    for name in args.names:
+        r = figure(name, args.out)
+        print(f"tap2023_{name}: locked {r['locked']}, switches {r['switches']}, wrote {r['figure']}")
+        for s in r["segments"]:
+            print(f"  {s['speed_ref_rpm']:8.2f} r/min: mean {s['speed_mean_rpm']:8.2f}, ripple {s['speed_ripple_rpm']:6.2f} "
+                  f"r/min, angle error {s['err_rms_deg']} deg RMS, {s['err_peak_deg']} deg peak ({', '.join(s['estimators'])})")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

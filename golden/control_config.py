@@ -169,7 +169,8 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         inj_rot=int(rot), inj_cd=inj_cd, inj_sd=inj_sd, hf_dtc=rot_hf_current(sc) if rot else 0,
         pol_mode=POL_PILOT if ctl.polarity == "pilot" else POL_CURRENT,
         v_pilot=min(sc_.voltage(ctl.v_pilot), 32767),
-        mtpa_shift=mtpa[0], mtpa_id=mtpa[1], mtpa_iq=mtpa[2], notch=notch, speed_div=speed_div)
+        mtpa_shift=mtpa[0], mtpa_id=mtpa[1], mtpa_iq=mtpa[2], notch=notch, speed_div=speed_div,
+        i_slew=max(sc_.current(ctl.current_slew / f_sw), 1) if ctl.current_slew > 0 else 0)
 
 
 def sqw_params(sc: Scenario) -> SqwParams:

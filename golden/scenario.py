@@ -255,6 +255,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "notch_freq": _q("frequency", _non_negative, default=0.0),
         "notch_width": _q("frequency", _positive, default=400.0),
         "speed_rate": _q("frequency", _non_negative, default=0.0),
+        "current_slew": _q("current_rate", _non_negative, default=0.0),
     },
     "estimator": {
         "low": Field("choice", choices=LOW_ESTIMATORS, default="sqw_bangbang"),
@@ -389,6 +390,7 @@ class ControlSettings:
     notch_freq: float
     notch_width: float
     speed_rate: float
+    current_slew: float
 
 
 @dataclass(frozen=True)

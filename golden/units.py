@@ -38,6 +38,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "speed": ("a mechanical speed", "rad/s, rpm, r/min"),
     "viscous_friction": ("a viscous friction coefficient", "N*m*s/rad"),
     "dimensionless": ("a dimensionless number", "no unit, or %"),
+    "current_rate": ("a rate of change of current", "A/s, A/ms"),
 }
 """Dimension name -> (description with its article, the units listed in error messages)."""
 
@@ -82,6 +83,8 @@ _OTHER_UNITS: dict[str, Unit] = {
     "r/min": Unit("speed", 0, 2 * math.pi / 60),
     "N*m*s": Unit("viscous_friction"),
     "%": Unit("dimensionless", -2),
+    "A/s": Unit("current_rate"),
+    "A/ms": Unit("current_rate", 3),
 }
 
 

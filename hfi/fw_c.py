@@ -34,7 +34,7 @@ LIBRARY = Path("out/firmware/host/libhfifw.so")
 """The host build (firmware/Makefile, target ``host``), relative to the project root."""
 
 STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id_int", "iq_int",
-                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset", "speed_cnt", "i_s_ref")
+                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset", "speed_cnt", "i_s_ref", "i_s_cmd")
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
 (besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each
 method's state block, named by the method's ``PARAMS``)."""

@@ -99,9 +99,13 @@ def figure(name: str, out_dir: str) -> dict:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("names", nargs="*", default=list(NAMES), choices=NAMES, metavar="NAME")
-    ap.add_argument("--out", default=os.path.join(ROOT, "docs", "figures"))
+    ap.add_argument("names", nargs="*", metavar="NAME", help=f"scenarios ({', '.join(NAMES)}; default all)")
+    ap.add_argument("--out", default=os.path.normpath(os.path.join(ROOT, "docs", "figures")))
     args = ap.parse_args()
+    bad = [n for n in args.names if n not in NAMES]
+    if bad:
+        ap.error(f"unknown scenario {', '.join(bad)}: choose from {', '.join(NAMES)}")
+    args.names = args.names or list(NAMES)
     os.makedirs(args.out, exist_ok=True)
     for name in args.names:
         r = figure(name, args.out)

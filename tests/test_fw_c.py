@@ -447,7 +447,7 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
         inj_rot=inj_rot, inj_cd=inj_cd, inj_sd=inj_sd, hf_dtc=draw_one(rng, 0, 1 << 15, (597,)),
         pol_mode=POL_PILOT if rng.random() < 0.5 else POL_CURRENT, v_pilot=draw_one(rng, 0, (1 << 15) - 1, (9362,)),
         mtpa_shift=shift, mtpa_id=t_d, mtpa_iq=t_q, notch=random_coef(rng) if rng.random() < 0.5 else None,
-        speed_div=draw_one(rng, 1, 20, (1, 10)))
+        speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)))
 
 
 def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int) -> list[WindowResult]:

@@ -812,24 +812,30 @@ static void feedback(struct fw_state *st, const struct fw_params *p, int32_t *i_
     *i_q = (int32_t)round_shr64(st->nq.y1, FW_BIQUAD_Y_FRAC);
 }
 
-/* Firmware._run_refs: the speed PI every speed_div periods, then MTPA (if a table is given). */
+/* Firmware._run_refs: the speed PI every speed_div periods, the slew limit, then MTPA (if a table is given). */
 static void run_refs(struct fw_state *st, const struct fw_params *p, int32_t speed_ref, int32_t *i_d_ref,
                      int32_t *i_q_ref)
 {
     if (st->speed_cnt == 0)
         st->i_s_ref = pi_step(&st->speed_int, speed_ref, fw_lowpass_out(st->speed_f), &p->speed_pi);
     st->speed_cnt = st->speed_cnt + 1 < p->speed_div ? st->speed_cnt + 1 : 0;
+    if (p->i_slew > 0) { /* |i_s_cmd| <= 2^31, i_slew <= 2^30: the bounds in int64 */
+        int64_t lo = (int64_t)st->i_s_cmd - p->i_slew, hi = (int64_t)st->i_s_cmd + p->i_slew;
+        st->i_s_cmd = (int32_t)(st->i_s_ref < lo ? lo : st->i_s_ref > hi ? hi : st->i_s_ref);
+    } else {
+        st->i_s_cmd = st->i_s_ref;
+    }
     int32_t i_d_est = fw_methods[slot_method(p, st->active)].i_d(p);
     if (p->mtpa_len == 0) {
         *i_d_ref = i_d_est;
-        *i_q_ref = st->i_s_ref;
+        *i_q_ref = st->i_s_cmd;
         return;
     }
     int32_t i_d, i_q;
-    uint32_t mag = st->i_s_ref < 0 ? 0u - (uint32_t)st->i_s_ref : (uint32_t)st->i_s_ref;
+    uint32_t mag = st->i_s_cmd < 0 ? 0u - (uint32_t)st->i_s_cmd : (uint32_t)st->i_s_cmd;
     fw_mtpa_lookup(mag, p->mtpa_shift, p->mtpa_len, p->mtpa_id, p->mtpa_iq, &i_d, &i_q);
     *i_d_ref = i_d < i_d_est ? i_d : i_d_est;
-    *i_q_ref = st->i_s_ref < 0 ? -i_q : i_q;
+    *i_q_ref = st->i_s_cmd < 0 ? -i_q : i_q;
 }
 
 /* Firmware._dtc_refs: the currents written to I_D_REF / I_Q_REF (read by the dead-time compensation only),

@@ -194,6 +194,7 @@ struct fw_params {
     int32_t notch_on;
     struct fw_biquad_coef notch;
     int32_t speed_div;
+    int32_t i_slew;
 };
 
 /* Register values written by one control step (golden.firmware.supervisor.Outputs). */
@@ -232,6 +233,7 @@ struct fw_state {
     struct fw_outputs prev;     /* outputs of step k-3 (active in the window before) */
     int32_t speed_cnt;          /* periods since the last speed-PI step */
     int32_t i_s_ref;            /* speed-PI output, held between its steps */
+    int32_t i_s_cmd;            /* the current command: i_s_ref through the slew limit */
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;
     struct fw_sqw_state sqw;    /* one state block per method */

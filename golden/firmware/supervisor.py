@@ -116,6 +116,9 @@ class FirmwareParams:
         Notch on the d and q current feedback of the current PIs (Tap et al. 2023, Sec. II-C); None: off.
     speed_div : int
         The speed PI runs every ``speed_div`` periods (its gains computed for that period).
+    i_slew : int
+        Largest change of the current command per period [current LSB] (0: no limit): the HF estimators
+        take a current step's transient for position signal (docs/methods.md).
     """
 
     low: int
@@ -149,6 +152,7 @@ class FirmwareParams:
     mtpa_iq: tuple = ()
     notch: BiquadCoef | None = None
     speed_div: int = 1
+    i_slew: int = 0
 
 
 @dataclass(frozen=True)
@@ -194,6 +198,7 @@ class Firmware:
     offset: int = 0                  # s32 hand-over angle offset (angle in use - high slot's angle)
     speed_cnt: int = 0               # periods since the last speed-PI step (0..speed_div-1)
     i_s_ref: int = 0                 # speed-PI output, held between its steps
+    i_s_cmd: int = 0                 # the current command: i_s_ref through the slew limit
     nd: BiquadState = field(default_factory=BiquadState)   # notch states of the d and q feedback
     nq: BiquadState = field(default_factory=BiquadState)
     act: list = field(default_factory=lambda: [RESET_OUTPUTS, RESET_OUTPUTS])  # outputs of steps k-2, k-1
@@ -311,16 +316,21 @@ class Firmware:
         return round_shr(self.nd.y1, Y_FRAC), round_shr(self.nq.y1, Y_FRAC)
 
     def _run_refs(self, speed_ref: int) -> tuple[int, int]:
-        """RUN: the speed PI every ``speed_div`` periods, then MTPA (if a table is given)."""
+        """RUN: the speed PI every ``speed_div`` periods, the slew limit (``i_slew``; the clamp is done in
+        s64, ``i_slew`` <= 2^30), then MTPA (if a table is given)."""
         p = self.p
         if self.speed_cnt == 0:
             self.i_s_ref, self.speed_int = pi_step(self.speed_int, speed_ref, self.omega_f, p.speed_pi)
         self.speed_cnt = self.speed_cnt + 1 if self.speed_cnt + 1 < p.speed_div else 0
+        if p.i_slew > 0:
+            self.i_s_cmd = min(max(self.i_s_ref, self.i_s_cmd - p.i_slew), self.i_s_cmd + p.i_slew)
+        else:
+            self.i_s_cmd = self.i_s_ref
         i_d_est = self.slots[self.active].i_d
         if not p.mtpa_id:
-            return i_d_est, self.i_s_ref
-        i_d, i_q = mtpa_lookup(abs(self.i_s_ref), p.mtpa_shift, p.mtpa_id, p.mtpa_iq)
-        return min(i_d, i_d_est), (-i_q if self.i_s_ref < 0 else i_q)
+            return i_d_est, self.i_s_cmd
+        i_d, i_q = mtpa_lookup(abs(self.i_s_cmd), p.mtpa_shift, p.mtpa_id, p.mtpa_iq)
+        return min(i_d, i_d_est), (-i_q if self.i_s_cmd < 0 else i_q)
 
     def _estimate(self, m: Measurement) -> None:
         """Step the low-speed slot while it is in charge, the high-speed slot always (in parallel)."""

@@ -140,8 +140,7 @@ class EemfSmo(Estimator):
         self.theta = uwrap(self.pll.theta + self.dir * (p.lag0 - QUARTER) + shr(self.omega * p.k_delay, 16), 32)
 
     def turn(self, delta: int) -> None:
-        self.pll = PllState(uwrap(self.pll.theta + delta, 32), self.pll.integ, self.pll.omega)
-        self.theta = uwrap(self.theta + delta, 32)
+        self.turn_pll(delta)
 
     def sync(self, theta: int, omega: int) -> None:
         """The PLL continues from ``theta`` at ``omega`` (the direction from the sign of ``omega``, forwards

@@ -31,7 +31,8 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
-from golden.fixed import round_shr, sat
+from golden.firmware.pll import PllState
+from golden.fixed import round_shr, sat, uwrap
 from golden.fpga.demodulator import WindowResult
 
 METHOD_SQW_BANGBANG, METHOD_RFO, METHOD_ROT_BPF, METHOD_EEMF_SMO = 1, 2, 3, 4
@@ -119,6 +120,12 @@ class Estimator(ABC):
     @abstractmethod
     def turn(self, delta: int) -> None:
         """Rotate every angle of the state by ``delta`` (binary angle)."""
+
+    def turn_pll(self, delta: int) -> None:
+        """``turn`` of a method whose angles are its PLL's and its output (the PLL ``pll`` a
+        :class:`~golden.firmware.pll.PllState`): both turned by ``delta``."""
+        self.pll = PllState(uwrap(self.pll.theta + delta, 32), self.pll.integ, self.pll.omega)
+        self.theta = uwrap(self.theta + delta, 32)
 
     @abstractmethod
     def sync(self, theta: int, omega: int) -> None:

@@ -40,7 +40,7 @@ PLL; the filters carry ``2 theta``, which the half turn of polarity detection do
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from golden.firmware.biquad import BiquadCoef, BiquadState, biquad_step
 from golden.firmware.estimator import METHOD_ROT_BPF, Estimator, Measurement, inv_park
@@ -126,8 +126,7 @@ class RotatingBpf(Estimator):
         self.theta = uwrap(self.pll.theta + shr(self.omega * p.k_delay, 16), 32)   # eqs. (18)-(19)
 
     def turn(self, delta: int) -> None:
-        self.pll = PllState(uwrap(self.pll.theta + delta, 32), self.pll.integ, self.pll.omega)
-        self.theta = uwrap(self.theta + delta, 32)
+        self.turn_pll(delta)
 
     def sync(self, theta: int, omega: int) -> None:
         p = self.p

@@ -60,8 +60,7 @@ class SquareWaveBangBang(Estimator):
         self.omega = self.pll.omega
 
     def turn(self, delta: int) -> None:
-        self.theta = uwrap(self.theta + delta, 32)
-        self.pll = PllState(uwrap(self.pll.theta + delta, 32), self.pll.integ, self.pll.omega)
+        self.turn_pll(delta)
 
     def sync(self, theta: int, omega: int) -> None:
         self.theta = theta

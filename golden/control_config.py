@@ -97,12 +97,17 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
     hf_amp = 0 if rot else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
     dtc_gain = min(to_fixed(dead / max(sc_.current(ctl.dtc_zone), 1), 8), 65535) if ctl.dead_time_comp == "on" else 0
     return HardwareConfig(
-        inj_rot=int(rot), inj_step=inj_step(sc.estimator.params["rot_bpf"]["f_inj"], sc.pwm.f_sw) if rot else 0,
+        inj_rot=int(rot), inj_step=injection_step(sc),
         dtc_gain=dtc_gain, hf_amp=hf_amp, recip_h=recip_half(half),
         pwm_half=half, dead_ticks=round(sc.pwm.dead_time * tick_hz),
         os_ticks=effective_os_ticks(min(round(ctl.sample_interval * tick_hz), 0xFFFF)), blank_ticks=round(ctl.blank * tick_hz),
         cw_angle_step=cw_angle_step(half), adc_mode=ADC_MODE[ctl.adc_mode],
         adc_bits=int(sc.plant["sens"]["adc_bits"]))
+
+
+def injection_step(sc: Scenario) -> int:
+    """``INJ_STEP`` of the scenario: the rotating injection's phase step (0 when no slot injects it)."""
+    return inj_step(sc.estimator.params["rot_bpf"]["f_inj"], sc.pwm.f_sw) if rotating_injection(sc) else 0
 
 
 def rotating_injection(sc: Scenario) -> bool:
@@ -149,8 +154,9 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     low, high = LOW_ESTIMATORS[est.low], HIGH_ESTIMATORS[est.high]
     methods = {low, high}
     rot = rotating_injection(sc)
-    step = inj_step(est.params["rot_bpf"]["f_inj"], f_sw) if rot else 0
+    step = injection_step(sc)
     inj_sd, inj_cd = sincos_q15(step)
+    inj_s2, inj_c2 = sincos_q15(2 * step % 2**32)
     mtpa = (mtpa_table(sc_.current(ctl.i_max), sc_.i_lsb, mag["psi_f"], mag["L_d"], mag["L_q"])
             if ctl.mtpa == "on" else (0, (), ()))
     notch = biquad.notch(ctl.notch_freq, ctl.notch_width, f_sw) if ctl.notch_freq > 0 else None
@@ -166,7 +172,8 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         merge=lowpass_coef(1.0 / (2 * math.pi * est.merge_time), f_sw), fixed_angle=fixed,
         rot=rot_bpf_params(sc) if METHOD_ROT_BPF in methods else None,
         smo=eemf_smo_params(sc) if METHOD_EEMF_SMO in methods else None,
-        inj_rot=int(rot), inj_cd=inj_cd, inj_sd=inj_sd, hf_dtc=rot_hf_current(sc) if rot else 0,
+        inj_rot=int(rot), inj_cd=inj_cd, inj_sd=inj_sd, inj_c2=inj_c2, inj_s2=inj_s2,
+        hf_dtc=rot_hf_current(sc) if rot else 0,
         pol_mode=POL_PILOT if ctl.polarity == "pilot" else POL_CURRENT,
         v_pilot=min(sc_.voltage(ctl.v_pilot), 32767),
         mtpa_shift=mtpa[0], mtpa_id=mtpa[1], mtpa_iq=mtpa[2], notch=notch, speed_div=speed_div,
@@ -227,7 +234,7 @@ def rot_bpf_params(sc: Scenario) -> RotParams:
     """``estimator.rot_bpf``: the 000 method's integers (golden.firmware.rot_bpf)."""
     t, f_sw = sc.estimator.params["rot_bpf"], sc.pwm.f_sw
     mag, p = sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"])
-    step = inj_step(t["f_inj"], f_sw)
+    step = injection_step(sc)
     q_sin, q_cos = sincos_q15(uwrap(-shr(wrap(step, 32), 2), 32))     # -INJ_STEP / 4
     bpf = biquad.bandpass(2 * t["f_inj"], t["bpf_width"], f_sw)
     kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)

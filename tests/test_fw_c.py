@@ -431,7 +431,8 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
     low = METHOD_ROT_BPF if rng.random() < 0.5 else METHOD_SQW_BANGBANG
     high = (0, METHOD_RFO, METHOD_EEMF_SMO)[int(rng.integers(0, 3))]
     w_down = int(rng.integers(0, S32_MAX - (1 << 24))) if rng.random() < 0.5 else draw_one(rng, 0, 1 << 24, (0, 100))
-    inj_sd, inj_cd = sincos_q15(draw_one(rng, 0, U32_MAX, (214_748_365,)))
+    step = draw_one(rng, 0, U32_MAX, (214_748_365,))
+    (inj_sd, inj_cd), (inj_s2, inj_c2) = sincos_q15(step), sincos_q15(2 * step % (1 << 32))
     shift, t_d, t_q = random_mtpa(rng) if rng.random() < 0.5 else (0, (), ())
     return FirmwareParams(
         low=low, high=high, sqw=SqwParams(k_bb, pll_kp, pll_ki) if low == METHOD_SQW_BANGBANG else None,
@@ -444,7 +445,7 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
         n_converge=n_converge, n_pulse=n_pulse, n_settle=int(rng.integers(-1, 12)),
         i_trip=draw_one(rng, 0, S32_MAX, (1000, 32767)),
         fixed_angle=draw_one(rng, 0, U32_MAX) if fixed else None,
-        inj_rot=inj_rot, inj_cd=inj_cd, inj_sd=inj_sd, hf_dtc=draw_one(rng, 0, 1 << 15, (597,)),
+        inj_rot=inj_rot, inj_cd=inj_cd, inj_sd=inj_sd, inj_c2=inj_c2, inj_s2=inj_s2, hf_dtc=draw_one(rng, 0, 1 << 15, (597,)),
         pol_mode=POL_PILOT if rng.random() < 0.5 else POL_CURRENT, v_pilot=draw_one(rng, 0, (1 << 15) - 1, (9362,)),
         mtpa_shift=shift, mtpa_id=t_d, mtpa_iq=t_q, notch=random_coef(rng) if rng.random() < 0.5 else None,
         speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)))

@@ -848,9 +848,8 @@ static void dtc_refs(const struct fw_params *p, int32_t i_d_ref, int32_t i_q_ref
         out->i_q_ref = i_q_ref;
         return;
     }
-    int32_t s2 = rq15(2 * (int64_t)p->inj_sd * p->inj_cd);
-    int32_t c2 = rq15((int64_t)p->inj_cd * p->inj_cd - (int64_t)p->inj_sd * p->inj_sd);
-    int32_t s_n = rq15((int64_t)s_i * c2 + (int64_t)c_i * s2), c_n = rq15((int64_t)c_i * c2 - (int64_t)s_i * s2);
+    int32_t s_n = rq15((int64_t)s_i * p->inj_c2 + (int64_t)c_i * p->inj_s2);
+    int32_t c_n = rq15((int64_t)c_i * p->inj_c2 - (int64_t)s_i * p->inj_s2);
     int32_t h_al = rq15((int64_t)p->hf_dtc * s_n), h_be = -rq15((int64_t)p->hf_dtc * c_n);
     out->i_d_ref = sat32((int64_t)i_d_ref + rq15((int64_t)h_al * out->cos + (int64_t)h_be * out->sin));
     out->i_q_ref = sat32((int64_t)i_q_ref + rq15((int64_t)h_be * out->cos - (int64_t)h_al * out->sin));

@@ -184,6 +184,8 @@ struct fw_params {
     int32_t inj_rot;
     int32_t inj_cd;
     int32_t inj_sd;
+    int32_t inj_c2;
+    int32_t inj_s2;
     int32_t hf_dtc;
     int32_t pol_mode;
     int32_t v_pilot;

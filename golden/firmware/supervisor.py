@@ -105,6 +105,9 @@ class FirmwareParams:
         the supervisor then gives the estimators sin/cos of ``INJ_PHASE`` and adds the injection's window
         mean to the measured voltage (:func:`~golden.firmware.estimator.injection_voltage`, saturated to
         s32; ``v_h`` in 0..2^15 in this mode).
+    inj_c2, inj_s2 : int
+        cos/sin of ``2 INJ_STEP`` (Q15): from ``INJ_PHASE`` of a window to the phase of the window the
+        outputs are active in.
     hf_dtc : int
         Rotating injection: the amplitude of its HF current [current LSB, 0..2^15], which the firmware
         adds to the current references it writes for the dead-time compensation (:meth:`Firmware._dtc_refs`).
@@ -144,6 +147,8 @@ class FirmwareParams:
     inj_rot: int = 0
     inj_cd: int = 32767
     inj_sd: int = 0
+    inj_c2: int = 32767
+    inj_s2: int = 0
     hf_dtc: int = 0
     pol_mode: int = POL_CURRENT
     v_pilot: int = 0
@@ -270,17 +275,16 @@ class Firmware:
     def _dtc_refs(self, i_d_ref: int, i_q_ref: int, v_h: int, s_i: int, c_i: int, s: int, c: int) -> tuple[int, int]:
         """The currents written to I_D_REF / I_Q_REF, which only the dead-time compensation reads: the
         references, plus, while the rotating injection is on, its predicted HF current in the window the
-        outputs are active in (phase ``INJ_PHASE + 2 INJ_STEP``, from ``(s_i, c_i)`` of ``INJ_PHASE``; the positive sequence lags the voltage by
-        a quarter turn: ``hf_dtc (sin, -cos)`` in the stationary frame), turned into the frame ``(s, c)``.
-        Without it the compensation guesses the sign of the HF current wrong around zero fundamental
-        current: 7.6 deg of angle bias at standstill on the Table 1 motor (docs/methods.md).
-        ``(s2, c2)`` of ``2 INJ_STEP`` by the double angle of ``(inj_sd, inj_cd)``; all roundings
-        ``round_shr(., 15)``; the results saturated to s32."""
+        outputs are active in (phase ``INJ_PHASE + 2 INJ_STEP``: ``(s_i, c_i)`` of ``INJ_PHASE`` turned by
+        ``(inj_s2, inj_c2)``; the positive sequence lags the voltage by a quarter turn: ``hf_dtc (sin,
+        -cos)`` in the stationary frame), turned into the frame ``(s, c)``. Without it the compensation
+        guesses the sign of the HF current wrong around zero fundamental current: 7.6 deg of angle bias at
+        standstill on the Table 1 motor (docs/methods.md). All roundings ``round_shr(., 15)``; the results
+        saturated to s32."""
         p = self.p
         if not p.inj_rot or v_h == 0:
             return i_d_ref, i_q_ref
-        s2, c2 = round_shr(2 * p.inj_sd * p.inj_cd, 15), round_shr(p.inj_cd * p.inj_cd - p.inj_sd * p.inj_sd, 15)
-        s_n, c_n = round_shr(s_i * c2 + c_i * s2, 15), round_shr(c_i * c2 - s_i * s2, 15)
+        s_n, c_n = round_shr(s_i * p.inj_c2 + c_i * p.inj_s2, 15), round_shr(c_i * p.inj_c2 - s_i * p.inj_s2, 15)
         h_al, h_be = round_shr(p.hf_dtc * s_n, 15), -round_shr(p.hf_dtc * c_n, 15)
         return (sat(i_d_ref + round_shr(h_al * c + h_be * s, 15), 32),
                 sat(i_q_ref + round_shr(h_be * c - h_al * s, 15), 32))

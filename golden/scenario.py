@@ -297,9 +297,9 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "lpf_max": _q("frequency", _positive, default=1000.0),
         "e_min": _q("voltage", _non_negative, default=2.0),
         "dir_speed": _q("speed", _non_negative, default=50 * math.pi / 30),
-        "pll_kp": Field("number", check=_positive, default=100.0),
-        "pll_ki": Field("number", check=_positive, default=2500.0),
-        "i_d_min": _q("current", _non_negative, default=0.0),
+        "pll_kp": Field("number", check=_positive, default=400.0),
+        "pll_ki": Field("number", check=_positive, default=40000.0),
+        "i_d_min": _q("current", _non_negative, default=1.0),
     },
     "simulation": {
         "max_substep": _q("time", _positive),

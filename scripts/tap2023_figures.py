@@ -9,13 +9,17 @@ active in each window, INJ_PHASE) from the start of RUN, which the run's own est
 from (it is ``sync``ed there after the pilot pulses), so the replay follows it bit for bit while the HF
 estimator is in charge.
 
+``wayback`` runs ``tap2023_highspeed`` twice more, the EEMF observer tuned as the paper leaves it (PLL
+100 1/s, 2500 1/s^2, no d-current floor) and with the defaults, and plots both (docs/methods.md).
+
 Usage: scripts/tap2023_figures.py [NAME ...] [--out docs/figures]   (names: fullload step reversal
-pulsating highspeed; default all). Prints the plateau statistics of each run.
+pulsating highspeed wayback; default all). Prints the plateau statistics of each run.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import sys
 
@@ -39,7 +43,7 @@ from golden.fpga.demodulator import WindowResult  # noqa: E402
 from golden.scenario import load_scenario  # noqa: E402
 from hfi.report import metrics_of  # noqa: E402
 
-NAMES = ("fullload", "step", "reversal", "pulsating", "highspeed")
+NAMES = ("fullload", "step", "reversal", "pulsating", "highspeed", "wayback")
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 
 
@@ -97,6 +101,45 @@ def figure(name: str, out_dir: str) -> dict:
             "switches": m["estimator_switches"], "flipped": m["polarity_flipped"]}
 
 
+PAPER_SMO = {"pll_kp": 100.0, "pll_ki": 2500.0, "i_d_min": 0.0}
+"""The EEMF observer's tuning before the way back was measured: the rot_bpf PLL's gains, no d-current floor."""
+
+
+def wayback_figure(out_dir: str) -> dict:
+    """tap2023_highspeed with PAPER_SMO and with the defaults: speed and angle error of each."""
+    base = load_scenario(os.path.join(ROOT, "scenarios", "tap2023_highspeed.toml"))
+    est = base.estimator
+    paper = dataclasses.replace(base, estimator=dataclasses.replace(
+        est, params=dict(est.params, eemf_smo=dict(est.params["eemf_smo"], **PAPER_SMO))))
+    fig, ax = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    rpm = 30 / np.pi
+    out = {}
+    for label, sc in (("PLL 100 1/s, 2500 1/s^2, i_d floor 0 A", paper),
+                      ("defaults: PLL 400 1/s, 40000 1/s^2, i_d floor 1 A", base)):
+        res = ClosedLoop(sc).run(progress=False)
+        m = metrics_of(sc, res)
+        out[label] = m
+        err = res.angle_error_deg()
+        ax[0].plot(res.t, res.windows["omega_m"] * rpm, lw=1, label=f"rotor, {label}")
+        ax[1].plot(res.t, err, lw=0.6, label=f"{label}: {'locked' if m['locked'] else 'LOCK LOST'}")
+        ax[2].plot(res.t, res.windows["i_d"] * res.scales.i_lsb, lw=0.6, label=label)
+    scale = res.scales.speed_mech(1.0)
+    ax[0].plot(res.t, res.windows["speed_ref"] / scale * rpm, "k--", lw=1, label="reference")
+    ax[0].set_ylabel("speed [r/min]")
+    ax[0].legend(loc="best", fontsize=7)
+    ax[1].set_ylabel("angle error [deg el]")
+    ax[1].set_ylim(-40, 40)
+    ax[1].legend(loc="best", fontsize=7)
+    ax[2].set_ylabel("i_d (window mean) [A]")
+    ax[2].set_xlabel("time [s]")
+    fig.suptitle("tap2023_highspeed, the way back through the hand-back: EEMF observer tuning", fontsize=9)
+    fig.tight_layout()
+    path = os.path.join(out_dir, "tap2023_wayback.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return {"figure": path, "runs": out}
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("names", nargs="*", metavar="NAME", help=f"scenarios ({', '.join(NAMES)}; default all)")
@@ -108,6 +151,14 @@ def main() -> int:
     args.names = args.names or list(NAMES)
     os.makedirs(args.out, exist_ok=True)
     for name in args.names:
+        if name == "wayback":
+            r = wayback_figure(args.out)
+            for label, m in r["runs"].items():
+                err = m["angle_error_after_start"]
+                print(f"wayback, {label}: locked {m['locked']}, angle error after start {err['rms_deg']} deg RMS, "
+                      f"{err['peak_deg']} deg peak")
+            print(f"wrote {r['figure']}")
+            continue
         r = figure(name, args.out)
         print(f"tap2023_{name}: locked {r['locked']}, switches {r['switches']}, wrote {r['figure']}")
         for s in r["segments"]:

@@ -115,12 +115,15 @@ def build_firmware() -> Path:
     return FW_OUT / "hfi_fw.elf"
 
 
-def build_sim(fst: bool = False) -> Path:
+def build_sim(fst: bool = False, profile: bool = False) -> Path:
     """Verilate hfi_soc with the harness into ``out/sim/<variant>/libhfisoc.so`` (rebuilt when a source
-    changed; a file lock serialises concurrent builds). ``fst``: the variant with FST waveforms."""
+    changed; a file lock serialises concurrent builds). ``fst``: the variant with FST waveforms;
+    ``profile``: the variant that records the firmware profile (``SOC_PROF_*`` of sim/soc_sim.h)."""
     from golden.plant.binding import LIBRARY as PLANT_LIB
 
-    variant = "fst" if fst else "fast"
+    if fst and profile:
+        raise RtlBackendError("the FST waveform and the firmware profile are separate builds: ask for one")
+    variant = "fst" if fst else "prof" if profile else "fast"
     build = OUT_SIM / variant
     lib = build / "libhfisoc.so"
     srcs = soc_sources() + [SIM_DIR / n for n in SIM_SOURCES + SIM_HEADERS] + [
@@ -140,7 +143,7 @@ def build_sim(fst: bool = False) -> Path:
             shutil.rmtree(build)
         build.mkdir(parents=True)
         cflags = (f"-fPIC -O3 -I{SIM_DIR} -I{ROOT / 'golden/plant/src'} -I{ROOT / 'firmware/include'}"
-                  + (" -DHFI_FST" if fst else ""))
+                  + (" -DHFI_FST" if fst else "") + (" -DHFI_PROFILE" if profile else ""))
         ldflags = f"-shared -L{PLANT_LIB.parent} -lhfiplant -Wl,-rpath,{PLANT_LIB.parent}"
         cmd = [verilator, "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast",
                "--x-initial", "fast", "--noassert", "-Wno-fatal", "-Wno-lint", "-Wno-style",
@@ -212,7 +215,8 @@ _sim_ffi.cdef(cdef_text(SIM_DIR / "plant_records.h", SIM_DIR / "soc_sim.h",
                         drop=("struct plant;", "struct plant_state;")))
 _KINDS = {"edges": (0, "struct gate_edge"), "samples": (1, "struct adc_sample"), "truth": (2, "struct plant_state"),
           "trace": (3, "uint32_t"), "writes": (4, "struct soc_bus"), "reads": (5, "struct soc_bus"),
-          "irqs": (6, "struct soc_irq"), "uart": (7, "uint8_t")}
+          "irqs": (6, "struct soc_irq"), "uart": (7, "uint8_t"), "prof_cycles": (8, "uint64_t"),
+          "prof_fetch": (9, "uint64_t")}
 
 
 def _records(lib, sim, kind: str, dtype) -> np.ndarray:
@@ -254,6 +258,7 @@ class RtlClosedLoop:
         self.sc = sc
         self.hw = hardware_config(sc)
         self.scales = scales(sc)
+        self.profile: dict[str, np.ndarray] | None = None
         if self.hw.adc_bits != soc_platform.ADC_BITS:
             raise RtlBackendError(f"scenario {sc.name}: sensors.adc_bits = {self.hw.adc_bits}, but the SoC's ADC "
                                   f"has {soc_platform.ADC_BITS} bits (hfi_soc ADC_BITS, hfi/soc_platform.py): "
@@ -263,9 +268,10 @@ class RtlClosedLoop:
                              f"be 100 MHz (got {sc.pwm.tick_hz})")
 
     def run(self, progress: bool = True, fst: str | None = None, fst_window: tuple[float, float] | None = None,
-            workdir: Path | None = None) -> ClosedLoopResult:
+            workdir: Path | None = None, profile: bool = False) -> ClosedLoopResult:
         """Run the co-simulation. ``fst``: FST waveform file; ``fst_window``: its time span [s]
-        (default: the first 2 ms)."""
+        (default: the first 2 ms). ``profile``: record the firmware profile into ``self.profile``
+        (``cycles`` and ``fetch``: one count per RAM word, sim/soc_sim.h; scripts/fw_profile.py)."""
         sc, hw = self.sc, self.hw
         H = hw.pwm_half
         tick_hz = sc.pwm.tick_hz
@@ -273,7 +279,7 @@ class RtlClosedLoop:
         n_win = len(speed_ref)
 
         elf = build_firmware()
-        lib_path = build_sim(fst=fst is not None)
+        lib_path = build_sim(fst=fst is not None, profile=profile)
         lib = _sim_ffi.dlopen(str(lib_path))
         workdir = Path(workdir or OUT_SIM / "runs")
         workdir.mkdir(parents=True, exist_ok=True)
@@ -327,6 +333,9 @@ class RtlClosedLoop:
             rec = {k: _records(lib, sim, k, dt) for k, dt in (
                 ("edges", _EDGE), ("samples", _SAMPLE), ("truth", binding.STATE_DTYPE), ("trace", "<u4"),
                 ("writes", _BUS), ("reads", _BUS), ("irqs", _IRQ), ("uart", np.uint8))}
+            if profile:
+                self.profile = {"cycles": _records(lib, sim, "prof_cycles", "<u8"),
+                                "fetch": _records(lib, sim, "prof_fetch", "<u8")}
         finally:
             lib.soc_sim_free(sim)
         return self._result(rec, n_win, wall, cycles)

@@ -73,6 +73,7 @@ struct soc_sim {
     std::vector<soc_bus> writes, reads;
     std::vector<soc_irq> irq_log;
     std::vector<uint8_t> uart;
+    std::vector<uint64_t> prof_cycles, prof_fetch;   // SOC_PROF_*: empty unless HFI_PROFILE
 };
 
 extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, struct plant *plant, char *err,
@@ -107,6 +108,10 @@ extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, str
     sim->ctx.commandArgs(2, argv);
     sim->ctx.traceEverOn(setup->fst_path != nullptr);
     sim->top = new Vhfi_soc(&sim->ctx, "hfi_soc");
+#ifdef HFI_PROFILE
+    sim->prof_cycles.assign(HFI_SOC_RAM_BYTES / 4, 0);
+    sim->prof_fetch.assign(HFI_SOC_RAM_BYTES / 4, 0);
+#endif
 #ifdef HFI_FST
     if (setup->fst_path) {
         sim->fst = new VerilatedFstC();
@@ -258,6 +263,19 @@ static int clock_once(soc_sim *sim)
     }
     if (cpu_edge && top->trace_valid)            // a CPU-clock output: one record per CPU clock
         sim->trace.push_back(top->trace_data);
+#ifdef HFI_PROFILE
+    if (cpu_edge && sim->tick0 >= 0) {           // the core's state after this CPU clock edge
+        const uint32_t words = HFI_SOC_RAM_BYTES / 4;
+        uint32_t pc_word = (r->hfi_soc__DOT__u_cpu__DOT__lastStagePc - HFI_SOC_RAM_BASE) / 4;
+        if (pc_word < words)
+            sim->prof_cycles[pc_word]++;
+        if (r->hfi_soc__DOT__i_ack) {            // a refill beat: the RAM word it delivers
+            uint32_t w = r->hfi_soc__DOT__i_adr - HFI_SOC_RAM_BASE / 4;
+            if (w < words)
+                sim->prof_fetch[w]++;
+        }
+    }
+#endif
     bool tx = top->uart_tx;
     const long long bit = (long long)sim->s.uart_div * div;   // tick clocks per UART bit
     if (sim->uart_state == 0) {
@@ -329,6 +347,8 @@ extern "C" long long soc_sim_count(const struct soc_sim *sim, int kind)
     case SOC_READS: return (long long)sim->reads.size();
     case SOC_IRQS: return (long long)sim->irq_log.size();
     case SOC_UART: return (long long)sim->uart.size();
+    case SOC_PROF_CYCLES: return (long long)sim->prof_cycles.size();
+    case SOC_PROF_FETCH: return (long long)sim->prof_fetch.size();
     default: return -1;
     }
 }
@@ -344,6 +364,8 @@ extern "C" int soc_sim_copy(const struct soc_sim *sim, int kind, long long from,
     case SOC_READS: return copy_records(sim->reads, from, n, dst);
     case SOC_IRQS: return copy_records(sim->irq_log, from, n, dst);
     case SOC_UART: return copy_records(sim->uart, from, n, dst);
+    case SOC_PROF_CYCLES: return copy_records(sim->prof_cycles, from, n, dst);
+    case SOC_PROF_FETCH: return copy_records(sim->prof_fetch, from, n, dst);
     default: return -1;
     }
 }

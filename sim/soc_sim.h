@@ -55,7 +55,13 @@ enum soc_record {
     SOC_WRITES = 4,    /* struct soc_bus: register writes */
     SOC_READS = 5,     /* struct soc_bus: register reads */
     SOC_IRQS = 6,      /* struct soc_irq: window interrupts (commit_tick -1: none before the next) */
-    SOC_UART = 7       /* uint8_t: bytes sent on the log UART */
+    SOC_UART = 7,      /* uint8_t: bytes sent on the log UART */
+    /* Firmware profile (only in the library built with HFI_PROFILE; count 0 otherwise), one uint64_t per
+     * RAM word (HFI_SOC_RAM_BYTES / 4 entries, word i at byte address HFI_SOC_RAM_BASE + 4 i), summed over
+     * the CPU clocks from tick 0 on: */
+    SOC_PROF_CYCLES = 8,  /* CPU clocks whose last pipeline stage holds the instruction at that word (a stall
+                           * counts to the instruction that retired last before it) */
+    SOC_PROF_FETCH = 9    /* instruction-bus beats (cache line refills) that read that word */
 };
 
 /* Returns NULL and a message in err on a bad setup. */

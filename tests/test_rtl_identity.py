@@ -40,7 +40,7 @@ IDENTITY_S = 0.6
 
 
 def tap2023_4khz():
-    """The 000 drive (scenarios/tap2023_fullload.toml) at 4 kHz: its firmware step needs up to 8400 CPU
+    """The 000 drive (scenarios/tap2023_fullload.toml) at 4 kHz: its firmware step needs up to 8200 CPU
     clocks, more than the 5000 of a 10 kHz period on the soft core (docs/soc.md); the first step's
     CTRL.ENABLE must also land within three quarters of a period (9375 clocks at 4 kHz, 7500 at 5 kHz),
     so the rtl backend runs it at 4 kHz with the paper's ratios (injection f_sw / 20 = 200 Hz, band-pass

@@ -1,0 +1,83 @@
+"""The firmware profile of the rtl co-simulation (sim/soc_sim.h ``SOC_PROF_*``, scripts/fw_profile.py).
+
+The profiled build must not change what the SoC does (its run equals the golden model's, window by
+window), its instruction-bus counts must be whole cache lines of the firmware's code, and the script must
+attribute the step's clocks to the firmware's functions.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from golden.closedloop import WINDOW_FIELDS, ClosedLoop
+from golden.scenario import load_scenario
+from hfi import soc_platform
+from hfi.rtl_backend import FW_OUT, RtlBackendError, RtlClosedLoop, build_sim
+
+ROOT = Path(__file__).resolve().parents[1]
+LINE_WORDS = 8
+
+
+@pytest.fixture(scope="module")
+def profiled():
+    sc = dataclasses.replace(load_scenario(ROOT / "scenarios" / "fullload_start.toml"), duration=0.004)
+    loop = RtlClosedLoop(sc)
+    res = loop.run(progress=False, profile=True)
+    return sc, loop, res
+
+
+def test_profiled_run_equals_golden(profiled):
+    sc, _, res = profiled
+    gold = ClosedLoop(sc).run(progress=False)
+    for k in WINDOW_FIELDS:
+        assert np.array_equal(gold.windows[k], res.windows[k]), k
+
+
+def test_fetches_are_whole_lines_of_code(profiled):
+    _, loop, _ = profiled
+    fetch = loop.profile["fetch"]
+    assert len(fetch) == soc_platform.RAM_BYTES // 4
+    lines = fetch.reshape(-1, LINE_WORDS)
+    assert (lines == lines[:, :1]).all(), "a refill that is not a whole 8-word line"
+    code_end = (FW_OUT / "hfi_fw.bin").stat().st_size // 4
+    assert fetch.sum() > 0 and fetch[-(-code_end // LINE_WORDS) * LINE_WORDS:].sum() == 0
+
+
+def _script():
+    spec = importlib.util.spec_from_file_location("fw_profile", ROOT / "scripts" / "fw_profile.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_step_clocks_land_in_the_step(profiled):
+    _, loop, res = profiled
+    funcs = {name: (a // 4, b // 4) for a, b, name in _script().functions(str(FW_OUT / "hfi_fw.elf"))}
+    cycles = loop.profile["cycles"]
+    a, b = funcs["fw_step"]
+    assert cycles[a:b].sum() > 0
+    assert cycles.sum() <= res.soc["sim_cycles"] // soc_platform.CPU_CLOCK_DIVIDER
+
+
+def test_script_prints_the_table(profiled, capsys):
+    _, _, res = profiled
+    assert _script().main(["--duration", "0.004", "--top", "2"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith(f"scenario fullload_start: {len(res.t)} periods;")
+    assert len(out) == 2 + 2 + 2 and {out[2].split()[0], out[3].split()[0]} <= {"uart_puts", "fw_step"}
+    assert out[-2].startswith("(all but main)") and "100.0%" in out[-2]
+
+
+def test_bad_arguments_are_refused(capsys):
+    assert _script().main(["--duration", "0"]) == 1
+    assert "--duration must be > 0" in capsys.readouterr().err
+
+
+def test_waveform_and_profile_together_are_refused():
+    with pytest.raises(RtlBackendError, match="separate builds"):
+        build_sim(fst=True, profile=True)

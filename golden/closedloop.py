@@ -26,12 +26,15 @@ import numpy as np
 
 from golden.control_config import HardwareConfig, Scales, firmware_params, hardware_config, scales
 from golden.firmware.supervisor import MODE_NAMES, RESET_OUTPUTS, Firmware, Outputs
+from golden.fpga.adc_scale import adc_to_current
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS_BLANK, blank_mask, sample_phases
 from golden.fpga.carrier import counter
 from golden.fpga.cordic import demod_weight
 from golden.fpga.deadtime_comp import compensate
+from golden.fpga.diff_cic import DiffCic
 from golden.fpga.gate_generator import GateGenerator
 from golden.fpga.modulator import compares
+from golden.fpga.park import clarke
 from golden.fpga.rot_injection import RotatingInjection
 from golden.fpga.window_dsp import window_dsp
 from golden.plant import Plant
@@ -41,11 +44,12 @@ WINDOW_FIELDS = (
     "tick", "gamma", "gamma_d", "n_samples", "sum_id", "sum_iq", "wsum", "i_d", "i_q", "i_d_ref", "i_q_ref",
     "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
-    "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase",
+    "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase", "cic_qa", "cic_qb", "env_a", "env_b",
     "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
 """Per-window trace columns (integers of the spec, and the plant's truth at the window end). ``est`` is
 the estimator slot in charge (0 low-speed, 1 high-speed), ``theta_lo/hi`` and ``omega_lo/hi`` each slot's
-outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the window (``INJ_PHASE``)."""
+outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the window (``INJ_PHASE``),
+``cic_qa/qb`` and ``env_a/b`` the differencing and CIC block's outputs (``golden.fpga.diff_cic``)."""
 
 
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
@@ -135,6 +139,7 @@ class ClosedLoop:
         self.half = self.hw.pwm_half
         self.gen = GateGenerator(self.hw.dead_ticks)
         self.rot_inj = RotatingInjection()
+        self.diff_cic = DiffCic()
         self._pattern = {}
 
     def _window_pattern(self, mode: int):
@@ -148,8 +153,10 @@ class ClosedLoop:
             self._pattern[mode] = (rel, np.asarray(w, dtype=np.int64))
         return self._pattern[mode]
 
-    def _compares(self, o: Outputs, sign: int, rot: tuple[int, int] | None = None):
-        cmps = compares(o.v_d, o.v_q, o.v_h, o.sin, o.cos, self.half, sign, rot)
+    def _compares(self, o: Outputs, sign: int, rot: tuple[int, int] | None = None, inj_sign: int | None = None):
+        """The compares of one half (``sign``: -1 rising, +1 falling); ``inj_sign``: the period square
+        wave's sign (``CTRL.INJ_PER``), else the half's own (spec 3.5)."""
+        cmps = compares(o.v_d, o.v_q, o.v_h, o.sin, o.cos, self.half, sign if inj_sign is None else inj_sign, rot)
         hw = self.hw
         if hw.dtc_gain:
             cmps = compensate(cmps, sign, self.half, self.gen.dead, hw.dtc_gain, o.i_d_ref, o.i_q_ref,
@@ -171,7 +178,11 @@ class ClosedLoop:
         active = RESET_OUTPUTS
         outs: list[Outputs] = []
         gen, plant, fw = self.gen, self.plant, self.fw
-        gen.add_half(0, H, True, self._compares(active, -1))
+        # CTRL.INJ_PER (spec 3.5): the sign S toggles at every carrier bottom, from +1 after reset; the
+        # square wave of period k is S_k. inj_sign is None while the mode is off.
+        per = bool(hw.inj_per) and not hw.inj_rot
+        inj_sign = -1 if per else None
+        gen.add_half(0, H, True, self._compares(active, -1, None, inj_sign))
         prev_switch = np.zeros(0, dtype=np.int64)
         t0 = time.perf_counter()
         bar = _Progress(n_win, sc.name) if progress else None
@@ -184,10 +195,13 @@ class ClosedLoop:
             # CTRL.INJ_EN is 1 in every closed-loop run (the supervisor stops an injection with V_H = 0),
             # so the rotating injection is on exactly when INJ_ROT is
             inj_phase, rot = self.rot_inj.boundary(bool(hw.inj_rot), hw.inj_step)
-            cmp_top = self._compares(active, +1, rot)
+            cmp_top = self._compares(active, +1, rot, inj_sign)
             gen.add_half(k * P + H, H, False, cmp_top)
             gen.set_enabled((k + 1) * P, bool(enable))
-            cmp_bot = self._compares(active, -1, rot)
+            plus = inj_sign == 1                          # period k, which ends at the bottom sample below
+            if per:
+                inj_sign = -inj_sign
+            cmp_bot = self._compares(active, -1, rot, inj_sign)
             gen.add_half((k + 1) * P, H, True, cmp_bot)
             e_ticks, e_masks = gen.take_edges(zc + P)
             edge_ticks.append(e_ticks)
@@ -207,8 +221,12 @@ class ClosedLoop:
                 gen.take_switch_ticks(zc + P)
             win, _, _ = window_dsp(adc[:, 0], adc[:, 1], hw.adc_bits, hw.adc_offset[0], hw.adc_offset[1],
                                    hw.adc_gain[0], hw.adc_gain[1], active.sin, active.cos, w, keep)
-            if inj_phase:
-                win = dataclasses.replace(win, inj_phase=inj_phase)
+            # the carrier-bottom sample (phase 0, in every ADC mode) through the differencing and CIC block
+            j = int(np.searchsorted(rel, P - H // 2))
+            i_al, i_be = clarke(adc_to_current(int(adc[j, 0]), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0]),
+                                adc_to_current(int(adc[j, 1]), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1]))
+            q_a, q_b, e_a, e_b = self.diff_cic.step(int(i_al), int(i_be), plus, hw.cic_m)
+            win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
             o = fw.step(win, speed_ref[k])
             outs.append(o)
             s_ticks.append(ticks)
@@ -225,6 +243,7 @@ class ClosedLoop:
             r["est"][k], r["theta_lo"][k], r["theta_hi"][k] = fw.active, fw.est_theta[0], fw.est_theta[1]
             r["omega_lo"][k], r["omega_hi"][k] = fw.est_omega[0], fw.est_omega[1]
             r["inj_phase"][k] = inj_phase
+            r["cic_qa"][k], r["cic_qb"][k], r["env_a"][k], r["env_b"][k] = q_a, q_b, e_a, e_b
             r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
             r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
             truths.append(truth)

@@ -18,7 +18,8 @@ from dataclasses import dataclass
 from golden.firmware import biquad
 from golden.firmware.bangbang import k_bb_raw
 from golden.firmware.eemf_smo import I_FRAC, SmoParams
-from golden.firmware.estimator import BY_ID, INJ_ROT, METHOD_EEMF_SMO, METHOD_RFO, METHOD_ROT_BPF, METHOD_SQW_BANGBANG
+from golden.firmware.estimator import (BY_ID, INJ_ROT, INJ_SQW_P, METHOD_EEMF_SMO, METHOD_RFO, METHOD_ROT_BPF,
+                                      METHOD_SQW_BANGBANG, METHOD_SQW_CIC)
 from golden.firmware.lowpass import lowpass_coef
 from golden.firmware.mtpa import mtpa_table
 from golden.firmware.pi import PiParams, pi_gains
@@ -26,6 +27,7 @@ from golden.firmware.pll import pll_gains
 from golden.firmware.rfo import FLUX_FRAC, RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
+from golden.firmware.sqw_cic import CicParams
 from golden.firmware.supervisor import POL_CURRENT, POL_PILOT, FirmwareParams
 from golden.scenario import HIGH_ESTIMATORS, LOW_ESTIMATORS
 from golden.fixed import shr, to_fixed, uwrap, wrap
@@ -77,6 +79,8 @@ class HardwareConfig:
     adc_gain: tuple[int, int] = (16384, 16384)
     inj_rot: int = 0             # CTRL.INJ_ROT: 1 = rotating injection (golden.fpga.rot_injection)
     inj_step: int = 0            # INJ_STEP: its phase advance per PWM period (u32 binary angle)
+    inj_per: int = 0             # CTRL.INJ_PER: 1 = the square wave's sign holds a PWM period (spec 3.5)
+    cic_m: int = 2               # CIC_M: comb delay of the CIC interpolator (golden.fpga.diff_cic)
 
 
 def scales(sc: Scenario) -> Scales:
@@ -94,10 +98,12 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
     rot = rotating_injection(sc)
     # eq. (17): the HF d-current is a triangle of amplitude V_h / (4 f_sw L_d); the rotating injection's
     # current is predicted by the firmware instead (FirmwareParams.hf_dtc), so HF_AMP is 0 then
-    hf_amp = 0 if rot else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
+    hf_amp = 0 if rot or period_injection(sc) else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
     dtc_gain = min(to_fixed(dead / max(sc_.current(ctl.dtc_zone), 1), 8), 65535) if ctl.dead_time_comp == "on" else 0
+    per = period_injection(sc)
     return HardwareConfig(
         inj_rot=int(rot), inj_step=injection_step(sc),
+        inj_per=int(per), cic_m=sc.estimator.params["sqw_cic"]["cic_m"] if per else 2,
         dtc_gain=dtc_gain, hf_amp=hf_amp, recip_h=recip_half(half),
         pwm_half=half, dead_ticks=round(sc.pwm.dead_time * tick_hz),
         os_ticks=effective_os_ticks(min(round(ctl.sample_interval * tick_hz), 0xFFFF)), blank_ticks=round(ctl.blank * tick_hz),
@@ -116,6 +122,14 @@ def rotating_injection(sc: Scenario) -> bool:
     if sc.control is None or est is None:
         return False
     return any(BY_ID[m].injection == INJ_ROT for m in (LOW_ESTIMATORS[est.low], HIGH_ESTIMATORS[est.high]) if m)
+
+
+def period_injection(sc: Scenario) -> bool:
+    """Whether a slot's method injects the square wave that holds for a PWM period (``CTRL.INJ_PER``)."""
+    est = sc.estimator
+    if sc.control is None or est is None:
+        return False
+    return any(BY_ID[m].injection == INJ_SQW_P for m in (LOW_ESTIMATORS[est.low], HIGH_ESTIMATORS[est.high]) if m)
 
 
 def rot_hf_current(sc: Scenario) -> int:
@@ -172,6 +186,7 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         merge=lowpass_coef(1.0 / (2 * math.pi * est.merge_time), f_sw), fixed_angle=fixed,
         rot=rot_bpf_params(sc) if METHOD_ROT_BPF in methods else None,
         smo=eemf_smo_params(sc) if METHOD_EEMF_SMO in methods else None,
+        cic=sqw_cic_params(sc) if METHOD_SQW_CIC in methods else None,
         inj_rot=int(rot), inj_cd=inj_cd, inj_sd=inj_sd, inj_c2=inj_c2, inj_s2=inj_s2,
         hf_dtc=rot_hf_current(sc) if rot else 0,
         pol_mode=POL_PILOT if ctl.polarity == "pilot" else POL_CURRENT,
@@ -247,6 +262,50 @@ def rot_bpf_params(sc: Scenario) -> RotParams:
     offset = (2**30 if mag["L_q"] > mag["L_d"] else 3 * 2**30) - to_fixed(d_r / (2 * math.pi), 32)
     return RotParams(q_cos=q_cos, q_sin=q_sin, bpf=bpf, n_avg=t["n_avg"], offset=offset % 2**32, pll_kp=kp, pll_ki=ki,
                      k_delay=to_fixed(delay, 16), n_hold=round(t["hold"] * f_sw))
+
+
+def sqw_cic_delay(cic_m: int) -> float:
+    """The delay compensation of ``sqw_cic`` [PWM periods] for the comb delay ``cic_m`` (docs/methods.md).
+
+    Window ``k`` runs from ``k P + P/4`` to ``(k+1) P + P/4`` (a window boundary is the carrier's rising zero
+    crossing); the firmware steps at its end. The envelope formed at that step is the current change over
+    period ``k`` (carrier bottom to bottom), centred at ``k P + P/2``: 0.75 periods before the step, and it is
+    held for two periods (0.75 or 1.75 old, 1.25 on average). The CIC adds the last ``M`` held values: their
+    mean age is ``1.25 + (M - 1)/2``. The outputs of the step are active in window ``k + 2``, whose middle is
+    1.5 periods after the step. When the angle written is right, the injection of each period points at the
+    rotor's angle in the middle of it (three quarters of the period run on the window's angle, aimed at the
+    window's middle, one quarter on the one before), so the envelope's angle is the rotor's at its own time
+    whatever the saliency, and the observer, whose steady-state error is zero at constant speed, tracks the
+    rotor as it was that age ago; after its step the observer's angle is already its prediction for the next
+    step, one period on. So ``k_delay = 1.25 + (M - 1)/2 + 1.5 - 1`` (2.25 at the paper's M = 2; the paper
+    compensates 3.5)."""
+    return 1.25 + (cic_m - 1) / 2 + 0.5
+
+
+def sqw_cic_params(sc: Scenario) -> CicParams:
+    """``estimator.sqw_cic`` and the motor's nominal data: the 001 method's integers (golden.firmware.sqw_cic).
+
+    ``g = L_q / (L_q - L_d)`` (Q16): the inverse slope of the angle of the quadrature signal against the
+    angle error; observer poles at ``-a``, ``a = 2 pi observer_bw``: ``c1 = a^3 T^3``, ``c2 = 3 a^2 T^2``
+    (Q24 binary angle per binary angle), ``c3 = 3 a T`` (Q16); torque feed-forward ``n_p T_e / J`` with
+    ``T_e = 1.5 n_p (psi_f i_q + (L_d - L_q) i_d i_q)``: ``c_t`` per current LSB (Q24 binary angle per
+    period^2), ``c_r`` per LSB^2 (Q40); ``q_min``: the ``vector_angle`` magnitude of ``cic_m`` envelope
+    values of ``q_min`` each. Raises ValueError on a motor without saliency."""
+    t, sc_, f_sw = sc.estimator.params["sqw_cic"], scales(sc), sc.pwm.f_sw
+    mag, mech, T = sc.plant["mag"], sc.plant["mech"], 1.0 / f_sw
+    if mag["L_q"] == mag["L_d"]:
+        raise ValueError("estimator sqw_cic needs a salient motor (L_d != L_q): the envelope carries no angle")
+    a = 2 * math.pi * t["observer_bw"]
+    p = int(mech["pole_pairs"])
+    turn = 2**32 / (2 * math.pi)                                 # binary angle per radian
+    acc = p * 1.5 * p / mech["J"] * T * T * turn                 # n_p T_e / J per (N*m / 1.5 n_p) per period^2
+    on = t["torque_ff"] == "on"
+    c_t = to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24) if on else 0
+    c_r = to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if on else 0
+    return CicParams(g=to_fixed(mag["L_q"] / (mag["L_q"] - mag["L_d"]), 16), c1=to_fixed((a * T) ** 3, 24),
+                     c2=to_fixed(3 * (a * T) ** 2, 24), c3=to_fixed(3 * a * T, 16), c_t=c_t, c_r=c_r,
+                     k_delay=to_fixed(sqw_cic_delay(t["cic_m"]), 16),
+                     q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw))
 
 
 def eemf_smo_params(sc: Scenario) -> SmoParams:

@@ -130,10 +130,12 @@ PRESETS: dict[str, dict] = {
     "xue2022_pmsm": {
         "R_s": 0.19,  # Table 1
         "mag": {
-            "kind": MAG_LINEAR,
+            "kind": MAG_DSAT,    # the paper gives no saturation data; magnet polarity detection needs some
             "psi_f": 0.5,      # assumed: back-EMF 308 V line rms at 1200 r/min = 81 % of V_dc/sqrt(2)
             "L_d": 3.53e-3,    # Table 1
             "L_q": 7.48e-3,    # Table 1
+            "dsat_a": 0.04,    # assumed: l_d(+5.7 A) about 5 % below l_d(-5.7 A) (docs/motors.md)
+            "dsat_S": 4,       # assumed
         },
         "mech": {
             "pole_pairs": 4,  # Table 1

@@ -267,6 +267,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "rfo": _TABLE,
         "rot_bpf": _TABLE,
         "eemf_smo": _TABLE,
+        "sqw_cic": _TABLE,
     },
     # One table per method (docs/methods.md): its own parameters, used when a slot names it.
     "estimator.sqw_bangbang": {
@@ -300,6 +301,13 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "pll_kp": Field("number", check=_positive, default=400.0),
         "pll_ki": Field("number", check=_positive, default=40000.0),
         "i_d_min": _q("current", _non_negative, default=1.0),
+    },
+    "estimator.sqw_cic": {
+        "observer_bw": _q("frequency", _positive, default=10.0),
+        "cic_m": Field("integer", check=_between(1, 16), default=2),
+        "torque_ff": Field("choice", choices={"off": 0, "on": 1}, default="on"),
+        "q_min": _q("current", _non_negative, default=0.1),
+        "hold": _q("time", _non_negative, default=0.004),
     },
     "simulation": {
         "max_substep": _q("time", _positive),

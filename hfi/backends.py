@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from golden.closedloop import ClosedLoopResult
+from golden.firmware.estimator import METHODS
 from golden.scenario import Scenario
 
 
@@ -42,7 +43,15 @@ class Backend:
         return getattr(importlib.import_module(module), cls)
 
     def run(self, sc: Scenario, progress: bool = True, **options) -> ClosedLoopResult:
-        """Run ``sc`` on this backend; ``options`` are backend-specific (rtl: ``fst``, ``fst_window``)."""
+        """Run ``sc`` on this backend; ``options`` are backend-specific (rtl: ``fst``, ``fst_window``).
+        Raises BackendError when a slot's estimator does not run on this backend (``MethodInfo.backends``)."""
+        est = sc.estimator
+        if est is not None:
+            for name in (est.low, est.high):
+                m = METHODS.get(name)
+                if m is not None and self.name not in m.backends:
+                    raise BackendError(f"scenario {sc.name}: estimator {name} runs on the "
+                                       f"{', '.join(m.backends)} backend(s) only, not on {self.name} (hfi methods)")
         return self._class()(sc).run(progress=progress, **options)
 
 

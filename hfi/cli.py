@@ -18,7 +18,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from golden.firmware.estimator import INJ_NONE, INJ_ROT, INJ_SQW_D, METHODS, SLOT_HIGH, SLOT_LOW
+from golden.firmware.estimator import INJ_NONE, INJ_ROT, INJ_SQW_D, INJ_SQW_P, METHODS, SLOT_HIGH, SLOT_LOW
 from golden.scenario import ScenarioError, load_scenario
 from hfi import backends
 from hfi.paper import BASE as DEFAULT_SCENARIO
@@ -33,7 +33,8 @@ BENCH_SCRIPTS = ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls
 
 SLOT_NAMES = {SLOT_LOW: "low", SLOT_HIGH: "high"}
 INJECTION_NAMES = {INJ_NONE: "none", INJ_SQW_D: "square wave on d_hat at f_sw",
-                   INJ_ROT: "vector rotating at f_inj in the stationary frame"}
+                   INJ_ROT: "vector rotating at f_inj in the stationary frame",
+                   INJ_SQW_P: "square wave on d_hat at f_sw/2 (sign held a PWM period)"}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -81,7 +82,7 @@ def cmd_check(args) -> int:
 def method_lines() -> list[str]:
     """One line per estimator of :data:`golden.firmware.estimator.METHODS`."""
     return [f"{m.name}: {m.paper}; slots {', '.join(SLOT_NAMES[s] for s in m.slots)}; "
-            f"injection {INJECTION_NAMES[m.injection]}; backends {', '.join(backends.NAMES)}"
+            f"injection {INJECTION_NAMES[m.injection]}; backends {', '.join(m.backends)}"
             for m in METHODS.values()]
 
 

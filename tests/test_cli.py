@@ -80,14 +80,22 @@ def test_check_bad_and_missing_files(tmp_path):
 def test_methods_lists_every_estimator_with_the_backends(capsys):
     assert main(["methods"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert [line.split(":")[0] for line in lines] == ["sqw_bangbang", "rfo", "rot_bpf", "eemf_smo"]
+    assert [line.split(":")[0] for line in lines] == ["sqw_bangbang", "rfo", "rot_bpf", "eemf_smo", "sqw_cic"]
     assert lines[0].startswith("sqw_bangbang: Benevieri et al., IEEE TPEL 2023 (002); slots low; "
                                "injection square wave on d_hat at f_sw; ")
     assert lines[1].startswith("rfo: Ortega et al. 2011")
     assert "; slots high; injection none; " in lines[1]
     assert lines[2].startswith("rot_bpf: Tap et al., IEEE Access 2023 (000); slots low; injection vector rotating")
     assert lines[3].startswith("eemf_smo: Tap et al.") and "; slots high; injection none; " in lines[3]
-    assert all(line.endswith("; backends golden, rtl, hls") for line in lines)
+    assert all(line.endswith("; backends golden, rtl, hls") for line in lines[:4])
+    assert lines[4].startswith("sqw_cic: Xue et al., Electronics 2022 (001); slots low; injection square wave on "
+                               "d_hat at f_sw/2") and lines[4].endswith("; backends golden")
+
+
+def test_a_method_is_refused_on_a_backend_without_it(capsys):
+    assert main(["run", str(ROOT / "scenarios" / "xue2022_noload.toml"), "--backend", "hls", "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert "estimator sqw_cic runs on the golden backend(s) only, not on hls" in err
 
 
 def test_run_golden_writes_the_documented_outputs(tmp_path):

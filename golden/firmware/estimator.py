@@ -35,14 +35,16 @@ from golden.firmware.pll import PllState
 from golden.fixed import round_shr, sat, uwrap
 from golden.fpga.demodulator import WindowResult
 
-METHOD_SQW_BANGBANG, METHOD_RFO, METHOD_ROT_BPF, METHOD_EEMF_SMO = 1, 2, 3, 4
+METHOD_SQW_BANGBANG, METHOD_RFO, METHOD_ROT_BPF, METHOD_EEMF_SMO, METHOD_SQW_CIC = 1, 2, 3, 4, 5
 """Method ids (``enum fw_method`` in firmware/src/control.h; 0 is "no estimator" in a slot)."""
 
-INJ_NONE, INJ_SQW_D, INJ_ROT = 0, 1, 2
+INJ_NONE, INJ_SQW_D, INJ_ROT, INJ_SQW_P = 0, 1, 2, 3
 """Injection modes: none; the square wave +-V_H on the estimated d-axis at the switching frequency
 (Benevieri et al. 2023, eq. (14)); the vector V_H e^{j phi} rotating in the stationary frame (Tap et al.
-2023, eq. (9); ``CTRL.INJ_ROT``, ``INJ_STEP``). The firmware writes the ``V_H`` register as 0 while the
-estimator in charge has ``INJ_NONE``; the rotating mode is set once at start-up (hardware config)."""
+2023, eq. (9); ``CTRL.INJ_ROT``, ``INJ_STEP``); the square wave on the estimated d-axis whose sign holds
+for a whole PWM period, at f_sw / 2 (Xue et al. 2022, eq. (3); ``CTRL.INJ_PER``). The firmware writes
+the ``V_H`` register as 0 while the estimator in charge has ``INJ_NONE``; the rotating and the period
+modes are set once at start-up (hardware config)."""
 
 SLOT_LOW, SLOT_HIGH = 0, 1
 """Estimator slots of the supervisor: in charge from start-up, and above the hand-over speed."""
@@ -142,6 +144,8 @@ class MethodInfo:
     slots: tuple[int, ...]
     injection: int
     summary: str
+    backends: tuple[str, ...] = ("golden", "rtl", "hls")
+    """The closed-loop backends that run it (hfi/backends.py refuses the others with a clear error)."""
 
 
 METHODS: dict[str, MethodInfo] = {m.name: m for m in (
@@ -157,6 +161,9 @@ METHODS: dict[str, MethodInfo] = {m.name: m for m in (
     MethodInfo("eemf_smo", METHOD_EEMF_SMO, "Tap et al., IEEE Access 2023 (000), eqs. (20)-(22)",
                (SLOT_HIGH,), INJ_NONE,
                "extended-EMF sliding-mode observer in the stationary frame, CORDIC angle, PLL speed"),
+    MethodInfo("sqw_cic", METHOD_SQW_CIC, "Xue et al., Electronics 2022 (001)", (SLOT_LOW,), INJ_SQW_P,
+               "square wave at f_sw/2 on d_hat, sample differencing, CIC interpolation, Luenberger observer",
+               ("golden",)),
 )}
 """Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""
 

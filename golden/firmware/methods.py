@@ -11,7 +11,8 @@ from golden.firmware.estimator import Estimator
 from golden.firmware.rfo import RotorFluxObserver
 from golden.firmware.rot_bpf import RotatingBpf
 from golden.firmware.sqw_bangbang import SquareWaveBangBang
+from golden.firmware.sqw_cic import SquareWaveCic
 
 CLASSES: dict[int, type[Estimator]] = {cls.METHOD: cls for cls in (SquareWaveBangBang, RotorFluxObserver,
-                                                                   RotatingBpf, EemfSmo)}
+                                                                   RotatingBpf, EemfSmo, SquareWaveCic)}
 """Method id -> estimator class."""

@@ -57,6 +57,7 @@ from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
+from golden.firmware.sqw_cic import CicParams
 from golden.fixed import round_shr, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
@@ -80,7 +81,7 @@ class FirmwareParams:
     ----------
     low, high : int
         Method ids of the estimator slots (``golden.firmware.estimator.METHOD_*``); ``high`` 0: none.
-    sqw, rfo, rot, smo : SqwParams, RfoParams, RotParams, SmoParams or None
+    sqw, rfo, rot, smo, cic : SqwParams, RfoParams, RotParams, SmoParams, CicParams or None
         Each method's own parameters (None when no slot uses it); one field per method.
     speed_lp : int
         Speed-filter coefficient (Q16).
@@ -144,6 +145,7 @@ class FirmwareParams:
     fixed_angle: int | None = None
     rot: RotParams | None = None
     smo: SmoParams | None = None
+    cic: CicParams | None = None
     inj_rot: int = 0
     inj_cd: int = 32767
     inj_sd: int = 0

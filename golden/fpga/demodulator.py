@@ -62,6 +62,12 @@ class WindowResult:
     inj_phase : int
         ``INJ_PHASE``, u32: the rotating injection's phase in the window (``golden.fpga.rot_injection``;
         not the demodulator's, latched with its results at the same boundary; 0 while off).
+    cic_qa, cic_qb : int
+        ``CIC_QA``, ``CIC_QB``, s21 in s32: the interpolated position quadrature signals of the window's
+        carrier-bottom sample (``golden.fpga.diff_cic``, latched at the same boundary; 0 while the period
+        square wave never ran).
+    env_a, env_b : int
+        ``ENV_A``, ``ENV_B``, s17 in s32: the held envelope (the CIC's input) of the same sample.
     """
 
     gamma: int
@@ -71,6 +77,10 @@ class WindowResult:
     wsum: int
     n_samples: int
     inj_phase: int = 0
+    cic_qa: int = 0
+    cic_qb: int = 0
+    env_a: int = 0
+    env_b: int = 0
 
 
 def _window_array(x, name: str) -> np.ndarray:

@@ -99,15 +99,17 @@ class ClosedLoopResult:
         """Window end times [s]."""
         return self.windows["tick"] / self.tick_hz
 
-    def angle_error_deg(self, column: str = "theta_hat") -> np.ndarray:
+    def angle_error_deg(self, column: str = "theta_hat", quarters: int = 2) -> np.ndarray:
         """Electrical angle error per window [deg], wrapped to +-180: the true angle in the middle of
         window ``k`` minus the angle the hardware used during window ``k`` (``column`` written after
         window ``k - 2``, committed at the boundary of ``k``; the reset angle 0 before). ``column``:
         ``theta_hat`` (the angle in use) or one estimator slot's output, ``theta_lo`` / ``theta_hi``.
-        The middle is halfway between the window-end angles of ``k - 1`` and ``k`` (``k = 0``: its end)."""
+        The middle is halfway between the window-end angles of ``k - 1`` and ``k`` (``k = 0``: its end);
+        ``quarters = 3`` takes the true angle three quarters into the window instead: at the carrier
+        bottom, the sampling instant of the 001 method (golden.fpga.diff_cic)."""
         th = self.windows["theta_e"].astype(np.int64)
         prev = np.concatenate([th[:1], th[:-1]])
-        mid = prev + (((th - prev + 2**31) % 2**32 - 2**31) // 2)
+        mid = prev + (((th - prev + 2**31) % 2**32 - 2**31) * quarters // 4)
         used = np.concatenate([np.zeros(2, dtype=np.int64), self.windows[column][:-2].astype(np.int64)])[:len(th)]
         err = (mid - used + 2**31) % 2**32 - 2**31
         return err * (360.0 / 2**32)

@@ -64,6 +64,7 @@ def segments(sc: Scenario, res: ClosedLoopResult, t_run: float) -> list[dict]:
             continue
         sel = slice(first, stop)
         err = res.angle_error_deg()[sel]
+        err_b = res.angle_error_deg(quarters=3)[sel]
         rpm = w["omega_m"][sel] / RPM
         out.append({
             "plateau": [round(t_start, 5), round(t_end, 5)],
@@ -73,6 +74,7 @@ def segments(sc: Scenario, res: ClosedLoopResult, t_run: float) -> list[dict]:
             "speed_ripple_rpm": round(float(0.5 * (np.max(rpm) - np.min(rpm))), 2),
             "err_rms_deg": round(float(np.sqrt(np.mean(err ** 2))), 2),
             "err_peak_deg": round(float(np.max(np.abs(err))), 2),
+            "err_peak_bottom_deg": round(float(np.max(np.abs(err_b))), 2),
             "estimators": [SLOT_NAMES[k] for k in np.unique(w["est"][sel])],
         })
     return out
@@ -95,6 +97,7 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
     run = np.nonzero(w["mode"] == MODE_RUN)[0]
     t_run = float(res.t[run[0]]) if len(run) else float(res.t[-1])
     err = res.angle_error_deg()
+    err_b = res.angle_error_deg(quarters=3)
     after = res.t >= t_run
     switches = estimator_switches(res)
     return {
@@ -109,6 +112,9 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
         "angle_error_after_start": {
             "rms_deg": round(float(np.sqrt(np.mean(err[after] ** 2))), 2) if after.any() else None,
             "peak_deg": round(float(np.max(np.abs(err[after]))), 2) if after.any() else None},
+        "angle_error_at_bottom": {
+            "rms_deg": round(float(np.sqrt(np.mean(err_b[after] ** 2))), 2) if after.any() else None,
+            "peak_deg": round(float(np.max(np.abs(err_b[after]))), 2) if after.any() else None},
         "locked": bool(np.all(np.abs(err[after]) < LOCK_DEG)),
         "segments": segments(sc, res, t_run),
         "estimator_switches": len(switches),

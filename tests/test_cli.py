@@ -16,8 +16,8 @@ HFI = Path(sys.executable).parent / "hfi"
 BAD_SCENARIO = '[scenario]\nname = "x"\nduration = "1 ms"\n[pwm]\ndead_time = "150 us"\n'
 
 METRICS_KEYS = {"scenario", "backend", "duration_s", "windows", "samples", "final_mode", "run_from_s",
-                "polarity_flipped", "angle_error_after_start", "locked", "segments", "estimator_switches",
-                "estimator_switch_events", "late_commits", "wall_s", "realtime_factor"}
+                "polarity_flipped", "angle_error_after_start", "angle_error_at_bottom", "locked", "segments",
+                "estimator_switches", "estimator_switch_events", "late_commits", "wall_s", "realtime_factor"}
 """The keys of a golden-backend metrics.json, as docs/metrics.md lists them."""
 
 

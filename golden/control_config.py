@@ -264,22 +264,27 @@ def rot_bpf_params(sc: Scenario) -> RotParams:
                      k_delay=to_fixed(delay, 16), n_hold=round(t["hold"] * f_sw))
 
 
-def sqw_cic_delay(cic_m: int) -> float:
-    """The delay compensation of ``sqw_cic`` [PWM periods] for the comb delay ``cic_m`` (docs/methods.md).
+def sqw_cic_delay(cic_m: int, l_d: float, l_q: float) -> float:
+    """The delay compensation of ``sqw_cic`` [PWM periods] for the comb delay ``cic_m`` and the motor's
+    nominal inductances (docs/methods.md, "The 001 method", derives it; the steady state at constant speed
+    on an ideal inverter confirms it).
 
     Window ``k`` runs from ``k P + P/4`` to ``(k+1) P + P/4`` (a window boundary is the carrier's rising zero
     crossing); the firmware steps at its end. The envelope formed at that step is the current change over
     period ``k`` (carrier bottom to bottom), centred at ``k P + P/2``: 0.75 periods before the step, and it is
     held for two periods (0.75 or 1.75 old, 1.25 on average). The CIC adds the last ``M`` held values: their
-    mean age is ``1.25 + (M - 1)/2``. The outputs of the step are active in window ``k + 2``, whose middle is
-    1.5 periods after the step. When the angle written is right, the injection of each period points at the
-    rotor's angle in the middle of it (three quarters of the period run on the window's angle, aimed at the
-    window's middle, one quarter on the one before), so the envelope's angle is the rotor's at its own time
-    whatever the saliency, and the observer, whose steady-state error is zero at constant speed, tracks the
-    rotor as it was that age ago; after its step the observer's angle is already its prediction for the next
-    step, one period on. So ``k_delay = 1.25 + (M - 1)/2 + 1.5 - 1`` (2.25 at the paper's M = 2; the paper
-    compensates 3.5)."""
-    return 1.25 + (cic_m - 1) / 2 + 0.5
+    mean age is ``a = 1.25 + (M - 1)/2``. The observer, whose steady-state error is zero at constant speed,
+    settles where the angle of the CIC output equals its own angle before its step; after the step its angle
+    is its prediction for the next step, one period on; the outputs are used in window ``k + 2``, whose middle
+    is 1.5 periods after the step. If the injection pointed at the rotor's angle of the envelope's time, that
+    gives ``a + 1.5 - 1``. It does not quite: the modulator takes a committed angle at the next carrier top,
+    a quarter period after the window boundary, so each period's injection runs half on the angle aimed at
+    the middle of one window and half on the next one's, a quarter period behind the period's middle. The
+    envelope's angle follows the injection's in part: ``psi = theta_inj + s (theta - theta_inj)``, ``s = 1 -
+    L_d/L_q`` (eq. (6)), and the observer then settles ``(1 - s) / 4 / s`` periods late unless ``k_delay``
+    carries ``(1 - s) / 4 = L_d / (4 L_q)`` more. In all: ``k_delay = a + 0.5 + L_d / (4 L_q)`` (2.37 on the
+    Table 1 motor at the paper's ``M = 2``; the paper compensates 3.5)."""
+    return 1.25 + (cic_m - 1) / 2 + 0.5 + l_d / (4 * l_q)
 
 
 def sqw_cic_params(sc: Scenario) -> CicParams:
@@ -304,7 +309,7 @@ def sqw_cic_params(sc: Scenario) -> CicParams:
     c_r = to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if on else 0
     return CicParams(g=to_fixed(mag["L_q"] / (mag["L_q"] - mag["L_d"]), 16), c1=to_fixed((a * T) ** 3, 24),
                      c2=to_fixed(3 * (a * T) ** 2, 24), c3=to_fixed(3 * a * T, 16), c_t=c_t, c_r=c_r,
-                     k_delay=to_fixed(sqw_cic_delay(t["cic_m"]), 16),
+                     k_delay=to_fixed(sqw_cic_delay(t["cic_m"], mag["L_d"], mag["L_q"]), 16),
                      q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw))
 
 

@@ -303,7 +303,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "i_d_min": _q("current", _non_negative, default=1.0),
     },
     "estimator.sqw_cic": {
-        "observer_bw": _q("frequency", _positive, default=10.0),
+        "observer_bw": _q("frequency", _positive, default=15.0),
         "cic_m": Field("integer", check=_between(1, 16), default=2),
         "torque_ff": Field("choice", choices={"off": 0, "on": 1}, default="on"),
         "q_min": _q("current", _non_negative, default=0.1),

@@ -12,6 +12,7 @@ are not known to the controller). Scales (docs/spec.md, section 3):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -307,10 +308,18 @@ def sqw_cic_params(sc: Scenario) -> CicParams:
     on = t["torque_ff"] == "on"
     c_t = to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24) if on else 0
     c_r = to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if on else 0
-    return CicParams(g=to_fixed(mag["L_q"] / (mag["L_q"] - mag["L_d"]), 16), c1=to_fixed((a * T) ** 3, 24),
-                     c2=to_fixed(3 * (a * T) ** 2, 24), c3=to_fixed(3 * a * T, 16), c_t=c_t, c_r=c_r,
-                     k_delay=to_fixed(sqw_cic_delay(t["cic_m"], mag["L_d"], mag["L_q"]), 16),
-                     q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw))
+    p_ = CicParams(g=to_fixed(mag["L_q"] / (mag["L_q"] - mag["L_d"]), 16), c1=to_fixed((a * T) ** 3, 24),
+                   c2=to_fixed(3 * (a * T) ** 2, 24), c3=to_fixed(3 * a * T, 16), c_t=c_t, c_r=c_r,
+                   k_delay=to_fixed(sqw_cic_delay(t["cic_m"], mag["L_d"], mag["L_q"]), 16),
+                   q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw))
+    # the ranges the C products rely on (firmware/src/control.h, struct fw_cic_params)
+    limits = {"c_t": 1 << 46, "c_r": 1 << 32}
+    for name, v in dataclasses.asdict(p_).items():
+        lim = limits.get(name, 1 << 31)
+        if not -lim <= v < lim:
+            raise ValueError(f"estimator sqw_cic: {name} = {v} is outside +-{lim} (observer_bw, the motor's "
+                             "saliency or its J out of the range the firmware's integers hold)")
+    return p_
 
 
 def eemf_smo_params(sc: Scenario) -> SmoParams:

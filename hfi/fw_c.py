@@ -38,8 +38,12 @@ STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
 (besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each
 method's state block, named by the method's ``PARAMS``)."""
-WINDOW_RESULT_FIELDS = tuple(f.name for f in dataclass_fields(WindowResult))
-"""Fields shared by ``struct fw_window`` and :class:`~golden.fpga.demodulator.WindowResult`."""
+WINDOW_HOST_ONLY = ("env_a", "env_b")
+"""Fields of :class:`~golden.fpga.demodulator.WindowResult` that no estimator reads (``ENV_A``, ``ENV_B``:
+diagnostics of the differencing block), so ``struct fw_window`` has no field for them."""
+WINDOW_RESULT_FIELDS = tuple(f.name for f in dataclass_fields(WindowResult) if f.name not in WINDOW_HOST_ONLY)
+"""Fields shared by ``struct fw_window`` and :class:`~golden.fpga.demodulator.WindowResult`, in the struct's
+order (tests/test_fw_c.py checks both)."""
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
 """Fields shared by ``struct fw_outputs`` and :class:`~golden.firmware.supervisor.Outputs`."""
 PI_FIELDS = ("kp", "sp", "ki", "si", "limit")

@@ -13,6 +13,9 @@ set, else a fresh one, and it is printed (replay: ``HFI_SEED=<seed> .venv/bin/py
 from __future__ import annotations
 
 import shutil
+import typing
+from dataclasses import fields as dataclass_fields, replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,8 +24,10 @@ from golden.firmware import mtpa, rot_bpf
 from golden.firmware.bangbang import bangbang_step
 from golden.firmware.biquad import BiquadCoef, BiquadState, biquad_step
 from golden.firmware.eemf_smo import SmoParams
-from golden.firmware.estimator import (METHOD_EEMF_SMO, METHOD_RFO, METHOD_ROT_BPF, METHOD_SQW_BANGBANG, METHODS,
-                                       SLOT_HIGH, SLOT_LOW, injection_voltage)
+from golden.control_config import firmware_params
+from golden.firmware.estimator import (METHOD_EEMF_SMO, METHOD_RFO, METHOD_ROT_BPF, METHOD_SQW_BANGBANG,
+                                       METHOD_SQW_CIC, METHODS, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage)
+from golden.firmware.methods import CLASSES
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
 from golden.firmware.pi import PiParams, pi_step
@@ -30,12 +35,15 @@ from golden.firmware.pll import PllState, pll_step
 from golden.firmware.rfo import Q_LIMIT, RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
+from golden.firmware.sqw_cic import CicParams, SquareWaveCic
+from golden.firmware.vector import vector_angle
 from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, MODE_NAMES, MODE_POL_NEG,
                                         MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_PILOT, Firmware,
                                         FirmwareParams, Outputs)
-from golden.fixed import c_div
+from golden.fixed import c_div, uwrap
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
+from golden.scenario import load_scenario
 from hfi import fw_c
 
 S32_MIN, S32_MAX = -(1 << 31), (1 << 31) - 1
@@ -43,7 +51,12 @@ S64_MIN, S64_MAX = -(1 << 63), (1 << 63) - 1
 U16_MAX, U32_MAX = (1 << 16) - 1, (1 << 32) - 1
 F_MIN, F_MAX = -(1 << 47), (1 << 47) - 1        # speed-filter state: shr(F, 16) in s32
 N_RANDOM = 100_000
-METHODS_BY_ID = (METHOD_SQW_BANGBANG, METHOD_RFO, METHOD_ROT_BPF, METHOD_EEMF_SMO)
+METHODS_BY_ID = tuple(sorted(m.method for m in METHODS.values()))
+LOW_METHODS = tuple(sorted(m.method for m in METHODS.values() if SLOT_LOW in m.slots))
+HIGH_METHODS = tuple(sorted(m.method for m in METHODS.values() if SLOT_HIGH in m.slots))
+S21_MIN, S21_MAX = -(1 << 20), (1 << 20) - 1     # CIC_QA, CIC_QB (golden.fpga.diff_cic)
+CIC_CT_MAX, CIC_CR_MAX = 1 << 46, 1 << 32        # |c_t|, |c_r| (control.h, struct fw_cic_params)
+ROOT = Path(__file__).resolve().parents[1]
 
 ffi, lib = fw_c.load()
 
@@ -92,8 +105,32 @@ def test_header_parsed_and_modes_match_golden():
 def test_method_ids_and_slots_match_golden():
     """enum fw_method / fw_slot equal golden.firmware.estimator's ids; every registered method has a C entry."""
     assert (lib.FW_METHOD_SQW_BANGBANG, lib.FW_METHOD_RFO) == (METHOD_SQW_BANGBANG, METHOD_RFO)
+    assert {name: getattr(lib, f"FW_METHOD_{name.upper()}") for name in METHODS} == \
+        {name: m.method for name, m in METHODS.items()}
+    assert lib.FW_METHOD_SQW_CIC == METHOD_SQW_CIC
+    assert set(LOW_METHODS) == {METHOD_SQW_BANGBANG, METHOD_ROT_BPF, METHOD_SQW_CIC}, LOW_METHODS
+    assert set(HIGH_METHODS) == {METHOD_RFO, METHOD_EEMF_SMO}, HIGH_METHODS
     assert (lib.FW_SLOT_LOW, lib.FW_SLOT_HIGH) == (SLOT_LOW, SLOT_HIGH)
     assert lib.FW_METHODS == 1 + max(m.method for m in METHODS.values())
+
+
+def test_blocks_match_golden_fields():
+    """hfi/fw_c.py converts by field name: each method's struct fw_<field>_params has its params dataclass's
+    fields in their order, struct fw_cic_state the attributes of SquareWaveCic, struct fw_window the shared
+    fields of WindowResult (all but the host-only ENV_A/B)."""
+    hints = typing.get_type_hints(FirmwareParams)
+    for cls in CLASSES.values():
+        params = next(t for t in typing.get_args(hints[cls.PARAMS]) if t is not type(None))
+        c_fields = [name for name, _ in ffi.typeof(f"struct fw_{cls.PARAMS}_params").fields]
+        assert c_fields == [f.name for f in dataclass_fields(params)], cls
+    p = CicParams(*range(1, 10))
+    assert [name for name, _ in ffi.typeof("struct fw_cic_state").fields] == \
+        [k for k in vars(SquareWaveCic(p)) if k != "p"]
+    assert [name for name, _ in ffi.typeof("struct fw_window").fields] == list(fw_c.WINDOW_RESULT_FIELDS)
+    assert {f.name for f in dataclass_fields(WindowResult)} - set(fw_c.WINDOW_RESULT_FIELDS) == \
+        set(fw_c.WINDOW_HOST_ONLY)
+    cic = dict(ffi.typeof("struct fw_cic_params").fields)
+    assert cic["c_t"].type.cname == cic["c_r"].type.cname == "int64_t"
 
 
 def test_build_failure_reports_make_output(tmp_path):
@@ -412,6 +449,23 @@ def random_smo(rng: np.random.Generator) -> SmoParams:
                      i_d=draw_one(rng, -S32_MAX, 0, (0,)))
 
 
+CIC_HOST = CicParams(g=124_104, c1=4162, c2=198_701, c3=12_353, c_t=4_199_825_053, c_r=-1_327_144_717,
+                    k_delay=147_456, q_min=328, n_hold=4)
+"""golden.control_config.sqw_cic_params of scenarios/xue2022_noload.toml (test_cic_params_of_the_scenario)."""
+
+
+def random_cic(rng: np.random.Generator) -> CicParams:
+    """sqw_cic integers over the ranges control.h documents (struct fw_cic_params: any int32 but c_t, c_r,
+    |c_t| <= 2^46, |c_r| <= 2^32), the extremes and the host's values (CIC_HOST) frequent."""
+    h = CIC_HOST
+    g, c1, c2, c3, k_delay = (draw_one(rng, S32_MIN, S32_MAX, (v,)) for v in (h.g, h.c1, h.c2, h.c3, h.k_delay))
+    return CicParams(g=g, c1=c1, c2=c2, c3=c3, c_t=draw_one(rng, -CIC_CT_MAX, CIC_CT_MAX, (h.c_t, 0)),
+                     c_r=draw_one(rng, -CIC_CR_MAX, CIC_CR_MAX, (h.c_r, 0)),
+                     k_delay=k_delay, q_min=draw_one(rng, S32_MIN, S32_MAX, (h.q_min, 0)),
+                     n_hold=draw_one(rng, -2, 12, (h.n_hold, 0)) if rng.random() < 0.8
+                     else draw_one(rng, S32_MIN, S32_MAX))
+
+
 def random_mtpa(rng: np.random.Generator) -> tuple[int, tuple, tuple]:
     n = int(rng.integers(2, mtpa.MTPA_LEN + 1))
     return (int(rng.integers(0, 21)), tuple(draw(rng, n, -(1 << 15), (1 << 15) - 1)),
@@ -420,16 +474,17 @@ def random_mtpa(rng: np.random.Generator) -> tuple[int, tuple, tuple]:
 
 def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
     """Valid parameters (PiParams, pll_gains, lowpass_coef, k_bb_raw ranges), short start-up counts; the
-    low slot is the square wave or the rotating injection, the high slot none, the rotor flux observer or
-    the EEMF observer, with hand-over speeds that switch often; the 000 blocks (pilot polarity, MTPA,
+    low slot one of the low-slot methods (the square wave, the rotating injection, the period square wave
+    with CIC), the high slot none or one of the high-slot methods (the rotor flux observer, the EEMF
+    observer), with hand-over speeds that switch often; the 000 blocks (pilot polarity, MTPA,
     notch, speed-loop divider, rotating injection) each on in about half of the sets."""
     k_bb, pll_kp, pll_ki = draw(rng, 3, 0, S32_MAX, (27_342_611, 2621, 6711))
     inj_rot = int(rng.random() < 0.5)
     v_h = draw_one(rng, 0, (1 << 15) - 1, (2621,)) if inj_rot else draw_one(rng, -S32_MAX, S32_MAX, (300,))
     i_pulse = draw_one(rng, -S32_MAX, S32_MAX, (5851,))
     n_converge, n_pulse = (int(v) for v in rng.integers(-1, 25, size=2))
-    low = METHOD_ROT_BPF if rng.random() < 0.5 else METHOD_SQW_BANGBANG
-    high = (0, METHOD_RFO, METHOD_EEMF_SMO)[int(rng.integers(0, 3))]
+    low = LOW_METHODS[int(rng.integers(0, len(LOW_METHODS)))]
+    high = (0, *HIGH_METHODS)[int(rng.integers(0, len(HIGH_METHODS) + 1))]
     w_down = int(rng.integers(0, S32_MAX - (1 << 24))) if rng.random() < 0.5 else draw_one(rng, 0, 1 << 24, (0, 100))
     step = draw_one(rng, 0, U32_MAX, (214_748_365,))
     (inj_sd, inj_cd), (inj_s2, inj_c2) = sincos_q15(step), sincos_q15(2 * step % (1 << 32))
@@ -439,6 +494,7 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
         rfo=random_rfo(rng) if high == METHOD_RFO else None,
         rot=random_rot(rng) if low == METHOD_ROT_BPF else None,
         smo=random_smo(rng) if high == METHOD_EEMF_SMO else None,
+        cic=random_cic(rng) if low == METHOD_SQW_CIC else None,
         w_up=w_down + draw_one(rng, 0, 1 << 24, (0, 1)), w_down=w_down,
         merge=draw_one(rng, 0, 1 << 16, (0, 1 << 16, 2000)), speed_lp=draw_one(rng, 0, 1 << 16, (2425,)),
         speed_pi=random_pi(rng), id_pi=random_pi(rng), iq_pi=random_pi(rng), v_h=v_h, i_pulse=i_pulse,
@@ -451,8 +507,17 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
         speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)))
 
 
+def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:
+    """``count`` values of CIC_QA or CIC_QB: s21 (the register) with its extremes, one in ten over s32 (the
+    C field; golden saturates to 29 bits) with the edges of that saturation."""
+    s21 = draw_array(rng, count, S21_MIN, S21_MAX)
+    s32 = draw_array(rng, count, S32_MIN, S32_MAX, (-(1 << 28) - 1, -(1 << 28), (1 << 28) - 1, 1 << 28))
+    return np.where(rng.random(count) < 0.9, s21, s32)
+
+
 def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int) -> list[WindowResult]:
-    """``count`` window results whose means stay within +-i_trip (no trip); gamma_d shifted by the bias."""
+    """``count`` window results whose means stay within +-i_trip (no trip); gamma_d shifted by the bias;
+    CIC_QA/QB as :func:`random_cic_q`."""
     gamma, gamma_d, wsum = (draw_array(rng, count, S32_MIN, S32_MAX) for _ in range(3))
     gamma_d = np.clip(gamma_d // 2 + gamma_d_bias, S32_MIN, S32_MAX)
     n = draw_array(rng, count, 0, U16_MAX, (1, 2, 10, 200))
@@ -463,7 +528,7 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
     sums = np.clip(means * n + rems, S32_MIN, S32_MAX)
     sums = np.where(n == 0, draw_array(rng, 2 * count, S32_MIN, S32_MAX).reshape(2, count), sums)
     inj_phase = draw_array(rng, count, 0, U32_MAX)
-    cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase)
+    cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase, random_cic_q(rng, count), random_cic_q(rng, count))
     return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
 
 
@@ -693,3 +758,191 @@ def test_injection_voltage_random(seed):
         sd, cd = sincos_q15(draw_one(rng, 0, U32_MAX, (214_748_365,)))
         lib.fw_injection_voltage(v_now[k], v_before[k], s_, c_, cd, sd, a, b)
         assert (a[0], b[0]) == injection_voltage(v_now[k], v_before[k], s_, c_, cd, sd), k
+
+
+# ---- estimator sqw_cic (golden.firmware.sqw_cic; Xue et al. 2022) -------------------------------------------
+CIC_STATE = tuple(name for name, _ in ffi.typeof("struct fw_cic_state").fields)
+W_SPECIALS = (S64_MAX - 1, S64_MIN + 1, S64_MAX - (1 << 40), S64_MIN + (1 << 40), 1 << 62, -(1 << 62))
+"""Saturation corners of the observer's w and z (int64)."""
+S16_EDGES = (-(1 << 15) - 1, -(1 << 15), (1 << 15) - 1, 1 << 15)
+HALF_TURN = 1 << 31
+
+
+class CicPair:
+    """SquareWaveCic and fw_cic_step / turn / sync on the same state (the C's cic block of a fw_state)."""
+
+    def __init__(self):
+        self.st = ffi.new("struct fw_state *")
+        self.cp = ffi.new("struct fw_params *")
+        self.win = ffi.new("struct fw_window *")
+        self.m = ffi.new("struct fw_meas *")
+        self.m.win = self.win
+        self.theta, self.omega = ffi.new("uint32_t *"), ffi.new("int32_t *")
+        self.p = None
+
+    def load(self, p: CicParams, state: dict) -> SquareWaveCic:
+        """A golden estimator with params ``p`` and ``state`` (attributes by name), the same into the C."""
+        if p is not self.p:
+            for f in dataclass_fields(p):
+                setattr(self.cp.cic, f.name, getattr(p, f.name))
+            self.p = p
+        est = SquareWaveCic(p)
+        for name, v in state.items():
+            setattr(est, name, v)
+            setattr(self.st.cic, name, v)
+        return est
+
+    def step(self, est: SquareWaveCic, qa: int, qb: int, i_d: int, i_q: int) -> tuple[int, int]:
+        """One step of both; the C's outputs (theta, omega)."""
+        self.win.cic_qa, self.win.cic_qb = qa, qb
+        self.m.i_d, self.m.i_q = i_d, i_q
+        est.step(Measurement(WindowResult(0, 0, 0, 0, 0, 0, cic_qa=qa, cic_qb=qb), i_d, i_q, 0, 32767, 0, 0))
+        lib.fw_cic_step(self.st, self.cp, self.m, self.theta, self.omega)
+        return self.theta[0], self.omega[0]
+
+    def diff(self, est: SquareWaveCic) -> dict:
+        """The state fields that differ: name -> (C, golden)."""
+        return {k: (getattr(self.st.cic, k), getattr(est, k)) for k in CIC_STATE
+                if getattr(self.st.cic, k) != getattr(est, k)}
+
+
+def _cic_cancel_case(rng: np.random.Generator, p: CicParams, qa: int, qb: int, sign: int):
+    """Params and state in which w + z leaves int64 but w + z + c2 e + ff does not (the wraps of the C's two
+    adds cancel): e saturated against the sign of z (theta_o a quarter turn off psi, g = c2 ~ 2^31), the
+    feed-forward c_t i_q ~ 2^61 the same way, z ~ sign 2^62, w ~ sign 2^63; c_r = 0, hold = 0, q_min = 0."""
+    psi, _ = vector_angle(max(min(qa, (1 << 28) - 1), -(1 << 28)), max(min(qb, (1 << 28) - 1), -(1 << 28)))
+    p = replace(p, g=S32_MAX, c1=draw_one(rng, -(1 << 20), 1 << 20), c2=S32_MAX - int(rng.integers(0, 1 << 20)),
+                c_t=-sign * (CIC_CT_MAX - int(rng.integers(0, 1 << 30))), c_r=0, q_min=0)
+    r, r2 = (int(v) for v in rng.integers(0, 1 << 60, size=2))
+    state = dict(theta_o=uwrap(psi + sign * (1 << 30), 32), hold=0, z=sign * ((1 << 62) + r),
+                 w=S64_MAX - r2 if sign > 0 else S64_MIN + r2)
+    return p, state, S32_MAX if rng.random() < 0.5 else (1 << 15) - 1
+
+
+def test_cic_step_random(seed):
+    """fw_cic_step = SquareWaveCic.step on N_RANDOM random parameter sets (a new one every 10 inputs), states
+    (w and z over int64 with their saturation corners, hold around 0) and measurements (CIC_QA/QB, window
+    means over s32 with the s16 edges); one in twenty inputs is a case whose wrapping adds cancel."""
+    rng = np.random.default_rng(seed + 50)
+    n = N_RANDOM
+    theta_o, theta = (draw(rng, n, 0, U32_MAX) for _ in range(2))
+    w, z = (draw(rng, n, S64_MIN, S64_MAX, W_SPECIALS) for _ in range(2))
+    hold = np.where(rng.random(n) < 0.8, draw_array(rng, n, -4, 3), draw_array(rng, n, S32_MIN, S32_MAX)).tolist()
+    err, mag, omega = (draw(rng, n, S32_MIN, S32_MAX) for _ in range(3))
+    qa, qb = random_cic_q(rng, n).tolist(), random_cic_q(rng, n).tolist()
+    i_d, i_q = (draw(rng, n, S32_MIN, S32_MAX, S16_EDGES) for _ in range(2))
+    cancel_at = rng.random(n) < 0.05
+    pair = CicPair()
+    count = dict.fromkeys(("w_max", "w_min", "z_max", "z_min", "e_max", "e_min", "held", "weak", "cancel",
+                           "q_sat"), 0)
+    for k in range(n):
+        if k % 10 == 0:
+            p_set = random_cic(rng)
+        p, iq = p_set, i_q[k]
+        state = dict(theta_o=theta_o[k], w=w[k], z=z[k], hold=hold[k], err=err[k], mag=mag[k], theta=theta[k],
+                     omega=omega[k])
+        if cancel_at[k]:
+            p, crafted, iq = _cic_cancel_case(rng, p, qa[k], qb[k], 1 if rng.random() < 0.5 else -1)
+            state.update(crafted)
+        est = pair.load(p, state)
+        out = pair.step(est, qa[k], qb[k], i_d[k], iq)
+        ctx = (seed, k, p, state, qa[k], qb[k], i_d[k], iq)
+        assert pair.diff(est) == {} and out == (est.theta, est.omega), (ctx, pair.diff(est), out)
+        count["w_max"] += est.w == S64_MAX
+        count["w_min"] += est.w == S64_MIN
+        count["z_max"] += est.z == S64_MAX
+        count["z_min"] += est.z == S64_MIN
+        count["e_max"] += est.err == S32_MAX
+        count["e_min"] += est.err == S32_MIN
+        count["held"] += state["hold"] > 0
+        count["weak"] += state["hold"] <= 0 and est.mag < p.q_min
+        count["cancel"] += not S64_MIN <= state["w"] + est.z <= S64_MAX and S64_MIN < est.w < S64_MAX
+        count["q_sat"] += max(abs(qa[k]), abs(qb[k])) > 1 << 28
+    assert min(count.values()) > 1000, count
+
+
+def test_cic_sync_turn_random(seed):
+    """fw_cic_sync / fw_cic_turn = SquareWaveCic.sync / turn on N_RANDOM random states, angles, speeds
+    (s32, with k_delay over s32) and turns."""
+    rng = np.random.default_rng(seed + 51)
+    n = N_RANDOM
+    theta_o, theta, arg = (draw(rng, n, 0, U32_MAX, (HALF_TURN,)) for _ in range(3))
+    w, z = (draw(rng, n, S64_MIN, S64_MAX, W_SPECIALS) for _ in range(2))
+    hold, err, mag, omega, speed = (draw(rng, n, S32_MIN, S32_MAX) for _ in range(5))
+    pair = CicPair()
+    for k in range(n):
+        if k % 10 == 0:
+            p = random_cic(rng)
+        state = dict(theta_o=theta_o[k], w=w[k], z=z[k], hold=hold[k], err=err[k], mag=mag[k], theta=theta[k],
+                     omega=omega[k])
+        est = pair.load(p, state)
+        if k % 2:
+            est.sync(arg[k], speed[k])
+            lib.fw_cic_sync(pair.st, pair.cp, arg[k], speed[k])
+        else:
+            est.turn(arg[k])
+            lib.fw_cic_turn(pair.st, arg[k])
+        assert pair.diff(est) == {}, (seed, k, p, state, arg[k], speed[k], pair.diff(est))
+    assert lib.fw_cic_i_d(pair.cp) == SquareWaveCic(p).i_d == 0
+
+
+
+@pytest.mark.parametrize("p, state, qa, qb, i_d, i_q", [
+    # the scenario's values, restarting (hold) and running, the signal below and above q_min
+    (CIC_HOST, dict(hold=4), 1000, 2000, 300, -200),
+    (CIC_HOST, dict(theta_o=123_456_789, w=5 << 24), 100, -50, 300, -200),
+    (CIC_HOST, dict(theta_o=123_456_789, w=-(5 << 24)), 100_000, -50_000, -32768, 32767),
+    # the products at their documented limits: c_t i_q = +-2^61, c_r i_d i_q = +-2^62, c2 e = 2^62
+    (replace(CIC_HOST, c_t=CIC_CT_MAX, c_r=CIC_CR_MAX), {}, 1, 0, -32768, -32768),
+    (replace(CIC_HOST, c_t=-CIC_CT_MAX, c_r=-CIC_CR_MAX), {}, 1, 0, -32768, -32768),
+    (replace(CIC_HOST, c_t=-CIC_CT_MAX, c_r=CIC_CR_MAX), {}, 1, 0, 32767, -32768),
+    (CicParams(g=S32_MAX, c1=S32_MIN, c2=S32_MIN, c3=S32_MIN, c_t=CIC_CT_MAX, c_r=CIC_CR_MAX, k_delay=S32_MIN,
+               q_min=S32_MIN, n_hold=0), dict(theta_o=HALF_TURN), -(1 << 20), 0, S32_MIN, S32_MIN),
+    # w and z saturate both ways and stay saturated; omega = sat(w >> 24) at the s32 edges
+    (CicParams(g=S32_MAX, c1=S32_MAX, c2=S32_MAX, c3=S32_MAX, c_t=CIC_CT_MAX, c_r=0, k_delay=S32_MAX, q_min=0,
+               n_hold=0), dict(theta_o=1 << 30, w=S64_MAX, z=S64_MAX), (1 << 20) - 1, 0, 0, S32_MAX),
+    (CicParams(g=S32_MAX, c1=S32_MAX, c2=S32_MAX, c3=S32_MAX, c_t=CIC_CT_MAX, c_r=0, k_delay=S32_MAX, q_min=0,
+               n_hold=0), dict(theta_o=3 << 30, w=S64_MIN, z=S64_MIN), (1 << 20) - 1, 0, 0, S32_MIN),
+    # the quadrature signal beyond s29 (saturated), (0, 0) with q_min 0 and 1
+    (CIC_HOST, {}, S32_MIN, S32_MAX, 0, 0),
+    (replace(CIC_HOST, q_min=0), {}, 0, 0, 0, 0),
+    (replace(CIC_HOST, q_min=1), {}, 0, 0, 0, 0),
+])
+def test_cic_step_corners(p, state, qa, qb, i_d, i_q):
+    """fw_cic_step = SquareWaveCic.step at the corners of the documented ranges, twice in a row."""
+    pair = CicPair()
+    est = pair.load(p, state)
+    for _ in range(2):
+        out = pair.step(est, qa, qb, i_d, i_q)
+        assert pair.diff(est) == {} and out == (est.theta, est.omega), (pair.diff(est), out)
+
+
+def test_cic_params_of_the_scenario():
+    """The host's parameters of scenarios/xue2022_noload.toml lie in the ranges control.h documents (c_t
+    beyond int32 with the torque feed-forward on), convert into struct fw_params unchanged, and the C
+    firmware equals the golden one on a run of synthetic windows through start-up (pilot polarity) and 300
+    windows of RUN: a quadrature signal turning with the rotor at 100 r/min with noise, small window-mean
+    currents."""
+    p = firmware_params(load_scenario(ROOT / "scenarios" / "xue2022_noload.toml"))
+    c = p.cic
+    assert p.low == METHOD_SQW_CIC and c is not None
+    assert all(S32_MIN <= getattr(c, f) <= S32_MAX for f in ("g", "c1", "c2", "c3", "k_delay", "q_min", "n_hold"))
+    assert abs(c.c_t) <= CIC_CT_MAX and abs(c.c_r) <= CIC_CR_MAX, c
+    cp = fw_c.params_to_c(ffi, p)
+    assert {f.name: getattr(cp.cic, f.name) for f in dataclass_fields(c)} == vars(c)
+    rng = np.random.default_rng(7)
+    pair, theta_r, step = Pair(p), 0.35, 2 * np.pi * 4 * 100 / 60 / 1000      # electrical rad per period
+    running = 0
+    for k in range(20_000):
+        theta_r += step
+        qa, qb = (int(v) for v in np.round((1 << 18) * np.array([np.cos(theta_r), np.sin(theta_r)])
+                                           + rng.normal(0, 2000, 2)))
+        n = 100
+        i_d, i_q = (int(v) for v in rng.integers(-400, 400, size=2))
+        w = WindowResult(gamma=0, gamma_d=0, sum_id=i_d * n, sum_iq=i_q * n, wsum=0, n_samples=n,
+                         cic_qa=qa, cic_qb=qb, env_a=qa >> 4, env_b=qb >> 4)
+        pair.step(w, 200_000, (k,))
+        running += pair.fw.mode == MODE_RUN
+        if running == 300:
+            break
+    assert running == 300 and pair.fw.mode == MODE_RUN, (k, pair.fw.mode)

@@ -104,6 +104,13 @@ def test_sqw_cic_refuses_a_motor_without_saliency():
         sqw_cic_params(dataclasses.replace(sc, plant=plant))
 
 
+def test_sqw_cic_refuses_integers_the_firmware_cannot_hold():
+    sc = load_scenario(NOLOAD)
+    plant = dict(sc.plant, mag=dict(sc.plant["mag"], L_q=sc.plant["mag"]["L_d"] * 1.00001))
+    with pytest.raises(ValueError, match="g = .* is outside"):
+        sqw_cic_params(dataclasses.replace(sc, plant=plant))
+
+
 def _imposed(rpm: float) -> str:
     """xue2022_noload on an ideal inverter with the speed imposed at ``rpm`` (scenario text)."""
     text = NOLOAD.read_text()

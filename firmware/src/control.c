@@ -590,12 +590,103 @@ int32_t fw_smo_i_d(const struct fw_params *p)
     return p->smo.i_d;
 }
 
+/* ---- estimator sqw_cic (golden.firmware.sqw_cic; Xue et al. 2022, Sec. 3, Figs. 2 and 10) -------------- */
+
+/* golden.fixed.sat(a + b, 64) of int64 a, b: on overflow both have the sign of b. */
+static int64_t sat_add64(int64_t a, int64_t b)
+{
+    int64_t s;
+
+    if (__builtin_add_overflow(a, b, &s))
+        s = b < 0 ? INT64_MIN : INT64_MAX;
+    return s;
+}
+
+/* golden.fixed.sat(a + b + c, 64) of the exact sum of int64 a, b, c (|a + b + c| < 3 2^63): each of the
+ * two wrapping adds is off by +-2^64 when it overflows (the sign of its second operand); with k such
+ * wraps in all the wrapped result t is the exact sum - k 2^64, so k > 0 means above INT64_MAX, k < 0
+ * below INT64_MIN, k = 0 that t is the exact sum. */
+static int64_t sat_add3_64(int64_t a, int64_t b, int64_t c)
+{
+    int64_t s, t;
+    int k = 0;
+
+    if (__builtin_add_overflow(a, b, &s))
+        k += b < 0 ? -1 : 1;
+    if (__builtin_add_overflow(s, c, &t))
+        k += c < 0 ? -1 : 1;
+    return k > 0 ? INT64_MAX : k < 0 ? INT64_MIN : t;
+}
+
+/* golden.firmware.sqw_cic.SquareWaveCic.step (Xue et al. 2022): the angle of the CIC-interpolated
+ * quadrature signal (eq. (6)), the quadrature PLL's error scaled to slope 1 (Fig. 10), the Luenberger
+ * observer with the torque feed-forward (eqs. (9)-(12)), the delay compensation; the same operations in
+ * the same order. Ranges: struct fw_cic_params (control.h); |i_d i_q| <= 2^30 after the s16 saturation. */
+void fw_cic_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega)
+{
+    struct fw_cic_state *e = &st->cic;
+    const struct fw_cic_params *cp = &p->cic;
+    uint32_t psi;
+    int32_t err;
+
+    fw_vector_angle(sat_s32(m->win->cic_qa, 29), sat_s32(m->win->cic_qb, 29), &psi, &e->mag);
+    if (e->hold > 0) {
+        e->hold--;
+        err = 0;
+    } else if (e->mag < cp->q_min) {
+        err = 0;
+    } else { /* Fig. 10, scaled to slope 1 */
+        err = sat32(((int64_t)cp->g * (int32_t)(psi - e->theta_o)) >> 16);
+    }
+    e->err = err = opaque_s32(err); /* opaque_s32: the products below as 32 x 32 (speed, no value change) */
+    int32_t i_d = opaque_s32(sat16(m->i_d)), i_q = opaque_s32(sat16(m->i_q));
+    /* n_p T_e / J: the torque feed-forward; |c_t i_q| <= 2^61, |c_r i_d i_q| <= 2^62 */
+    int64_t ff = cp->c_t * i_q + ((cp->c_r * (i_d * i_q)) >> 16);
+    e->z = sat_add64(e->z, (int64_t)cp->c1 * err); /* eqs. (9)-(12): poles at -a */
+    e->w = sat_add3_64(e->w, e->z, (int64_t)cp->c2 * err + ff); /* |c2 e + ff| < 2^63 */
+    e->omega = sat32(e->w >> 24);
+    e->theta_o += (uint32_t)e->omega + (uint32_t)(((int64_t)cp->c3 * err) >> 16);
+    e->theta = e->theta_o + (uint32_t)(((int64_t)e->omega * cp->k_delay) >> 16);
+    *theta = e->theta;
+    *omega = e->omega;
+}
+
+/* golden.firmware.sqw_cic.SquareWaveCic.turn (Xue et al. 2022): both angles turned by delta. */
+void fw_cic_turn(struct fw_state *st, uint32_t delta)
+{
+    st->cic.theta_o += delta;
+    st->cic.theta += delta;
+}
+
+/* golden.firmware.sqw_cic.SquareWaveCic.sync (Xue et al. 2022): the observer continues from theta at omega
+ * (z = 0) and ignores the error for n_hold periods. */
+void fw_cic_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega)
+{
+    struct fw_cic_state *e = &st->cic;
+
+    e->theta_o = theta - (uint32_t)(((int64_t)omega * p->cic.k_delay) >> 16);
+    e->w = (int64_t)omega * 16777216; /* omega << 24 */
+    e->z = 0;
+    e->hold = p->cic.n_hold;
+    e->theta = theta;
+    e->omega = omega;
+}
+
+/* golden.firmware.sqw_cic.SquareWaveCic.i_d (Xue et al. 2022): no d-current of its own (Estimator.i_d = 0). */
+int32_t fw_cic_i_d(const struct fw_params *p)
+{
+    (void)p;
+    return 0;
+}
+
 /* golden.firmware.methods.CLASSES: the members of the plug-in interface, by method id. */
 static const struct fw_est_ops fw_methods[FW_METHODS] = {
     [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync, fw_sqw_i_d},
     [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d},
     [FW_METHOD_ROT_BPF] = {fw_rot_step, fw_rot_turn, fw_rot_sync, fw_rot_i_d},
     [FW_METHOD_EEMF_SMO] = {fw_smo_step, fw_smo_turn, fw_smo_sync, fw_smo_i_d},
+    [FW_METHOD_SQW_CIC] = {fw_cic_step, fw_cic_turn, fw_cic_sync, fw_cic_i_d},
 };
 
 /* Whether a method's injection is on while it is in charge, by method id (generated, fw_methods.h). */

@@ -28,7 +28,7 @@ struct fw_pi_params {
 
 /* Estimator methods (golden.firmware.estimator.METHOD_*): the ids a slot of fw_params names. */
 enum fw_method { FW_METHOD_NONE = 0, FW_METHOD_SQW_BANGBANG = 1, FW_METHOD_RFO = 2, FW_METHOD_ROT_BPF = 3,
-                 FW_METHOD_EEMF_SMO = 4, FW_METHODS = 5 };
+                 FW_METHOD_EEMF_SMO = 4, FW_METHOD_SQW_CIC = 5, FW_METHODS = 6 };
 
 /* Polarity detection (golden.firmware.supervisor.POL_*). */
 enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1 };
@@ -155,6 +155,40 @@ struct fw_smo_state {
     int32_t dir;
 };
 
+/* ---- method sqw_cic (golden.firmware.sqw_cic; Xue et al. 2022) ----
+ * Ranges the C relies on (tests/test_fw_c.py draws over them; the host's values in brackets: xue2022_noload):
+ *   g, c1, c2, c3, k_delay, q_min, n_hold: any int32_t            [124104, 4162, 198701, 12353, 147456, 328, 4]
+ *       (g * wrap(psi - theta_o), c1 e, c2 e, c3 e, omega k_delay: 32 x 32 products, |.| <= 2^62)
+ *   c_t: |c_t| <= 2^46 (int64_t: beyond 2^31 on real motors)    [4199825053]
+ *       (c_t i_q with |i_q| <= 2^15: |.| <= 2^61)
+ *   c_r: |c_r| <= 2^32 (int64_t)                                 [-1327144717]
+ *       (c_r (i_d i_q) with |i_d i_q| <= 2^30: |.| <= 2^62, shifted by 16: <= 2^46)
+ * so c2 e + ff is below 2^62 + 2^61 + 2^46 < 2^63 in magnitude, exact in int64; the sums with w and z
+ * saturate as golden's sat(., 64) (overflow-checked adds). The int64_t members leave 4 bytes of padding in
+ * each block, the same on RV32 (ilp32) and the host (x86-64): both align int64_t to 8. */
+struct fw_cic_params {
+    int32_t g;
+    int32_t c1;
+    int32_t c2;
+    int32_t c3;
+    int64_t c_t;
+    int64_t c_r;
+    int32_t k_delay;
+    int32_t q_min;
+    int32_t n_hold;
+};
+
+struct fw_cic_state {
+    uint32_t theta_o;        /* the observer's angle (u32 binary angle) */
+    int64_t w;               /* speed, Q24 binary angle per period */
+    int64_t z;               /* acceleration integrator, Q24 binary angle per period^2 */
+    int32_t hold;            /* periods left without error after a sync */
+    int32_t err;             /* the last error e */
+    int32_t mag;             /* vector_angle magnitude of the quadrature signal */
+    uint32_t theta;
+    int32_t omega;
+};
+
 /* Firmware parameters (golden.firmware.supervisor.FirmwareParams), computed on the host by
  * golden/control_config.py: the method of each slot, one parameter block per method (zero when no slot
  * uses it), the shared loops. fixed_enable = 1 selects the open-loop test at fixed_angle (FIXED);
@@ -166,6 +200,7 @@ struct fw_params {
     struct fw_rfo_params rfo;
     struct fw_rot_params rot;
     struct fw_smo_params smo;
+    struct fw_cic_params cic;
     int32_t speed_lp;
     struct fw_pi_params speed_pi;
     struct fw_pi_params id_pi;
@@ -242,6 +277,7 @@ struct fw_state {
     struct fw_rfo_state rfo;
     struct fw_rot_state rot;
     struct fw_smo_state smo;
+    struct fw_cic_state cic;
 };
 
 /* Window results of the demodulator (registers GAMMA ... N_SAMPLES). */
@@ -253,6 +289,8 @@ struct fw_window {
     int32_t wsum;
     uint32_t n_samples;
     uint32_t inj_phase;     /* INJ_PHASE (golden WindowResult.inj_phase) */
+    int32_t cic_qa;         /* CIC_QA, CIC_QB: s21 (golden WindowResult.cic_qa, cic_qb; the estimator sqw_cic) */
+    int32_t cic_qb;
 };
 
 /* What every estimator gets once per period (golden.firmware.estimator.Measurement). */
@@ -330,6 +368,12 @@ void fw_smo_step(struct fw_state *st, const struct fw_params *p, const struct fw
 void fw_smo_turn(struct fw_state *st, uint32_t delta);
 void fw_smo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
 int32_t fw_smo_i_d(const struct fw_params *p);
+/* Method sqw_cic (golden.firmware.sqw_cic.SquareWaveCic) */
+void fw_cic_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega);
+void fw_cic_turn(struct fw_state *st, uint32_t delta);
+void fw_cic_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+int32_t fw_cic_i_d(const struct fw_params *p);
 
 /* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref) */
 void fw_init(struct fw_state *st, const struct fw_params *p);

@@ -20,10 +20,10 @@ import os
 import cocotb
 import numpy as np
 from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, Timer
+from cocotb.triggers import FallingEdge
 from cocotb.utils import get_sim_time
 
-from pulse_monitor import HighMonitor
+from pulse_monitor import HighMonitor, cycles
 from golden.fpga.adc_scale import adc_to_current
 from golden.testvectors import adc_scale as testvectors
 
@@ -52,12 +52,6 @@ async def _start(dut):
     dut.rst.value = 0
     _check_idle(dut, "after reset")
     assert _outputs(dut) == (0, 0), f"outputs after reset: {_outputs(dut)}"
-
-
-async def _cycles(n: int) -> None:
-    """Advance ``n`` clock cycles (falling edge to falling edge; never mixed with edge triggers, whose
-    order against a Timer expiring at the same instant is not defined)."""
-    await Timer(n * PERIOD_NS, unit="ns")
 
 
 def _drive(dut, start: int, v) -> None:
@@ -117,11 +111,11 @@ async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
     now = 0
     for c in sorted(events):        # same-cycle events: the checks read registered outputs only
         if c > now:
-            await _cycles(c - now)
+            await cycles(c - now)
             now = c
         for fn in events[c]:
             fn()
-    await _cycles(LATENCY + 2)      # ends at a falling edge, the last done over
+    await cycles(LATENCY + 2)      # ends at a falling edge, the last done over
     high = mon.stop()
     assert high == expected_high, (
         f"{label}: done high in unexpected cycles {sorted(high - expected_high)[:10]}, "
@@ -169,39 +163,39 @@ async def directed(dut):
     full = (top, 0, -32768, 32767, 65535, 65535)
     exp = _golden(full, bits)
     _drive(dut, 1, full)
-    await _cycles(1)
+    await cycles(1)
     _drive(dut, 0, zero)
-    await _cycles(LATENCY + 10)
+    await cycles(LATENCY + 10)
     assert _outputs(dut) == exp, f"outputs not held: {_outputs(dut)}, golden {exp}"
 
     # Reset in every cycle of a conversion in flight: no done, outputs cleared, then a clean restart.
     for rst_at in range(1, LATENCY):                    # rst sampled at the end of cycle S + rst_at
         _drive(dut, 1, full)
-        await _cycles(1)
+        await cycles(1)
         _drive(dut, 0, zero)
         if rst_at > 1:
-            await _cycles(rst_at - 1)
+            await cycles(rst_at - 1)
         dut.rst.value = 1
-        await _cycles(1)
+        await cycles(1)
         dut.rst.value = 0
         assert _outputs(dut) == (0, 0), f"reset {rst_at} cycles after start: outputs {_outputs(dut)}"
         for _ in range(LATENCY + 2):
             _check_idle(dut, f"after a reset {rst_at} cycles after start")
-            await _cycles(1)
+            await cycles(1)
         probe = (top // 3, top, 123, -45, 20000, 1000)
         await run_vectors(dut, [probe], [1], [full], f"restart after reset at {rst_at}")
         # Restore a non-zero output for the next reset.
         _drive(dut, 1, full)
-        await _cycles(1)
+        await cycles(1)
         _drive(dut, 0, zero)
-        await _cycles(LATENCY + 2)
+        await cycles(LATENCY + 2)
 
     # A start during reset is ignored.
     dut.rst.value = 1
     _drive(dut, 1, full)
-    await _cycles(1)
+    await cycles(1)
     dut.rst.value = 0
     _drive(dut, 0, zero)
     for _ in range(LATENCY + 2):
         _check_idle(dut, "after a start during reset")
-        await _cycles(1)
+        await cycles(1)

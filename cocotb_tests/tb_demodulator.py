@@ -22,27 +22,16 @@ import os
 import cocotb
 import numpy as np
 from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, RisingEdge, Timer
+from cocotb.triggers import FallingEdge, RisingEdge
 from cocotb.utils import get_sim_time
 
 from golden.fpga.demodulator import demodulate
+from pulse_monitor import cycles, seeded_rng
 from golden.testvectors import demodulator as testvectors
 
 PERIOD_NS = 10
 LATENCY = 2             # rtl/hfi_demodulator.v localparam LATENCY (latch -> latched)
 OUT_NAMES = ("gamma", "gamma_d", "sum_id", "sum_iq", "wsum", "n_samples")
-
-
-def _rng():
-    seed = int(os.environ["HFI_SEED"])
-    cocotb.log.info("HFI_SEED=%d HFI_RANDOM_N=%s", seed, os.environ["HFI_RANDOM_N"])
-    return np.random.default_rng(seed)
-
-
-async def _cycles(n: int) -> None:
-    """Advance ``n`` clock cycles (falling edge to falling edge; never mixed with edge triggers, whose
-    order against a Timer expiring at the same instant is not defined)."""
-    await Timer(n * PERIOD_NS, unit="ns")
 
 
 def _outputs(dut) -> tuple[int, ...]:
@@ -158,7 +147,7 @@ class Seq:
         now = 0
         for c in events:
             if c > now:
-                await _cycles(c - now)
+                await cycles(c - now)
                 now = c
             for name, exp in self.checks.get(c, ()):
                 got = _outputs(dut)
@@ -189,7 +178,7 @@ class Seq:
                 dut.i_q.value = d["i_q"]
                 dut.w.value = d["w"]
         if end > now:
-            await _cycles(end - now)
+            await cycles(end - now)
         mon._task.cancel()
         high = mon.high_cycles()
         assert high == self.expected_high, (
@@ -225,7 +214,7 @@ def _gap(rng) -> int:
 async def random_windows(dut):
     """Random windows of 0..300 samples with random keep flags and gaps until HFI_RANDOM_N accepted
     samples, latches alone or in the cycle of the next window's first sample."""
-    rng = _rng()
+    rng = seeded_rng()
     n_target = int(os.environ["HFI_RANDOM_N"])
     await _start(dut)
     windows = testvectors.random_windows(rng, n_target)
@@ -252,25 +241,25 @@ async def _constant_window(dut, n: int, keep: int, i_d: int, i_q: int, w: int, l
     dut.i_q.value = i_q
     dut.w.value = w
     dut.latch.value = 1 if latch_first else 0
-    await _cycles(1)
+    await cycles(1)
     dut.latch.value = 0
     if n > 1:
-        await _cycles(n - 1)
+        await cycles(n - 1)
     dut.valid.value = 0
 
 
 async def _latch_and_check(dut, exp, label: str) -> None:
     """Latch in this cycle (no sample), check latched and the outputs LATENCY cycles later."""
     dut.latch.value = 1
-    await _cycles(1)
+    await cycles(1)
     dut.latch.value = 0
     for k in range(1, LATENCY):
         assert int(dut.latched.value) == 0, f"{label}: latched = 1 {k} cycles after the latch"
-        await _cycles(1)
+        await cycles(1)
     assert int(dut.latched.value) == 1, f"{label}: latched = 0 {LATENCY} cycles after the latch"
     got = _outputs(dut)
     assert got == exp, f"{label}: RTL {dict(zip(OUT_NAMES, got))}, golden {dict(zip(OUT_NAMES, exp))}"
-    await _cycles(1)
+    await cycles(1)
     assert int(dut.latched.value) == 0, f"{label}: latched longer than one cycle"
 
 
@@ -300,7 +289,7 @@ async def directed(dut):
     """Latch and valid in the same cycle, latch right after a sample (the product still in the
     pipeline), consecutive latches (empty windows), blanked samples in latch cycles, reset mid-window
     and reset with a latch in flight."""
-    rng = _rng()
+    rng = seeded_rng()
     await _start(dut)
     seq = Seq(rng)
     events = testvectors.directed_events()
@@ -323,18 +312,18 @@ async def directed(dut):
             dut.i_d.value = 1000
             dut.i_q.value = -2000
             dut.w.value = 3000
-            await _cycles(1)
+            await cycles(1)
         dut.valid.value = 0
         dut.latch.value = 1
-        await _cycles(1)
+        await cycles(1)
         dut.latch.value = 0
         if rst_after:
-            await _cycles(rst_after)
+            await cycles(rst_after)
         dut.rst.value = 1
-        await _cycles(1)
+        await cycles(1)
         dut.rst.value = 0
         for _ in range(LATENCY + 1):
             assert int(dut.latched.value) == 0, f"latched after a reset {rst_after} cycles after a latch"
             assert _outputs(dut) == (0,) * 6, f"outputs after a reset: {_outputs(dut)}"
-            await _cycles(1)
+            await cycles(1)
         await _latch_and_check(dut, _golden([]), f"empty window after the reset {rst_after} after a latch")

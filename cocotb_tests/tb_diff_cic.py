@@ -25,11 +25,12 @@ import os
 import cocotb
 import numpy as np
 from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, RisingEdge, Timer
+from cocotb.triggers import FallingEdge
 from cocotb.utils import get_sim_time
 
 from golden.fpga.diff_cic import M_MAX, Y_BITS, DiffCic, cic_m
 from golden.testvectors import diff_cic as testvectors
+from pulse_monitor import HighMonitor, cycles, seeded_rng
 
 PERIOD_NS = 10
 LATENCY = 4             # rtl/hfi_diff_cic.v localparam LATENCY (in_valid -> out_valid)
@@ -38,48 +39,9 @@ OUT_NAMES = ("q_a", "q_b", "e_a", "e_b")
 ZERO = (0, 0, 0, 0)
 
 
-def _rng():
-    seed = int(os.environ["HFI_SEED"])
-    cocotb.log.info("HFI_SEED=%d HFI_RANDOM_N=%s", seed, os.environ["HFI_RANDOM_N"])
-    return np.random.default_rng(seed)
-
-
-async def _cycles(n: int) -> None:
-    """Advance ``n`` clock cycles (falling edge to falling edge; never mixed with edge triggers, whose
-    order against a Timer expiring at the same instant is not defined)."""
-    await Timer(n * PERIOD_NS, unit="ns")
-
-
 def _outputs(dut) -> tuple[int, int, int, int]:
     return (dut.q_a.value.to_signed(), dut.q_b.value.to_signed(), dut.e_a.value.to_signed(),
             dut.e_b.value.to_signed())
-
-
-class HighMonitor:
-    """Records the cycles (relative to ``t0``, the falling edge of cycle 0) in which ``out_valid`` is 1."""
-
-    def __init__(self, dut, t0_ns: float):
-        self.t0 = t0_ns
-        self.intervals: list[list] = []
-        self._task = cocotb.start_soon(self._run(dut))
-
-    async def _run(self, dut):
-        while True:
-            await RisingEdge(dut.out_valid)
-            self.intervals.append([get_sim_time(unit="ns"), None])
-            await FallingEdge(dut.out_valid)
-            self.intervals[-1][1] = get_sim_time(unit="ns")
-
-    def stop(self) -> set[int]:
-        """Cycle c is high if out_valid rose at or before its posedge (t0 + c*P - P/2) and fell after."""
-        self._task.cancel()
-        out = set()
-        for rise, fall in self.intervals:
-            assert fall is not None, "out_valid still high at the end of the sequence"
-            first = round((rise - self.t0 + PERIOD_NS / 2) / PERIOD_NS)
-            last = round((fall - self.t0 + PERIOD_NS / 2) / PERIOD_NS) - 1
-            out.update(range(first, last + 1))
-        return out
 
 
 class Seq:
@@ -160,12 +122,12 @@ class Seq:
         junk = iter(np.stack([rng.integers(-32768, 32768, n_idle), rng.integers(-32768, 32768, n_idle),
                               rng.integers(0, 2, n_idle), rng.integers(0, 256, n_idle)], axis=1).tolist())
         t0 = get_sim_time(unit="ns")
-        mon = HighMonitor(dut, t0)
+        mon = HighMonitor(dut, t0, "out_valid")
         events = sorted(set(self.drive) | set(self.checks))
         now = 0
         for c in events:
             if c > now:
-                await _cycles(c - now)
+                await cycles(c - now)
                 now = c
             for name, valid, exp in self.checks.get(c, ()):
                 got = _outputs(dut)
@@ -192,7 +154,7 @@ class Seq:
                 dut.plus.value = d["plus"]
                 dut.cic_m.value = d["cic_m"]
         if end > now:
-            await _cycles(end - now)
+            await cycles(end - now)
         high = mon.stop()
         assert high == self.expected_high, (
             f"{label}: out_valid high in unexpected cycles {sorted(high - self.expected_high)[:10]}, "
@@ -231,7 +193,7 @@ def _add(seq: Seq, steps, gaps, label: str = "") -> list[tuple]:
 async def random_steps(dut):
     """HFI_RANDOM_N random steps (currents with many -32768 / 32767, random plus, CIC_M mostly 2 with
     random u8 writes at random steps), every output of every step compared with the golden model."""
-    rng = _rng()
+    rng = seeded_rng()
     n = int(os.environ["HFI_RANDOM_N"])
     steps = testvectors.random_steps(rng, n)
     await _start(dut)
@@ -255,7 +217,7 @@ async def full_scale(dut):
     plus = 1 at M = 16, 15 and 1. In this comb-first form the wrapping integrator always holds the exact
     moving sum (which lies in s21), so its wrap never changes a value: checked against the unwrapped sum
     of the last M envelopes."""
-    rng = _rng()
+    rng = seeded_rng()
     await _start(dut)
     seq = Seq(rng)
     runs = [("full-scale swing M = 16", testvectors.full_scale_runs(16)),
@@ -285,7 +247,7 @@ async def directed(dut):
     -> 16 -> 3 (outputs right after each), plus = 0 runs (the envelope holds), CIC_M writes between
     steps, reset in the middle of a run, reset in every cycle of a step in flight, in_valid during reset,
     outputs held for long idle stretches."""
-    rng = _rng()
+    rng = seeded_rng()
     await _start(dut)
     seq = Seq(rng)
 
@@ -311,9 +273,9 @@ async def directed(dut):
 
     # Reset in the middle of a run (rst for 1 and 3 cycles, the second with in_valid held high in it),
     # then the first steps again.
-    for cycles, strobe in ((1, False), (3, True)):
+    for n_rst, strobe in ((1, False), (3, True)):
         _add(seq, testvectors.rate_changes(rng, per_rate=5)[:20], _gaps(rng, 20), "(before a reset)")
-        seq.reset(LATENCY + 3, cycles, strobe)
+        seq.reset(LATENCY + 3, n_rst, strobe)
         r = _add(seq, [(1000, -1000, 1, 7), (-1000, 1000, 1, 7), (5, 5, 1, 7)], [1, 2, 5], "(after a reset)")
         assert r[0] == ZERO and r[1] == (-2000, 2000, -2000, 2000), r
 
@@ -336,6 +298,6 @@ async def directed(dut):
     held_out = seq.out
     dut.cic_m.value = 200
     dut.i_alpha.value = 32767
-    await _cycles(300)
+    await cycles(300)
     assert _outputs(dut) == held_out and int(dut.out_valid.value) == 0, "outputs not held when idle"
     cocotb.log.info("directed: %d steps, %d aborted by %d resets", seq.n_steps, seq.n_aborted, seq.n_resets)

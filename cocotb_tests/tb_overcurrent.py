@@ -15,6 +15,7 @@ import cocotb
 import numpy as np
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, Timer
+from pulse_monitor import seeded_rng
 
 PERIOD_NS = 10
 
@@ -23,12 +24,6 @@ def overcurrent_ref(i_a: int, i_b: int, limit: int) -> bool:
     """Spec 3.7: ``|i_a| > limit or |i_b| > limit or |i_c| > limit`` with ``i_c = -i_a - i_b`` (exact)."""
     i_c = -i_a - i_b
     return abs(i_a) > limit or abs(i_b) > limit or abs(i_c) > limit
-
-
-def _rng():
-    seed = int(os.environ["HFI_SEED"])
-    cocotb.log.info("HFI_SEED=%d HFI_RANDOM_N=%s", seed, os.environ["HFI_RANDOM_N"])
-    return np.random.default_rng(seed)
 
 
 async def _start(dut):
@@ -72,7 +67,7 @@ def _random_vectors(rng, n: int):
 @cocotb.test()
 async def random_vectors(dut):
     """HFI_RANDOM_N random samples, one per cycle, each trip compared with the reference."""
-    rng = _rng()
+    rng = seeded_rng()
     n = int(os.environ["HFI_RANDOM_N"])
     valid, i_a, i_b, limit = (a.tolist() for a in _random_vectors(rng, n))
     await _start(dut)

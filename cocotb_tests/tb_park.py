@@ -17,30 +17,17 @@ from __future__ import annotations
 import os
 
 import cocotb
-import numpy as np
 from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, Timer
+from cocotb.triggers import FallingEdge
 from cocotb.utils import get_sim_time
 
-from pulse_monitor import HighMonitor
+from pulse_monitor import HighMonitor, cycles, seeded_rng
 from golden.fpga.park import clarke, park
 from golden.testvectors import park as testvectors
 
 PERIOD_NS = 10
 LATENCY = 7             # rtl/hfi_park.v localparam LATENCY
 MIN_SPACING = 5         # minimum start spacing of the RTL (documented in its header)
-
-
-def _rng():
-    seed = int(os.environ["HFI_SEED"])
-    cocotb.log.info("HFI_SEED=%d HFI_RANDOM_N=%s", seed, os.environ["HFI_RANDOM_N"])
-    return np.random.default_rng(seed)
-
-
-async def _cycles(n: int) -> None:
-    """Advance ``n`` clock cycles (falling edge to falling edge; never mixed with edge triggers, whose
-    order against a Timer expiring at the same instant is not defined)."""
-    await Timer(n * PERIOD_NS, unit="ns")
 
 
 def _drive(dut, start: int, v) -> None:
@@ -108,11 +95,11 @@ async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
     now = 0
     for c in sorted(events):        # same-cycle events: the checks read registered outputs only
         if c > now:
-            await _cycles(c - now)
+            await cycles(c - now)
             now = c
         for fn in events[c]:
             fn()
-    await _cycles(LATENCY + 2)      # ends at a falling edge, the last done over
+    await cycles(LATENCY + 2)      # ends at a falling edge, the last done over
     high = mon.stop()
     assert high == expected_high, (
         f"{label}: done high in unexpected cycles {sorted(high - expected_high)[:10]}, "
@@ -127,7 +114,7 @@ def _rows(arr) -> list[tuple]:
 @cocotb.test()
 async def random_vectors(dut):
     """HFI_RANDOM_N random transforms, overlapping, each compared with the golden model."""
-    rng = _rng()
+    rng = seeded_rng()
     n = int(os.environ["HFI_RANDOM_N"])
     vectors = _rows(testvectors.random_vectors(rng, n))
     garbage = _rows(testvectors.random_vectors(rng, n))
@@ -158,33 +145,33 @@ async def directed(dut):
     other = (1234, -4321, 30000, -20000)
     exp = _golden(full)
     _drive(dut, 1, full)
-    await _cycles(1)
+    await cycles(1)
     _drive(dut, 0, other)
-    await _cycles(LATENCY + 10)
+    await cycles(LATENCY + 10)
     assert _outputs(dut) == exp, f"outputs not held: {_outputs(dut)}, golden {exp}"
 
     # Reset in every cycle of a transform in flight: no done, outputs cleared, then a clean restart.
     for rst_at in range(1, LATENCY):                    # rst sampled at the end of cycle S + rst_at
         _drive(dut, 1, full)
-        await _cycles(1)
+        await cycles(1)
         _drive(dut, 0, other)
         if rst_at > 1:
-            await _cycles(rst_at - 1)
+            await cycles(rst_at - 1)
         dut.rst.value = 1
-        await _cycles(1)
+        await cycles(1)
         dut.rst.value = 0
         assert _outputs(dut) == (0, 0), f"reset {rst_at} cycles after start: outputs {_outputs(dut)}"
         for _ in range(LATENCY + 2):
             _check_idle(dut, f"after a reset {rst_at} cycles after start")
-            await _cycles(1)
+            await cycles(1)
         await run_vectors(dut, [other], [1], [full], f"restart after reset at {rst_at}")
 
     # A start during reset is ignored.
     dut.rst.value = 1
     _drive(dut, 1, full)
-    await _cycles(1)
+    await cycles(1)
     dut.rst.value = 0
     _drive(dut, 0, zero)
     for _ in range(LATENCY + 2):
         _check_idle(dut, "after a start during reset")
-        await _cycles(1)
+        await cycles(1)

@@ -2,8 +2,16 @@
 
 The ADC model of tb_hfi_dsp.v returns the golden ADC codes (codes.hex, written by the pytest side);
 this coroutine plays the firmware: after every window interrupt it reads the window results over
-AXI4-Lite, compares them with the golden window, writes the golden firmware's registers and commits.
-The gate edges and sampling instants recorded by the Verilog are compared at the end.
+AXI4-Lite (with INJ_PHASE and the differencing/CIC block's CIC_QA, CIC_QB, ENV_A, ENV_B), compares them
+with the golden window, writes the golden firmware's registers and commits. The gate edges and sampling
+instants recorded by the Verilog are compared at the end.
+
+Start-up: by default the carrier runs from reset (its registers must equal the reset values) and the
+configuration is written before the first window boundary. A trace with ``cfg_start_held`` = 1 (a
+carrier other than the reset one, or the period square wave, whose sign at tick 0's bottom follows
+CTRL.INJ_PER) holds the timing (tb_hfi_dsp's ``hold``, hfi_dsp's ``run`` = 0), writes every register,
+waits for the carrier's H*STEP product and releases it: tick 0 comes after the configuration, as in
+the SoC.
 """
 
 from __future__ import annotations
@@ -25,7 +33,8 @@ of the sample taken at tick t rises in cycle t + CONVST_LATENCY (hfi/soc_platfor
 
 RESULTS = (("GAMMA", "gamma", True), ("GAMMA_D", "gamma_d", True), ("SUM_ID", "sum_id", True),
            ("SUM_IQ", "sum_iq", True), ("WSUM", "wsum", True), ("N_SAMPLES", "n_samples", False),
-           ("INJ_PHASE", "inj_phase", False))
+           ("INJ_PHASE", "inj_phase", False), ("CIC_QA", "cic_qa", True), ("CIC_QB", "cic_qb", True),
+           ("ENV_A", "env_a", True), ("ENV_B", "env_b", True))
 
 
 def s32(v: int) -> int:
@@ -38,19 +47,26 @@ async def replay_golden_closed_loop(dut):
     n_win = len(tr["win_gamma"])
     cocotb.log.info(f"replaying {n_win} golden windows")
     axi = AxiLiteMaster(dut, "s_axil", dut.clk)
+    cfg = {k: int(tr[f"cfg_{k}"]) for k in ("pwm_half", "dead_ticks", "os_ticks", "blank_ticks",
+                                            "cw_angle_step", "adc_mode", "dtc_gain", "hf_amp", "recip_h",
+                                            "adc_offset_a", "adc_offset_b", "adc_gain_a", "adc_gain_b",
+                                            "inj_rot", "inj_step", "inj_per", "cic_m", "start_held")}
+    held = bool(cfg["start_held"])
     dut.flush.value = 0
+    dut.hold.value = int(held)
     dut.rst.value = 1
     await ClockCycles(dut.clk, 20)
     dut.rst.value = 0
 
-    # Start-up configuration (the carrier already runs from the reset values, checked equal).
-    cfg = {k: int(tr[f"cfg_{k}"]) for k in ("pwm_half", "dead_ticks", "os_ticks", "blank_ticks",
-                                            "cw_angle_step", "adc_mode", "dtc_gain", "hf_amp", "recip_h",
-                                            "adc_offset_a", "adc_offset_b", "adc_gain_a", "adc_gain_b",
-                                            "inj_rot", "inj_step")}
-    assert cfg["pwm_half"] == rm.PWM_HALF_VALUE_RESET and cfg["cw_angle_step"] == rm.CW_ANGLE_STEP_VALUE_RESET, \
-        "the replay assumes the scenario's carrier equals the register reset values"
-    writes = [("DEAD_TICKS", rm.pack("DEAD_TICKS", VALUE=cfg["dead_ticks"])),
+    # Start-up configuration: while the timing is held, or (the carrier already running from the reset
+    # values, checked equal) before the first boundary.
+    if not held:
+        assert cfg["pwm_half"] == rm.PWM_HALF_VALUE_RESET and cfg["cw_angle_step"] == rm.CW_ANGLE_STEP_VALUE_RESET, \
+            "the replay assumes the scenario's carrier equals the register reset values (or a held start)"
+    ctrl_bits = dict(INJ_EN=1, INJ_ROT=cfg["inj_rot"], INJ_PER=cfg["inj_per"], ADC_MODE=cfg["adc_mode"])
+    writes = [("PWM_HALF", rm.pack("PWM_HALF", VALUE=cfg["pwm_half"])),
+              ("CW_ANGLE_STEP", rm.pack("CW_ANGLE_STEP", VALUE=cfg["cw_angle_step"])),
+              ("DEAD_TICKS", rm.pack("DEAD_TICKS", VALUE=cfg["dead_ticks"])),
               ("OS_TICKS", rm.pack("OS_TICKS", VALUE=cfg["os_ticks"])),
               ("BLANK_TICKS", rm.pack("BLANK_TICKS", VALUE=cfg["blank_ticks"])),
               ("ADC_OFFSET", rm.pack("ADC_OFFSET", A=cfg["adc_offset_a"], B=cfg["adc_offset_b"])),
@@ -59,11 +75,17 @@ async def replay_golden_closed_loop(dut):
               ("HF_AMP", rm.pack("HF_AMP", VALUE=cfg["hf_amp"])),
               ("RECIP_H", rm.pack("RECIP_H", VALUE=cfg["recip_h"])),
               ("INJ_STEP", rm.pack("INJ_STEP", VALUE=cfg["inj_step"])),
+              ("CIC_M", rm.pack("CIC_M", VALUE=cfg["cic_m"])),
               ("IRQ_ENABLE", rm.pack("IRQ_ENABLE", WINDOW=1)),
-              ("CTRL", rm.pack("CTRL", INJ_EN=1, INJ_ROT=cfg["inj_rot"], ADC_MODE=cfg["adc_mode"]))]
+              ("CTRL", rm.pack("CTRL", **ctrl_bits))]
     for name, value in writes:
         await axi.write(rm.REGISTERS[name]["addr"], value)
-    assert int(dut.tick.value) < cfg["pwm_half"] // 2, "configuration not done before the first boundary"
+    if held:
+        await ClockCycles(dut.clk, 20)      # the carrier's H*STEP product (docs/rtl.md: reset >= 19 clocks)
+        assert int(dut.tick.value) == 0, "the timing ran while held"
+        dut.hold.value = 0
+    else:
+        assert int(dut.tick.value) < cfg["pwm_half"] // 2, "configuration not done before the first boundary"
 
     w = {k[len("write_"):]: tr[k] for k in tr if k.startswith("write_")}
     mismatches = []
@@ -86,8 +108,7 @@ async def replay_golden_closed_loop(dut):
             await axi.write(rm.V_H_ADDR, rm.pack("V_H", VALUE=o["v_h"]))
             await axi.write(rm.SINCOS_ADDR, rm.pack("SINCOS", SIN=o["sin"], COS=o["cos"]))
             await axi.write(rm.I_REF_ADDR, rm.pack("I_REF", I_D=o["i_d_ref"], I_Q=o["i_q_ref"]))
-            await axi.write(rm.CTRL_ADDR, rm.pack("CTRL", ENABLE=o["enable"], INJ_EN=1, INJ_ROT=cfg["inj_rot"],
-                                                  ADC_MODE=cfg["adc_mode"]))
+            await axi.write(rm.CTRL_ADDR, rm.pack("CTRL", ENABLE=o["enable"], **ctrl_bits))
             await axi.write(rm.COMMIT_ADDR, rm.pack("COMMIT", GO=1))
         await axi.write(rm.IRQ_STATUS_ADDR, rm.pack("IRQ_STATUS", WINDOW=1))
     assert not mismatches, "window results differ from the golden model:\n" + "\n".join(mismatches[:20])
@@ -115,5 +136,5 @@ async def replay_golden_closed_loop(dut):
     convst = convst[(convst >= int(tr["first_window_tick"])) & (convst < end)]
     assert np.array_equal(convst, tr["sample_tick"]), (
         f"sampling instants differ: RTL {len(convst)}, golden {len(tr['sample_tick'])} samples")
-    cocotb.log.info(f"replay equal: {n_win} windows (gamma, gamma_d, sums, N), {len(gold_ticks)} gate edges, "
+    cocotb.log.info(f"replay equal: {n_win} windows ({', '.join(r for r, _, _ in RESULTS)}), {len(gold_ticks)} gate edges, "
                     f"{len(convst)} sampling instants")

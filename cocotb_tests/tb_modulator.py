@@ -17,6 +17,12 @@ results, in the done cycle all six outputs against the golden chain. :class:`Cov
 corner cases reached (over-modulation, ties, rounding ties, compensation clamps, i_x beyond the RTL's
 saturation bound, non-nominal RECIP_H) and fails the run if one was never reached.
 
+``inj_neg`` (the period square wave of CTRL.INJ_PER with S = -1, spec 3.5: the injection's signs of
+the two sets swapped, the dead-time compensation keeping the half's sign) is not one of the shared
+register draws: :func:`with_inj_neg` sets it in a third of the vectors from its own generator (so the
+shared vectors stay those of tests/test_hls_modulator.py); the golden chain is then ``_compares`` with
+``inj_sign = -sign`` (golden/closedloop.py).
+
 All driving happens at falling-edge instants; waits of several cycles are single timers (a Python
 wake-up per clock edge would dominate the run time).
 """
@@ -46,8 +52,10 @@ COVERAGE_N = 20000
 
 # ---------------------------------------------------------------------------------------------- golden
 def golden_set(r: dict, sign: int) -> tuple[int, int, int]:
-    """One compare set exactly as ClosedLoop._compares (compensation only when DTC_GAIN != 0)."""
-    cmps = compares(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], r["half"], sign, rot_arg(r))
+    """One compare set exactly as ClosedLoop._compares (compensation only when DTC_GAIN != 0), with
+    ``inj_sign = -sign`` when the vector has ``inj_neg`` (the compensation keeps ``sign``)."""
+    inj_sign = -sign if r.get("inj_neg", 0) else sign
+    cmps = compares(r["v_d"], r["v_q"], r["v_h"], r["sin_q15"], r["cos_q15"], r["half"], inj_sign, rot_arg(r))
     if r["dtc_gain"]:
         cmps = compensate(cmps, sign, r["half"], r["dead"], r["dtc_gain"], r["i_d_ref"], r["i_q_ref"],
                           r["hf_amp"], r["sin_q15"], r["cos_q15"], r["recip_h"])
@@ -141,6 +149,14 @@ def seed_and_count():
 def apply(dut, r: dict):
     for k in REGS:
         getattr(dut, k).value = r[k]
+    dut.inj_neg.value = r.get("inj_neg", 0)
+
+
+def with_inj_neg(vecs: list[dict], seed: int) -> list[dict]:
+    """The vectors with ``inj_neg`` = 1 in about a third of them (its own generator: the shared
+    register draws are unchanged)."""
+    neg = np.random.default_rng([seed, 5]).random(len(vecs)) < 1 / 3
+    return [r | {"inj_neg": int(n)} for r, n in zip(vecs, neg)]
 
 
 def read_outs(dut) -> tuple[int, ...]:
@@ -232,7 +248,7 @@ async def random_vectors(dut):
     """HFI_RANDOM_N random start vectors, back to back, against the golden chain."""
     seed, count = seed_and_count()
     rng = np.random.default_rng(seed)
-    vecs = as_dicts(draw_registers(rng, count))
+    vecs = with_inj_neg(as_dicts(draw_registers(rng, count)), seed)
     prev = await start_clock_and_reset(dut)
     drv = Driver(dut, rng, p_busy_start=0.05, p_gap=0.05)
     await drv.run(vecs, prev, "random vector")
@@ -240,6 +256,11 @@ async def random_vectors(dut):
     for r in vecs[:COVERAGE_N]:
         cov.add(r)
     cov.report(cocotb.log, f"random (first {min(count, COVERAGE_N)} vectors)")
+    n_neg = sum(r["inj_neg"] and not r["rot"] and r["v_h"] > 0 for r in vecs)
+    cocotb.log.info(f"{n_neg} vectors with the period square wave's S = -1 (inj_neg, V_H > 0)")
+    if count >= 2000:
+        assert n_neg > count // 10, "too few inj_neg vectors"
+
     cocotb.log.info(f"{count} vectors, {drv.busy_starts} starts while busy, {drv.gaps} idle gaps")
     if count >= 2000:
         cov.require(Coverage.NAMES)
@@ -248,7 +269,8 @@ async def random_vectors(dut):
 @cocotb.test()
 async def corner_cases(dut):
     """Register extremes, over-modulation, min-max ties, DTC extremes; each checked in full."""
-    vecs = corner_vectors()
+    base = corner_vectors()
+    vecs = base + [r | {"inj_neg": 1} for r in base]        # each corner also with the signs swapped
     prev = await start_clock_and_reset(dut)
     await Driver(dut).run(vecs, prev, "corner vector")
     cov = Coverage()
@@ -315,7 +337,7 @@ async def start_held_high(dut):
     with the registers of that cycle; done exactly once per period; outputs change only at done."""
     rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 2)
     prev = await start_clock_and_reset(dut)
-    vecs = as_dicts(draw_registers(rng, 6 * LATENCY))
+    vecs = with_inj_neg(as_dicts(draw_registers(rng, 6 * LATENCY)), int(os.environ["HFI_SEED"]) + 2)
     dut.start.value = 1
     accepted = []
     for cyc in range(5 * LATENCY + 1):

@@ -3,8 +3,11 @@
 The default scenario (scenarios/fullload_start.toml: start-up at standstill under full load) runs on
 the golden closed loop for REPLAY_S seconds; its ADC codes feed the ADC model of tb_hfi_dsp.v at the
 same sampling ticks and its firmware's register writes are replayed after every window interrupt.
-Every window result (GAMMA, GAMMA_D, SUM_ID, SUM_IQ, WSUM, N_SAMPLES), every gate edge tick and mask
-and every sampling instant must equal the golden trace. Verilator only (20 M clock cycles).
+Every window result (GAMMA, GAMMA_D, SUM_ID, SUM_IQ, WSUM, N_SAMPLES, INJ_PHASE, and the differencing/CIC
+block's CIC_QA, CIC_QB, ENV_A, ENV_B), every gate edge tick and mask and every sampling instant must
+equal the golden trace. Verilator only (20 M clock cycles). Two shorter replays cover the rotating
+injection (CTRL.INJ_ROT) and the 001 method's period square wave with its differencing and CIC
+(CTRL.INJ_PER, CIC_M; scenarios/xue2022_noload.toml).
 """
 
 from __future__ import annotations
@@ -13,16 +16,22 @@ import dataclasses
 
 import numpy as np
 
+from golden import regmap as rm
 from golden.closedloop import ClosedLoop
 from golden.fpga.adc_trigger import sample_phases
 from golden.fpga.rot_injection import inj_step
+from golden.scenario import load_scenario
 from hfi import paper
 from hdl_runner import TB_DIR, core_rtl_files, rtl_sources, run_cocotb
+
+ROOT = TB_DIR.parent
 
 REPLAY_S = 0.201
 """Simulated time of the replay [s] (>= 0.2 s: 1004 windows at 5 kHz)."""
 ROT_REPLAY_S = 0.03
 """Simulated time of the rotating-injection replay [s] (150 windows, 15 turns of a 500 Hz injection)."""
+PER_REPLAY_S = 0.1
+"""Simulated time of the period-square-wave replay [s] (99 windows at 1 kHz, 10 M clock cycles)."""
 RTL_FILES = core_rtl_files()
 """The Verilog sources of hfi_dsp, as listed in hfi_dsp.core."""
 
@@ -42,7 +51,11 @@ def write_inputs(res, build_dir) -> None:
            "dtc_gain": hw.dtc_gain, "hf_amp": hw.hf_amp, "recip_h": hw.recip_h,
            "adc_offset_a": hw.adc_offset[0], "adc_offset_b": hw.adc_offset[1],
            "adc_gain_a": hw.adc_gain[0], "adc_gain_b": hw.adc_gain[1], "inj_rot": hw.inj_rot,
-           "inj_step": hw.inj_step}
+           "inj_step": hw.inj_step, "inj_per": hw.inj_per, "cic_m": hw.cic_m,
+           # configure before tick 0 (tb_dsp_replay.py) when the carrier is not the reset one, or with the
+           # period square wave (its sign at tick 0's bottom follows CTRL.INJ_PER)
+           "start_held": int(hw.pwm_half != rm.PWM_HALF_VALUE_RESET or hw.cw_angle_step != rm.CW_ANGLE_STEP_VALUE_RESET
+                             or bool(hw.inj_per))}
     n_win = len(res.windows["gamma"])
     np.savez(build_dir / "trace.npz",
              **{f"win_{k}": v for k, v in res.windows.items() if v.dtype.kind == "i"},
@@ -79,4 +92,18 @@ def test_replay_rotating_injection(tmp_path):
     loop.hw = dataclasses.replace(loop.hw, inj_rot=1, inj_step=inj_step(500.0, sc.pwm.f_sw))
     res = loop.run(progress=False)
     assert res.windows["inj_phase"][-1] != 0 and (res.writes["v_h"] > 0).any()
+    replay(res, tmp_path)
+
+
+def test_replay_period_square_wave(tmp_path):
+    """The 001 drive (scenarios/xue2022_noload.toml, 1 kHz, PWM_HALF 50000: a held start) for 0.1 s: the
+    period square wave (CTRL.INJ_PER: the sign S flips at every carrier bottom, the modulator's compares
+    with V_D + S*V_H) and the differencing and CIC block of the carrier-bottom samples (CIC_M = 2):
+    every CIC_QA, CIC_QB, ENV_A, ENV_B, window result and gate edge equal golden/closedloop.py."""
+    sc = load_scenario(ROOT / "scenarios" / "xue2022_noload.toml")
+    res = ClosedLoop(dataclasses.replace(sc, duration=PER_REPLAY_S)).run(progress=False)
+    w = res.windows
+    assert res.hw.inj_per == 1 and res.hw.cic_m == 2 and (res.writes["v_h"] > 0).any()
+    # the envelope took both signs' periods apart: nonzero and changing CIC outputs
+    assert np.count_nonzero(w["cic_qa"]) > len(w["cic_qa"]) // 2 and len(np.unique(w["env_b"])) > 10
     replay(res, tmp_path)

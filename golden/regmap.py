@@ -63,6 +63,10 @@ CTRL_INJ_ROT_LSB = 4  # rw
 CTRL_INJ_ROT_WIDTH = 1
 CTRL_INJ_ROT_MASK = 0x00000010
 CTRL_INJ_ROT_RESET = 0
+CTRL_INJ_PER_LSB = 5  # rw
+CTRL_INJ_PER_WIDTH = 1
+CTRL_INJ_PER_MASK = 0x00000020
+CTRL_INJ_PER_RESET = 0
 CTRL_FAULT_CLEAR_LSB = 8  # w1p
 CTRL_FAULT_CLEAR_WIDTH = 1
 CTRL_FAULT_CLEAR_MASK = 0x00000100
@@ -340,6 +344,41 @@ INJ_PHASE_VALUE_WIDTH = 32
 INJ_PHASE_VALUE_MASK = 0xFFFFFFFF
 INJ_PHASE_VALUE_RESET = None
 
+# CIC_M @ 0x90: CIC comb delay
+CIC_M_ADDR = 0x90
+CIC_M_VALUE_LSB = 0  # rw
+CIC_M_VALUE_WIDTH = 8
+CIC_M_VALUE_MASK = 0x000000FF
+CIC_M_VALUE_RESET = 2
+
+# CIC_QA @ 0x94: CIC output, alpha
+CIC_QA_ADDR = 0x94
+CIC_QA_VALUE_LSB = 0  # ro, signed
+CIC_QA_VALUE_WIDTH = 32
+CIC_QA_VALUE_MASK = 0xFFFFFFFF
+CIC_QA_VALUE_RESET = None
+
+# CIC_QB @ 0x98: CIC output, beta
+CIC_QB_ADDR = 0x98
+CIC_QB_VALUE_LSB = 0  # ro, signed
+CIC_QB_VALUE_WIDTH = 32
+CIC_QB_VALUE_MASK = 0xFFFFFFFF
+CIC_QB_VALUE_RESET = None
+
+# ENV_A @ 0x9C: Envelope, alpha
+ENV_A_ADDR = 0x9C
+ENV_A_VALUE_LSB = 0  # ro, signed
+ENV_A_VALUE_WIDTH = 32
+ENV_A_VALUE_MASK = 0xFFFFFFFF
+ENV_A_VALUE_RESET = None
+
+# ENV_B @ 0xA0: Envelope, beta
+ENV_B_ADDR = 0xA0
+ENV_B_VALUE_LSB = 0  # ro, signed
+ENV_B_VALUE_WIDTH = 32
+ENV_B_VALUE_MASK = 0xFFFFFFFF
+ENV_B_VALUE_RESET = None
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -354,6 +393,7 @@ REGISTERS = {
         "INJ_EN": (1, 1, 0, "rw"),
         "ADC_MODE": (2, 2, 0, "rw"),
         "INJ_ROT": (4, 1, 0, "rw"),
+        "INJ_PER": (5, 1, 0, "rw"),
         "FAULT_CLEAR": (8, 1, 0, "w1p"),
     }},
     "STATUS": {"addr": 0x0C, "reset": 0x00000000, "signed": (), "fields": {
@@ -462,6 +502,21 @@ REGISTERS = {
         "VALUE": (0, 32, 0, "rw"),
     }},
     "INJ_PHASE": {"addr": 0x8C, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, None, "ro"),
+    }},
+    "CIC_M": {"addr": 0x90, "reset": 0x00000002, "signed": (), "fields": {
+        "VALUE": (0, 8, 2, "rw"),
+    }},
+    "CIC_QA": {"addr": 0x94, "reset": 0x00000000, "signed": ("VALUE",), "fields": {
+        "VALUE": (0, 32, None, "ro"),
+    }},
+    "CIC_QB": {"addr": 0x98, "reset": 0x00000000, "signed": ("VALUE",), "fields": {
+        "VALUE": (0, 32, None, "ro"),
+    }},
+    "ENV_A": {"addr": 0x9C, "reset": 0x00000000, "signed": ("VALUE",), "fields": {
+        "VALUE": (0, 32, None, "ro"),
+    }},
+    "ENV_B": {"addr": 0xA0, "reset": 0x00000000, "signed": ("VALUE",), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
 }

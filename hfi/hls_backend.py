@@ -87,7 +87,8 @@ class HlsClosedLoop:
                             ("adc_offset_b", hw.adc_offset[1]), ("adc_gain_a", hw.adc_gain[0]),
                             ("adc_gain_b", hw.adc_gain[1]), ("cw_angle_step", hw.cw_angle_step),
                             ("dtc_gain", hw.dtc_gain), ("hf_amp", hw.hf_amp), ("recip_h", hw.recip_h),
-                            ("inj_rot", hw.inj_rot), ("inj_step", hw.inj_step), ("n_windows", n_win)):
+                            ("inj_rot", hw.inj_rot), ("inj_step", hw.inj_step), ("inj_per", hw.inj_per),
+                            ("cic_m", hw.cic_m), ("n_windows", n_win)):
             try:
                 setattr(setup, name, int(value))
             except OverflowError:      # beyond the C field: the same refusal as the native loop's range checks

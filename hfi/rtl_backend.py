@@ -7,9 +7,10 @@ run's configuration block into the firmware's RAM image, runs the co-simulation 
 stderr) and turns its records into the same :class:`golden.closedloop.ClosedLoopResult` as the golden
 backend, so reports, plots and the identity test use one format:
 
-* window results (GAMMA ... N_SAMPLES) and the speed reference from the firmware's register reads,
-  the firmware's register writes (V_DQ, V_H, SINCOS, I_REF, CTRL), compares, LATE_COUNT and the ADC
-  mode in use at each window interrupt;
+* window results (GAMMA ... N_SAMPLES, INJ_PHASE, and CIC_QA/QB when the period square wave runs) and
+  the speed reference from the firmware's register reads, the firmware's register writes (V_DQ, V_H,
+  SINCOS, I_REF, CTRL), compares, LATE_COUNT, the ADC mode in use and ENV_A/ENV_B (which the firmware
+  does not use, so does not read) at each window interrupt;
 * estimator and controller state from the firmware's trace records (:data:`hfi.soc_platform.TRACE`:
   every trace word named like a column of ``WINDOW_FIELDS`` fills that column);
 * gate edges, ADC samples and the plant state at each window end from the harness (sim/plant_loop.h).
@@ -177,6 +178,7 @@ def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     h.oc_limit = rm.OC_LIMIT_VALUE_RESET
     h.wdt_periods = rm.WDT_PERIODS_VALUE_RESET
     h.adc_mode, h.inj_en, h.inj_rot, h.inj_step = hw.adc_mode, 1, hw.inj_rot, hw.inj_step
+    h.inj_per, h.cic_m = hw.inj_per, hw.cic_m
     p = params_to_c(_cfg_ffi, firmware_params(sc))
     cfg.fw = p[0]
     return bytes(_cfg_ffi.buffer(cfg))
@@ -232,7 +234,8 @@ def _records(lib, sim, kind: str, dtype) -> np.ndarray:
 _EDGE = np.dtype([("tick", "<i8"), ("mask", "<i8")])
 _SAMPLE = np.dtype([("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])
 _BUS = np.dtype([("tick", "<i8"), ("addr", "<u4"), ("data", "<u4")])
-_IRQ = np.dtype([("tick", "<i8"), ("commit", "<i8"), ("cmp", "<i4", (6,)), ("late", "<i4"), ("adc_mode", "<i4")])
+_IRQ = np.dtype([("tick", "<i8"), ("commit", "<i8"), ("cmp", "<i4", (6,)), ("late", "<i4"), ("adc_mode", "<i4"),
+                 ("env", "<i4", (2,))])
 
 
 def _s16(v: np.ndarray) -> np.ndarray:
@@ -352,9 +355,12 @@ class RtlClosedLoop:
         reads, writes = rec["reads"], rec["writes"]
         w = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
         w["tick"] = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
-        for col, reg, signed in (("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),
-                                 ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False),
-                                 ("speed_ref", "SPEED_REF", True), ("inj_phase", "INJ_PHASE", False)):
+        results = [("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),
+                   ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False),
+                   ("speed_ref", "SPEED_REF", True), ("inj_phase", "INJ_PHASE", False)]
+        if hw.inj_per:      # the firmware reads the CIC outputs only with the period square wave (0 else)
+            results += [("cic_qa", "CIC_QA", True), ("cic_qb", "CIC_QB", True)]
+        for col, reg, signed in results:
             v = _per_window(reads, rm.REGISTERS[reg]["addr"], n_win, reg)
             w[col] = wrap(v, 32) if signed else v
         vdq = _per_window(writes, rm.V_DQ_ADDR, n_win, "V_DQ")
@@ -375,6 +381,10 @@ class RtlClosedLoop:
         cmp = irqs["cmp"][:n_win].astype(np.int64)
         for i, name in enumerate(("cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c")):
             w[name] = cmp[:, i]
+        # ENV_A/ENV_B latched at the end of window k, sampled by the harness at interrupt k + 1 (the
+        # firmware does not read them: sim/soc_sim.h)
+        env = irqs["env"][1:n_win + 1].astype(np.int64)
+        w["env_a"], w["env_b"] = env[:, 0], env[:, 1]
         w.update(truth_columns(rec["truth"][:n_win], self.scales.pole_pairs))
 
         samples = rec["samples"]

@@ -23,6 +23,13 @@
 // committed for that window (two banks, by parity); the demodulator latches the previous window when
 // the first sample of a new window arrives, or at the window deadline (IRQ_LATENCY - 8 clocks after
 // the boundary) if none has arrived yet. So no latency constant of another module is repeated here.
+//
+// Period square wave and the differencing/CIC block (docs/spec.md 3.5 and 3.9; Xue et al. 2022): the
+// sign S of CTRL.INJ_PER lives here (inj_s: decided at the boundary, flipped at the bottom, see the
+// section below); the sample of every carrier bottom carries a tag through the ADC, scale and Park
+// stages, and its Clarke currents (hfi_park's i_alpha, i_beta) step hfi_diff_cic with the `plus` and
+// CIC_M captured in its bottom tick. The block's outputs are latched at the next window boundary into
+// CIC_QA/QB, ENV_A/B (with INJ_PHASE).
 module hfi_dsp #(
     parameter ADC_BITS = 12,
     parameter ADC_CONV_TICKS = 12,
@@ -97,12 +104,15 @@ module hfi_dsp #(
         {rst_dp, rst_car, rst_mod, rst_gates, rst_trg, rst_adc, rst_park, rst_dm} <= {8{rst | ~run}};
 
     // ---------------------------------------------------------------- registers
-    wire        ctrl_enable, ctrl_inj_en, ctrl_inj_rot, fault_clear, commit_go;
+    wire        ctrl_enable, ctrl_inj_en, ctrl_inj_rot, ctrl_inj_per, fault_clear, commit_go;
     wire [1:0]  ctrl_adc_mode;
     wire [15:0] pwm_half_reg, dead_ticks, os_ticks, blank_ticks, adc_gain_a, adc_gain_b, oc_limit,
                 wdt_periods, dtc_gain;
     wire [31:0] cw_step_reg, recip_h, inj_step;
+    wire [7:0]  cic_m_reg;
     reg  [31:0] inj_phase_q;
+    reg  signed [20:0] cic_qa_q, cic_qb_q;   // CIC_QA, CIC_QB, ENV_A, ENV_B: latched at the boundary
+    reg  signed [16:0] env_a_q, env_b_q;
     wire signed [15:0] adc_offset_a, adc_offset_b, sh_v_d, sh_v_q, sh_sin, sh_cos, sh_i_d_ref, sh_i_q_ref;
     wire [14:0] sh_v_h, hf_amp;
     wire signed [31:0] gamma, gamma_d, sum_id, sum_iq, wsum;
@@ -122,14 +132,16 @@ module hfi_dsp #(
         .s_axil_arready(s_axil_arready), .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
         .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
         .ctrl_enable(ctrl_enable), .ctrl_inj_en(ctrl_inj_en), .ctrl_inj_rot(ctrl_inj_rot),
-        .ctrl_adc_mode(ctrl_adc_mode),
+        .ctrl_inj_per(ctrl_inj_per), .ctrl_adc_mode(ctrl_adc_mode),
         .fault_clear(fault_clear), .commit_go(commit_go),
         .pwm_half(pwm_half_reg), .dead_ticks(dead_ticks), .os_ticks(os_ticks), .blank_ticks(blank_ticks),
         .cw_angle_step(cw_step_reg), .adc_offset_a(adc_offset_a), .adc_offset_b(adc_offset_b),
         .adc_gain_a(adc_gain_a), .adc_gain_b(adc_gain_b), .oc_limit(oc_limit), .wdt_periods(wdt_periods),
         .v_d(sh_v_d), .v_q(sh_v_q), .v_h(sh_v_h), .sin_q15(sh_sin), .cos_q15(sh_cos),
         .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h), .i_d_ref(sh_i_d_ref), .i_q_ref(sh_i_q_ref),
-        .inj_step(inj_step), .inj_phase(inj_phase_q),
+        .inj_step(inj_step), .inj_phase(inj_phase_q), .cic_m(cic_m_reg),
+        .cic_qa({{11{cic_qa_q[20]}}, cic_qa_q}), .cic_qb({{11{cic_qb_q[20]}}, cic_qb_q}),
+        .env_a({{15{env_a_q[16]}}, env_a_q}), .env_b({{15{env_b_q[16]}}, env_b_q}),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
         .status_fault_sto(fault_sto), .status_fault_desat(fault_desat), .status_sto_active(sto_s),
         .status_desat_active(desat_s),
@@ -237,6 +249,39 @@ module hfi_dsp #(
         .sin_q15(inj_sin), .cos_q15(inj_cos)
     );
 
+    // ---------------------------------------------------------------- period square wave (spec 3.5)
+    // golden/closedloop.py inj_sign. The mode (CTRL.INJ_PER and not INJ_ROT) is latched at every window
+    // boundary into per_act, which follows the register while the timing is held in reset (so the value
+    // written before tick 0 rules tick 0's bottom, as ADC_MODE does). inj_s is S (1: +1, 0: -1) of the
+    // current PWM period: +1 after reset; at every carrier bottom S <= per_act ? -S : +1 (+1 while the
+    // mode is off). The sign of a bottom is decided at the boundary before it: the modulator starts
+    // (zc_d1) after the boundary of window k, when inj_s is S_k (the bottom k*P has passed) and
+    // per_act the mode of this window; its top set (period k) uses S_k and its bottom set (period k+1,
+    // latched at (k+1)*P, where inj_s becomes -S_k with the same per_act) -S_k. S_k = +1 is the plain
+    // square wave's pair of signs, so the modulator only swaps them: inj_neg = per_act & (S_k = -1).
+    // plus_bot: at each bottom, the period ending there ran S = +1 with the mode on (DiffCic.step's
+    // plus); cic_m_bot: CIC_M in that bottom tick. Both hold for a whole period, until the bottom sample
+    // reaches hfi_diff_cic (a few tens of clocks later), so the sample needs no tag for them.
+    wire per_mode = ctrl_inj_per & ~ctrl_inj_rot;
+    reg  per_act, inj_s, plus_bot;
+    reg  [7:0] cic_m_bot;
+    always @(posedge clk) begin
+        if (at_bottom)
+            cic_m_bot <= cic_m_reg;
+        if (rst_dp) begin
+            per_act <= per_mode;
+            inj_s <= 1'b1;
+            plus_bot <= 1'b0;
+        end else begin
+            if (at_zc)
+                per_act <= per_mode;
+            if (at_bottom) begin
+                plus_bot <= per_act & inj_s;
+                inj_s <= per_act ? ~inj_s : 1'b1;
+            end
+        end
+    end
+
     // ---------------------------------------------------------------- modulator (spec 3.5, 3.6)
     wire [15:0] dead_eff = (dead_ticks < DEAD_MIN) ? DEAD_MIN[15:0] : dead_ticks;
     wire [15:0] cmp_top_a, cmp_top_b, cmp_top_c, cmp_bot_a, cmp_bot_b, cmp_bot_c;
@@ -244,7 +289,7 @@ module hfi_dsp #(
     hfi_modulator u_modulator (
         .clk(clk), .rst(rst_mod), .start(zc_d1),
         .v_d(act_v_d), .v_q(act_v_q), .v_h(act_inj_en ? {1'b0, act_v_h} : 16'sd0),
-        .rot(act_inj_rot), .inj_sin(inj_sin), .inj_cos(inj_cos),
+        .rot(act_inj_rot), .inj_neg(per_act & ~inj_s), .inj_sin(inj_sin), .inj_cos(inj_cos),
         .sin_q15(act_sin), .cos_q15(act_cos), .i_d_ref(act_i_d_ref), .i_q_ref(act_i_q_ref),
         .half(half), .dead(dead_eff), .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h),
         .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),
@@ -288,11 +333,12 @@ module hfi_dsp #(
     // The sampling instant, its flags and its weight angle are registered once before they start the
     // ADC and the CORDIC (timing: the trigger's blanking depends on this tick's switch events), so
     // CONVST of the sample of tick t rises with the gate mask of tick t (PIN_LATENCY, docs/rtl.md).
-    reg sample_q, keep_q, parity_q;
+    reg sample_q, keep_q, parity_q, bot_q;
     reg [31:0] angle_q;
     always @(posedge clk) begin
         sample_q <= rst_dp ? 1'b0 : sample;
         keep_q <= sample_keep;
+        bot_q <= at_bottom;             // the sample of a carrier bottom (every ADC mode takes it)
         parity_q <= at_zc ? ~win_parity : win_parity;
         angle_q <= cw_angle;
     end
@@ -306,11 +352,12 @@ module hfi_dsp #(
         .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
         .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b)
     );
-    reg tag_adc_keep, tag_adc_par;      // tags of the sample in the ADC
+    reg tag_adc_keep, tag_adc_par, tag_adc_bot;   // tags of the sample in the ADC
     always @(posedge clk)
         if (sample_q && !adc_busy) begin
             tag_adc_keep <= keep_q;
             tag_adc_par <= parity_q;
+            tag_adc_bot <= bot_q;
         end
 
     wire signed [15:0] i_a, i_b;
@@ -320,30 +367,58 @@ module hfi_dsp #(
         .offset_a(adc_offset_a), .offset_b(adc_offset_b), .gain_a(adc_gain_a), .gain_b(adc_gain_b),
         .done(scale_done), .i_a(i_a), .i_b(i_b)
     );
-    reg tag_scale_keep, tag_scale_par;
+    reg tag_scale_keep, tag_scale_par, tag_scale_bot;
     always @(posedge clk)
         if (adc_done) begin
             tag_scale_keep <= tag_adc_keep;
             tag_scale_par <= tag_adc_par;
+            tag_scale_bot <= tag_adc_bot;
         end
 
     hfi_overcurrent u_oc (
         .clk(clk), .rst(rst_adc), .valid(scale_done), .i_a(i_a), .i_b(i_b), .limit(oc_limit), .trip(oc_trip)
     );
 
-    wire signed [15:0] i_d, i_q;
+    wire signed [15:0] i_d, i_q, i_alpha, i_beta;
     wire park_done;
     hfi_park u_park (
         .clk(clk), .rst(rst_park), .start(scale_done), .i_a(i_a), .i_b(i_b),
         .sin_q15(bank_sin[tag_scale_par]), .cos_q15(bank_cos[tag_scale_par]),
-        .done(park_done), .i_d(i_d), .i_q(i_q)
+        .done(park_done), .i_d(i_d), .i_q(i_q), .i_alpha(i_alpha), .i_beta(i_beta)
     );
-    reg tag_park_keep, tag_park_par;
+    reg tag_park_keep, tag_park_par, tag_park_bot;
     always @(posedge clk)
         if (scale_done) begin
             tag_park_keep <= tag_scale_keep;
             tag_park_par <= tag_scale_par;
+            tag_park_bot <= tag_scale_bot;
         end
+
+    // ---- differencing and CIC of the carrier-bottom samples (spec 3.9, golden/fpga/diff_cic.py)
+    // One step per bottom sample, in the cycle hfi_park is done with it (its Clarke currents are valid
+    // then); plus and CIC_M of its bottom tick (above). The sample at tick 0 (window -1) is the first
+    // after reset: it only fills the previous sample (the golden loop, which starts at window 0, takes
+    // the one at tick P as its first; the state is the same, since the period ending at P has S = -1,
+    // or the mode is off and no difference is ever kept). The outputs are latched at the next window
+    // boundary, H/2 >= 256 clocks after the bottom (the step completes a few tens of clocks after it:
+    // checked below).
+    wire signed [20:0] cic_q_a, cic_q_b;
+    wire signed [16:0] cic_e_a, cic_e_b;
+    wire cic_done;
+    hfi_diff_cic u_diff_cic (
+        .clk(clk), .rst(rst_park), .in_valid(park_done & tag_park_bot), .i_alpha(i_alpha), .i_beta(i_beta),
+        .plus(plus_bot), .cic_m(cic_m_bot), .q_a(cic_q_a), .q_b(cic_q_b), .e_a(cic_e_a), .e_b(cic_e_b),
+        .out_valid(cic_done)
+    );
+    always @(posedge clk) begin
+        if (rst_dp) begin
+            cic_qa_q <= 21'sd0; cic_qb_q <= 21'sd0;
+            env_a_q <= 17'sd0; env_b_q <= 17'sd0;
+        end else if (at_zc) begin
+            cic_qa_q <= cic_q_a; cic_qb_q <= cic_q_b;
+            env_a_q <= cic_e_a; env_b_q <= cic_e_b;
+        end
+    end
 
     // ---- weight path: CORDIC of the carrier angle of the sampling tick (spec 3.3, eq. (19))
     wire signed [15:0] w_sin, w_cos_unused;
@@ -411,8 +486,14 @@ module hfi_dsp #(
     );
 
 `ifndef SYNTHESIS
-    // Simulation checks of the pipeline assumptions (docs/rtl.md): one sample per stage at a time.
+    // Simulation checks of the pipeline assumptions (docs/rtl.md): one sample per stage at a time; the
+    // step of a bottom sample is done before the next window boundary latches it.
+    reg cic_pending;                    // a bottom sample is between its sampling instant and its step
+    always @(posedge clk)
+        cic_pending <= rst_dp ? 1'b0 : (sample_q && bot_q) ? 1'b1 : cic_done ? 1'b0 : cic_pending;
     always @(posedge clk) begin
+        if (!rst_dp && at_zc && cic_pending)
+            $error("hfi_dsp: the CIC step of a carrier-bottom sample was not done by the window boundary");
         if (!rst_dp && got_w && cordic_done && !join_both)
             $error("hfi_dsp: a CORDIC weight arrived before the current of the previous sample");
         if (!rst_dp && got_i && park_done && !join_both)
@@ -426,6 +507,6 @@ module hfi_dsp #(
 
     // Unused outputs of the blocks (kept for debug visibility in waveforms).
     wire unused = &{1'b0, counter, rising, mod_busy, mod_done, ideal_s, adc_mode_used, w_cos_unused,
-                    demod_latched};
+                    demod_latched, cic_done};
 endmodule
 `default_nettype wire

@@ -9,6 +9,11 @@
 //            d-axis, the paper's v_dh = V_h * -sign(d cw/dt) (Benevieri et al. 2023, eq. (14))
 //   rot = 1: vd = V_D, vq = V_Q, vr = V_H                   rotating injection V_H (C, S) in the
 //            stationary frame (Tap et al. 2023, eq. (9)); C, S = inj_cos, inj_sin
+//   inj_neg (rot = 0): the injection's sign is -sign instead (the top set gets V_D - V_H, the bottom
+//            set V_D + V_H): the period square wave of CTRL.INJ_PER with S = -1 (spec 3.5; golden
+//            _compares(..., inj_sign)). S = +1 is the plain square wave's pair of signs, so the
+//            caller sets inj_neg = INJ_PER mode & (S of this period = -1). The dead-time compensation
+//            keeps the half's own sign either way.
 //   v_al = round_shr(vd*COS - vq*SIN + vr*C, 15), v_be = round_shr(vd*SIN + vq*COS + vr*S, 15)
 //                                                      inverse Park plus the rotating vector
 //   v_a = v_al, v_b/c = round_shr(-v_al*2^14 +/- v_be*28378, 15)                      inverse Clarke
@@ -21,6 +26,7 @@
 //   v_d, v_q          s16 (2^15 = V_dc)        V_D, V_Q registers
 //   v_h               u15 in s16 (0..32767)    V_H (0 while injection is off)
 //   rot               1 bit                    rotating injection (CTRL.INJ_ROT with INJ_EN)
+//   inj_neg           1 bit                    square wave with the signs swapped (above; ignored if rot)
 //   inj_sin, inj_cos  s16 Q1.15                S, C of the rotating injection's phase (spec 3.5)
 //   sin_q15, cos_q15  s16 Q1.15                SIN, COS of the estimated angle
 //   i_d_ref, i_q_ref  s16                      current references for the compensation
@@ -72,6 +78,7 @@ module hfi_modulator (
     input  wire signed [15:0] v_q,
     input  wire signed [15:0] v_h,
     input  wire               rot,
+    input  wire               inj_neg,
     input  wire signed [15:0] inj_sin,
     input  wire signed [15:0] inj_cos,
     input  wire signed [15:0] sin_q15,
@@ -118,15 +125,19 @@ module hfi_modulator (
     wire accept = start && !busy;
 
     reg signed [15:0] v_q_r, sin_r, cos_r, i_d_ref_r, i_q_ref_r, cr_r, sr_r;
-    reg signed [16:0] vd_top, vd_bot;                // vd = V_D + V_H (sign +1), V_D - V_H (sign -1)
+    reg signed [16:0] vd_top, vd_bot;                // vd = V_D + V_H (sign +1), V_D - V_H (sign -1);
+                                                     // swapped with inj_neg
     reg signed [15:0] vr_r;                          // vr: V_H (rotating injection) or 0
     reg        [15:0] half_r, dead_r, gain_r;
     reg        [14:0] hf_amp_r;
     reg        [31:0] recip_h_r;
+    wire signed [16:0] vd_plus = {v_d[15], v_d} + (rot ? 17'sd0 : {v_h[15], v_h});
+    wire signed [16:0] vd_minus = {v_d[15], v_d} - (rot ? 17'sd0 : {v_h[15], v_h});
     always @(posedge clk) begin
         if (accept) begin
-            vd_top <= {v_d[15], v_d} + (rot ? 17'sd0 : {v_h[15], v_h});   // formed when sampled (timing:
-            vd_bot <= {v_d[15], v_d} - (rot ? 17'sd0 : {v_h[15], v_h});   // no adder before the operand)
+            // formed when sampled (timing: no adder before the operand); inj_neg selects after the adders
+            vd_top <= (inj_neg && !rot) ? vd_minus : vd_plus;
+            vd_bot <= (inj_neg && !rot) ? vd_plus : vd_minus;
             vr_r <= rot ? v_h : 16'sd0;
             cr_r <= inj_cos;
             sr_r <= inj_sin;

@@ -15,6 +15,10 @@
 //   sin_q15, cos_q15  s16 Q1.15 SIN, COS of the estimated angle (active registers)
 //   done              one-cycle pulse exactly LATENCY (= 7) cycles after start
 //   i_d, i_q          s16, both updated in the done cycle and held until the next done (0 after reset)
+//   i_alpha, i_beta   s16 Clarke currents of the same transform (registers of the data path): valid in
+//                     its done cycle (i_alpha from S+1, i_beta from S+3), held until the next start
+//                     (i_alpha) / two cycles after it (i_beta); 0 after reset. hfi_dsp taps them for the
+//                     carrier-bottom sample (hfi_diff_cic, spec 3.9).
 //
 // Timing (S = start cycle), one shared multiplier (s18 x s16 -> s34, one 18x18 DSP) between
 // registered operands and a registered product:
@@ -36,7 +40,9 @@ module hfi_park (
     input  wire signed [15:0] cos_q15,
     output wire               done,
     output reg  signed [15:0] i_d,
-    output reg  signed [15:0] i_q
+    output reg  signed [15:0] i_q,
+    output wire signed [15:0] i_alpha,
+    output wire signed [15:0] i_beta
 );
     localparam LATENCY = 7;                 // cycles from start to done (see the header)
     localparam signed [15:0] INV_SQRT3_Q15 = 16'sd18919;   // round(2^15/sqrt(3)), u15
@@ -49,6 +55,8 @@ module hfi_park (
     reg signed [15:0] al_r;                 // i_alpha = i_a
     reg signed [15:0] sin_r, cos_r;
     reg signed [15:0] be_r;                 // i_beta (registered in S+2)
+    assign i_alpha = al_r;
+    assign i_beta = be_r;
 
     // Operands of the shared multiplier, registered: the operands used in cycle S+k are selected in
     // cycle S+k-1 (so the multiplier sits between two registers; the product schedule is unchanged).

@@ -50,6 +50,7 @@ module hfi_regs #(
     output wire        ctrl_enable,
     output wire        ctrl_inj_en,
     output wire        ctrl_inj_rot,
+    output wire        ctrl_inj_per,
     output wire [1:0]  ctrl_adc_mode,
     output reg         fault_clear,       // one-clock pulse
     output reg         commit_go,         // one-clock pulse
@@ -75,6 +76,7 @@ module hfi_regs #(
     output wire signed [15:0] i_d_ref,
     output wire signed [15:0] i_q_ref,
     output wire [31:0] inj_step,
+    output wire [7:0]  cic_m,
     // hardware -> software
     input  wire        status_fault_oc,
     input  wire        status_fault_wdt,
@@ -94,6 +96,10 @@ module hfi_regs #(
     input  wire [31:0] window_count,
     input  wire [15:0] late_count,
     input  wire [31:0] inj_phase,
+    input  wire [31:0] cic_qa,            // CIC_QA ... ENV_B: sign-extended by hfi_dsp
+    input  wire [31:0] cic_qb,
+    input  wire [31:0] env_a,
+    input  wire [31:0] env_b,
     output reg         irq
 );
 /* verilator lint_off UNUSEDPARAM */  // the generated map lists every field; not all are needed here
@@ -105,7 +111,7 @@ module hfi_regs #(
     // ---------------------------------------------------------------- storage (rw fields)
     reg [31:0] r_ctrl, r_irq_status, r_irq_enable, r_pwm_half, r_dead_ticks, r_os_ticks, r_blank_ticks,
                r_cw_angle_step, r_adc_offset, r_adc_gain, r_oc_limit, r_wdt_periods, r_v_dq, r_v_h,
-               r_sincos, r_speed_ref, r_dtc_gain, r_hf_amp, r_recip_h, r_i_ref, r_inj_step;
+               r_sincos, r_speed_ref, r_dtc_gain, r_hf_amp, r_recip_h, r_i_ref, r_inj_step, r_cic_m;
     reg        r_safety_lock;
 
     // Field mask and reset word of a register, from the generated constants.
@@ -118,13 +124,15 @@ module hfi_regs #(
     localparam [31:0] M_CTRL = fmask(HFI_CTRL_ENABLE_LSB, HFI_CTRL_ENABLE_WIDTH)
                              | fmask(HFI_CTRL_INJ_EN_LSB, HFI_CTRL_INJ_EN_WIDTH)
                              | fmask(HFI_CTRL_ADC_MODE_LSB, HFI_CTRL_ADC_MODE_WIDTH)
-                             | fmask(HFI_CTRL_INJ_ROT_LSB, HFI_CTRL_INJ_ROT_WIDTH);
+                             | fmask(HFI_CTRL_INJ_ROT_LSB, HFI_CTRL_INJ_ROT_WIDTH)
+                             | fmask(HFI_CTRL_INJ_PER_LSB, HFI_CTRL_INJ_PER_WIDTH);
     localparam [31:0] RST_CTRL = ({31'd0, HFI_CTRL_ENABLE_RESET} << HFI_CTRL_ENABLE_LSB)
                                | ({31'd0, HFI_CTRL_INJ_EN_RESET} << HFI_CTRL_INJ_EN_LSB)
                                | ({30'd0, HFI_CTRL_ADC_MODE_RESET} << HFI_CTRL_ADC_MODE_LSB)
-                               | ({31'd0, HFI_CTRL_INJ_ROT_RESET} << HFI_CTRL_INJ_ROT_LSB);
+                               | ({31'd0, HFI_CTRL_INJ_ROT_RESET} << HFI_CTRL_INJ_ROT_LSB)
+                               | ({31'd0, HFI_CTRL_INJ_PER_RESET} << HFI_CTRL_INJ_PER_LSB);
     localparam [31:0] M_IRQ = fmask(HFI_IRQ_STATUS_WINDOW_LSB, HFI_IRQ_STATUS_WINDOW_WIDTH);
-    localparam [31:0] M_U16 = 32'h0000FFFF, M_U15 = 32'h00007FFF, M_ALL = 32'hFFFFFFFF;
+    localparam [31:0] M_U16 = 32'h0000FFFF, M_U15 = 32'h00007FFF, M_U8 = 32'h000000FF, M_ALL = 32'hFFFFFFFF;
     localparam [31:0] RST_IRQ_ENABLE = {31'd0, HFI_IRQ_ENABLE_WINDOW_RESET} << HFI_IRQ_ENABLE_WINDOW_LSB;
     localparam [31:0] RST_ADC_OFFSET = {HFI_ADC_OFFSET_B_RESET, HFI_ADC_OFFSET_A_RESET};
     localparam [31:0] RST_ADC_GAIN = {HFI_ADC_GAIN_B_RESET, HFI_ADC_GAIN_A_RESET};
@@ -209,7 +217,8 @@ module hfi_regs #(
             HFI_COMMIT_ADDR, HFI_GAMMA_ADDR, HFI_GAMMA_D_ADDR, HFI_SUM_ID_ADDR, HFI_SUM_IQ_ADDR,
             HFI_WSUM_ADDR, HFI_N_SAMPLES_ADDR, HFI_WINDOW_COUNT_ADDR, HFI_LATE_COUNT_ADDR,
             HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR,
-            HFI_SAFETY_LOCK_ADDR, HFI_INJ_STEP_ADDR, HFI_INJ_PHASE_ADDR:
+            HFI_SAFETY_LOCK_ADDR, HFI_INJ_STEP_ADDR, HFI_INJ_PHASE_ADDR, HFI_CIC_M_ADDR, HFI_CIC_QA_ADDR,
+            HFI_CIC_QB_ADDR, HFI_ENV_A_ADDR, HFI_ENV_B_ADDR:
                 known_addr = 1'b1;
             default: known_addr = 1'b0;
         endcase
@@ -241,6 +250,7 @@ module hfi_regs #(
             r_recip_h <= HFI_RECIP_H_VALUE_RESET;
             r_i_ref <= RST_I_REF;
             r_inj_step <= HFI_INJ_STEP_VALUE_RESET;
+            r_cic_m <= {24'd0, HFI_CIC_M_VALUE_RESET};
             r_safety_lock <= HFI_SAFETY_LOCK_LOCK_RESET;
             fault_clear <= 1'b0;
             commit_go <= 1'b0;
@@ -283,6 +293,7 @@ module hfi_regs #(
             if (wr_en[HFI_RECIP_H_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_recip_h[8*b +: 8] <= wd_bytes(b, M_ALL);
             if (wr_en[HFI_I_REF_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_i_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
             if (wr_en[HFI_INJ_STEP_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_inj_step[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_CIC_M_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_cic_m[8*b +: 8] <= wd_bytes(b, M_U8);
             if (wr_en[HFI_SAFETY_LOCK_ADDR / 4])
                 if (wstrb_q[HFI_SAFETY_LOCK_LOCK_LSB / 8] & wdata_q[HFI_SAFETY_LOCK_LOCK_LSB])
                     r_safety_lock <= 1'b1;
@@ -352,6 +363,11 @@ module hfi_regs #(
                     HFI_I_REF_ADDR: w = r_i_ref;
                     HFI_INJ_STEP_ADDR: w = r_inj_step;
                     HFI_INJ_PHASE_ADDR: w = inj_phase;
+                    HFI_CIC_M_ADDR: w = r_cic_m;
+                    HFI_CIC_QA_ADDR: w = cic_qa;
+                    HFI_CIC_QB_ADDR: w = cic_qb;
+                    HFI_ENV_A_ADDR: w = env_a;
+                    HFI_ENV_B_ADDR: w = env_b;
                     HFI_SAFETY_LOCK_ADDR: w = {31'd0, r_safety_lock} << HFI_SAFETY_LOCK_LOCK_LSB;
                     default: w = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
                 endcase
@@ -396,6 +412,7 @@ module hfi_regs #(
     assign ctrl_enable = r_ctrl[HFI_CTRL_ENABLE_LSB];
     assign ctrl_inj_en = r_ctrl[HFI_CTRL_INJ_EN_LSB];
     assign ctrl_inj_rot = r_ctrl[HFI_CTRL_INJ_ROT_LSB];
+    assign ctrl_inj_per = r_ctrl[HFI_CTRL_INJ_PER_LSB];
     assign ctrl_adc_mode = r_ctrl[HFI_CTRL_ADC_MODE_LSB +: 2];
     assign pwm_half = r_pwm_half[15:0];
     assign dead_ticks = r_dead_ticks[15:0];
@@ -419,5 +436,6 @@ module hfi_regs #(
     assign i_d_ref = r_i_ref[HFI_I_REF_I_D_LSB +: 16];
     assign i_q_ref = r_i_ref[HFI_I_REF_I_Q_LSB +: 16];
     assign inj_step = r_inj_step;
+    assign cic_m = r_cic_m[7:0];
 endmodule
 `default_nettype wire

@@ -235,6 +235,11 @@ static int clock_once(soc_sim *sim)
         rec.cmp[3] = r->hfi_soc__DOT__u_dsp__DOT__cmp_bot_a;
         rec.cmp[4] = r->hfi_soc__DOT__u_dsp__DOT__cmp_bot_b;
         rec.cmp[5] = r->hfi_soc__DOT__u_dsp__DOT__cmp_bot_c;
+        // ENV_A, ENV_B as latched at the boundary of the window this interrupt reports (s17 registers,
+        // sign-extended here); the harness samples them so the firmware spends no bus reads on values
+        // it does not use (soc_sim.h, struct soc_irq)
+        rec.env[0] = (int32_t)((uint32_t)r->hfi_soc__DOT__u_dsp__DOT__env_a_q << 15) >> 15;
+        rec.env[1] = (int32_t)((uint32_t)r->hfi_soc__DOT__u_dsp__DOT__env_b_q << 15) >> 15;
         sim->irq_log.push_back(rec);
         sim->irqs++;
     }
@@ -316,8 +321,19 @@ extern "C" int soc_sim_run(struct soc_sim *sim, long long max_cycles)
     const long long period = sim->loop.period();
     const long long end_tick = sim->loop.window_end(sim->loop.n_windows() - 1);
     for (long long i = 0; i < max_cycles; i++) {
-        if ((long long)sim->trace.size() >= need)
+        if ((long long)sim->trace.size() >= need) {
+#ifdef HFI_PROFILE
+            // The run ends at the last trace record's store, which may come while the instruction cache
+            // refills a line: finish that refill (at most a line of beats), so the fetch counts stay whole
+            // lines whatever the code layout.
+            for (int k = 0; k < 64 * sim->s.cpu_div && sim->top->rootp->hfi_soc__DOT__i_cyc; k++) {
+                int st = clock_once(sim);
+                if (st != 0)
+                    return st;
+            }
+#endif
             return 1;
+        }
         int st = clock_once(sim);
         if (st != 0)
             return st;

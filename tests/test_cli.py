@@ -87,15 +87,50 @@ def test_methods_lists_every_estimator_with_the_backends(capsys):
     assert "; slots high; injection none; " in lines[1]
     assert lines[2].startswith("rot_bpf: Tap et al., IEEE Access 2023 (000); slots low; injection vector rotating")
     assert lines[3].startswith("eemf_smo: Tap et al.") and "; slots high; injection none; " in lines[3]
-    assert all(line.endswith("; backends golden, rtl, hls") for line in lines[:4])
     assert lines[4].startswith("sqw_cic: Xue et al., Electronics 2022 (001); slots low; injection square wave on "
-                               "d_hat at f_sw/2") and lines[4].endswith("; backends golden")
+                               "d_hat at f_sw/2")
+    assert all(line.endswith("; backends golden, rtl, hls") for line in lines)
 
 
-def test_a_method_is_refused_on_a_backend_without_it(capsys):
+def _restrict(monkeypatch, name: str, backends: tuple[str, ...]) -> None:
+    """METHODS[name] runs on ``backends`` only (every method runs on every backend today; the refusal
+    of hfi/backends.py stays tested with a restricted MethodInfo)."""
+    import dataclasses
+
+    from golden.firmware.estimator import METHODS
+
+    monkeypatch.setitem(METHODS, name, dataclasses.replace(METHODS[name], backends=backends))
+
+
+def test_no_method_is_restricted_to_some_backends():
+    from golden.firmware.estimator import METHODS
+    from hfi.backends import NAMES
+
+    assert all(m.backends == NAMES for m in METHODS.values())
+
+
+def test_a_method_is_refused_on_a_backend_without_it(capsys, monkeypatch):
+    """hfi/backends.py refuses a scenario whose estimator does not run on the backend, before building
+    or running anything; the CLI turns it into one line and exit status 1; `hfi methods` lists the
+    backends it has."""
+    from golden.scenario import load_scenario
+    from hfi.backends import BackendError, get
+
+    _restrict(monkeypatch, "sqw_cic", ("golden",))
+    sc = load_scenario(ROOT / "scenarios" / "xue2022_noload.toml")
+    for backend in ("hls", "rtl"):
+        with pytest.raises(BackendError, match=f"estimator sqw_cic runs on the golden backend\\(s\\) only, "
+                                               f"not on {backend}"):
+            get(backend).run(sc, progress=False)
     assert main(["run", str(ROOT / "scenarios" / "xue2022_noload.toml"), "--backend", "hls", "--quiet"]) == 1
     err = capsys.readouterr().err
     assert "estimator sqw_cic runs on the golden backend(s) only, not on hls" in err
+    assert main(["methods"]) == 0
+    assert capsys.readouterr().out.splitlines()[4].endswith("; backends golden")
+    _restrict(monkeypatch, "rfo", ("golden", "hls"))       # a high-speed slot's method, two backends
+    sc = load_scenario(ROOT / "scenarios" / "handover_short.toml")
+    with pytest.raises(BackendError, match="estimator rfo runs on the golden, hls backend\\(s\\) only, not on rtl"):
+        get("rtl").run(sc, progress=False)
 
 
 def test_run_golden_writes_the_documented_outputs(tmp_path):

@@ -8,7 +8,8 @@ per-window columns (window results, estimator and controller state, compares, pl
 writes, ADC samples and gate edges. Shorter runs cover the configurations the default scenario does not
 use: OS_BLANK sampling, DS sampling, a host-side switch to DS during the run, no dead-time compensation,
 the rotating injection (CTRL.INJ_ROT); the hand-over scenario (scenarios/handover_short.toml) runs both
-estimator methods in charge in turn.
+estimator methods in charge in turn; the 001 drive (scenarios/xue2022_noload.toml, full length) runs the
+period square wave (CTRL.INJ_PER) with the differencing and CIC block (hfi_diff_cic) and its estimator.
 
 Every column compared is one the hls backend *produces*, none is copied from the scenario into the
 result: ``speed_ref`` is the value the native loop passed to ``fw_step`` for that window, ``adc_mode``
@@ -129,11 +130,38 @@ def test_rotating_injection_identical():
     assert gold.writes["v_h"].max() > 0                                # the rotating term acted
 
 
+def test_xue2022_identical():
+    """The 001 drive (scenarios/xue2022_noload.toml, 1 kHz) full length (3 s: converge, pilot polarity,
+    100 then 300 r/min): the period square wave's sign in the compares, the carrier-bottom sample through
+    hfi_adc_scale, hfi_clarke and hfi_diff_cic (CIC_QA/QB to the firmware, ENV_A/B recorded), the sqw_cic
+    observer of the host firmware: every column identical to golden."""
+    sc = load_scenario(ROOT / "scenarios" / "xue2022_noload.toml")
+    gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
+    _assert_identical(gold, hls)
+    assert hls.hw.inj_per == 1 and {0, 1, 2, 3, 4} <= set(np.unique(hls.windows["mode"]).tolist())
+    for k in ("cic_qa", "cic_qb", "env_a", "env_b"):
+        assert np.count_nonzero(hls.windows[k]) > len(hls.t) // 2 and len(np.unique(hls.windows[k])) > 100, k
+
+
+def test_period_square_wave_other_comb_delays_identical():
+    """CIC_M other than the scenario's 2: 1, 5, the largest 16 and 200 (used as 16), and 0 (used as 1),
+    on the default scenario's 5 kHz loop for 0.1 s with the period square wave forced on."""
+    for m in (0, 1, 5, 16, 200):
+        sc = dataclasses.replace(_default(), duration=0.1)
+        gold_loop, hls_loop = ClosedLoop(sc), HlsClosedLoop(sc)
+        gold_loop.hw = hls_loop.hw = dataclasses.replace(gold_loop.hw, inj_per=1, cic_m=m)
+        gold, hls = gold_loop.run(progress=False), hls_loop.run(progress=False)
+        _assert_identical(gold, hls)
+        assert np.count_nonzero(hls.windows["cic_qa"]) > 0, m
+
+
 @pytest.mark.parametrize("change, message", [
     ({"inj_rot": 2}, "inj_rot = 2 must be 0 or 1"),
     ({"inj_rot": 1, "inj_step": 1 << 32}, "inj_step = 4294967296 is not a u32 INJ_STEP register value"),
     ({"inj_rot": 1, "inj_step": -1}, "inj_step = -1 is not a u32"),
-], ids=["inj_rot", "inj_step_high", "inj_step_negative"])
+    ({"inj_per": 2}, "inj_per = 2 must be 0 or 1"),
+    ({"cic_m": 256}, "cic_m = 256 is not a u8 CIC_M register value"),
+], ids=["inj_rot", "inj_step_high", "inj_step_negative", "inj_per", "cic_m"])
 def test_bad_rotating_injection_setup_is_refused(change, message):
     loop = HlsClosedLoop(dataclasses.replace(_default(), duration=0.01))
     loop.hw = dataclasses.replace(loop.hw, **change)

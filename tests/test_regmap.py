@@ -135,7 +135,8 @@ SPEC_ADDRS = {
     "SINCOS": 0x48, "COMMIT": 0x4C, "GAMMA": 0x50, "GAMMA_D": 0x54, "SUM_ID": 0x58, "SUM_IQ": 0x5C,
     "WSUM": 0x60, "N_SAMPLES": 0x64, "WINDOW_COUNT": 0x68, "LATE_COUNT": 0x6C, "SPEED_REF": 0x70,
     "DTC_GAIN": 0x74, "HF_AMP": 0x78, "RECIP_H": 0x7C, "I_REF": 0x80, "SAFETY_LOCK": 0x84,
-    "INJ_STEP": 0x88, "INJ_PHASE": 0x8C,
+    "INJ_STEP": 0x88, "INJ_PHASE": 0x8C, "CIC_M": 0x90, "CIC_QA": 0x94, "CIC_QB": 0x98, "ENV_A": 0x9C,
+    "ENV_B": 0xA0,
 }
 
 
@@ -171,6 +172,13 @@ def test_fields_and_resets():
         assert regmap.REGISTERS[name]["signed"] == ("VALUE",), name
     assert regmap.REGISTERS["V_DQ"]["signed"] == ("V_D", "V_Q")
     assert regmap.REGISTERS["N_SAMPLES"]["signed"] == ()
+    # the period square wave and the differencing/CIC block (docs/spec.md 3.5, 3.9)
+    assert (regmap.CTRL_INJ_PER_LSB, regmap.CTRL_INJ_PER_WIDTH, regmap.CTRL_INJ_PER_RESET) == (5, 1, 0)
+    assert regmap.REGISTERS["CTRL"]["fields"]["INJ_PER"][3] == "rw"
+    assert regmap.REGISTERS["CIC_M"]["fields"] == {"VALUE": (0, 8, 2, "rw")}
+    for name in ("CIC_QA", "CIC_QB", "ENV_A", "ENV_B"):
+        assert regmap.REGISTERS[name]["fields"] == {"VALUE": (0, 32, None, "ro")}, name
+        assert regmap.REGISTERS[name]["signed"] == ("VALUE",), name
     for name, reg in regmap.REGISTERS.items():  # no overlapping fields, all inside 32 bits
         used = 0
         for lsb, width, _reset, _access in reg["fields"].values():
@@ -188,7 +196,11 @@ def test_pack_negative_signed_field():
 
 
 @pytest.mark.parametrize("reg, fields", [
-    ("CTRL", {"ENABLE": 1, "INJ_EN": 1, "ADC_MODE": 2, "INJ_ROT": 1, "FAULT_CLEAR": 0}),
+    ("CTRL", {"ENABLE": 1, "INJ_EN": 1, "ADC_MODE": 2, "INJ_ROT": 1, "INJ_PER": 0, "FAULT_CLEAR": 0}),
+    ("CTRL", {"ENABLE": 0, "INJ_EN": 1, "ADC_MODE": 0, "INJ_ROT": 0, "INJ_PER": 1, "FAULT_CLEAR": 0}),
+    ("CIC_M", {"VALUE": 255}),
+    ("CIC_QA", {"VALUE": -(2**20)}),
+    ("ENV_B", {"VALUE": 2**16 - 1}),
     ("INJ_PHASE", {"VALUE": 2**32 - 1}),
     ("ADC_OFFSET", {"A": -32768, "B": 32767}),
     ("ADC_GAIN", {"A": 16384, "B": 65535}),

@@ -66,16 +66,20 @@ def test_segments_follow_the_settling_rule():
     # plateau 50 r/min (501..600 ms): settled part would start at 0.801 s, after its end: no segment
     # plateau 100 r/min (601..2000 ms): load changes at 1.0 and 1.4 s -> settled from 1.7 s to 2.0 s;
     # 150 windows (1700..1849) at -30 deg, 1850 at -5 deg, 150 (1851..2000) at +20 deg;
-    # 200 at 100 r/min, 101 at 104
+    # 200 at 100 r/min, 101 at 104; three quarters into the window (the carrier bottom) the transition
+    # windows read -20 deg (450 ms) and +7.5 deg (1850 ms): the peaks stay 30 deg
+    bottom = res.angle_error_deg(quarters=3)
+    assert (bottom[449], bottom[1849]) == (pytest.approx(-20.0, abs=1e-6), pytest.approx(7.5, abs=1e-6))
+    assert m["angle_error_at_bottom"]["peak_deg"] == 30.0
     assert m["segments"] == [
         {"plateau": [0.001, 0.5], "t": [0.4, 0.5], "speed_ref_rpm": 0.0,
          "speed_mean_rpm": round((50 * 5 - 51 * 5) / 101, 2), "speed_ripple_rpm": 5.0,
          "err_rms_deg": round(math.sqrt((50 * 100 + 100 + 50 * 900) / 101), 2), "err_peak_deg": 30.0,
-         "estimators": ["low"]},
+         "err_peak_bottom_deg": 30.0, "estimators": ["low"]},
         {"plateau": [0.601, 2.0], "t": [1.7, 2.0], "speed_ref_rpm": 100.0,
          "speed_mean_rpm": round((200 * 100 + 101 * 104) / 301, 2), "speed_ripple_rpm": 2.0,
          "err_rms_deg": round(math.sqrt((150 * 900 + 25 + 150 * 400) / 301), 2), "err_peak_deg": 30.0,
-         "estimators": ["low", "high"]},
+         "err_peak_bottom_deg": 30.0, "estimators": ["low", "high"]},
     ]
 
 

@@ -4,9 +4,11 @@ The hand-over scenario (``scenarios/handover_short.toml``: start-up and polarity
 standstill, the hand-over to the rotor flux observer at 350 r/min and back below 300 r/min) runs on the
 ``golden`` backend (Python bit-true model) and on the ``rtl`` backend (the C firmware on the VexRiscv of
 the Verilated hfi_soc, the same C plant) with the same seed for ``IDENTITY_S`` seconds, both estimator
-methods in charge in turn; so does the 000 drive at 4 kHz (``tap2023_4khz``: pilot polarity, rotating
-injection, the EEMF observer in parallel). (The default scenario, full length, is compared on the hls
-backend.)
+methods in charge in turn; so do the 000 drive at 4 kHz (``tap2023_4khz``: pilot polarity, rotating
+injection, the EEMF observer in parallel) and the 001 drive (``scenarios/xue2022_noload.toml``, 1 kHz:
+the period square wave of CTRL.INJ_PER, the differencing and CIC block, whose CIC_QA/QB the firmware
+reads and whose ENV_A/B the harness samples, the sqw_cic observer). (The default scenario, full length,
+is compared on the hls backend.)
 Every per-window column, every ADC sample and every gate edge must be equal: any difference is a bug
 in one of them. The firmware timing (cycles per control step, late commits) is checked against its
 budget.
@@ -36,7 +38,8 @@ from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, config_block
 
 ROOT = Path(__file__).resolve().parents[1]
 IDENTITY_S = 0.6
-"""Simulated seconds compared (at least 0.5 s around the hand-overs): 2999 windows at 5 kHz."""
+"""Simulated seconds compared (at least 0.5 s around the hand-overs): 2999 windows at 5 kHz, 599 at 1 kHz
+(60 M clocks each)."""
 
 
 def tap2023_4khz():
@@ -53,9 +56,12 @@ def tap2023_4khz():
 
 
 SCENARIOS = {"handover_short": lambda: load_scenario(ROOT / "scenarios" / "handover_short.toml"),
-             "tap2023_4khz": tap2023_4khz}
-"""The compared runs: the 002 method with its hand-over, and the 000 method (pilot polarity, rotating
-injection, EEMF observer in parallel)."""
+             "tap2023_4khz": tap2023_4khz,
+             "xue2022_noload": lambda: load_scenario(ROOT / "scenarios" / "xue2022_noload.toml")}
+"""The compared runs: the 002 method with its hand-over, the 000 method (pilot polarity, rotating
+injection, EEMF observer in parallel) and the 001 method (period square wave, differencing and CIC,
+Luenberger observer; its first 0.6 s: converge, pilot polarity, the speed loop at standstill and the
+start of the ramp to 100 r/min)."""
 
 
 @pytest.fixture(scope="module", params=sorted(SCENARIOS))
@@ -101,6 +107,17 @@ def test_the_run_reaches_speed_control(both):
     assert rtl.flipped == gold.flipped
     modes = set(np.unique(rtl.windows["mode"]).tolist())
     assert {0, 1, 2, 3, 4} <= modes, f"modes visited: {modes}"
+
+
+def test_the_period_square_wave_ran(both):
+    """The 001 run: the CIC outputs the firmware read and the envelope the harness sampled are those of a
+    running injection (nonzero, changing), not the zeros of a block that never stepped."""
+    sc, gold, rtl = both
+    if sc.name != "xue2022_noload":
+        pytest.skip("only the 001 run has the period square wave (CTRL.INJ_PER)")
+    assert rtl.hw.inj_per == 1
+    for k in ("cic_qa", "cic_qb", "env_a", "env_b"):
+        assert np.count_nonzero(rtl.windows[k]) > len(rtl.t) // 2 and len(np.unique(rtl.windows[k])) > 50, k
 
 
 def test_the_run_hands_over_both_ways(both):

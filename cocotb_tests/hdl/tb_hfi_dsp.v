@@ -1,7 +1,11 @@
 `default_nettype none
 // tb_hfi_dsp: hfi_dsp with the ADC model and recorders, for the replay test (cocotb_tests/
 // test_dsp_replay.py). The 100 MHz clock runs inside the simulator (Verilator --timing: no Python
-// per cycle); the register writes come from the cocotb AXI4-Lite master (firmware replay). Records, as text files in the simulation directory:
+// per cycle); the register writes come from the cocotb AXI4-Lite master (firmware replay). `hold` = 1
+// holds the timing at its reset state (hfi_dsp's run = 0) while the registers stay writable, so a replay
+// can configure the IP before tick 0 as the SoC firmware does; undriven (0 or z) the IP runs from reset.
+// `tick` restarts with rst or hold, so tick 0 stays the first clock after either (docs/rtl.md).
+// Records, as text files in the simulation directory:
 //   gates.txt   "<tick> <mask>" at every change of the six gate outputs (tick = cycle since reset;
 //               the gate pins show the golden mask of tick t in cycle t + PIN_LATENCY, docs/rtl.md)
 //   convst.txt  "<tick>" of every CONVST rising edge (sampling tick t rises in cycle t + PIN_LATENCY)
@@ -34,12 +38,13 @@ module tb_hfi_dsp #(
     input  wire        sto,      // safety pins of hfi_dsp (0 unless a safety test drives them)
     input  wire        desat,
     output wire        drive_allowed,
+    input  wire        hold,     // 1: hfi_dsp's run = 0 (configuration before tick 0); undriven: runs
     input  wire        flush     // 1: flush the record files (the test sets it before reading them)
 );
     wire adc_convst, adc_cs_n, adc_sclk, adc_sdo_a, adc_sdo_b;
 
     hfi_dsp #(.ADC_BITS(ADC_BITS)) dut (
-        .clk(clk), .rst(rst), .run(1'b1),
+        .clk(clk), .rst(rst), .run(hold !== 1'b1),
         .s_axil_awaddr(s_axil_awaddr), .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),
         .s_axil_wdata(s_axil_wdata), .s_axil_wstrb(s_axil_wstrb), .s_axil_wvalid(s_axil_wvalid),
         .s_axil_wready(s_axil_wready), .s_axil_bresp(s_axil_bresp), .s_axil_bvalid(s_axil_bvalid),
@@ -70,7 +75,7 @@ module tb_hfi_dsp #(
     end
 
     always @(posedge clk) begin
-        tick <= rst ? 64'd0 : tick + 64'd1;
+        tick <= (rst || hold === 1'b1) ? 64'd0 : tick + 64'd1;
         if (!rst) begin
             if (gate !== gate_q)
                 $fwrite(fd_gates, "%0d %0d\n", tick, gate);

@@ -55,6 +55,10 @@ typedef union {
 #define HFI_REGS__CTRL__INJ_ROT_bp 4
 #define HFI_REGS__CTRL__INJ_ROT_bw 1
 #define HFI_REGS__CTRL__INJ_ROT_reset 0x0
+#define HFI_REGS__CTRL__INJ_PER_bm 0x20
+#define HFI_REGS__CTRL__INJ_PER_bp 5
+#define HFI_REGS__CTRL__INJ_PER_bw 1
+#define HFI_REGS__CTRL__INJ_PER_reset 0x0
 #define HFI_REGS__CTRL__FAULT_CLEAR_bm 0x100
 #define HFI_REGS__CTRL__FAULT_CLEAR_bp 8
 #define HFI_REGS__CTRL__FAULT_CLEAR_bw 1
@@ -65,7 +69,8 @@ typedef union {
         uint32_t INJ_EN :1;
         uint32_t ADC_MODE :2;
         uint32_t INJ_ROT :1;
-        uint32_t :3;
+        uint32_t INJ_PER :1;
+        uint32_t :2;
         uint32_t FAULT_CLEAR :1;
         uint32_t :23;
     } f;
@@ -515,6 +520,63 @@ typedef union {
     uint32_t w;
 } hfi_regs__INJ_PHASE_t;
 
+// reg - hfi_regs.CIC_M
+#define HFI_REGS__CIC_M__VALUE_bm 0xff
+#define HFI_REGS__CIC_M__VALUE_bp 0
+#define HFI_REGS__CIC_M__VALUE_bw 8
+#define HFI_REGS__CIC_M__VALUE_reset 0x2
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :8;
+        uint32_t :24;
+    } f;
+    uint32_t w;
+} hfi_regs__CIC_M_t;
+
+// reg - hfi_regs.CIC_QA
+#define HFI_REGS__CIC_QA__VALUE_bm 0xffffffff
+#define HFI_REGS__CIC_QA__VALUE_bp 0
+#define HFI_REGS__CIC_QA__VALUE_bw 32
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_regs__CIC_QA_t;
+
+// reg - hfi_regs.CIC_QB
+#define HFI_REGS__CIC_QB__VALUE_bm 0xffffffff
+#define HFI_REGS__CIC_QB__VALUE_bp 0
+#define HFI_REGS__CIC_QB__VALUE_bw 32
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_regs__CIC_QB_t;
+
+// reg - hfi_regs.ENV_A
+#define HFI_REGS__ENV_A__VALUE_bm 0xffffffff
+#define HFI_REGS__ENV_A__VALUE_bp 0
+#define HFI_REGS__ENV_A__VALUE_bw 32
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_regs__ENV_A_t;
+
+// reg - hfi_regs.ENV_B
+#define HFI_REGS__ENV_B__VALUE_bm 0xffffffff
+#define HFI_REGS__ENV_B__VALUE_bp 0
+#define HFI_REGS__ENV_B__VALUE_bw 32
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_regs__ENV_B_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -553,6 +615,11 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__SAFETY_LOCK_t SAFETY_LOCK;
     hfi_regs__INJ_STEP_t INJ_STEP;
     hfi_regs__INJ_PHASE_t INJ_PHASE;
+    hfi_regs__CIC_M_t CIC_M;
+    hfi_regs__CIC_QA_t CIC_QA;
+    hfi_regs__CIC_QB_t CIC_QB;
+    hfi_regs__ENV_A_t ENV_A;
+    hfi_regs__ENV_B_t ENV_B;
 } hfi_regs_t;
 
 
@@ -593,11 +660,16 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__SAFETY_LOCK_offset 0x84
 #define HFI_REGS__INJ_STEP_offset 0x88
 #define HFI_REGS__INJ_PHASE_offset 0x8c
+#define HFI_REGS__CIC_M_offset 0x90
+#define HFI_REGS__CIC_QA_offset 0x94
+#define HFI_REGS__CIC_QB_offset 0x98
+#define HFI_REGS__ENV_A_offset 0x9c
+#define HFI_REGS__ENV_B_offset 0xa0
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0x90, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0xa4, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -633,6 +705,11 @@ _Static_assert(offsetof(hfi_regs_t, I_REF) == HFI_REGS__I_REF_offset, "hfi_regs_
 _Static_assert(offsetof(hfi_regs_t, SAFETY_LOCK) == HFI_REGS__SAFETY_LOCK_offset, "hfi_regs_t: SAFETY_LOCK offset");
 _Static_assert(offsetof(hfi_regs_t, INJ_STEP) == HFI_REGS__INJ_STEP_offset, "hfi_regs_t: INJ_STEP offset");
 _Static_assert(offsetof(hfi_regs_t, INJ_PHASE) == HFI_REGS__INJ_PHASE_offset, "hfi_regs_t: INJ_PHASE offset");
+_Static_assert(offsetof(hfi_regs_t, CIC_M) == HFI_REGS__CIC_M_offset, "hfi_regs_t: CIC_M offset");
+_Static_assert(offsetof(hfi_regs_t, CIC_QA) == HFI_REGS__CIC_QA_offset, "hfi_regs_t: CIC_QA offset");
+_Static_assert(offsetof(hfi_regs_t, CIC_QB) == HFI_REGS__CIC_QB_offset, "hfi_regs_t: CIC_QB offset");
+_Static_assert(offsetof(hfi_regs_t, ENV_A) == HFI_REGS__ENV_A_offset, "hfi_regs_t: ENV_A offset");
+_Static_assert(offsetof(hfi_regs_t, ENV_B) == HFI_REGS__ENV_B_offset, "hfi_regs_t: ENV_B offset");
 #endif
 
 #ifdef __cplusplus

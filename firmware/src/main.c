@@ -5,7 +5,9 @@
  * window interrupt, set SOC CTRL.DSP_RUN (tick 0). Then main() only writes log lines to the UART
  * (mode changes).
  *
- * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results and the
+ * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results (with
+ * CIC_QA and CIC_QB only when the configuration runs the period square wave, CTRL.INJ_PER: two bus
+ * reads saved otherwise, where they read 0 as golden's WindowResult has them) and the
  * speed reference (SPEED_REF mailbox), run fw_step() (control.c, the golden firmware's arithmetic),
  * write the shadow registers, CTRL and COMMIT (before the deadline: the commit takes effect at the
  * next window boundary; a missed one counts in LATE_COUNT and the watchdog trips after WDT_PERIODS),
@@ -110,6 +112,13 @@ static void control_step(void)
     win.wsum = (int32_t)DSP(WSUM);
     win.n_samples = DSP(N_SAMPLES) & HFI_REGS__N_SAMPLES__VALUE_bm;
     win.inj_phase = DSP(INJ_PHASE);
+    if (cfg.hw.inj_per) {                 /* the differencing/CIC block's outputs (spec 3.9) */
+        win.cic_qa = (int32_t)DSP(CIC_QA);
+        win.cic_qb = (int32_t)DSP(CIC_QB);
+    } else {                              /* 0 without the period square wave, as in golden */
+        win.cic_qa = 0;
+        win.cic_qb = 0;
+    }
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
     struct fw_outputs o;
@@ -120,7 +129,8 @@ static void control_step(void)
     DSP(SINCOS) = FIELD(SINCOS, SIN, o.sin) | FIELD(SINCOS, COS, o.cos);
     DSP(I_REF) = FIELD(I_REF, I_D, o.i_d_ref) | FIELD(I_REF, I_Q, o.i_q_ref);
     DSP(CTRL) = FIELD(CTRL, ENABLE, o.enable) | FIELD(CTRL, INJ_EN, cfg.hw.inj_en) |
-                FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+                FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) | FIELD(CTRL, INJ_PER, cfg.hw.inj_per) |
+                FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     DSP(COMMIT) = FIELD(COMMIT, GO, 1);
     DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
     uint32_t cycles = rdcycle() - t0;
@@ -177,11 +187,13 @@ int main(void)
     DSP(HF_AMP) = cfg.hw.hf_amp;
     DSP(RECIP_H) = cfg.hw.recip_h;
     DSP(INJ_STEP) = cfg.hw.inj_step;
+    DSP(CIC_M) = cfg.hw.cic_m;
     /* the safety registers (dead time, overcurrent limit, watchdog) stay as configured until reset */
     DSP(SAFETY_LOCK) = FIELD(SAFETY_LOCK, LOCK, 1);
     DSP(IRQ_ENABLE) = FIELD(IRQ_ENABLE, WINDOW, 1);
+    /* before DSP_RUN: the period square wave's sign at tick 0's bottom follows CTRL.INJ_PER (docs/rtl.md) */
     DSP(CTRL) = FIELD(CTRL, INJ_EN, cfg.hw.inj_en) | FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) |
-                FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+                FIELD(CTRL, INJ_PER, cfg.hw.inj_per) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     fw_init(&st, &cfg.fw);
     /* One step on a copy of the state: the caches then hold what a step leaves in them, so the first
      * window interrupt takes the steady-state time, not a cold-cache one (docs/soc.md, "Firmware

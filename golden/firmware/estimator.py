@@ -162,8 +162,7 @@ METHODS: dict[str, MethodInfo] = {m.name: m for m in (
                (SLOT_HIGH,), INJ_NONE,
                "extended-EMF sliding-mode observer in the stationary frame, CORDIC angle, PLL speed"),
     MethodInfo("sqw_cic", METHOD_SQW_CIC, "Xue et al., Electronics 2022 (001)", (SLOT_LOW,), INJ_SQW_P,
-               "square wave at f_sw/2 on d_hat, sample differencing, CIC interpolation, Luenberger observer",
-               ("golden",)),
+               "square wave at f_sw/2 on d_hat, sample differencing, CIC interpolation, Luenberger observer"),
 )}
 """Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""
 

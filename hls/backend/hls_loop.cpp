@@ -8,7 +8,9 @@
 //   2. the rotating injection's phase accumulator steps (golden/fpga/rot_injection.py: while INJ_ROT,
 //      phi = P, P += INJ_STEP, (S, C) = hfi_sincos_q15(phi); else P = 0, no rotating term);
 //      hfi_modulator (+ hfi_deadtime_comp) latch the compares of the top of period k and the bottom of
-//      period k+1 from the active registers and (C, S) (spec 3.5, 3.6);
+//      period k+1 from the active registers and (C, S) (spec 3.5, 3.6); with the period square wave
+//      (CTRL.INJ_PER, not INJ_ROT) the injection's sign is S_k at the top and S_{k+1} = -S_k at the
+//      bottom (golden inj_sign; the dead-time compensation keeps the half's sign), and plus = (S_k = +1);
 //   3. the gate generator runs through the window: the ideal switch signals (hfi_ideal_switch) change
 //      at most once per leg and half period, so hfi_gate_advance covers each stretch between changes
 //      in one step, and its turn-on offsets give the gate edges (spec 2.4);
@@ -17,7 +19,9 @@
 //      sim/plant_loop.h, which records the edges, samples and truth as the rtl backend's harness does);
 //   5. hfi_window_dsp (ADC scale, Clarke, Park, demodulator) with the CORDIC weights
 //      (hfi_demod_weight) and, in OS_BLANK, the blanking decision (hfi_blanked) gives the window
-//      result (with INJ_PHASE = phi of step 2); fw_step computes the next register values; the
+//      result (with INJ_PHASE = phi of step 2); the carrier-bottom sample of the window (phase 0, at
+//      (k+1)*P, in every ADC mode) through hfi_adc_scale and hfi_clarke steps hfi_diff_cic with plus and
+//      CIC_M (spec 3.9): CIC_QA/QB and ENV_A/B of the window; fw_step computes the next register values; the
 //      firmware-state columns of the window record are those of the firmware's trace record
 //      (FW_TRACE_COLUMNS, fw_trace.h, generated).
 #include "hls_loop.h"
@@ -38,12 +42,15 @@ extern "C" {
 #include "../../firmware/include/hfi_regs.h"
 }
 
+#include "hfi_adc_scale.h"
 #include "hfi_adc_trigger.h"
 #include "hfi_carrier.h"
 #include "hfi_cordic.h"
 #include "hfi_deadtime_comp.h"
+#include "hfi_diff_cic.h"
 #include "hfi_gate_gen.h"
 #include "hfi_modulator.h"
+#include "hfi_park.h"
 #include "hfi_window_dsp.h"
 
 namespace {
@@ -86,6 +93,9 @@ struct hls_loop {
     int64_t mask = 0;                  // gate mask after the last edge
     int64_t last_switch = -1;          // latest switching instant (-1: none yet)
     u32 inj_acc = 0;                   // rotating injection's phase accumulator P (0 after reset)
+    bool per = false;                  // the period square wave is on (CTRL.INJ_PER and not INJ_ROT)
+    int inj_sign = 1;                  // its sign S of the current period (golden inj_sign)
+    hfi_diff_cic_state cic;            // the differencing and CIC block
     Pattern pattern[4];
     bool have_pattern[4] = {false, false, false, false};
 
@@ -101,7 +111,8 @@ struct hls_loop {
     bool keep[HFI_WINDOW_MAX];
 
     const Pattern &window_pattern(int mode);
-    void compares(const fw_outputs &o, bool top, bool rot, s16 inj_sin, s16 inj_cos, u16 cmp[3]) const;
+    void compares(const fw_outputs &o, bool top, bool rot, s16 inj_sin, s16 inj_cos, u16 cmp[3],
+                  bool inj_top) const;
     void gate_range(int64_t a, int64_t b, int64_t half_start, bool rising);
     void gate_segment(int64_t a, int64_t b);
     bool step();
@@ -127,11 +138,13 @@ const Pattern &hls_loop::window_pattern(int mode) {
 }
 
 // Compares of one latch from the register values o (golden ClosedLoop._compares); rot: the rotating
-// injection with (C, S) = (inj_cos, inj_sin), else the square wave.
-void hls_loop::compares(const fw_outputs &o, bool top, bool rot, s16 inj_sin, s16 inj_cos, u16 cmp[3]) const {
+// injection with (C, S) = (inj_cos, inj_sin), else the square wave with the sign +1 if inj_top, -1 else
+// (the half's own sign, top, unless the period square wave gives S; the compensation uses top).
+void hls_loop::compares(const fw_outputs &o, bool top, bool rot, s16 inj_sin, s16 inj_cos, u16 cmp[3],
+                        bool inj_top) const {
     u16 raw[3];
     hfi_modulator(s16(o.v_d), s16(o.v_q), s16(o.v_h), rot, inj_sin, inj_cos, s16(o.sin), s16(o.cos), u16(s.half),
-                  top, raw);
+                  inj_top, raw);
     if (s.dtc_gain)
         hfi_deadtime_comp(raw, top, u16(s.half), u16(dead), u16(s.dtc_gain), s16(o.i_d_ref), s16(o.i_q_ref),
                           ap_uint<15>(s.hf_amp), s16(o.sin), s16(o.cos), u32(s.recip_h), cmp);
@@ -219,8 +232,10 @@ bool hls_loop::step() {
         inj_acc = 0;
     }
     u16 cmp_top[3], cmp_bot[3];
-    compares(active, true, rot, inj_sin, inj_cos, cmp_top);
-    compares(active, false, rot, inj_sin, inj_cos, cmp_bot);
+    compares(active, true, rot, inj_sin, inj_cos, cmp_top, per ? inj_sign > 0 : true);
+    const bool plus = per && inj_sign > 0;               // period k, which ends at this window's bottom
+    if (per) inj_sign = -inj_sign;                        // S flips at the bottom (k+1)*P
+    compares(active, false, rot, inj_sin, inj_cos, cmp_bot, per ? inj_sign > 0 : false);
 
     e_ticks.clear();
     e_masks.clear();
@@ -264,6 +279,14 @@ bool hls_loop::step() {
     cfg.gain_b = s.adc_gain_b;
     hfi_window_result res;
     hfi_window_dsp(adc_a, adc_b, w, keep, ap_uint<12>(n), cfg, s16(active.sin), s16(active.cos), i_d, i_q, res);
+    // the carrier-bottom sample (phase 0: offset P - H/2 from the window start, in every ADC mode)
+    const int j = int(std::lower_bound(pat.rel.begin(), pat.rel.end(), P - H / 2) - pat.rel.begin());
+    s16 i_alpha, i_beta;
+    hfi_clarke(hfi_adc_scale(adc_a[j], cfg.bits, cfg.offset_a, cfg.gain_a),
+               hfi_adc_scale(adc_b[j], cfg.bits, cfg.offset_b, cfg.gain_b), i_alpha, i_beta);
+    s21 cic_qa, cic_qb;
+    s17 env_a, env_b;
+    hfi_diff_cic_step(cic, i_alpha, i_beta, plus, ap_uint<8>(s.cic_m), cic_qa, cic_qb, env_a, env_b);
 
     fw_window win;
     win.gamma = int32_t(res.gamma);
@@ -273,6 +296,8 @@ bool hls_loop::step() {
     win.wsum = int32_t(res.wsum);
     win.n_samples = uint32_t(res.n_samples);
     win.inj_phase = inj_phase.to_uint();                  // INJ_PHASE, latched with the window results
+    win.cic_qa = int32_t(cic_qa);                         // CIC_QA, CIC_QB (latched with them too)
+    win.cic_qb = int32_t(cic_qb);
     fw_outputs o;
     const int32_t speed_ref = loop.speed_ref(k);
     fw_step(&fw, &fwp, &win, speed_ref, &o);
@@ -286,6 +311,10 @@ bool hls_loop::step() {
     r.sum_iq = win.sum_iq;
     r.wsum = win.wsum;
     r.inj_phase = win.inj_phase;           // what the firmware was given as INJ_PHASE
+    r.cic_qa = win.cic_qa;                 // ... as CIC_QA, CIC_QB
+    r.cic_qb = win.cic_qb;
+    r.env_a = int32_t(env_a);              // ENV_A, ENV_B (the firmware does not use them)
+    r.env_b = int32_t(env_b);
 #define HLS_WINDOW_COLUMN(column, value) r.column = int64_t(value)
     FW_TRACE_COLUMNS(HLS_WINDOW_COLUMN, fw);
 #undef HLS_WINDOW_COLUMN
@@ -335,6 +364,14 @@ static bool check_setup(const hls_setup *s, char *err, int err_len) {
         std::snprintf(msg, sizeof msg, "inj_rot = %d must be 0 or 1 (CTRL.INJ_ROT)", s->inj_rot);
         return setup_error(err, err_len, msg);
     }
+    if (s->inj_per != 0 && s->inj_per != 1) {
+        std::snprintf(msg, sizeof msg, "inj_per = %d must be 0 or 1 (CTRL.INJ_PER)", s->inj_per);
+        return setup_error(err, err_len, msg);
+    }
+    if (s->cic_m < 0 || s->cic_m > 0xFF) {
+        std::snprintf(msg, sizeof msg, "cic_m = %d is not a u8 CIC_M register value", s->cic_m);
+        return setup_error(err, err_len, msg);
+    }
     if (s->inj_step < 0 || s->inj_step > int64_t(0xFFFFFFFF)) {
         std::snprintf(msg, sizeof msg, "inj_step = %lld is not a u32 INJ_STEP register value",
                       static_cast<long long>(s->inj_step));
@@ -364,6 +401,11 @@ hls_loop *hls_loop_create(const hls_setup *setup, const fw_params *fw, plant *pl
     h->fwp = *fw;
     fw_init(&h->fw, &h->fwp);
     hfi_gate_reset(h->gate);
+    hfi_diff_cic_reset(h->cic);
+    // the period square wave (golden: per = inj_per and not inj_rot): S = +1 after reset flips at the
+    // first bottom (tick 0), so period 0 runs S = -1
+    h->per = setup->inj_per != 0 && setup->inj_rot == 0;
+    h->inj_sign = h->per ? -1 : 1;
     for (int mode = 0; mode < 4; mode++) {
         if (h->window_pattern(mode).rel.size() > size_t(HFI_WINDOW_MAX)) {
             setup_error(err, err_len, "more samples per window than HFI_WINDOW_MAX");
@@ -372,7 +414,7 @@ hls_loop *hls_loop_create(const hls_setup *setup, const fw_params *fw, plant *pl
         }
     }
     // the first bottom latches the reset registers, before the first boundary: no rotating term
-    h->compares(RESET_OUTPUTS, false, false, s16(0), s16(0), h->cmp_rise);
+    h->compares(RESET_OUTPUTS, false, false, s16(0), s16(0), h->cmp_rise, false);   // S_0 = -1 or the half's sign
     for (int x = 0; x < 3; x++) h->cmp_fall[x] = 0;
     const size_t n = size_t(setup->n_windows);
     h->windows.reserve(n);

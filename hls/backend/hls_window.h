@@ -39,6 +39,10 @@ struct hls_window {
     int64_t omega_lo;
     int64_t omega_hi;
     int64_t inj_phase;
+    int64_t cic_qa;
+    int64_t cic_qb;
+    int64_t env_a;
+    int64_t env_b;
 };
 
 #endif

@@ -32,6 +32,9 @@ localparam [1:0] HFI_CTRL_ADC_MODE_RESET = 2'h0;
 localparam integer HFI_CTRL_INJ_ROT_LSB = 4;  // rw
 localparam integer HFI_CTRL_INJ_ROT_WIDTH = 1;
 localparam [0:0] HFI_CTRL_INJ_ROT_RESET = 1'h0;
+localparam integer HFI_CTRL_INJ_PER_LSB = 5;  // rw
+localparam integer HFI_CTRL_INJ_PER_WIDTH = 1;
+localparam [0:0] HFI_CTRL_INJ_PER_RESET = 1'h0;
 localparam integer HFI_CTRL_FAULT_CLEAR_LSB = 8;  // w1p
 localparam integer HFI_CTRL_FAULT_CLEAR_WIDTH = 1;
 localparam [0:0] HFI_CTRL_FAULT_CLEAR_RESET = 1'h0;
@@ -263,6 +266,36 @@ localparam [7:0] HFI_INJ_PHASE_ADDR = 8'h8C;
 localparam integer HFI_INJ_PHASE_VALUE_LSB = 0;  // ro
 localparam integer HFI_INJ_PHASE_VALUE_WIDTH = 32;
 localparam [31:0] HFI_INJ_PHASE_VALUE_RESET = 32'h0;
+
+// CIC_M @ 0x90: CIC comb delay
+localparam [7:0] HFI_CIC_M_ADDR = 8'h90;
+localparam integer HFI_CIC_M_VALUE_LSB = 0;  // rw
+localparam integer HFI_CIC_M_VALUE_WIDTH = 8;
+localparam [7:0] HFI_CIC_M_VALUE_RESET = 8'h2;
+
+// CIC_QA @ 0x94: CIC output, alpha
+localparam [7:0] HFI_CIC_QA_ADDR = 8'h94;
+localparam integer HFI_CIC_QA_VALUE_LSB = 0;  // ro, signed
+localparam integer HFI_CIC_QA_VALUE_WIDTH = 32;
+localparam [31:0] HFI_CIC_QA_VALUE_RESET = 32'h0;
+
+// CIC_QB @ 0x98: CIC output, beta
+localparam [7:0] HFI_CIC_QB_ADDR = 8'h98;
+localparam integer HFI_CIC_QB_VALUE_LSB = 0;  // ro, signed
+localparam integer HFI_CIC_QB_VALUE_WIDTH = 32;
+localparam [31:0] HFI_CIC_QB_VALUE_RESET = 32'h0;
+
+// ENV_A @ 0x9C: Envelope, alpha
+localparam [7:0] HFI_ENV_A_ADDR = 8'h9C;
+localparam integer HFI_ENV_A_VALUE_LSB = 0;  // ro, signed
+localparam integer HFI_ENV_A_VALUE_WIDTH = 32;
+localparam [31:0] HFI_ENV_A_VALUE_RESET = 32'h0;
+
+// ENV_B @ 0xA0: Envelope, beta
+localparam [7:0] HFI_ENV_B_ADDR = 8'hA0;
+localparam integer HFI_ENV_B_VALUE_LSB = 0;  // ro, signed
+localparam integer HFI_ENV_B_VALUE_WIDTH = 32;
+localparam [31:0] HFI_ENV_B_VALUE_RESET = 32'h0;
 
 // Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
 function hfi_locked_by_safety_lock_lock(input [7:0] a);

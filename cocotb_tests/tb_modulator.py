@@ -23,6 +23,16 @@ register draws: :func:`with_inj_neg` sets it in a third of the vectors from its 
 shared vectors stay those of tests/test_hls_modulator.py); the golden chain is then ``_compares`` with
 ``inj_sign = -sign`` (golden/closedloop.py).
 
+Direct-vector mode (CTRL.DIRECT, spec 3.10): the inputs ``direct, fcs_a1, fcs_a2, fcs_phi_min,
+fcs_constrain`` (0 in the vectors above) and the output ``state``. With ``direct`` both sets are
+``direct_compares(s, H)`` of golden/fpga/modulator.py, ``s = direct_state(...)`` (choose_vector on the
+inverse Park without injection) with the state the module applied after its previous run (0 after reset
+and after a run without the mode); ``state`` is s (0 without the mode). The Driver carries that state
+from vector to vector. :func:`with_direct` draws the mode's registers (its own generator);
+``direct_random`` runs >= HFI_RANDOM_N of them mixed with a tenth of ordinary vectors, ``direct_cases``
+the directed ones (every sector, the zero vector 000/111 by the state now, the constraint on, off and
+dropped, extreme v_alpha/v_beta and A1/A2).
+
 All driving happens at falling-edge instants; waits of several cycles are single timers (a Python
 wake-up per clock edge would dominate the run time).
 """
@@ -39,7 +49,8 @@ from cocotb.triggers import ClockCycles, FallingEdge, Timer
 
 from golden.fixed import round_shr, shr
 from golden.fpga.deadtime_comp import compensate, phase_current, recip_half
-from golden.fpga.modulator import compares
+from golden.fpga.fcs_mpc import VX, VY, choose_vector
+from golden.fpga.modulator import compares, direct_alpha_beta, direct_compares, direct_state
 from golden.testvectors.modulator import REGS, as_dicts, corner_vectors, draw_registers, rot_arg, v_abc
 
 LATENCY = 105
@@ -63,8 +74,44 @@ def golden_set(r: dict, sign: int) -> tuple[int, int, int]:
 
 
 def golden_chain(r: dict) -> tuple[int, ...]:
-    """The six outputs (top a, b, c, bottom a, b, c)."""
+    """The six outputs (top a, b, c, bottom a, b, c) without the direct-vector mode."""
     return golden_set(r, +1) + golden_set(r, -1)
+
+
+DIRECT_REGS = ("direct", "fcs_a1", "fcs_a2", "fcs_phi_min", "fcs_constrain")
+
+
+def golden_step(r: dict, state: int) -> tuple[tuple[int, ...], int]:
+    """``(six outputs, state output)`` of one run with the state ``state`` applied before it."""
+    if not r.get("direct", 0):
+        return golden_chain(r), 0
+    s = direct_state(r["v_d"], r["v_q"], r["sin_q15"], r["cos_q15"], r["fcs_a1"], r["fcs_a2"],
+                     r["fcs_phi_min"], bool(r["fcs_constrain"]), state)
+    return direct_compares(s, r["half"]) * 2, s
+
+
+def with_direct(vecs: list[dict], seed: int, p_direct: float = 0.9) -> list[dict]:
+    """The vectors with the direct-vector mode in a fraction ``p_direct`` of them and its registers
+    drawn (own generator): A1, A2 full s16 or typical Q12 (|A| <= 2^13) or extremes, PHI_MIN over its
+    range, near typical strengths, 0 or 65535, CONSTRAIN half of the time."""
+    g = np.random.default_rng([seed, 17])
+    n = len(vecs)
+    def s16(k):
+        kind = g.integers(0, 4, k)
+        full = g.integers(-32768, 32768, k)
+        small = g.integers(-8192, 8193, k)
+        ext = g.choice(np.array([-32768, 32767, 0, 4096, -4096]), k)
+        return np.where(kind == 0, full, np.where(kind == 3, ext, small))
+    a1, a2 = s16(n), s16(n)
+    kind = g.integers(0, 5, n)
+    phi = np.where(kind == 0, g.integers(0, 65536, n),
+                   np.where(kind == 1, g.integers(0, 4096, n),
+                            np.where(kind == 2, g.integers(0, 30000, n),
+                                     np.where(kind == 3, 0, 65535))))
+    on = g.random(n) < p_direct
+    con = g.random(n) < 0.5
+    return [r | {"direct": int(o), "fcs_a1": int(x), "fcs_a2": int(y), "fcs_phi_min": int(p),
+                 "fcs_constrain": int(c)} for r, o, x, y, p, c in zip(vecs, on, a1, a2, phi, con)]
 
 
 # ---------------------------------------------------------------------------------------------- coverage
@@ -150,6 +197,8 @@ def apply(dut, r: dict):
     for k in REGS:
         getattr(dut, k).value = r[k]
     dut.inj_neg.value = r.get("inj_neg", 0)
+    for k in DIRECT_REGS:
+        getattr(dut, k).value = r.get(k, 0)
 
 
 def with_inj_neg(vecs: list[dict], seed: int) -> list[dict]:
@@ -164,7 +213,7 @@ def read_outs(dut) -> tuple[int, ...]:
 
 
 def fmt(r: dict) -> str:
-    return "{" + ", ".join(f"{k}={r[k]}" for k in REGS) + "}"
+    return "{" + ", ".join(f"{k}={r[k]}" for k in REGS + ("inj_neg",) + DIRECT_REGS if k in r) + "}"
 
 
 def check_outs(dut, expected, what: str, r: dict | None = None):
@@ -188,6 +237,7 @@ class Driver:
     """Drives the module from falling edges; `t` counts falling edges since the current start."""
 
     def __init__(self, dut, rng=None, p_busy_start=0.0, p_gap=0.0):
+        self.state = 0                                  # the direct-vector state applied (0 after reset)
         self.dut = dut
         self.rng = rng
         self.p_busy_start = p_busy_start
@@ -199,7 +249,11 @@ class Driver:
         """Run `vecs` (dicts) back to back; `prev` are the outputs before the first start. Returns the
         last outputs. The caller leaves the DUT idle at a falling edge with start low."""
         dut, rng = self.dut, self.rng
-        expected = [golden_chain(r) for r in vecs]
+        expected, states = [], []
+        for r in vecs:
+            out, self.state = golden_step(r, self.state)
+            expected.append(out)
+            states.append(self.state)
         apply(dut, vecs[0])
         dut.start.value = 1
         for i, r in enumerate(vecs):
@@ -227,7 +281,10 @@ class Driver:
             if int(dut.done.value) != 1 or int(dut.busy.value) != 0:
                 raise AssertionError(f"{label} {i}: cycle {LATENCY}: done={dut.done.value} "
                                      f"busy={dut.busy.value}, expected 1 and 0")
-            check_outs(dut, expected[i], f"{label} {i}", r)
+            check_outs(dut, expected[i], f"{label} {i} (state before: {states[i - 1] if i else '?'})", r)
+            if int(dut.state.value) != states[i]:
+                raise AssertionError(f"{label} {i}: state RTL {int(dut.state.value)} golden {states[i]}; "
+                                     f"registers {fmt(r)} {[r.get(k, 0) for k in DIRECT_REGS]}")
             prev = expected[i]
             if rng is not None and rng.random() < self.p_gap:
                 gap = int(rng.integers(1, 4))
@@ -356,3 +413,128 @@ async def start_held_high(dut):
         else:
             check_outs(dut, prev, f"held start: outputs changed in cycle {c} (not a done cycle)")
     dut.start.value = 0
+
+
+# ---------------------------------------------------------------------------------------------- direct mode
+class DirectCoverage:
+    """Counts of the direct-vector mode's cases (from the golden choice)."""
+
+    NAMES = ("state_000", "state_111", "active_1", "active_2", "active_3", "active_4", "active_5", "active_6",
+             "constrained_differs", "constraint_dropped", "zero_excluded", "mode_off")
+
+    def __init__(self):
+        self.n = dict.fromkeys(self.NAMES, 0)
+
+    def add(self, vecs: list[dict]):
+        n, state = self.n, 0
+        order = (0b001, 0b011, 0b010, 0b110, 0b100, 0b101)
+        for r in vecs:
+            if not r.get("direct", 0):
+                n["mode_off"] += 1
+                state = 0
+                continue
+            v_al, v_be = direct_alpha_beta(r["v_d"], r["v_q"], r["sin_q15"], r["cos_q15"])
+            args = (v_al, v_be, r["sin_q15"], r["cos_q15"], r["fcs_a1"], r["fcs_a2"], r["fcs_phi_min"])
+            s, _ = choose_vector(*args, bool(r["fcs_constrain"]), state)
+            free, _ = choose_vector(*args, False, state)
+            if r["fcs_constrain"]:
+                c_, s_ = r["cos_q15"], r["sin_q15"]
+                p = [round_shr(r["fcs_a1"] * round_shr(y * c_ - x * s_, 15)
+                               - r["fcs_a2"] * round_shr(x * c_ + y * s_, 15), 12) for x, y in zip(VX, VY)]
+                n["constrained_differs"] += s != free
+                n["constraint_dropped"] += not any(abs(pj) > r["fcs_phi_min"] for pj in p)
+                n["zero_excluded"] += free in (0, 7) and s not in (0, 7)
+            n["state_000"] += s == 0
+            n["state_111"] += s == 7
+            if s not in (0, 7):
+                n[f"active_{order.index(s) + 1}"] += 1
+            state = s
+
+    def report(self, log, label):
+        log.info(f"{label} direct coverage: " + ", ".join(f"{k}={v}" for k, v in self.n.items()))
+
+    def require(self, names):
+        missing = [k for k in names if self.n[k] == 0]
+        assert not missing, f"direct-mode cases never exercised: {missing} ({self.n})"
+
+
+@cocotb.test()
+async def direct_random(dut):
+    """HFI_RANDOM_N random vectors of the direct-vector mode (a tenth with the mode off), back to back,
+    starts while busy and idle gaps, against golden direct_state/direct_compares with the state carried."""
+    seed, count = seed_and_count()
+    rng = np.random.default_rng([seed, 23])
+    vecs = with_direct(with_inj_neg(as_dicts(draw_registers(rng, count)), seed + 7), seed)
+    prev = await start_clock_and_reset(dut)
+    drv = Driver(dut, rng, p_busy_start=0.05, p_gap=0.05)
+    await drv.run(vecs, prev, "direct vector")
+    cov = DirectCoverage()
+    cov.add(vecs)
+    cov.report(cocotb.log, f"random ({count} vectors)")
+    if count >= 2000:
+        cov.require(DirectCoverage.NAMES)
+
+
+def _direct_case(v_d, v_q, s, c, a1=0, a2=0, phi=0, con=0, half=10000):
+    return {k: 0 for k in REGS} | {"v_d": v_d, "v_q": v_q, "sin_q15": s, "cos_q15": c, "half": half,
+                                    "dead": 1, "recip_h": recip_half(half), "direct": 1, "fcs_a1": a1,
+                                    "fcs_a2": a2, "fcs_phi_min": phi, "fcs_constrain": con}
+
+
+def direct_cases() -> list[dict]:
+    """Directed vectors of the direct-vector mode (run in this order: the state carries)."""
+    import math
+    vecs = []
+    # every sector: a large voltage at angles 0..355 deg (unit circle SIN/COS, and V_D/V_Q rotated)
+    for deg in range(0, 360, 5):
+        s, c = round(32767 * math.sin(math.radians(deg))), round(32767 * math.cos(math.radians(deg)))
+        vecs.append(_direct_case(20000, 0, s, c))
+        vecs.append(_direct_case(14000, 14000, 0, 32767) | {"v_d": round(20000 * math.cos(math.radians(deg))),
+                                                           "v_q": round(20000 * math.sin(math.radians(deg)))})
+    # the zero vector by the state now: from a two-high state (011 at 60 deg) -> 111, then from 111 -> 111,
+    # from a one-high state (001 at 0 deg) -> 000, from 000 -> 000
+    s60, c60 = round(32767 * math.sin(math.pi / 3)), round(32767 * math.cos(math.pi / 3))
+    vecs += [_direct_case(25000, 0, s60, c60), _direct_case(0, 0, 0, 32767), _direct_case(100, -50, 0, 32767),
+             _direct_case(25000, 0, 0, 32767), _direct_case(0, 0, 0, 32767), _direct_case(-30, 70, 0, 32767),
+             _direct_case(25000, 0, 0, -32768), _direct_case(0, 0, 0, 32767)]        # 110 (two high) -> 111
+    # the constraint on and off with the same voltage; dropped when nothing is eligible
+    for a1, a2 in ((4096, 0), (0, 4096), (3000, -2000), (32767, -32768), (-32768, 32767), (0, 0)):
+        for phi in (0, 1, 5000, 10000, 20000, 65535):
+            for con in (0, 1):
+                vecs.append(_direct_case(3000, 2000, 12000, 30000, a1, a2, phi, con))
+                vecs.append(_direct_case(0, 0, -20000, 25000, a1, a2, phi, con))
+    # extreme v_alpha / v_beta (SIN/COS not on the unit circle)
+    for vd in (-32768, 32767):
+        for vq in (-32768, 32767):
+            for s in (-32768, 32767):
+                for c in (-32768, 32767):
+                    vecs.append(_direct_case(vd, vq, s, c, -32768, 32767, 65535, 1, half=65534))
+                    vecs.append(_direct_case(vd, vq, s, c, 32767, 32767, 0, 1, half=512))
+    # exact ties, with COS = -2^15, SIN = 0 (then v_alpha = -V_D, v_beta = -V_Q exactly): d_1 = d_0 = 0
+    # (v = (14921, 3998): the zero vector wins), d_1 = d_2 (v_alpha = 0: 011 wins), d_3 = d_4 (v_beta = 0
+    # side), one LSB either way; then fine angle sweeps across the sector borders at magnitudes near
+    # the switching to the zero vector (the K_j differ between even and odd j)
+    for vd, vq in ((-14921, -3998), (-14922, -3998), (-14920, -3998), (-14921, -3999), (0, -20000),
+                   (1, -20000), (-1, -20000), (0, 20000), (21845, 0), (10923, 0), (10922, 0),
+                   (-11022, -6364), (-21746, -12555), (11022, 6364), (21746, 12555)):   # d_1 - d_0 = +1, -1
+        vecs.append(_direct_case(vd, vq, 0, -32768))
+    for mag in (10900, 10923, 10950, 12000, 30000):
+        for tenth in range(0, 3600, 75):
+            a = math.radians(tenth / 10 + 0.05)
+            vecs.append(_direct_case(-round(mag * math.cos(a)), -round(mag * math.sin(a)), 0, -32768))
+    # the mode off in between (state back to 0), then on again from 0
+    vecs += [{k: 0 for k in REGS} | {"half": 2000, "dead": 1, "recip_h": recip_half(2000), "cos_q15": 32767},
+             _direct_case(0, 0, 0, 32767)]
+    return vecs
+
+
+@cocotb.test()
+async def direct_directed(dut):
+    """Directed vectors of the direct-vector mode, in sequence (the state now carries), each checked."""
+    vecs = direct_cases()
+    prev = await start_clock_and_reset(dut)
+    await Driver(dut).run(vecs, prev, "direct case")
+    cov = DirectCoverage()
+    cov.add(vecs)
+    cov.report(cocotb.log, "directed")
+    cov.require(DirectCoverage.NAMES)

@@ -15,5 +15,6 @@ import hdl_runner
 @pytest.mark.parametrize("sim", hdl_runner.SIMULATORS)
 def test_modulator(sim, tmp_path):
     hdl_runner.run_cocotb(sim=sim, toplevel="hfi_modulator",
-                          sources=hdl_runner.rtl_sources("hfi_modulator.v", "hfi_mul18.v", "hfi_deadtime_comp.v"),
-                          tb_module="tb_modulator", build_dir=tmp_path / "build", expect_tests=5)
+                          sources=hdl_runner.rtl_sources("hfi_modulator.v", "hfi_mul18.v", "hfi_deadtime_comp.v",
+                                                           "hfi_fcs_mpc.v"),
+                          tb_module="tb_modulator", build_dir=tmp_path / "build", expect_tests=7)

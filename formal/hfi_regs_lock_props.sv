@@ -56,7 +56,8 @@ module hfi_regs_lock_props (
     input wire [31:0] cic_qa,
     input wire [31:0] cic_qb,
     input wire [31:0] env_a,
-    input wire [31:0] env_b
+    input wire [31:0] env_b,
+    input wire [2:0]  vector_state
 );
 `include "regs/hfi_regs_map.vh"
 
@@ -92,7 +93,7 @@ module hfi_regs_lock_props (
         .irq_window_set(irq_window_set), .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id),
         .sum_iq(sum_iq), .wsum(wsum), .n_samples(n_samples), .window_count(window_count),
         .late_count(late_count), .inj_phase(inj_phase), .cic_qa(cic_qa), .cic_qb(cic_qb), .env_a(env_a),
-        .env_b(env_b), .irq(irq));
+        .env_b(env_b), .vector_state(vector_state), .irq(irq));
 
     // dut.r_safety_lock: connected by the sby script after flatten (see the header)
     (* keep *) wire lock_obs;

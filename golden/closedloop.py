@@ -33,7 +33,7 @@ from golden.fpga.cordic import demod_weight
 from golden.fpga.deadtime_comp import compensate
 from golden.fpga.diff_cic import DiffCic
 from golden.fpga.gate_generator import GateGenerator
-from golden.fpga.modulator import compares
+from golden.fpga.modulator import compares, direct_compares, direct_state
 from golden.fpga.park import clarke
 from golden.fpga.rot_injection import RotatingInjection
 from golden.fpga.window_dsp import window_dsp
@@ -184,6 +184,10 @@ class ClosedLoop:
         # square wave of period k is S_k. inj_sign is None while the mode is off.
         per = bool(hw.inj_per) and not hw.inj_rot
         inj_sign = -1 if per else None
+        # CTRL.DIRECT (spec 3.10): the state applied, 0 after reset; the first half (before the first
+        # boundary) has the reset compares in either mode
+        direct = bool(hw.direct)
+        state = 0
         gen.add_half(0, H, True, self._compares(active, -1, None, inj_sign))
         prev_switch = np.zeros(0, dtype=np.int64)
         t0 = time.perf_counter()
@@ -197,13 +201,18 @@ class ClosedLoop:
             # CTRL.INJ_EN is 1 in every closed-loop run (the supervisor stops an injection with V_H = 0),
             # so the rotating injection is on exactly when INJ_ROT is
             inj_phase, rot = self.rot_inj.boundary(bool(hw.inj_rot), hw.inj_step)
-            cmp_top = self._compares(active, +1, rot, inj_sign)
+            if direct:                                    # CTRL.DIRECT (spec 3.10): one state top to top
+                state = direct_state(active.v_d, active.v_q, active.sin, active.cos, active.fcs_a1,
+                                     active.fcs_a2, active.fcs_phi_min, bool(active.fcs_constrain), state)
+                cmp_top = direct_compares(state, H)
+            else:
+                cmp_top = self._compares(active, +1, rot, inj_sign)
             gen.add_half(k * P + H, H, False, cmp_top)
             gen.set_enabled((k + 1) * P, bool(enable))
             plus = inj_sign == 1                          # period k, which ends at the bottom sample below
             if per:
                 inj_sign = -inj_sign
-            cmp_bot = self._compares(active, -1, rot, inj_sign)
+            cmp_bot = cmp_top if direct else self._compares(active, -1, rot, inj_sign)
             gen.add_half((k + 1) * P, H, True, cmp_bot)
             e_ticks, e_masks = gen.take_edges(zc + P)
             edge_ticks.append(e_ticks)

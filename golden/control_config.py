@@ -81,6 +81,7 @@ class HardwareConfig:
     inj_rot: int = 0             # CTRL.INJ_ROT: 1 = rotating injection (golden.fpga.rot_injection)
     inj_step: int = 0            # INJ_STEP: its phase advance per PWM period (u32 binary angle)
     inj_per: int = 0             # CTRL.INJ_PER: 1 = the square wave's sign holds a PWM period (spec 3.5)
+    direct: int = 0              # CTRL.DIRECT: 1 = direct-vector mode, the FCS-MPC choice (spec 3.10)
     cic_m: int = 2               # CIC_M: comb delay of the CIC interpolator (golden.fpga.diff_cic)
 
 

@@ -67,6 +67,10 @@ CTRL_INJ_PER_LSB = 5  # rw
 CTRL_INJ_PER_WIDTH = 1
 CTRL_INJ_PER_MASK = 0x00000020
 CTRL_INJ_PER_RESET = 0
+CTRL_DIRECT_LSB = 6  # rw
+CTRL_DIRECT_WIDTH = 1
+CTRL_DIRECT_MASK = 0x00000040
+CTRL_DIRECT_RESET = 0
 CTRL_FAULT_CLEAR_LSB = 8  # w1p
 CTRL_FAULT_CLEAR_WIDTH = 1
 CTRL_FAULT_CLEAR_MASK = 0x00000100
@@ -379,6 +383,35 @@ ENV_B_VALUE_WIDTH = 32
 ENV_B_VALUE_MASK = 0xFFFFFFFF
 ENV_B_VALUE_RESET = None
 
+# FCS_A @ 0xA4: FCS-MPC strength coefficients (shadow)
+FCS_A_ADDR = 0xA4
+FCS_A_A1_LSB = 0  # rw, signed
+FCS_A_A1_WIDTH = 16
+FCS_A_A1_MASK = 0x0000FFFF
+FCS_A_A1_RESET = 0
+FCS_A_A2_LSB = 16  # rw, signed
+FCS_A_A2_WIDTH = 16
+FCS_A_A2_MASK = 0xFFFF0000
+FCS_A_A2_RESET = 0
+
+# FCS_CTRL @ 0xA8: FCS-MPC constraint (shadow)
+FCS_CTRL_ADDR = 0xA8
+FCS_CTRL_PHI_MIN_LSB = 0  # rw
+FCS_CTRL_PHI_MIN_WIDTH = 16
+FCS_CTRL_PHI_MIN_MASK = 0x0000FFFF
+FCS_CTRL_PHI_MIN_RESET = 0
+FCS_CTRL_CONSTRAIN_LSB = 16  # rw
+FCS_CTRL_CONSTRAIN_WIDTH = 1
+FCS_CTRL_CONSTRAIN_MASK = 0x00010000
+FCS_CTRL_CONSTRAIN_RESET = 0
+
+# VECTOR @ 0xAC: Applied inverter state
+VECTOR_ADDR = 0xAC
+VECTOR_STATE_LSB = 0  # ro
+VECTOR_STATE_WIDTH = 3
+VECTOR_STATE_MASK = 0x00000007
+VECTOR_STATE_RESET = None
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -394,6 +427,7 @@ REGISTERS = {
         "ADC_MODE": (2, 2, 0, "rw"),
         "INJ_ROT": (4, 1, 0, "rw"),
         "INJ_PER": (5, 1, 0, "rw"),
+        "DIRECT": (6, 1, 0, "rw"),
         "FAULT_CLEAR": (8, 1, 0, "w1p"),
     }},
     "STATUS": {"addr": 0x0C, "reset": 0x00000000, "signed": (), "fields": {
@@ -518,6 +552,17 @@ REGISTERS = {
     }},
     "ENV_B": {"addr": 0xA0, "reset": 0x00000000, "signed": ("VALUE",), "fields": {
         "VALUE": (0, 32, None, "ro"),
+    }},
+    "FCS_A": {"addr": 0xA4, "reset": 0x00000000, "signed": ("A1", "A2",), "fields": {
+        "A1": (0, 16, 0, "rw"),
+        "A2": (16, 16, 0, "rw"),
+    }},
+    "FCS_CTRL": {"addr": 0xA8, "reset": 0x00000000, "signed": (), "fields": {
+        "PHI_MIN": (0, 16, 0, "rw"),
+        "CONSTRAIN": (16, 1, 0, "rw"),
+    }},
+    "VECTOR": {"addr": 0xAC, "reset": 0x00000000, "signed": (), "fields": {
+        "STATE": (0, 3, None, "ro"),
     }},
 }
 

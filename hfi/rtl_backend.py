@@ -167,6 +167,9 @@ _cfg_consts = _cfg_ffi.dlopen(None)      # the header's enum constants (no libra
 
 def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     """``struct fw_config`` of the scenario (firmware/src/fw_config.h), as the RV32 little-endian bytes."""
+    if hw.direct:           # CTRL.DIRECT (spec 3.10): in the RTL, not yet in the firmware's config block
+        raise ValueError(f"scenario {sc.name}: the direct-vector mode (HardwareConfig.direct) is golden-only "
+                         "on the backends so far")
     cfg = _cfg_ffi.new("struct fw_config *")
     h = cfg.hw
     h.magic = _cfg_consts.FW_CONFIG_MAGIC

@@ -104,7 +104,12 @@ module hfi_dsp #(
         {rst_dp, rst_car, rst_mod, rst_gates, rst_trg, rst_adc, rst_park, rst_dm} <= {8{rst | ~run}};
 
     // ---------------------------------------------------------------- registers
-    wire        ctrl_enable, ctrl_inj_en, ctrl_inj_rot, ctrl_inj_per, fault_clear, commit_go;
+    wire        ctrl_enable, ctrl_inj_en, ctrl_inj_rot, ctrl_inj_per, ctrl_direct, fault_clear, commit_go;
+    wire signed [15:0] sh_fcs_a1, sh_fcs_a2;   // FCS_A, FCS_CTRL (shadow; spec 3.10)
+    wire [15:0] sh_fcs_phi_min;
+    wire        sh_fcs_constrain;
+    reg  [2:0]  vector_q;                 // VECTOR: latched at the boundary
+    wire [2:0]  mod_state;                // the direct-vector mode's state applied (modulator)
     wire [1:0]  ctrl_adc_mode;
     wire [15:0] pwm_half_reg, dead_ticks, os_ticks, blank_ticks, adc_gain_a, adc_gain_b, oc_limit,
                 wdt_periods, dtc_gain;
@@ -132,7 +137,7 @@ module hfi_dsp #(
         .s_axil_arready(s_axil_arready), .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
         .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
         .ctrl_enable(ctrl_enable), .ctrl_inj_en(ctrl_inj_en), .ctrl_inj_rot(ctrl_inj_rot),
-        .ctrl_inj_per(ctrl_inj_per), .ctrl_adc_mode(ctrl_adc_mode),
+        .ctrl_inj_per(ctrl_inj_per), .ctrl_direct(ctrl_direct), .ctrl_adc_mode(ctrl_adc_mode),
         .fault_clear(fault_clear), .commit_go(commit_go),
         .pwm_half(pwm_half_reg), .dead_ticks(dead_ticks), .os_ticks(os_ticks), .blank_ticks(blank_ticks),
         .cw_angle_step(cw_step_reg), .adc_offset_a(adc_offset_a), .adc_offset_b(adc_offset_b),
@@ -140,6 +145,8 @@ module hfi_dsp #(
         .v_d(sh_v_d), .v_q(sh_v_q), .v_h(sh_v_h), .sin_q15(sh_sin), .cos_q15(sh_cos),
         .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h), .i_d_ref(sh_i_d_ref), .i_q_ref(sh_i_q_ref),
         .inj_step(inj_step), .inj_phase(inj_phase_q), .cic_m(cic_m_reg),
+        .fcs_a1(sh_fcs_a1), .fcs_a2(sh_fcs_a2), .fcs_phi_min(sh_fcs_phi_min), .fcs_constrain(sh_fcs_constrain),
+        .vector_state(vector_q),
         .cic_qa({{11{cic_qa_q[20]}}, cic_qa_q}), .cic_qb({{11{cic_qb_q[20]}}, cic_qb_q}),
         .env_a({{15{env_a_q[16]}}, env_a_q}), .env_b({{15{env_b_q[16]}}, env_b_q}),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
@@ -166,6 +173,10 @@ module hfi_dsp #(
     reg signed [15:0] act_v_d, act_v_q, act_sin, act_cos, act_i_d_ref, act_i_q_ref;
     reg [14:0] act_v_h;
     reg        act_inj_en, act_inj_rot;
+    reg        act_direct;              // CTRL.DIRECT, applied at every boundary
+    reg signed [15:0] act_fcs_a1, act_fcs_a2;
+    reg [15:0] act_fcs_phi_min;
+    reg        act_fcs_constrain;
     reg        win_parity;              // parity of the window of the current tick (window -1: 1)
     reg signed [15:0] bank_sin [0:1];   // SIN/COS of the last windows of each parity, for Park
     reg signed [15:0] bank_cos [0:1];
@@ -179,6 +190,9 @@ module hfi_dsp #(
             act_i_d_ref <= 16'sd0; act_i_q_ref <= 16'sd0;
             act_inj_en <= 1'b0;
             act_inj_rot <= 1'b0;
+            act_direct <= 1'b0;
+            act_fcs_a1 <= 16'sd0; act_fcs_a2 <= 16'sd0; act_fcs_phi_min <= 16'd0; act_fcs_constrain <= 1'b0;
+            vector_q <= 3'd0;
             win_parity <= 1'b1;
             bank_sin[0] <= 16'sd0; bank_cos[0] <= 16'sd32767;
             bank_sin[1] <= 16'sd0; bank_cos[1] <= 16'sd32767;
@@ -194,11 +208,17 @@ module hfi_dsp #(
                 win_parity <= ~win_parity;
                 act_inj_en <= ctrl_inj_en;
                 act_inj_rot <= ctrl_inj_en & ctrl_inj_rot;
+                act_direct <= ctrl_direct;
+                // VECTOR: the state set by the latest latches (the modulator's next one is computed from
+                // the following cycle on and kept 105 cycles later)
+                vector_q <= mod_state;
                 if (commit_pending || commit_go) begin
                     commit_pending <= 1'b0;
                     act_v_d <= sh_v_d; act_v_q <= sh_v_q; act_v_h <= sh_v_h;
                     act_sin <= sh_sin; act_cos <= sh_cos;
                     act_i_d_ref <= sh_i_d_ref; act_i_q_ref <= sh_i_q_ref;
+                    act_fcs_a1 <= sh_fcs_a1; act_fcs_a2 <= sh_fcs_a2;
+                    act_fcs_phi_min <= sh_fcs_phi_min; act_fcs_constrain <= sh_fcs_constrain;
                     bank_sin[~win_parity] <= sh_sin; bank_cos[~win_parity] <= sh_cos;
                     windows_without_commit <= 16'd0;
                 end else begin
@@ -290,6 +310,8 @@ module hfi_dsp #(
         .clk(clk), .rst(rst_mod), .start(zc_d1),
         .v_d(act_v_d), .v_q(act_v_q), .v_h(act_inj_en ? {1'b0, act_v_h} : 16'sd0),
         .rot(act_inj_rot), .inj_neg(per_act & ~inj_s), .inj_sin(inj_sin), .inj_cos(inj_cos),
+        .direct(act_direct), .fcs_a1(act_fcs_a1), .fcs_a2(act_fcs_a2), .fcs_phi_min(act_fcs_phi_min),
+        .fcs_constrain(act_fcs_constrain), .state(mod_state),
         .sin_q15(act_sin), .cos_q15(act_cos), .i_d_ref(act_i_d_ref), .i_q_ref(act_i_q_ref),
         .half(half), .dead(dead_eff), .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h),
         .cmp_top_a(cmp_top_a), .cmp_top_b(cmp_top_b), .cmp_top_c(cmp_top_c),

@@ -19,6 +19,13 @@
 //   v_a = v_al, v_b/c = round_shr(-v_al*2^14 +/- v_be*28378, 15)                      inverse Clarke
 //   off = shr(max + min, 1), v_x' = v_x - off                                         min-max
 //   cmp_x = clamp(H/2 + round_shr(v_x'*H, 15), 0, H)               (over-modulation clipped per leg)
+// Direct-vector mode (direct = 1, CTRL.DIRECT; spec 3.10, golden/closedloop.py with HardwareConfig.direct):
+//   vd = V_D for both sets, vr = 0 (no injection of any kind); the top program's v_al, v_be go to the
+//   hfi_fcs_mpc instance (the FCS-MPC choice, golden modulator.direct_state = fcs_mpc.choose_vector)
+//   with SIN, COS, FCS_A, FCS_CTRL and the state applied now (`state`); both output sets are
+//   cmp_x = H if bit x of the chosen state is set, else 0 (golden modulator.direct_compares), without
+//   the dead-time compensation, and `state` takes the chosen state (0 after a computation without the
+//   mode, and in reset).
 // The compensation with DTC_GAIN = 0 is the identity (c = 0, cmp already in 0..H), so the module
 // always runs it and the `DTC_GAIN != 0` test of the golden chain needs no hardware.
 //
@@ -37,6 +44,12 @@
 //   recip_h           u32                      RECIP_H (round(2^32/H); any value is computed exactly)
 //   cmp_top_{a,b,c}   u16 (0..H)               compares for sign +1 (latched at the carrier top)
 //   cmp_bot_{a,b,c}   u16 (0..H)               compares for sign -1 (latched at the carrier bottom)
+//   direct            1 bit                    direct-vector mode (above)
+//   fcs_a1, fcs_a2    s16 Q12                  FCS_A (direct mode)
+//   fcs_phi_min       u16                      FCS_CTRL.PHI_MIN (direct mode)
+//   fcs_constrain     1 bit                    FCS_CTRL.CONSTRAIN (direct mode)
+//   state             3 bits                   the direct mode's state applied by the outputs (bit 0 = a;
+//                                              0 without the mode); changes with them, in cycle LATENCY
 // Timing: every input is sampled in the cycle `start` is high (cycle 0) if the unit is not busy; a
 // start while busy is ignored (no queueing). busy is high in cycles 1..LATENCY-1; the six outputs all
 // change together in cycle LATENCY = 105, when done is high for one cycle (and busy is low, so a start
@@ -65,8 +78,8 @@
 // Widths (golden/fpga/modulator.py): vd s17; v_al, v_be within +-98303 in both modes (the Park sums
 // stay within 3*2^30) and v_b, v_c within +-101517 (s18); off s18; the sums fit s34 (the compare sum:
 // |H/2*2^15| < 2^30, |off*H|, |v_x*H| < 2^33).
-// Multipliers: 2 `*` in all: one 18x18 signed here and one 18x18 signed in hfi_deadtime_comp (one
-// MULT18X18D / DSP48E1 each).
+// Multipliers: 3 `*` in all: one 18x18 signed here, one in hfi_deadtime_comp and one in hfi_fcs_mpc
+// (one MULT18X18D / DSP48E1 each). The vector choice runs in cycles 12..80 (T_FCS below) in both modes.
 
 `default_nettype none
 
@@ -81,6 +94,12 @@ module hfi_modulator (
     input  wire               inj_neg,
     input  wire signed [15:0] inj_sin,
     input  wire signed [15:0] inj_cos,
+    input  wire               direct,
+    input  wire signed [15:0] fcs_a1,
+    input  wire signed [15:0] fcs_a2,
+    input  wire        [15:0] fcs_phi_min,
+    input  wire               fcs_constrain,
+    output reg         [2:0]  state,
     input  wire signed [15:0] sin_q15,
     input  wire signed [15:0] cos_q15,
     input  wire signed [15:0] i_d_ref,
@@ -131,14 +150,22 @@ module hfi_modulator (
     reg        [15:0] half_r, dead_r, gain_r;
     reg        [14:0] hf_amp_r;
     reg        [31:0] recip_h_r;
+    reg               direct_r, constrain_r;         // direct-vector mode and its FCS_A, FCS_CTRL
+    reg signed [15:0] a1_r, a2_r;
+    reg        [15:0] phi_min_r;
     wire signed [16:0] vd_plus = {v_d[15], v_d} + (rot ? 17'sd0 : {v_h[15], v_h});
     wire signed [16:0] vd_minus = {v_d[15], v_d} - (rot ? 17'sd0 : {v_h[15], v_h});
     always @(posedge clk) begin
         if (accept) begin
             // formed when sampled (timing: no adder before the operand); inj_neg selects after the adders
-            vd_top <= (inj_neg && !rot) ? vd_minus : vd_plus;
-            vd_bot <= (inj_neg && !rot) ? vd_plus : vd_minus;
-            vr_r <= rot ? v_h : 16'sd0;
+            vd_top <= direct ? {v_d[15], v_d} : (inj_neg && !rot) ? vd_minus : vd_plus;
+            vd_bot <= direct ? {v_d[15], v_d} : (inj_neg && !rot) ? vd_plus : vd_minus;
+            vr_r <= (rot && !direct) ? v_h : 16'sd0;
+            direct_r <= direct;
+            a1_r <= fcs_a1;
+            a2_r <= fcs_a2;
+            phi_min_r <= fcs_phi_min;
+            constrain_r <= fcs_constrain;
             cr_r <= inj_cos;
             sr_r <= inj_sin;
             v_q_r <= v_q;
@@ -358,6 +385,25 @@ module hfi_modulator (
         .done(dtc_done)
     );
 
+    // ---------------------------------------------------------------- direct-vector mode (spec 3.10)
+    // The top program's v_al, v_be (written by the end of cycle 9, without injection in this mode; the
+    // bottom program overwrites be from cycle 28) enter the vector choice in cycle T_FCS; it is done in
+    // cycle T_FCS + 68 = 80 < T_LAST. The choice runs in both modes; only direct_r uses it.
+    localparam [6:0] T_FCS = 7'd12;
+    reg  fcs_go;
+    wire [2:0] fcs_state;
+    hfi_fcs_mpc u_fcs (
+        .clk(clk), .rst(rst), .start(fcs_go), .v_al(va), .v_be(be), .sin_q15(sin_r), .cos_q15(cos_r),
+        .a1(a1_r), .a2(a2_r), .phi_min(phi_min_r), .constrain(constrain_r), .state_now(state),
+        .state(fcs_state),
+        /* verilator lint_off PINCONNECTEMPTY */
+        .busy(), .done()
+        /* verilator lint_on PINCONNECTEMPTY */
+    );
+    wire [15:0] dir_a = fcs_state[0] ? half_r : 16'd0;
+    wire [15:0] dir_b = fcs_state[1] ? half_r : 16'd0;
+    wire [15:0] dir_c = fcs_state[2] ? half_r : 16'd0;
+
     // ---------------------------------------------------------------- control, outputs
     always @(posedge clk) begin
         if (dtc_done && !dtc_bot) begin              // cycle 65
@@ -369,10 +415,12 @@ module hfi_modulator (
         // busy, T_DTC_TOP - 1 is neither 0 nor T_LAST, and an accept loads 1): timing, the start of the
         // compensation then comes from flip-flops
         top_go <= !rst && cnt == T_DTC_TOP - 7'd1;
+        fcs_go <= !rst && cnt == T_FCS - 7'd1;
         if (rst) begin
             cnt <= 7'd0;
             done <= 1'b0;
             dtc_bot <= 1'b0;
+            state <= 3'd0;
             cmp_top_a <= {1'b0, half[15:1]};
             cmp_top_b <= {1'b0, half[15:1]};
             cmp_top_c <= {1'b0, half[15:1]};
@@ -389,12 +437,13 @@ module hfi_modulator (
                 if (dtc_done) dtc_bot <= 1'b1;
                 if (cnt == T_LAST) begin             // the bottom set is done in this cycle
                     done <= 1'b1;
-                    cmp_top_a <= top_a;
-                    cmp_top_b <= top_b;
-                    cmp_top_c <= top_c;
-                    cmp_bot_a <= dtc_a;
-                    cmp_bot_b <= dtc_b;
-                    cmp_bot_c <= dtc_c;
+                    state <= direct_r ? fcs_state : 3'd0;
+                    cmp_top_a <= direct_r ? dir_a : top_a;
+                    cmp_top_b <= direct_r ? dir_b : top_b;
+                    cmp_top_c <= direct_r ? dir_c : top_c;
+                    cmp_bot_a <= direct_r ? dir_a : dtc_a;
+                    cmp_bot_b <= direct_r ? dir_b : dtc_b;
+                    cmp_bot_c <= direct_r ? dir_c : dtc_c;
                 end
             end
         end

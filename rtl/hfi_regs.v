@@ -51,6 +51,7 @@ module hfi_regs #(
     output wire        ctrl_inj_en,
     output wire        ctrl_inj_rot,
     output wire        ctrl_inj_per,
+    output wire        ctrl_direct,
     output wire [1:0]  ctrl_adc_mode,
     output reg         fault_clear,       // one-clock pulse
     output reg         commit_go,         // one-clock pulse
@@ -77,6 +78,10 @@ module hfi_regs #(
     output wire signed [15:0] i_q_ref,
     output wire [31:0] inj_step,
     output wire [7:0]  cic_m,
+    output wire signed [15:0] fcs_a1,
+    output wire signed [15:0] fcs_a2,
+    output wire [15:0] fcs_phi_min,
+    output wire        fcs_constrain,
     // hardware -> software
     input  wire        status_fault_oc,
     input  wire        status_fault_wdt,
@@ -100,6 +105,7 @@ module hfi_regs #(
     input  wire [31:0] cic_qb,
     input  wire [31:0] env_a,
     input  wire [31:0] env_b,
+    input  wire [2:0]  vector_state,      // VECTOR.STATE
     output reg         irq
 );
 /* verilator lint_off UNUSEDPARAM */  // the generated map lists every field; not all are needed here
@@ -111,7 +117,8 @@ module hfi_regs #(
     // ---------------------------------------------------------------- storage (rw fields)
     reg [31:0] r_ctrl, r_irq_status, r_irq_enable, r_pwm_half, r_dead_ticks, r_os_ticks, r_blank_ticks,
                r_cw_angle_step, r_adc_offset, r_adc_gain, r_oc_limit, r_wdt_periods, r_v_dq, r_v_h,
-               r_sincos, r_speed_ref, r_dtc_gain, r_hf_amp, r_recip_h, r_i_ref, r_inj_step, r_cic_m;
+               r_sincos, r_speed_ref, r_dtc_gain, r_hf_amp, r_recip_h, r_i_ref, r_inj_step, r_cic_m,
+               r_fcs_a, r_fcs_ctrl;
     reg        r_safety_lock;
 
     // Field mask and reset word of a register, from the generated constants.
@@ -125,12 +132,14 @@ module hfi_regs #(
                              | fmask(HFI_CTRL_INJ_EN_LSB, HFI_CTRL_INJ_EN_WIDTH)
                              | fmask(HFI_CTRL_ADC_MODE_LSB, HFI_CTRL_ADC_MODE_WIDTH)
                              | fmask(HFI_CTRL_INJ_ROT_LSB, HFI_CTRL_INJ_ROT_WIDTH)
-                             | fmask(HFI_CTRL_INJ_PER_LSB, HFI_CTRL_INJ_PER_WIDTH);
+                             | fmask(HFI_CTRL_INJ_PER_LSB, HFI_CTRL_INJ_PER_WIDTH)
+                             | fmask(HFI_CTRL_DIRECT_LSB, HFI_CTRL_DIRECT_WIDTH);
     localparam [31:0] RST_CTRL = ({31'd0, HFI_CTRL_ENABLE_RESET} << HFI_CTRL_ENABLE_LSB)
                                | ({31'd0, HFI_CTRL_INJ_EN_RESET} << HFI_CTRL_INJ_EN_LSB)
                                | ({30'd0, HFI_CTRL_ADC_MODE_RESET} << HFI_CTRL_ADC_MODE_LSB)
                                | ({31'd0, HFI_CTRL_INJ_ROT_RESET} << HFI_CTRL_INJ_ROT_LSB)
-                               | ({31'd0, HFI_CTRL_INJ_PER_RESET} << HFI_CTRL_INJ_PER_LSB);
+                               | ({31'd0, HFI_CTRL_INJ_PER_RESET} << HFI_CTRL_INJ_PER_LSB)
+                               | ({31'd0, HFI_CTRL_DIRECT_RESET} << HFI_CTRL_DIRECT_LSB);
     localparam [31:0] M_IRQ = fmask(HFI_IRQ_STATUS_WINDOW_LSB, HFI_IRQ_STATUS_WINDOW_WIDTH);
     localparam [31:0] M_U16 = 32'h0000FFFF, M_U15 = 32'h00007FFF, M_U8 = 32'h000000FF, M_ALL = 32'hFFFFFFFF;
     localparam [31:0] RST_IRQ_ENABLE = {31'd0, HFI_IRQ_ENABLE_WINDOW_RESET} << HFI_IRQ_ENABLE_WINDOW_LSB;
@@ -138,6 +147,11 @@ module hfi_regs #(
     localparam [31:0] RST_ADC_GAIN = {HFI_ADC_GAIN_B_RESET, HFI_ADC_GAIN_A_RESET};
     localparam [31:0] RST_V_DQ = {HFI_V_DQ_V_Q_RESET, HFI_V_DQ_V_D_RESET};
     localparam [31:0] RST_SINCOS = {HFI_SINCOS_COS_RESET, HFI_SINCOS_SIN_RESET};
+    localparam [31:0] RST_FCS_A = {HFI_FCS_A_A2_RESET, HFI_FCS_A_A1_RESET};
+    localparam [31:0] RST_FCS_CTRL = ({31'd0, HFI_FCS_CTRL_CONSTRAIN_RESET} << HFI_FCS_CTRL_CONSTRAIN_LSB)
+                                   | {16'd0, HFI_FCS_CTRL_PHI_MIN_RESET};
+    localparam [31:0] M_FCS_CTRL = fmask(HFI_FCS_CTRL_PHI_MIN_LSB, HFI_FCS_CTRL_PHI_MIN_WIDTH)
+                                 | fmask(HFI_FCS_CTRL_CONSTRAIN_LSB, HFI_FCS_CTRL_CONSTRAIN_WIDTH);
     localparam [31:0] RST_I_REF = {HFI_I_REF_I_Q_RESET, HFI_I_REF_I_D_RESET};
 
     // ---------------------------------------------------------------- write channel
@@ -218,7 +232,8 @@ module hfi_regs #(
             HFI_WSUM_ADDR, HFI_N_SAMPLES_ADDR, HFI_WINDOW_COUNT_ADDR, HFI_LATE_COUNT_ADDR,
             HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR,
             HFI_SAFETY_LOCK_ADDR, HFI_INJ_STEP_ADDR, HFI_INJ_PHASE_ADDR, HFI_CIC_M_ADDR, HFI_CIC_QA_ADDR,
-            HFI_CIC_QB_ADDR, HFI_ENV_A_ADDR, HFI_ENV_B_ADDR:
+            HFI_CIC_QB_ADDR, HFI_ENV_A_ADDR, HFI_ENV_B_ADDR, HFI_FCS_A_ADDR, HFI_FCS_CTRL_ADDR,
+            HFI_VECTOR_ADDR:
                 known_addr = 1'b1;
             default: known_addr = 1'b0;
         endcase
@@ -251,6 +266,8 @@ module hfi_regs #(
             r_i_ref <= RST_I_REF;
             r_inj_step <= HFI_INJ_STEP_VALUE_RESET;
             r_cic_m <= {24'd0, HFI_CIC_M_VALUE_RESET};
+            r_fcs_a <= RST_FCS_A;
+            r_fcs_ctrl <= RST_FCS_CTRL;
             r_safety_lock <= HFI_SAFETY_LOCK_LOCK_RESET;
             fault_clear <= 1'b0;
             commit_go <= 1'b0;
@@ -294,6 +311,8 @@ module hfi_regs #(
             if (wr_en[HFI_I_REF_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_i_ref[8*b +: 8] <= wd_bytes(b, M_ALL);
             if (wr_en[HFI_INJ_STEP_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_inj_step[8*b +: 8] <= wd_bytes(b, M_ALL);
             if (wr_en[HFI_CIC_M_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_cic_m[8*b +: 8] <= wd_bytes(b, M_U8);
+            if (wr_en[HFI_FCS_A_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_fcs_a[8*b +: 8] <= wd_bytes(b, M_ALL);
+            if (wr_en[HFI_FCS_CTRL_ADDR / 4]) for (b = 0; b < 4; b = b + 1) if (wstrb_q[b]) r_fcs_ctrl[8*b +: 8] <= wd_bytes(b, M_FCS_CTRL);
             if (wr_en[HFI_SAFETY_LOCK_ADDR / 4])
                 if (wstrb_q[HFI_SAFETY_LOCK_LOCK_LSB / 8] & wdata_q[HFI_SAFETY_LOCK_LOCK_LSB])
                     r_safety_lock <= 1'b1;
@@ -368,6 +387,9 @@ module hfi_regs #(
                     HFI_CIC_QB_ADDR: w = cic_qb;
                     HFI_ENV_A_ADDR: w = env_a;
                     HFI_ENV_B_ADDR: w = env_b;
+                    HFI_FCS_A_ADDR: w = r_fcs_a;
+                    HFI_FCS_CTRL_ADDR: w = r_fcs_ctrl;
+                    HFI_VECTOR_ADDR: w = {29'd0, vector_state};
                     HFI_SAFETY_LOCK_ADDR: w = {31'd0, r_safety_lock} << HFI_SAFETY_LOCK_LOCK_LSB;
                     default: w = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
                 endcase
@@ -437,5 +459,10 @@ module hfi_regs #(
     assign i_q_ref = r_i_ref[HFI_I_REF_I_Q_LSB +: 16];
     assign inj_step = r_inj_step;
     assign cic_m = r_cic_m[7:0];
+    assign ctrl_direct = r_ctrl[HFI_CTRL_DIRECT_LSB];
+    assign fcs_a1 = r_fcs_a[HFI_FCS_A_A1_LSB +: 16];
+    assign fcs_a2 = r_fcs_a[HFI_FCS_A_A2_LSB +: 16];
+    assign fcs_phi_min = r_fcs_ctrl[HFI_FCS_CTRL_PHI_MIN_LSB +: 16];
+    assign fcs_constrain = r_fcs_ctrl[HFI_FCS_CTRL_CONSTRAIN_LSB];
 endmodule
 `default_nettype wire

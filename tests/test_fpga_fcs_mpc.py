@@ -85,3 +85,51 @@ def test_bad_inputs_are_refused():
         choose_vector(0, 0, 0, 32767, 0, 0, 0, False, 8)
     with pytest.raises(ValueError, match="PHI_MIN"):
         choose_vector(0, 0, 0, 32767, 0, 0, -1, False, 0)
+
+
+def test_direct_mode_of_the_modulator():
+    """golden/fpga/modulator.py: direct_alpha_beta is the modulator's inverse Park without injection
+    (the v_alpha that compares() uses with V_H = 0: its v_a), direct_state is choose_vector on it,
+    direct_compares gives H / 0 per leg (bit 0 = phase a)."""
+    from golden.fpga.modulator import compares, direct_alpha_beta, direct_compares, direct_state
+    rng = np.random.default_rng(5)
+    for _ in range(2000):
+        v_d, v_q, s, c, a1, a2 = (int(x) for x in rng.integers(-32768, 32768, 6))
+        phi, now, con = int(rng.integers(0, 65536)), int(rng.integers(0, 8)), bool(rng.integers(0, 2))
+        v_al, v_be = direct_alpha_beta(v_d, v_q, s, c)
+        # v_a of the ordinary modulator with V_H = 0 at H = 2^15 is v_alpha shifted by the zero sequence
+        assert v_al == (v_d * c - v_q * s + 16384) >> 15 and v_be == (v_d * s + v_q * c + 16384) >> 15
+        assert direct_state(v_d, v_q, s, c, a1, a2, phi, con, now) == choose_vector(v_al, v_be, s, c, a1, a2,
+                                                                                    phi, con, now)[0]
+    assert compares(0, 0, 0, 0, 32767, 1000, 1) == (500, 500, 500)
+    assert [direct_compares(st, 1000) for st in (0, 1, 2, 4, 6, 7)] == [
+        (0, 0, 0), (1000, 0, 0), (0, 1000, 0), (0, 0, 1000), (0, 1000, 1000), (1000, 1000, 1000)]
+    with pytest.raises(ValueError):
+        direct_compares(8, 1000)
+    with pytest.raises(ValueError):
+        direct_alpha_beta(32768, 0, 0, 0)
+
+
+def test_closed_loop_direct_mode_runs():
+    """HardwareConfig.direct = 1 in the golden closed loop (no scenario sets it yet: switched on by hand
+    on a short run): after the first half (reset compares) every compare is 0 or H and both halves of a
+    period carry the same state. The firmware does not drive the mode, so this checks the wiring only."""
+    import dataclasses
+
+    from golden.closedloop import ClosedLoop
+    from hfi import paper
+    sc = paper.experiment("cl_short", {"scenario": {"duration": 0.005}})
+    loop = ClosedLoop(sc)
+    loop.hw = dataclasses.replace(loop.hw, direct=1)
+    seen = []
+    orig = loop.gen.add_half
+
+    def spy(t0, half, rising, cmps):
+        seen.append(tuple(int(x) for x in cmps))
+        return orig(t0, half, rising, cmps)
+    loop.gen.add_half = spy
+    loop.run(progress=False)
+    H = loop.half
+    direct = seen[1:]
+    assert len(direct) > 10 and all(x in (0, H) for cm in direct for x in cm)
+    assert all(direct[2 * i] == direct[2 * i + 1] for i in range(len(direct) // 2))

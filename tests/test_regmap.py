@@ -136,7 +136,7 @@ SPEC_ADDRS = {
     "WSUM": 0x60, "N_SAMPLES": 0x64, "WINDOW_COUNT": 0x68, "LATE_COUNT": 0x6C, "SPEED_REF": 0x70,
     "DTC_GAIN": 0x74, "HF_AMP": 0x78, "RECIP_H": 0x7C, "I_REF": 0x80, "SAFETY_LOCK": 0x84,
     "INJ_STEP": 0x88, "INJ_PHASE": 0x8C, "CIC_M": 0x90, "CIC_QA": 0x94, "CIC_QB": 0x98, "ENV_A": 0x9C,
-    "ENV_B": 0xA0,
+    "ENV_B": 0xA0, "FCS_A": 0xA4, "FCS_CTRL": 0xA8, "VECTOR": 0xAC,
 }
 
 
@@ -179,6 +179,12 @@ def test_fields_and_resets():
     for name in ("CIC_QA", "CIC_QB", "ENV_A", "ENV_B"):
         assert regmap.REGISTERS[name]["fields"] == {"VALUE": (0, 32, None, "ro")}, name
         assert regmap.REGISTERS[name]["signed"] == ("VALUE",), name
+    # the direct-vector mode (docs/spec.md 3.10)
+    assert (regmap.CTRL_DIRECT_LSB, regmap.CTRL_DIRECT_WIDTH, regmap.CTRL_DIRECT_RESET) == (6, 1, 0)
+    assert regmap.REGISTERS["FCS_A"]["fields"] == {"A1": (0, 16, 0, "rw"), "A2": (16, 16, 0, "rw")}
+    assert regmap.REGISTERS["FCS_A"]["signed"] == ("A1", "A2")
+    assert regmap.REGISTERS["FCS_CTRL"]["fields"] == {"PHI_MIN": (0, 16, 0, "rw"), "CONSTRAIN": (16, 1, 0, "rw")}
+    assert regmap.REGISTERS["VECTOR"]["fields"] == {"STATE": (0, 3, None, "ro")}
     for name, reg in regmap.REGISTERS.items():  # no overlapping fields, all inside 32 bits
         used = 0
         for lsb, width, _reset, _access in reg["fields"].values():
@@ -196,8 +202,11 @@ def test_pack_negative_signed_field():
 
 
 @pytest.mark.parametrize("reg, fields", [
-    ("CTRL", {"ENABLE": 1, "INJ_EN": 1, "ADC_MODE": 2, "INJ_ROT": 1, "INJ_PER": 0, "FAULT_CLEAR": 0}),
-    ("CTRL", {"ENABLE": 0, "INJ_EN": 1, "ADC_MODE": 0, "INJ_ROT": 0, "INJ_PER": 1, "FAULT_CLEAR": 0}),
+    ("CTRL", {"ENABLE": 1, "INJ_EN": 1, "ADC_MODE": 2, "INJ_ROT": 1, "INJ_PER": 0, "DIRECT": 0, "FAULT_CLEAR": 0}),
+    ("CTRL", {"ENABLE": 0, "INJ_EN": 1, "ADC_MODE": 0, "INJ_ROT": 0, "INJ_PER": 1, "DIRECT": 1, "FAULT_CLEAR": 0}),
+    ("FCS_A", {"A1": -32768, "A2": 32767}),
+    ("FCS_CTRL", {"PHI_MIN": 65535, "CONSTRAIN": 1}),
+    ("VECTOR", {"STATE": 7}),
     ("CIC_M", {"VALUE": 255}),
     ("CIC_QA", {"VALUE": -(2**20)}),
     ("ENV_B", {"VALUE": 2**16 - 1}),

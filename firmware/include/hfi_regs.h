@@ -59,6 +59,10 @@ typedef union {
 #define HFI_REGS__CTRL__INJ_PER_bp 5
 #define HFI_REGS__CTRL__INJ_PER_bw 1
 #define HFI_REGS__CTRL__INJ_PER_reset 0x0
+#define HFI_REGS__CTRL__DIRECT_bm 0x40
+#define HFI_REGS__CTRL__DIRECT_bp 6
+#define HFI_REGS__CTRL__DIRECT_bw 1
+#define HFI_REGS__CTRL__DIRECT_reset 0x0
 #define HFI_REGS__CTRL__FAULT_CLEAR_bm 0x100
 #define HFI_REGS__CTRL__FAULT_CLEAR_bp 8
 #define HFI_REGS__CTRL__FAULT_CLEAR_bw 1
@@ -70,7 +74,8 @@ typedef union {
         uint32_t ADC_MODE :2;
         uint32_t INJ_ROT :1;
         uint32_t INJ_PER :1;
-        uint32_t :2;
+        uint32_t DIRECT :1;
+        uint32_t :1;
         uint32_t FAULT_CLEAR :1;
         uint32_t :23;
     } f;
@@ -577,6 +582,53 @@ typedef union {
     uint32_t w;
 } hfi_regs__ENV_B_t;
 
+// reg - hfi_regs.FCS_A
+#define HFI_REGS__FCS_A__A1_bm 0xffff
+#define HFI_REGS__FCS_A__A1_bp 0
+#define HFI_REGS__FCS_A__A1_bw 16
+#define HFI_REGS__FCS_A__A1_reset 0x0
+#define HFI_REGS__FCS_A__A2_bm 0xffff0000
+#define HFI_REGS__FCS_A__A2_bp 16
+#define HFI_REGS__FCS_A__A2_bw 16
+#define HFI_REGS__FCS_A__A2_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t A1 :16;
+        uint32_t A2 :16;
+    } f;
+    uint32_t w;
+} hfi_regs__FCS_A_t;
+
+// reg - hfi_regs.FCS_CTRL
+#define HFI_REGS__FCS_CTRL__PHI_MIN_bm 0xffff
+#define HFI_REGS__FCS_CTRL__PHI_MIN_bp 0
+#define HFI_REGS__FCS_CTRL__PHI_MIN_bw 16
+#define HFI_REGS__FCS_CTRL__PHI_MIN_reset 0x0
+#define HFI_REGS__FCS_CTRL__CONSTRAIN_bm 0x10000
+#define HFI_REGS__FCS_CTRL__CONSTRAIN_bp 16
+#define HFI_REGS__FCS_CTRL__CONSTRAIN_bw 1
+#define HFI_REGS__FCS_CTRL__CONSTRAIN_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t PHI_MIN :16;
+        uint32_t CONSTRAIN :1;
+        uint32_t :15;
+    } f;
+    uint32_t w;
+} hfi_regs__FCS_CTRL_t;
+
+// reg - hfi_regs.VECTOR
+#define HFI_REGS__VECTOR__STATE_bm 0x7
+#define HFI_REGS__VECTOR__STATE_bp 0
+#define HFI_REGS__VECTOR__STATE_bw 3
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t STATE :3;
+        uint32_t :29;
+    } f;
+    uint32_t w;
+} hfi_regs__VECTOR_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -620,6 +672,9 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__CIC_QB_t CIC_QB;
     hfi_regs__ENV_A_t ENV_A;
     hfi_regs__ENV_B_t ENV_B;
+    hfi_regs__FCS_A_t FCS_A;
+    hfi_regs__FCS_CTRL_t FCS_CTRL;
+    hfi_regs__VECTOR_t VECTOR;
 } hfi_regs_t;
 
 
@@ -665,11 +720,14 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__CIC_QB_offset 0x98
 #define HFI_REGS__ENV_A_offset 0x9c
 #define HFI_REGS__ENV_B_offset 0xa0
+#define HFI_REGS__FCS_A_offset 0xa4
+#define HFI_REGS__FCS_CTRL_offset 0xa8
+#define HFI_REGS__VECTOR_offset 0xac
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0xa4, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0xb0, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -710,6 +768,9 @@ _Static_assert(offsetof(hfi_regs_t, CIC_QA) == HFI_REGS__CIC_QA_offset, "hfi_reg
 _Static_assert(offsetof(hfi_regs_t, CIC_QB) == HFI_REGS__CIC_QB_offset, "hfi_regs_t: CIC_QB offset");
 _Static_assert(offsetof(hfi_regs_t, ENV_A) == HFI_REGS__ENV_A_offset, "hfi_regs_t: ENV_A offset");
 _Static_assert(offsetof(hfi_regs_t, ENV_B) == HFI_REGS__ENV_B_offset, "hfi_regs_t: ENV_B offset");
+_Static_assert(offsetof(hfi_regs_t, FCS_A) == HFI_REGS__FCS_A_offset, "hfi_regs_t: FCS_A offset");
+_Static_assert(offsetof(hfi_regs_t, FCS_CTRL) == HFI_REGS__FCS_CTRL_offset, "hfi_regs_t: FCS_CTRL offset");
+_Static_assert(offsetof(hfi_regs_t, VECTOR) == HFI_REGS__VECTOR_offset, "hfi_regs_t: VECTOR offset");
 #endif
 
 #ifdef __cplusplus

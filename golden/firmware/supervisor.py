@@ -174,6 +174,10 @@ class Outputs:
     enable: int
     i_d_ref: int = 0
     i_q_ref: int = 0
+    fcs_a1: int = 0                  # FCS_A.A1, s16 Q12 (direct-vector mode, spec 3.10)
+    fcs_a2: int = 0                  # FCS_A.A2, s16 Q12
+    fcs_phi_min: int = 0             # FCS_CTRL.PHI_MIN, u16
+    fcs_constrain: int = 0           # FCS_CTRL.CONSTRAIN
 
 
 RESET_OUTPUTS = Outputs(v_d=0, v_q=0, v_h=0, sin=0, cos=32767, enable=0)

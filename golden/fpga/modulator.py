@@ -26,6 +26,12 @@ and their sums s33 (square wave: |vd| <= 65535, two products; rotating: |vd| <= 
 below 3*2^30 in magnitude either way); ``v_alpha, v_beta`` within +-98303 (s18); the Clarke sums s33; ``v_b, v_c`` within
 +-101517 (s18); ``max + min`` s18; ``v_x'`` within +-87916 (s18); ``v_x'*H`` s34 (H <= 65534, u16).
 Plain Python ints (no numpy): this is called twice per PWM period in the closed loop.
+
+Direct-vector mode (``CTRL.DIRECT``, spec 3.10; the 003 method): at the carrier-top latch the state is
+:func:`direct_state` (the inverse Park of step 2 without any injection term, then
+``golden.fpga.fcs_mpc.choose_vector`` with the state applied until then, 0 after reset and while the mode
+is off), and both that latch and the following bottom one use :func:`direct_compares` of it (no dead-time
+compensation). golden/closedloop.py does so when ``HardwareConfig.direct`` is set.
 """
 
 from __future__ import annotations
@@ -153,3 +159,34 @@ def _validate(v_d, v_q, v_h, sin_q15, cos_q15, half, sign):
     if out[6] == 0:
         raise ValueError("sign must be -1 (carrier bottom, rising half) or +1 (carrier top, falling half)")
     return tuple(out)
+
+
+# ---------------------------------------------------------------- direct-vector mode (CTRL.DIRECT)
+
+def direct_alpha_beta(v_d: int, v_q: int, sin_q15: int, cos_q15: int) -> tuple[int, int]:
+    """``(v_alpha, v_beta)`` of the direct-vector mode (spec 3.10): the inverse Park of step 2 above
+    without any injection term (``V_H``, the period square wave and the rotating injection are ignored),
+    ``round_shr(V_D*COS - V_Q*SIN, 15)``, ``round_shr(V_D*SIN + V_Q*COS, 15)``; s18."""
+    for name, value in (("V_D", v_d), ("V_Q", v_q), ("SIN", sin_q15), ("COS", cos_q15)):
+        _validate_int(name, value, _S16_MIN, _S16_MAX)
+    return (round_shr(v_d * cos_q15 - v_q * sin_q15, 15), round_shr(v_d * sin_q15 + v_q * cos_q15, 15))
+
+
+def direct_state(v_d: int, v_q: int, sin_q15: int, cos_q15: int, a1: int, a2: int, phi_min: int,
+                 constrain: bool, state_now: int) -> int:
+    """The inverter state (3 bits, bit 0 = phase a) that the carrier-top latch of the direct-vector mode
+    chooses (spec 3.10): :func:`golden.fpga.fcs_mpc.choose_vector` on :func:`direct_alpha_beta` of the
+    active registers, ``A1, A2, PHI_MIN, CONSTRAIN`` from ``FCS_A, FCS_CTRL``; ``state_now`` is the state
+    applied until this latch (0 after reset and while the mode is off). The following bottom latch
+    reuses it."""
+    from golden.fpga.fcs_mpc import choose_vector
+    v_al, v_be = direct_alpha_beta(v_d, v_q, sin_q15, cos_q15)
+    return choose_vector(v_al, v_be, sin_q15, cos_q15, a1, a2, phi_min, constrain, state_now)[0]
+
+
+def direct_compares(state: int, half: int) -> tuple[int, int, int]:
+    """Compares of the direct-vector mode (spec 3.10): ``cmp_x = H`` if bit x of ``state`` is set (bit 0
+    = phase a), else 0, for both halves of the period; no dead-time compensation."""
+    state = _validate_int("state", state, 0, 7)
+    half = _validate_int("half period", half, 4, 65534)
+    return tuple(half if (state >> x) & 1 else 0 for x in range(3))

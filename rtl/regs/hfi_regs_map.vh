@@ -35,6 +35,9 @@ localparam [0:0] HFI_CTRL_INJ_ROT_RESET = 1'h0;
 localparam integer HFI_CTRL_INJ_PER_LSB = 5;  // rw
 localparam integer HFI_CTRL_INJ_PER_WIDTH = 1;
 localparam [0:0] HFI_CTRL_INJ_PER_RESET = 1'h0;
+localparam integer HFI_CTRL_DIRECT_LSB = 6;  // rw
+localparam integer HFI_CTRL_DIRECT_WIDTH = 1;
+localparam [0:0] HFI_CTRL_DIRECT_RESET = 1'h0;
 localparam integer HFI_CTRL_FAULT_CLEAR_LSB = 8;  // w1p
 localparam integer HFI_CTRL_FAULT_CLEAR_WIDTH = 1;
 localparam [0:0] HFI_CTRL_FAULT_CLEAR_RESET = 1'h0;
@@ -296,6 +299,30 @@ localparam [7:0] HFI_ENV_B_ADDR = 8'hA0;
 localparam integer HFI_ENV_B_VALUE_LSB = 0;  // ro, signed
 localparam integer HFI_ENV_B_VALUE_WIDTH = 32;
 localparam [31:0] HFI_ENV_B_VALUE_RESET = 32'h0;
+
+// FCS_A @ 0xA4: FCS-MPC strength coefficients (shadow)
+localparam [7:0] HFI_FCS_A_ADDR = 8'hA4;
+localparam integer HFI_FCS_A_A1_LSB = 0;  // rw, signed
+localparam integer HFI_FCS_A_A1_WIDTH = 16;
+localparam [15:0] HFI_FCS_A_A1_RESET = 16'h0;
+localparam integer HFI_FCS_A_A2_LSB = 16;  // rw, signed
+localparam integer HFI_FCS_A_A2_WIDTH = 16;
+localparam [15:0] HFI_FCS_A_A2_RESET = 16'h0;
+
+// FCS_CTRL @ 0xA8: FCS-MPC constraint (shadow)
+localparam [7:0] HFI_FCS_CTRL_ADDR = 8'hA8;
+localparam integer HFI_FCS_CTRL_PHI_MIN_LSB = 0;  // rw
+localparam integer HFI_FCS_CTRL_PHI_MIN_WIDTH = 16;
+localparam [15:0] HFI_FCS_CTRL_PHI_MIN_RESET = 16'h0;
+localparam integer HFI_FCS_CTRL_CONSTRAIN_LSB = 16;  // rw
+localparam integer HFI_FCS_CTRL_CONSTRAIN_WIDTH = 1;
+localparam [0:0] HFI_FCS_CTRL_CONSTRAIN_RESET = 1'h0;
+
+// VECTOR @ 0xAC: Applied inverter state
+localparam [7:0] HFI_VECTOR_ADDR = 8'hAC;
+localparam integer HFI_VECTOR_STATE_LSB = 0;  // ro
+localparam integer HFI_VECTOR_STATE_WIDTH = 3;
+localparam [2:0] HFI_VECTOR_STATE_RESET = 3'h0;
 
 // Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
 function hfi_locked_by_safety_lock_lock(input [7:0] a);

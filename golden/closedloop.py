@@ -232,12 +232,18 @@ class ClosedLoop:
                 gen.take_switch_ticks(zc + P)
             win, _, _ = window_dsp(adc[:, 0], adc[:, 1], hw.adc_bits, hw.adc_offset[0], hw.adc_offset[1],
                                    hw.adc_gain[0], hw.adc_gain[1], active.sin, active.cos, w, keep)
-            # the carrier-bottom sample (phase 0, in every ADC mode) through the differencing and CIC block
-            j = int(np.searchsorted(rel, P - H // 2))
-            i_al, i_be = clarke(adc_to_current(int(adc[j, 0]), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0]),
-                                adc_to_current(int(adc[j, 1]), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1]))
-            q_a, q_b, e_a, e_b = self.diff_cic.step(int(i_al), int(i_be), plus, hw.cic_m)
-            win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
+            # the carrier-bottom sample (phase 0, in every ADC mode) through the differencing and CIC block;
+            # the mode is fixed for a run, and without it plus is never 1, so the block's outputs stay 0
+            # (the hardware steps it anyway; skipping it here changes no output)
+            q_a = q_b = e_a = e_b = 0
+            if per:
+                j = int(np.searchsorted(rel, P - H // 2))
+                i_al, i_be = clarke(
+                    adc_to_current(int(adc[j, 0]), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0]),
+                    adc_to_current(int(adc[j, 1]), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1]))
+                q_a, q_b, e_a, e_b = self.diff_cic.step(int(i_al), int(i_be), plus, hw.cic_m)
+            if inj_phase or per:
+                win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
             o = fw.step(win, speed_ref[k])
             outs.append(o)
             s_ticks.append(ticks)

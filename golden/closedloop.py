@@ -45,7 +45,7 @@ WINDOW_FIELDS = (
     "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
     "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase", "cic_qa", "cic_qb", "env_a", "env_b",
-    "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
+    "vector", "top_ia", "top_ib", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
 """Per-window trace columns (integers of the spec, and the plant's truth at the window end). ``est`` is
 the estimator slot in charge (0 low-speed, 1 high-speed), ``theta_lo/hi`` and ``omega_lo/hi`` each slot's
 outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the window (``INJ_PHASE``),
@@ -165,6 +165,17 @@ class ClosedLoop:
                               hw.hf_amp, o.sin, o.cos, hw.recip_h)
         return cmps
 
+    def _top_sample(self, rel: np.ndarray, adc: np.ndarray, keep, top: tuple[int, int]) -> tuple[int, int]:
+        """``TOP_I`` (spec 3.11): the Clarke currents of the window's sample at the carrier top (``H/2``
+        after the window start), or ``top`` (the previous value) when the window has none."""
+        hw, H = self.hw, self.half
+        j = int(np.searchsorted(rel, H // 2))
+        if j >= len(rel) or rel[j] != H // 2 or (keep is not None and not keep[j]):
+            return top
+        i_al, i_be = clarke(adc_to_current(int(adc[j, 0]), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0]),
+                            adc_to_current(int(adc[j, 1]), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1]))
+        return int(i_al), int(i_be)
+
     def run(self, progress: bool = True) -> ClosedLoopResult:
         sc, hw, H = self.sc, self.hw, self.half
         P = 2 * H
@@ -188,6 +199,7 @@ class ClosedLoop:
         # boundary) has the reset compares in either mode
         direct = bool(hw.direct)
         state = 0
+        top = (0, 0)                                      # TOP_I after reset
         gen.add_half(0, H, True, self._compares(active, -1, None, inj_sign))
         prev_switch = np.zeros(0, dtype=np.int64)
         t0 = time.perf_counter()
@@ -244,6 +256,9 @@ class ClosedLoop:
                 q_a, q_b, e_a, e_b = self.diff_cic.step(int(i_al), int(i_be), plus, hw.cic_m)
             if inj_phase or per:
                 win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
+            if direct:                                    # VECTOR and TOP_I (spec 3.10, 3.11)
+                top = self._top_sample(rel, adc, keep, top)
+                win = dataclasses.replace(win, vector=state, top_ia=top[0], top_ib=top[1])
             o = fw.step(win, speed_ref[k])
             outs.append(o)
             s_ticks.append(ticks)
@@ -261,6 +276,7 @@ class ClosedLoop:
             r["omega_lo"][k], r["omega_hi"][k] = fw.est_omega[0], fw.est_omega[1]
             r["inj_phase"][k] = inj_phase
             r["cic_qa"][k], r["cic_qb"][k], r["env_a"][k], r["env_b"][k] = q_a, q_b, e_a, e_b
+            r["vector"][k], r["top_ia"][k], r["top_ib"][k] = win.vector, win.top_ia, win.top_ib
             r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
             r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
             truths.append(truth)

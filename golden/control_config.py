@@ -19,17 +19,21 @@ from dataclasses import dataclass
 from golden.firmware import biquad
 from golden.firmware.bangbang import k_bb_raw
 from golden.firmware.eemf_smo import I_FRAC, SmoParams
-from golden.firmware.estimator import (BY_ID, INJ_ROT, INJ_SQW_P, METHOD_EEMF_SMO, METHOD_RFO, METHOD_ROT_BPF,
-                                      METHOD_SQW_BANGBANG, METHOD_SQW_CIC)
+from golden.firmware.estimator import (BY_ID, INJ_ROT, INJ_SQW_P, METHOD_EEMF_SMO, METHOD_HFO_PROJ, METHOD_RFO,
+                                      METHOD_ROT_BPF, METHOD_SQW_BANGBANG, METHOD_SQW_CIC)
+from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams
+from golden.firmware.flux_lut import FLUX_FRAC
+from golden.firmware.hfo_proj import HfoParams
 from golden.firmware.lowpass import lowpass_coef
 from golden.firmware.mtpa import mtpa_table
 from golden.firmware.pi import PiParams, pi_gains
 from golden.firmware.pll import pll_gains
-from golden.firmware.rfo import FLUX_FRAC, RfoParams
+from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams
-from golden.firmware.supervisor import POL_CURRENT, POL_PILOT, FirmwareParams
+from golden.firmware.supervisor import POL_CURRENT, POL_NONE, POL_PILOT, FirmwareParams
+from golden.flux_tables import flux_lut, flux_reference_table, nominal_motor
 from golden.scenario import HIGH_ESTIMATORS, LOW_ESTIMATORS
 from golden.fixed import shr, to_fixed, uwrap, wrap
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK, effective_os_ticks
@@ -100,12 +104,13 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
     rot = rotating_injection(sc)
     # eq. (17): the HF d-current is a triangle of amplitude V_h / (4 f_sw L_d); the rotating injection's
     # current is predicted by the firmware instead (FirmwareParams.hf_dtc), so HF_AMP is 0 then
-    hf_amp = 0 if rot or period_injection(sc) else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
+    direct = int(ctl.law == "fcs_mpc")
+    hf_amp = 0 if rot or period_injection(sc) or direct else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
     dtc_gain = min(to_fixed(dead / max(sc_.current(ctl.dtc_zone), 1), 8), 65535) if ctl.dead_time_comp == "on" else 0
     per = period_injection(sc)
     return HardwareConfig(
         inj_rot=int(rot), inj_step=injection_step(sc),
-        inj_per=int(per), cic_m=sc.estimator.params["sqw_cic"]["cic_m"] if per else 2,
+        inj_per=int(per), direct=direct, cic_m=sc.estimator.params["sqw_cic"]["cic_m"] if per else 2,
         dtc_gain=dtc_gain, hf_amp=hf_amp, recip_h=recip_half(half),
         pwm_half=half, dead_ticks=round(sc.pwm.dead_time * tick_hz),
         os_ticks=effective_os_ticks(min(round(ctl.sample_interval * tick_hz), 0xFFFF)), blank_ticks=round(ctl.blank * tick_hz),
@@ -152,14 +157,15 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     """
     ctl, sc_ = sc.control, scales(sc)
     f_sw = sc.pwm.f_sw
-    mag, mech = sc.plant["mag"], sc.plant["mech"]
+    mech = sc.plant["mech"]
+    p = int(mech["pole_pairs"])
+    mag = nominal_motor(sc.plant["mag"], p, 0.5 * ctl.i_max)
     L = 0.5 * (mag["L_d"] + mag["L_q"])
     w_c = 2 * math.pi * ctl.current_bw
     v_lim = min(sc_.voltage(ctl.v_max), 32767)
     kp, ki = pi_gains(L * w_c, sc.plant["R_s"] * w_c, sc_.i_lsb / sc_.v_lsb, f_sw, sp=16, si=16)
     cur_pi = PiParams(kp, 16, ki, 16, v_lim)
-    p = int(mech["pole_pairs"])
-    k_t = 1.5 * p * mag["psi_f"]
+    k_t = mag["k_t"]
     w_s = 2 * math.pi * ctl.speed_bw
     kp_w = mech["J"] * w_s / (k_t * p)
     speed_div = max(round(f_sw / ctl.speed_rate), 1) if ctl.speed_rate > 0 else 1
@@ -191,10 +197,58 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         cic=sqw_cic_params(sc) if METHOD_SQW_CIC in methods else None,
         inj_rot=int(rot), inj_cd=inj_cd, inj_sd=inj_sd, inj_c2=inj_c2, inj_s2=inj_s2,
         hf_dtc=rot_hf_current(sc) if rot else 0,
-        pol_mode=POL_PILOT if ctl.polarity == "pilot" else POL_CURRENT,
+        pol_mode={"current": POL_CURRENT, "pilot": POL_PILOT, "none": POL_NONE}[ctl.polarity],
         v_pilot=min(sc_.voltage(ctl.v_pilot), 32767),
         mtpa_shift=mtpa[0], mtpa_id=mtpa[1], mtpa_iq=mtpa[2], notch=notch, speed_div=speed_div,
-        i_slew=max(sc_.current(ctl.current_slew / f_sw), 1) if ctl.current_slew > 0 else 0)
+        i_slew=max(sc_.current(ctl.current_slew / f_sw), 1) if ctl.current_slew > 0 else 0,
+        law=LAW_FCS_MPC if ctl.law == "fcs_mpc" else LAW_FOC_PWM,
+        fcs=fcs_params(sc) if ctl.law == "fcs_mpc" else None,
+        hfo=hfo_proj_params(sc) if METHOD_HFO_PROJ in methods else None)
+
+
+def flux_lsb(sc: Scenario) -> float:
+    """The firmware's flux unit [V*s]: ``v_lsb T / 2^FLUX_FRAC`` (golden.firmware.flux_lut)."""
+    return scales(sc).v_lsb / sc.pwm.f_sw / 2**FLUX_FRAC
+
+
+def dead_time_flux(sc: Scenario) -> int:
+    """``V_dc t_d`` in flux units (golden.firmware.applied_flux): ``2^(15 + FLUX_FRAC)`` times the dead time
+    the hardware applies (``DEAD_TICKS``) over the period."""
+    hw = hardware_config(sc)
+    return to_fixed(2**15 * hw.dead_ticks / (2 * hw.pwm_half), FLUX_FRAC)
+
+
+def fcs_params(sc: Scenario) -> FcsParams:
+    """The ``fcs_mpc`` law's integers (golden.firmware.fcs_law): ``R_s`` as flux and as voltage per current
+    LSB, the flux reference table over ``0..i_max`` from the plant's map with ``control.flux_min``, and the
+    constraint's threshold ``estimator.hfo_proj.phi_min``."""
+    ctl, sc_ = sc.control, scales(sc)
+    r = sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb
+    shift, t_d, t_q = flux_reference_table(sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"]), sc_.i_lsb,
+                                           flux_lsb(sc), sc_.current(ctl.i_max), ctl.flux_min)
+    return FcsParams(r_f=to_fixed(r * 2**FLUX_FRAC, 16), r_v=to_fixed(r, 16), dt_f=dead_time_flux(sc), shift=shift, t_d=t_d, t_q=t_q,
+                     phi_min=min(sc_.voltage(sc.estimator.params["hfo_proj"]["phi_min"]), 65535), v_lim=32767)
+
+
+def hfo_proj_params(sc: Scenario) -> HfoParams:
+    """``estimator.hfo_proj``: the 003 estimator's integers (golden.firmware.hfo_proj). The flux LUT from the
+    plant's map (times ``map_scale_d/q``); ``l_shift`` brings the largest cell inductance of the LUT below
+    2^15; ``g``, ``w_g`` as electrical speeds; the PLL's poles at ``-Omega`` (eq. (40): ``k_p = 2 Omega``,
+    ``k_i = Omega^2``)."""
+    t, sc_, f_sw = sc.estimator.params["hfo_proj"], scales(sc), sc.pwm.f_sw
+    T = 1.0 / f_sw
+    lut = flux_lut(sc.plant["mag"], sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], t["lut_max_d"], t["lut_max_q"],
+                   t["map_scale_d"], t["map_scale_q"])
+    l_shift = max(max(map(abs, lut.t_ld + lut.t_lq + lut.t_ldq)).bit_length() - 15, 0)
+    omega = 2 * math.pi * t["pll_bw"]
+    kp, ki = pll_gains(2 * omega, omega * omega, f_sw)
+    return HfoParams(lut=lut, r_f=to_fixed(sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb * 2**FLUX_FRAC, 16),
+                     dt_f=dead_time_flux(sc),
+                     c_g=to_fixed(2 * math.pi * t["g"] * T, 16), l_shift=l_shift,
+                     phi_min=min(sc_.voltage(t["phi_min"]), 65535), n_max=t["n_max"],
+                     g_b=to_fixed(t["g"] * T, 32), wg_b=max(to_fixed(t["w_g"] * T, 32), 1), kp=kp, ki=ki,
+                     k_delay=to_fixed(1.5, 16), eps_max=to_fixed(t["eps_max"] / (2 * math.pi), 32),
+                     reject_gain=int(t["reject_gain"] == "on"))
 
 
 def sqw_params(sc: Scenario) -> SqwParams:
@@ -212,12 +266,12 @@ def rfo_params(sc: Scenario) -> RfoParams:
     """
     t, sc_ = sc.estimator.params["rfo"], scales(sc)
     f_sw = sc.pwm.f_sw
-    flux_lsb = sc_.v_lsb / f_sw / 2**FLUX_FRAC
+    f_lsb = flux_lsb(sc)
     mag = sc.plant["mag"]
     kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
     p = RfoParams(r_s=to_fixed(sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb, 16),
-                  l_s=to_fixed(mag["L_q"] * sc_.i_lsb / flux_lsb, 16),
-                  psi_f=to_fixed(mag["psi_f"] / flux_lsb, 0),
+                  l_s=to_fixed(mag["L_q"] * sc_.i_lsb / f_lsb, 16),
+                  psi_f=to_fixed(mag["psi_f"] / f_lsb, 0),
                   k_c=lowpass_coef(t["flux_bw"], f_sw), pll_kp=kp, pll_ki=ki, i_d=-sc_.current(t["i_d_min"]))
     for name, value, hi in (("r_s", p.r_s, 2**31 - 1), ("l_s", p.l_s, 2**31 - 1), ("psi_f", p.psi_f, 2**27)):
         if not 0 <= value <= hi:

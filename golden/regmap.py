@@ -412,6 +412,17 @@ VECTOR_STATE_WIDTH = 3
 VECTOR_STATE_MASK = 0x00000007
 VECTOR_STATE_RESET = None
 
+# TOP_I @ 0xB0: Carrier-top sample
+TOP_I_ADDR = 0xB0
+TOP_I_I_ALPHA_LSB = 0  # ro, signed
+TOP_I_I_ALPHA_WIDTH = 16
+TOP_I_I_ALPHA_MASK = 0x0000FFFF
+TOP_I_I_ALPHA_RESET = None
+TOP_I_I_BETA_LSB = 16  # ro, signed
+TOP_I_I_BETA_WIDTH = 16
+TOP_I_I_BETA_MASK = 0xFFFF0000
+TOP_I_I_BETA_RESET = None
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -563,6 +574,10 @@ REGISTERS = {
     }},
     "VECTOR": {"addr": 0xAC, "reset": 0x00000000, "signed": (), "fields": {
         "STATE": (0, 3, None, "ro"),
+    }},
+    "TOP_I": {"addr": 0xB0, "reset": 0x00000000, "signed": ("I_ALPHA", "I_BETA",), "fields": {
+        "I_ALPHA": (0, 16, None, "ro"),
+        "I_BETA": (16, 16, None, "ro"),
     }},
 }
 

@@ -249,13 +249,15 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "i_pulse": _q("current", _positive, default=2.2),
         "dead_time_comp": Field("choice", choices={"off": 0, "on": 1}, default="off"),
         "dtc_zone": _q("current", _positive, default=0.1),
-        "polarity": Field("choice", choices={"current": 0, "pilot": 1}, default="current"),
+        "polarity": Field("choice", choices={"current": 0, "pilot": 1, "none": 2}, default="current"),
         "v_pilot": _q("voltage", _positive, default=100.0),
         "mtpa": Field("choice", choices={"off": 0, "on": 1}, default="off"),
         "notch_freq": _q("frequency", _non_negative, default=0.0),
         "notch_width": _q("frequency", _positive, default=400.0),
         "speed_rate": _q("frequency", _non_negative, default=0.0),
         "current_slew": _q("current_rate", _non_negative, default=0.0),
+        "law": Field("choice", choices={"foc_pwm": 0, "fcs_mpc": 1}, default="foc_pwm"),
+        "flux_min": _q("flux", _non_negative, default=0.06),
     },
     "estimator": {
         "low": Field("choice", choices=LOW_ESTIMATORS, default="sqw_bangbang"),
@@ -268,6 +270,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "rot_bpf": _TABLE,
         "eemf_smo": _TABLE,
         "sqw_cic": _TABLE,
+        "hfo_proj": _TABLE,
     },
     # One table per method (docs/methods.md): its own parameters, used when a slot names it.
     "estimator.sqw_bangbang": {
@@ -308,6 +311,21 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "torque_ff": Field("choice", choices={"off": 0, "on": 1}, default="on"),
         "q_min": _q("current", _non_negative, default=0.1),
         "hold": _q("time", _non_negative, default=0.004),
+    },
+    "estimator.hfo_proj": {
+        "g": _q("frequency", _positive, default=10.0),
+        "w_g": _q("frequency", _positive, default=2.0),
+        "pll_bw": _q("frequency", _positive, default=25.0),
+        "phi_min": _q("voltage", _non_negative, default=60.0),
+        "n_max": Field("integer", check=_between(0, 1000), default=5),
+        "lut_step": _q("current", _positive, default=0.125),
+        "lut_knee": _q("current", _non_negative, default=2.0),
+        "lut_max_d": _q("current", _positive, default=7.5),
+        "lut_max_q": _q("current", _positive, default=3.75),
+        "eps_max": _q("angle", _positive, default=math.pi / 6),
+        "reject_gain": Field("choice", choices={"off": 0, "on": 1}, default="on"),
+        "map_scale_d": Field("number", check=_between(0.5, 2.0), default=1.0),
+        "map_scale_q": Field("number", check=_between(0.5, 2.0), default=1.0),
     },
     "simulation": {
         "max_substep": _q("time", _positive),
@@ -399,6 +417,8 @@ class ControlSettings:
     notch_width: float
     speed_rate: float
     current_slew: float
+    law: str
+    flux_min: float
 
 
 @dataclass(frozen=True)
@@ -789,6 +809,14 @@ def _check_estimator(reader: _Reader) -> None:
     """Hand-over speeds in order; the estimator table only with a closed-loop ``[control]``."""
     if reader.has_table("estimator") and not reader.has_table("control"):
         reader.error("estimator", "needs a [control] table (the estimators run in the closed loop only)")
+    law, low, high = reader.get("control.law"), reader.get("estimator.low"), reader.get("estimator.high")
+    flux = METHODS[low].flux if low in METHODS else False
+    if law == "fcs_mpc" and not (flux and high == "none"):
+        reader.error("control.law", f"fcs_mpc needs an estimator that observes the stator flux as "
+                     f"estimator.low ({', '.join(m.name for m in METHODS.values() if m.flux)}) and "
+                     f"estimator.high = \"none\" (got {low!r} and {high!r})")
+    if law != "fcs_mpc" and flux:
+        reader.error("estimator.low", f"{low} runs with the direct-vector control law: set control.law = \"fcs_mpc\"")
     up, down = reader.get("estimator.handover_up"), reader.get("estimator.handover_down")
     if up is not None and down is not None and down > up:
         reader.error("estimator.handover_down",

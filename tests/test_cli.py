@@ -80,7 +80,8 @@ def test_check_bad_and_missing_files(tmp_path):
 def test_methods_lists_every_estimator_with_the_backends(capsys):
     assert main(["methods"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert [line.split(":")[0] for line in lines] == ["sqw_bangbang", "rfo", "rot_bpf", "eemf_smo", "sqw_cic"]
+    assert [line.split(":")[0] for line in lines] == ["sqw_bangbang", "rfo", "rot_bpf", "eemf_smo", "sqw_cic",
+                                                      "hfo_proj"]
     assert lines[0].startswith("sqw_bangbang: Benevieri et al., IEEE TPEL 2023 (002); slots low; "
                                "injection square wave on d_hat at f_sw; ")
     assert lines[1].startswith("rfo: Ortega et al. 2011")
@@ -89,7 +90,9 @@ def test_methods_lists_every_estimator_with_the_backends(capsys):
     assert lines[3].startswith("eemf_smo: Tap et al.") and "; slots high; injection none; " in lines[3]
     assert lines[4].startswith("sqw_cic: Xue et al., Electronics 2022 (001); slots low; injection square wave on "
                                "d_hat at f_sw/2")
-    assert all(line.endswith("; backends golden, rtl, hls") for line in lines)
+    assert lines[5].startswith("hfo_proj: Varatharajan et al., IEEE Access 2020 (003); slots low; injection none")
+    assert all(line.endswith("; backends golden, rtl, hls") for line in lines[:5])
+    assert lines[5].endswith("; backends golden")
 
 
 def _restrict(monkeypatch, name: str, backends: tuple[str, ...]) -> None:
@@ -102,11 +105,13 @@ def _restrict(monkeypatch, name: str, backends: tuple[str, ...]) -> None:
     monkeypatch.setitem(METHODS, name, dataclasses.replace(METHODS[name], backends=backends))
 
 
-def test_no_method_is_restricted_to_some_backends():
+def test_only_the_003_method_is_restricted_to_some_backends():
+    """hfo_proj runs on golden only until its C twin and the backends' direct-vector mode land (issue 18)."""
     from golden.firmware.estimator import METHODS
     from hfi.backends import NAMES
 
-    assert all(m.backends == NAMES for m in METHODS.values())
+    assert all(m.backends == NAMES for m in METHODS.values() if m.name != "hfo_proj")
+    assert METHODS["hfo_proj"].backends == ("golden",)
 
 
 def test_a_method_is_refused_on_a_backend_without_it(capsys, monkeypatch):

@@ -629,6 +629,21 @@ typedef union {
     uint32_t w;
 } hfi_regs__VECTOR_t;
 
+// reg - hfi_regs.TOP_I
+#define HFI_REGS__TOP_I__I_ALPHA_bm 0xffff
+#define HFI_REGS__TOP_I__I_ALPHA_bp 0
+#define HFI_REGS__TOP_I__I_ALPHA_bw 16
+#define HFI_REGS__TOP_I__I_BETA_bm 0xffff0000
+#define HFI_REGS__TOP_I__I_BETA_bp 16
+#define HFI_REGS__TOP_I__I_BETA_bw 16
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t I_ALPHA :16;
+        uint32_t I_BETA :16;
+    } f;
+    uint32_t w;
+} hfi_regs__TOP_I_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -675,6 +690,7 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__FCS_A_t FCS_A;
     hfi_regs__FCS_CTRL_t FCS_CTRL;
     hfi_regs__VECTOR_t VECTOR;
+    hfi_regs__TOP_I_t TOP_I;
 } hfi_regs_t;
 
 
@@ -723,11 +739,12 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__FCS_A_offset 0xa4
 #define HFI_REGS__FCS_CTRL_offset 0xa8
 #define HFI_REGS__VECTOR_offset 0xac
+#define HFI_REGS__TOP_I_offset 0xb0
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0xb0, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0xb4, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -771,6 +788,7 @@ _Static_assert(offsetof(hfi_regs_t, ENV_B) == HFI_REGS__ENV_B_offset, "hfi_regs_
 _Static_assert(offsetof(hfi_regs_t, FCS_A) == HFI_REGS__FCS_A_offset, "hfi_regs_t: FCS_A offset");
 _Static_assert(offsetof(hfi_regs_t, FCS_CTRL) == HFI_REGS__FCS_CTRL_offset, "hfi_regs_t: FCS_CTRL offset");
 _Static_assert(offsetof(hfi_regs_t, VECTOR) == HFI_REGS__VECTOR_offset, "hfi_regs_t: VECTOR offset");
+_Static_assert(offsetof(hfi_regs_t, TOP_I) == HFI_REGS__TOP_I_offset, "hfi_regs_t: TOP_I offset");
 #endif
 
 #ifdef __cplusplus

@@ -24,6 +24,11 @@ Contract of a member (a subclass of :class:`Estimator`, listed in :mod:`golden.f
 * ``i_d``: the d-current reference [current LSB] it asks the speed-controlled FOC for while it is in
   charge (0 for most; the rotor flux observer keeps the current out of the dead-time compensation's
   uncertain zone).
+
+A method whose ``MethodInfo.flux`` is true also observes the stator flux for the direct-vector control law
+(:mod:`golden.firmware.fcs_law`) and has, after ``step``: ``psi_al, psi_be`` (the stator flux at the last
+carrier top, stationary frame, units of :data:`golden.firmware.flux_lut.FLUX_FRAC`), ``fcs_a1, fcs_a2``
+(the ``FCS_A`` coefficients of the vector strength, spec 3.10) and ``constrain`` (``FCS_CTRL.CONSTRAIN``).
 """
 
 from __future__ import annotations
@@ -35,7 +40,7 @@ from golden.firmware.pll import PllState
 from golden.fixed import round_shr, sat, uwrap
 from golden.fpga.demodulator import WindowResult
 
-METHOD_SQW_BANGBANG, METHOD_RFO, METHOD_ROT_BPF, METHOD_EEMF_SMO, METHOD_SQW_CIC = 1, 2, 3, 4, 5
+METHOD_SQW_BANGBANG, METHOD_RFO, METHOD_ROT_BPF, METHOD_EEMF_SMO, METHOD_SQW_CIC, METHOD_HFO_PROJ = 1, 2, 3, 4, 5, 6
 """Method ids (``enum fw_method`` in firmware/src/control.h; 0 is "no estimator" in a slot)."""
 
 INJ_NONE, INJ_SQW_D, INJ_ROT, INJ_SQW_P = 0, 1, 2, 3
@@ -70,6 +75,12 @@ class Measurement:
     v_be: int
     inj_sin: int = 0
     inj_cos: int = 32767
+
+
+def park(a: int, b: int, s: int, c: int) -> tuple[int, int]:
+    """``(round_shr(a*c + b*s, 15), round_shr(b*c - a*s, 15))``: a stationary-frame vector (s32) into the
+    frame of Q1.15 ``s, c`` (int64 products in C)."""
+    return round_shr(a * c + b * s, 15), round_shr(b * c - a * s, 15)
 
 
 def inv_park(d: int, q: int, s: int, c: int) -> tuple[int, int]:
@@ -114,6 +125,11 @@ class Estimator(ABC):
     theta: int = 0
     omega: int = 0
     i_d: int = 0
+    psi_al: int = 0
+    psi_be: int = 0
+    fcs_a1: int = 0
+    fcs_a2: int = 0
+    constrain: int = 0
 
     @abstractmethod
     def step(self, m: Measurement) -> None:
@@ -146,6 +162,8 @@ class MethodInfo:
     summary: str
     backends: tuple[str, ...] = ("golden", "rtl", "hls")
     """The closed-loop backends that run it (hfi/backends.py refuses the others with a clear error)."""
+    flux: bool = False
+    """It observes the stator flux for the direct-vector control law ``fcs_mpc`` (and runs only with it)."""
 
 
 METHODS: dict[str, MethodInfo] = {m.name: m for m in (
@@ -163,6 +181,9 @@ METHODS: dict[str, MethodInfo] = {m.name: m for m in (
                "extended-EMF sliding-mode observer in the stationary frame, CORDIC angle, PLL speed"),
     MethodInfo("sqw_cic", METHOD_SQW_CIC, "Xue et al., Electronics 2022 (001)", (SLOT_LOW,), INJ_SQW_P,
                "square wave at f_sw/2 on d_hat, sample differencing, CIC interpolation, Luenberger observer"),
+    MethodInfo("hfo_proj", METHOD_HFO_PROJ, "Varatharajan et al., IEEE Access 2020 (003)", (SLOT_LOW,), INJ_NONE,
+               "hybrid flux observer with flux maps, FCS-MPC ripple projection + APP, fusion, PLL",
+               backends=("golden",), flux=True),
 )}
 """Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""
 

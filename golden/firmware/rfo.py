@@ -37,13 +37,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from golden.firmware.estimator import METHOD_RFO, Estimator, Measurement, inv_park
+from golden.firmware.flux_lut import FLUX_FRAC
 from golden.firmware.pll import PllState, pll_step
 from golden.firmware.vector import vector_angle
 from golden.fixed import c_div, round_shr, sat, shr, uwrap
 from golden.fpga.cordic import sincos_q15
 
-FLUX_FRAC = 8
-"""Fraction bits of the flux format: 1 LSB = v_lsb * T / 2^FLUX_FRAC [Wb]."""
 Q_LIMIT = 1 << 17
 """Limit of the relative flux error ``(psi_f - |eta|) / |eta|`` in Q16 (a ratio of 2)."""
 

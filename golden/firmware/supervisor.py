@@ -47,6 +47,8 @@ from dataclasses import dataclass, field
 
 from golden.firmware.biquad import Y_FRAC, BiquadCoef, BiquadState, biquad_step
 from golden.firmware.eemf_smo import SmoParams
+from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage
+from golden.firmware.hfo_proj import HfoParams
 from golden.firmware.estimator import (BY_ID, INJ_NONE, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage,
                                        window_voltage)
 from golden.firmware.lowpass import lowpass_out, lowpass_step
@@ -65,8 +67,9 @@ from golden.fpga.demodulator import WindowResult
 MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT = range(7)
 MODE_NAMES = ("CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT")
 
-POL_CURRENT, POL_PILOT = 0, 1
-"""Polarity detection: d-current pulses with the HF response (002), or pilot voltages (000, Sec. II-D)."""
+POL_CURRENT, POL_PILOT, POL_NONE = 0, 1, 2
+"""Polarity detection: d-current pulses with the HF response (002), pilot voltages (000, Sec. II-D), or
+none (a reluctance machine is pi-periodic: CONVERGE goes straight to RELAX)."""
 
 HALF_TURN = 1 << 31
 NOTCH_BITS = 21
@@ -123,6 +126,11 @@ class FirmwareParams:
     i_slew : int
         Largest change of the current command per period [current LSB] (0: no limit): the HF estimators
         take a current step's transient for position signal (docs/methods.md).
+    law, fcs : int, FcsParams or None
+        The current-loop law: ``LAW_FOC_PWM`` (current PIs) or ``LAW_FCS_MPC`` (:mod:`golden.firmware.fcs_law`,
+        with its parameters; the speed PI's output indexes its flux table, ``mtpa_*`` unused).
+    hfo : HfoParams or None
+        The ``hfo_proj`` estimator's parameters.
     """
 
     low: int
@@ -160,6 +168,9 @@ class FirmwareParams:
     notch: BiquadCoef | None = None
     speed_div: int = 1
     i_slew: int = 0
+    law: int = LAW_FOC_PWM
+    fcs: FcsParams | None = None
+    hfo: HfoParams | None = None
 
 
 @dataclass(frozen=True)
@@ -214,6 +225,7 @@ class Firmware:
     nq: BiquadState = field(default_factory=BiquadState)
     act: list = field(default_factory=lambda: [RESET_OUTPUTS, RESET_OUTPUTS])  # outputs of steps k-2, k-1
     prev: Outputs = RESET_OUTPUTS    # outputs of step k-3 (active in the window before)
+    vec_before: int = 0              # fcs_mpc: VECTOR of the previous step (the state before this one's)
     slots: list = field(init=False)
 
     def __post_init__(self) -> None:
@@ -264,6 +276,8 @@ class Firmware:
         if self.mode == MODE_FAULT:
             self.id_int = self.iq_int = 0
             out = RESET_OUTPUTS
+        elif p.law == LAW_FCS_MPC:
+            out = self._fcs_outputs(win, i_q_ref)
         else:
             if pilot is None:
                 v_d, self.id_int = pi_step(self.id_int, i_d_ref, i_d_f, p.id_pi)
@@ -277,6 +291,17 @@ class Firmware:
         self.prev = self.act[0]
         self.act = [self.act[1], out]
         return out
+
+    def _fcs_outputs(self, win: WindowResult, i_s: int) -> Outputs:
+        """The ``fcs_mpc`` law (:mod:`golden.firmware.fcs_law`): the deadbeat voltage for the angle in use
+        and the estimator's flux, its constraint coefficients; ``i_s`` the current command (the speed PI's
+        output in RUN, 0 before)."""
+        p, est = self.p, self.slots[self.active]
+        v_d, v_q = deadbeat_voltage(p.fcs, est.psi_al, est.psi_be, win.top_ia, win.top_ib, self.vec_before,
+                                    win.vector, self.act[1], self.theta_hat, est.omega, i_s)
+        self.vec_before = win.vector
+        s, c = sincos_q15(self.theta_hat)
+        return Outputs(v_d, v_q, 0, s, c, 1, 0, 0, est.fcs_a1, est.fcs_a2, p.fcs.phi_min, est.constrain)
 
     def _dtc_refs(self, i_d_ref: int, i_q_ref: int, v_h: int, s_i: int, c_i: int, s: int, c: int) -> tuple[int, int]:
         """The currents written to I_D_REF / I_Q_REF, which only the dead-time compensation reads: the
@@ -374,6 +399,11 @@ class Firmware:
         if self.p.pol_mode == POL_PILOT:
             return self._supervise_pilot()
         p = self.p
+        if p.pol_mode == POL_NONE:
+            if self.mode == MODE_CONVERGE and self.n >= p.n_converge:
+                self._next(MODE_RELAX)
+            self._relax()
+            return 0, 0, None
         if self.mode == MODE_CONVERGE:
             if self.n >= p.n_converge:
                 self._next(MODE_POL_POS)

@@ -68,6 +68,12 @@ class WindowResult:
         square wave never ran).
     env_a, env_b : int
         ``ENV_A``, ``ENV_B``, s17 in s32: the held envelope (the CIC's input) of the same sample.
+    vector : int
+        ``VECTOR.STATE``, u3: the inverter state the direct-vector mode chose at the window's carrier top
+        (spec 3.10; 0 while the mode is off).
+    top_ia, top_ib : int
+        ``TOP_I``, s16 each: the Clarke currents of the window's carrier-top sample (spec 3.11; the
+        previous window's while a window has none).
     """
 
     gamma: int
@@ -81,6 +87,9 @@ class WindowResult:
     cic_qb: int = 0
     env_a: int = 0
     env_b: int = 0
+    vector: int = 0
+    top_ia: int = 0
+    top_ib: int = 0
 
 
 def _window_array(x, name: str) -> np.ndarray:

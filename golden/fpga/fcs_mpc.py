@@ -40,6 +40,17 @@ VY = (0, 18919, 18919, 0, -18919, -18919)
 K = tuple(x * x + y * y for x, y in zip(VX, VY))
 """Squared magnitudes of the rounded active vectors."""
 
+
+
+def state_voltage(state: int) -> tuple[int, int]:
+    """``(v_alpha, v_beta)`` [voltage LSB] of an inverter state (0..7, bit 0 = phase a): ``(VX_j, VY_j)``
+    of an active state, ``(0, 0)`` of ``000`` and ``111`` (the firmware's model of what it applied)."""
+    if state in (0, 7):
+        return 0, 0
+    j = ACTIVE_STATES.index(state)
+    return VX[j], VY[j]
+
+
 _S18 = (-(1 << 17), (1 << 17) - 1)
 _S16 = (-(1 << 15), (1 << 15) - 1)
 

@@ -324,6 +324,15 @@ localparam integer HFI_VECTOR_STATE_LSB = 0;  // ro
 localparam integer HFI_VECTOR_STATE_WIDTH = 3;
 localparam [2:0] HFI_VECTOR_STATE_RESET = 3'h0;
 
+// TOP_I @ 0xB0: Carrier-top sample
+localparam [7:0] HFI_TOP_I_ADDR = 8'hB0;
+localparam integer HFI_TOP_I_I_ALPHA_LSB = 0;  // ro, signed
+localparam integer HFI_TOP_I_I_ALPHA_WIDTH = 16;
+localparam [15:0] HFI_TOP_I_I_ALPHA_RESET = 16'h0;
+localparam integer HFI_TOP_I_I_BETA_LSB = 16;  // ro, signed
+localparam integer HFI_TOP_I_I_BETA_WIDTH = 16;
+localparam [15:0] HFI_TOP_I_I_BETA_RESET = 16'h0;
+
 // Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
 function hfi_locked_by_safety_lock_lock(input [7:0] a);
     case (a)

@@ -2,8 +2,9 @@
 
 The ADC model of tb_hfi_dsp.v returns the golden ADC codes (codes.hex, written by the pytest side);
 this coroutine plays the firmware: after every window interrupt it reads the window results over
-AXI4-Lite (with INJ_PHASE and the differencing/CIC block's CIC_QA, CIC_QB, ENV_A, ENV_B), compares them
-with the golden window, writes the golden firmware's registers and commits. The gate edges and sampling
+AXI4-Lite (with INJ_PHASE, the differencing/CIC block's CIC_QA, CIC_QB, ENV_A, ENV_B and the carrier-top
+sample TOP_I), compares them with the golden window (TOP_I with the trace's top_exp_* columns, computed
+by test_dsp_replay.top_i_expected from the golden ADC codes), writes the golden firmware's registers and commits. The gate edges and sampling
 instants recorded by the Verilog are compared at the end.
 
 Start-up: by default the carrier runs from reset (its registers must equal the reset values) and the
@@ -88,6 +89,8 @@ async def replay_golden_closed_loop(dut):
         assert int(dut.tick.value) < cfg["pwm_half"] // 2, "configuration not done before the first boundary"
 
     w = {k[len("write_"):]: tr[k] for k in tr if k.startswith("write_")}
+    top_exp = np.stack([tr["top_exp_ia"], tr["top_exp_ib"]], axis=1)
+    top_chk = tr["top_exp_chk"]
     mismatches = []
     for j in range(n_win + 1):          # interrupt j reports window j - 1 (window -1: before tick H/2)
         await with_timeout(RisingEdge(dut.irq), 4 * cfg["pwm_half"] * 10, "ns")
@@ -96,11 +99,20 @@ async def replay_golden_closed_loop(dut):
             value, resp = await axi.read(rm.REGISTERS[reg]["addr"])
             assert resp == 0, f"read of {reg} answered {resp}"
             got[reg] = s32(value) if signed else value
+        value, resp = await axi.read(rm.TOP_I_ADDR)
+        assert resp == 0, f"read of TOP_I answered {resp}"
+        top = rm.unpack("TOP_I", value)
+        got_top = (top["I_ALPHA"], top["I_BETA"])
+        if j == 0:
+            assert got_top == (0, 0), f"TOP_I after window -1 (no top sample) is {got_top}, expected the reset 0"
         if j >= 1:
             k = j - 1
             for reg, col, _ in RESULTS:
                 if got[reg] != int(tr[f"win_{col}"][k]):
                     mismatches.append(f"window {k}: {reg} RTL {got[reg]} golden {int(tr[f'win_{col}'][k])}")
+            exp_top = (int(top_exp[k, 0]), int(top_exp[k, 1]))
+            if top_chk[k] and got_top != exp_top:
+                mismatches.append(f"window {k}: TOP_I (I_ALPHA, I_BETA) RTL {got_top} golden {exp_top}")
             if mismatches:
                 break
             o = {f: int(w[f][k]) for f in w}
@@ -136,5 +148,6 @@ async def replay_golden_closed_loop(dut):
     convst = convst[(convst >= int(tr["first_window_tick"])) & (convst < end)]
     assert np.array_equal(convst, tr["sample_tick"]), (
         f"sampling instants differ: RTL {len(convst)}, golden {len(tr['sample_tick'])} samples")
-    cocotb.log.info(f"replay equal: {n_win} windows ({', '.join(r for r, _, _ in RESULTS)}), {len(gold_ticks)} gate edges, "
+    cocotb.log.info(f"replay equal: {n_win} windows ({', '.join(r for r, _, _ in RESULTS)}, TOP_I in "
+                    f"{int(np.count_nonzero(top_chk))}), {len(gold_ticks)} gate edges, "
                     f"{len(convst)} sampling instants")

@@ -7,7 +7,11 @@ Every window result (GAMMA, GAMMA_D, SUM_ID, SUM_IQ, WSUM, N_SAMPLES, INJ_PHASE,
 block's CIC_QA, CIC_QB, ENV_A, ENV_B), every gate edge tick and mask and every sampling instant must
 equal the golden trace. Verilator only (20 M clock cycles). Two shorter replays cover the rotating
 injection (CTRL.INJ_ROT) and the 001 method's period square wave with its differencing and CIC
-(CTRL.INJ_PER, CIC_M; scenarios/xue2022_noload.toml).
+(CTRL.INJ_PER, CIC_M; scenarios/xue2022_noload.toml). TOP_I (the carrier-top sample, docs/spec.md
+3.11) is checked in every window against the Clarke currents of the golden ADC codes of the sample at
+phase H (top_i_expected: computed here, since the golden loop fills its top_ia/top_ib columns only in
+the direct-vector mode); a short replay in the DS mode covers it (and the other results) with two
+samples per window.
 """
 
 from __future__ import annotations
@@ -18,7 +22,9 @@ import numpy as np
 
 from golden import regmap as rm
 from golden.closedloop import ClosedLoop
-from golden.fpga.adc_trigger import sample_phases
+from golden.fpga.adc_scale import adc_to_current
+from golden.fpga.adc_trigger import MODE_OS_BLANK, sample_phases
+from golden.fpga.park import clarke
 from golden.fpga.rot_injection import inj_step
 from golden.scenario import load_scenario
 from hfi import paper
@@ -32,8 +38,37 @@ ROT_REPLAY_S = 0.03
 """Simulated time of the rotating-injection replay [s] (150 windows, 15 turns of a 500 Hz injection)."""
 PER_REPLAY_S = 0.1
 """Simulated time of the period-square-wave replay [s] (99 windows at 1 kHz, 10 M clock cycles)."""
+DS_REPLAY_S = 0.03
+"""Simulated time of the DS-mode replay [s] (150 windows at 5 kHz)."""
 RTL_FILES = core_rtl_files()
 """The Verilog sources of hfi_dsp, as listed in hfi_dsp.core."""
+
+
+def top_i_expected(res) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """TOP_I (docs/spec.md 3.11) of every window from the golden samples, independently of the golden
+    loop: the Clarke currents (golden.fpga.park.clarke of adc_to_current) of window k's sample at the
+    carrier top (tick k*P + H), or the previous value (0 after reset) when the window has none.
+    Returns (I_ALPHA, I_BETA, checked); an OS_BLANK window with a top sample may have blanked it (the
+    trace does not carry the keep flags), so TOP_I is unchecked from there to the next window with an
+    OS or DS top sample."""
+    hw, H = res.hw, res.hw.pwm_half
+    tick, code_a, code_b = res.samples["tick"], res.samples["adc_a"], res.samples["adc_b"]
+    modes = res.windows["adc_mode"]
+    n = len(res.windows["gamma"])
+    ia, ib, chk = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64), np.ones(n, dtype=bool)
+    cur, known = (0, 0), True
+    for k in range(n):
+        t = k * 2 * H + H
+        j = int(np.searchsorted(tick, t))
+        if j < len(tick) and tick[j] == t:
+            if modes[k] == MODE_OS_BLANK:
+                known = False
+            else:
+                i_al, i_be = clarke(adc_to_current(int(code_a[j]), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0]),
+                                    adc_to_current(int(code_b[j]), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1]))
+                cur, known = (int(i_al), int(i_be)), True
+        ia[k], ib[k], chk[k] = cur[0], cur[1], known
+    return ia, ib, chk
 
 
 def write_inputs(res, build_dir) -> None:
@@ -52,12 +87,14 @@ def write_inputs(res, build_dir) -> None:
            "adc_offset_a": hw.adc_offset[0], "adc_offset_b": hw.adc_offset[1],
            "adc_gain_a": hw.adc_gain[0], "adc_gain_b": hw.adc_gain[1], "inj_rot": hw.inj_rot,
            "inj_step": hw.inj_step, "inj_per": hw.inj_per, "cic_m": hw.cic_m,
-           # configure before tick 0 (tb_dsp_replay.py) when the carrier is not the reset one, or with the
-           # period square wave (its sign at tick 0's bottom follows CTRL.INJ_PER)
+           # configure before tick 0 (tb_dsp_replay.py) when the carrier is not the reset one, with the
+           # period square wave (its sign at tick 0's bottom follows CTRL.INJ_PER), or with an ADC mode other
+           # than the reset one (window -1's sampling instants follow CTRL.ADC_MODE while held)
            "start_held": int(hw.pwm_half != rm.PWM_HALF_VALUE_RESET or hw.cw_angle_step != rm.CW_ANGLE_STEP_VALUE_RESET
-                             or bool(hw.inj_per))}
+                             or bool(hw.inj_per) or hw.adc_mode != rm.CTRL_ADC_MODE_RESET)}
     n_win = len(res.windows["gamma"])
-    np.savez(build_dir / "trace.npz",
+    top_ia, top_ib, top_chk = top_i_expected(res)
+    np.savez(build_dir / "trace.npz", top_exp_ia=top_ia, top_exp_ib=top_ib, top_exp_chk=top_chk,
              **{f"win_{k}": v for k, v in res.windows.items() if v.dtype.kind == "i"},
              **{f"write_{k}": v for k, v in res.writes.items()},
              edge_tick=res.edges["tick"], edge_mask=res.edges["mask"], sample_tick=res.samples["tick"],
@@ -80,6 +117,20 @@ def test_replay_default_scenario(tmp_path):
     res = ClosedLoop(sc).run(progress=False)
     assert len(res.windows["gamma"]) >= 1000
     assert res.windows["mode"].max() > 0, "the golden run never left the first supervisor state"
+    top_ia, top_ib, top_chk = top_i_expected(res)
+    assert top_chk.all() and len(np.unique(top_ia)) > 10 and len(np.unique(top_ib)) > 10
+    replay(res, tmp_path)
+
+
+def test_replay_ds_mode(tmp_path):
+    """The default closed loop in the DS mode (CTRL.ADC_MODE = 1: the carrier bottom and top samples
+    only; a held start, since window -1 already samples in that mode): every window result, TOP_I from
+    the top sample of every window, gate edges and sampling instants."""
+    sc = paper.experiment("replay", {"scenario": {"duration": DS_REPLAY_S}, "control": {"adc_mode": "DS"}})
+    res = ClosedLoop(sc).run(progress=False)
+    assert res.hw.adc_mode == 1 and (res.windows["n_samples"] == 2).all()
+    top_ia, top_ib, top_chk = top_i_expected(res)
+    assert top_chk.all() and len(np.unique(top_ia)) > 10 and len(np.unique(top_ib)) > 10
     replay(res, tmp_path)
 
 

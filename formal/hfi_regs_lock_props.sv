@@ -57,7 +57,9 @@ module hfi_regs_lock_props (
     input wire [31:0] cic_qb,
     input wire [31:0] env_a,
     input wire [31:0] env_b,
-    input wire [2:0]  vector_state
+    input wire [2:0]  vector_state,
+    input wire [15:0] top_i_alpha,
+    input wire [15:0] top_i_beta
 );
 `include "regs/hfi_regs_map.vh"
 
@@ -93,7 +95,8 @@ module hfi_regs_lock_props (
         .irq_window_set(irq_window_set), .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id),
         .sum_iq(sum_iq), .wsum(wsum), .n_samples(n_samples), .window_count(window_count),
         .late_count(late_count), .inj_phase(inj_phase), .cic_qa(cic_qa), .cic_qb(cic_qb), .env_a(env_a),
-        .env_b(env_b), .vector_state(vector_state), .irq(irq));
+        .env_b(env_b), .vector_state(vector_state),
+        .top_i_alpha(top_i_alpha), .top_i_beta(top_i_beta), .irq(irq));
 
     // dut.r_safety_lock: connected by the sby script after flatten (see the header)
     (* keep *) wire lock_obs;

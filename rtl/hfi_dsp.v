@@ -30,6 +30,11 @@
 // stages, and its Clarke currents (hfi_park's i_alpha, i_beta) step hfi_diff_cic with the `plus` and
 // CIC_M captured in its bottom tick. The block's outputs are latched at the next window boundary into
 // CIC_QA/QB, ENV_A/B (with INJ_PHASE).
+//
+// Carrier-top sample (docs/spec.md 3.11): the sample of every carrier top (phase H; DS always, OS when H
+// is a multiple of OS_TICKS) carries a second tag; when hfi_park is done with it and it is not blanked
+// (OS_BLANK keep flag), its Clarke currents are held (top_ia_h, top_ib_h) and latched at the next window
+// boundary into TOP_I with the other window results (a window without a top sample keeps TOP_I).
 module hfi_dsp #(
     parameter ADC_BITS = 12,
     parameter ADC_CONV_TICKS = 12,
@@ -118,6 +123,7 @@ module hfi_dsp #(
     reg  [31:0] inj_phase_q;
     reg  signed [20:0] cic_qa_q, cic_qb_q;   // CIC_QA, CIC_QB, ENV_A, ENV_B: latched at the boundary
     reg  signed [16:0] env_a_q, env_b_q;
+    reg  signed [15:0] top_ia_q, top_ib_q;   // TOP_I: latched at the boundary
     wire signed [15:0] adc_offset_a, adc_offset_b, sh_v_d, sh_v_q, sh_sin, sh_cos, sh_i_d_ref, sh_i_q_ref;
     wire [14:0] sh_v_h, hf_amp;
     wire signed [31:0] gamma, gamma_d, sum_id, sum_iq, wsum;
@@ -146,7 +152,7 @@ module hfi_dsp #(
         .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h), .i_d_ref(sh_i_d_ref), .i_q_ref(sh_i_q_ref),
         .inj_step(inj_step), .inj_phase(inj_phase_q), .cic_m(cic_m_reg),
         .fcs_a1(sh_fcs_a1), .fcs_a2(sh_fcs_a2), .fcs_phi_min(sh_fcs_phi_min), .fcs_constrain(sh_fcs_constrain),
-        .vector_state(vector_q),
+        .vector_state(vector_q), .top_i_alpha(top_ia_q), .top_i_beta(top_ib_q),
         .cic_qa({{11{cic_qa_q[20]}}, cic_qa_q}), .cic_qb({{11{cic_qb_q[20]}}, cic_qb_q}),
         .env_a({{15{env_a_q[16]}}, env_a_q}), .env_b({{15{env_b_q[16]}}, env_b_q}),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
@@ -355,12 +361,13 @@ module hfi_dsp #(
     // The sampling instant, its flags and its weight angle are registered once before they start the
     // ADC and the CORDIC (timing: the trigger's blanking depends on this tick's switch events), so
     // CONVST of the sample of tick t rises with the gate mask of tick t (PIN_LATENCY, docs/rtl.md).
-    reg sample_q, keep_q, parity_q, bot_q;
+    reg sample_q, keep_q, parity_q, bot_q, top_q;
     reg [31:0] angle_q;
     always @(posedge clk) begin
         sample_q <= rst_dp ? 1'b0 : sample;
         keep_q <= sample_keep;
         bot_q <= at_bottom;             // the sample of a carrier bottom (every ADC mode takes it)
+        top_q <= at_top;                // the sample of a carrier top (spec 3.11: DS, OS on the grid)
         parity_q <= at_zc ? ~win_parity : win_parity;
         angle_q <= cw_angle;
     end
@@ -374,12 +381,13 @@ module hfi_dsp #(
         .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
         .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b)
     );
-    reg tag_adc_keep, tag_adc_par, tag_adc_bot;   // tags of the sample in the ADC
+    reg tag_adc_keep, tag_adc_par, tag_adc_bot, tag_adc_top;   // tags of the sample in the ADC
     always @(posedge clk)
         if (sample_q && !adc_busy) begin
             tag_adc_keep <= keep_q;
             tag_adc_par <= parity_q;
             tag_adc_bot <= bot_q;
+            tag_adc_top <= top_q;
         end
 
     wire signed [15:0] i_a, i_b;
@@ -389,12 +397,13 @@ module hfi_dsp #(
         .offset_a(adc_offset_a), .offset_b(adc_offset_b), .gain_a(adc_gain_a), .gain_b(adc_gain_b),
         .done(scale_done), .i_a(i_a), .i_b(i_b)
     );
-    reg tag_scale_keep, tag_scale_par, tag_scale_bot;
+    reg tag_scale_keep, tag_scale_par, tag_scale_bot, tag_scale_top;
     always @(posedge clk)
         if (adc_done) begin
             tag_scale_keep <= tag_adc_keep;
             tag_scale_par <= tag_adc_par;
             tag_scale_bot <= tag_adc_bot;
+            tag_scale_top <= tag_adc_top;
         end
 
     hfi_overcurrent u_oc (
@@ -408,12 +417,13 @@ module hfi_dsp #(
         .sin_q15(bank_sin[tag_scale_par]), .cos_q15(bank_cos[tag_scale_par]),
         .done(park_done), .i_d(i_d), .i_q(i_q), .i_alpha(i_alpha), .i_beta(i_beta)
     );
-    reg tag_park_keep, tag_park_par, tag_park_bot;
+    reg tag_park_keep, tag_park_par, tag_park_bot, tag_park_top;
     always @(posedge clk)
         if (scale_done) begin
             tag_park_keep <= tag_scale_keep;
             tag_park_par <= tag_scale_par;
             tag_park_bot <= tag_scale_bot;
+            tag_park_top <= tag_scale_top;
         end
 
     // ---- differencing and CIC of the carrier-bottom samples (spec 3.9, golden/fpga/diff_cic.py)
@@ -439,6 +449,26 @@ module hfi_dsp #(
         end else if (at_zc) begin
             cic_qa_q <= cic_q_a; cic_qb_q <= cic_q_b;
             env_a_q <= cic_e_a; env_b_q <= cic_e_b;
+        end
+    end
+
+    // ---- carrier-top sample (spec 3.11, golden/closedloop.py _top_sample): TOP_I
+    // The Clarke currents of the top sample (phase H), held in the cycle hfi_park is done with it unless
+    // OS_BLANK dropped it (keep = 0: blanked samples still pass through the pipeline), and latched at
+    // the next window boundary, 3H/2 >= 768 clocks after the top (checked below). A window without a
+    // kept top sample leaves the hold, so TOP_I keeps the previous value; 0 after reset. Every mode.
+    reg signed [15:0] top_ia_h, top_ib_h;
+    always @(posedge clk) begin
+        if (rst_dp) begin
+            top_ia_h <= 16'sd0; top_ib_h <= 16'sd0;
+            top_ia_q <= 16'sd0; top_ib_q <= 16'sd0;
+        end else begin
+            if (park_done && tag_park_top && tag_park_keep) begin
+                top_ia_h <= i_alpha; top_ib_h <= i_beta;
+            end
+            if (at_zc) begin
+                top_ia_q <= top_ia_h; top_ib_q <= top_ib_h;
+            end
         end
     end
 
@@ -511,11 +541,17 @@ module hfi_dsp #(
     // Simulation checks of the pipeline assumptions (docs/rtl.md): one sample per stage at a time; the
     // step of a bottom sample is done before the next window boundary latches it.
     reg cic_pending;                    // a bottom sample is between its sampling instant and its step
-    always @(posedge clk)
+    reg top_pending;                    // a top sample is between its sampling instant and its Clarke currents
+    always @(posedge clk) begin
         cic_pending <= rst_dp ? 1'b0 : (sample_q && bot_q) ? 1'b1 : cic_done ? 1'b0 : cic_pending;
+        top_pending <= rst_dp ? 1'b0 : (sample_q && top_q) ? 1'b1 : (park_done && tag_park_top) ? 1'b0
+                                     : top_pending;
+    end
     always @(posedge clk) begin
         if (!rst_dp && at_zc && cic_pending)
             $error("hfi_dsp: the CIC step of a carrier-bottom sample was not done by the window boundary");
+        if (!rst_dp && at_zc && top_pending)
+            $error("hfi_dsp: the Clarke currents of a carrier-top sample were not ready by the window boundary");
         if (!rst_dp && got_w && cordic_done && !join_both)
             $error("hfi_dsp: a CORDIC weight arrived before the current of the previous sample");
         if (!rst_dp && got_i && park_done && !join_both)

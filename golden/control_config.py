@@ -218,15 +218,21 @@ def dead_time_flux(sc: Scenario) -> int:
     return to_fixed(2**15 * hw.dead_ticks / (2 * hw.pwm_half), FLUX_FRAC)
 
 
+def threshold_flux(sc: Scenario) -> int:
+    """``V_th T`` in flux units: the inverter's threshold drop ``[control] inv_v_drop`` over one period."""
+    return to_fixed(sc.control.inv_v_drop / scales(sc).v_lsb, FLUX_FRAC)
+
+
 def fcs_params(sc: Scenario) -> FcsParams:
     """The ``fcs_mpc`` law's integers (golden.firmware.fcs_law): ``R_s`` as flux and as voltage per current
     LSB, the flux reference table over ``0..i_max`` from the plant's map with ``control.flux_min``, and the
     constraint's threshold ``estimator.hfo_proj.phi_min``."""
     ctl, sc_ = sc.control, scales(sc)
-    r = sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb
+    r = (sc.plant["R_s"] + ctl.inv_r_drop) * sc_.i_lsb / sc_.v_lsb
     shift, t_d, t_q = flux_reference_table(sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"]), sc_.i_lsb,
                                            flux_lsb(sc), sc_.current(ctl.i_max), ctl.flux_min)
-    return FcsParams(r_f=to_fixed(r * 2**FLUX_FRAC, 16), r_v=to_fixed(r, 16), dt_f=dead_time_flux(sc), shift=shift, t_d=t_d, t_q=t_q,
+    return FcsParams(r_f=to_fixed(r * 2**FLUX_FRAC, 16), r_v=to_fixed(r, 16), dt_f=dead_time_flux(sc),
+                     vth_f=threshold_flux(sc), shift=shift, t_d=t_d, t_q=t_q,
                      phi_min=min(sc_.voltage(sc.estimator.params["hfo_proj"]["phi_min"]), 65535), v_lim=32767)
 
 
@@ -242,13 +248,15 @@ def hfo_proj_params(sc: Scenario) -> HfoParams:
     l_shift = max(max(map(abs, lut.t_ld + lut.t_lq + lut.t_ldq)).bit_length() - 15, 0)
     omega = 2 * math.pi * t["pll_bw"]
     kp, ki = pll_gains(2 * omega, omega * omega, f_sw)
-    return HfoParams(lut=lut, r_f=to_fixed(sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb * 2**FLUX_FRAC, 16),
-                     dt_f=dead_time_flux(sc),
+    r = sc.plant["R_s"] + sc.control.inv_r_drop
+    return HfoParams(lut=lut, r_f=to_fixed(r * sc_.i_lsb / sc_.v_lsb * 2**FLUX_FRAC, 16),
+                     dt_f=dead_time_flux(sc), vth_f=threshold_flux(sc),
                      c_g=to_fixed(2 * math.pi * t["g"] * T, 16), l_shift=l_shift,
-                     phi_min=min(sc_.voltage(t["phi_min"]), 65535), n_max=t["n_max"],
+                     phi_min=min(sc_.voltage(t["phi_min"]), 65535),
+                     s_knee=min(max(to_fixed(t["phi_knee"] / sc_.v_lsb, FLUX_FRAC), 1), 1 << 23), n_max=t["n_max"],
                      g_b=to_fixed(t["g"] * T, 32), wg_b=max(to_fixed(t["w_g"] * T, 32), 1), kp=kp, ki=ki,
                      k_delay=to_fixed(1.5, 16), eps_max=to_fixed(t["eps_max"] / (2 * math.pi), 32),
-                     reject_gain=int(t["reject_gain"] == "on"))
+                     hold=int(t["hold"] == "on"))
 
 
 def sqw_params(sc: Scenario) -> SqwParams:

@@ -258,6 +258,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "current_slew": _q("current_rate", _non_negative, default=0.0),
         "law": Field("choice", choices={"foc_pwm": 0, "fcs_mpc": 1}, default="foc_pwm"),
         "flux_min": _q("flux", _non_negative, default=0.06),
+        "inv_v_drop": _q("voltage", _non_negative, default=0.0),
+        "inv_r_drop": _q("resistance", _non_negative, default=0.0),
     },
     "estimator": {
         "low": Field("choice", choices=LOW_ESTIMATORS, default="sqw_bangbang"),
@@ -317,13 +319,14 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "w_g": _q("frequency", _positive, default=2.0),
         "pll_bw": _q("frequency", _positive, default=25.0),
         "phi_min": _q("voltage", _non_negative, default=60.0),
+        "phi_knee": _q("voltage", _positive, default=135.0),
         "n_max": Field("integer", check=_between(0, 1000), default=5),
         "lut_step": _q("current", _positive, default=0.125),
         "lut_knee": _q("current", _non_negative, default=2.0),
         "lut_max_d": _q("current", _positive, default=7.5),
         "lut_max_q": _q("current", _positive, default=3.75),
         "eps_max": _q("angle", _positive, default=math.pi / 6),
-        "reject_gain": Field("choice", choices={"off": 0, "on": 1}, default="on"),
+        "hold": Field("choice", choices={"off": 0, "on": 1}, default="on"),
         "map_scale_d": Field("number", check=_between(0.5, 2.0), default=1.0),
         "map_scale_q": Field("number", check=_between(0.5, 2.0), default=1.0),
     },
@@ -419,6 +422,8 @@ class ControlSettings:
     current_slew: float
     law: str
     flux_min: float
+    inv_v_drop: float
+    inv_r_drop: float
 
 
 @dataclass(frozen=True)

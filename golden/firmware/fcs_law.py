@@ -51,14 +51,15 @@ LAW_FOC_PWM, LAW_FCS_MPC = 0, 1
 @dataclass(frozen=True)
 class FcsParams:
     """Integers of the law (host side: :func:`golden.control_config.fcs_params`): ``r_f`` = ``R_s`` as flux
-    per period per current LSB (Q16), ``r_v`` = ``R_s`` as voltage LSB per current LSB (Q16), ``dt_f`` =
-    ``V_dc t_d`` [flux units] (:mod:`golden.firmware.applied_flux`); the flux
+    per period per current LSB (Q16), ``r_v`` = ``R_s`` as voltage LSB per current LSB (Q16), ``dt_f``, ``vth_f`` =
+    ``V_dc t_d``, ``V_th T`` [flux units] (:mod:`golden.firmware.applied_flux`); the flux
     reference table (``shift``, ``t_d``, ``t_q``; flux units, ``t_d`` <= 0); ``phi_min``: ``FCS_CTRL.PHI_MIN``
     [voltage LSB]; ``v_lim``: the largest ``|V_D|``, ``|V_Q|`` written (<= 32767)."""
 
     r_f: int
     r_v: int
     dt_f: int
+    vth_f: int
     shift: int
     t_d: tuple
     t_q: tuple
@@ -79,8 +80,8 @@ def deadbeat_voltage(p: FcsParams, psi_al: int, psi_be: int, i_al: int, i_be: in
     (``v_d, v_q, sin, cos, fcs_a1, fcs_a2, fcs_phi_min, fcs_constrain``)."""
     nxt = direct_state(prev.v_d, prev.v_q, prev.sin, prev.cos, prev.fcs_a1, prev.fcs_a2, prev.fcs_phi_min,
                        bool(prev.fcs_constrain), 0)
-    a1a, a1b = applied_flux(before, vector, i_al, i_be, p.dt_f)
-    a2a, a2b = applied_flux(vector, nxt, i_al, i_be, p.dt_f)
+    a1a, a1b = applied_flux(before, vector, i_al, i_be, p.dt_f, p.vth_f)
+    a2a, a2b = applied_flux(vector, nxt, i_al, i_be, p.dt_f, p.vth_f)
     r_a, r_b = shr(p.r_f * i_al, 16), shr(p.r_f * i_be, 16)
     p2a = psi_al + a1a + a2a - 2 * r_a
     p2b = psi_be + a1b + a2b - 2 * r_b

@@ -45,8 +45,17 @@ Step ``k`` (``th`` the angle predicted for top ``k``, ``w`` the PLL speed; flux 
    ``e_d = dpsi_d - dlam_d`` in the middle frame; the strength ``S`` of ``dpsi`` itself (eq. (29): the
    observer's flux change is at hand, the approximation ``dpsi ~ v T`` of eq. (30) is not needed here; the
    hardware's constraint uses eq. (30) on the candidate vectors); valid when ``|S| > phi_min << 8``
-   (eq. (31)'s threshold), then ``eps_h = e_d / S`` (rad), else ``eps_h = 0`` and the count of consecutive
-   rejections ``n_rej`` grows; ``constrain = n_rej > n_max`` while the low-speed model has weight;
+   (eq. (31)'s threshold), then ``eps_h = e_d / S`` (rad) for ``|S| >= s_knee`` and ``e_d S / s_knee^2``
+   below it (``e_d`` saturated to s24 first), else ``eps_h = 0`` and the count of consecutive rejections
+   ``n_rej`` grows; with ``hold`` a rejected period's error is instead ``th_meas - th``, ``th_meas`` the
+   angle the last valid error measured (``th + eps_h``) advanced by ``w_i`` every period, for ``n_max``
+   periods: zeros would cut the PLL's bandwidth by the share of rejected periods (about two thirds at
+   standstill; PITFALLS), and scaling the next valid error up instead multiplies its noise (tried: kicks
+   of 20-30 deg at 2 p.u.). The ratio alone amplifies the errors of ``e_d`` (the current sensors' lag and gain, the
+   inverter model: about 1 mV*s) by ``1/S``: up to 10 deg per sample for a vector just above the threshold,
+   the outliers that jolted the angle after the 2 p.u. step. Below ``s_knee`` (``phi_knee T``, the flux of a
+   quarter of ``V_dc``) the error is the least-squares one, ``e S`` over a fixed ``S^2``: the weak vectors count
+   little, none can swing the angle; ``constrain = n_rej > n_max`` while the low-speed model has weight;
 5. high speed, APP, eqs. (33)-(37): ``x = park(psi, th) - lam``, the auxiliary flux of eq. (35) with its
    misprint corrected, ``lam_a = (J L^i - l J) i = (-lam_q + l_d i_q - l_dq i_d, lam_d + l_dq i_q - l_q i_d)``
    (``L^i i = Lambda(i)`` by eq. (8), so no apparent inductance is divided out), and eq. (37) written out:
@@ -63,7 +72,13 @@ Step ``k`` (``th`` the angle predicted for top ``k``, ``w`` the PLL speed; flux 
    ``k + 1``, and the state chosen from this step's outputs is applied from top ``k + 2`` to top ``k + 3``
    (the commit at the next window boundary, the choice at the top after it), so ``theta`` is the angle
    in the middle of that period; ``omega = w``; the flux ``psi`` at top ``k``; ``a1, a2`` for the
-   hardware's constraint (eq. (30) on the candidates, spec 3.10).
+   hardware's constraint (eq. (30) on the candidates, spec 3.10); ``constrain`` (eq. (31): ``n_rej >
+   n_max`` while the low-speed model has weight), but **not again in the two steps after it**: the state
+   chosen from this step's outputs is applied two periods on and measured one period after that, so the
+   count still exceeds ``n_max`` at the next two steps although a forced strong vector is on its way; a second
+   forced vector (tried) doubles the kick of the low-inductance current (two full vectors, 6 A here), and
+   the two-period-late deadbeat answers with the opposite vectors: the burst that tripped the overcurrent
+   limit after the 2 p.u. step.
 
 Radians to binary angle: ``shr(x_q16 * RAD_BIN, 16)``, ``RAD_BIN = round(2^32 / 2 pi)``.
 """
@@ -75,7 +90,7 @@ from dataclasses import dataclass
 from golden.firmware.applied_flux import applied_flux
 from golden.firmware.estimator import METHOD_HFO_PROJ, Estimator, Measurement, inv_park, park
 from golden.firmware.flux_lut import FLUX_FRAC, FluxLut, lut_flux, lut_point
-from golden.fixed import c_div, sat, shr, uwrap, round_shr
+from golden.fixed import c_div, round_shr, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
 
 RAD_BIN = 683565276
@@ -87,22 +102,24 @@ ONE_Q16 = 1 << 16
 class HfoParams:
     """Integers of the estimator (host side: :func:`golden.control_config.hfo_proj_params`).
 
-    ``lut``: the flux map; ``r_f``: ``R_s`` as flux per period per current LSB (Q16); ``dt_f``: ``V_dc t_d``
-    [flux units] (:mod:`golden.firmware.applied_flux`); ``c_g``: ``g T``
+    ``lut``: the flux map; ``r_f``: ``R_s`` as flux per period per current LSB (Q16); ``dt_f``, ``vth_f``: ``V_dc t_d`` and
+    ``V_th T`` [flux units] (:mod:`golden.firmware.applied_flux`); ``c_g``: ``g T``
     (Q16); ``l_shift``: right shift of the cell inductances before eq. (30)'s products; ``phi_min``:
-    eq. (31)'s threshold [voltage LSB]; ``n_max``: eq. (31)'s count; ``g_b``, ``wg_b``: ``g`` and
+    eq. (31)'s threshold [voltage LSB]; ``s_knee``: the strength below which the low-speed error is
+    weighted [flux units, 1..2^23]; ``n_max``: eq. (31)'s count; ``g_b``, ``wg_b``: ``g`` and
     ``omega_g`` [binary angle per period], ``wg_b`` >= 1; ``kp``, ``ki``: PLL gains (Q16, Q24; eq. (40));
     ``k_delay``: periods from the next top to the output angle (Q16); ``eps_max``: the limit of each error
-    [binary angle]; ``reject_gain``: 1 = a valid low-speed error counts for every period since the
-    previous valid one (at most ``n_max + 1``; the PLL's bandwidth does not drop with the rejections),
-    0 = the paper's (rejected periods are zeros)."""
+    [binary angle]; ``hold``: 1 = a rejected period's error is that of the angle the last valid one
+    measured, advanced by the speed (for ``n_max`` periods), 0 = the paper's zeros."""
 
     lut: FluxLut
     r_f: int
     dt_f: int
+    vth_f: int
     c_g: int
     l_shift: int
     phi_min: int
+    s_knee: int
     n_max: int
     g_b: int
     wg_b: int
@@ -110,7 +127,7 @@ class HfoParams:
     ki: int
     k_delay: int
     eps_max: int
-    reject_gain: int
+    hold: int
 
 
 class HybridFluxProjection(Estimator):
@@ -130,16 +147,19 @@ class HybridFluxProjection(Estimator):
         self.vec_old = 0                 # the state before it
         self.n_rej = 0
         self.since = 0                   # periods since the last valid low-speed error
+        self.th_meas = 0                 # the angle the last valid error measured, advanced by the speed
         self.eps_h = self.eps_t = self.f = 0
+        self.e_d = self.s_h = 0          # diagnostics: the last low-speed error and strength [flux units]
         self.theta = self.omega = 0
         self.fcs_a1 = self.fcs_a2 = self.constrain = 0
+        self.cons_wait = 0               # steps before the constraint may be set again
 
     def step(self, m: Measurement) -> None:
         p, lut = self.p, self.p.lut
         w = self.omega
         w_i = shr(self.integ, 24)                                   # the PLL's integral: its speed estimate
         i_al, i_be = m.win.top_ia, m.win.top_ib
-        a_al, a_be = applied_flux(self.vec_old, self.vec, self.i_al, self.i_be, p.dt_f)
+        a_al, a_be = applied_flux(self.vec_old, self.vec, self.i_al, self.i_be, p.dt_f, p.vth_f)
         # 1. eq. (5): the hybrid flux observer, forward Euler from the last top
         psi_al = sat(self.psi_al + a_al - shr(p.r_f * self.i_al, 16)
                      + shr(p.c_g * (self.lam_al - self.psi_al), 16), 32)
@@ -174,12 +194,18 @@ class HybridFluxProjection(Estimator):
             strength = round_shr(a1 * dpq - a2 * dpd, 12)            # eq. (29): phi_qh^-1 T
             valid = abs(strength) > (p.phi_min << FLUX_FRAC)
             if valid:
-                eps_h = _to_bin(sat(c_div(e_d << 16, strength), 32))
-                if p.reject_gain:
-                    eps_h *= min(self.since + 1, p.n_max + 1)
-                eps_h = self._limit(eps_h)
+                if abs(strength) >= p.s_knee:
+                    q = c_div(e_d << 16, strength)
+                else:
+                    q = c_div((sat(e_d, 24) * strength) << 16, p.s_knee * p.s_knee)
+                eps_h = self._limit(_to_bin(sat(q, 32)))
+                self.th_meas = uwrap(self.th + eps_h, 32)
+            elif p.hold and self.since < p.n_max:
+                eps_h = self._limit(wrap(self.th_meas - self.th, 32))
+            self.e_d, self.s_h = e_d, strength
         self.n_rej = 0 if valid else min(self.n_rej + 1, 1 << 16)
         self.since = 0 if valid else min(self.since + 1, 1 << 16)
+        self.th_meas = uwrap(self.th_meas + w_i, 32)
         # 5. high speed: APP (eqs. (33)-(37))
         eps_t = 0
         if f < ONE_Q16 and w_i != 0:
@@ -205,7 +231,8 @@ class HybridFluxProjection(Estimator):
         self.i_al, self.i_be, self.vec_old, self.vec = i_al, i_be, self.vec, m.win.vector
         self.eps_h, self.eps_t, self.f = eps_h, eps_t, f
         self.fcs_a1, self.fcs_a2 = a1, a2
-        self.constrain = int(f > 0 and self.n_rej > p.n_max)
+        self.constrain = int(f > 0 and self.n_rej > p.n_max and self.cons_wait == 0)
+        self.cons_wait = 2 if self.constrain else max(self.cons_wait - 1, 0)
         self.omega = w
         self.theta = uwrap(self.th + shr(w * p.k_delay, 16), 32)
 

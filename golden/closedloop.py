@@ -106,12 +106,15 @@ class ClosedLoopResult:
         ``theta_hat`` (the angle in use) or one estimator slot's output, ``theta_lo`` / ``theta_hi``.
         The middle is halfway between the window-end angles of ``k - 1`` and ``k`` (``k = 0``: its end);
         ``quarters = 3`` takes the true angle three quarters into the window instead: at the carrier
-        bottom, the sampling instant of the 001 method (golden.fpga.diff_cic)."""
+        bottom, the sampling instant of the 001 method (golden.fpga.diff_cic), and the middle of the state
+        the direct-vector mode applies (003). A reluctance machine's errors are wrapped to +-90 instead
+        (``scales.angle_period_deg``: its d axis and the opposite one look alike)."""
         th = self.windows["theta_e"].astype(np.int64)
         prev = np.concatenate([th[:1], th[:-1]])
         mid = prev + (((th - prev + 2**31) % 2**32 - 2**31) * quarters // 4)
         used = np.concatenate([np.zeros(2, dtype=np.int64), self.windows[column][:-2].astype(np.int64)])[:len(th)]
-        err = (mid - used + 2**31) % 2**32 - 2**31
+        period = round(2**32 * self.scales.angle_period_deg / 360.0)     # a reluctance machine: +-90 deg
+        err = (mid - used + period // 2) % period - period // 2
         return err * (360.0 / 2**32)
 
 

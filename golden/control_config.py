@@ -54,6 +54,9 @@ class Scales:
     w_lsb: float      # rad/s electrical
     f_sw: float
     pole_pairs: int
+    angle_period_deg: float = 360.0
+    """The period of the machine in the electrical angle: 180 deg for a reluctance machine (no magnet: the
+    d axis and its opposite look alike, so angle errors are reported modulo 180 deg), 360 otherwise."""
 
     def current(self, amps: float) -> int:
         return to_fixed(amps / self.i_lsb, 0)
@@ -92,7 +95,8 @@ class HardwareConfig:
 def scales(sc: Scenario) -> Scales:
     f_sw = sc.pwm.f_sw
     return Scales(i_lsb=sc.plant["sens"]["adc_range"] / 2**15, v_lsb=sc.plant["inv"]["V_dc"] / 2**15,
-                  w_lsb=2 * math.pi * f_sw / 2**32, f_sw=f_sw, pole_pairs=int(sc.plant["mech"]["pole_pairs"]))
+                  w_lsb=2 * math.pi * f_sw / 2**32, f_sw=f_sw, pole_pairs=int(sc.plant["mech"]["pole_pairs"]),
+                  angle_period_deg=180.0 if sc.plant["mag"]["psi_f"] == 0 else 360.0)
 
 
 def hardware_config(sc: Scenario) -> HardwareConfig:

@@ -247,7 +247,8 @@ def hfo_proj_params(sc: Scenario) -> HfoParams:
     ``k_i = Omega^2``)."""
     t, sc_, f_sw = sc.estimator.params["hfo_proj"], scales(sc), sc.pwm.f_sw
     T = 1.0 / f_sw
-    lut = flux_lut(sc.plant["mag"], sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], t["lut_max_d"], t["lut_max_q"],
+    lut = flux_lut(sc.plant["mag"], sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], t["lut_coarse"],
+                   t["lut_max_d"], t["lut_max_q"],
                    t["map_scale_d"], t["map_scale_q"])
     l_shift = max(max(map(abs, lut.t_ld + lut.t_lq + lut.t_ldq)).bit_length() - 15, 0)
     omega = 2 * math.pi * t["pll_bw"]

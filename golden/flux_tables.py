@@ -54,36 +54,36 @@ def mtpa_point(mag: dict, i_s: float, pole_pairs: int) -> tuple[float, float, fl
     return i_d, i_q, float(psi[0]), float(psi[1]), t
 
 
-def flux_lut(mag: dict, i_lsb: float, flux_lsb: float, step: float, knee: float, max_d: float, max_q: float,
-             scale_d: float = 1.0, scale_q: float = 1.0) -> FluxLut:
+def flux_lut(mag: dict, i_lsb: float, flux_lsb: float, step: float, knee: float, coarse: int, max_d: float,
+             max_q: float, scale_d: float = 1.0, scale_q: float = 1.0) -> FluxLut:
     """The firmware's flux LUT: grid step ``step`` [A] rounded to a power of two of ``i_lsb`` up to ``knee``
-    [A] (rounded to a grid point), twice that beyond, covering ``0..max_d`` and ``0..max_q`` [A]; values ``Lambda / flux_lsb`` times the scale factors, and the incremental inductances
+    [A] (rounded to a grid point), ``2^coarse`` times that beyond, covering ``0..max_d`` and ``0..max_q`` [A]; values ``Lambda / flux_lsb`` times the scale factors, and the incremental inductances
     (the model's Jacobian, inverted, at each point: eq. (12) with ``delta i -> 0``) as flux per grid step,
     scaled the same way (``l_dq`` by the geometric mean of the factors). Raises ValueError if the grid
     needs more than ``LUT_MAX_AXIS`` points on an axis or ``LUT_MAX_POINTS`` in all, or a value leaves s32."""
     shift = max(round(math.log2(step / i_lsb)), 0)
     h = (1 << shift) * i_lsb
     k = round(knee / h) << shift
-    n_d, n_q = (max(math.ceil(warp(math.ceil(m / i_lsb), k) / (1 << shift)), 1) + 1 for m in (max_d, max_q))
+    n_d, n_q = (max(math.ceil(warp(math.ceil(m / i_lsb), k, coarse) / (1 << shift)), 1) + 1 for m in (max_d, max_q))
     if max(n_d, n_q) > LUT_MAX_AXIS or n_d * n_q > LUT_MAX_POINTS:
         raise ValueError(f"flux LUT: {n_d} x {n_q} points for lut_max_d {max_d:g} A, lut_max_q {max_q:g} A at "
                          f"lut_step {h:g} A; at most {LUT_MAX_AXIS} per axis and {LUT_MAX_POINTS} in all "
                          "(raise lut_step or lower the ranges)")
-    if unwarp((max(n_d, n_q) - 1) << shift, k) > 32767:
+    if unwarp((max(n_d, n_q) - 1) << shift, k, coarse) > 32767:
         raise ValueError(f"flux LUT: {max(max_d, max_q):g} A is beyond the current range "
                          f"{32767 * i_lsb:g} A (sensors.adc_range)")
     cell = (1 << shift) * i_lsb / flux_lsb                # flux units per grid step per henry
     tabs = ([], [], [], [], [])
     for r in range(n_q):
         for c in range(n_d):
-            psi = psi_from_current(mag, unwarp(c << shift, k) * i_lsb, unwarp(r << shift, k) * i_lsb)
+            psi = psi_from_current(mag, unwarp(c << shift, k, coarse) * i_lsb, unwarp(r << shift, k, coarse) * i_lsb)
             l = incremental_inductance(mag, psi[0], psi[1])
             for tab, v in zip(tabs, (scale_d * psi[0] / flux_lsb, scale_q * psi[1] / flux_lsb, scale_d * l[0, 0] * cell,
                                      scale_q * l[1, 1] * cell, (scale_d * scale_q) ** 0.5 * l[0, 1] * cell)):
                 tab.append(to_fixed(float(v), 0))
     if max(abs(v) for tab in tabs for v in tab) >= 2**31:
         raise ValueError("flux LUT: a value beyond s32 flux units (the motor's flux for this voltage scale)")
-    return FluxLut(n_d, n_q, shift, k, *(tuple(t) for t in tabs))
+    return FluxLut(n_d, n_q, shift, k, coarse, *(tuple(t) for t in tabs))
 
 
 def flux_reference_table(mag: dict, pole_pairs: int, i_lsb: float, flux_lsb: float, i_max: int,

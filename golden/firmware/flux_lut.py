@@ -4,9 +4,9 @@ The table holds the flux linkages ``Lambda(i) = (lambda_d, lambda_q)`` of the mo
 frame (d = the low-inductance axis, docs/motors.md 5) on the first quadrant of the current plane: a
 grid of ``n_d x n_q`` points, row-major by ``i_q``, values in flux units (s32, :data:`FLUX_FRAC`). The
 grid is uniform, step ``2^shift`` current LSB, in the warped current ``u = warp(|i|)``: ``u = x`` below
-``knee``, ``u = knee + shr(x - knee, 1)`` above (``knee`` a multiple of ``2^shift``): the step doubles
-beyond the knee, so the steep rib region near zero gets the fine step without the grid growing over the
-whole current range. ``t[r * n_d + c]`` is the point ``u_d = c << shift``, ``u_q = r << shift``. A synchronous reluctance machine's map is odd in each current:
+``knee``, ``u = knee + shr(x - knee, coarse)`` above (``knee`` a multiple of ``2^shift``): the step grows
+by ``2^coarse`` beyond the knee, so the steep rib region near zero gets the fine step without the grid
+growing over the whole current range. ``t[r * n_d + c]`` is the point ``u_d = c << shift``, ``u_q = r << shift``. A synchronous reluctance machine's map is odd in each current:
 ``lambda_d(-i_d, i_q) = -lambda_d(i_d, i_q)``, ``lambda_d(i_d, -i_q) = lambda_d(i_d, i_q)`` and the same
 with d and q exchanged, so the other quadrants follow by sign (``sgn 0 = +1``).
 
@@ -42,11 +42,11 @@ With the cell's slopes of each inductance table ``t``,
 
     gx = (t01 - t00) (2^shift - fy) + (t11 - t10) fy,   gy = (t10 - t00) (2^shift - fx) + (t11 - t01) fx
 
-(``2^(2 shift)`` times the slope per grid step), ``wx = 2`` below the knee and 1 beyond it (the grid step in
-current doubles there), ``wy`` the same for q, and the signs ``sd = sgn i_d``, ``sq = sgn i_q`` (+1 for 0):
+(``2^(2 shift)`` times the slope per grid step), ``wx = 2^coarse`` below the knee and 1 beyond it (the grid
+step in current grows by ``2^coarse`` there), ``wy`` the same for q, and the signs ``sd = sgn i_d``, ``sq = sgn i_q`` (+1 for 0):
 
-    dl_d  = shr(-i_q sd gx(t_ld) wx + i_d sq gy(t_ld) wy, 2 shift + 1)      (and dl_q from t_lq)
-    dl_dq = shr(-|i_q| gx(t_ldq) wx + |i_d| gy(t_ldq) wy, 2 shift + 1)
+    dl_d  = shr(-i_q sd gx(t_ld) wx + i_d sq gy(t_ld) wy, 2 shift + coarse)      (and dl_q from t_lq)
+    dl_dq = shr(-|i_q| gx(t_ldq) wx + |i_d| gy(t_ldq) wy, 2 shift + coarse)
 
 in the units of ``l`` per radian. Products are at most s32 x s32 x s3: int64 in C.
 """
@@ -63,19 +63,20 @@ the control period): the flux of one voltage LSB applied for one period is ``2^F
 
 LUT_MAX_AXIS = 64
 """Most grid points per axis."""
-LUT_MAX_POINTS = 1024
+LUT_MAX_POINTS = 1536
 """Most grid points of a table (``n_d n_q``; the C reserves this many entries per table)."""
 
 
 @dataclass(frozen=True)
 class FluxLut:
-    """``n_d x n_q`` points, step ``2^shift`` current LSB below ``knee``, twice that above, maps ``t_d``,
+    """``n_d x n_q`` points, step ``2^shift`` current LSB below ``knee``, ``2^coarse`` times that above, maps ``t_d``,
     ``t_q`` and incremental inductances ``t_ld``, ``t_lq``, ``t_ldq`` (``n_d n_q`` s32 each)."""
 
     n_d: int
     n_q: int
     shift: int
     knee: int
+    coarse: int
     t_d: tuple
     t_q: tuple
     t_ld: tuple
@@ -102,7 +103,7 @@ def _cell(lut: FluxLut, i_d: int, i_q: int) -> tuple[int, int, int]:
     """``(k, fx, fy)``: the index of the cell's first corner and the fractions (beyond ``2^shift`` outside
     the grid; module docstring)."""
     n, s = lut.n_d, lut.shift
-    x, y = warp(abs(i_d), lut.knee), warp(abs(i_q), lut.knee)
+    x, y = warp(abs(i_d), lut.knee, lut.coarse), warp(abs(i_q), lut.knee, lut.coarse)
     c, r = min(x >> s, n - 2), min(y >> s, lut.n_q - 2)
     return r * n + c, x - (c << s), y - (r << s)
 
@@ -124,26 +125,27 @@ def lut_point(lut: FluxLut, i_d: int, i_q: int) -> LutPoint:
     fx, fy = min(fx, one), min(fy, one)
     l_d, l_q, l_dq = (_bilinear(t[k], t[k + 1], t[k + n], t[k + n + 1], fx, fy, s)
                       for t in (lut.t_ld, lut.t_lq, lut.t_ldq))
-    wx, wy = (2 if abs(i_d) < lut.knee else 1), (2 if abs(i_q) < lut.knee else 1)
+    w = 1 << lut.coarse
+    wx, wy = (w if abs(i_d) < lut.knee else 1), (w if abs(i_q) < lut.knee else 1)
     sd, sq = (-1 if i_d < 0 else 1), (-1 if i_q < 0 else 1)
     g = []
     for t in (lut.t_ld, lut.t_lq, lut.t_ldq):
         t00, t01, t10, t11 = t[k], t[k + 1], t[k + n], t[k + n + 1]
         g.append((((t01 - t00) * (one - fy) + (t11 - t10) * fy) * wx, ((t10 - t00) * (one - fx) + (t11 - t01) * fx) * wy))
-    dl_d = shr(-i_q * sd * g[0][0] + i_d * sq * g[0][1], 2 * s + 1)
-    dl_q = shr(-i_q * sd * g[1][0] + i_d * sq * g[1][1], 2 * s + 1)
-    dl_dq = shr(-abs(i_q) * g[2][0] + abs(i_d) * g[2][1], 2 * s + 1)
+    dl_d = shr(-i_q * sd * g[0][0] + i_d * sq * g[0][1], 2 * s + lut.coarse)
+    dl_q = shr(-i_q * sd * g[1][0] + i_d * sq * g[1][1], 2 * s + lut.coarse)
+    dl_dq = shr(-abs(i_q) * g[2][0] + abs(i_d) * g[2][1], 2 * s + lut.coarse)
     return LutPoint(sd * lam_d, sq * lam_q, l_d, l_q, sd * sq * l_dq, dl_d, dl_q, dl_dq)
 
 
-def warp(x: int, knee: int) -> int:
+def warp(x: int, knee: int, coarse: int) -> int:
     """The grid coordinate of a current magnitude ``x`` >= 0 (module docstring)."""
-    return x if x < knee else knee + shr(x - knee, 1)
+    return x if x < knee else knee + shr(x - knee, coarse)
 
 
-def unwarp(u: int, knee: int) -> int:
+def unwarp(u: int, knee: int, coarse: int) -> int:
     """The current magnitude of the grid coordinate ``u`` (host side: where the grid points lie)."""
-    return u if u < knee else knee + 2 * (u - knee)
+    return u if u < knee else knee + ((u - knee) << coarse)
 
 
 def _bilinear(t00: int, t01: int, t10: int, t11: int, fx: int, fy: int, s: int) -> int:

@@ -89,7 +89,7 @@ from dataclasses import dataclass
 
 from golden.firmware.applied_flux import applied_flux
 from golden.firmware.estimator import METHOD_HFO_PROJ, Estimator, Measurement, inv_park, park
-from golden.firmware.flux_lut import FLUX_FRAC, FluxLut, lut_flux, lut_point
+from golden.firmware.flux_lut import FLUX_FRAC, FluxLut, LutPoint, lut_flux, lut_point
 from golden.fixed import c_div, round_shr, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
 
@@ -171,14 +171,7 @@ class HybridFluxProjection(Estimator):
         pt = lut_point(lut, i_d, i_q)
         lam_al, lam_be = inv_park(pt.lam_d, pt.lam_q, s, c)
         # 3. eq. (30)'s coefficients, d-projection (the plant's low-inductance axis)
-        ld, lq, ldq = shr(pt.l_d, p.l_shift), shr(pt.l_q, p.l_shift), shr(pt.l_dq, p.l_shift)
-        dld, dldq = shr(pt.dl_d, p.l_shift), shr(pt.dl_dq, p.l_shift)
-        det = ld * lq - ldq * ldq
-        if det > 0:
-            a1 = sat(c_div((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) << 12, det), 16)
-            a2 = sat(c_div((ldq * (ld + lq) + dld * lq - dldq * ldq) << 12, det), 16)
-        else:
-            a1 = a2 = 0
+        a1, a2 = projection_coefficients(pt, p.l_shift)
         # 6. fusion weight (eq. (38b))
         f = min(max(c_div((p.g_b + p.wg_b - abs(w_i)) << 16, 2 * p.wg_b), 0), ONE_Q16)
         # 4. low speed: differences in the stationary frame, rotated at the middle of the period
@@ -247,6 +240,19 @@ class HybridFluxProjection(Estimator):
         self.th = uwrap(theta - shr(omega * self.p.k_delay, 16), 32)
         self.integ = omega << 24
         self.theta, self.omega = theta, omega
+
+
+def projection_coefficients(pt: LutPoint, l_shift: int) -> tuple[int, int]:
+    """``(a1, a2)`` (Q12, s16) of the low-speed projection at the table point ``pt`` (module docstring,
+    step 3): the strength of a flux change is ``round_shr(a1 dpsi_q - a2 dpsi_d, 12)``; ``(0, 0)`` if the
+    normalised inductance matrix is not positive definite."""
+    ld, lq, ldq = shr(pt.l_d, l_shift), shr(pt.l_q, l_shift), shr(pt.l_dq, l_shift)
+    dld, dldq = shr(pt.dl_d, l_shift), shr(pt.dl_dq, l_shift)
+    det = ld * lq - ldq * ldq
+    if det <= 0:
+        return 0, 0
+    return (sat(c_div((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) << 12, det), 16),
+            sat(c_div((ldq * (ld + lq) + dld * lq - dldq * ldq) << 12, det), 16))
 
 
 def _to_bin(x_q16: int) -> int:

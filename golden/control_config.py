@@ -254,7 +254,7 @@ def hfo_proj_params(sc: Scenario) -> HfoParams:
     omega = 2 * math.pi * t["pll_bw"]
     kp, ki = pll_gains(2 * omega, omega * omega, f_sw)
     r = sc.plant["R_s"] + sc.control.inv_r_drop
-    return HfoParams(lut=lut, r_f=to_fixed(r * sc_.i_lsb / sc_.v_lsb * 2**FLUX_FRAC, 16),
+    return HfoParams(lut=lut, c_lag=min(to_fixed(t["i_lag"] * f_sw, 16), 1 << 16), r_f=to_fixed(r * sc_.i_lsb / sc_.v_lsb * 2**FLUX_FRAC, 16),
                      dt_f=dead_time_flux(sc), vth_f=threshold_flux(sc),
                      c_g=to_fixed(2 * math.pi * t["g"] * T, 16), l_shift=l_shift,
                      phi_min=min(sc_.voltage(t["phi_min"]), 65535),

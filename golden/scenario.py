@@ -327,6 +327,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "lut_max_d": _q("current", _positive, default=10.0),
         "lut_max_q": _q("current", _positive, default=4.5),
         "eps_max": _q("angle", _positive, default=math.pi / 6),
+        "i_lag": _q("time", _non_negative, default=0.0),
         "hold": Field("choice", choices={"off": 0, "on": 1}, default="on"),
         "map_scale_d": Field("number", check=_between(0.5, 2.0), default=1.0),
         "map_scale_q": Field("number", check=_between(0.5, 2.0), default=1.0),

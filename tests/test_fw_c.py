@@ -12,6 +12,7 @@ set, else a fresh one, and it is printed (replay: ``HFI_SEED=<seed> .venv/bin/py
 
 from __future__ import annotations
 
+import functools
 import shutil
 import typing
 from dataclasses import fields as dataclass_fields, replace
@@ -25,8 +26,16 @@ from golden.firmware.bangbang import bangbang_step
 from golden.firmware.biquad import BiquadCoef, BiquadState, biquad_step
 from golden.firmware.eemf_smo import SmoParams
 from golden.control_config import firmware_params
-from golden.firmware.estimator import (METHOD_EEMF_SMO, METHOD_RFO, METHOD_ROT_BPF, METHOD_SQW_BANGBANG,
-                                       METHOD_SQW_CIC, METHODS, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage)
+from golden.firmware.estimator import (METHOD_EEMF_SMO, METHOD_HFO_PROJ, METHOD_RFO, METHOD_ROT_BPF,
+                                       METHOD_SQW_BANGBANG, METHOD_SQW_CIC, METHODS, SLOT_HIGH, SLOT_LOW, Measurement,
+                                       injection_voltage)
+from golden.firmware import flux_lut as flux_lut_mod
+from golden.firmware.applied_flux import applied_flux
+from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage, flux_reference
+from golden.firmware.flux_lut import LUT_MAX_POINTS, FluxLut, lut_flux, lut_point, warp
+from golden.firmware.hfo_proj import HfoParams, HybridFluxProjection, projection_coefficients
+from golden.fpga.fcs_mpc import choose_vector, state_voltage
+from golden.fpga.modulator import direct_alpha_beta, direct_state
 from golden.firmware.methods import CLASSES
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
@@ -38,7 +47,7 @@ from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams, SquareWaveCic
 from golden.firmware.vector import vector_angle
 from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, MODE_NAMES, MODE_POL_NEG,
-                                        MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_PILOT, Firmware,
+                                        MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_NONE, POL_PILOT, Firmware,
                                         FirmwareParams, Outputs)
 from golden.fixed import c_div, uwrap
 from golden.fpga.cordic import sincos_q15
@@ -49,6 +58,7 @@ from hfi import fw_c
 S32_MIN, S32_MAX = -(1 << 31), (1 << 31) - 1
 S64_MIN, S64_MAX = -(1 << 63), (1 << 63) - 1
 U16_MAX, U32_MAX = (1 << 16) - 1, (1 << 32) - 1
+S16_MIN, S16_MAX = -(1 << 15), (1 << 15) - 1
 F_MIN, F_MAX = -(1 << 47), (1 << 47) - 1        # speed-filter state: shr(F, 16) in s32
 N_RANDOM = 100_000
 METHODS_BY_ID = tuple(sorted(m.method for m in METHODS.values()))
@@ -108,7 +118,10 @@ def test_method_ids_and_slots_match_golden():
     assert {name: getattr(lib, f"FW_METHOD_{name.upper()}") for name in METHODS} == \
         {name: m.method for name, m in METHODS.items()}
     assert lib.FW_METHOD_SQW_CIC == METHOD_SQW_CIC
-    assert set(LOW_METHODS) == {METHOD_SQW_BANGBANG, METHOD_ROT_BPF, METHOD_SQW_CIC}, LOW_METHODS
+    assert lib.FW_METHOD_HFO_PROJ == METHOD_HFO_PROJ
+    assert set(LOW_METHODS) == {METHOD_SQW_BANGBANG, METHOD_ROT_BPF, METHOD_SQW_CIC, METHOD_HFO_PROJ}, LOW_METHODS
+    assert (lib.FW_POL_CURRENT, lib.FW_POL_PILOT, lib.FW_POL_NONE) == (POL_CURRENT, POL_PILOT, POL_NONE)
+    assert (lib.FW_LAW_FOC_PWM, lib.FW_LAW_FCS_MPC) == (LAW_FOC_PWM, LAW_FCS_MPC)
     assert set(HIGH_METHODS) == {METHOD_RFO, METHOD_EEMF_SMO}, HIGH_METHODS
     assert (lib.FW_SLOT_LOW, lib.FW_SLOT_HIGH) == (SLOT_LOW, SLOT_HIGH)
     assert lib.FW_METHODS == 1 + max(m.method for m in METHODS.values())
@@ -131,6 +144,22 @@ def test_blocks_match_golden_fields():
         set(fw_c.WINDOW_HOST_ONLY)
     cic = dict(ffi.typeof("struct fw_cic_params").fields)
     assert cic["c_t"].type.cname == cic["c_r"].type.cname == "int64_t"
+    # the 003 method: its state (every attribute of HybridFluxProjection), the LUT, the law's parameters
+    assert [name for name, _ in ffi.typeof("struct fw_hfo_state").fields] == \
+        [k for k in vars(HybridFluxProjection(_hfo_host())) if k != "p"]
+    assert [name for name, _ in ffi.typeof("struct fw_flux_lut").fields] == [f.name for f in dataclass_fields(FluxLut)]
+    assert [name for name, _ in ffi.typeof("struct fw_lut_point").fields] == \
+        [f.name for f in dataclass_fields(flux_lut_mod.LutPoint)]
+    assert [name for name, _ in ffi.typeof("struct fw_fcs_params").fields] == \
+        [f.name for f in dataclass_fields(FcsParams)] + ["len"]
+    lut = dict(ffi.typeof("struct fw_flux_lut").fields)
+    assert {lut[t].type.length for t in ("t_d", "t_q", "t_ld", "t_lq", "t_ldq")} == {LUT_MAX_POINTS}
+    fcs = dict(ffi.typeof("struct fw_fcs_params").fields)
+    assert fcs["t_d"].type.length == fcs["t_q"].type.length == mtpa.MTPA_LEN
+    assert [name for name, _ in ffi.typeof("struct fw_outputs").fields] == list(fw_c.OUTPUT_FIELDS) == \
+        [f.name for f in dataclass_fields(Outputs)]
+    assert set(fw_c.STATE_FIELDS) <= {f.name for f in dataclass_fields(Firmware)}
+    assert "vec_before" in fw_c.STATE_FIELDS
 
 
 def test_build_failure_reports_make_output(tmp_path):
@@ -477,13 +506,16 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
     low slot one of the low-slot methods (the square wave, the rotating injection, the period square wave
     with CIC), the high slot none or one of the high-slot methods (the rotor flux observer, the EEMF
     observer), with hand-over speeds that switch often; the 000 blocks (pilot polarity, MTPA,
-    notch, speed-loop divider, rotating injection) each on in about half of the sets."""
+    notch, speed-loop divider, rotating injection) each on in about half of the sets; the 003 ones: the
+    hybrid flux observer in the low slot, the fcs_mpc law (mostly with it, sometimes with the others), no
+    polarity detection (a third of the sets each with current pulses and pilot voltages)."""
     k_bb, pll_kp, pll_ki = draw(rng, 3, 0, S32_MAX, (27_342_611, 2621, 6711))
     inj_rot = int(rng.random() < 0.5)
     v_h = draw_one(rng, 0, (1 << 15) - 1, (2621,)) if inj_rot else draw_one(rng, -S32_MAX, S32_MAX, (300,))
     i_pulse = draw_one(rng, -S32_MAX, S32_MAX, (5851,))
     n_converge, n_pulse = (int(v) for v in rng.integers(-1, 25, size=2))
     low = LOW_METHODS[int(rng.integers(0, len(LOW_METHODS)))]
+    law = LAW_FCS_MPC if rng.random() < (0.7 if low == METHOD_HFO_PROJ else 0.2) else LAW_FOC_PWM
     high = (0, *HIGH_METHODS)[int(rng.integers(0, len(HIGH_METHODS) + 1))]
     w_down = int(rng.integers(0, S32_MAX - (1 << 24))) if rng.random() < 0.5 else draw_one(rng, 0, 1 << 24, (0, 100))
     step = draw_one(rng, 0, U32_MAX, (214_748_365,))
@@ -495,6 +527,8 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
         rot=random_rot(rng) if low == METHOD_ROT_BPF else None,
         smo=random_smo(rng) if high == METHOD_EEMF_SMO else None,
         cic=random_cic(rng) if low == METHOD_SQW_CIC else None,
+        hfo=random_hfo(rng) if low == METHOD_HFO_PROJ else None,
+        law=law, fcs=random_fcs(rng) if law == LAW_FCS_MPC else None,
         w_up=w_down + draw_one(rng, 0, 1 << 24, (0, 1)), w_down=w_down,
         merge=draw_one(rng, 0, 1 << 16, (0, 1 << 16, 2000)), speed_lp=draw_one(rng, 0, 1 << 16, (2425,)),
         speed_pi=random_pi(rng), id_pi=random_pi(rng), iq_pi=random_pi(rng), v_h=v_h, i_pulse=i_pulse,
@@ -502,7 +536,7 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
         i_trip=draw_one(rng, 0, S32_MAX, (1000, 32767)),
         fixed_angle=draw_one(rng, 0, U32_MAX) if fixed else None,
         inj_rot=inj_rot, inj_cd=inj_cd, inj_sd=inj_sd, inj_c2=inj_c2, inj_s2=inj_s2, hf_dtc=draw_one(rng, 0, 1 << 15, (597,)),
-        pol_mode=POL_PILOT if rng.random() < 0.5 else POL_CURRENT, v_pilot=draw_one(rng, 0, (1 << 15) - 1, (9362,)),
+        pol_mode=(POL_PILOT, POL_CURRENT, POL_NONE)[int(rng.integers(0, 3))], v_pilot=draw_one(rng, 0, (1 << 15) - 1, (9362,)),
         mtpa_shift=shift, mtpa_id=t_d, mtpa_iq=t_q, notch=random_coef(rng) if rng.random() < 0.5 else None,
         speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)))
 
@@ -517,7 +551,7 @@ def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:
 
 def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int) -> list[WindowResult]:
     """``count`` window results whose means stay within +-i_trip (no trip); gamma_d shifted by the bias;
-    CIC_QA/QB as :func:`random_cic_q`."""
+    CIC_QA/QB as :func:`random_cic_q`; VECTOR 0..7, TOP_I s16 (mostly within +-4000)."""
     gamma, gamma_d, wsum = (draw_array(rng, count, S32_MIN, S32_MAX) for _ in range(3))
     gamma_d = np.clip(gamma_d // 2 + gamma_d_bias, S32_MIN, S32_MAX)
     n = draw_array(rng, count, 0, U16_MAX, (1, 2, 10, 200))
@@ -528,7 +562,12 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
     sums = np.clip(means * n + rems, S32_MIN, S32_MAX)
     sums = np.where(n == 0, draw_array(rng, 2 * count, S32_MIN, S32_MAX).reshape(2, count), sums)
     inj_phase = draw_array(rng, count, 0, U32_MAX)
-    cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase, random_cic_q(rng, count), random_cic_q(rng, count))
+    zeros = np.zeros(count, dtype=np.int64)
+    vector = rng.integers(0, 8, size=count)
+    top = [np.where(rng.random(count) < 0.8, rng.integers(-4000, 4001, size=count), draw_array(rng, count, S16_MIN, S16_MAX))
+           for _ in range(2)]
+    cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase, random_cic_q(rng, count), random_cic_q(rng, count),
+            zeros, zeros, vector, top[0], top[1])
     return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
 
 
@@ -586,8 +625,8 @@ def test_fw_step_random_sequences(seed, chunk):
     assert visited == set(range(7)), visited
     assert trips_from == set(TRIP_FROM), trips_from
     assert flips == {0, 1}, flips
-    assert {m for m, _ in running} == set(METHODS_BY_ID) and {pol for _, pol in running} == {POL_CURRENT, POL_PILOT}, \
-        running
+    assert {m for m, _ in running} == set(METHODS_BY_ID) and \
+        {pol for _, pol in running} == {POL_CURRENT, POL_PILOT, POL_NONE}, running
 
 
 def _params(**kw) -> FirmwareParams:
@@ -946,3 +985,386 @@ def test_cic_params_of_the_scenario():
         if running == 300:
             break
     assert running == 300 and pair.fw.mode == MODE_RUN, (k, pair.fw.mode)
+
+
+# ---- the 003 method (Varatharajan et al. 2020): vector choice, flux LUT, applied flux, hfo_proj, fcs_mpc --------
+SYRM_SCENARIO = ROOT / "scenarios" / "varatharajan2020_torquestep.toml"
+
+
+@functools.lru_cache(maxsize=None)
+def _syrm_params() -> FirmwareParams:
+    """golden.control_config.firmware_params of scenarios/varatharajan2020_torquestep.toml (law fcs_mpc, low
+    hfo_proj, the LUT built by golden.flux_tables.flux_lut from the preset varatharajan2020_syrm)."""
+    return firmware_params(load_scenario(SYRM_SCENARIO))
+
+
+def _hfo_host() -> HfoParams:
+    return _syrm_params().hfo
+
+
+@functools.lru_cache(maxsize=None)
+def _syrm_luts() -> tuple[FluxLut, ...]:
+    """The host's LUT and the same map on the grids of the other coarse steps (0..3) that fit LUT_MAX_POINTS
+    (golden.flux_tables.flux_lut with hfo_proj_params' arguments)."""
+    from golden.control_config import flux_lsb, scales
+    from golden.flux_tables import flux_lut as build_lut
+    sc = load_scenario(SYRM_SCENARIO)
+    t, sc_ = sc.estimator.params["hfo_proj"], scales(sc)
+    luts = [_hfo_host().lut]
+    for coarse in range(4):
+        if coarse == luts[0].coarse:
+            continue
+        try:
+            luts.append(build_lut(sc.plant["mag"], sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], coarse,
+                                  t["lut_max_d"], t["lut_max_q"], t["map_scale_d"], t["map_scale_q"]))
+        except ValueError:
+            pass
+    return tuple(luts)
+
+
+def _lut_to_c(lut: FluxLut):
+    c = ffi.new("struct fw_flux_lut *")
+    fw_c._fill(c, lut)
+    return c
+
+
+def random_hfo(rng: np.random.Generator) -> HfoParams:
+    """hfo_proj integers over the ranges control.h documents (struct fw_hfo_params), around the host's values
+    (varatharajan2020_torquestep) with the extremes frequent; the host's LUT (or a coarser/finer grid of the
+    same map) and its l_shift."""
+    h = _hfo_host()
+    luts = _syrm_luts()
+    lut = luts[int(rng.integers(0, len(luts)))]
+    l_shift = max(max(map(abs, lut.t_ld + lut.t_lq + lut.t_ldq)).bit_length() - 15, 0)
+    return replace(h, lut=lut, l_shift=l_shift, c_lag=draw_one(rng, 0, 1 << 16, (h.c_lag, 0)),
+                   r_f=draw_one(rng, 0, 1 << 26, (h.r_f,)), dt_f=draw_one(rng, 0, 1 << 28, (h.dt_f, 0)),
+                   vth_f=draw_one(rng, 0, 1 << 28, (h.vth_f, 0)), c_g=draw_one(rng, 0, 1 << 16, (h.c_g,)),
+                   phi_min=draw_one(rng, 0, U16_MAX, (h.phi_min, 0)), s_knee=draw_one(rng, 1, 1 << 23, (h.s_knee,)),
+                   n_max=draw_one(rng, -1, 12, (h.n_max, 0)), g_b=draw_one(rng, 1, 1 << 26, (h.g_b,)),
+                   wg_b=draw_one(rng, 1, 1 << 26, (h.wg_b,)), kp=draw_one(rng, 0, 1 << 20, (h.kp,)),
+                   ki=draw_one(rng, 0, 1 << 20, (h.ki,)), k_delay=draw_one(rng, -(1 << 20), 1 << 20, (h.k_delay,)),
+                   eps_max=draw_one(rng, 0, S32_MAX, (h.eps_max, 0)), hold=int(rng.random() < 0.7))
+
+
+def random_fcs(rng: np.random.Generator) -> FcsParams:
+    """fcs_mpc integers over the ranges control.h documents (struct fw_fcs_params): the host's table or a random
+    one (t_d <= 0, t_q >= 0, |t| < 2^29), the scalars around the host's values."""
+    h = _syrm_params().fcs
+    if rng.random() < 0.5:
+        shift, t_d, t_q = h.shift, h.t_d, h.t_q
+    else:
+        n = int(rng.integers(2, mtpa.MTPA_LEN + 1))
+        shift = int(rng.integers(0, 21))
+        t_d = tuple(-v for v in draw(rng, n, 0, (1 << 29) - 1))
+        t_q = tuple(draw(rng, n, 0, (1 << 29) - 1))
+    return replace(h, r_f=draw_one(rng, 0, 1 << 26, (h.r_f,)), r_v=draw_one(rng, 0, 1 << 20, (h.r_v,)),
+                   dt_f=draw_one(rng, 0, 1 << 28, (h.dt_f, 0)), vth_f=draw_one(rng, 0, 1 << 28, (h.vth_f, 0)),
+                   shift=shift, t_d=t_d, t_q=t_q, phi_min=draw_one(rng, 0, U16_MAX, (h.phi_min,)),
+                   v_lim=draw_one(rng, 1, S16_MAX, (h.v_lim, 1)))
+
+
+def test_state_voltage_and_choose_vector_random(seed):
+    """fw_state_voltage = state_voltage (all 8 states); fw_choose_vector = choose_vector on N_RANDOM inputs over
+    their ranges (v_alpha, v_beta s18, SIN/COS, A1/A2 s16, PHI_MIN u16, CONSTRAIN, the state now): every outcome
+    (an active state, the zero vector 000 / 111, the constraint dropped) often."""
+    a, b = _out_pair()
+    for state in range(8):
+        lib.fw_state_voltage(state, a, b)
+        assert (a[0], b[0]) == state_voltage(state)
+    rng = np.random.default_rng(seed + 60)
+    n = N_RANDOM
+    v_al, v_be = (draw(rng, n, -(1 << 17), (1 << 17) - 1) for _ in range(2))
+    angles = draw(rng, n, 0, U32_MAX)
+    sc_rand = [draw(rng, n, S16_MIN, S16_MAX) for _ in range(2)]
+    a1, a2 = (draw(rng, n, S16_MIN, S16_MAX, (4096, -4096)) for _ in range(2))
+    phi = draw(rng, n, 0, U16_MAX, (3641, 20000))
+    cons = (rng.random(n) < 0.6).tolist()
+    now = rng.integers(0, 8, size=n).tolist()
+    pj = ffi.new("int32_t *")
+    count = {"active": 0, "zero": 0, "seven": 0, "dropped": 0}
+    for k in range(n):
+        if k % 3:
+            s_, c_ = sincos_q15(angles[k])
+        else:
+            s_, c_ = sc_rand[0][k], sc_rand[1][k]
+        if k % 4 == 0:                          # small references: the zero vector wins
+            v_al[k], v_be[k] = v_al[k] >> 8, v_be[k] >> 8
+        want = choose_vector(v_al[k], v_be[k], s_, c_, a1[k], a2[k], phi[k], cons[k], now[k])
+        got = lib.fw_choose_vector(v_al[k], v_be[k], s_, c_, a1[k], a2[k], phi[k], int(cons[k]), now[k], pj)
+        assert (got, pj[0]) == want, (seed, k, v_al[k], v_be[k], s_, c_, a1[k], a2[k], phi[k], cons[k], now[k])
+        count["active"] += want[0] not in (0, 7)
+        count["zero"] += want[0] == 0
+        count["seven"] += want[0] == 7
+    assert min(count[k] for k in ("active", "zero", "seven")) > 1000, count
+
+
+def test_direct_state_random(seed):
+    """fw_direct_alpha_beta / fw_direct_state = direct_alpha_beta / direct_state on N_RANDOM register sets."""
+    rng = np.random.default_rng(seed + 61)
+    n = N_RANDOM
+    v_d, v_q, s_r, c_r, a1, a2 = (draw(rng, n, S16_MIN, S16_MAX) for _ in range(6))
+    angles = draw(rng, n, 0, U32_MAX)
+    phi = draw(rng, n, 0, U16_MAX, (3641,))
+    cons = (rng.random(n) < 0.6).tolist()
+    now = rng.integers(0, 8, size=n).tolist()
+    a, b = _out_pair()
+    states = set()
+    for k in range(n):
+        s_, c_ = sincos_q15(angles[k]) if k % 2 else (s_r[k], c_r[k])
+        lib.fw_direct_alpha_beta(v_d[k], v_q[k], s_, c_, a, b)
+        assert (a[0], b[0]) == direct_alpha_beta(v_d[k], v_q[k], s_, c_), k
+        want = direct_state(v_d[k], v_q[k], s_, c_, a1[k], a2[k], phi[k], cons[k], now[k])
+        assert lib.fw_direct_state(v_d[k], v_q[k], s_, c_, a1[k], a2[k], phi[k], int(cons[k]), now[k]) == want, k
+        states.add(want)
+    assert states == set(range(8)), states
+
+
+LUT_I_MAX = 1 << 18
+"""The currents control.h documents for the LUT (|i_d|, |i_q| <= 2^18; the step's are within +-46341)."""
+
+
+def _lut_currents(rng: np.random.Generator, lut: FluxLut, n: int) -> list[int]:
+    """Currents over +-2^18: on the grid, beyond it (extrapolated), at the knee and the grid's edges."""
+    edge = flux_lut_mod.unwarp((max(lut.n_d, lut.n_q) - 1) << lut.shift, lut.knee, lut.coarse)
+    specials = (lut.knee - 1, lut.knee, lut.knee + 1, -lut.knee, edge, edge + 1, -edge, 1 << lut.shift)
+    grid = draw_array(rng, n, -edge - 2000, edge + 2000, specials)
+    wide = draw_array(rng, n, -LUT_I_MAX, LUT_I_MAX, specials)
+    return np.where(rng.random(n) < 0.7, grid, wide).tolist()
+
+
+def test_lut_point_and_flux_random(seed):
+    """fw_warp / fw_lut_flux / fw_lut_point / fw_projection_coefficients = warp / lut_flux / lut_point /
+    projection_coefficients on N_RANDOM currents (inside and beyond the grid, every quadrant) with the LUT of
+    the varatharajan2020_syrm preset (and its other coarse grids), l_shift around the host's."""
+    rng = np.random.default_rng(seed + 62)
+    luts = [(lut, _lut_to_c(lut)) for lut in _syrm_luts()]
+    pt = ffi.new("struct fw_lut_point *")
+    ld, lq = ffi.new("int64_t *"), ffi.new("int64_t *")
+    a1, a2 = _out_pair()
+    names = [f.name for f in dataclass_fields(flux_lut_mod.LutPoint)]
+    per = N_RANDOM // len(luts) + 1
+    beyond = inside = nonzero = 0
+    for lut, c in luts:
+        i_d, i_q = _lut_currents(rng, lut, per), _lut_currents(rng, lut, per)
+        host_shift = max(max(map(abs, lut.t_ld + lut.t_lq + lut.t_ldq)).bit_length() - 15, 0)
+        shifts = rng.integers(max(host_shift - 2, 0), host_shift + 3, size=per).tolist()
+        for k in range(per):
+            d, q = i_d[k], i_q[k]
+            assert lib.fw_warp(abs(d), lut.knee, lut.coarse) == warp(abs(d), lut.knee, lut.coarse)
+            lib.fw_lut_flux(c, d, q, ld, lq)
+            assert (ld[0], lq[0]) == lut_flux(lut, d, q), (lut.coarse, d, q)
+            want = lut_point(lut, d, q)
+            lib.fw_lut_point(c, d, q, pt)
+            got = {name: getattr(pt, name) for name in names}
+            assert got == {name: getattr(want, name) for name in names}, (lut.coarse, d, q, got, want)
+            lib.fw_projection_coefficients(pt, shifts[k], a1, a2)
+            w = projection_coefficients(want, shifts[k])
+            assert (a1[0], a2[0]) == w, (lut.coarse, d, q, shifts[k])
+            nonzero += w != (0, 0)
+            x, y = warp(abs(d), lut.knee, lut.coarse), warp(abs(q), lut.knee, lut.coarse)
+            if x > (lut.n_d - 1) << lut.shift or y > (lut.n_q - 1) << lut.shift:
+                beyond += 1
+            else:
+                inside += 1
+    assert min(beyond, inside, nonzero) > 10_000, (beyond, inside, nonzero)
+
+
+def test_applied_flux_random(seed):
+    """fw_applied_flux = applied_flux on N_RANDOM state pairs, currents (s16 with zeros and the sign edges of
+    the b and c phases) and dead-time / threshold fluxes (0..2^28)."""
+    rng = np.random.default_rng(seed + 63)
+    n = N_RANDOM
+    old, new = (rng.integers(0, 8, size=n).tolist() for _ in range(2))
+    i_al, i_be = (draw(rng, n, S16_MIN, S16_MAX) for _ in range(2))
+    for k in range(0, n, 10):                 # i_b = 0 or i_c = 0 exactly: 56756 i_be = +-32768 i_al
+        m = draw_one(rng, -8, 8)
+        i_al[k], i_be[k] = 56756 * m, 32768 * m * (1 if k % 20 else -1)
+        i_al[k], i_be[k] = i_al[k] // 4096, i_be[k] // 4096
+    dt_f, vth_f = (draw(rng, n, 0, 1 << 28, (83886, 17088, 0)) for _ in range(2))
+    a, b = _out_pair()
+    for k in range(n):
+        lib.fw_applied_flux(old[k], new[k], i_al[k], i_be[k], dt_f[k], vth_f[k], a, b)
+        assert (a[0], b[0]) == applied_flux(old[k], new[k], i_al[k], i_be[k], dt_f[k], vth_f[k]), \
+            (k, old[k], new[k], i_al[k], i_be[k], dt_f[k], vth_f[k])
+
+
+def _fcs_to_c(p: FcsParams):
+    c = ffi.new("struct fw_fcs_params *")
+    fw_c._fill(c, p)
+    c.len = len(p.t_d)
+    return c
+
+
+def test_flux_reference_and_deadbeat_random(seed):
+    """fw_flux_reference / fw_deadbeat_voltage = flux_reference / deadbeat_voltage on N_RANDOM inputs: random
+    law parameters (a new set every 10), observed flux (s32, mostly the motor's), TOP_I s16, the states
+    before and after top k, the previous step's register set (V_D, V_Q, SIN, COS, FCS_A, FCS_CTRL), the angle,
+    speed and current command; the voltage limit's shifts often."""
+    rng = np.random.default_rng(seed + 64)
+    n = N_RANDOM
+    psi = [np.where(rng.random(n) < 0.8, draw_array(rng, n, -(1 << 27), 1 << 27), draw_array(rng, n, S32_MIN, S32_MAX))
+           .tolist() for _ in range(2)]
+    i_al, i_be = (draw(rng, n, S16_MIN, S16_MAX) for _ in range(2))
+    before, vector = (rng.integers(0, 8, size=n).tolist() for _ in range(2))
+    pv_d, pv_q, pa1, pa2 = (draw(rng, n, S16_MIN, S16_MAX) for _ in range(4))
+    p_ang, theta = (draw(rng, n, 0, U32_MAX) for _ in range(2))
+    p_phi = draw(rng, n, 0, U16_MAX, (3641,))
+    p_con = rng.integers(0, 2, size=n).tolist()
+    omega, i_s = (draw(rng, n, S32_MIN, S32_MAX, (0,)) for _ in range(2))
+    prev_c = ffi.new("struct fw_outputs *")
+    vd, vq = _out_pair()
+    limited = 0
+    for k in range(n):
+        if k % 10 == 0:
+            p = random_fcs(rng)
+            cp = _fcs_to_c(p)
+        s_, c_ = sincos_q15(p_ang[k])
+        prev = Outputs(pv_d[k], pv_q[k], 0, s_, c_, 1, 0, 0, pa1[k], pa2[k], p_phi[k], p_con[k])
+        fw_c._outputs_into(prev_c, prev)
+        lib.fw_flux_reference(cp, i_s[k], vd, vq)
+        assert (vd[0], vq[0]) == flux_reference(p, i_s[k]), (k, p, i_s[k])
+        want = deadbeat_voltage(p, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], prev, theta[k],
+                                omega[k], i_s[k])
+        lib.fw_deadbeat_voltage(cp, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], prev_c, theta[k],
+                                omega[k], i_s[k], vd, vq)
+        assert (vd[0], vq[0]) == want, (k, p, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], prev,
+                                         theta[k], omega[k], i_s[k])
+        limited += max(abs(want[0]), abs(want[1])) > p.v_lim // 2
+    assert limited > 1000, limited
+
+
+HFO_STATE = tuple(name for name, _ in ffi.typeof("struct fw_hfo_state").fields)
+
+
+class HfoPair:
+    """HybridFluxProjection and fw_hfo_step / turn / sync on the same state (the hfo block of a fw_state)."""
+
+    def __init__(self):
+        self.st = ffi.new("struct fw_state *")
+        self.cp = ffi.new("struct fw_params *")
+        self.win = ffi.new("struct fw_window *")
+        self.m = ffi.new("struct fw_meas *")
+        self.m.win = self.win
+        self.theta, self.omega = ffi.new("uint32_t *"), ffi.new("int32_t *")
+        self.flux = ffi.new("struct fw_est_flux *")
+        self.p = None
+
+    def load(self, p: HfoParams, state: dict) -> HybridFluxProjection:
+        if p is not self.p:
+            fw_c._fill(self.cp.hfo, p)
+            self.p = p
+        est = HybridFluxProjection(p)
+        for name, v in state.items():
+            setattr(est, name, v)
+        fw_c._estimator_into(self.st.hfo, est)            # every field (the others at their initial values)
+        return est
+
+    def step(self, est: HybridFluxProjection, vector: int, ia: int, ib: int) -> tuple[int, int]:
+        self.win.vector, self.win.top_ia, self.win.top_ib = vector, ia, ib
+        est.step(Measurement(WindowResult(0, 0, 0, 0, 0, 0, vector=vector, top_ia=ia, top_ib=ib), 0, 0, 0, 32767, 0, 0))
+        lib.fw_hfo_step(self.st, self.cp, self.m, self.theta, self.omega)
+        return self.theta[0], self.omega[0]
+
+    def diff(self, est: HybridFluxProjection) -> dict:
+        d = {k: (getattr(self.st.hfo, k), getattr(est, k)) for k in HFO_STATE if getattr(self.st.hfo, k) != getattr(est, k)}
+        lib.fw_hfo_flux(self.st, self.flux)
+        for k in ("psi_al", "psi_be", "fcs_a1", "fcs_a2", "constrain"):
+            if getattr(self.flux, k) != getattr(est, k):
+                d[("flux", k)] = (getattr(self.flux, k), getattr(est, k))
+        return d
+
+
+def _random_hfo_state(rng: np.random.Generator, p: HfoParams) -> dict:
+    """A state over the fields' ranges: the PLL's speed mostly below the fusion's band (both models on), the
+    flux mostly the motor's, the counters around n_max."""
+    band = p.g_b + p.wg_b
+    w_i = draw_one(rng, -2 * band, 2 * band, (0, band, -band, p.g_b - p.wg_b, 1)) if rng.random() < 0.8 \
+        else draw_one(rng, -(1 << 38), 1 << 38)
+    flux = (lambda: draw_one(rng, -(1 << 26), 1 << 26)) if rng.random() < 0.9 else (lambda: draw_one(rng, S32_MIN, S32_MAX))
+    return dict(th=draw_one(rng, 0, U32_MAX), integ=(w_i << 24) + int(rng.integers(0, 1 << 24)),
+                psi_al=flux(), psi_be=flux(), lam_al=flux(), lam_be=flux(),
+                i_al=draw_one(rng, -3 << 15, 3 << 15), i_be=draw_one(rng, -3 << 15, 3 << 15),
+                r_al=draw_one(rng, S16_MIN, S16_MAX), r_be=draw_one(rng, S16_MIN, S16_MAX),
+                vec=int(rng.integers(0, 8)), vec_old=int(rng.integers(0, 8)),
+                n_rej=draw_one(rng, 0, 1 << 16, (p.n_max, p.n_max + 1, 1 << 16)),
+                since=draw_one(rng, 0, 1 << 16, (p.n_max - 1, p.n_max, 1 << 16)), th_meas=draw_one(rng, 0, U32_MAX),
+                cons_wait=int(rng.integers(0, 3)), theta=draw_one(rng, 0, U32_MAX), omega=draw_one(rng, S32_MIN, S32_MAX))
+
+
+HFO_SEQ = 10
+
+
+def test_hfo_step_random(seed):
+    """fw_hfo_step = HybridFluxProjection.step on N_RANDOM steps: sequences of HFO_SEQ steps from random
+    states (a new parameter set every ten sequences) with random TOP_I (mostly within +-4000, the s16
+    extremes) and VECTOR; every state field (the diagnostics eps_h, eps_t, f, e_d, s_h too), the outputs and
+    the flux outputs compared after every step; the branches (valid, knee, hold, APP, constraint) each often."""
+    rng = np.random.default_rng(seed + 65)
+    pair = HfoPair()
+    count = dict.fromkeys(("valid", "knee", "held", "app", "constrain", "fused"), 0)
+    for q in range(N_RANDOM // HFO_SEQ):
+        if q % 10 == 0:
+            p = random_hfo(rng) if q % 20 else _hfo_host()
+        est = pair.load(p, _random_hfo_state(rng, p))
+        big = rng.random() < 0.2
+        for k in range(HFO_SEQ):
+            ia, ib = (draw(rng, 2, S16_MIN, S16_MAX) if big else rng.integers(-4000, 4001, size=2).tolist())
+            vec = int(rng.integers(0, 8))
+            since = est.since
+            out = pair.step(est, vec, ia, ib)
+            assert pair.diff(est) == {} and out == (est.theta, est.omega), (seed, q, k, p, pair.diff(est))
+            count["valid"] += est.n_rej == 0
+            count["knee"] += est.n_rej == 0 and abs(est.s_h) < p.s_knee
+            count["held"] += est.n_rej > 0 and est.eps_h != 0 and since < p.n_max
+            count["app"] += est.eps_t != 0
+            count["constrain"] += est.constrain
+            count["fused"] += 0 < est.f < 1 << 16
+    assert min(count.values()) > 500, count
+
+
+def test_hfo_sync_turn_random(seed):
+    """fw_hfo_sync / fw_hfo_turn = HybridFluxProjection.sync / turn on N_RANDOM random states, angles and speeds."""
+    rng = np.random.default_rng(seed + 66)
+    pair = HfoPair()
+    for k in range(N_RANDOM):
+        if k % 1000 == 0:
+            p = random_hfo(rng)
+        est = pair.load(p, _random_hfo_state(rng, p))
+        arg, speed = draw_one(rng, 0, U32_MAX, (HALF_TURN,)), draw_one(rng, S32_MIN, S32_MAX)
+        if k % 2:
+            est.sync(arg, speed)
+            lib.fw_hfo_sync(pair.st, pair.cp, arg, speed)
+        else:
+            est.turn(arg)
+            lib.fw_hfo_turn(pair.st, arg)
+        assert pair.diff(est) == {}, (seed, k, arg, speed, pair.diff(est))
+    assert lib.fw_hfo_i_d(pair.cp) == HybridFluxProjection(p).i_d == 0
+
+
+@pytest.mark.parametrize("chunk", range(2))
+def test_fw_step_fcs_hfo_sequences(seed, chunk):
+    """The whole firmware with the 003 scenario's parameters (law fcs_mpc, low hfo_proj, no polarity detection;
+    golden.control_config.firmware_params of varatharajan2020_torquestep, start-up shortened): C = golden on
+    random window results (VECTOR 0..7, TOP_I s16) and speed references, outputs and state after every step,
+    through CONVERGE, RELAX and RUN."""
+    rng = np.random.default_rng(seed + 67 + chunk)
+    base = _syrm_params()
+    assert base.law == LAW_FCS_MPC and base.low == METHOD_HFO_PROJ and base.pol_mode == POL_NONE
+    cp = fw_c.params_to_c(ffi, base)
+    lut = base.hfo.lut
+    assert (cp.hfo.lut.n_d, cp.hfo.lut.n_q, cp.hfo.lut.coarse) == (lut.n_d, lut.n_q, lut.coarse)
+    assert list(cp.hfo.lut.t_ldq[0:len(lut.t_ldq)]) == list(lut.t_ldq) and cp.fcs.len == len(base.fcs.t_d)
+    visited, fused, constrained = set(), 0, 0
+    for q in range(N_RANDOM // (4 * SEQ_LEN)):
+        p = replace(base, n_converge=int(rng.integers(-1, 6)), n_settle=int(rng.integers(-1, 6)))
+        pair = Pair(p)
+        speed_ref = draw_one(rng, -(1 << 22), 1 << 22, (0,))
+        for k, w in enumerate(random_windows(rng, SEQ_LEN, p.i_trip, 0)):
+            if rng.random() < 0.05:
+                speed_ref = draw_one(rng, -(1 << 22), 1 << 22, (0,))
+            out = pair.step(w, speed_ref, (seed, chunk, q, k))
+            visited.add(pair.fw.mode)
+            fused += 0 < pair.fw.slots[SLOT_LOW].f
+            constrained += out.fcs_constrain
+    assert {MODE_CONVERGE, MODE_RELAX, MODE_RUN} <= visited, visited
+    assert fused > 100 and constrained > 0, (fused, constrained)

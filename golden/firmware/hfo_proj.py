@@ -11,6 +11,12 @@ low-inductance axis; docs/motors.md 5): the paper's q-axis projection is a d-axi
 Step ``k`` (``th`` the angle predicted for top ``k``, ``w`` the PLL speed; flux in the units of
 :data:`golden.firmware.flux_lut.FLUX_FRAC`):
 
+0. the top currents corrected for the current sensors' lag ``tau`` (a first-order sensor of bandwidth
+   ``f_s`` reads the current ``tau = 1/(2 pi f_s)`` late, and the top is where the slope changes):
+   ``i = TOP_I + shr(c_lag (TOP_I - TOP_I_prev), 16)``, ``c_lag = tau / T`` (Q16); the slope before the
+   top is the last period's change. Uncorrected, the lag shifts each difference of eq. (26) by ``tau``
+   times the change of slope: 0.05 A of the low-inductance current per vector at 2 p.u. (0.8 deg of bias);
+
 1. eq. (5), forward Euler from top ``k-1`` to top ``k``, in the stationary frame:
    ``psi += a - shr(r_f i_prev, 16) + shr(c_g (lam_prev - psi), 16)`` per component, ``a`` the flux of the
    state applied, with the dead time of the legs that switched at top ``k-1``
@@ -102,7 +108,7 @@ ONE_Q16 = 1 << 16
 class HfoParams:
     """Integers of the estimator (host side: :func:`golden.control_config.hfo_proj_params`).
 
-    ``lut``: the flux map; ``r_f``: ``R_s`` as flux per period per current LSB (Q16); ``dt_f``, ``vth_f``: ``V_dc t_d`` and
+    ``lut``: the flux map; ``c_lag``: the current sensors' lag over the period (Q16, step 0); ``r_f``: ``R_s`` as flux per period per current LSB (Q16); ``dt_f``, ``vth_f``: ``V_dc t_d`` and
     ``V_th T`` [flux units] (:mod:`golden.firmware.applied_flux`); ``c_g``: ``g T``
     (Q16); ``l_shift``: right shift of the cell inductances before eq. (30)'s products; ``phi_min``:
     eq. (31)'s threshold [voltage LSB]; ``s_knee``: the strength below which the low-speed error is
@@ -113,6 +119,7 @@ class HfoParams:
     measured, advanced by the speed (for ``n_max`` periods), 0 = the paper's zeros."""
 
     lut: FluxLut
+    c_lag: int
     r_f: int
     dt_f: int
     vth_f: int
@@ -142,7 +149,8 @@ class HybridFluxProjection(Estimator):
         self.integ = 0
         self.psi_al = self.psi_be = 0    # observed stator flux at the last top (stationary frame)
         self.lam_al = self.lam_be = 0    # the current model's flux at the last top
-        self.i_al = self.i_be = 0        # the last top currents
+        self.i_al = self.i_be = 0        # the last top currents (lag-corrected)
+        self.r_al = self.r_be = 0        # and as sampled
         self.vec = 0                     # the state applied since the last top (VECTOR of the last step)
         self.vec_old = 0                 # the state before it
         self.n_rej = 0
@@ -158,7 +166,9 @@ class HybridFluxProjection(Estimator):
         p, lut = self.p, self.p.lut
         w = self.omega
         w_i = shr(self.integ, 24)                                   # the PLL's integral: its speed estimate
-        i_al, i_be = m.win.top_ia, m.win.top_ib
+        r_al, r_be = m.win.top_ia, m.win.top_ib                     # TOP_I, as sampled
+        i_al = r_al + shr(p.c_lag * (r_al - self.r_al), 16)          # the current at the top (step 0)
+        i_be = r_be + shr(p.c_lag * (r_be - self.r_be), 16)
         a_al, a_be = applied_flux(self.vec_old, self.vec, self.i_al, self.i_be, p.dt_f, p.vth_f)
         # 1. eq. (5): the hybrid flux observer, forward Euler from the last top
         psi_al = sat(self.psi_al + a_al - shr(p.r_f * self.i_al, 16)
@@ -222,6 +232,7 @@ class HybridFluxProjection(Estimator):
         # 8. state and outputs
         self.psi_al, self.psi_be, self.lam_al, self.lam_be = psi_al, psi_be, lam_al, lam_be
         self.i_al, self.i_be, self.vec_old, self.vec = i_al, i_be, self.vec, m.win.vector
+        self.r_al, self.r_be = r_al, r_be
         self.eps_h, self.eps_t, self.f = eps_h, eps_t, f
         self.fcs_a1, self.fcs_a2 = a1, a2
         self.constrain = int(f > 0 and self.n_rej > p.n_max and self.cons_wait == 0)

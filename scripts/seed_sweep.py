@@ -3,7 +3,11 @@
 on one backend (default hls, the fastest). Prints one line per run (seed, initial angle, locked, estimator
 switches, worst plateau speed error) and the count of lock losses; exit status 1 if any run lost lock.
 
-Usage: scripts/seed_sweep.py SCENARIO.toml... [--seeds 10] [--backend hls]
+Usage: scripts/seed_sweep.py SCENARIO.toml... [--seeds 10] [--backend hls] [--window T0 T1]...
+
+``--window T0 T1`` (repeatable) adds the peak and RMS of the angle error at the carrier bottom
+(``angle_error_at_bottom``, docs/metrics.md) over ``[T0, T1)`` seconds of each run, and their worst over the
+seeds at the end.
 """
 
 from __future__ import annotations
@@ -28,8 +32,10 @@ def main() -> int:
     ap.add_argument("scenarios", nargs="+")
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--backend", default="hls")
+    ap.add_argument("--window", nargs=2, type=float, action="append", default=[], metavar=("T0", "T1"))
     args = ap.parse_args()
     losses = 0
+    worst = {tuple(w): [0.0, 0.0] for w in args.window}
     for path in args.scenarios:
         base = load_scenario(path)
         rng = np.random.default_rng(base.seed)
@@ -37,12 +43,22 @@ def main() -> int:
             seed, theta = base.seed + 1000 + k, float(rng.uniform(0, 2 * math.pi / base.plant["mech"]["pole_pairs"]))
             plant = dict(base.plant, seed=seed, theta_m0=theta)
             sc = dataclasses.replace(base, seed=seed, plant=plant)
-            m = metrics_of(sc, run(sc, args.backend, progress=False))
-            worst = max((abs(s["speed_mean_rpm"] - s["speed_ref_rpm"]) for s in m["segments"]), default=0.0)
+            res = run(sc, args.backend, progress=False)
+            m = metrics_of(sc, res)
+            speed_err = max((abs(s["speed_mean_rpm"] - s["speed_ref_rpm"]) for s in m["segments"]), default=0.0)
             losses += not m["locked"]
+            extra = ""
+            for (t0, t1), acc in worst.items():
+                sel = (res.t >= t0) & (res.t < t1)
+                err = res.angle_error_deg(quarters=3)[sel]
+                peak, rms = float(np.max(np.abs(err))), float(np.sqrt(np.mean(err ** 2)))
+                acc[0], acc[1] = max(acc[0], peak), max(acc[1], rms)
+                extra += f", [{t0:g}, {t1:g}) s: peak {peak:.2f} RMS {rms:.2f} deg"
             print(f"{base.name} seed {seed} theta_m0 {math.degrees(theta):6.1f} deg: locked {m['locked']}, "
                   f"switches {m['estimator_switches']}, "
-                  f"worst plateau speed error {worst:.1f} rpm", flush=True)
+                  f"worst plateau speed error {speed_err:.1f} rpm{extra}", flush=True)
+    for (t0, t1), (peak, rms) in worst.items():
+        print(f"[{t0:g}, {t1:g}) s over all runs: worst peak {peak:.2f} deg, worst RMS {rms:.2f} deg")
     print(f"lock losses: {losses}")
     return 1 if losses else 0
 

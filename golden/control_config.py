@@ -235,6 +235,8 @@ def fcs_params(sc: Scenario) -> FcsParams:
     r = (sc.plant["R_s"] + ctl.inv_r_drop) * sc_.i_lsb / sc_.v_lsb
     shift, t_d, t_q = flux_reference_table(sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"]), sc_.i_lsb,
                                            flux_lsb(sc), sc_.current(ctl.i_max), ctl.flux_min)
+    if not t_d or max(map(abs, t_d + t_q)) >= 1 << 30:
+        raise ValueError(f"fcs_mpc: the flux reference table leaves +-2^30 flux units (scenario {sc.name})")
     return FcsParams(r_f=to_fixed(r * 2**FLUX_FRAC, 16), r_v=to_fixed(r, 16), dt_f=dead_time_flux(sc),
                      vth_f=threshold_flux(sc), shift=shift, t_d=t_d, t_q=t_q,
                      phi_min=min(sc_.voltage(sc.estimator.params["hfo_proj"]["phi_min"]), 65535), v_lim=32767)

@@ -34,7 +34,8 @@ LIBRARY = Path("out/firmware/host/libhfifw.so")
 """The host build (firmware/Makefile, target ``host``), relative to the project root."""
 
 STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id_int", "iq_int",
-                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset", "speed_cnt", "i_s_ref", "i_s_cmd")
+                "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset", "speed_cnt", "i_s_ref", "i_s_cmd",
+                "vec_before")
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
 (besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each
 method's state block, named by the method's ``PARAMS``)."""
@@ -44,7 +45,8 @@ diagnostics of the differencing block), so ``struct fw_window`` has no field for
 WINDOW_RESULT_FIELDS = tuple(f.name for f in dataclass_fields(WindowResult) if f.name not in WINDOW_HOST_ONLY)
 """Fields shared by ``struct fw_window`` and :class:`~golden.fpga.demodulator.WindowResult`, in the struct's
 order (tests/test_fw_c.py checks both)."""
-OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
+OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref", "fcs_a1", "fcs_a2", "fcs_phi_min",
+                 "fcs_constrain")
 """Fields shared by ``struct fw_outputs`` and :class:`~golden.firmware.supervisor.Outputs`."""
 PI_FIELDS = ("kp", "sp", "ki", "si", "limit")
 """Fields shared by ``struct fw_pi_params`` and :class:`~golden.firmware.pi.PiParams`."""
@@ -120,15 +122,18 @@ def pi_params_to_c(ffi: cffi.FFI, p: PiParams):
 
 
 def params_to_c(ffi: cffi.FFI, p: FirmwareParams):
-    """``struct fw_params *`` holding ``p`` (a method's block stays zero when its field is None);
+    """``struct fw_params *`` holding ``p`` (a method's block stays zero when its field is None; nested
+    dataclasses such as ``HfoParams.lut`` and tuples such as the tables go into their structs and arrays);
     ``fixed_enable = 1`` and ``fixed_angle = uwrap(angle, 32)`` for an open-loop test angle (as
-    ``Firmware.__post_init__``), both 0 for ``fixed_angle=None``."""
+    ``Firmware.__post_init__``), both 0 for ``fixed_angle=None``; ``fcs.len`` = ``len(fcs.t_d)`` (C only, as
+    ``mtpa_len``)."""
     c = ffi.new("struct fw_params *")
     _fill(c, replace(p, fixed_angle=None))
     c.fixed_enable = 0 if p.fixed_angle is None else 1
     c.fixed_angle = 0 if p.fixed_angle is None else uwrap(p.fixed_angle, 32)
     c.mtpa_len = len(p.mtpa_id)
     c.notch_on = 0 if p.notch is None else 1
+    c.fcs.len = 0 if p.fcs is None else len(p.fcs.t_d)
     return c
 
 

@@ -26,7 +26,7 @@ from golden.plant import Plant, binding
 from golden.scenario import Scenario
 from hfi import hls_build
 from hfi.backends import BackendError
-from hfi.fw_c import cdef_text, params_to_c
+from hfi.fw_c import OUTPUT_FIELDS as FW_OUTPUT_FIELDS, cdef_text, params_to_c
 
 HEADERS = tuple(hls_build.ROOT / h for h in ("firmware/src/control.h", "sim/plant_records.h",
                                               "hls/backend/hls_window.h", "hls/backend/hls_loop.h"))
@@ -125,7 +125,7 @@ class HlsClosedLoop:
             wall = time.perf_counter() - t0
             win = _records(lib, h, "windows", ffi.sizeof("struct hls_window"))
             outs = _records(lib, h, "outputs", ffi.sizeof("struct fw_outputs"),
-                            [(f, "<i4") for f in OUTPUT_FIELDS])
+                            [(f, "<i4") for f in FW_OUTPUT_FIELDS])
             truth = _records(lib, h, "truth", binding.ffi.sizeof("struct plant_state"), binding.STATE_DTYPE)
             samples = _records(lib, h, "samples", ffi.sizeof("struct adc_sample"),
                                [("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])

@@ -41,7 +41,7 @@ if str(ROOT) not in sys.path:
 import numpy as np  # noqa: E402
 
 from golden.closedloop import WINDOW_FIELDS, truth_columns  # noqa: E402
-from golden.firmware import biquad, eemf_smo, mtpa, rfo, rot_bpf, sqw_bangbang, supervisor  # noqa: E402
+from golden.firmware import biquad, eemf_smo, flux_lut, mtpa, rfo, rot_bpf, sqw_bangbang, supervisor  # noqa: E402
 from golden.firmware.estimator import INJ_NONE, METHODS  # noqa: E402
 from golden.plant.binding import STATE_DTYPE  # noqa: E402
 from hfi import generated  # noqa: E402
@@ -157,6 +157,8 @@ def render_methods() -> str:
         f"#define FW_SMO_QUARTER {eemf_smo.QUARTER}u  /* golden.firmware.eemf_smo.QUARTER */",
         f"#define FW_MTPA_LEN {mtpa.MTPA_LEN}  /* golden.firmware.mtpa.MTPA_LEN */",
         f"#define FW_NOTCH_BITS {supervisor.NOTCH_BITS}  /* golden.firmware.supervisor.NOTCH_BITS */",
+        f"#define FW_FLUX_FRAC {flux_lut.FLUX_FRAC}  /* golden.firmware.flux_lut.FLUX_FRAC */",
+        f"#define FW_LUT_MAX_POINTS {flux_lut.LUT_MAX_POINTS}  /* golden.firmware.flux_lut.LUT_MAX_POINTS */",
         "",
         "#endif",
         "",

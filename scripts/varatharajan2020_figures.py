@@ -4,9 +4,9 @@
 Each scenario runs on the golden backend. Per scenario (docs/figures/varatharajan2020_<name>.png): speed
 (reference, rotor, estimate), the electrical position error modulo 180 deg (the angle the state was chosen
 with against the true angle in the middle of the applied period, ``angle_error_at_bottom``), the torque
-(electromagnetic, load) and the fusion weight ``f`` of eq. (38b), computed from the estimator's speed with
-the scenario's ``g`` and ``w_g`` (the estimator uses its PLL integrator's speed, which the trace does not
-hold; the two differ by the PLL's proportional part).
+(electromagnetic, load) and the fusion weight ``f`` of eq. (38b), computed from the filtered speed estimate
+(the supervisor's, 25 Hz) with the scenario's ``g`` and ``w_g`` (the estimator uses its PLL integrator's
+speed, which the trace does not hold; both are smooth, the PLL's output is not).
 
 Usage: scripts/varatharajan2020_figures.py [NAME ...] [--out docs/figures]   (names: torquestep speedrange
 tracking; default all). Prints the metrics that docs/methods.md quotes.
@@ -51,11 +51,11 @@ def figure(name: str, out_dir: str) -> dict:
     m = metrics_of(sc, res)
     w, t = res.windows, res.t
     scale = res.scales.speed_mech(1.0)
-    est = w["omega_lo"] / scale
+    est = w["omega_f"] / scale
     fig, ax = plt.subplots(4, 1, figsize=(9, 9), sharex=True)
     ax[0].plot(t, w["speed_ref"] / scale * RPM, lw=1.0, label="reference")
     ax[0].plot(t, w["omega_m"] * RPM, lw=0.8, label="rotor")
-    ax[0].plot(t, est * RPM, lw=0.6, alpha=0.8, label="estimated (PLL)")
+    ax[0].plot(t, est * RPM, lw=0.6, alpha=0.8, label="estimated (filtered)")
     ax[0].set_ylabel("speed [r/min]")
     ax[0].legend(loc="best", fontsize=8)
     ax[1].plot(t, res.angle_error_deg(quarters=3), lw=0.5)

@@ -680,13 +680,465 @@ int32_t fw_cic_i_d(const struct fw_params *p)
     return 0;
 }
 
+/* ---- the 003 method: FCS-MPC vector choice, flux LUT, applied flux, hfo_proj, fcs_mpc --------------- */
+
+/* golden.firmware.hfo_proj.projection_coefficients (eqs. (28)-(30), corrected): the normalised inductances
+ * below 2^20 in magnitude (l_shift brings the tables below 2^15), so every product and the numerators
+ * shifted by 12 are below 2^57. */
+static int64_t shr_any64(int64_t x, int32_t n);
+void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, int32_t *a1, int32_t *a2)
+{
+    int64_t ld = shr_any64(pt->l_d, l_shift), lq = shr_any64(pt->l_q, l_shift), ldq = shr_any64(pt->l_dq, l_shift);
+    int64_t dld = shr_any64(pt->dl_d, l_shift), dldq = shr_any64(pt->dl_dq, l_shift);
+    int64_t det = ld * lq - ldq * ldq;
+
+    if (det <= 0) {
+        *a1 = *a2 = 0;
+        return;
+    }
+    *a1 = (int32_t)sat_bits((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) * 4096 / det, 16);
+    *a2 = (int32_t)sat_bits((ldq * (ld + lq) + dld * lq - dldq * ldq) * 4096 / det, 16);
+}
+
+/* golden.fixed.shr(x, n) of an int64 for any n >= 0 (n >= 63: the sign) */
+static int64_t shr_any64(int64_t x, int32_t n)
+{
+    return n >= 63 ? (x < 0 ? -1 : 0) : x >> n;
+}
+
+/* golden.firmware.estimator.park of int64 components (|a|, |b| < 2^46: the products below 2^62) */
+static void park64(int64_t a, int64_t b, int32_t s, int32_t c, int64_t *d, int64_t *q)
+{
+    *d = round_shr64(a * c + b * s, 15);
+    *q = round_shr64(b * c - a * s, 15);
+}
+
+/* golden.firmware.estimator.inv_park of int64 components (saturated to s32 as golden) */
+static void inv_park64(int64_t d, int64_t q, int32_t s, int32_t c, int32_t *al, int32_t *be)
+{
+    *al = sat32(round_shr64(d * c - q * s, 15));
+    *be = sat32(round_shr64(d * s + q * c, 15));
+}
+
+static int64_t abs64(int64_t x)
+{
+    return x < 0 ? -x : x;
+}
+
+static const int32_t fcs_states[6] = {1, 3, 2, 6, 4, 5}; /* golden.fpga.fcs_mpc.ACTIVE_STATES */
+static const int32_t fcs_vx[6] = {21845, 10923, -10923, -21845, -10923, 10923}; /* VX */
+static const int32_t fcs_vy[6] = {0, 18919, 18919, 0, -18919, -18919};        /* VY */
+
+/* golden.fpga.fcs_mpc.state_voltage (state 0..7) */
+void fw_state_voltage(int32_t state, int32_t *v_al, int32_t *v_be)
+{
+    *v_al = 0;
+    *v_be = 0;
+    for (int j = 0; j < 6; j++) {
+        if (fcs_states[j] == state) {
+            *v_al = fcs_vx[j];
+            *v_be = fcs_vy[j];
+        }
+    }
+}
+
+/* golden.fpga.fcs_mpc.choose_vector (Varatharajan et al. 2020, eqs. (15), (30)-(32)): v_al, v_be s18,
+ * sin/cos, a1, a2 s16, phi_min u16, state_now 0..7; d_j s36 and the p_j sums s33: int64_t. */
+int32_t fw_choose_vector(int32_t v_al, int32_t v_be, int32_t sin_q15, int32_t cos_q15, int32_t a1, int32_t a2,
+                         int32_t phi_min, int32_t constrain, int32_t state_now, int32_t *p)
+{
+    int64_t pj[6];
+    int eligible[6], any = 0;
+
+    for (int j = 0; j < 6; j++) { /* eq. (30) in the estimated frame */
+        int64_t vd = round_shr64((int64_t)fcs_vx[j] * cos_q15 + (int64_t)fcs_vy[j] * sin_q15, 15);
+        int64_t vq = round_shr64((int64_t)fcs_vy[j] * cos_q15 - (int64_t)fcs_vx[j] * sin_q15, 15);
+
+        pj[j] = round_shr64(a1 * vq - a2 * vd, 12);
+        eligible[j] = constrain ? abs64(pj[j]) > phi_min : 1;
+        any |= eligible[j];
+    }
+    int zero_ok = !constrain || !any;
+    if (!any)
+        for (int j = 0; j < 6; j++)
+            eligible[j] = 1;
+    int best = -1, have = zero_ok;
+    int64_t best_d = 0;
+    for (int j = 0; j < 6; j++) {
+        if (!eligible[j])
+            continue;
+        int64_t d = (int64_t)fcs_vx[j] * fcs_vx[j] + (int64_t)fcs_vy[j] * fcs_vy[j]
+                    - 2 * ((int64_t)v_al * fcs_vx[j] + (int64_t)v_be * fcs_vy[j]); /* eq. (15) */
+        if (!have || d < best_d) {
+            best = j;
+            best_d = d;
+            have = 1;
+        }
+    }
+    if (best < 0) {
+        int ones = (state_now & 1) + ((state_now >> 1) & 1) + ((state_now >> 2) & 1);
+
+        *p = 0;
+        return ones >= 2 ? 7 : 0;
+    }
+    *p = (int32_t)pj[best];
+    return fcs_states[best];
+}
+
+/* golden.fpga.modulator.direct_alpha_beta (s16 registers) */
+void fw_direct_alpha_beta(int32_t v_d, int32_t v_q, int32_t sin_q15, int32_t cos_q15, int32_t *v_al, int32_t *v_be)
+{
+    *v_al = (int32_t)round_shr64((int64_t)v_d * cos_q15 - (int64_t)v_q * sin_q15, 15);
+    *v_be = (int32_t)round_shr64((int64_t)v_d * sin_q15 + (int64_t)v_q * cos_q15, 15);
+}
+
+/* golden.fpga.modulator.direct_state */
+int32_t fw_direct_state(int32_t v_d, int32_t v_q, int32_t sin_q15, int32_t cos_q15, int32_t a1, int32_t a2,
+                        int32_t phi_min, int32_t constrain, int32_t state_now)
+{
+    int32_t v_al, v_be, p;
+
+    fw_direct_alpha_beta(v_d, v_q, sin_q15, cos_q15, &v_al, &v_be);
+    return fw_choose_vector(v_al, v_be, sin_q15, cos_q15, a1, a2, phi_min, constrain, state_now, &p);
+}
+
+/* golden.firmware.flux_lut.warp (x >= 0) */
+int32_t fw_warp(int32_t x, int32_t knee, int32_t coarse)
+{
+    return x < knee ? x : knee + ((x - knee) >> coarse);
+}
+
+/* golden.firmware.flux_lut._cell: the first corner's index and the fractions */
+static void lut_cell(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, int32_t *k, int64_t *fx, int64_t *fy)
+{
+    int32_t s = lut->shift;
+    int32_t x = fw_warp(i_d < 0 ? -i_d : i_d, lut->knee, lut->coarse);
+    int32_t y = fw_warp(i_q < 0 ? -i_q : i_q, lut->knee, lut->coarse);
+    int32_t c = x >> s, r = y >> s;
+
+    if (c > lut->n_d - 2)
+        c = lut->n_d - 2;
+    if (r > lut->n_q - 2)
+        r = lut->n_q - 2;
+    *k = r * lut->n_d + c;
+    *fx = (int64_t)x - ((int64_t)c << s);
+    *fy = (int64_t)y - ((int64_t)r << s);
+}
+
+/* golden.firmware.flux_lut._bilinear of table t at the cell k */
+static int64_t lut_bilinear(const int32_t *t, int32_t k, int32_t n, int64_t fx, int64_t fy, int32_t s)
+{
+    int64_t t00 = t[k], t01 = t[k + 1], t10 = t[k + n], t11 = t[k + n + 1];
+    int64_t a = t00 + (((t01 - t00) * fx) >> s);
+    int64_t b = t10 + (((t11 - t10) * fx) >> s);
+
+    return a + (((b - a) * fy) >> s);
+}
+
+/* golden.firmware.flux_lut.lut_flux */
+void fw_lut_flux(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, int64_t *lam_d, int64_t *lam_q)
+{
+    int32_t k;
+    int64_t fx, fy;
+
+    lut_cell(lut, i_d, i_q, &k, &fx, &fy);
+    int64_t d = lut_bilinear(lut->t_d, k, lut->n_d, fx, fy, lut->shift);
+    int64_t q = lut_bilinear(lut->t_q, k, lut->n_d, fx, fy, lut->shift);
+    *lam_d = i_d < 0 ? -d : d;
+    *lam_q = i_q < 0 ? -q : q;
+}
+
+/* golden.firmware.flux_lut.lut_point */
+void fw_lut_point(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, struct fw_lut_point *pt)
+{
+    int32_t k, n = lut->n_d, s = lut->shift;
+    int64_t fx, fy, one = (int64_t)1 << s;
+
+    lut_cell(lut, i_d, i_q, &k, &fx, &fy);
+    int64_t lam_d = lut_bilinear(lut->t_d, k, n, fx, fy, s);
+    int64_t lam_q = lut_bilinear(lut->t_q, k, n, fx, fy, s);
+    fx = fx < one ? fx : one;
+    fy = fy < one ? fy : one;
+    int64_t l_d = lut_bilinear(lut->t_ld, k, n, fx, fy, s);
+    int64_t l_q = lut_bilinear(lut->t_lq, k, n, fx, fy, s);
+    int64_t l_dq = lut_bilinear(lut->t_ldq, k, n, fx, fy, s);
+    int64_t w = (int64_t)1 << lut->coarse;
+    int64_t wx = (i_d < 0 ? -(int64_t)i_d : i_d) < lut->knee ? w : 1;
+    int64_t wy = (i_q < 0 ? -(int64_t)i_q : i_q) < lut->knee ? w : 1;
+    int64_t sd = i_d < 0 ? -1 : 1, sq = i_q < 0 ? -1 : 1;
+    const int32_t *tabs[3] = {lut->t_ld, lut->t_lq, lut->t_ldq};
+    int64_t gx[3], gy[3];
+    for (int j = 0; j < 3; j++) {
+        const int32_t *t = tabs[j];
+        int64_t t00 = t[k], t01 = t[k + 1], t10 = t[k + n], t11 = t[k + n + 1];
+
+        gx[j] = ((t01 - t00) * (one - fy) + (t11 - t10) * fy) * wx;
+        gy[j] = ((t10 - t00) * (one - fx) + (t11 - t01) * fx) * wy;
+    }
+    int64_t id = i_d, iq = i_q, aid = i_d < 0 ? -id : id, aiq = i_q < 0 ? -iq : iq;
+    pt->dl_d = (-iq * sd * gx[0] + id * sq * gy[0]) >> (2 * s + lut->coarse);
+    pt->dl_q = (-iq * sd * gx[1] + id * sq * gy[1]) >> (2 * s + lut->coarse);
+    pt->dl_dq = (-aiq * gx[2] + aid * gy[2]) >> (2 * s + lut->coarse);
+    pt->lam_d = sd * lam_d;
+    pt->lam_q = sq * lam_q;
+    pt->l_d = l_d;
+    pt->l_q = l_q;
+    pt->l_dq = sd * sq * l_dq;
+}
+
+static int32_t sgn64(int64_t x)
+{
+    return (x > 0) - (x < 0);
+}
+
+/* golden.firmware.applied_flux.applied_flux (0 <= dt_f, vth_f <= 2^28: the sums below 2^46) */
+void fw_applied_flux(int32_t old, int32_t new_state, int32_t i_al, int32_t i_be, int32_t dt_f, int32_t vth_f,
+                     int32_t *f_al, int32_t *f_be)
+{
+    int32_t v_al, v_be;
+    int32_t signs[3] = {sgn64(i_al), sgn64(56756 * (int64_t)i_be - 32768 * (int64_t)i_al),
+                        sgn64(-32768 * (int64_t)i_al - 56756 * (int64_t)i_be)};
+    int64_t e[3];
+
+    fw_state_voltage(new_state, &v_al, &v_be);
+    for (int x = 0; x < 3; x++) {
+        int32_t ds = ((new_state >> x) & 1) - ((old >> x) & 1);
+
+        e[x] = (ds * signs[x] > 0 ? -(int64_t)ds * dt_f : 0) - (int64_t)signs[x] * vth_f;
+    }
+    *f_al = (int32_t)(((int64_t)v_al << FW_FLUX_FRAC) + round_shr64((2 * e[0] - e[1] - e[2]) * 10923, 15));
+    *f_be = (int32_t)(((int64_t)v_be << FW_FLUX_FRAC) + round_shr64((e[1] - e[2]) * 18919, 15));
+}
+
+/* golden.firmware.hfo_proj._to_bin: radians (Q16) to binary angle (|x| <= 2^31: below 2^61) */
+static int64_t hfo_to_bin(int64_t x_q16)
+{
+    return (x_q16 * 683565276) >> 16; /* RAD_BIN */
+}
+
+/* HybridFluxProjection._limit: min(max(e, -eps_max), eps_max) */
+static int64_t hfo_limit(int64_t e, int32_t eps_max)
+{
+    int64_t m = eps_max;
+
+    e = e > -m ? e : -m;
+    return e < m ? e : m;
+}
+
+/* the bit length of x >= 0 (Python int.bit_length) */
+static int32_t bit_length64(int64_t x)
+{
+    return x == 0 ? 0 : 64 - __builtin_clzll((uint64_t)x);
+}
+
+/* golden.firmware.hfo_proj.HybridFluxProjection.step (Varatharajan et al. 2020, Secs. II-B, III-C, IV): the
+ * hybrid flux observer, the current model from the LUT, the projection's coefficients, the low-speed error,
+ * APP, fusion and PLL; the same operations in the same order (int64_t throughout). */
+void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega)
+{
+    struct fw_hfo_state *e = &st->hfo;
+    const struct fw_hfo_params *hp = &p->hfo;
+    const struct fw_flux_lut *lut = &hp->lut;
+    int64_t w_i = e->integ >> 24;
+    int32_t r_al = m->win->top_ia, r_be = m->win->top_ib; /* TOP_I, as sampled */
+    /* 0. the current at the top, corrected for the sensors' lag */
+    int32_t i_al = (int32_t)(r_al + (((int64_t)hp->c_lag * ((int64_t)r_al - e->r_al)) >> 16));
+    int32_t i_be = (int32_t)(r_be + (((int64_t)hp->c_lag * ((int64_t)r_be - e->r_be)) >> 16));
+    int32_t a_al, a_be;
+
+    fw_applied_flux(e->vec_old, e->vec, e->i_al, e->i_be, hp->dt_f, hp->vth_f, &a_al, &a_be);
+    /* 1. eq. (5) */
+    int32_t psi_al = sat32((int64_t)e->psi_al + a_al - (((int64_t)hp->r_f * e->i_al) >> 16)
+                           + (((int64_t)hp->c_g * ((int64_t)e->lam_al - e->psi_al)) >> 16));
+    int32_t psi_be = sat32((int64_t)e->psi_be + a_be - (((int64_t)hp->r_f * e->i_be) >> 16)
+                           + (((int64_t)hp->c_g * ((int64_t)e->lam_be - e->psi_be)) >> 16));
+    /* 2. the current model */
+    int32_t s, c;
+    int64_t i_d, i_q;
+    struct fw_lut_point pt;
+    int32_t lam_al, lam_be;
+    fw_sincos_q15(e->th, &s, &c);
+    park64(i_al, i_be, s, c, &i_d, &i_q);
+    fw_lut_point(lut, (int32_t)i_d, (int32_t)i_q, &pt);
+    inv_park64(pt.lam_d, pt.lam_q, s, c, &lam_al, &lam_be);
+    /* 3. eq. (30)'s coefficients */
+    int32_t a1, a2;
+    fw_projection_coefficients(&pt, hp->l_shift, &a1, &a2);
+    /* 6. fusion weight */
+    int64_t f = (((int64_t)hp->g_b + hp->wg_b - abs64(w_i)) * 65536) / (2 * (int64_t)hp->wg_b);
+    f = f < 0 ? 0 : f > 65536 ? 65536 : f;
+    /* 4. low speed */
+    int64_t eps_h = 0;
+    int valid = 0;
+    e->e_d = e->s_h = 0;
+    if (f > 0) {
+        int32_t sp, cp, sm, cm, lp_al, lp_be;
+        int64_t pd, pq, lpd, lpq, dpd, dpq, dlam_d, dlam_q;
+
+        fw_sincos_q15(e->th - (uint32_t)w_i, &sp, &cp);
+        park64(e->i_al, e->i_be, sp, cp, &pd, &pq);
+        fw_lut_flux(lut, (int32_t)pd, (int32_t)pq, &lpd, &lpq);
+        inv_park64(lpd, lpq, sp, cp, &lp_al, &lp_be);
+        fw_sincos_q15(e->th - (uint32_t)(w_i >> 1), &sm, &cm);
+        park64((int64_t)psi_al - e->psi_al, (int64_t)psi_be - e->psi_be, sm, cm, &dpd, &dpq);
+        park64((int64_t)lam_al - lp_al, (int64_t)lam_be - lp_be, sm, cm, &dlam_d, &dlam_q);
+        int64_t e_d = dpd - dlam_d;
+        int64_t strength = round_shr64(a1 * dpq - a2 * dpd, 12); /* eq. (29) */
+        valid = abs64(strength) > ((int64_t)hp->phi_min << FW_FLUX_FRAC);
+        if (valid) {
+            int64_t q;
+
+            if (abs64(strength) >= hp->s_knee)
+                q = (e_d * 65536) / strength;
+            else
+                q = (sat_bits(e_d, 24) * strength * 65536) / ((int64_t)hp->s_knee * hp->s_knee);
+            eps_h = hfo_limit(hfo_to_bin(sat32(q)), hp->eps_max);
+            e->th_meas = e->th + (uint32_t)eps_h;
+        } else if (hp->hold && e->since < hp->n_max) {
+            eps_h = hfo_limit((int32_t)(e->th_meas - e->th), hp->eps_max);
+        }
+        e->e_d = e_d;
+        e->s_h = strength;
+    }
+    e->n_rej = valid ? 0 : (e->n_rej + 1 < 65536 ? e->n_rej + 1 : 65536);
+    e->since = valid ? 0 : (e->since + 1 < 65536 ? e->since + 1 : 65536);
+    e->th_meas += (uint32_t)w_i;
+    /* 5. high speed: APP */
+    int64_t eps_t = 0;
+    if (f < 65536 && w_i != 0) {
+        int64_t pd, pq;
+
+        park64(psi_al, psi_be, s, c, &pd, &pq);
+        int64_t x_d = pd - pt.lam_d, x_q = pq - pt.lam_q;
+        int64_t a_d = -pt.lam_q + ((pt.l_d * i_q - pt.l_dq * i_d) >> lut->shift);
+        int64_t a_q = pt.lam_d + ((pt.l_dq * i_q - pt.l_q * i_d) >> lut->shift);
+        int64_t mx = abs64(a_d) > abs64(a_q) ? abs64(a_d) : abs64(a_q);
+        int32_t nb = bit_length64(mx) - 15;
+        nb = nb > 0 ? nb : 0;
+        a_d >>= nb;
+        a_q >>= nb;
+        x_d = sat_bits(x_d >> nb, 16);
+        x_q = sat_bits(x_q >> nb, 16);
+        int64_t sq = a_d * a_d + a_q * a_q;
+        if (sq > 0) {
+            int64_t q1 = sat_bits(((a_d * x_d + a_q * x_q) * 65536) / sq, 21);
+            int64_t q2 = sat_bits(((a_q * x_d - a_d * x_q) * 65536) / sq, 21);
+            eps_t = hfo_limit(hfo_to_bin(sat32(q1 - (q2 * hp->g_b) / w_i)), hp->eps_max);
+        }
+    }
+    int32_t eps = sat32((f * eps_h + (65536 - f) * eps_t) >> 16);
+    /* 7. PLL */
+    e->integ = sat_add64(e->integ, (int64_t)hp->ki * eps);
+    int32_t w = sat32((((int64_t)hp->kp * eps) >> 16) + (e->integ >> 24));
+    e->th += (uint32_t)w;
+    /* 8. state and outputs */
+    e->psi_al = psi_al;
+    e->psi_be = psi_be;
+    e->lam_al = lam_al;
+    e->lam_be = lam_be;
+    e->i_al = i_al;
+    e->i_be = i_be;
+    e->vec_old = e->vec;
+    e->vec = m->win->vector;
+    e->r_al = r_al;
+    e->r_be = r_be;
+    e->eps_h = (int32_t)eps_h;
+    e->eps_t = (int32_t)eps_t;
+    e->f = (int32_t)f;
+    e->fcs_a1 = a1;
+    e->fcs_a2 = a2;
+    e->constrain = f > 0 && e->n_rej > hp->n_max && e->cons_wait == 0;
+    e->cons_wait = e->constrain ? 2 : (e->cons_wait - 1 > 0 ? e->cons_wait - 1 : 0);
+    e->omega = w;
+    e->theta = e->th + (uint32_t)(((int64_t)w * hp->k_delay) >> 16);
+    *theta = e->theta;
+    *omega = e->omega;
+}
+
+/* golden.firmware.hfo_proj.HybridFluxProjection.turn */
+void fw_hfo_turn(struct fw_state *st, uint32_t delta)
+{
+    st->hfo.th += delta;
+    st->hfo.theta += delta;
+}
+
+/* golden.firmware.hfo_proj.HybridFluxProjection.sync */
+void fw_hfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega)
+{
+    struct fw_hfo_state *e = &st->hfo;
+
+    e->th = theta - (uint32_t)(((int64_t)omega * p->hfo.k_delay) >> 16);
+    e->integ = (int64_t)omega * 16777216; /* omega << 24 */
+    e->theta = theta;
+    e->omega = omega;
+}
+
+/* Estimator.i_d: 0 */
+int32_t fw_hfo_i_d(const struct fw_params *p)
+{
+    (void)p;
+    return 0;
+}
+
+/* the flux outputs (Estimator.psi_al, psi_be, fcs_a1, fcs_a2, constrain) */
+void fw_hfo_flux(const struct fw_state *st, struct fw_est_flux *f)
+{
+    f->psi_al = st->hfo.psi_al;
+    f->psi_be = st->hfo.psi_be;
+    f->fcs_a1 = st->hfo.fcs_a1;
+    f->fcs_a2 = st->hfo.fcs_a2;
+    f->constrain = st->hfo.constrain;
+}
+
+/* golden.firmware.fcs_law.flux_reference (i_s s32; |i_s| as uint32_t) */
+void fw_flux_reference(const struct fw_fcs_params *p, int32_t i_s, int32_t *d, int32_t *q)
+{
+    uint32_t mag = i_s < 0 ? 0u - (uint32_t)i_s : (uint32_t)i_s;
+    int32_t qq;
+
+    fw_mtpa_lookup(mag, p->shift, p->len, p->t_d, p->t_q, d, &qq);
+    *q = i_s < 0 ? -qq : qq;
+}
+
+/* golden.firmware.fcs_law.deadbeat_voltage (Varatharajan et al. 2020, eqs. (13)-(14)) */
+void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t psi_be, int32_t i_al, int32_t i_be,
+                         int32_t before, int32_t vector, const struct fw_outputs *prev, uint32_t theta, int32_t omega,
+                         int32_t i_s, int32_t *v_d, int32_t *v_q)
+{
+    int32_t nxt = fw_direct_state(prev->v_d, prev->v_q, prev->sin, prev->cos, prev->fcs_a1, prev->fcs_a2,
+                                  prev->fcs_phi_min, prev->fcs_constrain != 0, vector);
+    int32_t a1a, a1b, a2a, a2b, d_ref, q_ref, s, c, ref_a, ref_b;
+
+    fw_applied_flux(before, vector, i_al, i_be, p->dt_f, p->vth_f, &a1a, &a1b);
+    fw_applied_flux(vector, nxt, i_al, i_be, p->dt_f, p->vth_f, &a2a, &a2b);
+    int64_t r_a = ((int64_t)p->r_f * i_al) >> 16, r_b = ((int64_t)p->r_f * i_be) >> 16;
+    int64_t p2a = (int64_t)psi_al + a1a + a2a - 2 * r_a;
+    int64_t p2b = (int64_t)psi_be + a1b + a2b - 2 * r_b;
+    fw_flux_reference(p, i_s, &d_ref, &q_ref);
+    fw_sincos_q15(theta + (uint32_t)(omega >> 1), &s, &c);
+    inv_park(d_ref, q_ref, s, c, &ref_a, &ref_b);
+    int32_t v_a = sat32(round_shr64(ref_a - p2a, FW_FLUX_FRAC) + (((int64_t)p->r_v * i_al) >> 16));
+    int32_t v_b = sat32(round_shr64(ref_b - p2b, FW_FLUX_FRAC) + (((int64_t)p->r_v * i_be) >> 16));
+    int64_t d, q;
+    fw_sincos_q15(theta, &s, &c);
+    park64(v_a, v_b, s, c, &d, &q);
+    while (abs64(d) > p->v_lim || abs64(q) > p->v_lim) {
+        d >>= 1;
+        q >>= 1;
+    }
+    *v_d = (int32_t)d;
+    *v_q = (int32_t)q;
+}
+
 /* golden.firmware.methods.CLASSES: the members of the plug-in interface, by method id. */
 static const struct fw_est_ops fw_methods[FW_METHODS] = {
-    [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync, fw_sqw_i_d},
-    [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d},
-    [FW_METHOD_ROT_BPF] = {fw_rot_step, fw_rot_turn, fw_rot_sync, fw_rot_i_d},
-    [FW_METHOD_EEMF_SMO] = {fw_smo_step, fw_smo_turn, fw_smo_sync, fw_smo_i_d},
-    [FW_METHOD_SQW_CIC] = {fw_cic_step, fw_cic_turn, fw_cic_sync, fw_cic_i_d},
+    [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync, fw_sqw_i_d, 0},
+    [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d, 0},
+    [FW_METHOD_ROT_BPF] = {fw_rot_step, fw_rot_turn, fw_rot_sync, fw_rot_i_d, 0},
+    [FW_METHOD_EEMF_SMO] = {fw_smo_step, fw_smo_turn, fw_smo_sync, fw_smo_i_d, 0},
+    [FW_METHOD_SQW_CIC] = {fw_cic_step, fw_cic_turn, fw_cic_sync, fw_cic_i_d, 0},
+    [FW_METHOD_HFO_PROJ] = {fw_hfo_step, fw_hfo_turn, fw_hfo_sync, fw_hfo_i_d, fw_hfo_flux},
 };
 
 /* Whether a method's injection is on while it is in charge, by method id (generated, fw_methods.h). */
@@ -700,7 +1152,7 @@ static int32_t slot_method(const struct fw_params *p, int32_t slot)
 
 /* ---- supervisor (golden.firmware.supervisor.Firmware) ------------------------------------------- */
 
-static const struct fw_outputs reset_outputs = {0, 0, 0, 0, 32767, 0, 0, 0}; /* RESET_OUTPUTS */
+static const struct fw_outputs reset_outputs = {0, 0, 0, 0, 32767, 0, 0, 0, 0, 0, 0, 0}; /* RESET_OUTPUTS */
 
 /* Firmware.__init__ / __post_init__: everything 0 (the EEMF observer's direction forwards), CONVERGE; FIXED at
  * fixed_angle if enabled. */
@@ -846,6 +1298,12 @@ static int32_t supervise(struct fw_state *st, const struct fw_params *p, const s
 {
     if (p->pol_mode == FW_POL_PILOT)
         return supervise_pilot(st, p, pilot, v_pilot);
+    if (p->pol_mode == FW_POL_NONE) { /* a reluctance machine: CONVERGE goes straight to RELAX */
+        if (st->mode == FW_CONVERGE && st->n >= p->n_converge)
+            next_mode(st, FW_RELAX);
+        relax(st, p);
+        return 0;
+    }
     switch (st->mode) {
     case FW_CONVERGE:
         if (st->n >= p->n_converge) {
@@ -946,6 +1404,33 @@ static void dtc_refs(const struct fw_params *p, int32_t i_d_ref, int32_t i_q_ref
     out->i_q_ref = sat32((int64_t)i_q_ref + rq15((int64_t)h_be * out->cos - (int64_t)h_al * out->sin));
 }
 
+/* Firmware._fcs_outputs: the fcs_mpc law (golden.firmware.fcs_law): the deadbeat voltage for the angle in use
+ * from the flux of the estimator in charge, its constraint coefficients; i_s the current command. */
+static void fcs_outputs(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t i_s,
+                        struct fw_outputs *out)
+{
+    struct fw_est_flux f = {0, 0, 0, 0, 0};
+    const struct fw_est_ops *ops = &fw_methods[slot_method(p, st->active)];
+    int32_t v_d, v_q;
+
+    if (ops->flux)
+        ops->flux(st, &f);
+    fw_deadbeat_voltage(&p->fcs, f.psi_al, f.psi_be, win->top_ia, win->top_ib, st->vec_before, win->vector,
+                        &st->act[1], st->theta_hat, st->est_omega[st->active], i_s, &v_d, &v_q);
+    st->vec_before = win->vector;
+    out->v_d = v_d;
+    out->v_q = v_q;
+    out->v_h = 0;
+    fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
+    out->enable = 1;
+    out->i_d_ref = 0;
+    out->i_q_ref = 0;
+    out->fcs_a1 = f.fcs_a1;
+    out->fcs_a2 = f.fcs_a2;
+    out->fcs_phi_min = p->fcs.phi_min;
+    out->fcs_constrain = f.constrain;
+}
+
 /* golden.firmware.supervisor.Firmware.step: one window interrupt, same state updates in the same order. */
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out)
@@ -997,6 +1482,8 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         st->id_int = 0;
         st->iq_int = 0;
         *out = reset_outputs; /* FAULT: the reset values, gates off */
+    } else if (p->law == FW_LAW_FCS_MPC) {
+        fcs_outputs(st, p, win, i_q_ref, out);
     } else {
         if (pilot) { /* pilot voltage: current control off */
             out->v_d = v_pilot;
@@ -1010,6 +1497,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         out->v_h = injecting(st, p) ? p->v_h : 0;
         fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
         out->enable = 1;
+        out->fcs_a1 = out->fcs_a2 = out->fcs_phi_min = out->fcs_constrain = 0;
         dtc_refs(p, i_d_ref, i_q_ref, out->v_h, s_inj, c_inj, out);
     }
     st->prev = st->act[0];

@@ -28,10 +28,13 @@ struct fw_pi_params {
 
 /* Estimator methods (golden.firmware.estimator.METHOD_*): the ids a slot of fw_params names. */
 enum fw_method { FW_METHOD_NONE = 0, FW_METHOD_SQW_BANGBANG = 1, FW_METHOD_RFO = 2, FW_METHOD_ROT_BPF = 3,
-                 FW_METHOD_EEMF_SMO = 4, FW_METHOD_SQW_CIC = 5, FW_METHODS = 6 };
+                 FW_METHOD_EEMF_SMO = 4, FW_METHOD_SQW_CIC = 5, FW_METHOD_HFO_PROJ = 6, FW_METHODS = 7 };
 
 /* Polarity detection (golden.firmware.supervisor.POL_*). */
-enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1 };
+enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1, FW_POL_NONE = 2 };
+
+/* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
+enum fw_law { FW_LAW_FOC_PWM = 0, FW_LAW_FCS_MPC = 1 };
 
 /* Estimator slots of the supervisor (golden.firmware.estimator.SLOT_*). */
 enum fw_slot { FW_SLOT_LOW = 0, FW_SLOT_HIGH = 1 };
@@ -189,6 +192,109 @@ struct fw_cic_state {
     int32_t omega;
 };
 
+/* ---- the flux-map look-up table (golden.firmware.flux_lut; Varatharajan et al. 2020, eqs. (8), (12)) ----
+ * n_d x n_q points (2 <= n_d, n_q; n_d n_q <= 1536 = golden.firmware.flux_lut.LUT_MAX_POINTS entries reserved
+ * per table), step 2^shift current LSB below knee, 2^coarse times that above; values s32 with the ranges the C relies
+ * on (tests/test_fw_c.py: the host's tables of varatharajan2020_syrm, |t| < 2^28, and currents up to 2^18):
+ *   |i_d|, |i_q| <= 2^18, |t| < 2^28, shift <= 12, 0 <= coarse <= 4: the interpolation's products below 2^62 (int64_t), the
+ *   flux beyond the grid and the derivatives dl_* beyond s32 (so struct fw_lut_point is int64_t). */
+struct fw_flux_lut {
+    int32_t n_d;
+    int32_t n_q;
+    int32_t shift;
+    int32_t knee;
+    int32_t coarse;
+    int32_t t_d[1536];       /* golden.firmware.flux_lut.LUT_MAX_POINTS */
+    int32_t t_q[1536];
+    int32_t t_ld[1536];
+    int32_t t_lq[1536];
+    int32_t t_ldq[1536];
+};
+
+/* golden.firmware.flux_lut.LutPoint */
+struct fw_lut_point {
+    int64_t lam_d;
+    int64_t lam_q;
+    int64_t l_d;
+    int64_t l_q;
+    int64_t l_dq;
+    int64_t dl_d;
+    int64_t dl_q;
+    int64_t dl_dq;
+};
+
+/* ---- method hfo_proj (golden.firmware.hfo_proj; Varatharajan et al. 2020) ----
+ * Ranges the C relies on (the host's values in brackets: varatharajan2020_torquestep): TOP_I s16;
+ * 0 <= c_lag <= 2^16 (so the lag-corrected currents stay within 3 2^15 and their Park within the LUT's 2^18);
+ * r_f, c_g, kp, ki, k_delay, g_b: int32_t; wg_b >= 1; eps_max >= 0; 0 <= dt_f, vth_f <= 2^28 [83886, 17088];
+ * 0 <= l_shift <= 30 [10]; phi_min u16 [3641]; 1 <= s_knee <= 2^23 [2097152]; the LUT's ranges above.
+ * Every intermediate is int64_t (the golden ints are unbounded; with these ranges none leaves int64). */
+struct fw_hfo_params {
+    struct fw_flux_lut lut;
+    int32_t c_lag;
+    int32_t r_f;
+    int32_t dt_f;
+    int32_t vth_f;
+    int32_t c_g;
+    int32_t l_shift;
+    int32_t phi_min;
+    int32_t s_knee;
+    int32_t n_max;
+    int32_t g_b;
+    int32_t wg_b;
+    int32_t kp;
+    int32_t ki;
+    int32_t k_delay;
+    int32_t eps_max;
+    int32_t hold;
+};
+
+struct fw_hfo_state {
+    uint32_t th;             /* angle predicted for the next carrier top */
+    int64_t integ;           /* PLL integrator (Q24) */
+    int32_t psi_al;          /* observed stator flux at the last top (stationary frame, flux units) */
+    int32_t psi_be;
+    int32_t lam_al;          /* the current model's flux at the last top */
+    int32_t lam_be;
+    int32_t i_al;            /* the last top currents (lag-corrected) */
+    int32_t i_be;
+    int32_t r_al;            /* and as sampled (TOP_I) */
+    int32_t r_be;
+    int32_t vec;             /* the state applied since the last top */
+    int32_t vec_old;         /* the state before it */
+    int32_t n_rej;
+    int32_t since;
+    uint32_t th_meas;
+    int32_t eps_h;           /* diagnostics: the errors, the fusion weight (Q16) */
+    int32_t eps_t;
+    int32_t f;
+    int64_t e_d;             /* diagnostics: the last low-speed error and strength [flux units] */
+    int64_t s_h;
+    uint32_t theta;
+    int32_t omega;
+    int32_t fcs_a1;          /* outputs for the fcs_mpc law (Estimator.fcs_a1, fcs_a2, constrain) */
+    int32_t fcs_a2;
+    int32_t constrain;
+    int32_t cons_wait;
+};
+
+/* ---- control law fcs_mpc (golden.firmware.fcs_law.FcsParams) ----
+ * t_d, t_q: the flux reference table (golden.firmware.mtpa.mtpa_lookup's grid, 2..33 points, len of them;
+ * |t| < 2^30 so that the differences fit int32_t); r_f, r_v int32_t; 0 <= dt_f, vth_f <= 2^28; phi_min u16;
+ * 1 <= v_lim <= 32767. len is C only (params_to_c: len(t_d)). */
+struct fw_fcs_params {
+    int32_t r_f;
+    int32_t r_v;
+    int32_t dt_f;
+    int32_t vth_f;
+    int32_t shift;
+    int32_t t_d[33];         /* golden.firmware.mtpa.MTPA_LEN */
+    int32_t t_q[33];
+    int32_t phi_min;
+    int32_t v_lim;
+    int32_t len;
+};
+
 /* Firmware parameters (golden.firmware.supervisor.FirmwareParams), computed on the host by
  * golden/control_config.py: the method of each slot, one parameter block per method (zero when no slot
  * uses it), the shared loops. fixed_enable = 1 selects the open-loop test at fixed_angle (FIXED);
@@ -201,6 +307,7 @@ struct fw_params {
     struct fw_rot_params rot;
     struct fw_smo_params smo;
     struct fw_cic_params cic;
+    struct fw_hfo_params hfo;
     int32_t speed_lp;
     struct fw_pi_params speed_pi;
     struct fw_pi_params id_pi;
@@ -232,6 +339,8 @@ struct fw_params {
     struct fw_biquad_coef notch;
     int32_t speed_div;
     int32_t i_slew;
+    int32_t law;             /* enum fw_law */
+    struct fw_fcs_params fcs;
 };
 
 /* Register values written by one control step (golden.firmware.supervisor.Outputs). */
@@ -244,6 +353,10 @@ struct fw_outputs {
     int32_t enable;
     int32_t i_d_ref;
     int32_t i_q_ref;
+    int32_t fcs_a1;          /* FCS_A.A1, A2: s16 Q12 (direct-vector mode, spec 3.10) */
+    int32_t fcs_a2;
+    int32_t fcs_phi_min;     /* FCS_CTRL.PHI_MIN, u16 */
+    int32_t fcs_constrain;   /* FCS_CTRL.CONSTRAIN */
 };
 
 /* State of the control task (golden.firmware.supervisor.Firmware). */
@@ -271,6 +384,7 @@ struct fw_state {
     int32_t speed_cnt;          /* periods since the last speed-PI step */
     int32_t i_s_ref;            /* speed-PI output, held between its steps */
     int32_t i_s_cmd;            /* the current command: i_s_ref through the slew limit */
+    int32_t vec_before;         /* fcs_mpc: VECTOR of the previous step */
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;
     struct fw_sqw_state sqw;    /* one state block per method */
@@ -278,6 +392,7 @@ struct fw_state {
     struct fw_rot_state rot;
     struct fw_smo_state smo;
     struct fw_cic_state cic;
+    struct fw_hfo_state hfo;
 };
 
 /* Window results of the demodulator (registers GAMMA ... N_SAMPLES). */
@@ -291,6 +406,9 @@ struct fw_window {
     uint32_t inj_phase;     /* INJ_PHASE (golden WindowResult.inj_phase) */
     int32_t cic_qa;         /* CIC_QA, CIC_QB: s21 (golden WindowResult.cic_qa, cic_qb; the estimator sqw_cic) */
     int32_t cic_qb;
+    int32_t vector;         /* VECTOR.STATE, u3 (golden WindowResult.vector; the direct-vector mode) */
+    int32_t top_ia;         /* TOP_I: s16 each, the Clarke currents of the carrier-top sample */
+    int32_t top_ib;
 };
 
 /* What every estimator gets once per period (golden.firmware.estimator.Measurement). */
@@ -332,6 +450,39 @@ void fw_injection_voltage(int32_t v_now, int32_t v_before, int32_t s, int32_t c,
 /* golden.firmware.estimator.window_voltage */
 void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *before, int32_t *v_al, int32_t *v_be);
 
+/* The flux outputs of an estimator (golden.firmware.estimator.Estimator.psi_al ... constrain). */
+struct fw_est_flux {
+    int32_t psi_al;
+    int32_t psi_be;
+    int32_t fcs_a1;
+    int32_t fcs_a2;
+    int32_t constrain;
+};
+
+/* golden.fpga.fcs_mpc.state_voltage */
+void fw_state_voltage(int32_t state, int32_t *v_al, int32_t *v_be);
+/* golden.fpga.fcs_mpc.choose_vector (returns the state; *p the p_j of it) */
+int32_t fw_choose_vector(int32_t v_al, int32_t v_be, int32_t sin_q15, int32_t cos_q15, int32_t a1, int32_t a2,
+                         int32_t phi_min, int32_t constrain, int32_t state_now, int32_t *p);
+/* golden.fpga.modulator.direct_alpha_beta / direct_state */
+void fw_direct_alpha_beta(int32_t v_d, int32_t v_q, int32_t sin_q15, int32_t cos_q15, int32_t *v_al, int32_t *v_be);
+int32_t fw_direct_state(int32_t v_d, int32_t v_q, int32_t sin_q15, int32_t cos_q15, int32_t a1, int32_t a2,
+                        int32_t phi_min, int32_t constrain, int32_t state_now);
+/* golden.firmware.flux_lut.warp / lut_flux / lut_point */
+int32_t fw_warp(int32_t x, int32_t knee, int32_t coarse);
+void fw_lut_flux(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, int64_t *lam_d, int64_t *lam_q);
+void fw_lut_point(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, struct fw_lut_point *pt);
+/* golden.firmware.hfo_proj.projection_coefficients */
+void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, int32_t *a1, int32_t *a2);
+/* golden.firmware.applied_flux.applied_flux */
+void fw_applied_flux(int32_t old, int32_t new_state, int32_t i_al, int32_t i_be, int32_t dt_f, int32_t vth_f,
+                     int32_t *f_al, int32_t *f_be);
+/* golden.firmware.fcs_law.flux_reference / deadbeat_voltage (prev: the outputs of the previous step) */
+void fw_flux_reference(const struct fw_fcs_params *p, int32_t i_s, int32_t *d, int32_t *q);
+void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t psi_be, int32_t i_al, int32_t i_be,
+                         int32_t before, int32_t vector, const struct fw_outputs *prev, uint32_t theta, int32_t omega,
+                         int32_t i_s, int32_t *v_d, int32_t *v_q);
+
 /* The estimator plug-in interface (golden.firmware.estimator.Estimator), one entry per method in
  * fw_methods[] (control.c). Each member reads and writes only its own state block of fw_state and
  * parameter block of fw_params; step returns the angle and speed outputs. */
@@ -341,6 +492,9 @@ struct fw_est_ops {
     void (*turn)(struct fw_state *st, uint32_t delta);
     void (*sync)(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
     int32_t (*i_d)(const struct fw_params *p);   /* d-current reference while in charge (RUN) */
+    /* a flux-observing method (MethodInfo.flux): psi_al, psi_be, fcs_a1, fcs_a2, constrain after step
+     * (Estimator's attributes); NULL for the others (all 0) */
+    void (*flux)(const struct fw_state *st, struct fw_est_flux *f);
 };
 
 /* Method sqw_bangbang (golden.firmware.sqw_bangbang.SquareWaveBangBang) */
@@ -374,6 +528,13 @@ void fw_cic_step(struct fw_state *st, const struct fw_params *p, const struct fw
 void fw_cic_turn(struct fw_state *st, uint32_t delta);
 void fw_cic_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
 int32_t fw_cic_i_d(const struct fw_params *p);
+/* Method hfo_proj (golden.firmware.hfo_proj.HybridFluxProjection) */
+void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega);
+void fw_hfo_turn(struct fw_state *st, uint32_t delta);
+void fw_hfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
+int32_t fw_hfo_i_d(const struct fw_params *p);
+void fw_hfo_flux(const struct fw_state *st, struct fw_est_flux *f);
 
 /* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref) */
 void fw_init(struct fw_state *st, const struct fw_params *p);

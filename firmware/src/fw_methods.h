@@ -4,7 +4,7 @@
 #define HFI_FW_METHODS_H
 
 /* golden.firmware.estimator.METHODS[...].injection != INJ_NONE, by method id */
-#define FW_METHOD_INJECTS {[1] = 1, [2] = 0, [3] = 1, [4] = 0, [5] = 1}
+#define FW_METHOD_INJECTS {[1] = 1, [2] = 0, [3] = 1, [4] = 0, [5] = 1, [6] = 0}
 #define FW_SQW_SYNC_HOLD 1  /* golden.firmware.sqw_bangbang.SYNC_HOLD */
 #define FW_RFO_FLUX_FRAC 8  /* golden.firmware.rfo.FLUX_FRAC */
 #define FW_RFO_Q_LIMIT 131072  /* golden.firmware.rfo.Q_LIMIT */
@@ -17,5 +17,7 @@
 #define FW_SMO_QUARTER 1073741824u  /* golden.firmware.eemf_smo.QUARTER */
 #define FW_MTPA_LEN 33  /* golden.firmware.mtpa.MTPA_LEN */
 #define FW_NOTCH_BITS 21  /* golden.firmware.supervisor.NOTCH_BITS */
+#define FW_FLUX_FRAC 8  /* golden.firmware.flux_lut.FLUX_FRAC */
+#define FW_LUT_MAX_POINTS 1536  /* golden.firmware.flux_lut.LUT_MAX_POINTS */
 
 #endif

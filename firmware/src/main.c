@@ -119,6 +119,17 @@ static void control_step(void)
         win.cic_qa = 0;
         win.cic_qb = 0;
     }
+    if (cfg.fw.law == FW_LAW_FCS_MPC) {   /* the direct-vector mode's state and the top currents (spec 3.10, 3.11) */
+        uint32_t top = DSP(TOP_I);
+
+        win.vector = (int32_t)((DSP(VECTOR) & HFI_REGS__VECTOR__STATE_bm) >> HFI_REGS__VECTOR__STATE_bp);
+        win.top_ia = (int32_t)(int16_t)(uint16_t)((top & HFI_REGS__TOP_I__I_ALPHA_bm) >> HFI_REGS__TOP_I__I_ALPHA_bp);
+        win.top_ib = (int32_t)(int16_t)(uint16_t)((top & HFI_REGS__TOP_I__I_BETA_bm) >> HFI_REGS__TOP_I__I_BETA_bp);
+    } else {                              /* read only by the fcs_mpc law and its estimator */
+        win.vector = 0;
+        win.top_ia = 0;
+        win.top_ib = 0;
+    }
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
     struct fw_outputs o;

@@ -19,7 +19,8 @@ it is predicted), and eq. (14) aims at the reference at top ``k + 3``:
     psi2     = psi + a(before, VECTOR) + a(VECTOR, next) - 2 r
                     (a: golden.firmware.applied_flux with the dead time, at the current i; ``before``: the
                      previous step's VECTOR; ``next``: the state the hardware chose from the previous
-                     outputs, golden.fpga.modulator.direct_state)
+                     outputs, golden.fpga.modulator.direct_state with VECTOR as the state applied before:
+                     its zero vector is 000 or 111 by that, and so are the legs that switch)
     ref      = inv_park(psi_d*, psi_q*) at theta + shr(omega, 1)      (the end of the applied period)
     v*       = round_shr(ref - psi2, 8) + shr(r_v * i, 16)            (eq. (14), stationary frame)
     V_D, V_Q = park(v*) at theta, both shifted right together until each fits +-v_lim (the direction is
@@ -54,7 +55,7 @@ class FcsParams:
     per period per current LSB (Q16), ``r_v`` = ``R_s`` as voltage LSB per current LSB (Q16), ``dt_f``, ``vth_f`` =
     ``V_dc t_d``, ``V_th T`` [flux units] (:mod:`golden.firmware.applied_flux`); the flux
     reference table (``shift``, ``t_d``, ``t_q``; flux units, ``t_d`` <= 0); ``phi_min``: ``FCS_CTRL.PHI_MIN``
-    [voltage LSB]; ``v_lim``: the largest ``|V_D|``, ``|V_Q|`` written (<= 32767)."""
+    [voltage LSB]; ``v_lim``: the largest ``|V_D|``, ``|V_Q|`` written (1..32767, the host checks it)."""
 
     r_f: int
     r_v: int
@@ -79,7 +80,7 @@ def deadbeat_voltage(p: FcsParams, psi_al: int, psi_be: int, i_al: int, i_be: in
     states applied before and after top ``k``; ``prev``: the register set written by the previous step
     (``v_d, v_q, sin, cos, fcs_a1, fcs_a2, fcs_phi_min, fcs_constrain``)."""
     nxt = direct_state(prev.v_d, prev.v_q, prev.sin, prev.cos, prev.fcs_a1, prev.fcs_a2, prev.fcs_phi_min,
-                       bool(prev.fcs_constrain), 0)
+                       bool(prev.fcs_constrain), vector)
     a1a, a1b = applied_flux(before, vector, i_al, i_be, p.dt_f, p.vth_f)
     a2a, a2b = applied_flux(vector, nxt, i_al, i_be, p.dt_f, p.vth_f)
     r_a, r_b = shr(p.r_f * i_al, 16), shr(p.r_f * i_be, 16)

@@ -164,7 +164,6 @@ class HybridFluxProjection(Estimator):
 
     def step(self, m: Measurement) -> None:
         p, lut = self.p, self.p.lut
-        w = self.omega
         w_i = shr(self.integ, 24)                                   # the PLL's integral: its speed estimate
         r_al, r_be = m.win.top_ia, m.win.top_ib                     # TOP_I, as sampled
         i_al = r_al + shr(p.c_lag * (r_al - self.r_al), 16)          # the current at the top (step 0)
@@ -187,6 +186,7 @@ class HybridFluxProjection(Estimator):
         # 4. low speed: differences in the stationary frame, rotated at the middle of the period
         eps_h = 0
         valid = False
+        self.e_d = self.s_h = 0
         if f > 0:
             sp, cp = sincos_q15(uwrap(self.th - w_i, 32))
             lp_al, lp_be = inv_park(*lut_flux(lut, *park(self.i_al, self.i_be, sp, cp)), sp, cp)

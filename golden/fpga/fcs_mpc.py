@@ -8,7 +8,7 @@ on the modulator's ``v_alpha, v_beta``), under the hard constraint of eqs. (31)-
 
 Fixed point (voltages in voltage LSB, ``2^15 = V_dc``):
 
-* the six active states in the order ``100, 110, 010, 011, 001, 101`` (phase a = the first bit) have the
+* the six active states in the order ``0b001, 0b011, 0b010, 0b110, 0b100, 0b101`` (bit 0 = phase a) have the
   voltage ``(2/3) V_dc`` at ``0, 60, ..., 300`` degrees: ``(VX_j, VY_j)`` = the rounded ``21845.33 (cos,
   sin)``, ``K_j = VX_j^2 + VY_j^2``;
 * squared distance less ``|v*|^2``: ``d_j = K_j - 2 (v_alpha VX_j + v_beta VY_j)``, ``d_0 = 0`` for the

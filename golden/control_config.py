@@ -244,21 +244,19 @@ def fcs_params(sc: Scenario) -> FcsParams:
 
 def hfo_proj_params(sc: Scenario) -> HfoParams:
     """``estimator.hfo_proj``: the 003 estimator's integers (golden.firmware.hfo_proj). The flux LUT from the
-    plant's map (times ``map_scale_d/q``); ``l_shift`` brings the largest cell inductance of the LUT below
-    2^15; ``g``, ``w_g`` as electrical speeds; the PLL's poles at ``-Omega`` (eq. (40): ``k_p = 2 Omega``,
+    plant's map (times ``map_scale_d/q``); ``g``, ``w_g`` as electrical speeds; the PLL's poles at ``-Omega`` (eq. (40): ``k_p = 2 Omega``,
     ``k_i = Omega^2``)."""
     t, sc_, f_sw = sc.estimator.params["hfo_proj"], scales(sc), sc.pwm.f_sw
     T = 1.0 / f_sw
     lut = flux_lut(sc.plant["mag"], sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], t["lut_coarse"],
                    t["lut_max_d"], t["lut_max_q"],
                    t["map_scale_d"], t["map_scale_q"])
-    l_shift = max(max(map(abs, lut.t_ld + lut.t_lq + lut.t_ldq)).bit_length() - 15, 0)
     omega = 2 * math.pi * t["pll_bw"]
     kp, ki = pll_gains(2 * omega, omega * omega, f_sw)
     r = sc.plant["R_s"] + sc.control.inv_r_drop
     return HfoParams(lut=lut, c_lag=min(to_fixed(t["i_lag"] * f_sw, 16), 1 << 16), r_f=to_fixed(r * sc_.i_lsb / sc_.v_lsb * 2**FLUX_FRAC, 16),
                      dt_f=dead_time_flux(sc), vth_f=threshold_flux(sc),
-                     c_g=to_fixed(2 * math.pi * t["g"] * T, 16), l_shift=l_shift,
+                     c_g=to_fixed(2 * math.pi * t["g"] * T, 16),
                      phi_min=min(sc_.voltage(t["phi_min"]), 65535),
                      s_knee=min(max(to_fixed(t["phi_knee"] / sc_.v_lsb, FLUX_FRAC), 1), 1 << 23), n_max=t["n_max"],
                      g_b=to_fixed(t["g"] * T, 32), wg_b=max(to_fixed(t["w_g"] * T, 32), 1), kp=kp, ki=ki,

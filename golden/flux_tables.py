@@ -73,17 +73,26 @@ def flux_lut(mag: dict, i_lsb: float, flux_lsb: float, step: float, knee: float,
         raise ValueError(f"flux LUT: {max(max_d, max_q):g} A is beyond the current range "
                          f"{32767 * i_lsb:g} A (sensors.adc_range)")
     cell = (1 << shift) * i_lsb / flux_lsb                # flux units per grid step per henry
-    tabs = ([], [], [], [], [])
+    tabs = ([], [], [], [], [])                           # floats first, then s16 with a shift per kind
     for r in range(n_q):
         for c in range(n_d):
             psi = psi_from_current(mag, unwarp(c << shift, k, coarse) * i_lsb, unwarp(r << shift, k, coarse) * i_lsb)
             l = incremental_inductance(mag, psi[0], psi[1])
             for tab, v in zip(tabs, (scale_d * psi[0] / flux_lsb, scale_q * psi[1] / flux_lsb, scale_d * l[0, 0] * cell,
                                      scale_q * l[1, 1] * cell, (scale_d * scale_q) ** 0.5 * l[0, 1] * cell)):
-                tab.append(to_fixed(float(v), 0))
-    if max(abs(v) for tab in tabs for v in tab) >= 2**31:
-        raise ValueError("flux LUT: a value beyond s32 flux units (the motor's flux for this voltage scale)")
-    return FluxLut(n_d, n_q, shift, k, coarse, *(tuple(t) for t in tabs))
+                tab.append(float(v))
+
+    def to_s16(group):                                    # one shift for the group, values in s16
+        top = max(abs(v) for tab in group for v in tab)
+        sh = max(to_fixed(top, 0).bit_length() - 15, 0)
+        return sh, [tuple(to_fixed(v / 2**sh, 0) for v in tab) for tab in group]
+
+    f_shift, (t_d, t_q) = to_s16(tabs[:2])
+    t_ld, t_lq, t_ldq = (tuple(to_fixed(v, 0) for v in tab) for tab in tabs[2:])
+    l_shift = max(max(map(abs, t_ld + t_lq + t_ldq)).bit_length() - 15, 0)
+    if f_shift > 16 or l_shift > 16:
+        raise ValueError("flux LUT: the map's flux beyond 2^31 flux units (the motor's flux for this voltage scale)")
+    return FluxLut(n_d, n_q, shift, k, coarse, f_shift, l_shift, t_d, t_q, t_ld, t_lq, t_ldq)
 
 
 def flux_reference_table(mag: dict, pole_pairs: int, i_lsb: float, flux_lsb: float, i_max: int,

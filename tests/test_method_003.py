@@ -45,7 +45,8 @@ def _rot(a: float, b: float, ang: float) -> np.ndarray:
 
 
 def test_lut_equals_the_map_at_the_grid_points(setup):
-    """At a grid point the look-up returns the table's value, which is the plant's map rounded."""
+    """At a grid point the look-up returns the table's value, which is the plant's map rounded to the
+    table's unit (``2^f_shift`` flux units)."""
     _, fp, sc_, fl, mag = setup
     lut = fp.hfo.lut
     rng = np.random.default_rng(3)
@@ -54,7 +55,8 @@ def test_lut_equals_the_map_at_the_grid_points(setup):
         i_d, i_q = unwarp(c << lut.shift, lut.knee, lut.coarse), unwarp(r << lut.shift, lut.knee, lut.coarse)
         lam = lut_flux(lut, -i_d, i_q)
         psi = psi_from_current(mag, -i_d * sc_.i_lsb, i_q * sc_.i_lsb)
-        assert lam == (-round(-psi[0] / fl) if i_d else 0, round(psi[1] / fl))
+        fs = lut.f_shift
+        assert lam == (-(round(-psi[0] / fl / 2**fs) << fs) if i_d else 0, round(psi[1] / fl / 2**fs) << fs)
 
 
 def test_lut_between_the_points_within_the_estimator_budget(setup):
@@ -151,8 +153,8 @@ def test_low_speed_gain_per_vector_with_the_inductance_correction(setup, i_true)
     strong vector's gain is between 0.8 and 1.3."""
     _, fp, sc_, fl, mag = setup
     for err in (3.0, -3.0):
-        plain = [g for g in _gains(mag, fp.hfo.lut, sc_, fl, fp.hfo.l_shift, i_true, err, False) if g is not None]
-        fixed = [g for g in _gains(mag, fp.hfo.lut, sc_, fl, fp.hfo.l_shift, i_true, err, True) if g is not None]
+        plain = [g for g in _gains(mag, fp.hfo.lut, sc_, fl, fp.hfo.lut.l_shift, i_true, err, False) if g is not None]
+        fixed = [g for g in _gains(mag, fp.hfo.lut, sc_, fl, fp.hfo.lut.l_shift, i_true, err, True) if g is not None]
         assert min(plain) < 0 or max(plain) > 2.0
         assert len(fixed) >= 4 and all(0.8 < g < 1.3 for g in fixed)
 

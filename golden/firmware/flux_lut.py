@@ -2,7 +2,11 @@
 
 The table holds the flux linkages ``Lambda(i) = (lambda_d, lambda_q)`` of the motor in the plant's rotor
 frame (d = the low-inductance axis, docs/motors.md 5) on the first quadrant of the current plane: a
-grid of ``n_d x n_q`` points, row-major by ``i_q``, values in flux units (s32, :data:`FLUX_FRAC`). The
+grid of ``n_d x n_q`` points, row-major by ``i_q``, s16 values in units of ``2^f_shift`` flux units
+(:data:`FLUX_FRAC`; the soft core's RAM is small: a table point's rounding is 1/2 of ``2^f_shift`` flux
+units, 26 uV*s here, against the 1 mV*s of the other errors of the low-speed projection; the inductance
+tables below stay s32: their derivative along the rotation is a difference of neighbours, and ``l_d``
+spans 100:1 between no load and 2 p.u.). The
 grid is uniform, step ``2^shift`` current LSB, in the warped current ``u = warp(|i|)``: ``u = x`` below
 ``knee``, ``u = knee + shr(x - knee, coarse)`` above (``knee`` a multiple of ``2^shift``): the step grows
 by ``2^coarse`` beyond the knee, so the steep rib region near zero gets the fine step without the grid
@@ -14,7 +18,7 @@ Look-up (bilinear) at ``x = warp(|i_d|)``, ``y = warp(|i_q|)``:
 
     c = min(x >> shift, n_d - 2),  fx = x - (c << shift)      (r, fy the same for y and n_q)
     a = t00 + shr((t01 - t00) * fx, shift),  b = t10 + shr((t11 - t10) * fx, shift)
-    value = a + shr((b - a) * fy, shift)
+    value = (a + shr((b - a) * fy, shift)) << f_shift         (the inductance tables: no shift)
 
 with ``t00 = t[r n_d + c]``, ``t01 = t[r n_d + c + 1]``, ``t10 = t[(r + 1) n_d + c]``, ``t11 = t[(r + 1) n_d + c + 1]``.
 Beyond the grid the flux is extrapolated linearly from the last cell (``fx`` above ``2^shift``): one
@@ -63,20 +67,24 @@ the control period): the flux of one voltage LSB applied for one period is ``2^F
 
 LUT_MAX_AXIS = 64
 """Most grid points per axis."""
-LUT_MAX_POINTS = 1536
+LUT_MAX_POINTS = 1024
 """Most grid points of a table (``n_d n_q``; the C reserves this many entries per table)."""
 
 
 @dataclass(frozen=True)
 class FluxLut:
     """``n_d x n_q`` points, step ``2^shift`` current LSB below ``knee``, ``2^coarse`` times that above, maps ``t_d``,
-    ``t_q`` and incremental inductances ``t_ld``, ``t_lq``, ``t_ldq`` (``n_d n_q`` s32 each)."""
+    ``t_q`` (s16, units of ``2^f_shift`` flux units) and incremental inductances ``t_ld``, ``t_lq``,
+    ``t_ldq`` (s32, flux units per ``2^shift`` current LSB), ``n_d n_q`` each; ``l_shift`` brings the
+    largest inductance below 2^15 for the projection's products (golden.firmware.hfo_proj)."""
 
     n_d: int
     n_q: int
     shift: int
     knee: int
     coarse: int
+    f_shift: int
+    l_shift: int
     t_d: tuple
     t_q: tuple
     t_ld: tuple
@@ -112,7 +120,8 @@ def lut_flux(lut: FluxLut, i_d: int, i_q: int) -> tuple[int, int]:
     """The map's flux ``(lam_d, lam_q)`` alone at ``(i_d, i_q)`` (as :func:`lut_point`)."""
     k, fx, fy = _cell(lut, i_d, i_q)
     n, s = lut.n_d, lut.shift
-    lam_d, lam_q = (_bilinear(t[k], t[k + 1], t[k + n], t[k + n + 1], fx, fy, s) for t in (lut.t_d, lut.t_q))
+    lam_d, lam_q = (_bilinear(t[k], t[k + 1], t[k + n], t[k + n + 1], fx, fy, s) << lut.f_shift
+                    for t in (lut.t_d, lut.t_q))
     return (-lam_d if i_d < 0 else lam_d), (-lam_q if i_q < 0 else lam_q)
 
 
@@ -121,7 +130,8 @@ def lut_point(lut: FluxLut, i_d: int, i_q: int) -> LutPoint:
     k, fx, fy = _cell(lut, i_d, i_q)
     n, s = lut.n_d, lut.shift
     one = 1 << s
-    lam_d, lam_q = (_bilinear(t[k], t[k + 1], t[k + n], t[k + n + 1], fx, fy, s) for t in (lut.t_d, lut.t_q))
+    lam_d, lam_q = (_bilinear(t[k], t[k + 1], t[k + n], t[k + n + 1], fx, fy, s) << lut.f_shift
+                    for t in (lut.t_d, lut.t_q))
     fx, fy = min(fx, one), min(fy, one)
     l_d, l_q, l_dq = (_bilinear(t[k], t[k + 1], t[k + n], t[k + n + 1], fx, fy, s)
                       for t in (lut.t_ld, lut.t_lq, lut.t_ldq))

@@ -26,7 +26,7 @@ Step ``k`` (``th`` the angle predicted for top ``k``, ``w`` the PLL speed; flux 
 2. the current model at top ``k``: ``i_dq`` = Park of ``TOP_I`` at ``th``, the table's flux and incremental
    inductances (:func:`~golden.firmware.flux_lut.lut_point`, eq. (12)), ``lam`` = its inverse Park;
 3. the projection's coefficients for the d-projection (eqs. (28)-(30), corrected), from ``l`` and ``dl``
-   normalised by ``l_shift``: ``a1 = (l_d^2 - l_d l_q + 2 l_dq^2 + dl_d l_dq - dl_dq l_d) / det``, ``a2 =
+   normalised by the table's ``l_shift``: ``a1 = (l_d^2 - l_d l_q + 2 l_dq^2 + dl_d l_dq - dl_dq l_d) / det``, ``a2 =
    (l_dq (l_d + l_q) + dl_d l_q - dl_dq l_dq) / det`` (Q12, ``det = l_d l_q - l_dq^2``): the first row of
    ``J - l J l^-1 - dl l^-1``. Eq. (28) has only ``J - l J l^-1``: it takes ``l`` as independent of the
    position error. It is not: the table is read at the estimated-frame current, which turns with the
@@ -110,7 +110,7 @@ class HfoParams:
 
     ``lut``: the flux map; ``c_lag``: the current sensors' lag over the period (Q16, step 0); ``r_f``: ``R_s`` as flux per period per current LSB (Q16); ``dt_f``, ``vth_f``: ``V_dc t_d`` and
     ``V_th T`` [flux units] (:mod:`golden.firmware.applied_flux`); ``c_g``: ``g T``
-    (Q16); ``l_shift``: right shift of the cell inductances before eq. (30)'s products; ``phi_min``:
+    (Q16); ``phi_min``:
     eq. (31)'s threshold [voltage LSB]; ``s_knee``: the strength below which the low-speed error is
     weighted [flux units, 1..2^23]; ``n_max``: eq. (31)'s count; ``g_b``, ``wg_b``: ``g`` and
     ``omega_g`` [binary angle per period], ``wg_b`` >= 1; ``kp``, ``ki``: PLL gains (Q16, Q24; eq. (40));
@@ -124,7 +124,6 @@ class HfoParams:
     dt_f: int
     vth_f: int
     c_g: int
-    l_shift: int
     phi_min: int
     s_knee: int
     n_max: int
@@ -180,7 +179,7 @@ class HybridFluxProjection(Estimator):
         pt = lut_point(lut, i_d, i_q)
         lam_al, lam_be = inv_park(pt.lam_d, pt.lam_q, s, c)
         # 3. eq. (30)'s coefficients, d-projection (the plant's low-inductance axis)
-        a1, a2 = projection_coefficients(pt, p.l_shift)
+        a1, a2 = projection_coefficients(pt, lut.l_shift)
         # 6. fusion weight (eq. (38b))
         f = min(max(c_div((p.g_b + p.wg_b - abs(w_i)) << 16, 2 * p.wg_b), 0), ONE_Q16)
         # 4. low speed: differences in the stationary frame, rotated at the middle of the period

@@ -9,7 +9,7 @@ with against the true angle in the middle of the applied period, ``angle_error_a
 speed, which the trace does not hold; both are smooth, the PLL's output is not).
 
 Usage: scripts/varatharajan2020_figures.py [NAME ...] [--out docs/figures]   (names: torquestep speedrange
-tracking; default all). Prints the metrics that docs/methods.md quotes.
+tracking maperror; default all). Prints the metrics that docs/methods.md quotes.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from golden.closedloop import ClosedLoop  # noqa: E402
 from golden.scenario import load_scenario  # noqa: E402
 from hfi.report import metrics_of  # noqa: E402
 
-NAMES = ("torquestep", "speedrange", "tracking")
+NAMES = ("torquestep", "speedrange", "tracking", "maperror")
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 RPM = 30 / math.pi
 

@@ -200,12 +200,16 @@ def torquestep():
 
 
 def test_torquestep_holds_lock_through_the_2pu_step(torquestep):
-    """The 0 -> 2 p.u. load step at standstill (paper Fig. 8a, speed poles at 2 pi 2.5 rad/s): lock held,
-    the position error's peak after the step within 5 deg el (issue 18), the speed back at standstill."""
+    """The 0 -> 2 p.u. load step at standstill (paper Fig. 8a, speed poles at 2 pi 2.5 rad/s), issue 18's
+    numbers: lock held; the position error's peak over the step's transient (the 0.3 s after it, while
+    the speed sags and recovers) within 5 deg el; its RMS in the steady state after it (1.1 s to the end)
+    within 1 deg; the speed back at standstill (the last 0.5 s within 10 r/min)."""
     sc, res, m = torquestep
     assert m["locked"] and m["final_mode"] == "RUN"
     err = res.angle_error_deg(quarters=3)
-    after = res.t >= 0.8
-    assert np.max(np.abs(err[after])) <= 5.0
+    step = (res.t >= 0.8) & (res.t < 1.1)
+    assert np.max(np.abs(err[step])) <= 5.0
+    steady = res.t >= 1.1
+    assert np.sqrt(np.mean(err[steady] ** 2)) <= 1.0
     late = res.t >= sc.duration - 0.5
     assert abs(np.mean(res.windows["omega_m"][late]) * 30 / math.pi) < 10.0

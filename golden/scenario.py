@@ -822,6 +822,9 @@ def _check_estimator(reader: _Reader) -> None:
         reader.error("control.law", f"fcs_mpc needs an estimator that observes the stator flux as "
                      f"estimator.low ({', '.join(m.name for m in METHODS.values() if m.flux)}) and "
                      f"estimator.high = \"none\" (got {low!r} and {high!r})")
+    if law == "fcs_mpc" and reader.get("control.adc_mode") == "OS_BLANK":
+        reader.error("control.adc_mode", "fcs_mpc needs the carrier-top samples (TOP_I), which OS_BLANK drops "
+                     "whenever the inverter state changes there: use DS or OS")
     if law == "fcs_mpc" and reader.get("control.polarity") != "none":
         reader.error("control.polarity", "fcs_mpc runs without a polarity test (its law ignores the test's "
                      "current and voltage pulses): set control.polarity = \"none\"")

@@ -470,3 +470,19 @@ def test_main_returns_status(tmp_path, capsys):
     assert main(["check", str(path)]) == 0
     assert main(["check", str(tmp_path / "nope.toml")]) == 1
     assert capsys.readouterr().out.count("\n") == 2
+
+
+def test_the_fcs_mpc_law_and_its_estimator_go_together():
+    """fcs_mpc needs an estimator that observes the stator flux, alone in its slot; hfo_proj needs the law;
+    the law refuses a polarity test (it ignores its pulses) and OS_BLANK (it drops the top samples)."""
+    got = problems({"control": {"law": "fcs_mpc", "polarity": "none"}, "estimator": {"low": "sqw_bangbang"}})
+    assert any(p.startswith("control.law: fcs_mpc needs an estimator that observes the stator flux") for p in got)
+    got = problems({"control": {"polarity": "none"}, "estimator": {"low": "hfo_proj"}})
+    assert any(p.startswith("estimator.low: hfo_proj runs with the direct-vector control law") for p in got)
+    got = problems({"control": {"law": "fcs_mpc"}, "estimator": {"low": "hfo_proj"}})
+    assert any(p.startswith("control.polarity: fcs_mpc runs without a polarity test") for p in got)
+    got = problems({"control": {"law": "fcs_mpc", "polarity": "none", "adc_mode": "OS_BLANK"},
+                    "estimator": {"low": "hfo_proj"}})
+    assert any(p.startswith("control.adc_mode: fcs_mpc needs the carrier-top samples") for p in got)
+    sc = scenario({"control": {"law": "fcs_mpc", "polarity": "none", "adc_mode": "DS"}, "estimator": {"low": "hfo_proj"}})
+    assert sc.control.law == "fcs_mpc" and sc.estimator.low == "hfo_proj"

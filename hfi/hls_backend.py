@@ -80,9 +80,6 @@ class HlsClosedLoop:
         n_win = len(speed_ref)
         ffi, lib = _library()
         setup = ffi.new("struct hls_setup *")
-        if hw.direct:       # CTRL.DIRECT (spec 3.10) is in the kernels, not yet in the hls loop
-            raise HlsBackendError(f"scenario {sc.name}: the direct-vector mode (HardwareConfig.direct) is "
-                                  "golden-only so far")
         for name, value in (("half", H), ("dead_ticks", hw.dead_ticks),
                             ("dead_min", DEAD_MIN_DEFAULT), ("os_ticks", hw.os_ticks),
                             ("os_min", OS_MIN_DEFAULT), ("blank_ticks", hw.blank_ticks), ("adc_mode", hw.adc_mode),
@@ -91,7 +88,7 @@ class HlsClosedLoop:
                             ("adc_gain_b", hw.adc_gain[1]), ("cw_angle_step", hw.cw_angle_step),
                             ("dtc_gain", hw.dtc_gain), ("hf_amp", hw.hf_amp), ("recip_h", hw.recip_h),
                             ("inj_rot", hw.inj_rot), ("inj_step", hw.inj_step), ("inj_per", hw.inj_per),
-                            ("cic_m", hw.cic_m), ("n_windows", n_win)):
+                            ("cic_m", hw.cic_m), ("direct", hw.direct), ("n_windows", n_win)):
             try:
                 setattr(setup, name, int(value))
             except OverflowError:      # beyond the C field: the same refusal as the native loop's range checks

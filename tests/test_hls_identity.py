@@ -9,7 +9,9 @@ writes, ADC samples and gate edges. Shorter runs cover the configurations the de
 use: OS_BLANK sampling, DS sampling, a host-side switch to DS during the run, no dead-time compensation,
 the rotating injection (CTRL.INJ_ROT); the hand-over scenario (scenarios/handover_short.toml) runs both
 estimator methods in charge in turn; the 001 drive (scenarios/xue2022_noload.toml, full length) runs the
-period square wave (CTRL.INJ_PER) with the differencing and CIC block (hfi_diff_cic) and its estimator.
+period square wave (CTRL.INJ_PER) with the differencing and CIC block (hfi_diff_cic) and its estimator;
+the 003 drive (scenarios/varatharajan2020_torquestep.toml, 1 s) runs the direct-vector mode (CTRL.DIRECT:
+the FCS-MPC state at the carrier top, VECTOR and TOP_I).
 
 Every column compared is one the hls backend *produces*, none is copied from the scenario into the
 result: ``speed_ref`` is the value the native loop passed to ``fw_step`` for that window, ``adc_mode``
@@ -155,13 +157,51 @@ def test_period_square_wave_other_comb_delays_identical():
         assert np.count_nonzero(hls.windows["cic_qa"]) > 0, m
 
 
+def _hls_runs_hfo_proj(monkeypatch) -> None:
+    """METHODS["hfo_proj"].backends includes "hls" for this test (golden/firmware/estimator.py still lists
+    golden only; the pattern of tests/test_cli.py _restrict)."""
+    from golden.firmware.estimator import METHODS
+
+    m = METHODS["hfo_proj"]
+    if "hls" not in m.backends:
+        monkeypatch.setitem(METHODS, "hfo_proj", dataclasses.replace(m, backends=(*m.backends, "hls")))
+
+
+def test_varatharajan2020_direct_vector_identical(monkeypatch):
+    """The 003 drive (scenarios/varatharajan2020_torquestep.toml: 10 kHz FCS-MPC, CTRL.DIRECT = 1, the
+    hfo_proj estimator, DS sampling) for 1 s, through the 0 -> 2 p.u. load step at 0.8 s: the state
+    chosen at each carrier top (hfi_modulator_direct on the active V_D, V_Q, SIN, COS, FCS_A, FCS_CTRL and
+    the state applied), its compares 0/H at the top and the bottom without dead-time compensation, VECTOR
+    and TOP_I (the carrier-top sample's Clarke currents, spec 3.11) to the host firmware: every column,
+    write, sample and edge identical to golden."""
+    from hfi.backends import get
+
+    _hls_runs_hfo_proj(monkeypatch)
+    sc = dataclasses.replace(load_scenario(ROOT / "scenarios" / "varatharajan2020_torquestep.toml"), duration=1.0)
+    gold = ClosedLoop(sc).run(progress=False)
+    hls = get("hls").run(sc, progress=False)
+    assert hls.hw.direct == 1 and hls.backend == "hls"
+    _assert_identical(gold, hls)
+    w = hls.windows
+    assert set(np.unique(w["vector"]).tolist()) == set(range(8))              # every state, both zeros
+    assert np.count_nonzero(w["top_ia"]) > len(hls.t) // 2 and np.count_nonzero(w["top_ib"]) > len(hls.t) // 2
+    high = [w[f"cmp_top_{x}"] == hls.hw.pwm_half for x in "abc"]          # compares 0 or H, bottom = top
+    for x, hi in zip("abc", high):
+        assert np.all((w[f"cmp_top_{x}"] == 0) | hi) and np.array_equal(w[f"cmp_top_{x}"], w[f"cmp_bot_{x}"]), x
+    state = sum(hi.astype(np.int64) << i for i, hi in enumerate(high))
+    assert np.array_equal(state, w["vector"])                                  # VECTOR = the state applied
+    assert {0, 3, 4} <= set(np.unique(w["mode"]).tolist())
+    assert w["load_torque"][-1] > 14.0                                          # the load step is in the run
+
+
 @pytest.mark.parametrize("change, message", [
     ({"inj_rot": 2}, "inj_rot = 2 must be 0 or 1"),
     ({"inj_rot": 1, "inj_step": 1 << 32}, "inj_step = 4294967296 is not a u32 INJ_STEP register value"),
     ({"inj_rot": 1, "inj_step": -1}, "inj_step = -1 is not a u32"),
     ({"inj_per": 2}, "inj_per = 2 must be 0 or 1"),
     ({"cic_m": 256}, "cic_m = 256 is not a u8 CIC_M register value"),
-], ids=["inj_rot", "inj_step_high", "inj_step_negative", "inj_per", "cic_m"])
+    ({"direct": 2}, "direct = 2 must be 0 or 1"),
+], ids=["inj_rot", "inj_step_high", "inj_step_negative", "inj_per", "cic_m", "direct"])
 def test_bad_rotating_injection_setup_is_refused(change, message):
     loop = HlsClosedLoop(dataclasses.replace(_default(), duration=0.01))
     loop.hw = dataclasses.replace(loop.hw, **change)

@@ -11,6 +11,9 @@
 //      period k+1 from the active registers and (C, S) (spec 3.5, 3.6); with the period square wave
 //      (CTRL.INJ_PER, not INJ_ROT) the injection's sign is S_k at the top and S_{k+1} = -S_k at the
 //      bottom (golden inj_sign; the dead-time compensation keeps the half's sign), and plus = (S_k = +1);
+//      with CTRL.DIRECT (spec 3.10) hfi_modulator_direct chooses instead, at the top, the state from the
+//      active registers (V_D, V_Q, SIN, COS, FCS_A, FCS_CTRL) and the state applied so far, with the
+//      compares 0/H; the bottom reuses them; no dead-time compensation;
 //   3. the gate generator runs through the window: the ideal switch signals (hfi_ideal_switch) change
 //      at most once per leg and half period, so hfi_gate_advance covers each stretch between changes
 //      in one step, and its turn-on offsets give the gate edges (spec 2.4);
@@ -21,7 +24,9 @@
 //      (hfi_demod_weight) and, in OS_BLANK, the blanking decision (hfi_blanked) gives the window
 //      result (with INJ_PHASE = phi of step 2); the carrier-bottom sample of the window (phase 0, at
 //      (k+1)*P, in every ADC mode) through hfi_adc_scale and hfi_clarke steps hfi_diff_cic with plus and
-//      CIC_M (spec 3.9): CIC_QA/QB and ENV_A/B of the window; fw_step computes the next register values; the
+//      CIC_M (spec 3.9): CIC_QA/QB and ENV_A/B of the window; in the direct-vector mode the carrier-top
+//      sample (phase H) through hfi_adc_scale and hfi_clarke gives TOP_I (spec 3.11, held over a window
+//      without one) and VECTOR is the state of step 2; fw_step computes the next register values; the
 //      firmware-state columns of the window record are those of the firmware's trace record
 //      (FW_TRACE_COLUMNS, fw_trace.h, generated).
 #include "hls_loop.h"
@@ -48,6 +53,7 @@ extern "C" {
 #include "hfi_cordic.h"
 #include "hfi_deadtime_comp.h"
 #include "hfi_diff_cic.h"
+#include "hfi_fcs_mpc.h"
 #include "hfi_gate_gen.h"
 #include "hfi_modulator.h"
 #include "hfi_park.h"
@@ -58,7 +64,9 @@ namespace {
 // The register reset values (hfi_regs.h, generated from rtl/regs/hfi_regs.rdl), in fw_outputs order.
 const fw_outputs RESET_OUTPUTS = {
     HFI_REGS__V_DQ__V_D_reset, HFI_REGS__V_DQ__V_Q_reset, HFI_REGS__V_H__VALUE_reset, HFI_REGS__SINCOS__SIN_reset,
-    HFI_REGS__SINCOS__COS_reset, HFI_REGS__CTRL__ENABLE_reset, HFI_REGS__I_REF__I_D_reset, HFI_REGS__I_REF__I_Q_reset};
+    HFI_REGS__SINCOS__COS_reset, HFI_REGS__CTRL__ENABLE_reset, HFI_REGS__I_REF__I_D_reset, HFI_REGS__I_REF__I_Q_reset,
+    HFI_REGS__FCS_A__A1_reset, HFI_REGS__FCS_A__A2_reset, HFI_REGS__FCS_CTRL__PHI_MIN_reset,
+    HFI_REGS__FCS_CTRL__CONSTRAIN_reset};
 
 struct Pattern {                       // sampling instants of one window, identical in every window
     std::vector<int64_t> rel;          // offsets from the window start, sorted
@@ -96,6 +104,8 @@ struct hls_loop {
     bool per = false;                  // the period square wave is on (CTRL.INJ_PER and not INJ_ROT)
     int inj_sign = 1;                  // its sign S of the current period (golden inj_sign)
     hfi_diff_cic_state cic;            // the differencing and CIC block
+    ap_uint<3> vec_state = 0;          // CTRL.DIRECT: the state applied (0 after reset and while the mode is off)
+    int32_t top_ia = 0, top_ib = 0;    // TOP_I (spec 3.11): 0 after reset, held over a window without a top sample
     Pattern pattern[4];
     bool have_pattern[4] = {false, false, false, false};
 
@@ -232,10 +242,19 @@ bool hls_loop::step() {
         inj_acc = 0;
     }
     u16 cmp_top[3], cmp_bot[3];
-    compares(active, true, rot, inj_sin, inj_cos, cmp_top, per ? inj_sign > 0 : true);
+    const bool direct = s.direct != 0;
+    if (direct)                                           // CTRL.DIRECT (spec 3.10): one state from top to top
+        vec_state = hfi_modulator_direct(s16(active.v_d), s16(active.v_q), s16(active.sin), s16(active.cos),
+                                         s16(active.fcs_a1), s16(active.fcs_a2), u16(active.fcs_phi_min),
+                                         active.fcs_constrain != 0, vec_state, u16(H), cmp_top);
+    else
+        compares(active, true, rot, inj_sin, inj_cos, cmp_top, per ? inj_sign > 0 : true);
     const bool plus = per && inj_sign > 0;               // period k, which ends at this window's bottom
     if (per) inj_sign = -inj_sign;                        // S flips at the bottom (k+1)*P
-    compares(active, false, rot, inj_sin, inj_cos, cmp_bot, per ? inj_sign > 0 : false);
+    if (direct)                                           // the bottom reuses the top's state, no compensation
+        for (int x = 0; x < 3; x++) cmp_bot[x] = cmp_top[x];
+    else
+        compares(active, false, rot, inj_sin, inj_cos, cmp_bot, per ? inj_sign > 0 : false);
 
     e_ticks.clear();
     e_masks.clear();
@@ -287,8 +306,21 @@ bool hls_loop::step() {
     s21 cic_qa, cic_qb;
     s17 env_a, env_b;
     hfi_diff_cic_step(cic, i_alpha, i_beta, plus, ap_uint<8>(s.cic_m), cic_qa, cic_qb, env_a, env_b);
+    if (direct) {
+        // TOP_I (spec 3.11, golden ClosedLoop._top_sample): the sample at the carrier top (phase H: offset
+        // H/2 from the window start, H even) through hfi_adc_scale and hfi_clarke, unless the window has
+        // none (OS grid) or it was blanked; then the previous value stays
+        const int t = int(std::lower_bound(pat.rel.begin(), pat.rel.end(), H / 2) - pat.rel.begin());
+        if (t < n && pat.rel[t] == H / 2 && keep[t]) {
+            s16 t_al, t_be;
+            hfi_clarke(hfi_adc_scale(adc_a[t], cfg.bits, cfg.offset_a, cfg.gain_a),
+                       hfi_adc_scale(adc_b[t], cfg.bits, cfg.offset_b, cfg.gain_b), t_al, t_be);
+            top_ia = int32_t(t_al);
+            top_ib = int32_t(t_be);
+        }
+    }
 
-    fw_window win;
+    fw_window win{};                                      // VECTOR, TOP_I read 0 while the mode is off
     win.gamma = int32_t(res.gamma);
     win.gamma_d = int32_t(res.gamma_d);
     win.sum_id = int32_t(res.sum_id);
@@ -298,6 +330,11 @@ bool hls_loop::step() {
     win.inj_phase = inj_phase.to_uint();                  // INJ_PHASE, latched with the window results
     win.cic_qa = int32_t(cic_qa);                         // CIC_QA, CIC_QB (latched with them too)
     win.cic_qb = int32_t(cic_qb);
+    if (direct) {                                         // VECTOR, TOP_I (latched with the window results)
+        win.vector = int32_t(vec_state.to_uint());
+        win.top_ia = top_ia;
+        win.top_ib = top_ib;
+    }
     fw_outputs o;
     const int32_t speed_ref = loop.speed_ref(k);
     fw_step(&fw, &fwp, &win, speed_ref, &o);
@@ -315,6 +352,9 @@ bool hls_loop::step() {
     r.cic_qb = win.cic_qb;
     r.env_a = int32_t(env_a);              // ENV_A, ENV_B (the firmware does not use them)
     r.env_b = int32_t(env_b);
+    r.vector = win.vector;                 // what the firmware was given as VECTOR, TOP_I
+    r.top_ia = win.top_ia;
+    r.top_ib = win.top_ib;
 #define HLS_WINDOW_COLUMN(column, value) r.column = int64_t(value)
     FW_TRACE_COLUMNS(HLS_WINDOW_COLUMN, fw);
 #undef HLS_WINDOW_COLUMN
@@ -366,6 +406,10 @@ static bool check_setup(const hls_setup *s, char *err, int err_len) {
     }
     if (s->inj_per != 0 && s->inj_per != 1) {
         std::snprintf(msg, sizeof msg, "inj_per = %d must be 0 or 1 (CTRL.INJ_PER)", s->inj_per);
+        return setup_error(err, err_len, msg);
+    }
+    if (s->direct != 0 && s->direct != 1) {
+        std::snprintf(msg, sizeof msg, "direct = %d must be 0 or 1 (CTRL.DIRECT)", s->direct);
         return setup_error(err, err_len, msg);
     }
     if (s->cic_m < 0 || s->cic_m > 0xFF) {

@@ -45,6 +45,7 @@ struct hls_setup {
                                   outside 0..2^32-1 is refused with a message, not truncated) */
     int32_t inj_per;           /* CTRL.INJ_PER: 1 = the period square wave (spec 3.5; only with inj_rot = 0) */
     int32_t cic_m;             /* CIC_M, u8: the CIC's comb delay register (spec 3.9) */
+    int32_t direct;            /* CTRL.DIRECT: 1 = the direct-vector mode (spec 3.10; VECTOR, TOP_I of 3.11) */
     int64_t ds_from_tick;      /* windows starting at or after this tick sample in DS mode (INT64_MAX: never) */
     int32_t n_windows;         /* windows to run, >= 1 */
     const int32_t *speed_ref;  /* n_windows speed references (firmware input, one per window) */

@@ -43,6 +43,9 @@ struct hls_window {
     int64_t cic_qb;
     int64_t env_a;
     int64_t env_b;
+    int64_t vector;
+    int64_t top_ia;
+    int64_t top_ib;
 };
 
 #endif

@@ -7,7 +7,8 @@ run's configuration block into the firmware's RAM image, runs the co-simulation 
 stderr) and turns its records into the same :class:`golden.closedloop.ClosedLoopResult` as the golden
 backend, so reports, plots and the identity test use one format:
 
-* window results (GAMMA ... N_SAMPLES, INJ_PHASE, and CIC_QA/QB when the period square wave runs) and
+* window results (GAMMA ... N_SAMPLES, INJ_PHASE, CIC_QA/QB when the period square wave runs, VECTOR and
+  TOP_I in the direct-vector mode, CTRL.DIRECT) and
   the speed reference from the firmware's register reads, the firmware's register writes (V_DQ, V_H,
   SINCOS, I_REF, CTRL), compares, LATE_COUNT, the ADC mode in use and ENV_A/ENV_B (which the firmware
   does not use, so does not read) at each window interrupt;
@@ -167,9 +168,6 @@ _cfg_consts = _cfg_ffi.dlopen(None)      # the header's enum constants (no libra
 
 def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     """``struct fw_config`` of the scenario (firmware/src/fw_config.h), as the RV32 little-endian bytes."""
-    if hw.direct:           # CTRL.DIRECT (spec 3.10): in the RTL, not yet in the firmware's config block
-        raise ValueError(f"scenario {sc.name}: the direct-vector mode (HardwareConfig.direct) is golden-only "
-                         "on the backends so far")
     cfg = _cfg_ffi.new("struct fw_config *")
     h = cfg.hw
     h.magic = _cfg_consts.FW_CONFIG_MAGIC
@@ -181,7 +179,7 @@ def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     h.oc_limit = rm.OC_LIMIT_VALUE_RESET
     h.wdt_periods = rm.WDT_PERIODS_VALUE_RESET
     h.adc_mode, h.inj_en, h.inj_rot, h.inj_step = hw.adc_mode, 1, hw.inj_rot, hw.inj_step
-    h.inj_per, h.cic_m = hw.inj_per, hw.cic_m
+    h.inj_per, h.cic_m, h.direct = hw.inj_per, hw.cic_m, hw.direct
     p = params_to_c(_cfg_ffi, firmware_params(sc))
     cfg.fw = p[0]
     return bytes(_cfg_ffi.buffer(cfg))
@@ -366,6 +364,10 @@ class RtlClosedLoop:
         for col, reg, signed in results:
             v = _per_window(reads, rm.REGISTERS[reg]["addr"], n_win, reg)
             w[col] = wrap(v, 32) if signed else v
+        if hw.direct:       # VECTOR and TOP_I: read only in the direct-vector mode (0 else, as in golden)
+            w["vector"] = _per_window(reads, rm.REGISTERS["VECTOR"]["addr"], n_win, "VECTOR") & 0x7
+            top = _per_window(reads, rm.REGISTERS["TOP_I"]["addr"], n_win, "TOP_I")
+            w["top_ia"], w["top_ib"] = _s16(top), _s16(top >> 16)
         vdq = _per_window(writes, rm.V_DQ_ADDR, n_win, "V_DQ")
         sincos = _per_window(writes, rm.SINCOS_ADDR, n_win, "SINCOS")
         iref = _per_window(writes, rm.I_REF_ADDR, n_win, "I_REF")

@@ -36,7 +36,7 @@ CTL_BASE = 0x9000_0000
 """SoC control block hfi_soc_ctl (docs/soc_registers.md)."""
 IO_BIT = 31
 """Address bit that makes an access I/O (uncached) for the VexRiscv data cache (CPU_VARIANT)."""
-RAM_BYTES = 32768
+RAM_BYTES = 65536
 """On-chip RAM of hfi_soc (parameter RAM_BYTES), the firmware's link region and its RAM image."""
 
 # ---------------------------------------------------------------- hfi_dsp parameters of the SoC

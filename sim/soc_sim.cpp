@@ -74,6 +74,7 @@ struct soc_sim {
     std::vector<soc_irq> irq_log;
     std::vector<uint8_t> uart;
     std::vector<uint64_t> prof_cycles, prof_fetch;   // SOC_PROF_*: empty unless HFI_PROFILE
+    bool prof_line = false;                          // a whole I$ line refill seen since the profile started
 };
 
 extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, struct plant *plant, char *err,
@@ -276,7 +277,9 @@ static int clock_once(soc_sim *sim)
             sim->prof_cycles[pc_word]++;
         if (r->hfi_soc__DOT__i_ack) {            // a refill beat: the RAM word it delivers
             uint32_t w = r->hfi_soc__DOT__i_adr - HFI_SOC_RAM_BASE / 4;
-            if (w < words)
+            if (w % 8 == 0)                      // a refill starts (8-word lines, from their first word):
+                sim->prof_line = true;           // a line half refilled when the profile starts is not counted
+            if (sim->prof_line && w < words)
                 sim->prof_fetch[w]++;
         }
     }

@@ -91,8 +91,7 @@ def test_methods_lists_every_estimator_with_the_backends(capsys):
     assert lines[4].startswith("sqw_cic: Xue et al., Electronics 2022 (001); slots low; injection square wave on "
                                "d_hat at f_sw/2")
     assert lines[5].startswith("hfo_proj: Varatharajan et al., IEEE Access 2020 (003); slots low; injection none")
-    assert all(line.endswith("; backends golden, rtl, hls") for line in lines[:5])
-    assert lines[5].endswith("; backends golden")
+    assert all(line.endswith("; backends golden, rtl, hls") for line in lines)
 
 
 def _restrict(monkeypatch, name: str, backends: tuple[str, ...]) -> None:
@@ -105,13 +104,11 @@ def _restrict(monkeypatch, name: str, backends: tuple[str, ...]) -> None:
     monkeypatch.setitem(METHODS, name, dataclasses.replace(METHODS[name], backends=backends))
 
 
-def test_only_the_003_method_is_restricted_to_some_backends():
-    """hfo_proj runs on golden only until its C twin and the backends' direct-vector mode land (issue 18)."""
+def test_no_method_is_restricted_to_some_backends():
     from golden.firmware.estimator import METHODS
     from hfi.backends import NAMES
 
-    assert all(m.backends == NAMES for m in METHODS.values() if m.name != "hfo_proj")
-    assert METHODS["hfo_proj"].backends == ("golden",)
+    assert all(m.backends == NAMES for m in METHODS.values())
 
 
 def test_a_method_is_refused_on_a_backend_without_it(capsys, monkeypatch):

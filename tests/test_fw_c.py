@@ -154,6 +154,8 @@ def test_blocks_match_golden_fields():
         [f.name for f in dataclass_fields(FcsParams)] + ["len"]
     lut = dict(ffi.typeof("struct fw_flux_lut").fields)
     assert {lut[t].type.length for t in ("t_d", "t_q", "t_ld", "t_lq", "t_ldq")} == {LUT_MAX_POINTS}
+    assert [lut[t].type.item.cname for t in ("t_d", "t_q", "t_ld", "t_lq", "t_ldq")] == \
+        ["int16_t"] * 2 + ["int32_t"] * 3
     fcs = dict(ffi.typeof("struct fw_fcs_params").fields)
     assert fcs["t_d"].type.length == fcs["t_q"].type.length == mtpa.MTPA_LEN
     assert [name for name, _ in ffi.typeof("struct fw_outputs").fields] == list(fw_c.OUTPUT_FIELDS) == \
@@ -1031,12 +1033,11 @@ def _lut_to_c(lut: FluxLut):
 def random_hfo(rng: np.random.Generator) -> HfoParams:
     """hfo_proj integers over the ranges control.h documents (struct fw_hfo_params), around the host's values
     (varatharajan2020_torquestep) with the extremes frequent; the host's LUT (or a coarser/finer grid of the
-    same map) and its l_shift."""
+    same map) with its f_shift and l_shift."""
     h = _hfo_host()
     luts = _syrm_luts()
     lut = luts[int(rng.integers(0, len(luts)))]
-    l_shift = max(max(map(abs, lut.t_ld + lut.t_lq + lut.t_ldq)).bit_length() - 15, 0)
-    return replace(h, lut=lut, l_shift=l_shift, c_lag=draw_one(rng, 0, 1 << 16, (h.c_lag, 0)),
+    return replace(h, lut=lut, c_lag=draw_one(rng, 0, 1 << 16, (h.c_lag, 0)),
                    r_f=draw_one(rng, 0, 1 << 26, (h.r_f,)), dt_f=draw_one(rng, 0, 1 << 28, (h.dt_f, 0)),
                    vth_f=draw_one(rng, 0, 1 << 28, (h.vth_f, 0)), c_g=draw_one(rng, 0, 1 << 16, (h.c_g,)),
                    phi_min=draw_one(rng, 0, U16_MAX, (h.phi_min, 0)), s_knee=draw_one(rng, 1, 1 << 23, (h.s_knee,)),
@@ -1146,7 +1147,7 @@ def test_lut_point_and_flux_random(seed):
     beyond = inside = nonzero = 0
     for lut, c in luts:
         i_d, i_q = _lut_currents(rng, lut, per), _lut_currents(rng, lut, per)
-        host_shift = max(max(map(abs, lut.t_ld + lut.t_lq + lut.t_ldq)).bit_length() - 15, 0)
+        host_shift = lut.l_shift
         shifts = rng.integers(max(host_shift - 2, 0), host_shift + 3, size=per).tolist()
         for k in range(per):
             d, q = i_d[k], i_q[k]
@@ -1395,11 +1396,13 @@ def test_hfo_fcs_params_of_the_scenario():
     documents and convert into struct fw_params unchanged (the LUT and the flux reference table included)."""
     p = _syrm_params()
     h, f, lut = p.hfo, p.fcs, p.hfo.lut
-    assert 0 <= h.c_lag <= 1 << 16 and 0 <= h.dt_f <= 1 << 28 and 0 <= h.vth_f <= 1 << 28 and 0 <= h.l_shift <= 30
+    assert 0 <= h.c_lag <= 1 << 16 and 0 <= h.dt_f <= 1 << 28 and 0 <= h.vth_f <= 1 << 28
+    assert 0 <= lut.f_shift <= 16 and 0 <= lut.l_shift <= 16
     assert 0 <= h.phi_min <= U16_MAX and 1 <= h.s_knee <= 1 << 23 and h.wg_b >= 1 and h.eps_max >= 0
     assert all(S32_MIN <= getattr(h, k) <= S32_MAX for k in ("r_f", "c_g", "kp", "ki", "k_delay", "g_b", "wg_b"))
     assert lut.n_d * lut.n_q <= LUT_MAX_POINTS and lut.shift <= 12 and 0 <= lut.coarse <= 4
-    assert max(abs(v) for t in (lut.t_d, lut.t_q, lut.t_ld, lut.t_lq, lut.t_ldq) for v in t) < 1 << 28
+    assert max(abs(v) for t in (lut.t_d, lut.t_q) for v in t) < 1 << 15
+    assert max(abs(v) for t in (lut.t_ld, lut.t_lq, lut.t_ldq) for v in t) < 1 << 28
     assert 2 <= len(f.t_d) == len(f.t_q) <= mtpa.MTPA_LEN and max(map(abs, f.t_d + f.t_q)) < 1 << 29
     assert 0 <= f.dt_f <= 1 << 28 and 0 <= f.vth_f <= 1 << 28 and 1 <= f.v_lim <= S16_MAX and 0 <= f.phi_min <= U16_MAX
     cp = fw_c.params_to_c(ffi, p)

@@ -157,17 +157,7 @@ def test_period_square_wave_other_comb_delays_identical():
         assert np.count_nonzero(hls.windows["cic_qa"]) > 0, m
 
 
-def _hls_runs_hfo_proj(monkeypatch) -> None:
-    """METHODS["hfo_proj"].backends includes "hls" for this test (golden/firmware/estimator.py still lists
-    golden only; the pattern of tests/test_cli.py _restrict)."""
-    from golden.firmware.estimator import METHODS
-
-    m = METHODS["hfo_proj"]
-    if "hls" not in m.backends:
-        monkeypatch.setitem(METHODS, "hfo_proj", dataclasses.replace(m, backends=(*m.backends, "hls")))
-
-
-def test_varatharajan2020_direct_vector_identical(monkeypatch):
+def test_varatharajan2020_direct_vector_identical():
     """The 003 drive (scenarios/varatharajan2020_torquestep.toml: 10 kHz FCS-MPC, CTRL.DIRECT = 1, the
     hfo_proj estimator, DS sampling) for 1 s, through the 0 -> 2 p.u. load step at 0.8 s: the state
     chosen at each carrier top (hfi_modulator_direct on the active V_D, V_Q, SIN, COS, FCS_A, FCS_CTRL and
@@ -176,7 +166,6 @@ def test_varatharajan2020_direct_vector_identical(monkeypatch):
     write, sample and edge identical to golden."""
     from hfi.backends import get
 
-    _hls_runs_hfo_proj(monkeypatch)
     sc = dataclasses.replace(load_scenario(ROOT / "scenarios" / "varatharajan2020_torquestep.toml"), duration=1.0)
     gold = ClosedLoop(sc).run(progress=False)
     hls = get("hls").run(sc, progress=False)

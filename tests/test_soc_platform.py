@@ -41,7 +41,7 @@ def test_check_mode_reports_missing_and_changed_files(tmp_path):
     assert gen.check(tmp_path) == [f"{rel}: missing" for rel in gen.RENDERERS]
     gen.write(tmp_path)
     assert gen.check(tmp_path) == []
-    (tmp_path / gen.VERILOG).write_text(gen.render_verilog().replace("32768", "65536"))
+    (tmp_path / gen.VERILOG).write_text(gen.render_verilog().replace(str(sp.RAM_BYTES), str(2 * sp.RAM_BYTES)))
     assert gen.check(tmp_path) == [f"{gen.VERILOG}: differs"]
 
 

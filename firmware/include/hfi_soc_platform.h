@@ -4,7 +4,7 @@
 #define HFI_SOC_PLATFORM_H
 
 #define HFI_SOC_RAM_BASE 0x00000000u   /* RAM: code, data, stack */
-#define HFI_SOC_RAM_BYTES 32768u
+#define HFI_SOC_RAM_BYTES 65536u
 #define HFI_SOC_DSP_BASE 0x80000000u   /* hfi_dsp registers (hfi_regs.h offsets) */
 #define HFI_SOC_CTL_BASE 0x90000000u   /* SoC control block (hfi_soc_regs.h offsets) */
 #define HFI_SOC_IRQ_WINDOW 3u       /* external interrupt line of the window interrupt */

@@ -683,8 +683,8 @@ int32_t fw_cic_i_d(const struct fw_params *p)
 /* ---- the 003 method: FCS-MPC vector choice, flux LUT, applied flux, hfo_proj, fcs_mpc --------------- */
 
 /* golden.firmware.hfo_proj.projection_coefficients (eqs. (28)-(30), corrected): the normalised inductances
- * below 2^20 in magnitude (l_shift brings the tables below 2^15), so every product and the numerators
- * shifted by 12 are below 2^57. */
+ * below 2^20 in magnitude (the table's l_shift brings the inductance tables below 2^15), so every product
+ * and the numerators shifted by 12 are below 2^57. */
 static int64_t shr_any64(int64_t x, int32_t n);
 void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, int32_t *a1, int32_t *a2)
 {
@@ -825,15 +825,33 @@ static void lut_cell(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, in
     *fy = (int64_t)y - ((int64_t)r << s);
 }
 
-/* golden.firmware.flux_lut._bilinear of table t at the cell k */
-static int64_t lut_bilinear(const int32_t *t, int32_t k, int32_t n, int64_t fx, int64_t fy, int32_t s)
+/* golden.firmware.flux_lut._bilinear of the corners t00, t01, t10, t11 */
+static int64_t bilinear64(int64_t t00, int64_t t01, int64_t t10, int64_t t11, int64_t fx, int64_t fy, int32_t s)
 {
-    int64_t t00 = t[k], t01 = t[k + 1], t10 = t[k + n], t11 = t[k + n + 1];
     int64_t a = t00 + (((t01 - t00) * fx) >> s);
     int64_t b = t10 + (((t11 - t10) * fx) >> s);
 
     return a + (((b - a) * fy) >> s);
 }
+
+/* golden.firmware.flux_lut._bilinear of an inductance table t (s32) at the cell k */
+static int64_t lut_bilinear(const int32_t *t, int32_t k, int32_t n, int64_t fx, int64_t fy, int32_t s)
+{
+    return bilinear64(t[k], t[k + 1], t[k + n], t[k + n + 1], fx, fy, s);
+}
+
+/* a flux table t (s16, units of 2^f_shift flux units) at the cell k, in flux units: the interpolation
+ * shifted left by f_shift (golden's << of a negative int: a product) */
+static int64_t lut_bilinear_flux(const int16_t *t, int32_t k, int32_t n, int64_t fx, int64_t fy, int32_t s,
+                                 int32_t f_shift)
+{
+    return bilinear64(t[k], t[k + 1], t[k + n], t[k + n + 1], fx, fy, s) * ((int64_t)1 << f_shift);
+}
+
+_Static_assert(sizeof(((struct fw_flux_lut *)0)->t_d) / sizeof(int16_t) == FW_LUT_MAX_POINTS,
+               "control.h's flux tables hold golden.firmware.flux_lut.LUT_MAX_POINTS entries");
+_Static_assert(sizeof(((struct fw_flux_lut *)0)->t_ld) / sizeof(int32_t) == FW_LUT_MAX_POINTS,
+               "control.h's inductance tables hold golden.firmware.flux_lut.LUT_MAX_POINTS entries");
 
 /* golden.firmware.flux_lut.lut_flux */
 void fw_lut_flux(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, int64_t *lam_d, int64_t *lam_q)
@@ -842,8 +860,8 @@ void fw_lut_flux(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, int64_
     int64_t fx, fy;
 
     lut_cell(lut, i_d, i_q, &k, &fx, &fy);
-    int64_t d = lut_bilinear(lut->t_d, k, lut->n_d, fx, fy, lut->shift);
-    int64_t q = lut_bilinear(lut->t_q, k, lut->n_d, fx, fy, lut->shift);
+    int64_t d = lut_bilinear_flux(lut->t_d, k, lut->n_d, fx, fy, lut->shift, lut->f_shift);
+    int64_t q = lut_bilinear_flux(lut->t_q, k, lut->n_d, fx, fy, lut->shift, lut->f_shift);
     *lam_d = i_d < 0 ? -d : d;
     *lam_q = i_q < 0 ? -q : q;
 }
@@ -855,8 +873,8 @@ void fw_lut_point(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, struc
     int64_t fx, fy, one = (int64_t)1 << s;
 
     lut_cell(lut, i_d, i_q, &k, &fx, &fy);
-    int64_t lam_d = lut_bilinear(lut->t_d, k, n, fx, fy, s);
-    int64_t lam_q = lut_bilinear(lut->t_q, k, n, fx, fy, s);
+    int64_t lam_d = lut_bilinear_flux(lut->t_d, k, n, fx, fy, s, lut->f_shift);
+    int64_t lam_q = lut_bilinear_flux(lut->t_q, k, n, fx, fy, s, lut->f_shift);
     fx = fx < one ? fx : one;
     fy = fy < one ? fy : one;
     int64_t l_d = lut_bilinear(lut->t_ld, k, n, fx, fy, s);
@@ -964,7 +982,7 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     inv_park64(pt.lam_d, pt.lam_q, s, c, &lam_al, &lam_be);
     /* 3. eq. (30)'s coefficients */
     int32_t a1, a2;
-    fw_projection_coefficients(&pt, hp->l_shift, &a1, &a2);
+    fw_projection_coefficients(&pt, lut->l_shift, &a1, &a2);
     /* 6. fusion weight */
     int64_t f = (((int64_t)hp->g_b + hp->wg_b - abs64(w_i)) * 65536) / (2 * (int64_t)hp->wg_b);
     f = f < 0 ? 0 : f > 65536 ? 65536 : f;

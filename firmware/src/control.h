@@ -193,22 +193,27 @@ struct fw_cic_state {
 };
 
 /* ---- the flux-map look-up table (golden.firmware.flux_lut; Varatharajan et al. 2020, eqs. (8), (12)) ----
- * n_d x n_q points (2 <= n_d, n_q; n_d n_q <= 1536 = golden.firmware.flux_lut.LUT_MAX_POINTS entries reserved
- * per table), step 2^shift current LSB below knee, 2^coarse times that above; values s32 with the ranges the C relies
- * on (tests/test_fw_c.py: the host's tables of varatharajan2020_syrm, |t| < 2^28, and currents up to 2^18):
- *   |i_d|, |i_q| <= 2^18, |t| < 2^28, shift <= 12, 0 <= coarse <= 4: the interpolation's products below 2^62 (int64_t), the
- *   flux beyond the grid and the derivatives dl_* beyond s32 (so struct fw_lut_point is int64_t). */
+ * n_d x n_q points (2 <= n_d, n_q; n_d n_q <= 1024 = golden.firmware.flux_lut.LUT_MAX_POINTS = FW_LUT_MAX_POINTS
+ * entries reserved per table), step 2^shift current LSB below knee, 2^coarse times that above. The flux tables
+ * t_d, t_q are s16 in units of 2^f_shift flux units (0 <= f_shift <= 16 [13]; the look-up shifts the
+ * interpolated value left by f_shift), the inductance tables s32; l_shift (0 <= l_shift <= 16 [10]) is the
+ * projection's normalisation (golden.firmware.hfo_proj). The ranges the C relies on (tests/test_fw_c.py: the
+ * host's tables of varatharajan2020_syrm, |t_l*| < 2^28, and currents up to 2^18):
+ *   |i_d|, |i_q| <= 2^18, |t| < 2^28, shift <= 12, 0 <= coarse <= 4, f_shift <= 16: the interpolation's
+ *   products below 2^62 (int64_t), the flux beyond the grid and the derivatives dl_* beyond s32 (so struct fw_lut_point is int64_t). */
 struct fw_flux_lut {
     int32_t n_d;
     int32_t n_q;
     int32_t shift;
     int32_t knee;
     int32_t coarse;
-    int32_t t_d[1536];       /* golden.firmware.flux_lut.LUT_MAX_POINTS */
-    int32_t t_q[1536];
-    int32_t t_ld[1536];
-    int32_t t_lq[1536];
-    int32_t t_ldq[1536];
+    int32_t f_shift;
+    int32_t l_shift;
+    int16_t t_d[1024];       /* golden.firmware.flux_lut.LUT_MAX_POINTS (FW_LUT_MAX_POINTS, checked in control.c) */
+    int16_t t_q[1024];
+    int32_t t_ld[1024];
+    int32_t t_lq[1024];
+    int32_t t_ldq[1024];
 };
 
 /* golden.firmware.flux_lut.LutPoint */
@@ -227,7 +232,7 @@ struct fw_lut_point {
  * Ranges the C relies on (the host's values in brackets: varatharajan2020_torquestep): TOP_I s16;
  * 0 <= c_lag <= 2^16 (so the lag-corrected currents stay within 3 2^15 and their Park within the LUT's 2^18);
  * r_f, c_g, kp, ki, k_delay, g_b: int32_t; wg_b >= 1; eps_max >= 0; 0 <= dt_f, vth_f <= 2^28 [83886, 17088];
- * 0 <= l_shift <= 30 [10]; phi_min u16 [3641]; 1 <= s_knee <= 2^23 [2097152]; the LUT's ranges above.
+ * phi_min u16 [3641]; 1 <= s_knee <= 2^23 [2097152]; the LUT's ranges above.
  * Every intermediate is int64_t (the golden ints are unbounded; with these ranges none leaves int64). */
 struct fw_hfo_params {
     struct fw_flux_lut lut;
@@ -236,7 +241,6 @@ struct fw_hfo_params {
     int32_t dt_f;
     int32_t vth_f;
     int32_t c_g;
-    int32_t l_shift;
     int32_t phi_min;
     int32_t s_knee;
     int32_t n_max;

@@ -13,7 +13,7 @@
 #include "control.h"
 
 /* Identification of the block: "HFIC" and the layout version. */
-enum fw_config_id { FW_CONFIG_MAGIC = 0x43494648, FW_CONFIG_VERSION = 5 };
+enum fw_config_id { FW_CONFIG_MAGIC = 0x43494648, FW_CONFIG_VERSION = 6 };
 
 /* hfi_dsp start-up register values (golden.control_config.HardwareConfig) and the control flags. */
 struct fw_hw_config {
@@ -37,6 +37,8 @@ struct fw_hw_config {
     uint32_t inj_step;      /* INJ_STEP */
     uint32_t inj_per;       /* CTRL.INJ_PER: the period square wave; the window reads CIC_QA/QB only with it */
     uint32_t cic_m;         /* CIC_M */
+    uint32_t direct;        /* CTRL.DIRECT: the direct-vector mode (003, law fcs_mpc); the window reads VECTOR and
+                             * TOP_I and the step writes FCS_A and FCS_CTRL only with it */
 };
 
 struct fw_config {

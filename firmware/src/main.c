@@ -7,11 +7,12 @@
  *
  * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results (with
  * CIC_QA and CIC_QB only when the configuration runs the period square wave, CTRL.INJ_PER: two bus
- * reads saved otherwise, where they read 0 as golden's WindowResult has them) and the
- * speed reference (SPEED_REF mailbox), run fw_step() (control.c, the golden firmware's arithmetic),
- * write the shadow registers, CTRL and COMMIT (before the deadline: the commit takes effect at the
- * next window boundary; a missed one counts in LATE_COUNT and the watchdog trips after WDT_PERIODS),
- * acknowledge, and send one trace record on the SoC trace port (fw_trace.h, docs/soc.md). The first interrupt
+ * reads saved otherwise, where they read 0 as golden's WindowResult has them; VECTOR and TOP_I likewise
+ * only in the direct-vector mode, CTRL.DIRECT) and the speed reference (SPEED_REF mailbox), run fw_step()
+ * (control.c, the golden firmware's arithmetic), write the shadow registers (FCS_A and FCS_CTRL only in the
+ * direct-vector mode), CTRL (with CTRL.DIRECT from the configuration) and COMMIT (before the deadline: the
+ * commit takes effect at the next window boundary; a missed one counts in LATE_COUNT and the watchdog
+ * trips after WDT_PERIODS), acknowledge, and send one trace record on the SoC trace port (fw_trace.h, docs/soc.md). The first interrupt
  * reports window -1 (the half period before the first boundary): acknowledged, no control step.
  * Core exceptions (illegal instruction, misaligned or faulting access, ebreak; crt0.S) turn the gates
  * off, log mcause and mepc, and stop the firmware; without commits the hardware watchdog would do so too.
@@ -119,13 +120,13 @@ static void control_step(void)
         win.cic_qa = 0;
         win.cic_qb = 0;
     }
-    if (cfg.fw.law == FW_LAW_FCS_MPC) {   /* the direct-vector mode's state and the top currents (spec 3.10, 3.11) */
+    if (cfg.hw.direct) {                  /* the direct-vector mode's state and the top currents (spec 3.10, 3.11) */
         uint32_t top = DSP(TOP_I);
 
         win.vector = (int32_t)((DSP(VECTOR) & HFI_REGS__VECTOR__STATE_bm) >> HFI_REGS__VECTOR__STATE_bp);
         win.top_ia = (int32_t)(int16_t)(uint16_t)((top & HFI_REGS__TOP_I__I_ALPHA_bm) >> HFI_REGS__TOP_I__I_ALPHA_bp);
         win.top_ib = (int32_t)(int16_t)(uint16_t)((top & HFI_REGS__TOP_I__I_BETA_bm) >> HFI_REGS__TOP_I__I_BETA_bp);
-    } else {                              /* read only by the fcs_mpc law and its estimator */
+    } else {                              /* read only by the fcs_mpc law and its estimator (0 as in golden) */
         win.vector = 0;
         win.top_ia = 0;
         win.top_ib = 0;
@@ -139,9 +140,13 @@ static void control_step(void)
     DSP(V_H) = FIELD(V_H, VALUE, o.v_h);
     DSP(SINCOS) = FIELD(SINCOS, SIN, o.sin) | FIELD(SINCOS, COS, o.cos);
     DSP(I_REF) = FIELD(I_REF, I_D, o.i_d_ref) | FIELD(I_REF, I_Q, o.i_q_ref);
+    if (cfg.hw.direct) {                  /* the FCS-MPC choice's shadow registers (spec 3.10) */
+        DSP(FCS_A) = FIELD(FCS_A, A1, o.fcs_a1) | FIELD(FCS_A, A2, o.fcs_a2);
+        DSP(FCS_CTRL) = FIELD(FCS_CTRL, PHI_MIN, o.fcs_phi_min) | FIELD(FCS_CTRL, CONSTRAIN, o.fcs_constrain);
+    }
     DSP(CTRL) = FIELD(CTRL, ENABLE, o.enable) | FIELD(CTRL, INJ_EN, cfg.hw.inj_en) |
                 FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) | FIELD(CTRL, INJ_PER, cfg.hw.inj_per) |
-                FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+                FIELD(CTRL, DIRECT, cfg.hw.direct) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     DSP(COMMIT) = FIELD(COMMIT, GO, 1);
     DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
     uint32_t cycles = rdcycle() - t0;
@@ -202,9 +207,11 @@ int main(void)
     /* the safety registers (dead time, overcurrent limit, watchdog) stay as configured until reset */
     DSP(SAFETY_LOCK) = FIELD(SAFETY_LOCK, LOCK, 1);
     DSP(IRQ_ENABLE) = FIELD(IRQ_ENABLE, WINDOW, 1);
-    /* before DSP_RUN: the period square wave's sign at tick 0's bottom follows CTRL.INJ_PER (docs/rtl.md) */
+    /* before DSP_RUN: the period square wave's sign at tick 0's bottom follows CTRL.INJ_PER (docs/rtl.md);
+     * CTRL.DIRECT from the first window boundary on (the direct-vector mode of the 003 method, spec 3.10) */
     DSP(CTRL) = FIELD(CTRL, INJ_EN, cfg.hw.inj_en) | FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) |
-                FIELD(CTRL, INJ_PER, cfg.hw.inj_per) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+                FIELD(CTRL, INJ_PER, cfg.hw.inj_per) | FIELD(CTRL, DIRECT, cfg.hw.direct) |
+                FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     fw_init(&st, &cfg.fw);
     /* One step on a copy of the state: the caches then hold what a step leaves in them, so the first
      * window interrupt takes the steady-state time, not a cold-cache one (docs/soc.md, "Firmware

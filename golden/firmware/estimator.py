@@ -183,7 +183,7 @@ METHODS: dict[str, MethodInfo] = {m.name: m for m in (
                "square wave at f_sw/2 on d_hat, sample differencing, CIC interpolation, Luenberger observer"),
     MethodInfo("hfo_proj", METHOD_HFO_PROJ, "Varatharajan et al., IEEE Access 2020 (003)", (SLOT_LOW,), INJ_NONE,
                "hybrid flux observer with flux maps, FCS-MPC ripple projection + APP, fusion, PLL",
-               backends=("golden",), flux=True),
+               flux=True),
 )}
 """Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""
 

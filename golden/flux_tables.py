@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 
 from golden.firmware.flux_lut import LUT_MAX_AXIS, LUT_MAX_POINTS, FluxLut, unwarp, warp
+from golden.firmware.mtpa import table_grid
 from golden.fixed import to_fixed
 from golden.plant.binding import MAG_KINDS
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
@@ -100,12 +101,7 @@ def flux_reference_table(mag: dict, pole_pairs: int, i_lsb: float, flux_lsb: flo
     """``(shift, t_d, t_q)``: the MTPA flux ``(psi_d <= 0, |psi_q|)`` [flux units] over the current magnitude
     ``0..i_max`` [current LSB] on a power-of-two grid of at most ``points`` points, with ``|psi_d| >=
     flux_min`` [V*s] (:mod:`golden.firmware.fcs_law`)."""
-    if not 1 <= i_max <= 32767:
-        raise ValueError(f"flux reference table: current limit {i_max} LSB outside 1..32767")
-    shift = 0
-    while (i_max + (1 << shift) - 1) >> shift > points - 1:
-        shift += 1
-    n = ((i_max + (1 << shift) - 1) >> shift) + 1
+    shift, n = table_grid(i_max, points, "flux reference table")
     t_d, t_q = [], []
     for k in range(n):
         _, _, psi_d, psi_q, _ = mtpa_point(mag, min(k << shift, 32767) * i_lsb, pole_pairs)

@@ -809,8 +809,9 @@ S16_EDGES = (-(1 << 15) - 1, -(1 << 15), (1 << 15) - 1, 1 << 15)
 HALF_TURN = 1 << 31
 
 
-class CicPair:
-    """SquareWaveCic and fw_cic_step / turn / sync on the same state (the C's cic block of a fw_state)."""
+class _EstimatorPair:
+    """The C structs one estimator step needs (a fw_state with its method's block, the params, a window,
+    the measurement, the outputs) for a golden estimator and its C functions on the same state."""
 
     def __init__(self):
         self.st = ffi.new("struct fw_state *")
@@ -820,6 +821,10 @@ class CicPair:
         self.m.win = self.win
         self.theta, self.omega = ffi.new("uint32_t *"), ffi.new("int32_t *")
         self.p = None
+
+
+class CicPair(_EstimatorPair):
+    """SquareWaveCic and fw_cic_step / turn / sync on the same state (the C's cic block of a fw_state)."""
 
     def load(self, p: CicParams, state: dict) -> SquareWaveCic:
         """A golden estimator with params ``p`` and ``state`` (attributes by name), the same into the C."""
@@ -1237,18 +1242,12 @@ def test_flux_reference_and_deadbeat_random(seed):
 HFO_STATE = tuple(name for name, _ in ffi.typeof("struct fw_hfo_state").fields)
 
 
-class HfoPair:
+class HfoPair(_EstimatorPair):
     """HybridFluxProjection and fw_hfo_step / turn / sync on the same state (the hfo block of a fw_state)."""
 
     def __init__(self):
-        self.st = ffi.new("struct fw_state *")
-        self.cp = ffi.new("struct fw_params *")
-        self.win = ffi.new("struct fw_window *")
-        self.m = ffi.new("struct fw_meas *")
-        self.m.win = self.win
-        self.theta, self.omega = ffi.new("uint32_t *"), ffi.new("int32_t *")
+        super().__init__()
         self.flux = ffi.new("struct fw_est_flux *")
-        self.p = None
 
     def load(self, p: HfoParams, state: dict) -> HybridFluxProjection:
         if p is not self.p:

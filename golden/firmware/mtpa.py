@@ -47,16 +47,23 @@ def mtpa_point(i_s: float, psi_f: float, L_d: float, L_q: float) -> tuple[float,
     return i_d, math.sqrt(max(i_s * i_s - i_d * i_d, 0.0))
 
 
+def table_grid(i_max: int, points: int, what: str) -> tuple[int, int]:
+    """``(shift, n)``: the fewest points ``n`` (at most ``points``) of a power-of-two step ``2^shift`` [current
+    LSB] from 0 that cover ``0..i_max`` (the grid of :func:`mtpa_lookup`). Raises ValueError for ``i_max``
+    outside 1..32767, naming ``what``."""
+    if not 1 <= i_max <= 32767:
+        raise ValueError(f"{what}: current limit {i_max} LSB outside 1..32767")
+    shift = 0
+    while (i_max + (1 << shift) - 1) >> shift > points - 1:
+        shift += 1
+    return shift, ((i_max + (1 << shift) - 1) >> shift) + 1
+
+
 def mtpa_table(i_max: int, i_lsb: float, psi_f: float, L_d: float, L_q: float
                ) -> tuple[int, tuple[int, ...], tuple[int, ...]]:
     """``(shift, t_d, t_q)`` covering 0..``i_max`` [current LSB] with the fewest points of a power-of-two
     step (at most MTPA_LEN). Raises ValueError for ``i_max`` outside 1..32767."""
-    if not 1 <= i_max <= 32767:
-        raise ValueError(f"MTPA table: current limit {i_max} LSB outside 1..32767")
-    shift = 0
-    while (i_max + (1 << shift) - 1) >> shift > MTPA_LEN - 1:
-        shift += 1
-    n = ((i_max + (1 << shift) - 1) >> shift) + 1
+    shift, n = table_grid(i_max, MTPA_LEN, "MTPA table")
     pts = [mtpa_point(min(k << shift, 32767) * i_lsb, psi_f, L_d, L_q) for k in range(n)]
     t_d = tuple(max(to_fixed(d / i_lsb, 0), -32768) for d, _ in pts)
     t_q = tuple(min(to_fixed(q / i_lsb, 0), 32767) for _, q in pts)

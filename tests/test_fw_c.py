@@ -1325,13 +1325,15 @@ def test_hfo_step_random(seed, chunk):
 
 
 def test_hfo_sync_turn_random(seed):
-    """fw_hfo_sync / fw_hfo_turn = HybridFluxProjection.sync / turn on N_RANDOM random states, angles and speeds."""
+    """fw_hfo_sync / fw_hfo_turn = HybridFluxProjection.sync / turn on N_RANDOM random angles and speeds, from
+    a new random state every 20 operations."""
     rng = np.random.default_rng(seed + 66)
     pair = HfoPair()
     for k in range(N_RANDOM):
         if k % 1000 == 0:
             p = random_hfo(rng)
-        est = pair.load(p, _random_hfo_state(rng, p))
+        if k % 20 == 0:                                     # a new random state, then 20 operations on it
+            est = pair.load(p, _random_hfo_state(rng, p))
         arg, speed = draw_one(rng, 0, U32_MAX, (HALF_TURN,)), draw_one(rng, S32_MIN, S32_MAX)
         if k % 2:
             est.sync(arg, speed)

@@ -345,7 +345,9 @@ extern "C" int soc_sim_run(struct soc_sim *sim, long long max_cycles)
             return -3;
         }
         if (sim->tick0 >= 0 && sim->cycle - sim->tick0 > end_tick + 4 * period) {
-            sim->error = "no trace record for 4 periods after the last window";
+            sim->error = "no trace record for 4 periods after the last window: the firmware stopped (a core "
+                         "exception) or its control step takes longer than a PWM period (scripts/fw_profile.py "
+                         "measures it on a slower copy of the scenario)";
             return -4;
         }
     }

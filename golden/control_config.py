@@ -222,6 +222,13 @@ def dead_time_flux(sc: Scenario) -> int:
     return to_fixed(2**15 * hw.dead_ticks / (2 * hw.pwm_half), FLUX_FRAC)
 
 
+def resistance_per_lsb(sc: Scenario) -> float:
+    """The 003 firmware's resistance: ``R_s`` plus the inverter's on-resistance ``[control] inv_r_drop``, in
+    voltage LSB per current LSB (the law's ``r_v``; times ``2^FLUX_FRAC`` the flux per period, ``r_f``)."""
+    sc_ = scales(sc)
+    return (sc.plant["R_s"] + sc.control.inv_r_drop) * sc_.i_lsb / sc_.v_lsb
+
+
 def threshold_flux(sc: Scenario) -> int:
     """``V_th T`` in flux units: the inverter's threshold drop ``[control] inv_v_drop`` over one period."""
     return to_fixed(sc.control.inv_v_drop / scales(sc).v_lsb, FLUX_FRAC)
@@ -232,7 +239,7 @@ def fcs_params(sc: Scenario) -> FcsParams:
     LSB, the flux reference table over ``0..i_max`` from the plant's map with ``control.flux_min``, and the
     constraint's threshold ``estimator.hfo_proj.phi_min``."""
     ctl, sc_ = sc.control, scales(sc)
-    r = (sc.plant["R_s"] + ctl.inv_r_drop) * sc_.i_lsb / sc_.v_lsb
+    r = resistance_per_lsb(sc)
     shift, t_d, t_q = flux_reference_table(sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"]), sc_.i_lsb,
                                            flux_lsb(sc), sc_.current(ctl.i_max), ctl.flux_min)
     if not t_d or max(map(abs, t_d + t_q)) >= 1 << 30:
@@ -253,8 +260,8 @@ def hfo_proj_params(sc: Scenario) -> HfoParams:
                    t["map_scale_d"], t["map_scale_q"])
     omega = 2 * math.pi * t["pll_bw"]
     kp, ki = pll_gains(2 * omega, omega * omega, f_sw)
-    r = sc.plant["R_s"] + sc.control.inv_r_drop
-    return HfoParams(lut=lut, c_lag=min(to_fixed(t["i_lag"] * f_sw, 16), 1 << 16), r_f=to_fixed(r * sc_.i_lsb / sc_.v_lsb * 2**FLUX_FRAC, 16),
+    return HfoParams(lut=lut, c_lag=min(to_fixed(t["i_lag"] * f_sw, 16), 1 << 16),
+                     r_f=to_fixed(resistance_per_lsb(sc) * 2**FLUX_FRAC, 16),
                      dt_f=dead_time_flux(sc), vth_f=threshold_flux(sc),
                      c_g=to_fixed(2 * math.pi * t["g"] * T, 16),
                      phi_min=min(sc_.voltage(t["phi_min"]), 65535),

@@ -45,7 +45,7 @@ WINDOW_FIELDS = (
     "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
     "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase", "cic_qa", "cic_qb", "env_a", "env_b",
-    "vector", "top_ia", "top_ib", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
+    "vector", "vector_next", "top_ia", "top_ib", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
 """Per-window trace columns (integers of the spec, and the plant's truth at the window end). ``est`` is
 the estimator slot in charge (0 low-speed, 1 high-speed), ``theta_lo/hi`` and ``omega_lo/hi`` each slot's
 outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the window (``INJ_PHASE``),
@@ -202,6 +202,7 @@ class ClosedLoop:
         # boundary) has the reset compares in either mode
         direct = bool(hw.direct)
         state = 0
+        nxt = _direct_next(active, state) if direct else 0  # the state from the next top (VECTOR.NEXT)
         top = (0, 0)                                      # TOP_I after reset
         gen.add_half(0, H, True, self._compares(active, -1, None, inj_sign))
         prev_switch = np.zeros(0, dtype=np.int64)
@@ -217,8 +218,7 @@ class ClosedLoop:
             # so the rotating injection is on exactly when INJ_ROT is
             inj_phase, rot = self.rot_inj.boundary(bool(hw.inj_rot), hw.inj_step)
             if direct:                                    # CTRL.DIRECT (spec 3.10): one state top to top
-                state = direct_state(active.v_d, active.v_q, active.sin, active.cos, active.fcs_a1,
-                                     active.fcs_a2, active.fcs_phi_min, bool(active.fcs_constrain), state)
+                state = nxt
                 cmp_top = direct_compares(state, H)
             else:
                 cmp_top = self._compares(active, +1, rot, inj_sign)
@@ -261,7 +261,9 @@ class ClosedLoop:
                 win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
             if direct:                                    # VECTOR and TOP_I (spec 3.10, 3.11)
                 top = self._top_sample(rel, adc, keep, top)
-                win = dataclasses.replace(win, vector=state, top_ia=top[0], top_ib=top[1])
+                # the next boundary commits outs[k - 1] (the reset set before k = 1): the next top's state
+                nxt = _direct_next(outs[k - 1] if k >= 1 else active, state)
+                win = dataclasses.replace(win, vector=state, vector_next=nxt, top_ia=top[0], top_ib=top[1])
             o = fw.step(win, speed_ref[k])
             outs.append(o)
             s_ticks.append(ticks)
@@ -279,7 +281,8 @@ class ClosedLoop:
             r["omega_lo"][k], r["omega_hi"][k] = fw.est_omega[0], fw.est_omega[1]
             r["inj_phase"][k] = inj_phase
             r["cic_qa"][k], r["cic_qb"][k], r["env_a"][k], r["env_b"][k] = q_a, q_b, e_a, e_b
-            r["vector"][k], r["top_ia"][k], r["top_ib"][k] = win.vector, win.top_ia, win.top_ib
+            r["vector"][k], r["vector_next"][k] = win.vector, win.vector_next
+            r["top_ia"][k], r["top_ib"][k] = win.top_ia, win.top_ib
             r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
             r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
             truths.append(truth)
@@ -294,6 +297,13 @@ class ClosedLoop:
         writes = {f: np.array([getattr(o, f) for o in outs], dtype=np.int64) for f in OUTPUT_FIELDS}
         return ClosedLoopResult(rec, samples, edges, writes, hw, self.scales, tick_hz, fw.flipped,
                                 time.perf_counter() - t0)
+
+
+def _direct_next(regs: Outputs, state: int) -> int:
+    """The direct-vector mode's choice (spec 3.10) from the committed register set ``regs`` and the state
+    applied now."""
+    return direct_state(regs.v_d, regs.v_q, regs.sin, regs.cos, regs.fcs_a1, regs.fcs_a2, regs.fcs_phi_min,
+                        bool(regs.fcs_constrain), state)
 
 
 def truth_columns(truth: np.ndarray, pole_pairs: int) -> dict:

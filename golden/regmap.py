@@ -411,6 +411,10 @@ VECTOR_STATE_LSB = 0  # ro
 VECTOR_STATE_WIDTH = 3
 VECTOR_STATE_MASK = 0x00000007
 VECTOR_STATE_RESET = None
+VECTOR_NEXT_LSB = 4  # ro
+VECTOR_NEXT_WIDTH = 3
+VECTOR_NEXT_MASK = 0x00000070
+VECTOR_NEXT_RESET = None
 
 # TOP_I @ 0xB0: Carrier-top sample
 TOP_I_ADDR = 0xB0
@@ -574,6 +578,7 @@ REGISTERS = {
     }},
     "VECTOR": {"addr": 0xAC, "reset": 0x00000000, "signed": (), "fields": {
         "STATE": (0, 3, None, "ro"),
+        "NEXT": (4, 3, None, "ro"),
     }},
     "TOP_I": {"addr": 0xB0, "reset": 0x00000000, "signed": ("I_ALPHA", "I_BETA",), "fields": {
         "I_ALPHA": (0, 16, None, "ro"),

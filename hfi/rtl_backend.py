@@ -364,8 +364,11 @@ class RtlClosedLoop:
         for col, reg, signed in results:
             v = _per_window(reads, rm.REGISTERS[reg]["addr"], n_win, reg)
             w[col] = wrap(v, 32) if signed else v
-        if hw.direct:       # VECTOR and TOP_I: read only in the direct-vector mode (0 else, as in golden)
-            w["vector"] = _per_window(reads, rm.REGISTERS["VECTOR"]["addr"], n_win, "VECTOR") & 0x7
+        if hw.direct:       # VECTOR (STATE, NEXT) and TOP_I: read only in the direct-vector mode (0 else, as in golden)
+            vec = _per_window(reads, rm.REGISTERS["VECTOR"]["addr"], n_win, "VECTOR")
+            for col, fld in (("vector", "STATE"), ("vector_next", "NEXT")):
+                lsb, width = rm.REGISTERS["VECTOR"]["fields"][fld][:2]
+                w[col] = (vec >> lsb) & ((1 << width) - 1)
             top = _per_window(reads, rm.REGISTERS["TOP_I"]["addr"], n_win, "TOP_I")
             w["top_ia"], w["top_ib"] = _s16(top), _s16(top >> 16)
         vdq = _per_window(writes, rm.V_DQ_ADDR, n_win, "V_DQ")

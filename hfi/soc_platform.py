@@ -34,6 +34,8 @@ DSP_BASE = 0x8000_0000
 core's data cache treats addresses with bit 31 set as I/O (never cached)."""
 CTL_BASE = 0x9000_0000
 """SoC control block hfi_soc_ctl (docs/soc_registers.md)."""
+ACC_BASE = 0xA000_0000
+"""The arithmetic accelerators hfi_soc_acc in the CPU clock (docs/acc_registers.md)."""
 IO_BIT = 31
 """Address bit that makes an access I/O (uncached) for the VexRiscv data cache (CPU_VARIANT)."""
 RAM_BYTES = 65536

@@ -152,7 +152,7 @@ module hfi_dsp #(
         .dtc_gain(dtc_gain), .hf_amp(hf_amp), .recip_h(recip_h), .i_d_ref(sh_i_d_ref), .i_q_ref(sh_i_q_ref),
         .inj_step(inj_step), .inj_phase(inj_phase_q), .cic_m(cic_m_reg),
         .fcs_a1(sh_fcs_a1), .fcs_a2(sh_fcs_a2), .fcs_phi_min(sh_fcs_phi_min), .fcs_constrain(sh_fcs_constrain),
-        .vector_state(vector_q), .top_i_alpha(top_ia_q), .top_i_beta(top_ib_q),
+        .vector_state(vector_q), .vector_next(mod_state), .top_i_alpha(top_ia_q), .top_i_beta(top_ib_q),
         .cic_qa({{11{cic_qa_q[20]}}, cic_qa_q}), .cic_qb({{11{cic_qb_q[20]}}, cic_qb_q}),
         .env_a({{15{env_a_q[16]}}, env_a_q}), .env_b({{15{env_b_q[16]}}, env_b_q}),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),

@@ -106,6 +106,7 @@ module hfi_regs #(
     input  wire [31:0] env_a,
     input  wire [31:0] env_b,
     input  wire [2:0]  vector_state,      // VECTOR.STATE
+    input  wire [2:0]  vector_next,       // VECTOR.NEXT (the modulator's state for the next top, not latched)
     input  wire [15:0] top_i_alpha,       // TOP_I.I_ALPHA, TOP_I.I_BETA (s16 each)
     input  wire [15:0] top_i_beta,
     output reg         irq
@@ -391,7 +392,7 @@ module hfi_regs #(
                     HFI_ENV_B_ADDR: w = env_b;
                     HFI_FCS_A_ADDR: w = r_fcs_a;
                     HFI_FCS_CTRL_ADDR: w = r_fcs_ctrl;
-                    HFI_VECTOR_ADDR: w = {29'd0, vector_state};
+                    HFI_VECTOR_ADDR: w = {25'd0, vector_next, 1'b0, vector_state};
                     HFI_TOP_I_ADDR: w = ({16'd0, top_i_alpha} << HFI_TOP_I_I_ALPHA_LSB)
                                       | ({16'd0, top_i_beta} << HFI_TOP_I_I_BETA_LSB);
                     HFI_SAFETY_LOCK_ADDR: w = {31'd0, r_safety_lock} << HFI_SAFETY_LOCK_LOCK_LSB;

@@ -18,6 +18,7 @@
 //   RAM page    RAM, RAM_BYTES (program, data, stack; $readmemh image RAM_INIT or +ram=<file>)
 //   DSP page    hfi_dsp registers (AXI4-Lite behind the crossing; docs/registers.md)
 //   CTL page    SoC control block hfi_soc_ctl (docs/soc_registers.md)
+//   ACC page    arithmetic accelerators hfi_soc_acc, in cpu_clk (docs/acc_registers.md)
 //   elsewhere   reads return 0, writes are ignored (one-clock answer; no bus error); an instruction
 //               fetch outside the RAM is a bus error (the core's instruction access fault)
 // Interrupt: externalInterruptArray[HFI_SOC_IRQ_WINDOW] = hfi_dsp window interrupt (a level; the
@@ -110,7 +111,8 @@ module hfi_soc #(
     wire sel_ram = d_req && d_byte[31:32-PB] == `HFI_SOC_RAM_PAGE && d_byte[31-PB:0] < RAM_BYTES;
     wire sel_dsp = d_req && d_byte[31:32-PB] == `HFI_SOC_DSP_PAGE;
     wire sel_ctl = d_req && d_byte[31:32-PB] == `HFI_SOC_CTL_PAGE;
-    wire sel_none = d_req && !sel_ram && !sel_dsp && !sel_ctl;
+    wire sel_acc = d_req && d_byte[31:32-PB] == `HFI_SOC_ACC_PAGE;
+    wire sel_none = d_req && !sel_ram && !sel_dsp && !sel_ctl && !sel_acc;
     wire [3:0] d_wstrb = d_we ? d_sel : 4'd0;
     wire i_burst = i_cti == CTI_INCR;
     wire d_burst = d_cti == CTI_INCR && !d_we;
@@ -147,6 +149,14 @@ module hfi_soc #(
         .trace_valid(trace_valid), .trace_data(trace_data)
     );
 
+    // the arithmetic accelerators (the firmware's sin/cos and flux-map look-up, in the CPU clock)
+    wire        acc_ready;
+    wire [31:0] acc_rdata;
+    hfi_soc_acc u_acc (
+        .clk(cpu_clk), .rst(rst_cpu), .sel(sel_acc), .addr(d_byte[7:0]), .wstrb(d_wstrb), .wdata(d_wdat),
+        .rdata(acc_rdata), .ready(acc_ready)
+    );
+
     // hfi_dsp: the crossing into clk, then PicoRV32's native-to-AXI4-Lite adapter (from the
     // pythondata-cpu-picorv32 package) in front of hfi_dsp's AXI4-Lite slave
     wire        dsp_ready;
@@ -162,8 +172,8 @@ module hfi_soc #(
         .m_wstrb(m_wstrb), .m_ready(m_ready), .m_rdata(m_rdata)
     );
 
-    assign d_ack = d_ack_ram | d_wack_ram | dsp_ready | ctl_ready | d_ack_none;
-    assign d_rdat = d_ack_ram ? ram_ddat : dsp_ready ? dsp_rdata : ctl_ready ? ctl_rdata : 32'd0;
+    assign d_ack = d_ack_ram | d_wack_ram | dsp_ready | ctl_ready | acc_ready | d_ack_none;
+    assign d_rdat = d_ack_ram ? ram_ddat : dsp_ready ? dsp_rdata : ctl_ready ? ctl_rdata : acc_ready ? acc_rdata : 32'd0;
 
     // ---------------------------------------------------------------- DSP (clk)
     wire        awvalid, awready, wvalid, wready, bvalid, bready, arvalid, arready, rvalid, rready;

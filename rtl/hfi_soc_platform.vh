@@ -7,6 +7,7 @@
 `define HFI_SOC_RAM_PAGE 4'h0         // RAM at 0x00000000
 `define HFI_SOC_DSP_PAGE 4'h8         // hfi_dsp at 0x80000000
 `define HFI_SOC_CTL_PAGE 4'h9         // hfi_soc_ctl at 0x90000000
+`define HFI_SOC_ACC_PAGE 4'hA         // hfi_soc_acc at 0xA0000000
 `define HFI_SOC_RAM_BYTES 65536       // default RAM_BYTES
 `define HFI_SOC_IRQ_WINDOW 3          // external interrupt line of the window interrupt
 `define HFI_SOC_ADC_BITS 12           // default ADC_BITS of the SoC's hfi_dsp

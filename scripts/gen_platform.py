@@ -6,7 +6,7 @@ trace record) and :data:`golden.closedloop.WINDOW_FIELDS` (the per-window record
 relative to the repository root, deterministic):
 
 - ``firmware/include/hfi_soc_platform.h``: ``HFI_SOC_RAM_BYTES``, ``HFI_SOC_DSP_BASE``,
-  ``HFI_SOC_CTL_BASE``, ``HFI_SOC_IRQ_WINDOW``, ``HFI_SOC_PIN_LATENCY`` (C);
+  ``HFI_SOC_CTL_BASE``, ``HFI_SOC_ACC_BASE``, ``HFI_SOC_IRQ_WINDOW``, ``HFI_SOC_PIN_LATENCY`` (C);
 - ``firmware/src/fw_trace.h``: ``FW_TRACE_WORDS``, ``FW_TRACE_RECORD(put, st, window, cycles)`` (the
   firmware's trace record) and ``FW_TRACE_COLUMNS(X, st)`` (its words that are WINDOW_FIELDS columns);
 - ``firmware/hfi_soc_memory.ld``: the linker script's ``MEMORY`` (included by ``firmware/link.ld``);
@@ -71,12 +71,13 @@ def _page(base: int, what: str) -> int:
 
 def _check_source() -> None:
     pages = {name: _page(base, name) for name, base in
-             (("RAM_BASE", sp.RAM_BASE), ("DSP_BASE", sp.DSP_BASE), ("CTL_BASE", sp.CTL_BASE))}
+             (("RAM_BASE", sp.RAM_BASE), ("DSP_BASE", sp.DSP_BASE), ("CTL_BASE", sp.CTL_BASE),
+              ("ACC_BASE", sp.ACC_BASE))}
     if len(set(pages.values())) != len(pages):
         raise PlatformError(f"two targets share a page: {pages}")
     io = 1 << sp.IO_BIT
-    if sp.RAM_BASE & io or not sp.DSP_BASE & io or not sp.CTL_BASE & io:
-        raise PlatformError(f"DSP_BASE and CTL_BASE need address bit {sp.IO_BIT} set and RAM_BASE clear "
+    if sp.RAM_BASE & io or not sp.DSP_BASE & io or not sp.CTL_BASE & io or not sp.ACC_BASE & io:
+        raise PlatformError(f"DSP_BASE, CTL_BASE and ACC_BASE need address bit {sp.IO_BIT} set and RAM_BASE clear "
                             "(the core's data cache treats that bit as I/O)")
     if sp.CPU_CLOCK_DIVIDER < 1:
         raise PlatformError(f"CPU_CLOCK_DIVIDER = {sp.CPU_CLOCK_DIVIDER} must be >= 1")
@@ -99,6 +100,7 @@ def render_header() -> str:
         f"#define HFI_SOC_RAM_BYTES {sp.RAM_BYTES}u",
         f"#define HFI_SOC_DSP_BASE 0x{sp.DSP_BASE:08X}u   /* hfi_dsp registers (hfi_regs.h offsets) */",
         f"#define HFI_SOC_CTL_BASE 0x{sp.CTL_BASE:08X}u   /* SoC control block (hfi_soc_regs.h offsets) */",
+        f"#define HFI_SOC_ACC_BASE 0x{sp.ACC_BASE:08X}u   /* accelerators hfi_soc_acc (hfi_acc_regs.h offsets) */",
         f"#define HFI_SOC_IRQ_WINDOW {sp.IRQ_WINDOW}u       /* external interrupt line of the window interrupt */",
         f"#define HFI_SOC_PIN_LATENCY {sp.PIN_LATENCY}      /* hfi_dsp pins show tick t in clock t + this */",
         "",
@@ -194,6 +196,7 @@ def render_verilog() -> str:
         ("HFI_SOC_RAM_PAGE", f"{p}'h{_page(sp.RAM_BASE, 'RAM_BASE'):X}", f"RAM at 0x{sp.RAM_BASE:08X}"),
         ("HFI_SOC_DSP_PAGE", f"{p}'h{_page(sp.DSP_BASE, 'DSP_BASE'):X}", f"hfi_dsp at 0x{sp.DSP_BASE:08X}"),
         ("HFI_SOC_CTL_PAGE", f"{p}'h{_page(sp.CTL_BASE, 'CTL_BASE'):X}", f"hfi_soc_ctl at 0x{sp.CTL_BASE:08X}"),
+        ("HFI_SOC_ACC_PAGE", f"{p}'h{_page(sp.ACC_BASE, 'ACC_BASE'):X}", f"hfi_soc_acc at 0x{sp.ACC_BASE:08X}"),
         ("HFI_SOC_RAM_BYTES", str(sp.RAM_BYTES), "default RAM_BYTES"),
         ("HFI_SOC_IRQ_WINDOW", str(sp.IRQ_WINDOW), "external interrupt line of the window interrupt"),
         ("HFI_SOC_ADC_BITS", str(sp.ADC_BITS), "default ADC_BITS of the SoC's hfi_dsp"),

@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 """Generate the register map outputs from the SystemRDL sources of ``MAPS``.
 
-Two register maps (``MAPS`` below), each compiled the same way into five outputs:
+Three register maps (``MAPS`` below), each compiled the same way into five outputs:
 
 - ``rtl/regs/hfi_regs.rdl`` (addrmap ``hfi_regs``, the hfi_dsp peripheral): ``firmware/include/hfi_regs.h``,
   ``golden/regmap.py``, ``docs/registers.md``, ``out/docs/registers/``, ``rtl/regs/hfi_regs_map.vh``;
 - ``rtl/regs/hfi_soc.rdl`` (addrmap ``hfi_soc``, the SoC control block hfi_soc_ctl):
   ``firmware/include/hfi_soc_regs.h``, ``golden/socmap.py``, ``docs/soc_registers.md``,
-  ``out/docs/soc_registers/``, ``rtl/regs/hfi_soc_map.vh``.
+  ``out/docs/soc_registers/``, ``rtl/regs/hfi_soc_map.vh``;
+- ``rtl/regs/hfi_acc.rdl`` (addrmap ``hfi_acc``, the SoC's accelerators hfi_soc_acc):
+  ``firmware/include/hfi_acc_regs.h``, ``golden/accmap.py``, ``docs/acc_registers.md``,
+  ``out/docs/acc_registers/``, ``rtl/regs/hfi_acc_map.vh``.
 
 Outputs (paths relative to the repository root), all written deterministically:
 
@@ -21,7 +24,7 @@ Outputs (paths relative to the repository root), all written deterministically:
 - HTML: PeakRDL-html (static site, 8 MB of fonts and scripts: built, not committed; open
   ``index.html``);
 - Verilog ``localparam`` constants (addresses, field positions, widths, reset values; prefix ``HFI_``
-  for ``rtl/hfi_regs.v``, ``SOC_`` for ``rtl/hfi_soc_ctl.v``), from our own walker.
+  for ``rtl/hfi_regs.v``, ``SOC_`` for ``rtl/hfi_soc_ctl.v``, ``ACC_`` for ``rtl/hfi_soc_acc.v``), from our own walker.
   (PeakRDL-regblock's output is SystemVerilog with packed structs and an interface port, which Yosys
   cannot read and Icarus only partly; the IP must synthesize with the open flow, so the blocks are
   plain Verilog-2005 written against these constants and tested against the Python constants.)
@@ -93,6 +96,11 @@ MAPS = (
            header="firmware/include/hfi_soc_regs.h", python="golden/socmap.py",
            markdown="docs/soc_registers.md", html_dir="out/docs/soc_registers",
            verilog="rtl/regs/hfi_soc_map.vh", verilog_prefix="SOC_"),
+    RegMap(rdl="rtl/regs/hfi_acc.rdl", top="hfi_acc", block="hfi_soc_acc",
+           summary="Register map of the SoC's arithmetic accelerators hfi_soc_acc (docs/soc.md; docs/acc_registers.md).",
+           header="firmware/include/hfi_acc_regs.h", python="golden/accmap.py",
+           markdown="docs/acc_registers.md", html_dir="out/docs/acc_registers",
+           verilog="rtl/regs/hfi_acc_map.vh", verilog_prefix="ACC_"),
 )
 MAPS_BY_TOP = {m.top: m for m in MAPS}
 

@@ -34,8 +34,7 @@ from golden.firmware.applied_flux import applied_flux
 from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage, flux_reference
 from golden.firmware.flux_lut import LUT_MAX_POINTS, FluxLut, lut_flux, lut_point, warp
 from golden.firmware.hfo_proj import HfoParams, HybridFluxProjection, projection_coefficients
-from golden.fpga.fcs_mpc import choose_vector, state_voltage
-from golden.fpga.modulator import direct_alpha_beta, direct_state
+from golden.fpga.fcs_mpc import state_voltage
 from golden.firmware.methods import CLASSES
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
@@ -553,7 +552,7 @@ def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:
 
 def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int) -> list[WindowResult]:
     """``count`` window results whose means stay within +-i_trip (no trip); gamma_d shifted by the bias;
-    CIC_QA/QB as :func:`random_cic_q`; VECTOR 0..7, TOP_I s16 (mostly within +-4000)."""
+    CIC_QA/QB as :func:`random_cic_q`; VECTOR.STATE and NEXT 0..7, TOP_I s16 (mostly within +-4000)."""
     gamma, gamma_d, wsum = (draw_array(rng, count, S32_MIN, S32_MAX) for _ in range(3))
     gamma_d = np.clip(gamma_d // 2 + gamma_d_bias, S32_MIN, S32_MAX)
     n = draw_array(rng, count, 0, U16_MAX, (1, 2, 10, 200))
@@ -565,11 +564,11 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
     sums = np.where(n == 0, draw_array(rng, 2 * count, S32_MIN, S32_MAX).reshape(2, count), sums)
     inj_phase = draw_array(rng, count, 0, U32_MAX)
     zeros = np.zeros(count, dtype=np.int64)
-    vector = rng.integers(0, 8, size=count)
+    vector, vector_next = (rng.integers(0, 8, size=count) for _ in range(2))
     top = [np.where(rng.random(count) < 0.8, rng.integers(-4000, 4001, size=count), draw_array(rng, count, S16_MIN, S16_MAX))
            for _ in range(2)]
     cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase, random_cic_q(rng, count), random_cic_q(rng, count),
-            zeros, zeros, vector, top[0], top[1])
+            zeros, zeros, vector, vector_next, top[0], top[1])
     return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
 
 
@@ -1069,60 +1068,12 @@ def random_fcs(rng: np.random.Generator) -> FcsParams:
                    v_lim=draw_one(rng, 1, S16_MAX, (h.v_lim, 1)))
 
 
-def test_state_voltage_and_choose_vector_random(seed):
-    """fw_state_voltage = state_voltage (all 8 states); fw_choose_vector = choose_vector on N_RANDOM inputs over
-    their ranges (v_alpha, v_beta s18, SIN/COS, A1/A2 s16, PHI_MIN u16, CONSTRAIN, the state now): every outcome
-    (an active state, the zero vector 000 / 111, the constraint dropped) often."""
+def test_state_voltage():
+    """fw_state_voltage = state_voltage, all 8 states."""
     a, b = _out_pair()
     for state in range(8):
         lib.fw_state_voltage(state, a, b)
         assert (a[0], b[0]) == state_voltage(state)
-    rng = np.random.default_rng(seed + 60)
-    n = N_RANDOM
-    v_al, v_be = (draw(rng, n, -(1 << 17), (1 << 17) - 1) for _ in range(2))
-    angles = draw(rng, n, 0, U32_MAX)
-    sc_rand = [draw(rng, n, S16_MIN, S16_MAX) for _ in range(2)]
-    a1, a2 = (draw(rng, n, S16_MIN, S16_MAX, (4096, -4096)) for _ in range(2))
-    phi = draw(rng, n, 0, U16_MAX, (3641, 20000))
-    cons = (rng.random(n) < 0.6).tolist()
-    now = rng.integers(0, 8, size=n).tolist()
-    pj = ffi.new("int32_t *")
-    count = {"active": 0, "zero": 0, "seven": 0, "dropped": 0}
-    for k in range(n):
-        if k % 3:
-            s_, c_ = sincos_q15(angles[k])
-        else:
-            s_, c_ = sc_rand[0][k], sc_rand[1][k]
-        if k % 4 == 0:                          # small references: the zero vector wins
-            v_al[k], v_be[k] = v_al[k] >> 8, v_be[k] >> 8
-        want = choose_vector(v_al[k], v_be[k], s_, c_, a1[k], a2[k], phi[k], cons[k], now[k])
-        got = lib.fw_choose_vector(v_al[k], v_be[k], s_, c_, a1[k], a2[k], phi[k], int(cons[k]), now[k], pj)
-        assert (got, pj[0]) == want, (seed, k, v_al[k], v_be[k], s_, c_, a1[k], a2[k], phi[k], cons[k], now[k])
-        count["active"] += want[0] not in (0, 7)
-        count["zero"] += want[0] == 0
-        count["seven"] += want[0] == 7
-    assert min(count[k] for k in ("active", "zero", "seven")) > 1000, count
-
-
-def test_direct_state_random(seed):
-    """fw_direct_alpha_beta / fw_direct_state = direct_alpha_beta / direct_state on N_RANDOM register sets."""
-    rng = np.random.default_rng(seed + 61)
-    n = N_RANDOM
-    v_d, v_q, s_r, c_r, a1, a2 = (draw(rng, n, S16_MIN, S16_MAX) for _ in range(6))
-    angles = draw(rng, n, 0, U32_MAX)
-    phi = draw(rng, n, 0, U16_MAX, (3641,))
-    cons = (rng.random(n) < 0.6).tolist()
-    now = rng.integers(0, 8, size=n).tolist()
-    a, b = _out_pair()
-    states = set()
-    for k in range(n):
-        s_, c_ = sincos_q15(angles[k]) if k % 2 else (s_r[k], c_r[k])
-        lib.fw_direct_alpha_beta(v_d[k], v_q[k], s_, c_, a, b)
-        assert (a[0], b[0]) == direct_alpha_beta(v_d[k], v_q[k], s_, c_), k
-        want = direct_state(v_d[k], v_q[k], s_, c_, a1[k], a2[k], phi[k], cons[k], now[k])
-        assert lib.fw_direct_state(v_d[k], v_q[k], s_, c_, a1[k], a2[k], phi[k], int(cons[k]), now[k]) == want, k
-        states.add(want)
-    assert states == set(range(8)), states
 
 
 LUT_I_MAX = 1 << 18
@@ -1204,36 +1155,29 @@ def _fcs_to_c(p: FcsParams):
 def test_flux_reference_and_deadbeat_random(seed):
     """fw_flux_reference / fw_deadbeat_voltage = flux_reference / deadbeat_voltage on N_RANDOM inputs: random
     law parameters (a new set every 10), observed flux (s32, mostly the motor's), TOP_I s16, the states
-    before and after top k, the previous step's register set (V_D, V_Q, SIN, COS, FCS_A, FCS_CTRL), the angle,
-    speed and current command; the voltage limit's shifts often."""
+    before top k, from it and from top k + 1 (VECTOR.NEXT), the angle, speed and current command; the voltage
+    limit's shifts often."""
     rng = np.random.default_rng(seed + 64)
     n = N_RANDOM
     psi = [np.where(rng.random(n) < 0.8, draw_array(rng, n, -(1 << 27), 1 << 27), draw_array(rng, n, S32_MIN, S32_MAX))
            .tolist() for _ in range(2)]
     i_al, i_be = (draw(rng, n, S16_MIN, S16_MAX) for _ in range(2))
-    before, vector = (rng.integers(0, 8, size=n).tolist() for _ in range(2))
-    pv_d, pv_q, pa1, pa2 = (draw(rng, n, S16_MIN, S16_MAX) for _ in range(4))
-    p_ang, theta = (draw(rng, n, 0, U32_MAX) for _ in range(2))
-    p_phi = draw(rng, n, 0, U16_MAX, (3641,))
-    p_con = rng.integers(0, 2, size=n).tolist()
+    before, vector, nxt = (rng.integers(0, 8, size=n).tolist() for _ in range(3))
+    theta = draw(rng, n, 0, U32_MAX)
     omega, i_s = (draw(rng, n, S32_MIN, S32_MAX, (0,)) for _ in range(2))
-    prev_c = ffi.new("struct fw_outputs *")
     vd, vq = _out_pair()
     limited = 0
     for k in range(n):
         if k % 10 == 0:
             p = random_fcs(rng)
             cp = _fcs_to_c(p)
-        s_, c_ = sincos_q15(p_ang[k])
-        prev = Outputs(pv_d[k], pv_q[k], 0, s_, c_, 1, 0, 0, pa1[k], pa2[k], p_phi[k], p_con[k])
-        fw_c._outputs_into(prev_c, prev)
         lib.fw_flux_reference(cp, i_s[k], vd, vq)
         assert (vd[0], vq[0]) == flux_reference(p, i_s[k]), (k, p, i_s[k])
-        want = deadbeat_voltage(p, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], prev, theta[k],
+        want = deadbeat_voltage(p, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], nxt[k], theta[k],
                                 omega[k], i_s[k])
-        lib.fw_deadbeat_voltage(cp, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], prev_c, theta[k],
+        lib.fw_deadbeat_voltage(cp, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], nxt[k], theta[k],
                                 omega[k], i_s[k], vd, vq)
-        assert (vd[0], vq[0]) == want, (k, p, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], prev,
+        assert (vd[0], vq[0]) == want, (k, p, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], nxt[k],
                                          theta[k], omega[k], i_s[k])
         limited += max(abs(want[0]), abs(want[1])) > p.v_lim // 2
     assert limited > 1000, limited
@@ -1372,24 +1316,6 @@ def test_fw_step_fcs_hfo_sequences(seed, chunk):
             constrained += out.fcs_constrain
     assert {MODE_CONVERGE, MODE_RELAX, MODE_RUN} <= visited, visited
     assert fused > 100 and constrained > 0, (fused, constrained)
-
-
-@pytest.mark.parametrize("v_al, v_be, angle, a1, a2, phi_min, constrain, now", [
-    (0, 0, 0, 4096, 0, 0, False, 0b011),                    # d = 0 for the zero vector: 111 (two legs high)
-    (0, 0, 0, 4096, 0, 0, False, 0b001),                    # 000 (one leg high)
-    (10, -10, 0, 4096, 0, 0, True, 0b111),                  # constrained: no zero vector, the nearest active one
-    (10, -10, 0, 4096, 4096, U16_MAX, True, 0b110),         # none strong enough: the constraint dropped
-    ((1 << 17) - 1, (1 << 17) - 1, 1 << 30, S16_MIN, S16_MIN, 0, True, 5),
-    (-(1 << 17), -(1 << 17), 3 << 30, S16_MAX, S16_MIN, 1, True, 2),
-    (21845 // 2, 0, 0, 0, 0, 0, False, 0),                  # exactly between 000 and 001: the zero vector first
-])
-def test_choose_vector_corners(v_al, v_be, angle, a1, a2, phi_min, constrain, now):
-    """fw_choose_vector = choose_vector at the ties, the zero vector's two forms, the dropped constraint and
-    the range's extremes."""
-    s_, c_ = sincos_q15(angle)
-    pj = ffi.new("int32_t *")
-    want = choose_vector(v_al, v_be, s_, c_, a1, a2, phi_min, constrain, now)
-    assert (lib.fw_choose_vector(v_al, v_be, s_, c_, a1, a2, phi_min, int(constrain), now, pj), pj[0]) == want
 
 
 def test_hfo_fcs_params_of_the_scenario():

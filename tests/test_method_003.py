@@ -22,7 +22,6 @@ from golden.firmware.applied_flux import applied_flux
 from golden.firmware.fcs_law import deadbeat_voltage, flux_reference
 from golden.firmware.flux_lut import FLUX_FRAC, LutPoint, lut_flux, lut_point, unwarp
 from golden.firmware.hfo_proj import projection_coefficients
-from golden.firmware.supervisor import RESET_OUTPUTS
 from golden.fpga.fcs_mpc import state_voltage
 from golden.motors import preset
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
@@ -172,7 +171,7 @@ def test_deadbeat_voltage_is_eq14_in_the_stationary_frame(setup):
         psi = rng.uniform(-0.9, 0.9, 2)
         i_ab = rng.integers(-8000, 8000, 2)
         v_d, v_q = deadbeat_voltage(p, round(psi[0] / fl), round(psi[1] / fl), int(i_ab[0]), int(i_ab[1]), 0, 0,
-                                    RESET_OUTPUTS, theta, omega, i_s)
+                                    0, theta, omega, i_s)
         d_ref, q_ref = flux_reference(p, i_s)
         end = (theta + omega / 2) / 2**32 * 2 * math.pi
         ref = np.array([d_ref * math.cos(end) - q_ref * math.sin(end), d_ref * math.sin(end) + q_ref * math.cos(end)])

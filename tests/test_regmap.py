@@ -1,5 +1,5 @@
-"""Register maps (scripts/gen_regs.py): the DSP map rtl/regs/hfi_regs.rdl (golden/regmap.py) and the SoC
-control map rtl/regs/hfi_soc.rdl (golden/socmap.py). Generated files up to date, addresses and resets as
+"""Register maps (scripts/gen_regs.py): the DSP map rtl/regs/hfi_regs.rdl (golden/regmap.py), the SoC
+control map rtl/regs/hfi_soc.rdl (golden/socmap.py) and the accelerators' rtl/regs/hfi_acc.rdl (golden/accmap.py). Generated files up to date, addresses and resets as
 specified, Python constants against the RDL, pack/unpack, C headers, Verilog constants."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 from systemrdl import RDLCompiler
 
-from golden import regmap, socmap
+from golden import accmap, regmap, socmap
 from hfi import soc_platform
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -31,7 +31,7 @@ def _load_gen_regs():
 
 
 gen_regs = _load_gen_regs()
-MODULES = {"hfi_regs": regmap, "hfi_soc": socmap}  # generated Python module of each map
+MODULES = {"hfi_regs": regmap, "hfi_soc": socmap, "hfi_acc": accmap}  # generated Python module of each map
 
 
 def which(tool: str) -> str | None:
@@ -48,7 +48,7 @@ def run(cmd, **kw) -> subprocess.CompletedProcess:
 
 # ---------------------------------------------------------------- generator
 def test_generated_files_up_to_date():
-    assert [m.top for m in gen_regs.MAPS] == list(MODULES)  # the default check covers both maps
+    assert [m.top for m in gen_regs.MAPS] == list(MODULES)  # the default check covers every map
     problems = gen_regs.check()
     assert problems == [], "run `make regs` (python scripts/gen_regs.py):\n" + "\n".join(problems)
 
@@ -185,7 +185,7 @@ def test_fields_and_resets():
     assert regmap.REGISTERS["FCS_A"]["fields"] == {"A1": (0, 16, 0, "rw"), "A2": (16, 16, 0, "rw")}
     assert regmap.REGISTERS["FCS_A"]["signed"] == ("A1", "A2")
     assert regmap.REGISTERS["FCS_CTRL"]["fields"] == {"PHI_MIN": (0, 16, 0, "rw"), "CONSTRAIN": (16, 1, 0, "rw")}
-    assert regmap.REGISTERS["VECTOR"]["fields"] == {"STATE": (0, 3, None, "ro")}
+    assert regmap.REGISTERS["VECTOR"]["fields"] == {"STATE": (0, 3, None, "ro"), "NEXT": (4, 3, None, "ro")}
     # the carrier-top sample (docs/spec.md 3.11)
     assert regmap.REGISTERS["TOP_I"]["fields"] == {"I_ALPHA": (0, 16, None, "ro"), "I_BETA": (16, 16, None, "ro")}
     assert regmap.REGISTERS["TOP_I"]["signed"] == ("I_ALPHA", "I_BETA")
@@ -210,7 +210,8 @@ def test_pack_negative_signed_field():
     ("CTRL", {"ENABLE": 0, "INJ_EN": 1, "ADC_MODE": 0, "INJ_ROT": 0, "INJ_PER": 1, "DIRECT": 1, "FAULT_CLEAR": 0}),
     ("FCS_A", {"A1": -32768, "A2": 32767}),
     ("FCS_CTRL", {"PHI_MIN": 65535, "CONSTRAIN": 1}),
-    ("VECTOR", {"STATE": 7}),
+    ("VECTOR", {"STATE": 7, "NEXT": 0}),
+    ("VECTOR", {"STATE": 0, "NEXT": 6}),
     ("TOP_I", {"I_ALPHA": -32768, "I_BETA": 32767}),
     ("CIC_M", {"VALUE": 255}),
     ("CIC_QA", {"VALUE": -(2**20)}),
@@ -324,12 +325,13 @@ def test_soc_pack_unpack_errors(call, match):
 
 # ---------------------------------------------------------------- C headers
 def c_source() -> str:
-    """Both headers in one unit (as in the firmware): uses an offset macro of each; checks every offset,
+    """Every header in one unit (as in the firmware): uses an offset macro of each; checks every offset,
     mask and shift macro against the Python constants of its map."""
     lines = ['#include <stddef.h>'] + [f'#include "{Path(m.header).name}"' for m in gen_regs.MAPS] + [""]
     for m in gen_regs.MAPS:
         prefix = m.top.upper()
-        lines += [f"unsigned int {m.top}_ctrl_offset(void) {{ return {prefix}__CTRL_offset; }}", ""]
+        first = next(iter(MODULES[m.top].REGISTERS))
+        lines += [f"unsigned int {m.top}_first_offset(void) {{ return {prefix}__{first}_offset; }}", ""]
         for name, reg in MODULES[m.top].REGISTERS.items():
             lines.append(f"_Static_assert({prefix}__{name}_offset == {reg['addr']:#x}, \"{name} offset\");")
             lines.append(f"_Static_assert(offsetof({m.top}_t, {name}) == {prefix}__{name}_offset, \"{name}\");")

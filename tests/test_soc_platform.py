@@ -61,6 +61,7 @@ def test_c_header_carries_the_source_values():
     inc = '#include "hfi_soc_platform.h"'
     assert _c_value("HFI_SOC_DSP_BASE", inc) == sp.DSP_BASE == 0x8000_0000
     assert _c_value("HFI_SOC_CTL_BASE", inc) == sp.CTL_BASE == 0x9000_0000
+    assert _c_value("HFI_SOC_ACC_BASE", inc) == sp.ACC_BASE == 0xA000_0000
     assert _c_value("HFI_SOC_RAM_BYTES", inc) == sp.RAM_BYTES
     assert _c_value("HFI_SOC_IRQ_WINDOW", inc) == sp.IRQ_WINDOW
     assert _c_value("FW_TRACE_WORDS", '#include "fw_trace.h"') == len(sp.TRACE)

@@ -621,10 +621,15 @@ typedef union {
 #define HFI_REGS__VECTOR__STATE_bm 0x7
 #define HFI_REGS__VECTOR__STATE_bp 0
 #define HFI_REGS__VECTOR__STATE_bw 3
+#define HFI_REGS__VECTOR__NEXT_bm 0x70
+#define HFI_REGS__VECTOR__NEXT_bp 4
+#define HFI_REGS__VECTOR__NEXT_bw 3
 typedef union {
     struct __attribute__ ((__packed__)) {
         uint32_t STATE :3;
-        uint32_t :29;
+        uint32_t :1;
+        uint32_t NEXT :3;
+        uint32_t :25;
     } f;
     uint32_t w;
 } hfi_regs__VECTOR_t;

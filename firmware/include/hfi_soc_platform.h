@@ -7,6 +7,7 @@
 #define HFI_SOC_RAM_BYTES 65536u
 #define HFI_SOC_DSP_BASE 0x80000000u   /* hfi_dsp registers (hfi_regs.h offsets) */
 #define HFI_SOC_CTL_BASE 0x90000000u   /* SoC control block (hfi_soc_regs.h offsets) */
+#define HFI_SOC_ACC_BASE 0xA0000000u   /* accelerators hfi_soc_acc (hfi_acc_regs.h offsets) */
 #define HFI_SOC_IRQ_WINDOW 3u       /* external interrupt line of the window interrupt */
 #define HFI_SOC_PIN_LATENCY 3      /* hfi_dsp pins show tick t in clock t + this */
 

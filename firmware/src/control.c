@@ -147,6 +147,7 @@ int32_t fw_pi_step(int64_t *integ, int32_t ref, int32_t meas, const struct fw_pi
     return pi_step(integ, ref, meas, p);
 }
 
+#ifndef FW_ACC /* the SoC build takes sin/cos and the flux-map look-up from hfi_soc_acc (fw_acc.c): same results */
 /* Q2.30 CORDIC output -> Q1.15: golden.fpga.cordic.to_q15(v, 32) = sat(round_shr(v, 15), 16).
  * |v| < 2^31 - 2^14, so the rounding add cannot overflow. */
 static int32_t cordic_to_q15(int32_t v)
@@ -184,6 +185,7 @@ void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15)
     *sin_q15 = cordic_to_q15(y);
     *cos_q15 = cordic_to_q15(x);
 }
+#endif
 
 /* golden.fixed.sat(x, bits) for 1 <= bits <= 32 of an int64 */
 static int64_t sat_bits(int64_t x, int bits)
@@ -680,7 +682,7 @@ int32_t fw_cic_i_d(const struct fw_params *p)
     return 0;
 }
 
-/* ---- the 003 method: FCS-MPC vector choice, flux LUT, applied flux, hfo_proj, fcs_mpc --------------- */
+/* ---- the 003 method: state voltages, flux LUT, applied flux, hfo_proj, fcs_mpc ---------------------- */
 
 /* golden.firmware.hfo_proj.projection_coefficients (eqs. (28)-(30), corrected): the normalised inductances
  * below 2^20 in magnitude (the table's l_shift brings the inductance tables below 2^15), so every product
@@ -742,72 +744,13 @@ void fw_state_voltage(int32_t state, int32_t *v_al, int32_t *v_be)
     }
 }
 
-/* golden.fpga.fcs_mpc.choose_vector (Varatharajan et al. 2020, eqs. (15), (30)-(32)): v_al, v_be s18,
- * sin/cos, a1, a2 s16, phi_min u16, state_now 0..7; d_j s36 and the p_j sums s33: int64_t. */
-int32_t fw_choose_vector(int32_t v_al, int32_t v_be, int32_t sin_q15, int32_t cos_q15, int32_t a1, int32_t a2,
-                         int32_t phi_min, int32_t constrain, int32_t state_now, int32_t *p)
-{
-    int64_t pj[6];
-    int eligible[6], any = 0;
-
-    for (int j = 0; j < 6; j++) { /* eq. (30) in the estimated frame */
-        int64_t vd = round_shr64((int64_t)fcs_vx[j] * cos_q15 + (int64_t)fcs_vy[j] * sin_q15, 15);
-        int64_t vq = round_shr64((int64_t)fcs_vy[j] * cos_q15 - (int64_t)fcs_vx[j] * sin_q15, 15);
-
-        pj[j] = round_shr64(a1 * vq - a2 * vd, 12);
-        eligible[j] = constrain ? abs64(pj[j]) > phi_min : 1;
-        any |= eligible[j];
-    }
-    int zero_ok = !constrain || !any;
-    if (!any)
-        for (int j = 0; j < 6; j++)
-            eligible[j] = 1;
-    int best = -1, have = zero_ok;
-    int64_t best_d = 0;
-    for (int j = 0; j < 6; j++) {
-        if (!eligible[j])
-            continue;
-        int64_t d = (int64_t)fcs_vx[j] * fcs_vx[j] + (int64_t)fcs_vy[j] * fcs_vy[j]
-                    - 2 * ((int64_t)v_al * fcs_vx[j] + (int64_t)v_be * fcs_vy[j]); /* eq. (15) */
-        if (!have || d < best_d) {
-            best = j;
-            best_d = d;
-            have = 1;
-        }
-    }
-    if (best < 0) {
-        int ones = (state_now & 1) + ((state_now >> 1) & 1) + ((state_now >> 2) & 1);
-
-        *p = 0;
-        return ones >= 2 ? 7 : 0;
-    }
-    *p = (int32_t)pj[best];
-    return fcs_states[best];
-}
-
-/* golden.fpga.modulator.direct_alpha_beta (s16 registers) */
-void fw_direct_alpha_beta(int32_t v_d, int32_t v_q, int32_t sin_q15, int32_t cos_q15, int32_t *v_al, int32_t *v_be)
-{
-    *v_al = (int32_t)round_shr64((int64_t)v_d * cos_q15 - (int64_t)v_q * sin_q15, 15);
-    *v_be = (int32_t)round_shr64((int64_t)v_d * sin_q15 + (int64_t)v_q * cos_q15, 15);
-}
-
-/* golden.fpga.modulator.direct_state */
-int32_t fw_direct_state(int32_t v_d, int32_t v_q, int32_t sin_q15, int32_t cos_q15, int32_t a1, int32_t a2,
-                        int32_t phi_min, int32_t constrain, int32_t state_now)
-{
-    int32_t v_al, v_be, p;
-
-    fw_direct_alpha_beta(v_d, v_q, sin_q15, cos_q15, &v_al, &v_be);
-    return fw_choose_vector(v_al, v_be, sin_q15, cos_q15, a1, a2, phi_min, constrain, state_now, &p);
-}
-
 /* golden.firmware.flux_lut.warp (x >= 0) */
 int32_t fw_warp(int32_t x, int32_t knee, int32_t coarse)
 {
     return x < knee ? x : knee + ((x - knee) >> coarse);
 }
 
+#ifndef FW_ACC
 /* golden.firmware.flux_lut._cell: the first corner's index and the fractions */
 static void lut_cell(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, int32_t *k, int64_t *fx, int64_t *fy)
 {
@@ -903,6 +846,7 @@ void fw_lut_point(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, struc
     pt->l_q = l_q;
     pt->l_dq = sd * sq * l_dq;
 }
+#endif
 
 static int32_t sgn64(int64_t x)
 {
@@ -1121,11 +1065,9 @@ void fw_flux_reference(const struct fw_fcs_params *p, int32_t i_s, int32_t *d, i
 
 /* golden.firmware.fcs_law.deadbeat_voltage (Varatharajan et al. 2020, eqs. (13)-(14)) */
 void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t psi_be, int32_t i_al, int32_t i_be,
-                         int32_t before, int32_t vector, const struct fw_outputs *prev, uint32_t theta, int32_t omega,
+                         int32_t before, int32_t vector, int32_t nxt, uint32_t theta, int32_t omega,
                          int32_t i_s, int32_t *v_d, int32_t *v_q)
 {
-    int32_t nxt = fw_direct_state(prev->v_d, prev->v_q, prev->sin, prev->cos, prev->fcs_a1, prev->fcs_a2,
-                                  prev->fcs_phi_min, prev->fcs_constrain != 0, vector);
     int32_t a1a, a1b, a2a, a2b, d_ref, q_ref, s, c, ref_a, ref_b;
 
     fw_applied_flux(before, vector, i_al, i_be, p->dt_f, p->vth_f, &a1a, &a1b);
@@ -1434,7 +1376,7 @@ static void fcs_outputs(struct fw_state *st, const struct fw_params *p, const st
     if (ops->flux)
         ops->flux(st, &f);
     fw_deadbeat_voltage(&p->fcs, f.psi_al, f.psi_be, win->top_ia, win->top_ib, st->vec_before, win->vector,
-                        &st->act[1], st->theta_hat, st->est_omega[st->active], i_s, &v_d, &v_q);
+                        win->vector_next, st->theta_hat, st->est_omega[st->active], i_s, &v_d, &v_q);
     st->vec_before = win->vector;
     out->v_d = v_d;
     out->v_q = v_q;

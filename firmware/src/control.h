@@ -411,6 +411,7 @@ struct fw_window {
     int32_t cic_qa;         /* CIC_QA, CIC_QB: s21 (golden WindowResult.cic_qa, cic_qb; the estimator sqw_cic) */
     int32_t cic_qb;
     int32_t vector;         /* VECTOR.STATE, u3 (golden WindowResult.vector; the direct-vector mode) */
+    int32_t vector_next;    /* VECTOR.NEXT, u3 (golden WindowResult.vector_next) */
     int32_t top_ia;         /* TOP_I: s16 each, the Clarke currents of the carrier-top sample */
     int32_t top_ib;
 };
@@ -465,13 +466,6 @@ struct fw_est_flux {
 
 /* golden.fpga.fcs_mpc.state_voltage */
 void fw_state_voltage(int32_t state, int32_t *v_al, int32_t *v_be);
-/* golden.fpga.fcs_mpc.choose_vector (returns the state; *p the p_j of it) */
-int32_t fw_choose_vector(int32_t v_al, int32_t v_be, int32_t sin_q15, int32_t cos_q15, int32_t a1, int32_t a2,
-                         int32_t phi_min, int32_t constrain, int32_t state_now, int32_t *p);
-/* golden.fpga.modulator.direct_alpha_beta / direct_state */
-void fw_direct_alpha_beta(int32_t v_d, int32_t v_q, int32_t sin_q15, int32_t cos_q15, int32_t *v_al, int32_t *v_be);
-int32_t fw_direct_state(int32_t v_d, int32_t v_q, int32_t sin_q15, int32_t cos_q15, int32_t a1, int32_t a2,
-                        int32_t phi_min, int32_t constrain, int32_t state_now);
 /* golden.firmware.flux_lut.warp / lut_flux / lut_point */
 int32_t fw_warp(int32_t x, int32_t knee, int32_t coarse);
 void fw_lut_flux(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, int64_t *lam_d, int64_t *lam_q);
@@ -481,10 +475,10 @@ void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, 
 /* golden.firmware.applied_flux.applied_flux */
 void fw_applied_flux(int32_t old, int32_t new_state, int32_t i_al, int32_t i_be, int32_t dt_f, int32_t vth_f,
                      int32_t *f_al, int32_t *f_be);
-/* golden.firmware.fcs_law.flux_reference / deadbeat_voltage (prev: the outputs of the previous step) */
+/* golden.firmware.fcs_law.flux_reference / deadbeat_voltage (nxt: VECTOR.NEXT) */
 void fw_flux_reference(const struct fw_fcs_params *p, int32_t i_s, int32_t *d, int32_t *q);
 void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t psi_be, int32_t i_al, int32_t i_be,
-                         int32_t before, int32_t vector, const struct fw_outputs *prev, uint32_t theta, int32_t omega,
+                         int32_t before, int32_t vector, int32_t nxt, uint32_t theta, int32_t omega,
                          int32_t i_s, int32_t *v_d, int32_t *v_q);
 
 /* The estimator plug-in interface (golden.firmware.estimator.Estimator), one entry per method in

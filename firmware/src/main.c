@@ -121,13 +121,15 @@ static void control_step(void)
         win.cic_qb = 0;
     }
     if (cfg.hw.direct) {                  /* the direct-vector mode's state and the top currents (spec 3.10, 3.11) */
-        uint32_t top = DSP(TOP_I);
+        uint32_t top = DSP(TOP_I), vec = DSP(VECTOR);
 
-        win.vector = (int32_t)((DSP(VECTOR) & HFI_REGS__VECTOR__STATE_bm) >> HFI_REGS__VECTOR__STATE_bp);
+        win.vector = (int32_t)((vec & HFI_REGS__VECTOR__STATE_bm) >> HFI_REGS__VECTOR__STATE_bp);
+        win.vector_next = (int32_t)((vec & HFI_REGS__VECTOR__NEXT_bm) >> HFI_REGS__VECTOR__NEXT_bp);
         win.top_ia = (int32_t)(int16_t)(uint16_t)((top & HFI_REGS__TOP_I__I_ALPHA_bm) >> HFI_REGS__TOP_I__I_ALPHA_bp);
         win.top_ib = (int32_t)(int16_t)(uint16_t)((top & HFI_REGS__TOP_I__I_BETA_bm) >> HFI_REGS__TOP_I__I_BETA_bp);
     } else {                              /* read only by the fcs_mpc law and its estimator (0 as in golden) */
         win.vector = 0;
+        win.vector_next = 0;
         win.top_ia = 0;
         win.top_ib = 0;
     }

@@ -18,9 +18,10 @@ it is predicted), and eq. (14) aims at the reference at top ``k + 3``:
     r        = shr(r_f * i, 16)                        (i = TOP_I, the drop R_s i T per component)
     psi2     = psi + a(before, VECTOR) + a(VECTOR, next) - 2 r
                     (a: golden.firmware.applied_flux with the dead time, at the current i; ``before``: the
-                     previous step's VECTOR; ``next``: the state the hardware chose from the previous
-                     outputs, golden.fpga.modulator.direct_state with VECTOR as the state applied before:
-                     its zero vector is 000 or 111 by that, and so are the legs that switch)
+                     previous step's VECTOR; ``next``: VECTOR.NEXT, the state the hardware chose from the
+                     previous outputs (committed at this window boundary) with VECTOR as the state applied
+                     before, reported by the hardware rather than recomputed: the firmware needs no copy
+                     of the choice)
     ref      = inv_park(psi_d*, psi_q*) at theta + shr(omega, 1)      (the end of the applied period)
     v*       = round_shr(ref - psi2, 8) + shr(r_v * i, 16)            (eq. (14), stationary frame)
     V_D, V_Q = park(v*) at theta, both shifted right together until each fits +-v_lim (the direction is
@@ -43,7 +44,6 @@ from golden.firmware.flux_lut import FLUX_FRAC
 from golden.firmware.mtpa import mtpa_lookup
 from golden.fixed import round_shr, sat, shr, uwrap
 from golden.fpga.cordic import sincos_q15
-from golden.fpga.modulator import direct_state
 
 LAW_FOC_PWM, LAW_FCS_MPC = 0, 1
 """Current-loop laws (``[control] law``)."""
@@ -75,12 +75,9 @@ def flux_reference(p: FcsParams, i_s: int) -> tuple[int, int]:
 
 
 def deadbeat_voltage(p: FcsParams, psi_al: int, psi_be: int, i_al: int, i_be: int, before: int, vector: int,
-                     prev, theta: int, omega: int, i_s: int) -> tuple[int, int]:
-    """``(V_D, V_Q)`` of eq. (14) for the angle ``theta`` (module docstring). ``before``, ``vector``: the
-    states applied before and after top ``k``; ``prev``: the register set written by the previous step
-    (``v_d, v_q, sin, cos, fcs_a1, fcs_a2, fcs_phi_min, fcs_constrain``)."""
-    nxt = direct_state(prev.v_d, prev.v_q, prev.sin, prev.cos, prev.fcs_a1, prev.fcs_a2, prev.fcs_phi_min,
-                       bool(prev.fcs_constrain), vector)
+                     nxt: int, theta: int, omega: int, i_s: int) -> tuple[int, int]:
+    """``(V_D, V_Q)`` of eq. (14) for the angle ``theta`` (module docstring). ``before``, ``vector``, ``nxt``:
+    the states applied before top ``k``, from it, and from top ``k + 1`` (``VECTOR.NEXT``)."""
     a1a, a1b = applied_flux(before, vector, i_al, i_be, p.dt_f, p.vth_f)
     a2a, a2b = applied_flux(vector, nxt, i_al, i_be, p.dt_f, p.vth_f)
     r_a, r_b = shr(p.r_f * i_al, 16), shr(p.r_f * i_be, 16)

@@ -298,7 +298,7 @@ class Firmware:
         output in RUN, 0 before)."""
         p, est = self.p, self.slots[self.active]
         v_d, v_q = deadbeat_voltage(p.fcs, est.psi_al, est.psi_be, win.top_ia, win.top_ib, self.vec_before,
-                                    win.vector, self.act[1], self.theta_hat, est.omega, i_s)
+                                    win.vector, win.vector_next, self.theta_hat, est.omega, i_s)
         self.vec_before = win.vector
         s, c = sincos_q15(self.theta_hat)
         return Outputs(v_d, v_q, 0, s, c, 1, 0, 0, est.fcs_a1, est.fcs_a2, p.fcs.phi_min, est.constrain)

@@ -71,6 +71,9 @@ class WindowResult:
     vector : int
         ``VECTOR.STATE``, u3: the inverter state the direct-vector mode chose at the window's carrier top
         (spec 3.10; 0 while the mode is off).
+    vector_next : int
+        ``VECTOR.NEXT``, u3: the state it applies from the next carrier top, chosen from the registers
+        committed at the window boundary (spec 3.10; 0 while the mode is off).
     top_ia, top_ib : int
         ``TOP_I``, s16 each: the Clarke currents of the window's carrier-top sample (spec 3.11; the
         previous window's while a window has none).
@@ -88,6 +91,7 @@ class WindowResult:
     env_a: int = 0
     env_b: int = 0
     vector: int = 0
+    vector_next: int = 0
     top_ia: int = 0
     top_ib: int = 0
 

@@ -26,7 +26,8 @@
 //      (k+1)*P, in every ADC mode) through hfi_adc_scale and hfi_clarke steps hfi_diff_cic with plus and
 //      CIC_M (spec 3.9): CIC_QA/QB and ENV_A/B of the window; in the direct-vector mode the carrier-top
 //      sample (phase H) through hfi_adc_scale and hfi_clarke gives TOP_I (spec 3.11, held over a window
-//      without one) and VECTOR is the state of step 2; fw_step computes the next register values; the
+//      without one), VECTOR.STATE is the state of step 2 and VECTOR.NEXT the one the next boundary's
+//      commit chooses (the modulator holds it before the firmware reads); fw_step computes the next register values; the
 //      firmware-state columns of the window record are those of the firmware's trace record
 //      (FW_TRACE_COLUMNS, fw_trace.h, generated).
 #include "hls_loop.h"
@@ -331,7 +332,14 @@ bool hls_loop::step() {
     win.cic_qa = int32_t(cic_qa);                         // CIC_QA, CIC_QB (latched with them too)
     win.cic_qb = int32_t(cic_qb);
     if (direct) {                                         // VECTOR, TOP_I (latched with the window results)
+        // VECTOR.NEXT: the modulator's choice from the set the next boundary commits (the outputs of the
+        // previous step; the reset set before k = 1) and the state applied now, held until that top
+        const fw_outputs &nx = k >= 1 ? prev1 : active;
+        u16 unused[3];
         win.vector = int32_t(vec_state.to_uint());
+        win.vector_next = int32_t(hfi_modulator_direct(s16(nx.v_d), s16(nx.v_q), s16(nx.sin), s16(nx.cos),
+                                                       s16(nx.fcs_a1), s16(nx.fcs_a2), u16(nx.fcs_phi_min),
+                                                       nx.fcs_constrain != 0, vec_state, u16(H), unused).to_uint());
         win.top_ia = top_ia;
         win.top_ib = top_ib;
     }
@@ -353,6 +361,7 @@ bool hls_loop::step() {
     r.env_a = int32_t(env_a);              // ENV_A, ENV_B (the firmware does not use them)
     r.env_b = int32_t(env_b);
     r.vector = win.vector;                 // what the firmware was given as VECTOR, TOP_I
+    r.vector_next = win.vector_next;
     r.top_ia = win.top_ia;
     r.top_ib = win.top_ib;
 #define HLS_WINDOW_COLUMN(column, value) r.column = int64_t(value)

@@ -44,6 +44,7 @@ struct hls_window {
     int64_t env_a;
     int64_t env_b;
     int64_t vector;
+    int64_t vector_next;
     int64_t top_ia;
     int64_t top_ib;
 };

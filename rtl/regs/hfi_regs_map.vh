@@ -323,6 +323,9 @@ localparam [7:0] HFI_VECTOR_ADDR = 8'hAC;
 localparam integer HFI_VECTOR_STATE_LSB = 0;  // ro
 localparam integer HFI_VECTOR_STATE_WIDTH = 3;
 localparam [2:0] HFI_VECTOR_STATE_RESET = 3'h0;
+localparam integer HFI_VECTOR_NEXT_LSB = 4;  // ro
+localparam integer HFI_VECTOR_NEXT_WIDTH = 3;
+localparam [2:0] HFI_VECTOR_NEXT_RESET = 3'h0;
 
 // TOP_I @ 0xB0: Carrier-top sample
 localparam [7:0] HFI_TOP_I_ADDR = 8'hB0;

@@ -1,0 +1,137 @@
+`default_nettype none
+// hfi_soc_acc: the SoC's arithmetic accelerators in the CPU clock (registers: rtl/regs/hfi_acc.rdl,
+// docs/acc_registers.md; docs/soc.md, "Accelerators"). Each unit computes one of the firmware's own
+// functions bit for bit, so the firmware on the SoC calls the unit where the host build of the same C
+// calls the software (firmware/src/fw_acc.c):
+//   - sine/cosine: hfi_cordic with WIDTH 32 and 16 iterations = golden.fpga.cordic.sincos_q15(angle) =
+//     fw_sincos_q15 (18 CPU clocks from the SIN_ANGLE write to the result);
+//   - flux-map look-up: hfi_flux_lut = golden.firmware.flux_lut.lut_point = fw_lut_point, with its
+//     tables in block RAM (written once by the firmware through LUT_TW_ADDR / LUT_TW_DATA).
+// Native PicoRV32-style bus as hfi_soc_ctl: `sel` for one access, answered with `ready`. An access that
+// must wait for a unit is answered when the unit is done, so the firmware never polls: a SIN_ANGLE write
+// or a SINCOS read waits while the CORDIC computes; every look-up register access waits while a
+// look-up runs (its inputs stay stable, its outputs are read complete). Writes store the whole word.
+module hfi_soc_acc (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        sel,
+    input  wire [7:0]  addr,
+    input  wire [3:0]  wstrb,
+    input  wire [31:0] wdata,
+    output reg  [31:0] rdata,
+    output reg         ready
+);
+/* verilator lint_off UNUSEDPARAM */
+`include "regs/hfi_acc_map.vh"
+/* verilator lint_on UNUSEDPARAM */
+
+    // ---------------------------------------------------------------- bus
+    wire is_sin = addr == ACC_SIN_ANGLE_ADDR || addr == ACC_SINCOS_ADDR;
+    reg sc_run;                                   // sine/cosine: from the start to the done cycle (exclusive)
+    reg lut_run;                                  // look-up: likewise
+    wire go = sel && !ready && (is_sin ? !sc_run : !lut_run);
+    wire write = go && wstrb != 4'd0;
+    wire read = go && wstrb == 4'd0;
+    wire sc_start = write && addr == ACC_SIN_ANGLE_ADDR;
+    wire lut_start = write && addr == ACC_LUT_IQ_ADDR;
+
+    // ---------------------------------------------------------------- sine and cosine
+    wire sc_done;
+    wire signed [15:0] sc_sin, sc_cos;
+    /* verilator lint_off PINCONNECTEMPTY */
+    hfi_cordic #(.WIDTH(32), .ITERATIONS(16)) u_sincos (
+        .clk(clk), .rst(rst), .start(sc_start), .angle(wdata), .busy(), .done(sc_done),
+        .sin_q15(sc_sin), .cos_q15(sc_cos)
+    );
+    /* verilator lint_on PINCONNECTEMPTY */
+
+    // ---------------------------------------------------------------- flux-map look-up
+    reg [6:0] n_d, n_q;
+    reg [3:0] shift;
+    reg [2:0] coarse;
+    reg [4:0] f_shift;
+    reg [31:0] knee, id;
+    reg [9:0] tw_index;
+    reg [2:0] tw_table;
+    wire lut_done;
+    wire signed [63:0] lam_d, lam_q, dl_d, dl_q, dl_dq;
+    // l_d, l_q, l_dq interpolate the s28 inductance tables with fractions in 0..1: they fit s32, the
+    // registers L_D, L_Q, L_DQ carry bits 31:0 (docs/acc_registers.md)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire signed [63:0] l_d, l_q, l_dq;
+    /* verilator lint_on UNUSEDSIGNAL */
+    /* verilator lint_off PINCONNECTEMPTY */
+    hfi_flux_lut u_lut (
+        .clk(clk), .rst(rst),
+        .tw_en(write && addr == ACC_LUT_TW_DATA_ADDR), .tw_table(tw_table), .tw_index(tw_index), .tw_data(wdata),
+        .n_d(n_d), .n_q(n_q), .shift(shift), .knee(knee), .coarse(coarse), .f_shift(f_shift),
+        .start(lut_start), .i_d(id), .i_q(wdata), .busy(), .done(lut_done),
+        .lam_d(lam_d), .lam_q(lam_q), .l_d(l_d), .l_q(l_q), .l_dq(l_dq), .dl_d(dl_d), .dl_q(dl_q), .dl_dq(dl_dq)
+    );
+    /* verilator lint_on PINCONNECTEMPTY */
+
+    always @(posedge clk) begin
+        if (rst) begin
+            ready <= 1'b0;
+            rdata <= 32'd0;
+            sc_run <= 1'b0;
+            lut_run <= 1'b0;
+            n_d <= ACC_LUT_CFG_N_D_RESET;
+            n_q <= ACC_LUT_CFG_N_Q_RESET;
+            shift <= ACC_LUT_CFG_SHIFT_RESET;
+            coarse <= ACC_LUT_CFG_COARSE_RESET;
+            f_shift <= ACC_LUT_CFG_F_SHIFT_RESET;
+            knee <= 32'd0;
+            id <= 32'd0;
+            tw_index <= 10'd0;
+            tw_table <= 3'd0;
+        end else begin
+            ready <= go;
+            sc_run <= sc_start || (sc_run && !sc_done);
+            lut_run <= lut_start || (lut_run && !lut_done);
+            if (write) begin
+                case (addr)
+                    ACC_LUT_CFG_ADDR: begin
+                        n_d <= wdata[ACC_LUT_CFG_N_D_LSB +: ACC_LUT_CFG_N_D_WIDTH];
+                        n_q <= wdata[ACC_LUT_CFG_N_Q_LSB +: ACC_LUT_CFG_N_Q_WIDTH];
+                        shift <= wdata[ACC_LUT_CFG_SHIFT_LSB +: ACC_LUT_CFG_SHIFT_WIDTH];
+                        coarse <= wdata[ACC_LUT_CFG_COARSE_LSB +: ACC_LUT_CFG_COARSE_WIDTH];
+                        f_shift <= wdata[ACC_LUT_CFG_F_SHIFT_LSB +: ACC_LUT_CFG_F_SHIFT_WIDTH];
+                    end
+                    ACC_LUT_KNEE_ADDR:    knee <= wdata;
+                    ACC_LUT_ID_ADDR:      id <= wdata;
+                    ACC_LUT_TW_ADDR_ADDR: begin
+                        tw_index <= wdata[ACC_LUT_TW_ADDR_INDEX_LSB +: ACC_LUT_TW_ADDR_INDEX_WIDTH];
+                        tw_table <= wdata[ACC_LUT_TW_ADDR_TABLE_LSB +: ACC_LUT_TW_ADDR_TABLE_WIDTH];
+                    end
+                    ACC_LUT_TW_DATA_ADDR: tw_index <= tw_index + 10'd1;
+                    default: ;
+                endcase
+            end
+            if (read) begin
+                case (addr)
+                    ACC_SINCOS_ADDR:      rdata <= {sc_cos, sc_sin};
+                    ACC_LUT_CFG_ADDR:     rdata <= {3'd0, f_shift, 1'b0, coarse, shift, 1'b0, n_q, 1'b0, n_d};
+                    ACC_LUT_KNEE_ADDR:    rdata <= knee;
+                    ACC_LUT_TW_ADDR_ADDR: rdata <= {13'd0, tw_table, 6'd0, tw_index};
+                    ACC_LUT_ID_ADDR:      rdata <= id;
+                    ACC_LAM_D_LO_ADDR:    rdata <= lam_d[31:0];
+                    ACC_LAM_D_HI_ADDR:    rdata <= lam_d[63:32];
+                    ACC_LAM_Q_LO_ADDR:    rdata <= lam_q[31:0];
+                    ACC_LAM_Q_HI_ADDR:    rdata <= lam_q[63:32];
+                    ACC_L_D_ADDR:         rdata <= l_d[31:0];
+                    ACC_L_Q_ADDR:         rdata <= l_q[31:0];
+                    ACC_L_DQ_ADDR:        rdata <= l_dq[31:0];
+                    ACC_DL_D_LO_ADDR:     rdata <= dl_d[31:0];
+                    ACC_DL_D_HI_ADDR:     rdata <= dl_d[63:32];
+                    ACC_DL_Q_LO_ADDR:     rdata <= dl_q[31:0];
+                    ACC_DL_Q_HI_ADDR:     rdata <= dl_q[63:32];
+                    ACC_DL_DQ_LO_ADDR:    rdata <= dl_dq[31:0];
+                    ACC_DL_DQ_HI_ADDR:    rdata <= dl_dq[63:32];
+                    default:              rdata <= 32'd0;
+                endcase
+            end
+        end
+    end
+endmodule
+`default_nettype wire

@@ -70,7 +70,7 @@ HW_PORTS = {
     ("WINDOW_COUNT", "VALUE"): "window_count", ("LATE_COUNT", "VALUE"): "late_count",
     ("INJ_PHASE", "VALUE"): "inj_phase", ("CIC_QA", "VALUE"): "cic_qa", ("CIC_QB", "VALUE"): "cic_qb",
     ("ENV_A", "VALUE"): "env_a", ("ENV_B", "VALUE"): "env_b",
-    ("VECTOR", "STATE"): "vector_state",
+    ("VECTOR", "STATE"): "vector_state", ("VECTOR", "NEXT"): "vector_next",
     ("TOP_I", "I_ALPHA"): "top_i_alpha", ("TOP_I", "I_BETA"): "top_i_beta",
 }
 PULSE_PORTS = {("CTRL", "FAULT_CLEAR"): "fault_clear", ("COMMIT", "GO"): "commit_go"}

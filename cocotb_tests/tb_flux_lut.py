@@ -1,5 +1,6 @@
 """cocotb testbench of rtl/hfi_flux_lut.v against golden/firmware/flux_lut.py ``lut_point`` (run by
-test_flux_lut.py, not by pytest).
+test_flux_lut.py, not by pytest), through the wrapper cocotb_tests/hdl/tb_flux_lut_ram.v: the unit reads
+its tables from hfi_ram's port b, wired as in hfi_soc.
 
 Environment (set by test_flux_lut.py through hdl_runner.run_cocotb): ``HFI_SEED``, ``HFI_RANDOM_N``.
 
@@ -7,8 +8,18 @@ Tables: (a) the real motor map of scenarios/varatharajan2020_torquestep.toml, bu
 configuration does (golden.control_config.hfo_proj_params -> golden.flux_tables.flux_lut); (b) random
 tables with random n_d, n_q (2..64, n_d n_q <= 1024), shift 0..12, knee 0..2^18+1, coarse 0..4,
 f_shift 0..16, flux tables s16, inductance tables |t| < 2^28 (one set also with full-range s32 inductance
-tables, which the RTL claims exact too). Every table is loaded through the tw_ port (flux words with
-random upper bits, which must be ignored; writes to the unused table numbers 5..7 in between).
+tables, which the RTL claims exact too). Every load places the five tables in the RAM at new random byte
+bases (``layout``: random order, int16 tables at bases 0 or 2 mod 4, int32 at multiples of 4, each table
+adjacent to the one before it or after a random gap, the block at RAM address 0, at the top of the RAM or
+anywhere between; the words of the block not holding table entries, including the other halves of
+words shared with int16 entries, are random junk) and writes the block word by word through the RAM's
+write port.
+
+RAM port checks: mem_en must never be high while busy is low (the wrapper's sticky ``bad_en``, checked
+after every stream and at the end of each test; cycle by cycle in ``one_checked``, where mem_en must be
+high exactly in cycles 7..26 after the start); every completed look-up makes exactly 20 reads (the
+wrapper's ``reads`` counter); the wrapper feeds the unit junk on mem_rdata except in the cycle after a
+read.
 
 Golden values are compared modulo 2^64 (the outputs are s64; golden's Python integers are unbounded:
 only the flux far beyond the grid with shift < 3 leaves int64).
@@ -34,10 +45,13 @@ from cocotb.triggers import FallingEdge, Timer
 from golden.firmware.flux_lut import LUT_MAX_AXIS, LUT_MAX_POINTS, FluxLut, lut_flux, lut_point, unwarp, warp
 
 PERIOD_NS = 10
-LATENCY = 43            # rtl/hfi_flux_lut.v localparam LATENCY
+LATENCY = 59            # rtl/hfi_flux_lut.v localparam LATENCY
+N_READS = 20            # RAM reads per look-up (4 corners x 5 tables)
+READ_CYCLES = range(7, 27)  # cycles after the start cycle with mem_en high
 I_MAX = 1 << 18         # |i_d|, |i_q| range of the block (control.h)
 L_MAX = 1 << 28         # |t_l*| range of the inductance tables (control.h)
 OUTPUTS = ("lam_d", "lam_q", "l_d", "l_q", "l_dq", "dl_d", "dl_q", "dl_dq")
+BASES = ("base_d", "base_q", "base_ld", "base_lq", "base_ldq")
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "varatharajan2020_torquestep.toml"
 
 
@@ -93,6 +107,33 @@ def random_lut(rng: np.random.Generator, n_d: int | None = None, n_q: int | None
     return FluxLut(n_d, n_q, shift, knee, coarse, f_shift, 0, t_d, t_q, t_ld, t_lq, t_ldq)
 
 
+def layout(rng: np.random.Generator, n: int, ram_bytes: int) -> tuple[int, ...]:
+    """Random byte bases of (t_d, t_q, t_ld, t_lq, t_ldq) for ``n`` entries each in a RAM of ``ram_bytes``:
+    a random order; int16 tables at even bases (0 or 2 mod 4), int32 at multiples of 4; each table directly
+    after the previous one (half of the cases; the next 4-aligned address for an int32 table) or after a
+    random gap; the block at address 0, ending at the top of the RAM, or at a random place."""
+    sizes = (2 * n, 2 * n, 4 * n, 4 * n, 4 * n)
+    rel = [0] * 5
+    p = int(rng.integers(0, 2)) * 2          # the block starts at 0 or 2 mod 4
+    for j in rng.permutation(5).tolist():
+        if rng.random() >= 0.5:
+            p += 2 * int(rng.integers(1, 40)) if rng.random() < 0.8 else 2 * int(rng.integers(1, 2000))
+        if j >= 2:
+            p = (p + 3) & ~3
+        rel[j] = p
+        p += sizes[j]
+    span = (p + 3) & ~3
+    assert span <= ram_bytes
+    kind = int(rng.integers(0, 4))
+    if kind == 0:
+        start = 0
+    elif kind == 1:
+        start = ram_bytes - span
+    else:
+        start = int(rng.integers(0, (ram_bytes - span) // 4 + 1)) * 4
+    return tuple(start + r for r in rel)
+
+
 def describe(lut: FluxLut) -> str:
     return (f"n_d={lut.n_d} n_q={lut.n_q} shift={lut.shift} knee={lut.knee} coarse={lut.coarse} "
             f"f_shift={lut.f_shift}")
@@ -138,6 +179,9 @@ class Bench:
         self.rng = np.random.default_rng(self.seed)
         self.cycle = 0
         self.lut: FluxLut | None = None
+        self.ram_aw = len(dut.ram_addr)
+        self.ram_bytes = 4 << self.ram_aw
+        self.bases: tuple[int, ...] = ()
         self._timers: dict[int, Timer] = {}
         self.outs = [getattr(dut, f) for f in OUTPUTS]
         cocotb.log.info(f"HFI_SEED={self.seed} HFI_RANDOM_N={self.random_n} LATENCY={LATENCY}")
@@ -158,10 +202,11 @@ class Bench:
         dut.start.value = 0
         dut.i_d.value = 0
         dut.i_q.value = 0
-        dut.tw_en.value = 0
-        dut.tw_table.value = 0
-        dut.tw_index.value = 0
-        dut.tw_data.value = 0
+        dut.ram_wstrb.value = 0
+        dut.ram_addr.value = 0
+        dut.ram_wdata.value = 0
+        for name in BASES:
+            getattr(dut, name).value = 0
         for name in ("n_d", "n_q", "shift", "knee", "coarse", "f_shift"):
             getattr(dut, name).value = 2 if name in ("n_d", "n_q") else 0
         await FallingEdge(dut.clk)
@@ -173,29 +218,42 @@ class Bench:
         self.expect_outputs((0,) * 8, "after reset")
 
     async def load(self, lut: FluxLut) -> None:
-        """Write the five tables through the tw_ port (one entry per cycle) and set the configuration."""
+        """Place the five tables at a new random ``layout`` in the RAM: write the words of the block (junk
+        where no entry is) through the RAM's write port, one word per cycle; set the bases and the
+        configuration."""
         dut = self.dut
         rng = self.rng
         tabs = (lut.t_d, lut.t_q, lut.t_ld, lut.t_lq, lut.t_ldq)
         n = lut.n_d * lut.n_q
-        junk = rng.integers(0, 1 << 32, size=(5, n), dtype=np.int64).tolist()
-        dut.tw_en.value = 1
-        for j, t in enumerate(tabs):
-            dut.tw_table.value = j
+        bases = layout(rng, n, self.ram_bytes)
+        lo = min(bases) & ~3
+        hi = max(b + (2 if j < 2 else 4) * n for j, b in enumerate(bases))
+        words = rng.integers(0, 1 << 32, size=(hi - lo + 3) // 4, dtype=np.int64).tolist()
+        owner = {}                           # byte address of an entry -> table (overlap check)
+        for j, (t, b) in enumerate(zip(tabs, bases)):
+            size = 2 if j < 2 else 4
+            assert b % size == 0
             for i, v in enumerate(t):
-                dut.tw_index.value = i
-                if j < 2:    # s16 in tw_data[15:0], random upper bits (ignored)
-                    dut.tw_data.value = (junk[j][i] & 0xFFFF0000) | (v & 0xFFFF)
+                a = b + size * i
+                assert a not in owner and a + size <= self.ram_bytes
+                owner[a] = j
+                w = (a - lo) >> 2
+                if size == 4:
+                    words[w] = v & 0xFFFFFFFF
+                elif a & 2:
+                    words[w] = (words[w] & 0x0000FFFF) | ((v & 0xFFFF) << 16)
                 else:
-                    dut.tw_data.value = v & 0xFFFFFFFF
-                await self.cycles(1)
-        for _ in range(8):   # table numbers 5..7: ignored
-            dut.tw_table.value = int(rng.integers(5, 8))
-            dut.tw_index.value = int(rng.integers(0, n))
-            dut.tw_data.value = int(rng.integers(0, 1 << 32))
+                    words[w] = (words[w] & 0xFFFF0000) | (v & 0xFFFF)
+        dut.ram_wstrb.value = 0xF
+        for w, v in enumerate(words):
+            dut.ram_addr.value = (lo >> 2) + w
+            dut.ram_wdata.value = v
             await self.cycles(1)
-        dut.tw_en.value = 0
-        dut.tw_table.value = 0
+        dut.ram_wstrb.value = 0
+        dut.ram_addr.value = int(rng.integers(0, 1 << self.ram_aw))
+        for name, b in zip(BASES, bases):
+            getattr(dut, name).value = b
+        self.bases = bases
         dut.n_d.value = lut.n_d
         dut.n_q.value = lut.n_q
         dut.shift.value = lut.shift
@@ -204,7 +262,7 @@ class Bench:
         dut.f_shift.value = lut.f_shift
         self.lut = lut
         await self.cycles(1)
-        cocotb.log.info(f"loaded {describe(lut)}")
+        cocotb.log.info(f"loaded {describe(lut)} at byte bases {bases} ({len(words)} words)")
 
     # ---- observations --------------------------------------------------------------------------------
     def flags(self) -> tuple[int, int]:
@@ -219,6 +277,13 @@ class Bench:
 
     def expect_idle(self, what: str) -> None:
         self.expect_flags(0, 0, what)
+        assert int(self.dut.mem_en.value) == 0, f"cycle {self.cycle}, {what}: mem_en high while idle"
+
+    def reads(self) -> int:
+        return int(self.dut.reads.value)
+
+    def expect_no_bad_en(self, what: str) -> None:
+        assert int(self.dut.bad_en.value) == 0, f"{what}: mem_en was high in a cycle with busy low"
 
     def expect_outputs(self, want, what: str) -> None:
         got = self.outputs()
@@ -239,16 +304,22 @@ class Bench:
         dut.i_q.value = i_q
         dut.start.value = 1
         self.expect_flags(0, 0, f"{label}: start cycle")
+        assert int(dut.mem_en.value) == 0, f"{label}: mem_en high in the start cycle"
+        reads0 = self.reads()
         await self.cycles(1)
         dut.start.value = 0
         dut.i_d.value = -i_d - 1   # sampled in the start cycle only
         dut.i_q.value = -i_q - 1
         for k in range(1, LATENCY):
             self.expect_flags(1, 0, f"{label}: {k} cycles after start")
+            en = int(dut.mem_en.value)
+            assert en == (k in READ_CYCLES), f"{label}: mem_en = {en} {k} cycles after start"
             if k in (1, LATENCY - 1):
                 self.expect_outputs(prev, f"{label}: outputs held while busy, {k} cycles after start")
             await self.cycles(1)
         self.expect_flags(0, 1, f"{label}: done cycle = start + LATENCY ({LATENCY})")
+        assert int(dut.mem_en.value) == 0, f"{label}: mem_en high in the done cycle"
+        assert self.reads() - reads0 == N_READS, f"{label}: {self.reads() - reads0} RAM reads, expected {N_READS}"
         self.check(i_d, i_q, label)
         result = self.outputs()
         await self.cycles(1)
@@ -274,6 +345,7 @@ class Bench:
         start, i_d_h, i_q_h, busy, done = dut.start, dut.i_d, dut.i_q, dut.busy, dut.done
         outs = self.outs
         prev = self.outputs()
+        reads0 = self.reads()
         t_lat, t_lat1, t_lat2, t_one = (Timer(m * PERIOD_NS, unit="ns") for m in (LATENCY, LATENCY - 1,
                                                                                  LATENCY - 2, 1))
         for k in range(n):
@@ -316,6 +388,9 @@ class Bench:
         start.value = 0
         await self.cycles(1)
         self.expect_idle(f"{label}: after the last look-up")
+        got_reads = (self.reads() - reads0) & 0xFFFFFFFF
+        assert got_reads == N_READS * n, f"{label}: {got_reads} RAM reads for {n} look-ups, expected {N_READS * n}"
+        self.expect_no_bad_en(label)
 
 
 def directed_currents(lut: FluxLut) -> list[tuple[int, int]]:
@@ -364,8 +439,11 @@ async def random_lookups(dut):
     tb = Bench(dut)
     await tb.setup()
     n = tb.random_n
-    await tb.load(real_lut())
-    await tb.stream(currents(tb.rng, real_lut(), n - 5 * (n // 10)), "random, real table")
+    n_real = n - 5 * (n // 10)
+    for j in range(4):                      # the real table at four layouts
+        await tb.load(real_lut())
+        await tb.stream(currents(tb.rng, real_lut(), n_real // 4 + (n_real % 4 if j == 3 else 0)),
+                        f"random, real table, layout {j}")
     for j in range(5):
         lut = random_lut(tb.rng)
         await tb.load(lut)
@@ -397,7 +475,7 @@ async def extreme_tables(dut):
 @cocotb.test()
 async def reset_mid_operation(dut):
     """A reset in every cycle of a look-up (from the start cycle on) aborts it: busy and done drop, no
-    done follows, outputs go to 0; the next start works. Tables survive the reset."""
+    done follows, outputs go to 0, mem_en is low from the reset on; the next start works."""
     tb = Bench(dut)
     await tb.setup()
     lut = real_lut()
@@ -420,12 +498,15 @@ async def reset_mid_operation(dut):
             dut.rst.value = 1
             await tb.cycles(1)
         dut.rst.value = 0
+        reads0 = tb.reads()
         tb.expect_idle(f"reset {k} cycles after the start: right after the reset")
         tb.expect_outputs((0,) * 8, f"reset {k} cycles after the start: reset outputs")
         await tb.cycles(LATENCY + 2)
         tb.expect_idle(f"reset {k} cycles after the start: the aborted look-up must not finish")
         tb.expect_outputs((0,) * 8, f"reset {k} cycles after the start: outputs stay 0")
+        assert tb.reads() == reads0, f"reset {k} cycles after the start: RAM reads after the reset"
         await tb.stream([pts[k + 1]], f"after reset k={k}")
+    tb.expect_no_bad_en("reset test")
 
 
 @cocotb.test()
@@ -457,3 +538,4 @@ async def start_while_busy(dut):
     await tb.one_checked(*p, "start after idle")          # returns one cycle after done
     await tb.one_checked(*q, "start in the cycle after done")
     await tb.stream(currents(tb.rng, lut, 20), "back to back")
+    tb.expect_no_bad_en("start while busy")

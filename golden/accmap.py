@@ -75,124 +75,141 @@ LUT_KNEE_VALUE_WIDTH = 32
 LUT_KNEE_VALUE_MASK = 0xFFFFFFFF
 LUT_KNEE_VALUE_RESET = 0
 
-# LUT_TW_ADDR @ 0x10: Table write address
-LUT_TW_ADDR_ADDR = 0x10
-LUT_TW_ADDR_INDEX_LSB = 0  # rw
-LUT_TW_ADDR_INDEX_WIDTH = 10
-LUT_TW_ADDR_INDEX_MASK = 0x000003FF
-LUT_TW_ADDR_INDEX_RESET = 0
-LUT_TW_ADDR_TABLE_LSB = 16  # rw
-LUT_TW_ADDR_TABLE_WIDTH = 3
-LUT_TW_ADDR_TABLE_MASK = 0x00070000
-LUT_TW_ADDR_TABLE_RESET = 0
+# LUT_BASE_D @ 0x10: Table t_d
+LUT_BASE_D_ADDR = 0x10
+LUT_BASE_D_VALUE_LSB = 0  # rw
+LUT_BASE_D_VALUE_WIDTH = 32
+LUT_BASE_D_VALUE_MASK = 0xFFFFFFFF
+LUT_BASE_D_VALUE_RESET = 0
 
-# LUT_TW_DATA @ 0x14: Table write data
-LUT_TW_DATA_ADDR = 0x14
-LUT_TW_DATA_VALUE_LSB = 0  # wo
-LUT_TW_DATA_VALUE_WIDTH = 32
-LUT_TW_DATA_VALUE_MASK = 0xFFFFFFFF
-LUT_TW_DATA_VALUE_RESET = 0
+# LUT_BASE_Q @ 0x14: Table t_q
+LUT_BASE_Q_ADDR = 0x14
+LUT_BASE_Q_VALUE_LSB = 0  # rw
+LUT_BASE_Q_VALUE_WIDTH = 32
+LUT_BASE_Q_VALUE_MASK = 0xFFFFFFFF
+LUT_BASE_Q_VALUE_RESET = 0
 
-# LUT_ID @ 0x18: Look-up current i_d
-LUT_ID_ADDR = 0x18
+# LUT_BASE_LD @ 0x18: Table t_ld
+LUT_BASE_LD_ADDR = 0x18
+LUT_BASE_LD_VALUE_LSB = 0  # rw
+LUT_BASE_LD_VALUE_WIDTH = 32
+LUT_BASE_LD_VALUE_MASK = 0xFFFFFFFF
+LUT_BASE_LD_VALUE_RESET = 0
+
+# LUT_BASE_LQ @ 0x1C: Table t_lq
+LUT_BASE_LQ_ADDR = 0x1C
+LUT_BASE_LQ_VALUE_LSB = 0  # rw
+LUT_BASE_LQ_VALUE_WIDTH = 32
+LUT_BASE_LQ_VALUE_MASK = 0xFFFFFFFF
+LUT_BASE_LQ_VALUE_RESET = 0
+
+# LUT_BASE_LDQ @ 0x20: Table t_ldq
+LUT_BASE_LDQ_ADDR = 0x20
+LUT_BASE_LDQ_VALUE_LSB = 0  # rw
+LUT_BASE_LDQ_VALUE_WIDTH = 32
+LUT_BASE_LDQ_VALUE_MASK = 0xFFFFFFFF
+LUT_BASE_LDQ_VALUE_RESET = 0
+
+# LUT_ID @ 0x24: Look-up current i_d
+LUT_ID_ADDR = 0x24
 LUT_ID_VALUE_LSB = 0  # rw
 LUT_ID_VALUE_WIDTH = 32
 LUT_ID_VALUE_MASK = 0xFFFFFFFF
 LUT_ID_VALUE_RESET = 0
 
-# LUT_IQ @ 0x1C: Look-up current i_q
-LUT_IQ_ADDR = 0x1C
+# LUT_IQ @ 0x28: Look-up current i_q
+LUT_IQ_ADDR = 0x28
 LUT_IQ_VALUE_LSB = 0  # rw
 LUT_IQ_VALUE_WIDTH = 32
 LUT_IQ_VALUE_MASK = 0xFFFFFFFF
 LUT_IQ_VALUE_RESET = 0
 
-# LAM_D_LO @ 0x20: Look-up lam_d, low word
-LAM_D_LO_ADDR = 0x20
+# LAM_D_LO @ 0x2C: Look-up lam_d, low word
+LAM_D_LO_ADDR = 0x2C
 LAM_D_LO_VALUE_LSB = 0  # ro
 LAM_D_LO_VALUE_WIDTH = 32
 LAM_D_LO_VALUE_MASK = 0xFFFFFFFF
 LAM_D_LO_VALUE_RESET = None
 
-# LAM_D_HI @ 0x24: Look-up lam_d, high word
-LAM_D_HI_ADDR = 0x24
+# LAM_D_HI @ 0x30: Look-up lam_d, high word
+LAM_D_HI_ADDR = 0x30
 LAM_D_HI_VALUE_LSB = 0  # ro
 LAM_D_HI_VALUE_WIDTH = 32
 LAM_D_HI_VALUE_MASK = 0xFFFFFFFF
 LAM_D_HI_VALUE_RESET = None
 
-# LAM_Q_LO @ 0x28: Look-up lam_q, low word
-LAM_Q_LO_ADDR = 0x28
+# LAM_Q_LO @ 0x34: Look-up lam_q, low word
+LAM_Q_LO_ADDR = 0x34
 LAM_Q_LO_VALUE_LSB = 0  # ro
 LAM_Q_LO_VALUE_WIDTH = 32
 LAM_Q_LO_VALUE_MASK = 0xFFFFFFFF
 LAM_Q_LO_VALUE_RESET = None
 
-# LAM_Q_HI @ 0x2C: Look-up lam_q, high word
-LAM_Q_HI_ADDR = 0x2C
+# LAM_Q_HI @ 0x38: Look-up lam_q, high word
+LAM_Q_HI_ADDR = 0x38
 LAM_Q_HI_VALUE_LSB = 0  # ro
 LAM_Q_HI_VALUE_WIDTH = 32
 LAM_Q_HI_VALUE_MASK = 0xFFFFFFFF
 LAM_Q_HI_VALUE_RESET = None
 
-# L_D @ 0x30: Look-up l_d
-L_D_ADDR = 0x30
+# L_D @ 0x3C: Look-up l_d
+L_D_ADDR = 0x3C
 L_D_VALUE_LSB = 0  # ro
 L_D_VALUE_WIDTH = 32
 L_D_VALUE_MASK = 0xFFFFFFFF
 L_D_VALUE_RESET = None
 
-# L_Q @ 0x34: Look-up l_q
-L_Q_ADDR = 0x34
+# L_Q @ 0x40: Look-up l_q
+L_Q_ADDR = 0x40
 L_Q_VALUE_LSB = 0  # ro
 L_Q_VALUE_WIDTH = 32
 L_Q_VALUE_MASK = 0xFFFFFFFF
 L_Q_VALUE_RESET = None
 
-# L_DQ @ 0x38: Look-up l_dq
-L_DQ_ADDR = 0x38
+# L_DQ @ 0x44: Look-up l_dq
+L_DQ_ADDR = 0x44
 L_DQ_VALUE_LSB = 0  # ro
 L_DQ_VALUE_WIDTH = 32
 L_DQ_VALUE_MASK = 0xFFFFFFFF
 L_DQ_VALUE_RESET = None
 
-# DL_D_LO @ 0x3C: Look-up dl_d, low word
-DL_D_LO_ADDR = 0x3C
+# DL_D_LO @ 0x48: Look-up dl_d, low word
+DL_D_LO_ADDR = 0x48
 DL_D_LO_VALUE_LSB = 0  # ro
 DL_D_LO_VALUE_WIDTH = 32
 DL_D_LO_VALUE_MASK = 0xFFFFFFFF
 DL_D_LO_VALUE_RESET = None
 
-# DL_D_HI @ 0x40: Look-up dl_d, high word
-DL_D_HI_ADDR = 0x40
+# DL_D_HI @ 0x4C: Look-up dl_d, high word
+DL_D_HI_ADDR = 0x4C
 DL_D_HI_VALUE_LSB = 0  # ro
 DL_D_HI_VALUE_WIDTH = 32
 DL_D_HI_VALUE_MASK = 0xFFFFFFFF
 DL_D_HI_VALUE_RESET = None
 
-# DL_Q_LO @ 0x44: Look-up dl_q, low word
-DL_Q_LO_ADDR = 0x44
+# DL_Q_LO @ 0x50: Look-up dl_q, low word
+DL_Q_LO_ADDR = 0x50
 DL_Q_LO_VALUE_LSB = 0  # ro
 DL_Q_LO_VALUE_WIDTH = 32
 DL_Q_LO_VALUE_MASK = 0xFFFFFFFF
 DL_Q_LO_VALUE_RESET = None
 
-# DL_Q_HI @ 0x48: Look-up dl_q, high word
-DL_Q_HI_ADDR = 0x48
+# DL_Q_HI @ 0x54: Look-up dl_q, high word
+DL_Q_HI_ADDR = 0x54
 DL_Q_HI_VALUE_LSB = 0  # ro
 DL_Q_HI_VALUE_WIDTH = 32
 DL_Q_HI_VALUE_MASK = 0xFFFFFFFF
 DL_Q_HI_VALUE_RESET = None
 
-# DL_DQ_LO @ 0x4C: Look-up dl_dq, low word
-DL_DQ_LO_ADDR = 0x4C
+# DL_DQ_LO @ 0x58: Look-up dl_dq, low word
+DL_DQ_LO_ADDR = 0x58
 DL_DQ_LO_VALUE_LSB = 0  # ro
 DL_DQ_LO_VALUE_WIDTH = 32
 DL_DQ_LO_VALUE_MASK = 0xFFFFFFFF
 DL_DQ_LO_VALUE_RESET = None
 
-# DL_DQ_HI @ 0x50: Look-up dl_dq, high word
-DL_DQ_HI_ADDR = 0x50
+# DL_DQ_HI @ 0x5C: Look-up dl_dq, high word
+DL_DQ_HI_ADDR = 0x5C
 DL_DQ_HI_VALUE_LSB = 0  # ro
 DL_DQ_HI_VALUE_WIDTH = 32
 DL_DQ_HI_VALUE_MASK = 0xFFFFFFFF
@@ -217,56 +234,64 @@ REGISTERS = {
     "LUT_KNEE": {"addr": 0x0C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, 0, "rw"),
     }},
-    "LUT_TW_ADDR": {"addr": 0x10, "reset": 0x00000000, "signed": (), "fields": {
-        "INDEX": (0, 10, 0, "rw"),
-        "TABLE": (16, 3, 0, "rw"),
-    }},
-    "LUT_TW_DATA": {"addr": 0x14, "reset": 0x00000000, "signed": (), "fields": {
-        "VALUE": (0, 32, 0, "wo"),
-    }},
-    "LUT_ID": {"addr": 0x18, "reset": 0x00000000, "signed": (), "fields": {
+    "LUT_BASE_D": {"addr": 0x10, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, 0, "rw"),
     }},
-    "LUT_IQ": {"addr": 0x1C, "reset": 0x00000000, "signed": (), "fields": {
+    "LUT_BASE_Q": {"addr": 0x14, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, 0, "rw"),
     }},
-    "LAM_D_LO": {"addr": 0x20, "reset": 0x00000000, "signed": (), "fields": {
+    "LUT_BASE_LD": {"addr": 0x18, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, 0, "rw"),
+    }},
+    "LUT_BASE_LQ": {"addr": 0x1C, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, 0, "rw"),
+    }},
+    "LUT_BASE_LDQ": {"addr": 0x20, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, 0, "rw"),
+    }},
+    "LUT_ID": {"addr": 0x24, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, 0, "rw"),
+    }},
+    "LUT_IQ": {"addr": 0x28, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, 0, "rw"),
+    }},
+    "LAM_D_LO": {"addr": 0x2C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "LAM_D_HI": {"addr": 0x24, "reset": 0x00000000, "signed": (), "fields": {
+    "LAM_D_HI": {"addr": 0x30, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "LAM_Q_LO": {"addr": 0x28, "reset": 0x00000000, "signed": (), "fields": {
+    "LAM_Q_LO": {"addr": 0x34, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "LAM_Q_HI": {"addr": 0x2C, "reset": 0x00000000, "signed": (), "fields": {
+    "LAM_Q_HI": {"addr": 0x38, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "L_D": {"addr": 0x30, "reset": 0x00000000, "signed": (), "fields": {
+    "L_D": {"addr": 0x3C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "L_Q": {"addr": 0x34, "reset": 0x00000000, "signed": (), "fields": {
+    "L_Q": {"addr": 0x40, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "L_DQ": {"addr": 0x38, "reset": 0x00000000, "signed": (), "fields": {
+    "L_DQ": {"addr": 0x44, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "DL_D_LO": {"addr": 0x3C, "reset": 0x00000000, "signed": (), "fields": {
+    "DL_D_LO": {"addr": 0x48, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "DL_D_HI": {"addr": 0x40, "reset": 0x00000000, "signed": (), "fields": {
+    "DL_D_HI": {"addr": 0x4C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "DL_Q_LO": {"addr": 0x44, "reset": 0x00000000, "signed": (), "fields": {
+    "DL_Q_LO": {"addr": 0x50, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "DL_Q_HI": {"addr": 0x48, "reset": 0x00000000, "signed": (), "fields": {
+    "DL_Q_HI": {"addr": 0x54, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "DL_DQ_LO": {"addr": 0x4C, "reset": 0x00000000, "signed": (), "fields": {
+    "DL_DQ_LO": {"addr": 0x58, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
-    "DL_DQ_HI": {"addr": 0x50, "reset": 0x00000000, "signed": (), "fields": {
+    "DL_DQ_HI": {"addr": 0x5C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
 }

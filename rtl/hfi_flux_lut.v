@@ -1,6 +1,7 @@
 `default_nettype none
 // hfi_flux_lut: flux-map look-up table with incremental inductances and their derivatives along the
-// rotation, a hardware accelerator beside the RISC-V soft core.
+// rotation, a hardware accelerator beside the RISC-V soft core. It reads its five tables from the SoC's
+// main RAM (where the firmware's configuration block holds them) through the RAM's data port.
 //
 // Implements the firmware's flux LUT of the 003 estimator (Varatharajan et al. 2020, Fig. 2,
 // eqs. (8), (12)), bit for bit equal to golden/firmware/flux_lut.py `lut_point(lut, i_d, i_q)` (C twin:
@@ -29,22 +30,36 @@
 //   into an accumulator with the shifts 21 and log2(wx) / log2(wy) (shifting the product is exact).
 //   Total 2*3 + 3*4 + 3*4 = 30 products, one issued per clock, on one signed 36 x 20 multiplier
 //   (operands registered, product registered: 2 cycles; ECP5: 4 MULT18X18D).
-//   Tables: five synchronous-read block RAMs (t_d, t_q 16 bits, t_ld, t_lq, t_ldq 32 bits, MAX_POINTS
-//   entries each), all read at the same address: k, k+1, k+n_d, k+n_d+1 in four cycles. r*n_d is a
-//   shift-and-add (no multiplier).
+//   Tables: 4 corners x 5 tables = 20 reads of the RAM, one per clock (pipelined through the RAM's
+//   one-clock read latency), in the order corner 00 of t_d, t_q, t_ld, t_lq, t_ldq, then corner 01 of
+//   the five, then 10, then 11. Read address: the table's byte base + 2 index (t_d, t_q) or + 4 index,
+//   word = byte >> 2; an int16 entry is the half of its word selected by byte bit 1 (little endian),
+//   sign-extended. r*n_d is a shift-and-add (no multiplier). No block RAM of its own.
 //
 // Parameters:
-//   MAX_POINTS  entries per table (golden LUT_MAX_POINTS = 1024), 4..1024; a table is 2^AW entries
-//               deep (AW = ceil(log2 MAX_POINTS)), written and read with the low AW index bits.
-//               Out-of-range: build error (instance of the non-existent module
-//               `hfi_flux_lut_bad_parameter_MAX_POINTS_4_to_1024`).
+//   RAM_AW      word-address width of the RAM (default 14: 64 KiB of 32-bit words); the bases are
+//               RAM_AW + 2 bit byte addresses, mem_addr an RAM_AW bit word address. Byte addresses
+//               wrap modulo 2^(RAM_AW + 2) (a table must lie inside the RAM).
 //
 // Ports:
-//   clk, rst     clock; synchronous active-high reset: aborts a look-up (busy and done drop, no done
-//                follows for it), outputs to 0. Table contents are kept.
-//   tw_en, tw_table, tw_index, tw_data
-//                table write port (use while busy = 0): tw_table 0 t_d, 1 t_q (tw_data[15:0], s16),
-//                2 t_ld, 3 t_lq, 4 t_ldq (s32); 5..7 ignored. tw_index = r*n_d + c (golden order).
+//   clk, rst     clock; synchronous active-high reset: aborts a look-up (busy, done and mem_en drop, no
+//                done follows for it), outputs to 0.
+//   base_d, base_q, base_ld, base_lq, base_ldq
+//                byte address in the RAM of entry 0 of t_d, t_q (int16: entry i at base + 2 i; any even
+//                base, 2 mod 4 allowed), t_ld, t_lq, t_ldq (int32: entry i at base + 4 i; base a
+//                multiple of 4). Entry index = r*n_d + c (golden order). Read in the busy cycles only
+//                (cycles 6..25 of a look-up), held stable by the user while busy; the tables' contents
+//                likewise (they are read in cycles 7..26).
+//   mem_en, mem_addr, mem_rdata
+//                read port of the RAM: synchronous, one clock latency (mem_rdata in cycle t + 1 is the
+//                word at mem_addr of cycle t when mem_en was high in t; hfi_ram's port b). mem_en and
+//                mem_addr are registers; mem_en is high in exactly 20 cycles of a look-up (cycles 7..26
+//                after the start cycle) and low whenever busy is low (and in the cycle after a reset);
+//                mem_addr is unspecified while mem_en is low. mem_rdata is used only in the cycle after
+//                each mem_en cycle (cycles 8..27). Why the port is free then: in the SoC the CPU's
+//                LUT_IQ write that starts the look-up is held (not answered) until done, so the CPU
+//                waits on its data bus and makes no RAM access while the unit reads (hfi_soc_acc,
+//                hfi_soc).
 //   n_d, n_q, shift, knee, coarse, f_shift
 //                the golden FluxLut fields; read in the busy cycles only, held stable by the user
 //                while busy (the start cycle itself does not read them).
@@ -52,29 +67,33 @@
 //                a start while busy is ignored.
 //   busy         high from the cycle after an accepted start up to the cycle before done
 //                (LATENCY - 1 cycles); low in the done cycle: a start in the done cycle is accepted.
-//   done         one-cycle pulse, exactly LATENCY = 43 cycles after the start cycle.
+//   done         one-cycle pulse, exactly LATENCY = 59 cycles after the start cycle.
 //   lam_d .. dl_dq  s64, the LutPoint fields, valid from the done cycle, held until the next done.
 //
 // Timing (cycle 0 = start cycle; register loads at the end of the named cycle):
 //   0 i_d, i_q; 1 |i|, signs, derivative multiplicands; 2 |i| < knee, (|i| - knee) >> coarse;
-//   3 warp x, y; 4 c, r, fx, fy; 5 fxc, fyc, partial sums of r*n_d (+c); 6 k;
-//   7..10 RAM reads of k, k+1, k+n_d, k+n_d+1 (corners loaded at the ends of 8..11);
-//   12 d1, e1, D of the inductance tables;
-//   products issued at 10..39: 10,11 d1 fx (t_d, t_q); 12..14 d1 fxc (t_ld, t_lq, t_ldq);
-//   15,16 (t11-t10) fx; 17..19 D fxc; 20..22 D fyc; 23..34 the derivative products
-//   (per table gx_lo bx, gx_hi bx, gy_lo by, gy_hi by); 35,36 (b-a) fy; 37..39 (b-a) fyc;
+//   3 warp x, y; 4 c, r, fx, fy; 5 fxc, fyc, partial sums of r*n_d (+c); 6 k; 7 k+1, k+n_d, k+n_d+1;
+//   6..25 read addresses (mem_addr, mem_en loaded; read j: table j mod 5, corner j div 5, computed in
+//   6 + j from k = the partial sums' sum or the registered k+1, k+n_d, k+n_d+1); 7..26 mem_en high;
+//   8..27 mem_rdata captured into the corner registers; 28 d1, e1, D of the inductance tables;
+//   products issued at 26..55: 26,27 d1 fx (t_d, t_q); 28..30 d1 fxc (t_ld, t_lq, t_ldq);
+//   31,32 (t11-t10) fx; 33..35 D fxc; 36..38 D fyc; 39..50 the derivative products
+//   (per table gx_lo bx, gx_hi bx, gy_lo by, gy_hi by); 51,52 (b-a) fy; 53..55 (b-a) fyc;
 //   each product is in the product register P during issue + 2 and used there (the derivative
 //   products: shifted there into psh, accumulated at issue + 3).
 //   Shared shifters instead of one per table: e1 << s, d1 << s one cycle ahead of the gy, gx sums
-//   (18..23); shr((t11-t10) fxc, s) of the inductance tables in 22..24 (b in 23..25); each derivative
-//   accumulator shifted by 2s + coarse after its last sum (30, 34, 38); the flux's
-//   sgn * (lam << f_shift) in 39 (lam_d), 40 (lam_q). 42 output registers, done = 1 in cycle 43.
-//   LATENCY = 43 cycles (0.86 us at 50 MHz). Throughput one look-up per 43 cycles.
+//   (34..39); shr((t11-t10) fxc, s) of the inductance tables in 38..40 (b in 39..41); each derivative
+//   accumulator shifted by 2s + coarse after its last sum (46, 50, 54); the flux's
+//   sgn * (lam << f_shift) in 55 (lam_d), 56 (lam_q). 58 output registers, done = 1 in cycle 59.
+//   LATENCY = 59 cycles (1.18 us at 50 MHz). Throughput one look-up per 59 cycles.
+//   (The schedule after the reads is the one of the earlier block-RAM version shifted by 16 cycles:
+//   the last inductance corner is in its register from cycle 28 instead of 12.)
 //
 // Validity ranges (the C twin's, control.h; the test draws within them):
-//   |i_d|, |i_q| <= 2^18; n_d, n_q 2..64 with n_d n_q <= MAX_POINTS; shift <= 12; coarse <= 7
-//   (the spec: <= 4); f_shift any (the spec: <= 16); knee any value (compared on 32 bits);
-//   flux tables s16; inductance tables any s32 (the spec: |t| < 2^28).
+//   |i_d|, |i_q| <= 2^18; n_d, n_q 2..64 with n_d n_q <= 1024 (golden LUT_MAX_POINTS: the corner
+//   indices are 10 bits); shift <= 12; coarse <= 7 (the spec: <= 4); f_shift any (the spec: <= 16);
+//   knee any value (compared on 32 bits); flux tables s16; inductance tables any s32 (the spec:
+//   |t| < 2^28); table bases as above, every entry inside the RAM.
 //   Outside these the results are unspecified.
 //
 // Widths (every intermediate exact over the ranges above; s = shift, fx, fy <= 2^18, fxc, fyc <= 2^s):
@@ -94,14 +113,18 @@
 //   acc >>> (2s + coarse) (<= 31, 5 bits), lam <<< f_shift (mod 2^64).
 
 module hfi_flux_lut #(
-    parameter MAX_POINTS = 1024            // entries per table (golden LUT_MAX_POINTS)
+    parameter RAM_AW = 14                   // word-address width of the RAM (64 KiB of 32-bit words)
 ) (
     input  wire               clk,
     input  wire               rst,
-    input  wire               tw_en,
-    input  wire        [2:0]  tw_table,
-    input  wire        [9:0]  tw_index,
-    input  wire        [31:0] tw_data,
+    input  wire [RAM_AW+1:0]  base_d,
+    input  wire [RAM_AW+1:0]  base_q,
+    input  wire [RAM_AW+1:0]  base_ld,
+    input  wire [RAM_AW+1:0]  base_lq,
+    input  wire [RAM_AW+1:0]  base_ldq,
+    output wire               mem_en,
+    output wire [RAM_AW-1:0]  mem_addr,
+    input  wire [31:0]        mem_rdata,
     input  wire        [6:0]  n_d,
     input  wire        [6:0]  n_q,
     input  wire        [3:0]  shift,
@@ -118,28 +141,24 @@ module hfi_flux_lut #(
 
     // Cycles from the start cycle to the done cycle (documentation / testbench constant).
     /* verilator lint_off UNUSEDPARAM */
-    localparam integer LATENCY = 43;
+    localparam integer LATENCY = 59;
     /* verilator lint_on UNUSEDPARAM */
 
-    generate
-        if (MAX_POINTS < 4 || MAX_POINTS > 1024) begin : g_bad_parameter
-            hfi_flux_lut_bad_parameter_MAX_POINTS_4_to_1024 u_error ();
-        end
-    endgenerate
-
-    localparam integer AW = (MAX_POINTS > 512) ? 10 : (MAX_POINTS > 256) ? 9 : (MAX_POINTS > 128) ? 8 :
-                            (MAX_POINTS > 64) ? 7 : (MAX_POINTS > 32) ? 6 : (MAX_POINTS > 16) ? 5 :
-                            (MAX_POINTS > 8) ? 4 : (MAX_POINTS > 4) ? 3 : 2;
-    localparam integer DEPTH = 1 << AW;
+    localparam integer IW = 10;           // table index width (n_d n_q <= 1024)
+    localparam integer BW = RAM_AW + 2;   // byte-address width
 
     // ---- schedule (cycle numbers after the start cycle) ----------------------------------------------
     localparam [5:0] S_ABS = 6'd1, S_KNEE = 6'd2, S_WARP = 6'd3, S_CELL = 6'd4, S_FRAC = 6'd5,
-                     S_K = 6'd6, S_RD0 = 6'd7, S_DIFF = 6'd12, S_LAST = 6'd42;
-    localparam [5:0] S_B = 6'd22,         // bsh of the inductance lane j loaded in S_B + j, b in S_B + j + 1
-                     S_DL = 6'd30,        // acc of lane j shifted to dl in S_DL + 4 j (after its last sum)
-                     S_LAM = 6'd39;       // lam of flux lane j transformed in S_LAM + j
-    localparam [5:0] I_F1 = 6'd10, I_L1 = 6'd12, I_F2 = 6'd15, I_DX = 6'd17, I_DY = 6'd20, I_N = 6'd23,
-                     I_F3 = 6'd35, I_L3 = 6'd37;
+                     S_K = 6'd6, S_RD0 = 6'd7, S_DIFF = 6'd28, S_LAST = 6'd58;
+    localparam [5:0] S_ADR = 6'd6,        // read address j (0..19) computed in S_ADR + j, RAM read in
+                                          // S_ADR + j + 1, mem_rdata captured in S_ADR + j + 2
+                     S_NRD = 6'd20;       // reads per look-up
+    localparam [5:0] S_B = 6'd38,         // bsh of the inductance lane j loaded in S_B + j, b in S_B + j + 1
+                     S_DL = 6'd46,        // acc of lane j shifted to dl in S_DL + 4 j (after its last sum)
+                     S_LAM = 6'd55;       // lam of flux lane j transformed in S_LAM + j
+    // products: the block-RAM version's schedule + 16 (nsel below relies on I_N's low 4 bits only)
+    localparam [5:0] I_F1 = 6'd26, I_L1 = 6'd28, I_F2 = 6'd31, I_DX = 6'd33, I_DY = 6'd36, I_N = 6'd39,
+                     I_F3 = 6'd51, I_L3 = 6'd53;
     localparam [5:0] WB = 6'd2;           // a product issued in cycle t is in P during t + 2
 
     localparam integer GW = 46;           // gx, gy, d1 fxc registers
@@ -190,7 +209,7 @@ module hfi_flux_lut #(
     reg        [12:0] fxc, fyc;           // fractions clamped to 2^s
     reg        [12:0] rna, rnb;           // partial sums of r*n_d + c
     reg        [12:0] k;                  // first corner
-    reg      [AW-1:0] k1, kn, kn1;        // k + 1, k + n_d, k + n_d + 1
+    reg      [IW-1:0] k1, kn, kn1;        // k + 1, k + n_d, k + n_d + 1
     reg        [18:0] nd2s, nq2s;         // (n_d - 2) << s, (n_q - 2) << s (configuration, every cycle)
 
     wire       [12:0] one = 13'd1 << shift;
@@ -219,7 +238,7 @@ module hfi_flux_lut #(
     wire       [12:0] pp6 = (n_d[6] ? r13 << 6 : 13'd0) | {7'd0, c};   // low 6 bits of r << 6 are 0
 
     wire       [12:0] k_sum = rna + rnb;
-    wire       [12:0] k_1 = k + 13'd1;                    // corner addresses: < n_d n_q <= MAX_POINTS
+    wire       [12:0] k_1 = k + 13'd1;                    // corner indices: < n_d n_q <= 1024
     wire       [12:0] k_n = k + {6'd0, n_d};
     wire       [12:0] k_n1 = k + {6'd0, n_d} + 13'd1;
 
@@ -265,51 +284,105 @@ module hfi_flux_lut #(
         if (at[S_K])
             k <= k_sum;
         if (at[S_RD0]) begin
-            k1 <= k_1[AW-1:0];
-            kn <= k_n[AW-1:0];
-            kn1 <= k_n1[AW-1:0];
+            k1 <= k_1[IW-1:0];
+            kn <= k_n[IW-1:0];
+            kn1 <= k_n1[IW-1:0];
         end
     end
-    /* verilator lint_off UNUSEDSIGNAL */  // |i|, -i above bit 19 are 0 / sign copies in range; k < 2^AW
-    wire unused_ok = &{1'b0, id_abs[31:20], iq_abs[31:19], id_neg[31:20], iq_neg[31:20], k[12:AW], k_1[12:AW], k_n[12:AW], k_n1[12:AW]};
+    /* verilator lint_off UNUSEDSIGNAL */  // |i|, -i above bit 19 are 0 / sign copies in range; k < 2^IW
+    wire unused_ok = &{1'b0, id_abs[31:20], iq_abs[31:19], id_neg[31:20], iq_neg[31:20], k_sum[12:IW], k_1[12:IW], k_n[12:IW], k_n1[12:IW]};
     /* verilator lint_on UNUSEDSIGNAL */
 
-    // ---- tables: five block RAMs, one read address ---------------------------------------------------
-    reg [AW-1:0] rd_addr;
+    // ---- tables: 20 reads of the RAM (corner-major: 00 of the five tables, 01, 10, 11) ------------------
+    // Address stage (cycle S_ADR + j): table rt, corner rc of read j; the byte address base + 2 / 4 index
+    // into mem_addr (its word) and ha (its half). Corner 00 takes k_sum (= k; stable from cycle 6 on,
+    // needed in 6 before k is registered), the others the registered k + 1, k + n_d, k + n_d + 1 (from 8).
+    wire              rd_go = busy_r && st >= S_ADR && st < S_ADR + S_NRD;
+    reg         [2:0] rt;                 // table 0..4 of the address computed in this cycle
+    reg         [1:0] rc;                 // its corner 0..3 (00, 01, 10, 11)
+    always @(posedge clk) begin
+        if (!busy_r) begin
+            rt <= 3'd0;
+            rc <= 2'd0;
+        end else if (rd_go) begin
+            rt <= (rt == 3'd4) ? 3'd0 : rt + 3'd1;
+            if (rt == 3'd4)
+                rc <= rc + 2'd1;
+        end
+    end
+    reg      [IW-1:0] ridx;
+    reg      [BW-1:0] rbase;
     always @* begin
-        case (st)
-            S_RD0:         rd_addr = k[AW-1:0];
-            S_RD0 + 6'd1:  rd_addr = k1;
-            S_RD0 + 6'd2:  rd_addr = kn;
-            default:       rd_addr = kn1;
+        case (rc)
+            2'd0:    ridx = k_sum[IW-1:0];
+            2'd1:    ridx = k1;
+            2'd2:    ridx = kn;
+            default: ridx = kn1;
+        endcase
+        case (rt)
+            3'd0:    rbase = base_d;
+            3'd1:    rbase = base_q;
+            3'd2:    rbase = base_ld;
+            3'd3:    rbase = base_lq;
+            default: rbase = base_ldq;
         endcase
     end
+    wire              r16 = rt[2:1] == 2'b00;                 // t_d, t_q: int16 entries
+    wire   [IW+BW+1:0] roff = {{BW{1'b0}}, r16 ? {1'b0, ridx, 1'b0} : {ridx, 2'b00}};
+    wire     [BW-1:0] rbyte = rbase + roff[BW-1:0];           // modulo 2^BW
+    /* verilator lint_off UNUSEDSIGNAL */  // the offset above the address width; byte bit 0 (even bases)
+    wire unused_rd = &{1'b0, roff[IW+BW+1:BW], rbyte[0]};
+    /* verilator lint_on UNUSEDSIGNAL */
+
+    reg               mem_en_r;           // RAM read in this cycle
+    reg  [RAM_AW-1:0] mem_addr_r;
+    reg               ha, hd;             // byte bit 1 of the read (ha), of the word in mem_rdata (hd)
+    reg         [2:0] dt;                 // table, corner of the word in mem_rdata
+    reg         [1:0] dc;
+    reg         [2:0] at_t;               // table, corner of the read in this cycle
+    reg         [1:0] at_c;
+    reg               dv;                 // mem_rdata holds a read of this look-up
+    assign mem_en = mem_en_r;
+    assign mem_addr = mem_addr_r;
+    always @(posedge clk) begin
+        if (rst) begin
+            mem_en_r <= 1'b0;
+            dv <= 1'b0;
+        end else begin
+            mem_en_r <= rd_go;
+            dv <= mem_en_r;
+        end
+        if (rd_go) begin
+            mem_addr_r <= rbyte[BW-1:2];
+            ha <= rbyte[1];
+            at_t <= rt;
+            at_c <= rc;
+        end
+        hd <= ha;
+        dt <= at_t;
+        dc <= at_c;
+    end
+    wire              cap = busy_r && dv;
+    wire       [15:0] rd_h = hd ? mem_rdata[31:16] : mem_rdata[15:0];
+    wire signed [31:0] rd16 = {{16{rd_h[15]}}, rd_h};        // int16 entry, sign-extended
+    wire signed [31:0] rd32 = mem_rdata;
 
     wire [5*32-1:0] c00_v, c01_v, c10_v, c11_v;    // corners, sign-extended to s32, lane = table
     genvar gj;
     generate
         for (gj = 0; gj < 5; gj = gj + 1) begin : g_tab
-            localparam integer W = (gj < 2) ? 16 : 32;
             localparam [2:0] TID = gj;
-            reg        [W-1:0] mem [0:DEPTH-1];
-            reg        [W-1:0] rd;
-            always @(posedge clk) begin
-                if (tw_en && tw_table == TID)
-                    mem[tw_index[AW-1:0]] <= tw_data[W-1:0];
-                rd <= mem[rd_addr];
-            end
-            wire signed [31:0]  rdx;               // rd sign-extended
-            if (W < 32) begin : g_sx
-                assign rdx = {{(32 - W){rd[W-1]}}, rd};
-            end else begin : g_nosx
-                assign rdx = rd;
-            end
+            wire signed [31:0]  rdx = (gj < 2) ? rd16 : rd32;
             reg  signed [31:0]  t00, t01, t10, t11;
             always @(posedge clk) begin
-                if (at[S_RD0 + 6'd1]) t00 <= rdx;
-                if (at[S_RD0 + 6'd2]) t01 <= rdx;
-                if (at[S_RD0 + 6'd3]) t10 <= rdx;
-                if (at[S_RD0 + 6'd4]) t11 <= rdx;
+                if (cap && dt == TID) begin
+                    case (dc)
+                        2'd0:    t00 <= rdx;
+                        2'd1:    t01 <= rdx;
+                        2'd2:    t10 <= rdx;
+                        default: t11 <= rdx;
+                    endcase
+                end
             end
             assign c00_v[gj*32 +: 32] = t00;
             assign c01_v[gj*32 +: 32] = t01;
@@ -317,9 +390,6 @@ module hfi_flux_lut #(
             assign c11_v[gj*32 +: 32] = t11;
         end
     endgenerate
-    /* verilator lint_off UNUSEDSIGNAL */  // tw_index above AW - 1 for MAX_POINTS <= 512
-    wire unused_idx = &{1'b0, tw_index};
-    /* verilator lint_on UNUSEDSIGNAL */
 
     // ---- the shared multiplier -----------------------------------------------------------------------
     reg  signed [35:0] mA, A_r;

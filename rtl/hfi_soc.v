@@ -120,11 +120,17 @@ module hfi_soc #(
     wire [RAM_AW-1:0] i_raddr = i_adr[RAM_AW-1:0] + {{(RAM_AW-1){1'b0}}, i_ack && i_burst};
     wire [RAM_AW-1:0] d_raddr = d_adr[RAM_AW-1:0] + {{(RAM_AW-1){1'b0}}, d_ack_ram && d_burst};
 
+    // Port b is the data bus's, and the accelerators' flux-map unit reads its tables through it while the
+    // CPU waits on that unit (hfi_soc_acc: acc_mem_en only then, so no CPU access coincides); one address
+    // for the write and the read of port b keeps the RAM one true dual-port block RAM.
     wire [31:0] ram_ddat;
+    wire        acc_mem_en;
+    wire [RAM_AW-1:0] acc_mem_addr;
+    wire [RAM_AW-1:0] b_addr = acc_mem_en ? acc_mem_addr : d_raddr;
     hfi_ram #(.WORDS(RAM_WORDS), .INIT_FILE(RAM_INIT)) u_ram (
-        .clk(cpu_clk), .wstrb(sel_ram ? d_wstrb : 4'd0), .waddr(d_raddr), .wdata(d_wdat),
+        .clk(cpu_clk), .wstrb(sel_ram ? d_wstrb : 4'd0), .waddr(b_addr), .wdata(d_wdat),
         .ren(i_req && i_ram), .raddr(i_raddr), .rdata(ram_idat),
-        .ren_b(sel_ram), .raddr_b(d_raddr), .rdata_b(ram_ddat)
+        .ren_b(sel_ram || acc_mem_en), .raddr_b(b_addr), .rdata_b(ram_ddat)
     );
     always @(posedge cpu_clk) begin
         if (rst_cpu) begin
@@ -152,9 +158,10 @@ module hfi_soc #(
     // the arithmetic accelerators (the firmware's sin/cos and flux-map look-up, in the CPU clock)
     wire        acc_ready;
     wire [31:0] acc_rdata;
-    hfi_soc_acc u_acc (
+    hfi_soc_acc #(.RAM_AW(RAM_AW)) u_acc (
         .clk(cpu_clk), .rst(rst_cpu), .sel(sel_acc), .addr(d_byte[7:0]), .wstrb(d_wstrb), .wdata(d_wdat),
-        .rdata(acc_rdata), .ready(acc_ready)
+        .rdata(acc_rdata), .ready(acc_ready),
+        .mem_en(acc_mem_en), .mem_addr(acc_mem_addr), .mem_rdata(ram_ddat)
     );
 
     // hfi_dsp: the crossing into clk, then PicoRV32's native-to-AXI4-Lite adapter (from the

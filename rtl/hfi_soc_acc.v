@@ -5,21 +5,29 @@
 // calls the software (firmware/src/fw_acc.c):
 //   - sine/cosine: hfi_cordic with WIDTH 32 and 16 iterations = golden.fpga.cordic.sincos_q15(angle) =
 //     fw_sincos_q15 (18 CPU clocks from the SIN_ANGLE write to the result);
-//   - flux-map look-up: hfi_flux_lut = golden.firmware.flux_lut.lut_point = fw_lut_point, with its
-//     tables in block RAM (written once by the firmware through LUT_TW_ADDR / LUT_TW_DATA).
+//   - flux-map look-up: hfi_flux_lut = golden.firmware.flux_lut.lut_point = fw_lut_point; it reads the
+//     tables from the SoC RAM, where the firmware's configuration block holds them (LUT_BASE_*), through
+//     the RAM's data port (mem_*): the LUT_IQ write that starts a look-up is answered only when the
+//     look-up is done, so the CPU waits on its data bus and the port is free (mem_en is high only then).
 // Native PicoRV32-style bus as hfi_soc_ctl: `sel` for one access, answered with `ready`. An access that
 // must wait for a unit is answered when the unit is done, so the firmware never polls: a SIN_ANGLE write
-// or a SINCOS read waits while the CORDIC computes; every look-up register access waits while a
-// look-up runs (its inputs stay stable, its outputs are read complete). Writes store the whole word.
-module hfi_soc_acc (
-    input  wire        clk,
-    input  wire        rst,
-    input  wire        sel,
-    input  wire [7:0]  addr,
-    input  wire [3:0]  wstrb,
-    input  wire [31:0] wdata,
-    output reg  [31:0] rdata,
-    output reg         ready
+// or a SINCOS read waits while the CORDIC computes; the LUT_IQ write waits for its look-up (above).
+// Writes store the whole word.
+module hfi_soc_acc #(
+    parameter RAM_AW = 14                       // word-address width of the SoC RAM
+) (
+    input  wire              clk,
+    input  wire              rst,
+    input  wire              sel,
+    input  wire [7:0]        addr,
+    input  wire [3:0]        wstrb,
+    input  wire [31:0]       wdata,
+    output reg  [31:0]       rdata,
+    output reg               ready,
+    // the SoC RAM's data port, used only while the CPU waits on a LUT_IQ write
+    output wire              mem_en,
+    output wire [RAM_AW-1:0] mem_addr,
+    input  wire [31:0]       mem_rdata
 );
 /* verilator lint_off UNUSEDPARAM */
 `include "regs/hfi_acc_map.vh"
@@ -29,11 +37,16 @@ module hfi_soc_acc (
     wire is_sin = addr == ACC_SIN_ANGLE_ADDR || addr == ACC_SINCOS_ADDR;
     reg sc_run;                                   // sine/cosine: from the start to the done cycle (exclusive)
     reg lut_run;                                  // look-up: likewise
-    wire go = sel && !ready && (is_sin ? !sc_run : !lut_run);
-    wire write = go && wstrb != 4'd0;
-    wire read = go && wstrb == 4'd0;
+    // An access is taken (`take`: its write stored, its read data registered) when its unit is free;
+    // it is answered (`go`: ready in the next clock) then, except the LUT_IQ write, answered at lut_done.
+    wire is_iq = addr == ACC_LUT_IQ_ADDR && wstrb != 4'd0;
+    wire take = sel && !ready && !lut_run && (is_sin ? !sc_run : 1'b1);
+    wire write = take && wstrb != 4'd0;
+    wire read = take && wstrb == 4'd0;
     wire sc_start = write && addr == ACC_SIN_ANGLE_ADDR;
-    wire lut_start = write && addr == ACC_LUT_IQ_ADDR;
+    wire lut_start = write && is_iq;
+    wire lut_done;
+    wire go = (take && !is_iq) || lut_done;
 
     // ---------------------------------------------------------------- sine and cosine
     wire sc_done;
@@ -51,9 +64,7 @@ module hfi_soc_acc (
     reg [2:0] coarse;
     reg [4:0] f_shift;
     reg [31:0] knee, id;
-    reg [9:0] tw_index;
-    reg [2:0] tw_table;
-    wire lut_done;
+    reg [RAM_AW+1:0] base_d, base_q, base_ld, base_lq, base_ldq;
     wire signed [63:0] lam_d, lam_q, dl_d, dl_q, dl_dq;
     // l_d, l_q, l_dq interpolate the s28 inductance tables with fractions in 0..1: they fit s32, the
     // registers L_D, L_Q, L_DQ carry bits 31:0 (docs/acc_registers.md)
@@ -61,9 +72,10 @@ module hfi_soc_acc (
     wire signed [63:0] l_d, l_q, l_dq;
     /* verilator lint_on UNUSEDSIGNAL */
     /* verilator lint_off PINCONNECTEMPTY */
-    hfi_flux_lut u_lut (
+    hfi_flux_lut #(.RAM_AW(RAM_AW)) u_lut (
         .clk(clk), .rst(rst),
-        .tw_en(write && addr == ACC_LUT_TW_DATA_ADDR), .tw_table(tw_table), .tw_index(tw_index), .tw_data(wdata),
+        .base_d(base_d), .base_q(base_q), .base_ld(base_ld), .base_lq(base_lq), .base_ldq(base_ldq),
+        .mem_en(mem_en), .mem_addr(mem_addr), .mem_rdata(mem_rdata),
         .n_d(n_d), .n_q(n_q), .shift(shift), .knee(knee), .coarse(coarse), .f_shift(f_shift),
         .start(lut_start), .i_d(id), .i_q(wdata), .busy(), .done(lut_done),
         .lam_d(lam_d), .lam_q(lam_q), .l_d(l_d), .l_q(l_q), .l_dq(l_dq), .dl_d(dl_d), .dl_q(dl_q), .dl_dq(dl_dq)
@@ -83,8 +95,11 @@ module hfi_soc_acc (
             f_shift <= ACC_LUT_CFG_F_SHIFT_RESET;
             knee <= 32'd0;
             id <= 32'd0;
-            tw_index <= 10'd0;
-            tw_table <= 3'd0;
+            base_d <= 0;
+            base_q <= 0;
+            base_ld <= 0;
+            base_lq <= 0;
+            base_ldq <= 0;
         end else begin
             ready <= go;
             sc_run <= sc_start || (sc_run && !sc_done);
@@ -100,11 +115,11 @@ module hfi_soc_acc (
                     end
                     ACC_LUT_KNEE_ADDR:    knee <= wdata;
                     ACC_LUT_ID_ADDR:      id <= wdata;
-                    ACC_LUT_TW_ADDR_ADDR: begin
-                        tw_index <= wdata[ACC_LUT_TW_ADDR_INDEX_LSB +: ACC_LUT_TW_ADDR_INDEX_WIDTH];
-                        tw_table <= wdata[ACC_LUT_TW_ADDR_TABLE_LSB +: ACC_LUT_TW_ADDR_TABLE_WIDTH];
-                    end
-                    ACC_LUT_TW_DATA_ADDR: tw_index <= tw_index + 10'd1;
+                    ACC_LUT_BASE_D_ADDR:   base_d <= wdata[RAM_AW+1:0];
+                    ACC_LUT_BASE_Q_ADDR:   base_q <= wdata[RAM_AW+1:0];
+                    ACC_LUT_BASE_LD_ADDR:  base_ld <= wdata[RAM_AW+1:0];
+                    ACC_LUT_BASE_LQ_ADDR:  base_lq <= wdata[RAM_AW+1:0];
+                    ACC_LUT_BASE_LDQ_ADDR: base_ldq <= wdata[RAM_AW+1:0];
                     default: ;
                 endcase
             end
@@ -113,7 +128,11 @@ module hfi_soc_acc (
                     ACC_SINCOS_ADDR:      rdata <= {sc_cos, sc_sin};
                     ACC_LUT_CFG_ADDR:     rdata <= {3'd0, f_shift, 1'b0, coarse, shift, 1'b0, n_q, 1'b0, n_d};
                     ACC_LUT_KNEE_ADDR:    rdata <= knee;
-                    ACC_LUT_TW_ADDR_ADDR: rdata <= {13'd0, tw_table, 6'd0, tw_index};
+                    ACC_LUT_BASE_D_ADDR:   rdata <= {{(30-RAM_AW){1'b0}}, base_d};
+                    ACC_LUT_BASE_Q_ADDR:   rdata <= {{(30-RAM_AW){1'b0}}, base_q};
+                    ACC_LUT_BASE_LD_ADDR:  rdata <= {{(30-RAM_AW){1'b0}}, base_ld};
+                    ACC_LUT_BASE_LQ_ADDR:  rdata <= {{(30-RAM_AW){1'b0}}, base_lq};
+                    ACC_LUT_BASE_LDQ_ADDR: rdata <= {{(30-RAM_AW){1'b0}}, base_ldq};
                     ACC_LUT_ID_ADDR:      rdata <= id;
                     ACC_LAM_D_LO_ADDR:    rdata <= lam_d[31:0];
                     ACC_LAM_D_HI_ADDR:    rdata <= lam_d[63:32];

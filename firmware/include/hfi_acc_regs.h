@@ -84,36 +84,65 @@ typedef union {
     uint32_t w;
 } hfi_acc__LUT_KNEE_t;
 
-// reg - hfi_acc.LUT_TW_ADDR
-#define HFI_ACC__LUT_TW_ADDR__INDEX_bm 0x3ff
-#define HFI_ACC__LUT_TW_ADDR__INDEX_bp 0
-#define HFI_ACC__LUT_TW_ADDR__INDEX_bw 10
-#define HFI_ACC__LUT_TW_ADDR__INDEX_reset 0x0
-#define HFI_ACC__LUT_TW_ADDR__TABLE_bm 0x70000
-#define HFI_ACC__LUT_TW_ADDR__TABLE_bp 16
-#define HFI_ACC__LUT_TW_ADDR__TABLE_bw 3
-#define HFI_ACC__LUT_TW_ADDR__TABLE_reset 0x0
-typedef union {
-    struct __attribute__ ((__packed__)) {
-        uint32_t INDEX :10;
-        uint32_t :6;
-        uint32_t TABLE :3;
-        uint32_t :13;
-    } f;
-    uint32_t w;
-} hfi_acc__LUT_TW_ADDR_t;
-
-// reg - hfi_acc.LUT_TW_DATA
-#define HFI_ACC__LUT_TW_DATA__VALUE_bm 0xffffffff
-#define HFI_ACC__LUT_TW_DATA__VALUE_bp 0
-#define HFI_ACC__LUT_TW_DATA__VALUE_bw 32
-#define HFI_ACC__LUT_TW_DATA__VALUE_reset 0x0
+// reg - hfi_acc.LUT_BASE_D
+#define HFI_ACC__LUT_BASE_D__VALUE_bm 0xffffffff
+#define HFI_ACC__LUT_BASE_D__VALUE_bp 0
+#define HFI_ACC__LUT_BASE_D__VALUE_bw 32
+#define HFI_ACC__LUT_BASE_D__VALUE_reset 0x0
 typedef union {
     struct __attribute__ ((__packed__)) {
         uint32_t VALUE :32;
     } f;
     uint32_t w;
-} hfi_acc__LUT_TW_DATA_t;
+} hfi_acc__LUT_BASE_D_t;
+
+// reg - hfi_acc.LUT_BASE_Q
+#define HFI_ACC__LUT_BASE_Q__VALUE_bm 0xffffffff
+#define HFI_ACC__LUT_BASE_Q__VALUE_bp 0
+#define HFI_ACC__LUT_BASE_Q__VALUE_bw 32
+#define HFI_ACC__LUT_BASE_Q__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_acc__LUT_BASE_Q_t;
+
+// reg - hfi_acc.LUT_BASE_LD
+#define HFI_ACC__LUT_BASE_LD__VALUE_bm 0xffffffff
+#define HFI_ACC__LUT_BASE_LD__VALUE_bp 0
+#define HFI_ACC__LUT_BASE_LD__VALUE_bw 32
+#define HFI_ACC__LUT_BASE_LD__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_acc__LUT_BASE_LD_t;
+
+// reg - hfi_acc.LUT_BASE_LQ
+#define HFI_ACC__LUT_BASE_LQ__VALUE_bm 0xffffffff
+#define HFI_ACC__LUT_BASE_LQ__VALUE_bp 0
+#define HFI_ACC__LUT_BASE_LQ__VALUE_bw 32
+#define HFI_ACC__LUT_BASE_LQ__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_acc__LUT_BASE_LQ_t;
+
+// reg - hfi_acc.LUT_BASE_LDQ
+#define HFI_ACC__LUT_BASE_LDQ__VALUE_bm 0xffffffff
+#define HFI_ACC__LUT_BASE_LDQ__VALUE_bp 0
+#define HFI_ACC__LUT_BASE_LDQ__VALUE_bw 32
+#define HFI_ACC__LUT_BASE_LDQ__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_acc__LUT_BASE_LDQ_t;
 
 // reg - hfi_acc.LUT_ID
 #define HFI_ACC__LUT_ID__VALUE_bm 0xffffffff
@@ -288,8 +317,11 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_acc__SINCOS_t SINCOS;
     hfi_acc__LUT_CFG_t LUT_CFG;
     hfi_acc__LUT_KNEE_t LUT_KNEE;
-    hfi_acc__LUT_TW_ADDR_t LUT_TW_ADDR;
-    hfi_acc__LUT_TW_DATA_t LUT_TW_DATA;
+    hfi_acc__LUT_BASE_D_t LUT_BASE_D;
+    hfi_acc__LUT_BASE_Q_t LUT_BASE_Q;
+    hfi_acc__LUT_BASE_LD_t LUT_BASE_LD;
+    hfi_acc__LUT_BASE_LQ_t LUT_BASE_LQ;
+    hfi_acc__LUT_BASE_LDQ_t LUT_BASE_LDQ;
     hfi_acc__LUT_ID_t LUT_ID;
     hfi_acc__LUT_IQ_t LUT_IQ;
     hfi_acc__LAM_D_LO_t LAM_D_LO;
@@ -314,34 +346,40 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_ACC__SINCOS_offset 0x04
 #define HFI_ACC__LUT_CFG_offset 0x08
 #define HFI_ACC__LUT_KNEE_offset 0x0c
-#define HFI_ACC__LUT_TW_ADDR_offset 0x10
-#define HFI_ACC__LUT_TW_DATA_offset 0x14
-#define HFI_ACC__LUT_ID_offset 0x18
-#define HFI_ACC__LUT_IQ_offset 0x1c
-#define HFI_ACC__LAM_D_LO_offset 0x20
-#define HFI_ACC__LAM_D_HI_offset 0x24
-#define HFI_ACC__LAM_Q_LO_offset 0x28
-#define HFI_ACC__LAM_Q_HI_offset 0x2c
-#define HFI_ACC__L_D_offset 0x30
-#define HFI_ACC__L_Q_offset 0x34
-#define HFI_ACC__L_DQ_offset 0x38
-#define HFI_ACC__DL_D_LO_offset 0x3c
-#define HFI_ACC__DL_D_HI_offset 0x40
-#define HFI_ACC__DL_Q_LO_offset 0x44
-#define HFI_ACC__DL_Q_HI_offset 0x48
-#define HFI_ACC__DL_DQ_LO_offset 0x4c
-#define HFI_ACC__DL_DQ_HI_offset 0x50
+#define HFI_ACC__LUT_BASE_D_offset 0x10
+#define HFI_ACC__LUT_BASE_Q_offset 0x14
+#define HFI_ACC__LUT_BASE_LD_offset 0x18
+#define HFI_ACC__LUT_BASE_LQ_offset 0x1c
+#define HFI_ACC__LUT_BASE_LDQ_offset 0x20
+#define HFI_ACC__LUT_ID_offset 0x24
+#define HFI_ACC__LUT_IQ_offset 0x28
+#define HFI_ACC__LAM_D_LO_offset 0x2c
+#define HFI_ACC__LAM_D_HI_offset 0x30
+#define HFI_ACC__LAM_Q_LO_offset 0x34
+#define HFI_ACC__LAM_Q_HI_offset 0x38
+#define HFI_ACC__L_D_offset 0x3c
+#define HFI_ACC__L_Q_offset 0x40
+#define HFI_ACC__L_DQ_offset 0x44
+#define HFI_ACC__DL_D_LO_offset 0x48
+#define HFI_ACC__DL_D_HI_offset 0x4c
+#define HFI_ACC__DL_Q_LO_offset 0x50
+#define HFI_ACC__DL_Q_HI_offset 0x54
+#define HFI_ACC__DL_DQ_LO_offset 0x58
+#define HFI_ACC__DL_DQ_HI_offset 0x5c
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_acc_t) == 0x54, "hfi_acc_t: size");
+_Static_assert(sizeof(hfi_acc_t) == 0x60, "hfi_acc_t: size");
 _Static_assert(offsetof(hfi_acc_t, SIN_ANGLE) == HFI_ACC__SIN_ANGLE_offset, "hfi_acc_t: SIN_ANGLE offset");
 _Static_assert(offsetof(hfi_acc_t, SINCOS) == HFI_ACC__SINCOS_offset, "hfi_acc_t: SINCOS offset");
 _Static_assert(offsetof(hfi_acc_t, LUT_CFG) == HFI_ACC__LUT_CFG_offset, "hfi_acc_t: LUT_CFG offset");
 _Static_assert(offsetof(hfi_acc_t, LUT_KNEE) == HFI_ACC__LUT_KNEE_offset, "hfi_acc_t: LUT_KNEE offset");
-_Static_assert(offsetof(hfi_acc_t, LUT_TW_ADDR) == HFI_ACC__LUT_TW_ADDR_offset, "hfi_acc_t: LUT_TW_ADDR offset");
-_Static_assert(offsetof(hfi_acc_t, LUT_TW_DATA) == HFI_ACC__LUT_TW_DATA_offset, "hfi_acc_t: LUT_TW_DATA offset");
+_Static_assert(offsetof(hfi_acc_t, LUT_BASE_D) == HFI_ACC__LUT_BASE_D_offset, "hfi_acc_t: LUT_BASE_D offset");
+_Static_assert(offsetof(hfi_acc_t, LUT_BASE_Q) == HFI_ACC__LUT_BASE_Q_offset, "hfi_acc_t: LUT_BASE_Q offset");
+_Static_assert(offsetof(hfi_acc_t, LUT_BASE_LD) == HFI_ACC__LUT_BASE_LD_offset, "hfi_acc_t: LUT_BASE_LD offset");
+_Static_assert(offsetof(hfi_acc_t, LUT_BASE_LQ) == HFI_ACC__LUT_BASE_LQ_offset, "hfi_acc_t: LUT_BASE_LQ offset");
+_Static_assert(offsetof(hfi_acc_t, LUT_BASE_LDQ) == HFI_ACC__LUT_BASE_LDQ_offset, "hfi_acc_t: LUT_BASE_LDQ offset");
 _Static_assert(offsetof(hfi_acc_t, LUT_ID) == HFI_ACC__LUT_ID_offset, "hfi_acc_t: LUT_ID offset");
 _Static_assert(offsetof(hfi_acc_t, LUT_IQ) == HFI_ACC__LUT_IQ_offset, "hfi_acc_t: LUT_IQ offset");
 _Static_assert(offsetof(hfi_acc_t, LAM_D_LO) == HFI_ACC__LAM_D_LO_offset, "hfi_acc_t: LAM_D_LO offset");

@@ -42,107 +42,122 @@ localparam integer ACC_LUT_KNEE_VALUE_LSB = 0;  // rw
 localparam integer ACC_LUT_KNEE_VALUE_WIDTH = 32;
 localparam [31:0] ACC_LUT_KNEE_VALUE_RESET = 32'h0;
 
-// LUT_TW_ADDR @ 0x10: Table write address
-localparam [7:0] ACC_LUT_TW_ADDR_ADDR = 8'h10;
-localparam integer ACC_LUT_TW_ADDR_INDEX_LSB = 0;  // rw
-localparam integer ACC_LUT_TW_ADDR_INDEX_WIDTH = 10;
-localparam [9:0] ACC_LUT_TW_ADDR_INDEX_RESET = 10'h0;
-localparam integer ACC_LUT_TW_ADDR_TABLE_LSB = 16;  // rw
-localparam integer ACC_LUT_TW_ADDR_TABLE_WIDTH = 3;
-localparam [2:0] ACC_LUT_TW_ADDR_TABLE_RESET = 3'h0;
+// LUT_BASE_D @ 0x10: Table t_d
+localparam [7:0] ACC_LUT_BASE_D_ADDR = 8'h10;
+localparam integer ACC_LUT_BASE_D_VALUE_LSB = 0;  // rw
+localparam integer ACC_LUT_BASE_D_VALUE_WIDTH = 32;
+localparam [31:0] ACC_LUT_BASE_D_VALUE_RESET = 32'h0;
 
-// LUT_TW_DATA @ 0x14: Table write data
-localparam [7:0] ACC_LUT_TW_DATA_ADDR = 8'h14;
-localparam integer ACC_LUT_TW_DATA_VALUE_LSB = 0;  // wo
-localparam integer ACC_LUT_TW_DATA_VALUE_WIDTH = 32;
-localparam [31:0] ACC_LUT_TW_DATA_VALUE_RESET = 32'h0;
+// LUT_BASE_Q @ 0x14: Table t_q
+localparam [7:0] ACC_LUT_BASE_Q_ADDR = 8'h14;
+localparam integer ACC_LUT_BASE_Q_VALUE_LSB = 0;  // rw
+localparam integer ACC_LUT_BASE_Q_VALUE_WIDTH = 32;
+localparam [31:0] ACC_LUT_BASE_Q_VALUE_RESET = 32'h0;
 
-// LUT_ID @ 0x18: Look-up current i_d
-localparam [7:0] ACC_LUT_ID_ADDR = 8'h18;
+// LUT_BASE_LD @ 0x18: Table t_ld
+localparam [7:0] ACC_LUT_BASE_LD_ADDR = 8'h18;
+localparam integer ACC_LUT_BASE_LD_VALUE_LSB = 0;  // rw
+localparam integer ACC_LUT_BASE_LD_VALUE_WIDTH = 32;
+localparam [31:0] ACC_LUT_BASE_LD_VALUE_RESET = 32'h0;
+
+// LUT_BASE_LQ @ 0x1C: Table t_lq
+localparam [7:0] ACC_LUT_BASE_LQ_ADDR = 8'h1C;
+localparam integer ACC_LUT_BASE_LQ_VALUE_LSB = 0;  // rw
+localparam integer ACC_LUT_BASE_LQ_VALUE_WIDTH = 32;
+localparam [31:0] ACC_LUT_BASE_LQ_VALUE_RESET = 32'h0;
+
+// LUT_BASE_LDQ @ 0x20: Table t_ldq
+localparam [7:0] ACC_LUT_BASE_LDQ_ADDR = 8'h20;
+localparam integer ACC_LUT_BASE_LDQ_VALUE_LSB = 0;  // rw
+localparam integer ACC_LUT_BASE_LDQ_VALUE_WIDTH = 32;
+localparam [31:0] ACC_LUT_BASE_LDQ_VALUE_RESET = 32'h0;
+
+// LUT_ID @ 0x24: Look-up current i_d
+localparam [7:0] ACC_LUT_ID_ADDR = 8'h24;
 localparam integer ACC_LUT_ID_VALUE_LSB = 0;  // rw
 localparam integer ACC_LUT_ID_VALUE_WIDTH = 32;
 localparam [31:0] ACC_LUT_ID_VALUE_RESET = 32'h0;
 
-// LUT_IQ @ 0x1C: Look-up current i_q
-localparam [7:0] ACC_LUT_IQ_ADDR = 8'h1C;
+// LUT_IQ @ 0x28: Look-up current i_q
+localparam [7:0] ACC_LUT_IQ_ADDR = 8'h28;
 localparam integer ACC_LUT_IQ_VALUE_LSB = 0;  // rw
 localparam integer ACC_LUT_IQ_VALUE_WIDTH = 32;
 localparam [31:0] ACC_LUT_IQ_VALUE_RESET = 32'h0;
 
-// LAM_D_LO @ 0x20: Look-up lam_d, low word
-localparam [7:0] ACC_LAM_D_LO_ADDR = 8'h20;
+// LAM_D_LO @ 0x2C: Look-up lam_d, low word
+localparam [7:0] ACC_LAM_D_LO_ADDR = 8'h2C;
 localparam integer ACC_LAM_D_LO_VALUE_LSB = 0;  // ro
 localparam integer ACC_LAM_D_LO_VALUE_WIDTH = 32;
 localparam [31:0] ACC_LAM_D_LO_VALUE_RESET = 32'h0;
 
-// LAM_D_HI @ 0x24: Look-up lam_d, high word
-localparam [7:0] ACC_LAM_D_HI_ADDR = 8'h24;
+// LAM_D_HI @ 0x30: Look-up lam_d, high word
+localparam [7:0] ACC_LAM_D_HI_ADDR = 8'h30;
 localparam integer ACC_LAM_D_HI_VALUE_LSB = 0;  // ro
 localparam integer ACC_LAM_D_HI_VALUE_WIDTH = 32;
 localparam [31:0] ACC_LAM_D_HI_VALUE_RESET = 32'h0;
 
-// LAM_Q_LO @ 0x28: Look-up lam_q, low word
-localparam [7:0] ACC_LAM_Q_LO_ADDR = 8'h28;
+// LAM_Q_LO @ 0x34: Look-up lam_q, low word
+localparam [7:0] ACC_LAM_Q_LO_ADDR = 8'h34;
 localparam integer ACC_LAM_Q_LO_VALUE_LSB = 0;  // ro
 localparam integer ACC_LAM_Q_LO_VALUE_WIDTH = 32;
 localparam [31:0] ACC_LAM_Q_LO_VALUE_RESET = 32'h0;
 
-// LAM_Q_HI @ 0x2C: Look-up lam_q, high word
-localparam [7:0] ACC_LAM_Q_HI_ADDR = 8'h2C;
+// LAM_Q_HI @ 0x38: Look-up lam_q, high word
+localparam [7:0] ACC_LAM_Q_HI_ADDR = 8'h38;
 localparam integer ACC_LAM_Q_HI_VALUE_LSB = 0;  // ro
 localparam integer ACC_LAM_Q_HI_VALUE_WIDTH = 32;
 localparam [31:0] ACC_LAM_Q_HI_VALUE_RESET = 32'h0;
 
-// L_D @ 0x30: Look-up l_d
-localparam [7:0] ACC_L_D_ADDR = 8'h30;
+// L_D @ 0x3C: Look-up l_d
+localparam [7:0] ACC_L_D_ADDR = 8'h3C;
 localparam integer ACC_L_D_VALUE_LSB = 0;  // ro
 localparam integer ACC_L_D_VALUE_WIDTH = 32;
 localparam [31:0] ACC_L_D_VALUE_RESET = 32'h0;
 
-// L_Q @ 0x34: Look-up l_q
-localparam [7:0] ACC_L_Q_ADDR = 8'h34;
+// L_Q @ 0x40: Look-up l_q
+localparam [7:0] ACC_L_Q_ADDR = 8'h40;
 localparam integer ACC_L_Q_VALUE_LSB = 0;  // ro
 localparam integer ACC_L_Q_VALUE_WIDTH = 32;
 localparam [31:0] ACC_L_Q_VALUE_RESET = 32'h0;
 
-// L_DQ @ 0x38: Look-up l_dq
-localparam [7:0] ACC_L_DQ_ADDR = 8'h38;
+// L_DQ @ 0x44: Look-up l_dq
+localparam [7:0] ACC_L_DQ_ADDR = 8'h44;
 localparam integer ACC_L_DQ_VALUE_LSB = 0;  // ro
 localparam integer ACC_L_DQ_VALUE_WIDTH = 32;
 localparam [31:0] ACC_L_DQ_VALUE_RESET = 32'h0;
 
-// DL_D_LO @ 0x3C: Look-up dl_d, low word
-localparam [7:0] ACC_DL_D_LO_ADDR = 8'h3C;
+// DL_D_LO @ 0x48: Look-up dl_d, low word
+localparam [7:0] ACC_DL_D_LO_ADDR = 8'h48;
 localparam integer ACC_DL_D_LO_VALUE_LSB = 0;  // ro
 localparam integer ACC_DL_D_LO_VALUE_WIDTH = 32;
 localparam [31:0] ACC_DL_D_LO_VALUE_RESET = 32'h0;
 
-// DL_D_HI @ 0x40: Look-up dl_d, high word
-localparam [7:0] ACC_DL_D_HI_ADDR = 8'h40;
+// DL_D_HI @ 0x4C: Look-up dl_d, high word
+localparam [7:0] ACC_DL_D_HI_ADDR = 8'h4C;
 localparam integer ACC_DL_D_HI_VALUE_LSB = 0;  // ro
 localparam integer ACC_DL_D_HI_VALUE_WIDTH = 32;
 localparam [31:0] ACC_DL_D_HI_VALUE_RESET = 32'h0;
 
-// DL_Q_LO @ 0x44: Look-up dl_q, low word
-localparam [7:0] ACC_DL_Q_LO_ADDR = 8'h44;
+// DL_Q_LO @ 0x50: Look-up dl_q, low word
+localparam [7:0] ACC_DL_Q_LO_ADDR = 8'h50;
 localparam integer ACC_DL_Q_LO_VALUE_LSB = 0;  // ro
 localparam integer ACC_DL_Q_LO_VALUE_WIDTH = 32;
 localparam [31:0] ACC_DL_Q_LO_VALUE_RESET = 32'h0;
 
-// DL_Q_HI @ 0x48: Look-up dl_q, high word
-localparam [7:0] ACC_DL_Q_HI_ADDR = 8'h48;
+// DL_Q_HI @ 0x54: Look-up dl_q, high word
+localparam [7:0] ACC_DL_Q_HI_ADDR = 8'h54;
 localparam integer ACC_DL_Q_HI_VALUE_LSB = 0;  // ro
 localparam integer ACC_DL_Q_HI_VALUE_WIDTH = 32;
 localparam [31:0] ACC_DL_Q_HI_VALUE_RESET = 32'h0;
 
-// DL_DQ_LO @ 0x4C: Look-up dl_dq, low word
-localparam [7:0] ACC_DL_DQ_LO_ADDR = 8'h4C;
+// DL_DQ_LO @ 0x58: Look-up dl_dq, low word
+localparam [7:0] ACC_DL_DQ_LO_ADDR = 8'h58;
 localparam integer ACC_DL_DQ_LO_VALUE_LSB = 0;  // ro
 localparam integer ACC_DL_DQ_LO_VALUE_WIDTH = 32;
 localparam [31:0] ACC_DL_DQ_LO_VALUE_RESET = 32'h0;
 
-// DL_DQ_HI @ 0x50: Look-up dl_dq, high word
-localparam [7:0] ACC_DL_DQ_HI_ADDR = 8'h50;
+// DL_DQ_HI @ 0x5C: Look-up dl_dq, high word
+localparam [7:0] ACC_DL_DQ_HI_ADDR = 8'h5C;
 localparam integer ACC_DL_DQ_HI_VALUE_LSB = 0;  // ro
 localparam integer ACC_DL_DQ_HI_VALUE_WIDTH = 32;
 localparam [31:0] ACC_DL_DQ_HI_VALUE_RESET = 32'h0;

@@ -112,3 +112,11 @@ def test_bad_source_values_are_refused(monkeypatch):
     monkeypatch.setattr(sp, "DSP_BASE", sp.CTL_BASE)
     with pytest.raises(gen.PlatformError, match="share a page"):
         gen.render_verilog()
+
+
+def test_firmware_budget_by_period():
+    """The step's budget (docs/soc.md, "Firmware budget"): 25 % of a 5 kHz period (issue 15), 70 % of the
+    10 kHz methods' 100 us (issue 18: 30 % to spare); the 200 us boundary belongs to the long periods."""
+    from hfi.rtl_backend import fw_budget_share
+    assert fw_budget_share(1 / 5e3) == fw_budget_share(200e-6) == fw_budget_share(1e-3) == 0.25
+    assert fw_budget_share(1 / 10e3) == fw_budget_share(199e-6) == 0.70

@@ -727,21 +727,15 @@ static int64_t abs64(int64_t x)
     return x < 0 ? -x : x;
 }
 
-static const int32_t fcs_states[6] = {1, 3, 2, 6, 4, 5}; /* golden.fpga.fcs_mpc.ACTIVE_STATES */
-static const int32_t fcs_vx[6] = {21845, 10923, -10923, -21845, -10923, 10923}; /* VX */
-static const int32_t fcs_vy[6] = {0, 18919, 18919, 0, -18919, -18919};        /* VY */
+/* golden.fpga.fcs_mpc.state_voltage by state 0..7 (bit 0 = phase a): VX, VY of the active states 001, 011,
+ * 010, 110, 100, 101 ((2/3) 2^15 (cos, sin)(60 deg j), j = 0..5), 0 for 000 and 111 */
+static const int32_t state_vx[8] = {0, 21845, -10923, 10923, -10923, 10923, -21845, 0};
+static const int32_t state_vy[8] = {0, 0, 18919, 18919, -18919, -18919, 0, 0};
 
-/* golden.fpga.fcs_mpc.state_voltage (state 0..7) */
 void fw_state_voltage(int32_t state, int32_t *v_al, int32_t *v_be)
 {
-    *v_al = 0;
-    *v_be = 0;
-    for (int j = 0; j < 6; j++) {
-        if (fcs_states[j] == state) {
-            *v_al = fcs_vx[j];
-            *v_be = fcs_vy[j];
-        }
-    }
+    *v_al = state_vx[state & 7];
+    *v_be = state_vy[state & 7];
 }
 
 /* golden.firmware.flux_lut.warp (x >= 0) */

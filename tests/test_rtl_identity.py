@@ -57,8 +57,8 @@ def tap2023_4khz():
 
 def varatharajan2020_2khz():
     """The 003 drive (scenarios/varatharajan2020_torquestep.toml: law fcs_mpc, CTRL.DIRECT, the estimator
-    hfo_proj) at 2 kHz: its firmware step takes about 16 700 CPU clocks (17 400 worst) on the soft core,
-    more than the 5000 of the scenario's 10 kHz period, and the first step's CTRL.ENABLE must land within
+    hfo_proj) at 2 kHz: its firmware step takes about 9400 CPU clocks (10 500 worst; with the accelerators
+    of hfi_soc_acc, docs/soc.md) on the soft core, more than the 5000 of the scenario's 10 kHz period, and the first step's CTRL.ENABLE must land within
     three quarters of a period (18 750 clocks at 2 kHz). So the rtl backend runs it at f_sw / 5 with V_dc / 5
     (the same flux per vector and period, so the same current ripple per period: 3 A on l_d, not 15 A
     through the trip limit), the voltage thresholds phi_min and phi_knee / 5 with it, and the 2 p.u. load

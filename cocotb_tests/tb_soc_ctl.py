@@ -595,13 +595,15 @@ def read_hex_image(path: str) -> list[int]:
 
 
 class RamModel:
-    """Word array with byte-lane writes; a read returns the word as before the edge's write."""
+    """Word array with byte-lane writes; a read returns the word as before the edge's write, except a read
+    of the word written at the same edge: its value is undefined in the hardware (hfi_ram's header:
+    `no_rw_check`, the SoC never uses it), so the model returns None (not checked)."""
 
     def __init__(self, words: list[int]):
         self.mem = list(words)
 
     def edge(self, wstrb: int, waddr: int, wdata: int, ren: int, raddr: int) -> int | None:
-        rdata = self.mem[raddr] if ren else None
+        rdata = self.mem[raddr] if ren and not (wstrb and raddr == waddr) else None
         lanes = sum(0xFF << 8 * k for k in range(4) if wstrb >> k & 1)
         self.mem[waddr] = self.mem[waddr] & ~lanes | wdata & lanes
         return rdata
@@ -630,10 +632,11 @@ async def ram_init_file(dut):
 
 
 @cocotb.test()
-async def ram_strobes_and_read_during_write(dut):
-    """Random writes with every byte strobe pattern and reads, one clock latency, a read of the word
-    written in the same clock returning the old word (HFI_RANDOM_N clocks; a few hot addresses)."""
-    b = Bench(dut, "ram_strobes_and_read_during_write")
+async def ram_strobes_and_collisions(dut):
+    """Random writes with every byte strobe pattern and reads, one clock latency; reads of the word written
+    in the same clock happen often (not checked: undefined), and every later read of it sees the write
+    (HFI_RANDOM_N clocks; a few hot addresses)."""
+    b = Bench(dut, "ram_strobes_and_collisions")
     await b.start()
     ram = RamModel(read_hex_image(os.environ["HFI_RAM_INIT"]))
     n_words = len(ram.mem)

@@ -121,16 +121,15 @@ module hfi_soc #(
     wire [RAM_AW-1:0] d_raddr = d_adr[RAM_AW-1:0] + {{(RAM_AW-1){1'b0}}, d_ack_ram && d_burst};
 
     // Port b is the data bus's, and the accelerators' flux-map unit reads its tables through it while the
-    // CPU waits on that unit (hfi_soc_acc: acc_mem_en only then, so no CPU access coincides); one address
-    // for the write and the read of port b keeps the RAM one true dual-port block RAM.
+    // CPU waits on that unit (hfi_soc_acc: acc_mem_en only then, so no CPU access coincides).
     wire [31:0] ram_ddat;
     wire        acc_mem_en;
     wire [RAM_AW-1:0] acc_mem_addr;
     wire [RAM_AW-1:0] b_addr = acc_mem_en ? acc_mem_addr : d_raddr;
     hfi_ram #(.WORDS(RAM_WORDS), .INIT_FILE(RAM_INIT)) u_ram (
-        .clk(cpu_clk), .wstrb(sel_ram ? d_wstrb : 4'd0), .waddr(b_addr), .wdata(d_wdat),
-        .ren(i_req && i_ram), .raddr(i_raddr), .rdata(ram_idat),
-        .ren_b(sel_ram || acc_mem_en), .raddr_b(b_addr), .rdata_b(ram_ddat)
+        .clk(cpu_clk), .ren(i_req && i_ram), .raddr(i_raddr), .rdata(ram_idat),
+        .wstrb(sel_ram ? d_wstrb : 4'd0), .wdata(d_wdat),
+        .ren_b(sel_ram || acc_mem_en), .addr_b(b_addr), .rdata_b(ram_ddat)
     );
     always @(posedge cpu_clk) begin
         if (rst_cpu) begin

@@ -67,8 +67,8 @@ module tb_flux_lut_ram #(
     wire unused = &{1'b0, ram_rdata_a};
     /* verilator lint_on UNUSEDSIGNAL */
     hfi_ram #(.WORDS(1 << RAM_AW)) u_ram (
-        .clk(clk), .wstrb(ram_wstrb), .waddr(b_addr), .wdata(ram_wdata), .ren(1'b0), .raddr(b_addr),
-        .rdata(ram_rdata_a), .ren_b(mem_en), .raddr_b(b_addr), .rdata_b(ram_rdata_b)
+        .clk(clk), .ren(1'b0), .raddr(b_addr), .rdata(ram_rdata_a),
+        .wstrb(ram_wstrb), .wdata(ram_wdata), .ren_b(mem_en), .addr_b(b_addr), .rdata_b(ram_rdata_b)
     );
 
     hfi_flux_lut #(.RAM_AW(RAM_AW)) u_lut (

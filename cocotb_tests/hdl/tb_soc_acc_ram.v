@@ -24,8 +24,8 @@ module tb_soc_acc_ram #(
         .ready(ready), .mem_en(mem_en), .mem_addr(mem_addr), .mem_rdata(mem_rdata)
     );
     hfi_ram #(.WORDS(1 << RAM_AW), .INIT_FILE(RAM_INIT)) u_ram (
-        .clk(clk), .wstrb(4'd0), .waddr(mem_addr), .wdata(32'd0), .ren(1'b0), .raddr({RAM_AW{1'b0}}),
-        .rdata(unused_a), .ren_b(mem_en), .raddr_b(mem_addr), .rdata_b(mem_rdata)
+        .clk(clk), .ren(1'b0), .raddr({RAM_AW{1'b0}}), .rdata(unused_a),
+        .wstrb(4'd0), .wdata(32'd0), .ren_b(mem_en), .addr_b(mem_addr), .rdata_b(mem_rdata)
     );
     wire unused = &{1'b0, unused_a};
 endmodule

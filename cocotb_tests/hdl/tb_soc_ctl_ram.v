@@ -37,8 +37,8 @@ module tb_soc_ctl_ram #(
     wire [31:0] ram_rdata_b;   // read port b: the CPU data bus in hfi_soc, unused here
     wire unused = &{1'b0, ram_rdata_b};
     hfi_ram #(.WORDS(RAM_WORDS), .INIT_FILE(RAM_INIT)) u_ram (
-        .clk(clk), .wstrb(ram_wstrb), .waddr(ram_waddr), .wdata(ram_wdata), .ren(ram_ren),
-        .raddr(ram_raddr), .rdata(ram_rdata), .ren_b(1'b0), .raddr_b(ram_raddr), .rdata_b(ram_rdata_b)
+        .clk(clk), .ren(ram_ren), .raddr(ram_raddr), .rdata(ram_rdata),
+        .wstrb(ram_wstrb), .wdata(ram_wdata), .ren_b(1'b0), .addr_b(ram_waddr), .rdata_b(ram_rdata_b)
     );
 endmodule
 `default_nettype wire

@@ -86,6 +86,13 @@ def _fill(cstruct, values: dict, keep: list, path: str) -> None:
                     keep.append(buf)
                     setattr(getattr(cstruct, key), name, buf)
             _fill(getattr(cstruct, key), value, keep, where + ".")
+        elif ftype.kind == "pointer" and ftype.item.cname == "struct fault":
+            faults = list(value)
+            buf = ffi.new("struct fault[]", max(len(faults), 1))
+            keep.append(buf)
+            for k, fault in enumerate(faults):
+                _fill(buf[k], fault, keep, f"{where}[{k}].")
+            cstruct.faults, cstruct.n_faults = buf, len(faults)
         elif ftype.kind == "pointer":
             if value is None:
                 setattr(cstruct, key, ffi.NULL)

@@ -64,6 +64,7 @@ _DEFAULTS: dict = {
     "speed": {"t": [], "v": [], "puls_freq": 0.0, "puls_depth": 0.0},
     "theta_m0": 0.0,
     "omega_m0": 0.0,
+    "faults": [],  # struct fault entries (kind, channel, tick, value, rate), in tick order: docs/faults.md
 }
 
 

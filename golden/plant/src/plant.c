@@ -29,6 +29,7 @@
 #define GAUSS_BLOCK 64
 #define RING_CACHE 8 /* phasor rotations kept: the sample spacing and the odd intervals around edges */
 #define COMMUTATION_OVERSHOOT 0.01 /* ticks past the predicted rail crossing */
+#define OPEN_PHASE_TAU 10e-6       /* an open phase's current decays to 0 with this time constant [s] */
 
 /* state vector indices */
 enum { X_PSID, X_PSIQ, X_OMM, X_THM, X_VNA, X_VNB, X_VNC, X_EIN, X_ECU, X_EMECH, NX };
@@ -49,6 +50,7 @@ struct mag_model {
 struct plant {
     struct plant_params p;
     double *owned;            /* copies of profile and table arrays */
+    struct fault *faults_owned; /* copy of the fault list */
     struct mag_model mag;
     long long tick;
     double sub;               /* ticks of the step sequence inside advance() (0 outside) */
@@ -80,6 +82,18 @@ struct plant {
     double cur_psid, cur_psiq, cur_id, cur_iq; /* mag_currents() at (cur_psid, cur_psiq) */
     double load_t, load_v;                     /* load profile at load_t */
     double load_lo, load_hi, load_hold;        /* the load profile is load_hold on [load_lo, load_hi) */
+    /* faults (docs/faults.md): the next one to apply, and the effects of those applied */
+    int fault_next;
+    int sens_fault;           /* 1 once a sensor or ADC fault acts: sample() takes the slow path */
+    double f_gain[3];         /* sensor gain factors */
+    double f_off[3], f_rate[3]; /* sensor offset added: f_off + f_rate * t [A] */
+    int f_stuck[3];           /* ADC code forced (-1: none) */
+    int open_phase;           /* phase disconnected (-1: none) */
+    int dead_switches;        /* gate bits whose switch never turns on */
+    int dc_fault;             /* dc link: V * (dc_value + (1 - dc_value) exp(-(t - dc_t0)/dc_tau)) */
+    double dc_value, dc_tau, dc_t0;
+    double load_add;          /* load torque added [N*m] */
+    int blocked;              /* rotor held: speed 0 */
 };
 
 /* quantities computed along with the derivative, for outputs */
@@ -300,13 +314,17 @@ static double tick_time(const struct plant *p, long long tick) { return (double)
 static double bus_voltage(struct plant *p, double t)
 {
     const struct inverter_params *inv = &p->p.inv;
-    if (inv->ripple_amp == 0.0)
-        return inv->V_dc;
-    if (!same_bits(t, p->bus_t)) {
-        p->bus_t = t;
-        p->bus_v = inv->V_dc + inv->ripple_amp * sin(TWO_PI * inv->ripple_freq * t);
+    double v = inv->V_dc;
+    if (inv->ripple_amp != 0.0) {
+        if (!same_bits(t, p->bus_t)) {
+            p->bus_t = t;
+            p->bus_v = inv->V_dc + inv->ripple_amp * sin(TWO_PI * inv->ripple_freq * t);
+        }
+        v = p->bus_v;
     }
-    return p->bus_v;
+    if (p->dc_fault) /* FAULT_DC_LINK: the source falls to dc_value of itself */
+        v *= p->dc_tau > 0.0 ? p->dc_value + (1.0 - p->dc_value) * exp(-(t - p->dc_t0) / p->dc_tau) : p->dc_value;
+    return v;
 }
 
 /* The stretch [lo, hi) around t (in segment k, the cursor profile_eval() left) on which profile_eval()
@@ -400,6 +418,29 @@ static inline __attribute__((always_inline)) double leg_voltage(const struct pla
     }
 }
 
+/* FAULT_PHASE_OPEN: the voltage of the motor terminal of phase k (disconnected from its leg) that keeps
+ * its current on d i_k/dt = -i_k/OPEN_PHASE_TAU (so i_k stays 0 once it has decayed). With the other
+ * node voltages v (v[k] ignored) the flux derivative is base + u w, w = (2/3) g in the rotor frame, where
+ * i_k = g . i_dq, g = (c e_a + s e_b, -s e_a + c e_b) for the phase axis e of phase k; di/dt = Jac dpsi/dt,
+ * dg/dt = omega_e (g_q, -g_d). Jac (the incremental inverse inductance) is positive definite, so the
+ * denominator g . Jac w > 0. */
+static double open_terminal_voltage(struct plant *p, const double *x, double i_d, double i_q, double c,
+                                    double s, double omega_e, const double *v, int k)
+{
+    static const double axis[3][2] = {{1.0, 0.0}, {-0.5, SQRT3_2}, {-0.5, -SQRT3_2}};
+    double vo[3] = {v[0], v[1], v[2]}, jac[4], id, iq;
+    vo[k] = 0.0;
+    double v_al = (2.0 / 3.0) * (vo[0] - 0.5 * (vo[1] + vo[2])), v_be = (vo[1] - vo[2]) * INV_SQRT3;
+    double b_d = c * v_al + s * v_be - p->p.R_s * i_d + omega_e * x[X_PSIQ];
+    double b_q = -s * v_al + c * v_be - p->p.R_s * i_q - omega_e * x[X_PSID];
+    double g_d = c * axis[k][0] + s * axis[k][1], g_q = -s * axis[k][0] + c * axis[k][1];
+    mag_currents(&p->mag, x[X_PSID], x[X_PSIQ], &id, &iq, jac);
+    double jg_d = jac[0] * g_d + jac[1] * g_q, jg_q = jac[2] * g_d + jac[3] * g_q; /* Jac^T g (Jac symmetric) */
+    double i_k = g_d * i_d + g_q * i_q;
+    double num = -i_k / OPEN_PHASE_TAU - omega_e * (g_q * i_d - g_d * i_q) - (jg_d * b_d + jg_q * b_q);
+    return num / ((2.0 / 3.0) * (jg_d * g_d + jg_q * g_q));
+}
+
 /* Derivative of the state at time t (s). i_d, i_q: the currents of its flux linkages (mag_currents);
  * c, s: cos/sin of the electrical angle of this state. v_ab: the machine's alpha-beta voltage when it
  * is known not to depend on the state (NULL if not). Inlined, so that each call site is specialised
@@ -417,7 +458,8 @@ static inline __attribute__((always_inline)) void deriv(struct plant *p, double 
         i_abc[2] = -0.5 * i_al - SQRT3_2 * i_be;
     }
 
-    double omega_m = pp->mech.imposed_speed ? profile_eval(&pp->speed, &p->cursor_speed, t) : x[X_OMM];
+    double omega_m = p->blocked ? 0.0
+                     : (pp->mech.imposed_speed ? profile_eval(&pp->speed, &p->cursor_speed, t) : x[X_OMM]);
 
     double v[3] = {0.0, 0.0, 0.0}, dvn[3] = {0.0, 0.0, 0.0}, v_dc = pp->inv.V_dc, v_al, v_be;
     if (v_ab) {
@@ -440,6 +482,11 @@ static inline __attribute__((always_inline)) void deriv(struct plant *p, double 
         for (int k = 0; k < 3; k++)
             v[k] = leg_voltage(p, k, i_abc[k], v_dc, v_bus, x[X_VNA + k], &dvn[k]);
     }
+    if (!v_ab && p->open_phase >= 0) {
+        int k = p->open_phase;
+        v[k] = open_terminal_voltage(p, x, i_d, i_q, c, s, pp->mech.pole_pairs * omega_m, v, k);
+        dvn[k] = 0.0;
+    }
     if (!v_ab) {
         v_al = (2.0 / 3.0) * (v[0] - 0.5 * (v[1] + v[2]));
         v_be = (v[1] - v[2]) * INV_SQRT3;
@@ -453,10 +500,10 @@ static inline __attribute__((always_inline)) void deriv(struct plant *p, double 
     dx[X_PSID] = v_d - pp->R_s * i_d + omega_e * x[X_PSIQ];
     dx[X_PSIQ] = v_q - pp->R_s * i_q - omega_e * x[X_PSID];
     double load = 0.0;
-    if (pp->mech.imposed_speed) {
+    if (pp->mech.imposed_speed || p->blocked) {
         dx[X_OMM] = 0.0;
     } else {
-        load = load_torque(p, t);
+        load = load_torque(p, t) + p->load_add;
         double fric = pp->mech.B * omega_m;
         if (pp->mech.T_c != 0.0) {
             double r = omega_m / pp->mech.w_stick;
@@ -621,6 +668,8 @@ static void rk4_step(struct plant *p, double nticks)
         for (int k = 0; k < 3; k++)
             if (p->legs[k] != LEG_HIGH && p->legs[k] != LEG_LOW)
                 fixed = 0;
+    if (p->open_phase >= 0) /* the open terminal's voltage depends on the state at every stage */
+        fixed = 0;
     if (fixed) {
         v_ab_fixed[0] = (2.0 / 3.0) * (a0.v_node[0] - 0.5 * (a0.v_node[1] + a0.v_node[2]));
         v_ab_fixed[1] = (a0.v_node[1] - a0.v_node[2]) * INV_SQRT3;
@@ -657,7 +706,9 @@ static void rk4_step(struct plant *p, double nticks)
     }
     if (x[X_THM] >= TWO_PI || x[X_THM] < 0.0)
         x[X_THM] -= TWO_PI * floor(x[X_THM] / TWO_PI);
-    if (p->p.mech.imposed_speed)
+    if (p->blocked)
+        x[X_OMM] = 0.0;
+    else if (p->p.mech.imposed_speed)
         x[X_OMM] = profile_eval(&p->p.speed, &p->cursor_speed, t + h);
 }
 
@@ -694,10 +745,8 @@ static double commutation_step(struct plant *p)
     return step;
 }
 
-static int advance(struct plant *p, long long tick)
+static int advance_to(struct plant *p, long long tick)
 {
-    if (tick < p->tick)
-        return -1;
     double total = (double)(tick - p->tick);
     p->sub = 0.0;
     while (p->sub < total) {
@@ -751,6 +800,16 @@ static inline void ring_advance(struct plant *p)
     }
 }
 
+/* the leg states of the commanded mask without the switches that never turn on (FAULT_SWITCH_OPEN) */
+static void dead_switch_legs(struct plant *p)
+{
+    int gates = p->gates & ~p->dead_switches;
+    for (int k = 0; k < 3; k++) {
+        int hi = (gates >> (2 * k)) & 1, lo = (gates >> (2 * k + 1)) & 1;
+        p->legs[k] = hi && lo ? LEG_SHORT : (hi ? LEG_HIGH : (lo ? LEG_LOW : LEG_OFF));
+    }
+}
+
 static int set_gates(struct plant *p, int gates)
 {
     int status = 0;
@@ -766,10 +825,74 @@ static int set_gates(struct plant *p, int gates)
             status = -2;
         p->legs[k] = leg;
     }
+    if (p->dead_switches) { /* FAULT_SWITCH_OPEN: the commanded mask is kept, the dead switch stays off */
+        p->gates = gates & 63;
+        dead_switch_legs(p);
+    }
     p->gates = gates & 63;
     p->voltage_mode = 0;
     settle(p);
     return status;
+}
+
+/* A fault takes effect at the present tick (docs/faults.md); like an input change, no step straddles it. */
+static void apply_fault(struct plant *p, const struct fault *f)
+{
+    int ch = f->channel;
+    double t = tick_time(p, p->tick);
+    switch (f->kind) {
+    case FAULT_SENSOR_OFFSET:
+        p->f_off[ch] += f->value - f->rate * t;
+        p->f_rate[ch] += f->rate;
+        p->sens_fault = 1;
+        break;
+    case FAULT_SENSOR_GAIN:
+        p->f_gain[ch] *= f->value;
+        p->sens_fault = 1;
+        break;
+    case FAULT_ADC_STUCK:
+        p->f_stuck[ch] = (int)f->value;
+        p->sens_fault = 1;
+        break;
+    case FAULT_PHASE_OPEN:
+        p->open_phase = ch;
+        break;
+    case FAULT_SWITCH_OPEN:
+        p->dead_switches |= 1 << ch;
+        break;
+    case FAULT_DC_LINK:
+        p->dc_fault = 1;
+        p->dc_value = f->value;
+        p->dc_tau = f->rate;
+        p->dc_t0 = t;
+        break;
+    case FAULT_LOAD_STEP:
+        p->load_add += f->value;
+        break;
+    case FAULT_ROTOR_BLOCKED:
+        p->blocked = 1;
+        p->x[X_OMM] = 0.0;
+        break;
+    default: /* refused by plant_create */
+        break;
+    }
+    if (!p->voltage_mode)
+        dead_switch_legs(p);
+    settle(p);
+}
+
+/* Integrate to tick, applying every fault whose onset is on the way. */
+static int advance(struct plant *p, long long tick)
+{
+    if (tick < p->tick)
+        return -1;
+    while (p->fault_next < p->p.n_faults && p->p.faults[p->fault_next].tick <= tick) {
+        const struct fault *f = &p->p.faults[p->fault_next++];
+        if (f->tick > p->tick)
+            advance_to(p, f->tick);
+        apply_fault(p, f);
+    }
+    return advance_to(p, tick);
 }
 
 static int set_voltage(struct plant *p, const double v_abc[3])
@@ -794,13 +917,18 @@ static int sample(struct plant *p, int adc[3], double analog[3])
     double full = p->adc_full, inv_lsb = p->adc_inv_lsb;
     if (sp->ring_amp > 0.0)
         ring_advance(p);
+    double t = tick_time(p, p->tick);
     for (int k = 0; k < 3; k++) {
-        double y = sp->gain[k] * p->y[k] + sp->offset[k] + ringing(p, k);
+        double y = p->sens_fault ? sp->gain[k] * p->f_gain[k] * p->y[k] + sp->offset[k] + (p->f_off[k] + p->f_rate[k] * t)
+                                 : sp->gain[k] * p->y[k] + sp->offset[k];
+        y += ringing(p, k);
         if (sp->noise_rms > 0.0)
             y += sp->noise_rms * gauss(p);
         /* clip(floor(z), 0, full - 1); for 0 <= z < full, floor is the truncation of the conversion */
         double z = y * inv_lsb + 0.5 * full + 0.5;
         adc[k] = z < 0.0 ? 0 : (z >= full ? (int)(full - 1.0) : (int)z);
+        if (p->sens_fault && p->f_stuck[k] >= 0)
+            adc[k] = p->f_stuck[k];
         if (analog)
             analog[k] = y;
     }
@@ -959,6 +1087,25 @@ static int params_ok(const struct plant_params *pp, char *err, int err_len)
     REQUIRE(sp->adc_range > 0.0 && isfinite(sp->adc_range), "sens.adc_range must be > 0");
     if (!profile_ok(&pp->load, "load", err, err_len) || !profile_ok(&pp->speed, "speed", err, err_len))
         return 0;
+    REQUIRE(pp->n_faults >= 0 && (pp->n_faults == 0 || pp->faults), "faults: missing array");
+    int open = 0;
+    for (int k = 0; k < pp->n_faults; k++) {
+        const struct fault *f = &pp->faults[k];
+        REQUIRE(f->kind >= FAULT_SENSOR_OFFSET && f->kind <= FAULT_ROTOR_BLOCKED, "faults[%d]: kind %d is not a fault",
+                k, f->kind);
+        REQUIRE(f->tick >= 0 && (k == 0 || f->tick >= pp->faults[k - 1].tick),
+                "faults[%d]: tick must be >= 0 and not before the previous fault's", k);
+        REQUIRE(isfinite(f->value) && isfinite(f->rate), "faults[%d]: value and rate must be finite", k);
+        int nch = f->kind == FAULT_SWITCH_OPEN ? 6 : 3;
+        REQUIRE(f->channel >= 0 && f->channel < nch, "faults[%d]: channel must be in 0..%d", k, nch - 1);
+        REQUIRE(f->kind != FAULT_SENSOR_GAIN || f->value >= 0.0, "faults[%d]: a gain factor must be >= 0", k);
+        REQUIRE(f->kind != FAULT_ADC_STUCK || (f->value >= 0.0 && f->value < ldexp(1.0, sp->adc_bits) &&
+                                               f->value == floor(f->value)),
+                "faults[%d]: a stuck code must be an integer in 0..2^adc_bits-1", k);
+        REQUIRE(f->kind != FAULT_DC_LINK || (f->value >= 0.0 && f->value <= 1.0 && f->rate >= 0.0),
+                "faults[%d]: a dc-link factor must be in 0..1 and its time constant >= 0", k);
+        REQUIRE(f->kind != FAULT_PHASE_OPEN || !open++, "faults[%d]: at most one phase can be open", k);
+    }
     return 1;
 }
 
@@ -982,10 +1129,16 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     int ntab = params->mag.kind == MAG_TABLE ? params->mag.tab_nd * params->mag.tab_nq : 0;
     size_t total = 2 * (size_t)params->load.n + 2 * (size_t)params->speed.n + 2 * (size_t)ntab;
     p->owned = malloc((total ? total : 1) * sizeof(double));
-    if (!p->owned) {
+    p->faults_owned = malloc((params->n_faults ? (size_t)params->n_faults : 1) * sizeof(struct fault));
+    if (!p->owned || !p->faults_owned) {
+        free(p->owned);
+        free(p->faults_owned);
         free(p);
         return NULL;
     }
+    if (params->n_faults)
+        memcpy(p->faults_owned, params->faults, (size_t)params->n_faults * sizeof(struct fault));
+    p->p.faults = p->faults_owned;
     double *cur = p->owned;
     p->p.load.t = copy_array(&cur, params->load.t, params->load.n);
     p->p.load.v = copy_array(&cur, params->load.v, params->load.n);
@@ -1013,7 +1166,13 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     p->x[X_PSIQ] = 0.0;
     p->x[X_THM] = params->theta_m0;
     p->x[X_OMM] = params->omega_m0;
+    for (int k = 0; k < 3; k++) {
+        p->f_gain[k] = 1.0;
+        p->f_stuck[k] = -1;
+    }
+    p->open_phase = -1;
     settle(p);
+    advance(p, 0); /* faults at tick 0 */
     return p;
 }
 
@@ -1021,6 +1180,7 @@ void plant_free(struct plant *p)
 {
     if (p) {
         free(p->owned);
+        free(p->faults_owned);
         free(p);
     }
 }

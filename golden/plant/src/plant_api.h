@@ -80,6 +80,27 @@ struct sensor_params {
     double adc_range;      /* +-adc_range [A] spans codes 0 .. 2^adc_bits-1; mid-scale = 0 A */
 };
 
+/* ---- faults (docs/faults.md): each acts from its tick on, for the rest of the run ---------------- */
+enum fault_kind {
+    FAULT_SENSOR_OFFSET = 1, /* sensor channel: offset += value [A] + rate*(t - t_fault) [A/s]         */
+    FAULT_SENSOR_GAIN = 2,   /* sensor channel: gain *= value                                          */
+    FAULT_ADC_STUCK = 3,     /* ADC channel reads code (int)value whatever the current                 */
+    FAULT_PHASE_OPEN = 4,    /* phase `channel` disconnected between inverter and motor: i_k = 0       */
+    FAULT_SWITCH_OPEN = 5,   /* switch `channel` (gate mask bit 0..5) never turns on                   */
+    FAULT_DC_LINK = 6,       /* dc-link source: V_dc * (value + (1 - value)*exp(-(t - t_fault)/rate)),  *
+                              * rate = time constant [s] (0: a step)                                    */
+    FAULT_LOAD_STEP = 7,     /* load torque += value [N*m] (negative: the load drives the motor)        */
+    FAULT_ROTOR_BLOCKED = 8  /* the rotor is held at its angle: speed 0 from the fault on              */
+};
+
+struct fault {
+    int kind;              /* enum fault_kind */
+    int channel;           /* phase / ADC channel 0..2, or switch 0..5 (FAULT_SWITCH_OPEN); else 0 */
+    long long tick;        /* onset [ticks]; faults are listed in non-decreasing tick order */
+    double value;          /* see enum fault_kind */
+    double rate;           /* see enum fault_kind */
+};
+
 struct plant_params {
     double tick_hz;        /* FPGA clock [Hz] */
     int max_substep_ticks; /* longest RK4 step [ticks] */
@@ -94,6 +115,8 @@ struct plant_params {
     struct profile speed;  /* imposed mechanical speed [rad/s] when mech.imposed_speed */
     double theta_m0;       /* initial mechanical angle [rad] */
     double omega_m0;       /* initial mechanical speed [rad/s] */
+    int n_faults;          /* number of entries of faults (0: none) */
+    const struct fault *faults;
 };
 
 /* ---- true state, for metrics --------------------------------------------------------------------- */

@@ -29,6 +29,7 @@ from typing import Callable
 from golden import motors
 from golden.firmware.estimator import METHODS, SLOT_HIGH, SLOT_LOW
 from golden.plant import defaults as _plant_defaults
+from golden.plant.binding import GATE_BITS, ffi as _plant_ffi
 from golden.units import UnitError, finite_float, format_quantity, parse_quantity, type_name
 
 
@@ -143,9 +144,10 @@ def _num(check: Check, plant: tuple[str, ...]) -> Field:
 _TABLE = Field("table")
 
 SCHEMA: dict[str, dict[str, Field]] = {
-    "": {name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
-                                   "injection", "load", "reference", "control", "estimator",
-                                   "simulation", "output")},
+    "": {**{name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
+                                      "injection", "load", "reference", "control", "estimator",
+                                      "simulation", "output")},
+         "faults": Field("faults")},
     "scenario": {
         "name": Field("text", check=_file_name, required=True),
         "description": Field("text", default=""),
@@ -342,6 +344,28 @@ SCHEMA: dict[str, dict[str, Field]] = {
 }
 """Dotted table path (``""`` is the top level) -> key -> :class:`Field`."""
 
+_PHASE = Field("choice", choices={"a": 0, "b": 1, "c": 2}, required=True)
+FAULTS: dict[str, tuple[str, dict[str, Field]]] = {
+    "sensor_offset": ("FAULT_SENSOR_OFFSET", {"phase": _PHASE, "offset": _q("current", None, default=0.0),
+                                              "drift": _q("current_rate", None, default=0.0)}),
+    "sensor_gain": ("FAULT_SENSOR_GAIN", {"phase": _PHASE,
+                                          "gain": Field("number", check=_non_negative, required=True)}),
+    "adc_stuck": ("FAULT_ADC_STUCK", {"phase": _PHASE, "code": Field("integer", check=_non_negative,
+                                                                     required=True)}),
+    "adc_lane_dead": ("FAULT_ADC_STUCK", {"phase": _PHASE}),
+    "phase_open": ("FAULT_PHASE_OPEN", {"phase": _PHASE}),
+    "switch_open": ("FAULT_SWITCH_OPEN", {"switch": Field("choice", choices=GATE_BITS, required=True)}),
+    "dc_link": ("FAULT_DC_LINK", {"factor": Field("number", check=_between(0.0, 1.0), required=True),
+                                  "tau": _q("time", _non_negative, default=0.0)}),
+    "load_step": ("FAULT_LOAD_STEP", {"torque": Field("quantity", "torque", required=True)}),
+    "rotor_blocked": ("FAULT_ROTOR_BLOCKED", {}),
+}
+"""``[[faults]]`` kind -> (``enum fault_kind`` name in plant_api.h, its keys besides ``kind`` and ``at``);
+docs/faults.md. ``adc_lane_dead``: the serial data line of the channel stuck low, which reads code 0."""
+
+FAULT_KIND_IDS: dict[str, int] = _plant_ffi.typeof("enum fault_kind").relements
+"""``enum fault_kind`` name -> value, read from plant_api.h."""
+
 
 def _join(section: str, key: str) -> str:
     return f"{section}.{key}" if section else key
@@ -471,6 +495,8 @@ class Scenario:
         The motor preset the plant parameters start from (None: plant defaults).
     source : str
         Where the scenario was read from.
+    faults : tuple of FaultSpec
+        The ``[[faults]]`` entries in onset order (also ``plant["faults"]``).
     """
 
     name: str
@@ -486,6 +512,7 @@ class Scenario:
     estimator: EstimatorSettings | None = None
     preset: str | None = None
     source: str = "<dict>"
+    faults: tuple = ()
 
     def summary(self) -> str:
         """One line: name, duration, motor, load, PWM and injection."""
@@ -603,9 +630,51 @@ def _to_profile(spec: Field, raw: object, path: str) -> list[tuple[float, float]
     return points
 
 
+@dataclass(frozen=True)
+class FaultSpec:
+    """One ``[[faults]]`` entry: its kind (a key of :data:`FAULTS`), onset ``at`` [s] and its own keys
+    (SI values, defaults filled in)."""
+
+    kind: str
+    at: float
+    values: dict
+
+
+def _to_fault(raw: object, path: str) -> FaultSpec:
+    """One ``[[faults]]`` table: ``kind``, ``at`` and the kind's keys."""
+    if not isinstance(raw, dict):
+        raise _Problems(f"{path}: expected a table ([[faults]]), got {type_name(raw)}")
+    if "kind" not in raw:
+        raise _Problems(f"{path}.kind: missing (one of {', '.join(map(repr, FAULTS))})")
+    kind = _to_choice(Field("choice", choices=dict.fromkeys(FAULTS, 0)), raw["kind"], f"{path}.kind")
+    fields = {"at": _q("time", _non_negative)} | FAULTS[kind][1]
+    messages = [f"{path}.{key}: not a key of fault kind {kind!r} (valid: kind, {', '.join(fields)})"
+                for key in raw if key != "kind" and key not in fields]
+    jobs = [(key, spec) for key, spec in fields.items() if key in raw]
+    messages += [f"{path}.{key}: missing (required for fault kind {kind!r})"
+                 for key, spec in fields.items() if key not in raw and (spec.required or key == "at")]
+    values = {key: spec.default for key, spec in fields.items()}
+    try:
+        converted = _collect([(_CONVERTERS[spec.kind], spec, raw[key], f"{path}.{key}") for key, spec in jobs])
+        values.update(zip((key for key, _ in jobs), converted))
+    except _Problems as exc:
+        messages += exc.messages
+    if messages:
+        raise _Problems(*messages)
+    return FaultSpec(kind, values.pop("at"), values)
+
+
+def _to_faults(spec: Field, raw: object, path: str) -> list[FaultSpec]:
+    """The ``[[faults]]`` array of tables."""
+    if not isinstance(raw, list):
+        raise _Problems(f"{path}: expected an array of tables ([[faults]]), got {type_name(raw)}")
+    return _collect([(lambda _spec, item, where: _to_fault(item, where), spec, item, f"{path}[{i}]")
+                     for i, item in enumerate(raw)])
+
+
 _CONVERTERS = {"quantity": _to_quantity, "number": _to_number, "integer": _to_integer,
                "text": _to_text, "choice": _to_choice, "vector": _to_vector,
-               "profile": _to_profile}
+               "profile": _to_profile, "faults": _to_faults}
 
 
 # ---- reading the tree -----------------------------------------------------------------------------
@@ -758,7 +827,22 @@ def _build_plant(reader: _Reader, presets: dict | None) -> dict:
         ticks = _to_ticks(reader, path, plant["tick_hz"])
         if ticks is not None:
             plant[plant_key] = ticks
+    plant["faults"] = [_plant_fault(f, plant["tick_hz"]) for f in sorted(reader.get("faults") or [],
+                                                                          key=lambda f: f.at)]
     return plant
+
+
+def _plant_fault(f: FaultSpec, tick_hz: float) -> dict:
+    """A ``struct fault`` of the plant (plant_api.h) from a scenario fault."""
+    v = f.values
+    channel = v.get("phase", GATE_BITS.get(v.get("switch"), 0))
+    channel = {"a": 0, "b": 1, "c": 2}.get(channel, channel)
+    value, rate = {
+        "sensor_offset": (v.get("offset"), v.get("drift")), "sensor_gain": (v.get("gain"), 0.0),
+        "adc_stuck": (v.get("code"), 0.0), "dc_link": (v.get("factor"), v.get("tau")),
+        "load_step": (v.get("torque"), 0.0)}.get(f.kind, (0.0, 0.0))
+    return {"kind": FAULT_KIND_IDS[FAULTS[f.kind][0]], "channel": channel,
+            "tick": round(f.at * tick_hz), "value": float(value), "rate": float(rate)}
 
 
 # ---- consistency checks ---------------------------------------------------------------------------
@@ -837,6 +921,25 @@ def _check_estimator(reader: _Reader) -> None:
                      f"({up * 30 / math.pi:g} rpm): the hysteresis needs down <= up")
 
 
+def _check_faults(reader: _Reader, plant: dict) -> None:
+    """Onsets inside the run, one open phase, codes the ADC has, load steps only on a torque load."""
+    faults, duration = reader.get("faults") or [], reader.get("scenario.duration")
+    bits = plant["sens"]["adc_bits"]
+    for i, f in enumerate(faults):
+        path = f"faults[{i}]"
+        if duration is not None and f.at >= duration:
+            reader.error(f"{path}.at", f"{format_quantity(f.at, 's')} is not before the end of the run "
+                                      f"(scenario.duration = {format_quantity(duration, 's')})")
+        if f.kind == "adc_stuck" and f.values["code"] >= 2 ** bits:
+            reader.error(f"{path}.code", f"{f.values['code']} is not a code of a {bits}-bit ADC "
+                                        f"(0..{2 ** bits - 1}, sensors.adc_bits)")
+        if f.kind == "load_step" and plant["mech"]["imposed_speed"]:
+            reader.error(f"{path}.kind", "a load step needs load.mode = \"torque\" (the load machine imposes "
+                                        "the speed)")
+    if sum(f.kind == "phase_open" for f in faults) > 1:
+        reader.error("faults", "at most one phase can be open (two open phases carry no current at all)")
+
+
 # ---- public API -----------------------------------------------------------------------------------
 def parse_scenario(data: dict, source: str = "<dict>", presets: dict | None = None) -> Scenario:
     """Validate a parsed scenario tree and build the :class:`Scenario`.
@@ -869,6 +972,7 @@ def parse_scenario(data: dict, source: str = "<dict>", presets: dict | None = No
     _check_magnetics(reader, plant["mag"])
     _check_injection(reader, plant)
     _check_estimator(reader)
+    _check_faults(reader, plant)
     if reader.problems:
         raise ScenarioError(source, reader.problems)
     return _make_scenario(reader, plant, source)
@@ -897,6 +1001,7 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
              for name in METHODS}),
         preset=reader.values.get("motor.preset"),
         source=source,
+        faults=tuple(sorted(get("faults") or [], key=lambda f: f.at)),
     )
 
 

@@ -11,9 +11,13 @@ import numpy as np
 import pytest
 
 from golden.plant import Plant, PlantError, default_params, merge
+from golden.plant.binding import ffi
 
 TICK = 100e6
-SENSOR_OFFSET, SENSOR_GAIN, ADC_STUCK, PHASE_OPEN, SWITCH_OPEN, DC_LINK, LOAD_STEP, ROTOR_BLOCKED = range(1, 9)
+_KIND = ffi.typeof("enum fault_kind").relements
+SENSOR_OFFSET, SENSOR_GAIN, ADC_STUCK, PHASE_OPEN, SWITCH_OPEN, DC_LINK, LOAD_STEP, ROTOR_BLOCKED = (
+    _KIND[f"FAULT_{name}"] for name in ("SENSOR_OFFSET", "SENSOR_GAIN", "ADC_STUCK", "PHASE_OPEN", "SWITCH_OPEN",
+                                        "DC_LINK", "LOAD_STEP", "ROTOR_BLOCKED"))
 
 
 def fault(kind: int, t: float, channel: int = 0, value: float = 0.0, rate: float = 0.0) -> dict:
@@ -125,7 +129,7 @@ def test_faults_do_not_change_a_run_before_their_onset():
 
 
 @pytest.mark.parametrize("bad, message", [
-    (fault(9, 0.0), "kind 9 is not a fault"),
+    (fault(max(_KIND.values()) + 1, 0.0), "is not a fault"),
     (fault(ADC_STUCK, 0.0, value=70000), "stuck code"),
     (fault(SWITCH_OPEN, 0.0, channel=6), "channel must be in 0..5"),
     (fault(DC_LINK, 0.0, value=1.5), "dc-link factor"),

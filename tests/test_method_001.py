@@ -118,7 +118,7 @@ def _imposed(rpm: float) -> str:
                   f'["0.6 s", "{rpm} rpm"]]\ninitial = {{ theta_m = "20 deg", omega_m = "0 rpm" }}\n\n', text, flags=re.S)
     text = re.sub(r'\nspeed = \[\["0 s", "0 rpm"\], \["0.3 s".*?\n', f'\nspeed = [["0 s", "0 rpm"], ["0.3 s", "0 rpm"], '
                   f'["0.6 s", "{rpm} rpm"]]\n', text)
-    for key, value in (("duration", '"1.1 s"'), ("dead_time", '"0.2 us"'), ("v_sw", '"0 V"'), ("v_diode", '"0 V"')):
+    for key, value in (("duration", '"1.1 s"'), ("dead_time", '"0.5 us"'), ("v_sw", '"0 V"'), ("v_diode", '"0 V"')):
         text = re.sub(rf"\n{key} = [^\n]*", f"\n{key} = {value}", text, count=1)
     return text
 

@@ -42,7 +42,7 @@ from golden.scenario import Scenario
 
 WINDOW_FIELDS = (
     "tick", "gamma", "gamma_d", "n_samples", "sum_id", "sum_iq", "wsum", "i_d", "i_q", "i_d_ref", "i_q_ref",
-    "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode",
+    "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode", "fault",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
     "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase", "cic_qa", "cic_qb", "env_a", "env_b",
     "vector", "vector_next", "top_ia", "top_ib", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
@@ -276,7 +276,7 @@ class ClosedLoop:
             r["i_d"][k], r["i_q"][k], r["i_d_ref"][k], r["i_q_ref"][k] = fw.i_d, fw.i_q, fw.i_d_ref, fw.i_q_ref
             r["v_d"][k], r["v_q"][k], r["sin"][k], r["cos"][k] = o.v_d, o.v_q, o.sin, o.cos
             r["theta_hat"][k], r["omega_f"][k], r["speed_ref"][k] = fw.theta_hat, fw.omega_f, speed_ref[k]
-            r["mode"][k], r["adc_mode"][k] = fw.mode, adc_mode
+            r["mode"][k], r["fault"][k], r["adc_mode"][k] = fw.mode, fw.fault, adc_mode
             r["est"][k], r["theta_lo"][k], r["theta_hi"][k] = fw.active, fw.est_theta[0], fw.est_theta[1]
             r["omega_lo"][k], r["omega_hi"][k] = fw.est_omega[0], fw.est_omega[1]
             r["inj_phase"][k] = inj_phase

@@ -28,6 +28,7 @@ from golden.firmware.lowpass import lowpass_coef
 from golden.firmware.mtpa import mtpa_table
 from golden.firmware.pi import PiParams, pi_gains
 from golden.firmware.pll import pll_gains
+from golden.firmware.protection import ProtParams
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -207,7 +208,58 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         i_slew=max(sc_.current(ctl.current_slew / f_sw), 1) if ctl.current_slew > 0 else 0,
         law=LAW_FCS_MPC if ctl.law == "fcs_mpc" else LAW_FOC_PWM,
         fcs=fcs_params(sc) if ctl.law == "fcs_mpc" else None,
-        hfo=hfo_proj_params(sc) if METHOD_HFO_PROJ in methods else None)
+        hfo=hfo_proj_params(sc) if METHOD_HFO_PROJ in methods else None,
+        prot=protection_params(sc))
+
+
+LOCK_EMF_SHARE = 0.06
+"""Default ``protection.lock_emf``: this share of V_dc (34 V at 560 V, 21 V at 350 V). Healthy runs stay below
+10 V on the Table I motor, 13 V through the 000 method's speed reversal at 350 V (docs/faults.md)."""
+TRACK_SHARE = 1.0
+"""Default ``protection.track_current``: this share of ``control.i_max`` (near the voltage limit at 5000 r/min the
+Table I drive's current loop swings by 2 A of 3 A with the angle still within 6 deg: docs/faults.md)."""
+SPEED_MAX_MARGIN = 2.0, 500 * math.pi / 30
+"""Default ``protection.speed_max``: factor on the largest reference speed, plus this [rad/s mechanical] (a
+full-load step at standstill on the Table I motor dips to -160 r/min before the speed loop catches it)."""
+
+
+def protection_params(sc: Scenario) -> ProtParams:
+    """The fault checks' integers (golden.firmware.protection) from ``[protection]``, the nominal motor
+    (:func:`~golden.flux_tables.nominal_motor` at half ``i_max``) and the formats. Defaults of absent keys:
+    ``lock_emf`` LOCK_EMF_SHARE * V_dc; ``track_current`` TRACK_SHARE * i_max; ``speed_max`` from
+    SPEED_MAX_MARGIN; ``asc_speed`` the speed whose back-EMF amplitude ``p omega psi_f`` reaches V_dc/sqrt(3),
+    above which a coasting motor charges the dc link through the diodes (0, never, without a magnet).
+    ``lock_emf_rel`` is a share of the nominal flux (psi_f, or L_q i_max without a magnet). Under the ``fcs_mpc``
+    law the lock and tracking checks are off: the inverter applies the vector the hardware chose, not the law's
+    ``v_d, v_q``, and the law tracks a flux, not a current per axis, so the supervisor knows neither the applied
+    voltage nor a current reference. ``checks = "off"``: every limit 0."""
+    pr, ctl, sc_ = sc.protection, sc.control, scales(sc)
+    if pr.checks == "off":
+        return ProtParams()
+    mag = nominal_motor(sc.plant["mag"], sc_.pole_pairs, 0.5 * ctl.i_max)
+    v_dc = sc.plant["inv"]["V_dc"]
+    flux = 2 * math.pi * sc_.f_sw / sc_.v_lsb          # flux LSB per V*s (golden.firmware.protection)
+    ref = max((abs(v) for _, v in sc.reference_speed), default=0.0)
+    speed_max = pr.speed_max if pr.speed_max is not None else SPEED_MAX_MARGIN[0] * ref + SPEED_MAX_MARGIN[1]
+    if pr.asc_speed is not None:
+        asc = pr.asc_speed
+    else:
+        asc = v_dc / (math.sqrt(3) * sc_.pole_pairs * mag["psi_f"]) if mag["psi_f"] > 0 else 0.0
+    psi_nom = mag["psi_f"] if mag["psi_f"] > 0 else mag["L_q"] * ctl.i_max   # the back-EMF per speed
+    lp = lambda tau: lowpass_coef(1 / (2 * math.pi * tau), sc_.f_sw)   # noqa: E731
+    return ProtParams(
+        r=to_fixed(sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb, 16),
+        ld=to_fixed(mag["L_d"] * sc_.i_lsb * flux, 16), lq=to_fixed(mag["L_q"] * sc_.i_lsb * flux, 16),
+        psi_f=to_fixed(mag["psi_f"] * flux, 0),
+        emf_lp=lp(pr.lock_time),
+        emf_tol=0 if ctl.law == "fcs_mpc" else sc_.voltage(pr.lock_emf if pr.lock_emf is not None
+                                                           else LOCK_EMF_SHARE * v_dc),
+        psi_rel=to_fixed(pr.lock_emf_rel * psi_nom * flux, 0),
+        track_lp=lp(pr.track_time),
+        track_tol=0 if ctl.law == "fcs_mpc" else sc_.current(pr.track_current if pr.track_current is not None
+                                                             else TRACK_SHARE * ctl.i_max),
+        ovl_n=round(pr.overload_time * sc_.f_sw),
+        w_max=min(sc_.speed_mech(speed_max), 2**31 - 1), w_asc=min(sc_.speed_mech(asc), 2**31 - 1))
 
 
 def flux_lsb(sc: Scenario) -> float:

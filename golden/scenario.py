@@ -28,6 +28,7 @@ from typing import Callable
 
 from golden import motors
 from golden.firmware.estimator import METHODS, SLOT_HIGH, SLOT_LOW
+from golden.limits import check_limits
 from golden.plant import defaults as _plant_defaults
 from golden.plant.binding import GATE_BITS, ffi as _plant_ffi
 from golden.units import UnitError, finite_float, format_quantity, parse_quantity, type_name
@@ -146,7 +147,7 @@ _TABLE = Field("table")
 SCHEMA: dict[str, dict[str, Field]] = {
     "": {**{name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
                                       "injection", "load", "reference", "control", "estimator",
-                                      "simulation", "output")},
+                                      "simulation", "output", "protection")},
          "faults": Field("faults")},
     "scenario": {
         "name": Field("text", check=_file_name, required=True),
@@ -334,6 +335,19 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "map_scale_d": Field("number", check=_between(0.5, 2.0), default=1.0),
         "map_scale_q": Field("number", check=_between(0.5, 2.0), default=1.0),
     },
+    # Fault checks of the firmware (golden.firmware.protection, docs/faults.md); 0 turns a check off, an
+    # absent key takes the default that golden.control_config.protection_params derives from the scenario.
+    "protection": {
+        "checks": Field("choice", choices={"on": 1, "off": 0}, default="on"),
+        "lock_emf": _q("voltage", _non_negative),
+        "lock_emf_rel": Field("number", check=_non_negative, default=0.25),
+        "lock_time": _q("time", _positive, default=5e-3),
+        "track_current": _q("current", _non_negative),
+        "track_time": _q("time", _positive, default=20e-3),
+        "overload_time": _q("time", _non_negative, default=0.5),
+        "speed_max": _q("speed", _non_negative),
+        "asc_speed": _q("speed", _non_negative),
+    },
     "simulation": {
         "max_substep": _q("time", _positive),
         "max_substep_commutation": _q("time", _positive),
@@ -467,6 +481,22 @@ class EstimatorSettings:
 
 
 @dataclass(frozen=True)
+class ProtectionSettings:
+    """The ``[protection]`` table (docs/faults.md): SI values, None where the key is absent (the default is
+    derived from the scenario by golden.control_config.protection_params)."""
+
+    checks: str
+    lock_emf: float | None
+    lock_emf_rel: float
+    lock_time: float
+    track_current: float | None
+    track_time: float
+    overload_time: float
+    speed_max: float | None
+    asc_speed: float | None
+
+
+@dataclass(frozen=True)
 class OutputSettings:
     """Where the run writes its results (a directory, relative to the working directory)."""
 
@@ -497,6 +527,8 @@ class Scenario:
         Where the scenario was read from.
     faults : tuple of FaultSpec
         The ``[[faults]]`` entries in onset order (also ``plant["faults"]``).
+    protection : ProtectionSettings
+        The fault checks' settings (``[protection]``, defaults filled in where fixed).
     """
 
     name: str
@@ -513,6 +545,7 @@ class Scenario:
     preset: str | None = None
     source: str = "<dict>"
     faults: tuple = ()
+    protection: ProtectionSettings | None = None
 
     def summary(self) -> str:
         """One line: name, duration, motor, load, PWM and injection."""
@@ -972,6 +1005,7 @@ def parse_scenario(data: dict, source: str = "<dict>", presets: dict | None = No
     _check_magnetics(reader, plant["mag"])
     _check_injection(reader, plant)
     _check_estimator(reader)
+    check_limits(reader, plant)
     _check_faults(reader, plant)
     if reader.problems:
         raise ScenarioError(source, reader.problems)
@@ -1002,6 +1036,7 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
         preset=reader.values.get("motor.preset"),
         source=source,
         faults=tuple(sorted(get("faults") or [], key=lambda f: f.at)),
+        protection=ProtectionSettings(*(get(f"protection.{f.name}") for f in dataclass_fields(ProtectionSettings))),
     )
 
 

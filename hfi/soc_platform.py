@@ -93,6 +93,7 @@ TRACE = (
     TraceWord("i_d_ref", "st.i_d_ref", True),
     TraceWord("i_q_ref", "st.i_q_ref", True),
     TraceWord("mode", "st.mode", True),
+    TraceWord("fault", "st.fault", True),                  # fault code (golden.firmware.protection)
     TraceWord("flipped", "st.flipped", True),
     TraceWord("est", "st.active", True),                   # estimator slot in charge
     TraceWord("theta_lo", "st.est_theta[0]", False),

@@ -40,6 +40,8 @@ from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.pll import PllState, pll_step
+from golden.firmware import protection
+from golden.firmware.protection import FAULT_NAMES, ProtParams, emf_residual, protect_step
 from golden.firmware.rfo import Q_LIMIT, RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -109,6 +111,16 @@ def test_header_parsed_and_modes_match_golden():
     assert c_modes == [MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT]
     assert len(MODE_NAMES) == len(c_modes)
     assert "#" not in fw_c.header_cdef()
+
+
+def test_fault_codes_and_names_match_golden():
+    """enum fw_fault and fw_fault_name equal golden.firmware.protection's FAULT_* and FAULT_NAMES."""
+    codes = {name: getattr(protection, name) for name in dir(protection) if name.startswith("FAULT_")
+             and isinstance(getattr(protection, name), int)}
+    assert {name: getattr(lib, "FW_" + name) for name in codes} == codes
+    assert lib.FW_FAULTS == len(FAULT_NAMES) == len(codes)
+    assert [ffi.string(lib.fw_fault_name(k)).decode() for k in range(-1, len(FAULT_NAMES) + 1)] == \
+        ["?", *FAULT_NAMES, "?"]
 
 
 def test_method_ids_and_slots_match_golden():
@@ -298,6 +310,40 @@ def test_pll_corners(state, theta_hat, kp, ki, field, value):
     want = pll_step(state, theta_hat, kp, ki)
     assert _c_pll(state, theta_hat, kp, ki) == want
     assert getattr(want, field) == value, want     # the case really reaches its corner
+
+
+# ---- fault checks ------------------------------------------------------------------------------------------
+def test_emf_residual_random(seed):
+    rng = np.random.default_rng(seed + 40)
+    c = ffi.new("struct fw_prot_params *")
+    for k in range(N_RANDOM // 10):
+        p = random_prot(rng)
+        fw_c._fill(c, p)
+        v_d, v_q, i_d, i_q, w = draw(rng, 5, S32_MIN, S32_MAX, (0, 1, -1))
+        assert lib.fw_emf_residual(c, v_d, v_q, i_d, i_q, w) == emf_residual(p, v_d, v_q, i_d, i_q, w), \
+            (seed, k, p, v_d, v_q, i_d, i_q, w)
+
+
+def test_protect_step_random_sequences(seed):
+    """Sequences of checks with one parameter set each; every fault code is reached."""
+    rng = np.random.default_rng(seed + 41)
+    c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")
+    seen = set()
+    for q in range(N_RANDOM // 200):
+        p = random_prot(rng)
+        fw_c._fill(c, p)
+        gold = Firmware(_params())
+        st.emf_f = st.track_f = st.ovl_n = 0
+        at_limit = rng.random() < 0.5
+        for k in range(20):
+            v_d, v_q, i_d, i_q, i_dr, i_qr, w = draw(rng, 7, S32_MIN >> (q % 20), S32_MAX >> (q % 20))
+            limit = int(at_limit or rng.random() < 0.1)
+            want = protect_step(gold, p, v_d, v_q, i_d, i_q, i_dr, i_qr, w, bool(limit))
+            got = lib.fw_protect_step(st, c, v_d, v_q, i_d, i_q, i_dr, i_qr, w, limit)
+            assert (got, st.emf_f, st.track_f, st.ovl_n) == (want, gold.emf_f, gold.track_f, gold.ovl_n), \
+                (seed, q, k, p)
+            seen.add(want)
+    assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT}, seen
 
 
 # ---- speed filter --------------------------------------------------------------------------------------------
@@ -539,7 +585,21 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
         inj_rot=inj_rot, inj_cd=inj_cd, inj_sd=inj_sd, inj_c2=inj_c2, inj_s2=inj_s2, hf_dtc=draw_one(rng, 0, 1 << 15, (597,)),
         pol_mode=(POL_PILOT, POL_CURRENT, POL_NONE)[int(rng.integers(0, 3))], v_pilot=draw_one(rng, 0, (1 << 15) - 1, (9362,)),
         mtpa_shift=shift, mtpa_id=t_d, mtpa_iq=t_q, notch=random_coef(rng) if rng.random() < 0.5 else None,
-        speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)))
+        speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)),
+        prot=random_prot(rng) if rng.random() < 0.5 else ProtParams())
+
+
+def random_prot(rng: np.random.Generator) -> ProtParams:
+    """Fault-check limits over their ranges (control_config's formats): Q16 motor constants up to 2^24,
+    fluxes and speeds over s32 (mostly the magnitudes of real motors), limits that trip or not."""
+    r, ld, lq = draw(rng, 3, 0, 1 << 24, (4389, 256_900, 287_691))
+    psi_f, psi_rel = draw(rng, 2, 0, S32_MAX, (270_227, 67_557))
+    emf_lp, track_lp = draw(rng, 2, 0, 1 << 16, (2570, 652))
+    emf_tol, track_tol = draw(rng, 2, 0, S32_MAX, (0, 2011, 1 << 20))
+    w_max, w_asc = draw(rng, 2, 0, S32_MAX, (0, 10_021_590, 300_690_740))
+    return ProtParams(r=r, ld=ld, lq=lq, psi_f=psi_f, emf_lp=emf_lp, emf_tol=emf_tol, psi_rel=psi_rel,
+                      track_lp=track_lp, track_tol=track_tol, ovl_n=draw_one(rng, 0, 2000, (0, 1, 2500)),
+                      w_max=w_max, w_asc=w_asc)
 
 
 def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:
@@ -968,7 +1028,8 @@ def test_cic_params_of_the_scenario():
     firmware equals the golden one on a run of synthetic windows through start-up (pilot polarity) and 300
     windows of RUN: a quadrature signal turning with the rotor at 100 r/min with noise, small window-mean
     currents."""
-    p = firmware_params(load_scenario(ROOT / "scenarios" / "xue2022_noload.toml"))
+    # the fault checks off: the synthetic windows below are no motor's (their currents jump at random)
+    p = replace(firmware_params(load_scenario(ROOT / "scenarios" / "xue2022_noload.toml")), prot=ProtParams())
     c = p.cic
     assert p.low == METHOD_SQW_CIC and c is not None
     assert all(S32_MIN <= getattr(c, f) <= S32_MAX for f in ("g", "c1", "c2", "c3", "k_delay", "q_min", "n_hold"))

@@ -1128,6 +1128,57 @@ static void next_mode(struct fw_state *st, int32_t mode)
     st->n = 0;
 }
 
+/* ---- fault checks (golden.firmware.protection) -------------------------------------------------- */
+
+/* protection.emf_residual */
+int32_t fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
+                        int32_t omega)
+{
+    int32_t psi_d = sat32((int64_t)p->psi_f + (((int64_t)p->ld * i_d) >> 16));
+    int32_t psi_q = sat32(((int64_t)p->lq * i_q) >> 16);
+    int64_t e_d = (int64_t)v_d - (((int64_t)p->r * i_d) >> 16) + (((int64_t)omega * psi_q) >> 32);
+    int64_t e_q = (int64_t)v_q - (((int64_t)p->r * i_q) >> 16) - (((int64_t)omega * psi_d) >> 32);
+
+    return sat32(abs64(e_d) + abs64(e_q));
+}
+
+/* protection.protect_step (OVL_CAP = 2^30) */
+int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d,
+                        int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t at_limit)
+{
+    int32_t track = sat32(abs64((int64_t)i_d_ref - i_d) + abs64((int64_t)i_q_ref - i_q));
+
+    st->emf_f = fw_lowpass_step(st->emf_f, fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f), p->emf_lp);
+    st->track_f = fw_lowpass_step(st->track_f, track, p->track_lp);
+    st->ovl_n = at_limit ? (st->ovl_n < (1 << 30) ? st->ovl_n + 1 : 1 << 30) : 0;
+    if (p->w_max && abs64(omega_f) > p->w_max)
+        return FW_FAULT_OVERSPEED;
+    if (p->emf_tol && fw_lowpass_out(st->emf_f) > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))
+        return FW_FAULT_LOCK_LOSS;
+    if (p->track_tol && fw_lowpass_out(st->track_f) > p->track_tol)
+        return FW_FAULT_TRACKING;
+    if (p->ovl_n && st->ovl_n >= p->ovl_n)
+        return FW_FAULT_OVERLOAD;
+    return FW_FAULT_NONE;
+}
+
+/* protection.FAULT_NAMES */
+const char *fw_fault_name(int32_t code)
+{
+    static const char *const names[FW_FAULTS] = {"none", "overcurrent", "overspeed", "lock_loss", "current_tracking",
+                                                 "overload"};
+
+    return code >= 0 && code < FW_FAULTS ? names[code] : "?";
+}
+
+/* Firmware._trip: FAULT with the code; the active short circuit above w_asc under the FOC law. */
+static void trip(struct fw_state *st, const struct fw_params *p, int32_t code)
+{
+    st->fault = code;
+    st->asc = p->prot.w_asc > 0 && abs64(fw_lowpass_out(st->speed_f)) > p->prot.w_asc && p->law == FW_LAW_FOC_PWM;
+    next_mode(st, FW_FAULT);
+}
+
 /* Firmware.step: self.n += 1. n saturates at INT32_MAX where the golden int keeps counting: only in
  * RUN, FIXED and FAULT (the start-up states leave at n <= their s32 window count), after 2^31 - 1
  * windows, and n is a diagnostic there. */
@@ -1390,6 +1441,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
              struct fw_outputs *out)
 {
     int32_t i_d, i_q, i_d_ref = 0, i_q_ref = 0, pilot = 0, v_pilot = 0, s_inj = 0, c_inj = 32767;
+    int32_t i_d_prev = st->i_d_ref, i_q_prev = st->i_q_ref; /* the references of the last period */
 
     if (p->inj_rot)
         fw_sincos_q15(win->inj_phase, &s_inj, &c_inj);
@@ -1398,7 +1450,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
     st->i_q = i_q;
     count_window(st);
     if (st->mode != FW_FAULT && (over_trip(i_d, p->i_trip) || over_trip(i_q, p->i_trip)))
-        next_mode(st, FW_FAULT);
+        trip(st, p, FW_FAULT_OVERCURRENT);
     if (st->mode != FW_FIXED && st->mode != FW_FAULT) {
         struct fw_meas m;
 
@@ -1424,8 +1476,14 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         st->speed_f = fw_lowpass_step(st->speed_f, st->est_omega[st->active], p->speed_lp);
         i_d_ref = supervise(st, p, win, &pilot, &v_pilot);
         if (st->mode == FW_RUN) {
+            int32_t code;
+
             hand_over(st, p);
             run_refs(st, p, speed_ref, &i_d_ref, &i_q_ref);
+            code = fw_protect_step(st, &p->prot, st->act[0].v_d, st->act[0].v_q, i_d, i_q, i_d_prev, i_q_prev,
+                                   fw_lowpass_out(st->speed_f), abs64(st->i_s_ref) >= p->speed_pi.limit);
+            if (code != FW_FAULT_NONE)
+                trip(st, p, code);
         }
         st->theta_hat = angle_in_use(st);
     }
@@ -1436,6 +1494,10 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         st->id_int = 0;
         st->iq_int = 0;
         *out = reset_outputs; /* FAULT: the reset values, gates off */
+        if (st->asc) { /* the active short circuit: zero voltage, outputs on */
+            fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
+            out->enable = 1;
+        }
     } else if (p->law == FW_LAW_FCS_MPC) {
         fcs_outputs(st, p, win, i_q_ref, out);
     } else {

@@ -33,6 +33,26 @@ enum fw_method { FW_METHOD_NONE = 0, FW_METHOD_SQW_BANGBANG = 1, FW_METHOD_RFO =
 /* Polarity detection (golden.firmware.supervisor.POL_*). */
 enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1, FW_POL_NONE = 2 };
 
+/* Fault codes (golden.firmware.protection.FAULT_*; names in fw_fault_name). */
+enum fw_fault { FW_FAULT_NONE = 0, FW_FAULT_OVERCURRENT = 1, FW_FAULT_OVERSPEED = 2, FW_FAULT_LOCK_LOSS = 3,
+                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULTS = 6 };
+
+/* Limits of the fault checks (golden.firmware.protection.ProtParams; 0 turns a check off). */
+struct fw_prot_params {
+    int32_t r;               /* R_s, voltage LSB per current LSB, Q16 */
+    int32_t ld;              /* L_d, L_q: flux LSB per current LSB, Q16 */
+    int32_t lq;
+    int32_t psi_f;           /* flux LSB */
+    int32_t emf_lp;          /* residual filter, Q16 */
+    int32_t emf_tol;         /* voltage LSB, at standstill */
+    int32_t psi_rel;         /* the limit's growth with speed, flux LSB */
+    int32_t track_lp;        /* tracking-error filter, Q16 */
+    int32_t track_tol;       /* current LSB */
+    int32_t ovl_n;           /* periods at the speed PI's limit */
+    int32_t w_max;           /* speed LSB */
+    int32_t w_asc;           /* speed LSB */
+};
+
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
 enum fw_law { FW_LAW_FOC_PWM = 0, FW_LAW_FCS_MPC = 1 };
 
@@ -345,6 +365,7 @@ struct fw_params {
     int32_t i_slew;
     int32_t law;             /* enum fw_law */
     struct fw_fcs_params fcs;
+    struct fw_prot_params prot;
 };
 
 /* Register values written by one control step (golden.firmware.supervisor.Outputs). */
@@ -389,6 +410,11 @@ struct fw_state {
     int32_t i_s_ref;            /* speed-PI output, held between its steps */
     int32_t i_s_cmd;            /* the current command: i_s_ref through the slew limit */
     int32_t vec_before;         /* fcs_mpc: VECTOR of the previous step */
+    int32_t fault;              /* enum fw_fault, set with FW_FAULT */
+    int32_t asc;                /* 1: the safe state is the active short circuit */
+    int64_t emf_f;              /* protection filters (Q16) and overload count */
+    int64_t track_f;
+    int32_t ovl_n;
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;
     struct fw_sqw_state sqw;    /* one state block per method */
@@ -536,6 +562,11 @@ void fw_hfo_flux(const struct fw_state *st, struct fw_est_flux *f);
 
 /* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref) */
 void fw_init(struct fw_state *st, const struct fw_params *p);
+int32_t fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
+                        int32_t omega);
+int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d,
+                        int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t at_limit);
+const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out);
 

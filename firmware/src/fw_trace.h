@@ -6,7 +6,7 @@
 #ifndef HFI_FW_TRACE_H
 #define HFI_FW_TRACE_H
 
-#define FW_TRACE_WORDS 15
+#define FW_TRACE_WORDS 16
 #define FW_TRACE_RECORD(put, st, window, cycles) \
     do { \
         put((uint32_t)(window)); /* window, uint32 */ \
@@ -17,6 +17,7 @@
         put((uint32_t)(st.i_d_ref)); /* i_d_ref, int32 */ \
         put((uint32_t)(st.i_q_ref)); /* i_q_ref, int32 */ \
         put((uint32_t)(st.mode)); /* mode, int32 */ \
+        put((uint32_t)(st.fault)); /* fault, int32 */ \
         put((uint32_t)(st.flipped)); /* flipped, int32 */ \
         put((uint32_t)(st.active)); /* est, int32 */ \
         put((uint32_t)(st.est_theta[0])); /* theta_lo, uint32 */ \
@@ -37,6 +38,7 @@
         X(i_d_ref, st.i_d_ref); \
         X(i_q_ref, st.i_q_ref); \
         X(mode, st.mode); \
+        X(fault, st.fault); \
         X(est, st.active); \
         X(theta_lo, st.est_theta[0]); \
         X(theta_hi, st.est_theta[1]); \

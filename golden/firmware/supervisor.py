@@ -38,7 +38,12 @@ States (``MODE_*``):
               and speed in use (``sync``). The injection follows the estimator in charge.
 ``FIXED``     open-loop test (paper Sec. IV-A): theta_hat fixed, injection on, estimators off, current references 0
               (the current loops keep the back-EMF from driving current).
-``FAULT``     outputs disabled (software overcurrent on the window means).
+``FAULT``     a fault was found (``fault``: the code of :mod:`golden.firmware.protection`): the software
+              overcurrent on the window means in any mode, or one of the RUN checks. Safe state: gates off
+              (coast), or, when ``|omega_f|`` was above ``prot.w_asc`` at the fault and the law is
+              ``LAW_FOC_PWM``, the active short circuit (zero voltage with the outputs enabled: the
+              modulator keeps every leg at half duty, the line-to-line voltages at zero). The state holds
+              until the end of the run (docs/faults.md).
 """
 
 from __future__ import annotations
@@ -56,6 +61,7 @@ from golden.firmware.means import window_means
 from golden.firmware.methods import CLASSES
 from golden.firmware.mtpa import mtpa_lookup
 from golden.firmware.pi import PiParams, pi_step
+from golden.firmware.protection import FAULT_NONE, FAULT_OVERCURRENT, ProtParams, protect_step
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -131,6 +137,8 @@ class FirmwareParams:
         with its parameters; the speed PI's output indexes its flux table, ``mtpa_*`` unused).
     hfo : HfoParams or None
         The ``hfo_proj`` estimator's parameters.
+    prot : ProtParams
+        Limits of the fault checks (:mod:`golden.firmware.protection`; all zero: every check off).
     """
 
     low: int
@@ -171,6 +179,7 @@ class FirmwareParams:
     law: int = LAW_FOC_PWM
     fcs: FcsParams | None = None
     hfo: HfoParams | None = None
+    prot: ProtParams = ProtParams()
 
 
 @dataclass(frozen=True)
@@ -226,6 +235,11 @@ class Firmware:
     act: list = field(default_factory=lambda: [RESET_OUTPUTS, RESET_OUTPUTS])  # outputs of steps k-2, k-1
     prev: Outputs = RESET_OUTPUTS    # outputs of step k-3 (active in the window before)
     vec_before: int = 0              # fcs_mpc: VECTOR of the previous step (the state before this one's)
+    fault: int = FAULT_NONE          # fault code (golden.firmware.protection), set with MODE_FAULT
+    asc: int = 0                     # 1: the safe state is the active short circuit
+    emf_f: int = 0                   # protection filters (Q16) and overload count
+    track_f: int = 0
+    ovl_n: int = 0
     slots: list = field(init=False)
 
     def __post_init__(self) -> None:
@@ -243,13 +257,21 @@ class Firmware:
     def _next(self, mode: int) -> None:
         self.mode, self.n = mode, 0
 
+    def _trip(self, code: int) -> None:
+        """Enter FAULT with ``code``; choose the safe state (module docstring)."""
+        p = self.p
+        self.fault = code
+        self.asc = int(p.prot.w_asc > 0 and abs(self.omega_f) > p.prot.w_asc and p.law == LAW_FOC_PWM)
+        self._next(MODE_FAULT)
+
     def step(self, win: WindowResult, speed_ref: int) -> Outputs:
         """One interrupt: window results in, register writes out."""
         p = self.p
         self.i_d, self.i_q = i_d, i_q = window_means(win.sum_id, win.sum_iq, win.n_samples)
         self.n += 1
+        i_d_prev, i_q_prev = self.i_d_ref, self.i_q_ref       # the references of the last period
         if self.mode != MODE_FAULT and (abs(i_d) > p.i_trip or abs(i_q) > p.i_trip):
-            self._next(MODE_FAULT)
+            self._trip(FAULT_OVERCURRENT)
         pilot = None
         s_inj, c_inj = sincos_q15(win.inj_phase) if p.inj_rot else (0, 32767)
         if self.mode in (MODE_FIXED, MODE_FAULT):
@@ -270,12 +292,16 @@ class Firmware:
             if self.mode == MODE_RUN:
                 self._hand_over()
                 i_d_ref, i_q_ref = self._run_refs(speed_ref)
+                code = protect_step(self, p.prot, now.v_d, now.v_q, i_d, i_q, i_d_prev, i_q_prev, self.omega_f,
+                                    abs(self.i_s_ref) >= p.speed_pi.limit)
+                if code != FAULT_NONE:
+                    self._trip(code)
             self.theta_hat = self._angle()
         self.i_d_ref, self.i_q_ref = i_d_ref, i_q_ref
         i_d_f, i_q_f = self._feedback(i_d, i_q)
         if self.mode == MODE_FAULT:
             self.id_int = self.iq_int = 0
-            out = RESET_OUTPUTS
+            out = Outputs(0, 0, 0, *sincos_q15(self.theta_hat), 1) if self.asc else RESET_OUTPUTS
         elif p.law == LAW_FCS_MPC:
             out = self._fcs_outputs(win, i_q_ref)
         else:

@@ -26,6 +26,7 @@ struct hls_window {
     int64_t omega_f;
     int64_t speed_ref;
     int64_t mode;
+    int64_t fault;
     int64_t adc_mode;
     int64_t cmp_top_a;
     int64_t cmp_top_b;

@@ -1,0 +1,124 @@
+"""Fault checks of the firmware (golden/firmware/protection.py, docs/faults.md) against the motor equations
+and the filter's closed form, and the supervisor's reaction. The C twin: tests/test_fw_c.py."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import pytest
+
+from golden.control_config import firmware_params, protection_params, scales
+from golden.firmware.lowpass import lowpass_coef
+from golden.firmware.pi import PiParams
+from golden.firmware.protection import (FAULT_LOCK_LOSS, FAULT_NONE, FAULT_OVERLOAD, FAULT_OVERSPEED,
+                                        FAULT_TRACKING, ProtParams, emf_residual, protect_step)
+from golden.firmware.sqw_bangbang import SqwParams
+from golden.firmware.supervisor import MODE_FAULT, MODE_RUN, Firmware, FirmwareParams, Outputs
+from golden.fpga.cordic import sincos_q15
+from golden.fpga.demodulator import WindowResult
+from golden.scenario import load_scenario
+
+# Table I motor in the formats of scenarios/fullload_start.toml (12.5 A, 560 V, 5 kHz)
+R, L_D, L_Q, PSI_F = 3.0, 5.59e-3, 6.26e-3, 0.147
+I_LSB, V_LSB, F_SW = 12.5 / 2**15, 560 / 2**15, 5e3
+W_LSB = 2 * math.pi * F_SW / 2**32
+FLUX = 2 * math.pi * F_SW / V_LSB                         # flux LSB per V*s
+P = ProtParams(r=round(R * I_LSB / V_LSB * 2**16), ld=round(L_D * I_LSB * FLUX * 2**16),
+               lq=round(L_Q * I_LSB * FLUX * 2**16), psi_f=round(PSI_F * FLUX))
+
+
+def steady_voltage(omega: float, i_d: float, i_q: float) -> tuple[int, int]:
+    """v_d, v_q [LSB] of the steady-state stator equation at electrical speed omega [rad/s]."""
+    v_d = R * i_d - omega * L_Q * i_q
+    v_q = R * i_q + omega * (PSI_F + L_D * i_d)
+    return round(v_d / V_LSB), round(v_q / V_LSB)
+
+
+@pytest.mark.parametrize("rpm, i_d, i_q", [(0, 0.0, 2.27), (50, -0.5, 2.0), (250, 0.3, -2.2), (-1000, 0.0, 1.0)])
+def test_residual_vanishes_on_the_motor_equation_and_measures_a_speed_error(rpm, i_d, i_q):
+    omega = rpm * math.pi / 30 * 4
+    v_d, v_q = steady_voltage(omega, i_d, i_q)
+    args = (round(i_d / I_LSB), round(i_q / I_LSB), round(omega / W_LSB))
+    assert emf_residual(P, v_d, v_q, *args) <= 3                     # rounding of the LSB conversions
+    # a speed estimate 100 r/min low leaves (delta omega) psi_d in e_q and (delta omega) L_q i_q in e_d
+    d_omega = 100 * math.pi / 30 * 4
+    lagging = (*args[:2], round((omega - d_omega) / W_LSB))
+    want = d_omega * ((PSI_F + L_D * i_d) + L_Q * abs(i_q)) / V_LSB
+    assert emf_residual(P, v_d, v_q, *lagging) == pytest.approx(want, abs=4)
+
+
+def test_lock_check_fires_when_the_filter_crosses_the_limit_and_the_limit_grows_with_speed():
+    """A constant residual x through the Q16 filter: 1 - (1 - a)^n of x (floored, so within a period)."""
+    a, tol, x = lowpass_coef(1 / (2 * math.pi * 5e-3), F_SW), 1000, 3000
+    p = replace(P, emf_lp=a, emf_tol=tol)
+    st = Firmware(_params())
+    n = next(k for k in range(1, 1000) if x * (1 - (1 - a / 2**16) ** k) > tol + 1)
+    codes = [protect_step(st, p, 0, x, 0, 0, 0, 0, 0, False) for _ in range(n + 1)]   # i = 0, omega = 0: |v_q|
+    assert codes[:n - 2] == [FAULT_NONE] * (n - 2) and codes[n] == FAULT_LOCK_LOSS
+    # at speed w the limit is emf_tol + shr(|w| psi_rel, 32): v_q = x + the back-EMF of w leaves e_q = x
+    w = 2**26
+    p_rel = replace(p, psi_rel=-(-(x - tol + 1) * 2**32 // w))
+    v_q = x + ((w * P.psi_f) >> 32)
+    st = Firmware(_params())
+    assert emf_residual(p_rel, 0, v_q, 0, 0, w) == x
+    assert FAULT_LOCK_LOSS not in [protect_step(st, p_rel, 0, v_q, 0, 0, 0, 0, w, False) for _ in range(3 * n)]
+
+
+def test_tracking_overload_and_overspeed():
+    p = replace(P, track_lp=1 << 16, track_tol=100, ovl_n=5, w_max=1000)
+    st = Firmware(_params())
+    assert protect_step(st, p, 0, 0, 0, 0, 60, -40, 0, False) == FAULT_NONE      # |60| + |-40| = 100: not above
+    assert protect_step(st, p, 0, 0, 0, 0, 60, -41, 0, False) == FAULT_TRACKING
+    st = Firmware(_params())
+    codes = [protect_step(st, p, 0, 0, 0, 0, 0, 0, 0, True) for _ in range(5)]
+    assert codes == [FAULT_NONE] * 4 + [FAULT_OVERLOAD]
+    protect_step(st, p, 0, 0, 0, 0, 0, 0, 0, False)
+    assert st.ovl_n == 0                                             # a period off the limit restarts the count
+    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -1001, True) == FAULT_OVERSPEED  # first in the order
+    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -1000, True) == FAULT_NONE
+
+
+def _params(**kw) -> FirmwareParams:
+    pi = PiParams(kp=1 << 16, sp=16, ki=1 << 10, si=16, limit=2000)
+    base = dict(low=1, high=0, sqw=SqwParams(27_342_611, 2621, 6711), rfo=None, speed_lp=2425, speed_pi=pi,
+                id_pi=pi, iq_pi=pi, v_h=5851, i_pulse=300, n_converge=3, n_pulse=4, n_settle=1, i_trip=1000)
+    base.update(kw)
+    return FirmwareParams(**base)
+
+
+def _running(p: FirmwareParams, speed: int) -> Firmware:
+    fw = Firmware(p)
+    fw.mode, fw.speed_f, fw.est_omega = MODE_RUN, speed << 16, [speed, 0]
+    return fw
+
+
+@pytest.mark.parametrize("speed, asc", [(10_000, 0), (-30_000, 1)])
+def test_a_fault_in_run_stops_the_outputs_or_shorts_the_motor(speed, asc):
+    """A tracking fault in RUN: FAULT with its code; below w_asc the gates off (the reset outputs), above it
+    zero voltage with the outputs on (the active short circuit), kept in the following periods."""
+    p = _params(prot=ProtParams(track_lp=1 << 16, track_tol=10, w_asc=20_000))
+    fw = _running(p, speed)
+    fw.i_d_ref = 500                                                 # the last reference; the mean is 0
+    out = fw.step(WindowResult(gamma=0, gamma_d=0, sum_id=0, sum_iq=0, wsum=0, n_samples=10), speed)
+    assert (fw.mode, fw.fault, fw.asc) == (MODE_FAULT, FAULT_TRACKING, asc)
+    want = Outputs(0, 0, 0, *sincos_q15(fw.theta_hat), 1) if asc else Outputs(0, 0, 0, 0, 32767, 0)
+    assert out == want
+    later = fw.step(WindowResult(gamma=0, gamma_d=0, sum_id=0, sum_iq=0, wsum=0, n_samples=10), speed)
+    assert later.enable == asc and (later.v_d, later.v_q, later.v_h) == (0, 0, 0)
+
+
+def test_protection_params_of_the_default_scenario():
+    """The integers from the scenario's motor and formats (docs/faults.md defaults)."""
+    sc = load_scenario("scenarios/fullload_start.toml")
+    s, p = scales(sc), protection_params(sc)
+    flux = 2 * math.pi * s.f_sw / s.v_lsb
+    assert (p.r, p.ld, p.lq, p.psi_f) == (round(R * s.i_lsb / s.v_lsb * 2**16), round(L_D * s.i_lsb * flux * 2**16),
+                                          round(L_Q * s.i_lsb * flux * 2**16), round(PSI_F * flux))
+    assert p.emf_tol == round(0.06 * 560 / s.v_lsb) and p.psi_rel == round(0.25 * PSI_F * flux)
+    assert p.track_tol == round(3.0 / s.i_lsb) and p.ovl_n == round(0.5 * 5e3)
+    assert p.w_max == round((2 * 250 + 500) * math.pi / 30 * 4 / s.w_lsb)
+    assert p.w_asc == round(560 / (math.sqrt(3) * 4 * PSI_F) * 4 / s.w_lsb)
+    assert firmware_params(sc).prot == p
+    off = replace(sc, protection=replace(sc.protection, checks="off"))
+    assert protection_params(off) == ProtParams()

@@ -258,8 +258,10 @@ def protection_params(sc: Scenario) -> ProtParams:
         track_lp=lp(pr.track_time),
         track_tol=0 if ctl.law == "fcs_mpc" else sc_.current(pr.track_current if pr.track_current is not None
                                                              else TRACK_SHARE * ctl.i_max),
-        ovl_n=round(pr.overload_time * sc_.f_sw),
-        w_max=min(sc_.speed_mech(speed_max), 2**31 - 1), w_asc=min(sc_.speed_mech(asc), 2**31 - 1))
+        ovl_n=round(pr.overload_time * sc_.f_sw), ovl_w=min(sc_.speed_mech(pr.overload_speed), 2**31 - 1),
+        ovl_m=round(pr.overload_speed_time * sc_.f_sw),
+        w_max=min(sc_.speed_mech(speed_max), 2**31 - 1), w_asc=min(sc_.speed_mech(asc), 2**31 - 1),
+        restarts=pr.restarts, restart_n=max(round(pr.restart_delay * sc_.f_sw), 1))
 
 
 def flux_lsb(sc: Scenario) -> float:

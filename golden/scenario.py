@@ -345,8 +345,12 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "track_current": _q("current", _non_negative),
         "track_time": _q("time", _positive, default=20e-3),
         "overload_time": _q("time", _non_negative, default=0.5),
+        "overload_speed": _q("speed", _non_negative, default=300 * math.pi / 30),
+        "overload_speed_time": _q("time", _non_negative, default=0.05),
         "speed_max": _q("speed", _non_negative),
         "asc_speed": _q("speed", _non_negative),
+        "restarts": Field("integer", check=_between(0, 1000), default=0),
+        "restart_delay": _q("time", _positive, default=0.5),
     },
     "simulation": {
         "max_substep": _q("time", _positive),
@@ -492,8 +496,12 @@ class ProtectionSettings:
     track_current: float | None
     track_time: float
     overload_time: float
+    overload_speed: float
+    overload_speed_time: float
     speed_max: float | None
     asc_speed: float | None
+    restarts: int
+    restart_delay: float
 
 
 @dataclass(frozen=True)

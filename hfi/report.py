@@ -12,7 +12,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from golden.closedloop import ClosedLoopResult  # noqa: E402
-from golden.firmware.supervisor import MODE_NAMES, MODE_RUN  # noqa: E402
+from golden.firmware.protection import FAULT_NAMES  # noqa: E402
+from golden.firmware.supervisor import MODE_FAULT, MODE_NAMES, MODE_RUN  # noqa: E402
 from golden.scenario import Scenario  # noqa: E402
 from hfi.paper import RPM  # noqa: E402
 
@@ -21,6 +22,10 @@ SETTLE_S = 0.3
 
 LOCK_DEG = 60.0
 """``locked``: the angle error stays below this after the start-up (beyond it the estimator slips a pole)."""
+
+RUNAWAY_RPM, RUNAWAY_S = 300.0, 0.05
+"""``faults.runaway_gates_on``: the true speed more than RUNAWAY_RPM from the reference for RUNAWAY_S in a row
+while the firmware is not in FAULT (a shorter excursion is a transient the drive recovers from or trips on)."""
 
 ZOOM_S = 0.02
 """Span of the zoomed panel of ``angles.png`` [s]."""
@@ -91,6 +96,41 @@ def estimator_switches(res: ClosedLoopResult) -> list[dict]:
             for k in np.nonzero(est[1:] != est[:-1])[0] + 1]
 
 
+def longest_run(flags: np.ndarray) -> int:
+    """The longest stretch of consecutive True entries."""
+    edges = np.diff(np.concatenate([[0], flags.astype(np.int8), [0]]))
+    return int(np.max(np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1), initial=0))
+
+
+def fault_metrics(sc: Scenario, res: ClosedLoopResult) -> dict:
+    """The firmware's fault and, with injected faults, what followed the first onset (docs/metrics.md)."""
+    w, t = res.windows, res.t
+    trip = np.flatnonzero(w["mode"] == MODE_FAULT)
+    out = {"code": FAULT_NAMES[int(w["fault"][trip[0]])] if len(trip) else "none",
+           "at_s": round(float(t[trip[0]]), 4) if len(trip) else None,
+           "injected": [{"kind": f.kind, "at_s": f.at} for f in sc.faults]}
+    if not sc.faults:
+        return out
+    t0 = sc.faults[0].at
+    after = t >= t0
+    speed = w["omega_m"] / RPM
+    ref = w["speed_ref"] / res.scales.speed_mech(RPM)
+    k0 = int(np.argmax(after)) if after.any() else len(t) - 1
+    gates_on = w["mode"] != MODE_FAULT
+    lost = np.flatnonzero(after & gates_on & (np.abs(res.angle_error_deg()) > LOCK_DEG))
+    t_lost = float(t[lost[0]]) if len(lost) else None
+    t_trip = float(t[trip[0]]) if len(trip) and t[trip[0]] >= t0 else None
+    out.update({
+        "lock_lost_s": None if t_lost is None else round(t_lost, 4),
+        "lock_detect_ms": None if t_lost is None or t_trip is None else round((t_trip - t_lost) * 1e3, 2),
+        "detect_ms": round((float(t[trip[0]]) - t0) * 1e3, 2) if len(trip) and t[trip[0]] >= t0 else None,
+        "peak_current_a": round(float(np.max(np.hypot(w["i_d_true"], w["i_q_true"])[after], initial=0.0)), 3),
+        "speed_excursion_rpm": round(float(np.max(np.abs(speed[after] - speed[k0]), initial=0.0)), 1),
+        "runaway_gates_on": longest_run(after & gates_on & (np.abs(speed - ref) > RUNAWAY_RPM))
+        >= RUNAWAY_S * res.scales.f_sw})
+    return out
+
+
 def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
     """Angle error, speed, estimator and timing numbers of a closed-loop run (docs/metrics.md)."""
     w = res.windows
@@ -119,6 +159,7 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
         "segments": segments(sc, res, t_run),
         "estimator_switches": len(switches),
         "estimator_switch_events": switches,
+        "faults": fault_metrics(sc, res),
         "late_commits": 0 if res.soc is None else res.soc["late_commits"],
         "wall_s": round(res.wall_s, 2),
         "realtime_factor": round(float(res.t[-1]) / res.wall_s, 3),

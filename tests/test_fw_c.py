@@ -333,14 +333,15 @@ def test_protect_step_random_sequences(seed):
         p = random_prot(rng)
         fw_c._fill(c, p)
         gold = Firmware(_params())
-        st.emf_f = st.track_f = st.ovl_n = 0
+        st.emf_f = st.track_f = st.ovl_n = st.ovl_e = 0
         at_limit = rng.random() < 0.5
         for k in range(20):
-            v_d, v_q, i_d, i_q, i_dr, i_qr, w = draw(rng, 7, S32_MIN >> (q % 20), S32_MAX >> (q % 20))
+            v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref = draw(rng, 8, S32_MIN >> (q % 20), S32_MAX >> (q % 20))
             limit = int(at_limit or rng.random() < 0.1)
-            want = protect_step(gold, p, v_d, v_q, i_d, i_q, i_dr, i_qr, w, bool(limit))
-            got = lib.fw_protect_step(st, c, v_d, v_q, i_d, i_q, i_dr, i_qr, w, limit)
-            assert (got, st.emf_f, st.track_f, st.ovl_n) == (want, gold.emf_f, gold.track_f, gold.ovl_n), \
+            want = protect_step(gold, p, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, bool(limit))
+            got = lib.fw_protect_step(st, c, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, limit)
+            assert (got, st.emf_f, st.track_f, st.ovl_n, st.ovl_e) == \
+                (want, gold.emf_f, gold.track_f, gold.ovl_n, gold.ovl_e), \
                 (seed, q, k, p)
             seen.add(want)
     assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT}, seen
@@ -599,7 +600,9 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
     w_max, w_asc = draw(rng, 2, 0, S32_MAX, (0, 10_021_590, 300_690_740))
     return ProtParams(r=r, ld=ld, lq=lq, psi_f=psi_f, emf_lp=emf_lp, emf_tol=emf_tol, psi_rel=psi_rel,
                       track_lp=track_lp, track_tol=track_tol, ovl_n=draw_one(rng, 0, 2000, (0, 1, 2500)),
-                      w_max=w_max, w_asc=w_asc)
+                      ovl_w=draw_one(rng, 0, S32_MAX, (0, 1_202_591)), ovl_m=draw_one(rng, 0, 300, (0, 1, 250)),
+                      w_max=w_max, w_asc=w_asc,
+                      restarts=draw_one(rng, 0, 3, (0,)), restart_n=draw_one(rng, 0, 20, (0, 1)))
 
 
 def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:

@@ -14,7 +14,7 @@ from golden.firmware.pi import PiParams
 from golden.firmware.protection import (FAULT_LOCK_LOSS, FAULT_NONE, FAULT_OVERLOAD, FAULT_OVERSPEED,
                                         FAULT_TRACKING, ProtParams, emf_residual, protect_step)
 from golden.firmware.sqw_bangbang import SqwParams
-from golden.firmware.supervisor import MODE_FAULT, MODE_RUN, Firmware, FirmwareParams, Outputs
+from golden.firmware.supervisor import MODE_CONVERGE, MODE_FAULT, MODE_RUN, Firmware, FirmwareParams, Outputs
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
 from golden.scenario import load_scenario
@@ -54,7 +54,7 @@ def test_lock_check_fires_when_the_filter_crosses_the_limit_and_the_limit_grows_
     p = replace(P, emf_lp=a, emf_tol=tol)
     st = Firmware(_params())
     n = next(k for k in range(1, 1000) if x * (1 - (1 - a / 2**16) ** k) > tol + 1)
-    codes = [protect_step(st, p, 0, x, 0, 0, 0, 0, 0, False) for _ in range(n + 1)]   # i = 0, omega = 0: |v_q|
+    codes = [protect_step(st, p, 0, x, 0, 0, 0, 0, 0, 0, False) for _ in range(n + 1)]   # i = 0, omega = 0: |v_q|
     assert codes[:n - 2] == [FAULT_NONE] * (n - 2) and codes[n] == FAULT_LOCK_LOSS
     # at speed w the limit is emf_tol + shr(|w| psi_rel, 32): v_q = x + the back-EMF of w leaves e_q = x
     w = 2**26
@@ -62,21 +62,29 @@ def test_lock_check_fires_when_the_filter_crosses_the_limit_and_the_limit_grows_
     v_q = x + ((w * P.psi_f) >> 32)
     st = Firmware(_params())
     assert emf_residual(p_rel, 0, v_q, 0, 0, w) == x
-    assert FAULT_LOCK_LOSS not in [protect_step(st, p_rel, 0, v_q, 0, 0, 0, 0, w, False) for _ in range(3 * n)]
+    assert FAULT_LOCK_LOSS not in [protect_step(st, p_rel, 0, v_q, 0, 0, 0, 0, w, 0, False) for _ in range(3 * n)]
 
 
 def test_tracking_overload_and_overspeed():
     p = replace(P, track_lp=1 << 16, track_tol=100, ovl_n=5, w_max=1000)
     st = Firmware(_params())
-    assert protect_step(st, p, 0, 0, 0, 0, 60, -40, 0, False) == FAULT_NONE      # |60| + |-40| = 100: not above
-    assert protect_step(st, p, 0, 0, 0, 0, 60, -41, 0, False) == FAULT_TRACKING
+    assert protect_step(st, p, 0, 0, 0, 0, 60, -40, 0, 0, False) == FAULT_NONE      # |60| + |-40| = 100: not above
+    assert protect_step(st, p, 0, 0, 0, 0, 60, -41, 0, 0, False) == FAULT_TRACKING
     st = Firmware(_params())
-    codes = [protect_step(st, p, 0, 0, 0, 0, 0, 0, 0, True) for _ in range(5)]
+    codes = [protect_step(st, p, 0, 0, 0, 0, 0, 0, 0, 0, True) for _ in range(5)]
     assert codes == [FAULT_NONE] * 4 + [FAULT_OVERLOAD]
-    protect_step(st, p, 0, 0, 0, 0, 0, 0, 0, False)
+    protect_step(st, p, 0, 0, 0, 0, 0, 0, 0, 0, False)
     assert st.ovl_n == 0                                             # a period off the limit restarts the count
-    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -1001, True) == FAULT_OVERSPEED  # first in the order
-    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -1000, True) == FAULT_NONE
+    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -1001, 0, True) == FAULT_OVERSPEED  # first in the order
+    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -1000, 0, True) == FAULT_NONE
+    # at the limit with the speed more than ovl_w from the reference for ovl_m periods in a row: overload
+    p = replace(p, ovl_n=0, ovl_w=300, ovl_m=3)
+    st = Firmware(_params())
+    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -200, 100, True) == FAULT_NONE    # |100 - -200| = 300: not above
+    assert st.ovl_e == 0
+    codes = [protect_step(st, p, 0, 0, 0, 0, 0, 0, -201, 100, limit) for limit in (True, True, False, True, True)]
+    assert codes == [FAULT_NONE] * 5 and st.ovl_e == 2                # off the limit restarts the count
+    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -201, 100, True) == FAULT_OVERLOAD
 
 
 def _params(**kw) -> FirmwareParams:
@@ -108,6 +116,37 @@ def test_a_fault_in_run_stops_the_outputs_or_shorts_the_motor(speed, asc):
     assert later.enable == asc and (later.v_d, later.v_q, later.v_h) == (0, 0, 0)
 
 
+def test_restart_after_the_delay_at_most_restarts_times():
+    """A fault with restarts = 2, restart_n = 3: the tripping period and three more in FAULT, then CONVERGE with
+    every state as at
+    power-up (the estimator's too) but the fault code, the count and the output history; after the second
+    restart's fault, FAULT holds."""
+    p = _params(prot=ProtParams(track_lp=1 << 16, track_tol=10, restarts=2, restart_n=3))
+    fw = _running(p, 1000)
+    win = WindowResult(gamma=0, gamma_d=0, sum_id=0, sum_iq=0, wsum=0, n_samples=10)
+    modes = []
+    for k in range(40):
+        if fw.mode == MODE_RUN:
+            fw.i_d_ref = 500                                         # the tracking check fires in RUN
+        fw.step(win, 0)
+        modes.append(fw.mode)
+    first = modes.index(MODE_FAULT)
+    assert modes[first:first + 5] == [MODE_FAULT] * 4 + [MODE_CONVERGE]
+    assert fw.restarts == 2 and fw.fault == FAULT_TRACKING and modes[-1] == MODE_FAULT
+    assert modes.count(MODE_CONVERGE) == 2 * (p.n_converge - 1)     # two start-ups (CONVERGE leaves at n_converge)
+    fresh = _running(p, 1000)
+    fw2 = _running(p, 1000)
+    fw2.i_d_ref = 500
+    fw2.step(win, 0)                                                 # trips
+    for _ in range(4):
+        fw2.step(win, 0)                                             # the fourth: restart, then CONVERGE's first step
+    ref = Firmware(p)
+    ref.step(win, 0)
+    assert (fw2.mode, fw2.n, fw2.speed_f, fw2.slots[0].pll, fw2.restarts) == (ref.mode, ref.n, ref.speed_f,
+                                                                             ref.slots[0].pll, 1)
+    assert fresh.restarts == 0
+
+
 def test_protection_params_of_the_default_scenario():
     """The integers from the scenario's motor and formats (docs/faults.md defaults)."""
     sc = load_scenario("scenarios/fullload_start.toml")
@@ -117,6 +156,7 @@ def test_protection_params_of_the_default_scenario():
                                           round(L_Q * s.i_lsb * flux * 2**16), round(PSI_F * flux))
     assert p.emf_tol == round(0.06 * 560 / s.v_lsb) and p.psi_rel == round(0.25 * PSI_F * flux)
     assert p.track_tol == round(3.0 / s.i_lsb) and p.ovl_n == round(0.5 * 5e3)
+    assert (p.ovl_w, p.ovl_m) == (round(300 * math.pi / 30 * 4 / s.w_lsb), round(0.05 * 5e3))
     assert p.w_max == round((2 * 250 + 500) * math.pi / 30 * 4 / s.w_lsb)
     assert p.w_asc == round(560 / (math.sqrt(3) * 4 * PSI_F) * 4 / s.w_lsb)
     assert firmware_params(sc).prot == p

@@ -1144,20 +1144,23 @@ int32_t fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q
 
 /* protection.protect_step (OVL_CAP = 2^30) */
 int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d,
-                        int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t at_limit)
+                        int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t speed_ref,
+                        int32_t at_limit)
 {
     int32_t track = sat32(abs64((int64_t)i_d_ref - i_d) + abs64((int64_t)i_q_ref - i_q));
 
     st->emf_f = fw_lowpass_step(st->emf_f, fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f), p->emf_lp);
     st->track_f = fw_lowpass_step(st->track_f, track, p->track_lp);
     st->ovl_n = at_limit ? (st->ovl_n < (1 << 30) ? st->ovl_n + 1 : 1 << 30) : 0;
+    st->ovl_e = at_limit && abs64((int64_t)speed_ref - omega_f) > p->ovl_w ? (st->ovl_e < (1 << 30) ? st->ovl_e + 1 : 1 << 30)
+                                                                           : 0;
     if (p->w_max && abs64(omega_f) > p->w_max)
         return FW_FAULT_OVERSPEED;
     if (p->emf_tol && fw_lowpass_out(st->emf_f) > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))
         return FW_FAULT_LOCK_LOSS;
     if (p->track_tol && fw_lowpass_out(st->track_f) > p->track_tol)
         return FW_FAULT_TRACKING;
-    if (p->ovl_n && st->ovl_n >= p->ovl_n)
+    if ((p->ovl_n && st->ovl_n >= p->ovl_n) || (p->ovl_m && st->ovl_e >= p->ovl_m))
         return FW_FAULT_OVERLOAD;
     return FW_FAULT_NONE;
 }
@@ -1169,6 +1172,20 @@ const char *fw_fault_name(int32_t code)
                                                  "overload"};
 
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
+}
+
+/* Firmware._restart: fw_init but the fault code, the restart count and the output history. */
+static void restart(struct fw_state *st, const struct fw_params *p)
+{
+    int32_t fault = st->fault, restarts = st->restarts + 1;
+    struct fw_outputs act0 = st->act[0], act1 = st->act[1], prev = st->prev;
+
+    fw_init(st, p);
+    st->fault = fault;
+    st->restarts = restarts;
+    st->act[0] = act0;
+    st->act[1] = act1;
+    st->prev = prev;
 }
 
 /* Firmware._trip: FAULT with the code; the active short circuit above w_asc under the FOC law. */
@@ -1440,8 +1457,12 @@ static void fcs_outputs(struct fw_state *st, const struct fw_params *p, const st
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out)
 {
-    int32_t i_d, i_q, i_d_ref = 0, i_q_ref = 0, pilot = 0, v_pilot = 0, s_inj = 0, c_inj = 32767;
-    int32_t i_d_prev = st->i_d_ref, i_q_prev = st->i_q_ref; /* the references of the last period */
+    int32_t i_d, i_q, i_d_ref = 0, i_q_ref = 0, pilot = 0, v_pilot = 0, s_inj = 0, c_inj = 32767, i_d_prev, i_q_prev;
+
+    if (st->mode == FW_FAULT && st->restarts < p->prot.restarts && st->n >= p->prot.restart_n)
+        restart(st, p);
+    i_d_prev = st->i_d_ref; /* the references of the last period */
+    i_q_prev = st->i_q_ref;
 
     if (p->inj_rot)
         fw_sincos_q15(win->inj_phase, &s_inj, &c_inj);
@@ -1481,7 +1502,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
             hand_over(st, p);
             run_refs(st, p, speed_ref, &i_d_ref, &i_q_ref);
             code = fw_protect_step(st, &p->prot, st->act[0].v_d, st->act[0].v_q, i_d, i_q, i_d_prev, i_q_prev,
-                                   fw_lowpass_out(st->speed_f), abs64(st->i_s_ref) >= p->speed_pi.limit);
+                                   fw_lowpass_out(st->speed_f), speed_ref, abs64(st->i_s_ref) >= p->speed_pi.limit);
             if (code != FW_FAULT_NONE)
                 trip(st, p, code);
         }

@@ -49,8 +49,12 @@ struct fw_prot_params {
     int32_t track_lp;        /* tracking-error filter, Q16 */
     int32_t track_tol;       /* current LSB */
     int32_t ovl_n;           /* periods at the speed PI's limit */
+    int32_t ovl_w;           /* speed error at the limit, speed LSB, */
+    int32_t ovl_m;           /* for this many periods */
     int32_t w_max;           /* speed LSB */
     int32_t w_asc;           /* speed LSB */
+    int32_t restarts;        /* automatic restarts at most (0: none) */
+    int32_t restart_n;       /* periods in FAULT before each */
 };
 
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
@@ -415,6 +419,8 @@ struct fw_state {
     int64_t emf_f;              /* protection filters (Q16) and overload count */
     int64_t track_f;
     int32_t ovl_n;
+    int32_t ovl_e;
+    int32_t restarts;           /* automatic restarts done */
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;
     struct fw_sqw_state sqw;    /* one state block per method */
@@ -565,7 +571,8 @@ void fw_init(struct fw_state *st, const struct fw_params *p);
 int32_t fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
                         int32_t omega);
 int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d,
-                        int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t at_limit);
+                        int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t speed_ref,
+                        int32_t at_limit);
 const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out);

@@ -239,6 +239,10 @@ int main(void)
             uart_putu(*(volatile uint32_t *)&shown_window);
             uart_puts(" mode ");
             uart_puts(mode >= 0 && mode <= FW_FAULT ? mode_names[mode] : "?");
+            if (mode == FW_FAULT) {
+                uart_puts(" ");
+                uart_puts(fw_fault_name(*(volatile int32_t *)&st.fault));
+            }
             uart_puts("\n");
         }
     }

@@ -20,8 +20,11 @@ references it gave and the filtered speed of the estimator in charge.
 ``current_tracking``  ``|i_d* - i_d| + |i_q* - i_q|`` (the references of the previous period) through a
                       first-order filter above ``track_tol``: an open phase, a switch that never turns
                       on, a dc link too low for the current.
-``overload``          the speed PI's output at its limit for ``ovl_n`` periods in a row: the drive cannot
-                      hold the speed (a blocked rotor, a load above the current limit).
+``overload``          the speed PI's output at its limit for ``ovl_n`` periods in a row, or at its limit
+                      with the filtered speed more than ``ovl_w`` from the reference for ``ovl_m`` periods in
+                      a row: the drive cannot hold the speed (a blocked rotor, a load above the current
+                      limit that drives the motor). A reference step saturates the PI too, but the speed
+                      comes within ``ovl_w`` of it sooner.
 
 The software overcurrent on the window means (``i_trip``) is checked in every mode by the supervisor
 itself (``FAULT_OVERCURRENT``).
@@ -63,11 +66,15 @@ class ProtParams:
         Tracking-error filter coefficient (Q16) and limit [current LSB].
     ovl_n : int
         Periods at the speed PI's limit before ``overload``.
+    ovl_w, ovl_m : int
+        Speed error [speed LSB] at the limit that is ``overload`` after ``ovl_m`` periods in a row.
     w_max : int
         Overspeed limit on ``|omega_f|`` [speed LSB].
     w_asc : int
         Above this ``|omega_f|`` at the fault the safe state is the active short circuit (zero voltage),
         below it the gates are off (coast) [speed LSB].
+    restarts, restart_n : int
+        Automatic restarts: at most ``restarts`` (0: none), each ``restart_n`` periods after the tripping one.
     """
 
     r: int = 0
@@ -80,8 +87,12 @@ class ProtParams:
     track_lp: int = 0
     track_tol: int = 0
     ovl_n: int = 0
+    ovl_w: int = 0
+    ovl_m: int = 0
     w_max: int = 0
     w_asc: int = 0
+    restarts: int = 0
+    restart_n: int = 0
 
 
 def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> int:
@@ -98,20 +109,21 @@ OVL_CAP = 1 << 30
 
 
 def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_ref: int,
-                 i_q_ref: int, omega_f: int, at_limit: bool) -> int:
+                 i_q_ref: int, omega_f: int, speed_ref: int, at_limit: bool) -> int:
     """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload; returns the
     first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_f``, ``track_f`` (Q16, as
-    :mod:`golden.firmware.lowpass`) and the count ``ovl_n`` (the supervisor's
+    :mod:`golden.firmware.lowpass`) and the counts ``ovl_n``, ``ovl_e`` (the supervisor's
     :class:`~golden.firmware.supervisor.Firmware`); all are stepped every period."""
     st.emf_f = lowpass_step(st.emf_f, emf_residual(p, v_d, v_q, i_d, i_q, omega_f), p.emf_lp)
     st.track_f = lowpass_step(st.track_f, sat(abs(i_d_ref - i_d) + abs(i_q_ref - i_q), 32), p.track_lp)
     st.ovl_n = min(st.ovl_n + 1, OVL_CAP) if at_limit else 0
+    st.ovl_e = min(st.ovl_e + 1, OVL_CAP) if at_limit and abs(speed_ref - omega_f) > p.ovl_w else 0
     if p.w_max and abs(omega_f) > p.w_max:
         return FAULT_OVERSPEED
     if p.emf_tol and lowpass_out(st.emf_f) > p.emf_tol + shr(abs(omega_f) * p.psi_rel, 32):
         return FAULT_LOCK_LOSS
     if p.track_tol and lowpass_out(st.track_f) > p.track_tol:
         return FAULT_TRACKING
-    if p.ovl_n and st.ovl_n >= p.ovl_n:
+    if (p.ovl_n and st.ovl_n >= p.ovl_n) or (p.ovl_m and st.ovl_e >= p.ovl_m):
         return FAULT_OVERLOAD
     return FAULT_NONE

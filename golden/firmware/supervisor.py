@@ -42,8 +42,10 @@ States (``MODE_*``):
               overcurrent on the window means in any mode, or one of the RUN checks. Safe state: gates off
               (coast), or, when ``|omega_f|`` was above ``prot.w_asc`` at the fault and the law is
               ``LAW_FOC_PWM``, the active short circuit (zero voltage with the outputs enabled: the
-              modulator keeps every leg at half duty, the line-to-line voltages at zero). The state holds
-              until the end of the run (docs/faults.md).
+              modulator keeps every leg at half duty, the line-to-line voltages at zero). After
+              ``prot.restart_n`` periods after the tripping one the firmware restarts from CONVERGE (every state as at
+              power-up, the polarity test again) at most ``prot.restarts`` times; then FAULT holds to the
+              end of the run (docs/faults.md).
 """
 
 from __future__ import annotations
@@ -240,6 +242,8 @@ class Firmware:
     emf_f: int = 0                   # protection filters (Q16) and overload count
     track_f: int = 0
     ovl_n: int = 0
+    ovl_e: int = 0
+    restarts: int = 0                # automatic restarts done
     slots: list = field(init=False)
 
     def __post_init__(self) -> None:
@@ -257,6 +261,13 @@ class Firmware:
     def _next(self, mode: int) -> None:
         self.mode, self.n = mode, 0
 
+    def _restart(self) -> None:
+        """Every state as at power-up, except the fault code, the restart count and the output history (the
+        registers the hardware still holds)."""
+        keep = (self.fault, self.restarts + 1, self.act, self.prev)
+        self.__init__(self.p)
+        self.fault, self.restarts, self.act, self.prev = keep
+
     def _trip(self, code: int) -> None:
         """Enter FAULT with ``code``; choose the safe state (module docstring)."""
         p = self.p
@@ -267,6 +278,8 @@ class Firmware:
     def step(self, win: WindowResult, speed_ref: int) -> Outputs:
         """One interrupt: window results in, register writes out."""
         p = self.p
+        if self.mode == MODE_FAULT and self.restarts < p.prot.restarts and self.n >= p.prot.restart_n:
+            self._restart()
         self.i_d, self.i_q = i_d, i_q = window_means(win.sum_id, win.sum_iq, win.n_samples)
         self.n += 1
         i_d_prev, i_q_prev = self.i_d_ref, self.i_q_ref       # the references of the last period
@@ -293,7 +306,7 @@ class Firmware:
                 self._hand_over()
                 i_d_ref, i_q_ref = self._run_refs(speed_ref)
                 code = protect_step(self, p.prot, now.v_d, now.v_q, i_d, i_q, i_d_prev, i_q_prev, self.omega_f,
-                                    abs(self.i_s_ref) >= p.speed_pi.limit)
+                                    speed_ref, abs(self.i_s_ref) >= p.speed_pi.limit)
                 if code != FAULT_NONE:
                     self._trip(code)
             self.theta_hat = self._angle()

@@ -1,0 +1,189 @@
+"""``hfi faults``: the fault matrix of the 002 drive (docs/faults.md).
+
+Every fault of :data:`FAULTS` is injected into the plant of the default scenario (Table I motor, the
+paper's control) at :data:`ONSET_S`, in RUN at each speed of :data:`SPEEDS_RPM`, without load and at
+rated load, on the golden closed loop. For each run the firmware's reaction is taken from the trace
+(:func:`hfi.report.fault_metrics`) and judged:
+
+``detected``  the firmware tripped after the onset (its code and the time to detect);
+``harmless``  it did not trip, and nothing happened that a trip should prevent: no runaway with the gates
+              on, the current within ``control.i_trip``, the speed within :data:`HARMLESS_RPM` of its
+              value at the onset;
+``MISSED``    anything else.
+
+Outputs in ``--out`` (default ``out/faults``): ``matrix.json`` (one object per run), ``matrix.md`` (the
+table of docs/faults.md) and one figure per run in ``fig/``. Progress on stderr, one line per run.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+import sys
+import time
+import tomllib
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from golden.closedloop import ClosedLoop
+from golden.firmware.supervisor import MODE_FAULT
+from golden.scenario import parse_scenario
+from hfi.paper import BASE, RPM
+
+ONSET_S = 0.8
+"""Fault onset: in RUN, 0.3 s after the speed reached its plateau."""
+DURATION_S = 1.6
+"""End of each run (0.8 s after the onset: the overload check needs 0.5 s at the current limit)."""
+DURATION_SHORT_S = 1.0
+SPEEDS_RPM = (0.0, 50.0, 250.0)
+RATED_NM = 2.0
+"""Rated torque of the Table I motor (the default scenario's full load)."""
+HARMLESS_RPM = 100.0
+"""An undetected fault is harmless if the speed stays within this of its value at the onset (and no runaway,
+no overcurrent)."""
+
+FAULTS: dict[str, dict] = {
+    "none": {},
+    "sensor offset 0.5 A (a)": {"kind": "sensor_offset", "phase": "a", "offset": "0.5 A"},
+    "sensor drift 5 A/s (a)": {"kind": "sensor_offset", "phase": "a", "drift": "5 A/s"},
+    "sensor gain x0.7 (a)": {"kind": "sensor_gain", "phase": "a", "gain": 0.7},
+    "ADC stuck at +1.3 A (a)": {"kind": "adc_stuck", "phase": "a", "code": 2475},
+    "ADC lane dead (b)": {"kind": "adc_lane_dead", "phase": "b"},
+    "phase open (a)": {"kind": "phase_open", "phase": "a"},
+    "switch open (a high)": {"kind": "switch_open", "switch": "a_hi"},
+    "dc-link sag -30 %": {"kind": "dc_link", "factor": 0.7},
+    "dc-link loss (20 ms)": {"kind": "dc_link", "factor": 0.0, "tau": "20 ms"},
+    "load impact +2x rated": {"kind": "load_step", "torque": f"{2 * RATED_NM} N*m"},
+    "rotor blocked": {"kind": "rotor_blocked"},
+    "load drives, -3x rated": {"kind": "load_step", "torque": f"{-3 * RATED_NM} N*m"},
+}
+"""Matrix rows: name -> the ``[[faults]]`` entry without ``at`` (``{}``: the healthy reference)."""
+
+
+def scenario(fault: dict, rpm: float, loaded: bool, duration: float):
+    """The default scenario with the load from 0.2 s, the speed ramp 0.3-0.5 s and ``fault`` at ONSET_S."""
+    data = tomllib.loads(BASE.read_text())
+    data["scenario"].update(duration=f"{duration} s", name="fault_matrix")
+    torque = RATED_NM if loaded else 0.0
+    data["load"]["torque"] = [["0 s", "0 N*m"], ["0.2 s", "0 N*m"], ["0.2 s", f"{torque} N*m"]]
+    data["reference"]["speed"] = [["0 s", "0 rpm"], ["0.3 s", "0 rpm"], ["0.5 s", f"{rpm} rpm"]]
+    if fault:
+        data["faults"] = [dict(copy.deepcopy(fault), at=f"{ONSET_S} s")]
+    return parse_scenario(data, source=f"fault matrix ({BASE.name})")
+
+
+def run_one(job: tuple) -> dict:
+    """One matrix cell: run, judge, plot; returns its row of matrix.json."""
+    name, rpm, loaded, duration, fig_dir = job
+    from hfi.report import fault_metrics
+    sc = scenario(FAULTS[name], rpm, loaded, duration)
+    t0 = time.perf_counter()
+    res = ClosedLoop(sc).run(progress=False)
+    m = fault_metrics(sc, res)
+    i_trip = sc.control.i_trip
+    tripped = m["code"] != "none" and m["at_s"] is not None and m["at_s"] >= ONSET_S
+    if not sc.faults:
+        verdict = "healthy" if m["code"] == "none" else "FALSE TRIP"
+    elif tripped:
+        verdict = "detected"
+    elif (not m["runaway_gates_on"] and m["peak_current_a"] <= i_trip
+          and m["speed_excursion_rpm"] <= HARMLESS_RPM):
+        verdict = "harmless"
+    else:
+        verdict = "MISSED"
+    row = {"fault": name, "speed_rpm": rpm, "load": "rated" if loaded else "none", "verdict": verdict,
+           "code": m["code"], "detect_ms": m.get("detect_ms"), "lock_detect_ms": m.get("lock_detect_ms"),
+           "lock_lost": m.get("lock_lost_s") is not None,
+           "reaction": reaction(res) if tripped else "-",
+           "peak_current_a": m.get("peak_current_a"), "speed_excursion_rpm": m.get("speed_excursion_rpm"),
+           "runaway_gates_on": m.get("runaway_gates_on", False), "wall_s": round(time.perf_counter() - t0, 1)}
+    row["figure"] = plot_row(res, row, fig_dir)
+    return row
+
+
+def reaction(res) -> str:
+    """The safe state the firmware chose: the outputs it wrote at the trip enabled (zero voltage: the active
+    short circuit) or not (the gates off: coast)."""
+    trip = int(np.flatnonzero(res.windows["mode"] == MODE_FAULT)[0])
+    return "short circuit" if res.writes["enable"][trip] else "coast"
+
+
+def plot_row(res, row: dict, fig_dir: str) -> str:
+    """Speed (true, reference, estimated), current amplitude and the fault marks of one run."""
+    from hfi.report import plt, save_figure
+    w, t = res.windows, res.t
+    fig, axes = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
+    axes[0].plot(t, w["speed_ref"] / res.scales.speed_mech(RPM), label="reference")
+    axes[0].plot(t, w["omega_m"] / RPM, lw=0.8, label="true (plant)")
+    axes[0].plot(t, w["omega_f"] / res.scales.speed_mech(RPM), lw=0.6, label="estimated")
+    axes[0].set_ylabel("speed [r/min]")
+    axes[1].plot(t, np.hypot(w["i_d_true"], w["i_q_true"]), lw=0.6, label="|i| (plant)")
+    axes[1].set(ylabel="[A]", xlabel="t [s]")
+    for ax in axes:
+        ax.axvline(ONSET_S, color="r", lw=0.8, label="fault onset")
+        trip = np.flatnonzero(w["mode"] == MODE_FAULT)
+        if len(trip):
+            ax.axvline(t[trip[0]], color="k", ls="--", lw=0.8, label=f"trip: {row['code']}")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left")
+    fig.suptitle(f"{row['fault']}, {row['speed_rpm']:g} r/min, load {row['load']}: {row['verdict']}")
+    slug = "".join(c if c.isalnum() else "_" for c in f"{row['fault']}_{row['speed_rpm']:g}_{row['load']}")
+    return save_figure(fig, fig_dir, f"{slug}.png")
+
+
+def table(rows: list[dict]) -> str:
+    """The markdown table of docs/faults.md and the summary line."""
+    lines = ["| fault | r/min | load | verdict | code | detect [ms] | lock lost -> trip [ms] | reaction | "
+             "peak current [A] | speed excursion [r/min] | runaway, gates on |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['fault']} | {r['speed_rpm']:g} | {r['load']} | {r['verdict']} | {r['code']} | "
+                     f"{'-' if r['detect_ms'] is None else r['detect_ms']} | "
+                     f"{'-' if r['lock_detect_ms'] is None else r['lock_detect_ms']} | {r['reaction']} | "
+                     f"{r['peak_current_a'] or '-'} | "
+                     f"{'-' if r['speed_excursion_rpm'] is None else r['speed_excursion_rpm']} | "
+                     f"{'yes' if r['runaway_gates_on'] else 'no'} |")
+    return "\n".join(lines) + "\n\n" + summary(rows) + "\n"
+
+
+def summary(rows: list[dict]) -> str:
+    faulty = [r for r in rows if r["fault"] != "none"]
+    count = {v: sum(r["verdict"] == v for r in faulty) for v in ("detected", "harmless", "MISSED")}
+    times = [r["detect_ms"] for r in faulty if r["detect_ms"] is not None]
+    false = sum(r["verdict"] == "FALSE TRIP" for r in rows)
+    lock = [r["lock_detect_ms"] for r in faulty if r["lock_detect_ms"] is not None]
+    undetected_lock = sum(r["lock_lost"] and r["lock_detect_ms"] is None for r in faulty)
+    return (f"{len(faulty)} faulty runs: {count['detected']} detected, {count['harmless']} harmless, "
+            f"{count['MISSED']} missed; {sum(r['runaway_gates_on'] for r in faulty)} runaways with the gates on; "
+            f"{false} false trips in {len(rows) - len(faulty)} healthy runs; detection "
+            f"{min(times, default=0):g}..{max(times, default=0):g} ms after the onset; lock lost in "
+            f"{len(lock) + undetected_lock} runs, tripped {min(lock, default=0):g}..{max(lock, default=0):g} ms "
+            f"after, {undetected_lock} never")
+
+
+def main(short: bool = False, jobs: int = 2, out: Path = Path("out/faults"), only: str = "") -> int:
+    """Run the matrix; exit status 1 if a fault was missed, a run with the gates on ran away or a healthy run
+    tripped."""
+    names = [n for n in FAULTS if not only or n in only.split(",")]
+    unknown = [n for n in only.split(",") if n and n not in FAULTS]
+    if unknown:
+        raise ValueError(f"unknown fault rows {unknown} (rows: {', '.join(FAULTS)})")
+    fig_dir = str(out / "fig")
+    os.makedirs(fig_dir, exist_ok=True)
+    duration = DURATION_SHORT_S if short else DURATION_S
+    cells = [(n, rpm, loaded, duration, fig_dir) for n in names for rpm in SPEEDS_RPM for loaded in (False, True)]
+    rows = []
+    with ProcessPoolExecutor(max_workers=max(jobs, 1)) as pool:
+        for k, row in enumerate(pool.map(run_one, cells)):
+            rows.append(row)
+            print(f"[{k + 1}/{len(cells)}] {row['fault']}, {row['speed_rpm']:g} r/min, {row['load']}: "
+                  f"{row['verdict']} ({row['code']}, {row['detect_ms']} ms), {row['wall_s']} s", file=sys.stderr,
+                  flush=True)
+    (out / "matrix.json").write_text(json.dumps(rows, indent=1) + "\n")
+    (out / "matrix.md").write_text(table(rows))
+    print(summary(rows))
+    bad = [r for r in rows if r["verdict"] in ("MISSED", "FALSE TRIP") or r["runaway_gates_on"]]
+    return 1 if bad else 0

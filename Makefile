@@ -31,6 +31,11 @@ bench: setup
 paper: setup
 	$(ENV) .venv/bin/hfi paper
 
+# The fault matrix of the 002 drive (docs/faults.md): out/faults/matrix.md, matrix.json and a figure per run.
+.PHONY: faults
+faults: setup
+	$(ENV) .venv/bin/hfi faults
+
 # Synthesis and timing of the hfi_dsp IP, the hfi_soc SoC and its CPU alone (yowasp Yosys + nextpnr-ecp5): out/synth/report.json + table.
 .PHONY: synth
 synth: setup
@@ -55,6 +60,15 @@ bitstream: setup
 .PHONY: prove
 prove: setup
 	$(ENV) .venv/bin/python scripts/prove.py
+
+# Register fuzzing of hfi_dsp (docs/fuzz.md): FUZZ_TRANSACTIONS random AXI4-Lite transactions with
+# every clock checked (no shoot-through, no gate on while a fault or STO/DESAT holds, bus answered);
+# FUZZ_SEED=<n> replays a run (default: a fresh seed, printed). make test runs a short one.
+FUZZ_TRANSACTIONS ?= 1000000
+.PHONY: fuzz
+fuzz: setup
+	$(ENV) FUZZ_TRANSACTIONS=$(FUZZ_TRANSACTIONS) $(if $(FUZZ_SEED),FUZZ_SEED=$(FUZZ_SEED)) \
+	    .venv/bin/python -m pytest -q -s -p no:cacheprovider cocotb_tests/test_reg_fuzz.py
 
 # Register maps: rtl/regs/hfi_regs.rdl and hfi_soc.rdl -> C headers, golden/regmap.py + socmap.py, docs, Verilog constants.
 .PHONY: regs

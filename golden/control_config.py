@@ -246,16 +246,16 @@ def protection_params(sc: Scenario) -> ProtParams:
     else:
         asc = v_dc / (math.sqrt(3) * sc_.pole_pairs * mag["psi_f"]) if mag["psi_f"] > 0 else 0.0
     psi_nom = mag["psi_f"] if mag["psi_f"] > 0 else mag["L_q"] * ctl.i_max   # the back-EMF per speed
-    lp = lambda tau: lowpass_coef(1 / (2 * math.pi * tau), sc_.f_sw)   # noqa: E731
+    shift = lambda tau: min(max(round(math.log2(tau * sc_.f_sw)), 0), 30)   # noqa: E731
     return ProtParams(
         r=to_fixed(sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb, 16),
         ld=to_fixed(mag["L_d"] * sc_.i_lsb * flux, 16), lq=to_fixed(mag["L_q"] * sc_.i_lsb * flux, 16),
         psi_f=to_fixed(mag["psi_f"] * flux, 0),
-        emf_lp=lp(pr.lock_time),
+        emf_k=shift(pr.lock_time),
         emf_tol=0 if ctl.law == "fcs_mpc" else sc_.voltage(pr.lock_emf if pr.lock_emf is not None
                                                            else LOCK_EMF_SHARE * v_dc),
         psi_rel=to_fixed(pr.lock_emf_rel * psi_nom * flux, 0),
-        track_lp=lp(pr.track_time),
+        track_k=shift(pr.track_time),
         track_tol=0 if ctl.law == "fcs_mpc" else sc_.current(pr.track_current if pr.track_current is not None
                                                              else TRACK_SHARE * ctl.i_max),
         ovl_n=round(pr.overload_time * sc_.f_sw), ovl_w=min(sc_.speed_mech(pr.overload_speed), 2**31 - 1),

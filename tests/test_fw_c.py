@@ -333,15 +333,15 @@ def test_protect_step_random_sequences(seed):
         p = random_prot(rng)
         fw_c._fill(c, p)
         gold = Firmware(_params())
-        st.emf_f = st.track_f = st.ovl_n = st.ovl_e = 0
+        st.emf_f = st.track_f = st.ovl_n = st.ovl_e = st.e0 = 0
         at_limit = rng.random() < 0.5
         for k in range(20):
             v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref = draw(rng, 8, S32_MIN >> (q % 20), S32_MAX >> (q % 20))
             limit = int(at_limit or rng.random() < 0.1)
             want = protect_step(gold, p, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, bool(limit))
             got = lib.fw_protect_step(st, c, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, limit)
-            assert (got, st.emf_f, st.track_f, st.ovl_n, st.ovl_e) == \
-                (want, gold.emf_f, gold.track_f, gold.ovl_n, gold.ovl_e), \
+            assert (got, st.emf_f, st.track_f, st.ovl_n, st.ovl_e, st.e0) == \
+                (want, gold.emf_f, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0), \
                 (seed, q, k, p)
             seen.add(want)
     assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT}, seen
@@ -595,11 +595,11 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
     fluxes and speeds over s32 (mostly the magnitudes of real motors), limits that trip or not."""
     r, ld, lq = draw(rng, 3, 0, 1 << 24, (4389, 256_900, 287_691))
     psi_f, psi_rel = draw(rng, 2, 0, S32_MAX, (270_227, 67_557))
-    emf_lp, track_lp = draw(rng, 2, 0, 1 << 16, (2570, 652))
+    emf_k, track_k = draw(rng, 2, 0, 30, (0, 5, 7))
     emf_tol, track_tol = draw(rng, 2, 0, S32_MAX, (0, 2011, 1 << 20))
     w_max, w_asc = draw(rng, 2, 0, S32_MAX, (0, 10_021_590, 300_690_740))
-    return ProtParams(r=r, ld=ld, lq=lq, psi_f=psi_f, emf_lp=emf_lp, emf_tol=emf_tol, psi_rel=psi_rel,
-                      track_lp=track_lp, track_tol=track_tol, ovl_n=draw_one(rng, 0, 2000, (0, 1, 2500)),
+    return ProtParams(r=r, ld=ld, lq=lq, psi_f=psi_f, emf_k=emf_k, emf_tol=emf_tol, psi_rel=psi_rel,
+                      track_k=track_k, track_tol=track_tol, ovl_n=draw_one(rng, 0, 2000, (0, 1, 2500)),
                       ovl_w=draw_one(rng, 0, S32_MAX, (0, 1_202_591)), ovl_m=draw_one(rng, 0, 300, (0, 1, 250)),
                       w_max=w_max, w_asc=w_asc,
                       restarts=draw_one(rng, 0, 3, (0,)), restart_n=draw_one(rng, 0, 20, (0, 1)))

@@ -9,7 +9,6 @@ from dataclasses import replace
 import pytest
 
 from golden.control_config import firmware_params, protection_params, scales
-from golden.firmware.lowpass import lowpass_coef
 from golden.firmware.pi import PiParams
 from golden.firmware.protection import (FAULT_LOCK_LOSS, FAULT_NONE, FAULT_OVERLOAD, FAULT_OVERSPEED,
                                         FAULT_TRACKING, ProtParams, emf_residual, protect_step)
@@ -49,11 +48,12 @@ def test_residual_vanishes_on_the_motor_equation_and_measures_a_speed_error(rpm,
 
 
 def test_lock_check_fires_when_the_filter_crosses_the_limit_and_the_limit_grows_with_speed():
-    """A constant residual x through the Q16 filter: 1 - (1 - a)^n of x (floored, so within a period)."""
-    a, tol, x = lowpass_coef(1 / (2 * math.pi * 5e-3), F_SW), 1000, 3000
-    p = replace(P, emf_lp=a, emf_tol=tol)
+    """A constant residual x through the shift filter (2^k periods): 1 - (1 - 2^-k)^n of x (floored, so within
+    a period)."""
+    k, tol, x = 5, 1000, 3000
+    p = replace(P, emf_k=k, emf_tol=tol)
     st = Firmware(_params())
-    n = next(k for k in range(1, 1000) if x * (1 - (1 - a / 2**16) ** k) > tol + 1)
+    n = next(j for j in range(1, 1000) if x * (1 - (1 - 2.0**-k) ** j) > tol + 1)
     codes = [protect_step(st, p, 0, x, 0, 0, 0, 0, 0, 0, False) for _ in range(n + 1)]   # i = 0, omega = 0: |v_q|
     assert codes[:n - 2] == [FAULT_NONE] * (n - 2) and codes[n] == FAULT_LOCK_LOSS
     # at speed w the limit is emf_tol + shr(|w| psi_rel, 32): v_q = x + the back-EMF of w leaves e_q = x
@@ -66,7 +66,7 @@ def test_lock_check_fires_when_the_filter_crosses_the_limit_and_the_limit_grows_
 
 
 def test_tracking_overload_and_overspeed():
-    p = replace(P, track_lp=1 << 16, track_tol=100, ovl_n=5, w_max=1000)
+    p = replace(P, track_k=0, track_tol=100, ovl_n=5, w_max=1000)
     st = Firmware(_params())
     assert protect_step(st, p, 0, 0, 0, 0, 60, -40, 0, 0, False) == FAULT_NONE      # |60| + |-40| = 100: not above
     assert protect_step(st, p, 0, 0, 0, 0, 60, -41, 0, 0, False) == FAULT_TRACKING
@@ -77,14 +77,21 @@ def test_tracking_overload_and_overspeed():
     assert st.ovl_n == 0                                             # a period off the limit restarts the count
     assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -1001, 0, True) == FAULT_OVERSPEED  # first in the order
     assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -1000, 0, True) == FAULT_NONE
-    # at the limit with the speed more than ovl_w from the reference for ovl_m periods in a row: overload
-    p = replace(p, ovl_n=0, ovl_w=300, ovl_m=3)
+    # at the limit with the speed error grown by more than ovl_w since the limit was reached, ovl_m periods
+    p = replace(p, ovl_n=0, ovl_w=300, ovl_m=3, w_max=0)
     st = Firmware(_params())
-    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -200, 100, True) == FAULT_NONE    # |100 - -200| = 300: not above
-    assert st.ovl_e == 0
-    codes = [protect_step(st, p, 0, 0, 0, 0, 0, 0, -201, 100, limit) for limit in (True, True, False, True, True)]
-    assert codes == [FAULT_NONE] * 5 and st.ovl_e == 2                # off the limit restarts the count
-    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, -201, 100, True) == FAULT_OVERLOAD
+    assert protect_step(st, p, 0, 0, 0, 0, 0, 0, 50, 100, True) == FAULT_NONE       # the limit: e0 = 50
+    assert st.e0 == 50
+    codes = [protect_step(st, p, 0, 0, 0, 0, 0, 0, w, 100, True) for w in (-250, -251, -252, -253)]
+    assert codes == [FAULT_NONE] * 3 + [FAULT_OVERLOAD]              # 350 - 50 = 300: not above; then 3 periods
+    st = Firmware(_params())
+    protect_step(st, p, 0, 0, 0, 0, 0, 0, 50, 100, True)
+    codes = [protect_step(st, p, 0, 0, 0, 0, 0, 0, w, 100, limit)
+             for w, limit in ((-251, True), (-252, True), (-253, False), (-254, True), (-255, True), (-256, True))]
+    assert codes == [FAULT_NONE] * 6 and st.e0 == 354                # off the limit: e0 taken anew
+    st = Firmware(_params())
+    codes = [protect_step(st, p, 0, 0, 0, 0, 0, 0, w, 100, True) for w in (-500, -300, -100, 0, 50)]
+    assert FAULT_OVERLOAD not in codes                                # the error shrinks: a reference step
 
 
 def _params(**kw) -> FirmwareParams:
@@ -105,7 +112,7 @@ def _running(p: FirmwareParams, speed: int) -> Firmware:
 def test_a_fault_in_run_stops_the_outputs_or_shorts_the_motor(speed, asc):
     """A tracking fault in RUN: FAULT with its code; below w_asc the gates off (the reset outputs), above it
     zero voltage with the outputs on (the active short circuit), kept in the following periods."""
-    p = _params(prot=ProtParams(track_lp=1 << 16, track_tol=10, w_asc=20_000))
+    p = _params(prot=ProtParams(track_k=0, track_tol=10, w_asc=20_000))
     fw = _running(p, speed)
     fw.i_d_ref = 500                                                 # the last reference; the mean is 0
     out = fw.step(WindowResult(gamma=0, gamma_d=0, sum_id=0, sum_iq=0, wsum=0, n_samples=10), speed)
@@ -121,7 +128,7 @@ def test_restart_after_the_delay_at_most_restarts_times():
     every state as at
     power-up (the estimator's too) but the fault code, the count and the output history; after the second
     restart's fault, FAULT holds."""
-    p = _params(prot=ProtParams(track_lp=1 << 16, track_tol=10, restarts=2, restart_n=3))
+    p = _params(prot=ProtParams(track_k=0, track_tol=10, restarts=2, restart_n=3))
     fw = _running(p, 1000)
     win = WindowResult(gamma=0, gamma_d=0, sum_id=0, sum_iq=0, wsum=0, n_samples=10)
     modes = []
@@ -156,7 +163,8 @@ def test_protection_params_of_the_default_scenario():
                                           round(L_Q * s.i_lsb * flux * 2**16), round(PSI_F * flux))
     assert p.emf_tol == round(0.06 * 560 / s.v_lsb) and p.psi_rel == round(0.25 * PSI_F * flux)
     assert p.track_tol == round(3.0 / s.i_lsb) and p.ovl_n == round(0.5 * 5e3)
-    assert (p.ovl_w, p.ovl_m) == (round(300 * math.pi / 30 * 4 / s.w_lsb), round(0.05 * 5e3))
+    assert (p.emf_k, p.track_k) == (5, 7)                             # 25 -> 32 and 100 -> 128 periods
+    assert (p.ovl_w, p.ovl_m) == (round(100 * math.pi / 30 * 4 / s.w_lsb), round(0.02 * 5e3))
     assert p.w_max == round((2 * 250 + 500) * math.pi / 30 * 4 / s.w_lsb)
     assert p.w_asc == round(560 / (math.sqrt(3) * 4 * PSI_F) * 4 / s.w_lsb)
     assert firmware_params(sc).prot == p

@@ -1148,17 +1148,19 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
                         int32_t at_limit)
 {
     int32_t track = sat32(abs64((int64_t)i_d_ref - i_d) + abs64((int64_t)i_q_ref - i_q));
+    int32_t err = sat32(abs64((int64_t)speed_ref - omega_f));
 
-    st->emf_f = fw_lowpass_step(st->emf_f, fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f), p->emf_lp);
-    st->track_f = fw_lowpass_step(st->track_f, track, p->track_lp);
+    st->emf_f += (fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f) - st->emf_f) >> p->emf_k; /* both >= 0 */
+    st->track_f += (track - st->track_f) >> p->track_k;
     st->ovl_n = at_limit ? (st->ovl_n < (1 << 30) ? st->ovl_n + 1 : 1 << 30) : 0;
-    st->ovl_e = at_limit && abs64((int64_t)speed_ref - omega_f) > p->ovl_w ? (st->ovl_e < (1 << 30) ? st->ovl_e + 1 : 1 << 30)
-                                                                           : 0;
+    if (st->ovl_n == 1)
+        st->e0 = err;
+    st->ovl_e = at_limit && (int64_t)err - st->e0 > p->ovl_w ? (st->ovl_e < (1 << 30) ? st->ovl_e + 1 : 1 << 30) : 0;
     if (p->w_max && abs64(omega_f) > p->w_max)
         return FW_FAULT_OVERSPEED;
-    if (p->emf_tol && fw_lowpass_out(st->emf_f) > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))
+    if (p->emf_tol && st->emf_f > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))
         return FW_FAULT_LOCK_LOSS;
-    if (p->track_tol && fw_lowpass_out(st->track_f) > p->track_tol)
+    if (p->track_tol && st->track_f > p->track_tol)
         return FW_FAULT_TRACKING;
     if ((p->ovl_n && st->ovl_n >= p->ovl_n) || (p->ovl_m && st->ovl_e >= p->ovl_m))
         return FW_FAULT_OVERLOAD;

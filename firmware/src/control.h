@@ -43,13 +43,13 @@ struct fw_prot_params {
     int32_t ld;              /* L_d, L_q: flux LSB per current LSB, Q16 */
     int32_t lq;
     int32_t psi_f;           /* flux LSB */
-    int32_t emf_lp;          /* residual filter, Q16 */
+    int32_t emf_k;           /* residual filter: time constant 2^emf_k periods */
     int32_t emf_tol;         /* voltage LSB, at standstill */
     int32_t psi_rel;         /* the limit's growth with speed, flux LSB */
-    int32_t track_lp;        /* tracking-error filter, Q16 */
+    int32_t track_k;         /* tracking-error filter: 2^track_k periods */
     int32_t track_tol;       /* current LSB */
     int32_t ovl_n;           /* periods at the speed PI's limit */
-    int32_t ovl_w;           /* speed error at the limit, speed LSB, */
+    int32_t ovl_w;           /* growth of the speed error at the limit, speed LSB, */
     int32_t ovl_m;           /* for this many periods */
     int32_t w_max;           /* speed LSB */
     int32_t w_asc;           /* speed LSB */
@@ -416,10 +416,11 @@ struct fw_state {
     int32_t vec_before;         /* fcs_mpc: VECTOR of the previous step */
     int32_t fault;              /* enum fw_fault, set with FW_FAULT */
     int32_t asc;                /* 1: the safe state is the active short circuit */
-    int64_t emf_f;              /* protection filters (Q16) and overload count */
-    int64_t track_f;
+    int32_t emf_f;              /* protection filters and overload counts */
+    int32_t track_f;
     int32_t ovl_n;
     int32_t ovl_e;
+    int32_t e0;                 /* |speed error| when the speed PI reached its limit */
     int32_t restarts;           /* automatic restarts done */
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;

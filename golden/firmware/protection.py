@@ -21,24 +21,25 @@ references it gave and the filtered speed of the estimator in charge.
                       first-order filter above ``track_tol``: an open phase, a switch that never turns
                       on, a dc link too low for the current.
 ``overload``          the speed PI's output at its limit for ``ovl_n`` periods in a row, or at its limit
-                      with the filtered speed more than ``ovl_w`` from the reference for ``ovl_m`` periods in
-                      a row: the drive cannot hold the speed (a blocked rotor, a load above the current
-                      limit that drives the motor). A reference step saturates the PI too, but the speed
-                      comes within ``ovl_w`` of it sooner.
+                      with the speed error ``|speed_ref - omega_f|`` grown by more than ``ovl_w`` since the
+                      limit was reached, for ``ovl_m`` periods in a row: the drive cannot hold the speed (a
+                      blocked rotor, a load above the current limit that turns the motor against it). A
+                      reference step saturates the PI too, but its error then shrinks.
 
 The software overcurrent on the window means (``i_trip``) is checked in every mode by the supervisor
 itself (``FAULT_OVERCURRENT``).
 
 Units: voltage, current and speed LSB of the window formats (docs/spec.md 1); flux in ``v_lsb / (2 pi
 f_sw)`` per LSB, so that ``shr(omega * psi, 32)`` is a voltage in LSB (``omega`` in binary angle per
-period). All products in int64 (C: ``int64_t``), shifts floored (``shr``).
+period). All products in int64 (C: ``int64_t``), shifts floored (``shr``). The two filters are first-order with a
+power-of-two time constant, ``f += shr(x - f, k)`` on non-negative s32 values (``k`` periods: 32-bit
+arithmetic only; the firmware runs them every period in RUN, docs/faults.md).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.fixed import sat, shr
 
 FAULT_NONE, FAULT_OVERCURRENT, FAULT_OVERSPEED, FAULT_LOCK_LOSS, FAULT_TRACKING, FAULT_OVERLOAD = range(6)
@@ -58,16 +59,17 @@ class ProtParams:
         L_d, L_q [flux LSB per current LSB, Q16].
     psi_f : int
         Magnet flux [flux LSB].
-    emf_lp, emf_tol : int
-        Residual filter coefficient (Q16) and limit at standstill [voltage LSB].
+    emf_k, emf_tol : int
+        Residual filter's shift (time constant ``2^emf_k`` periods, 0..30) and limit at standstill
+        [voltage LSB].
     psi_rel : int
         The limit's growth with speed [flux LSB]: ``emf_tol + shr(|omega_f| psi_rel, 32)``.
-    track_lp, track_tol : int
-        Tracking-error filter coefficient (Q16) and limit [current LSB].
+    track_k, track_tol : int
+        Tracking-error filter's shift and limit [current LSB].
     ovl_n : int
         Periods at the speed PI's limit before ``overload``.
     ovl_w, ovl_m : int
-        Speed error [speed LSB] at the limit that is ``overload`` after ``ovl_m`` periods in a row.
+        Growth of the speed error at the limit [speed LSB] that is ``overload`` after ``ovl_m`` periods in a row.
     w_max : int
         Overspeed limit on ``|omega_f|`` [speed LSB].
     w_asc : int
@@ -81,10 +83,10 @@ class ProtParams:
     ld: int = 0
     lq: int = 0
     psi_f: int = 0
-    emf_lp: int = 0
+    emf_k: int = 0
     emf_tol: int = 0
     psi_rel: int = 0
-    track_lp: int = 0
+    track_k: int = 0
     track_tol: int = 0
     ovl_n: int = 0
     ovl_w: int = 0
@@ -111,18 +113,22 @@ OVL_CAP = 1 << 30
 def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_ref: int,
                  i_q_ref: int, omega_f: int, speed_ref: int, at_limit: bool) -> int:
     """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload; returns the
-    first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_f``, ``track_f`` (Q16, as
-    :mod:`golden.firmware.lowpass`) and the counts ``ovl_n``, ``ovl_e`` (the supervisor's
+    first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_f``, ``track_f`` (s32, the
+    filtered values themselves), the counts ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached,
+    ``e0`` (the supervisor's
     :class:`~golden.firmware.supervisor.Firmware`); all are stepped every period."""
-    st.emf_f = lowpass_step(st.emf_f, emf_residual(p, v_d, v_q, i_d, i_q, omega_f), p.emf_lp)
-    st.track_f = lowpass_step(st.track_f, sat(abs(i_d_ref - i_d) + abs(i_q_ref - i_q), 32), p.track_lp)
+    st.emf_f += shr(emf_residual(p, v_d, v_q, i_d, i_q, omega_f) - st.emf_f, p.emf_k)
+    st.track_f += shr(sat(abs(i_d_ref - i_d) + abs(i_q_ref - i_q), 32) - st.track_f, p.track_k)
     st.ovl_n = min(st.ovl_n + 1, OVL_CAP) if at_limit else 0
-    st.ovl_e = min(st.ovl_e + 1, OVL_CAP) if at_limit and abs(speed_ref - omega_f) > p.ovl_w else 0
+    err = sat(abs(speed_ref - omega_f), 32)
+    if st.ovl_n == 1:
+        st.e0 = err
+    st.ovl_e = min(st.ovl_e + 1, OVL_CAP) if at_limit and err - st.e0 > p.ovl_w else 0
     if p.w_max and abs(omega_f) > p.w_max:
         return FAULT_OVERSPEED
-    if p.emf_tol and lowpass_out(st.emf_f) > p.emf_tol + shr(abs(omega_f) * p.psi_rel, 32):
+    if p.emf_tol and st.emf_f > p.emf_tol + shr(abs(omega_f) * p.psi_rel, 32):
         return FAULT_LOCK_LOSS
-    if p.track_tol and lowpass_out(st.track_f) > p.track_tol:
+    if p.track_tol and st.track_f > p.track_tol:
         return FAULT_TRACKING
     if (p.ovl_n and st.ovl_n >= p.ovl_n) or (p.ovl_m and st.ovl_e >= p.ovl_m):
         return FAULT_OVERLOAD

@@ -239,10 +239,11 @@ class Firmware:
     vec_before: int = 0              # fcs_mpc: VECTOR of the previous step (the state before this one's)
     fault: int = FAULT_NONE          # fault code (golden.firmware.protection), set with MODE_FAULT
     asc: int = 0                     # 1: the safe state is the active short circuit
-    emf_f: int = 0                   # protection filters (Q16) and overload count
+    emf_f: int = 0                   # protection filters and overload counts (golden.firmware.protection)
     track_f: int = 0
     ovl_n: int = 0
     ovl_e: int = 0
+    e0: int = 0
     restarts: int = 0                # automatic restarts done
     slots: list = field(init=False)
 

@@ -54,7 +54,8 @@ UNMAPPED = [a for a in range(0, 256, 4) if a not in ADDR.values()]
 
 # How the model shows each field: rw fields (with the output port carrying the stored value, or
 # None), write-only fields with a side effect, read-only hardware values (no reset of their own).
-RW_PORTS = {("CTRL", "DSP_RUN"): "dsp_run", ("UART_DIV", "VALUE"): None}
+RW_PORTS = {("CTRL", "DSP_RUN"): "dsp_run", ("UART_DIV", "VALUE"): None, ("FW_STATUS", "MODE"): None,
+            ("FW_STATUS", "FAULT"): None}
 WO_EFFECTS = {("UART_DATA", "DATA"): "uart", ("TRACE", "VALUE"): "trace"}
 HW_VALUES = {("CYCLE_LO", "VALUE"): "cycle_lo", ("CYCLE_HI", "VALUE"): "cycle_hi",
              ("UART_STATUS", "TX_BUSY"): "tx_busy"}

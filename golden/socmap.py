@@ -83,6 +83,17 @@ TRACE_VALUE_WIDTH = 32
 TRACE_VALUE_MASK = 0xFFFFFFFF
 TRACE_VALUE_RESET = 0
 
+# FW_STATUS @ 0x20: Firmware status
+FW_STATUS_ADDR = 0x20
+FW_STATUS_MODE_LSB = 0  # rw
+FW_STATUS_MODE_WIDTH = 4
+FW_STATUS_MODE_MASK = 0x0000000F
+FW_STATUS_MODE_RESET = 0
+FW_STATUS_FAULT_LSB = 8  # rw
+FW_STATUS_FAULT_WIDTH = 4
+FW_STATUS_FAULT_MASK = 0x00000F00
+FW_STATUS_FAULT_RESET = 0
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464953, "signed": (), "fields": {
@@ -108,6 +119,10 @@ REGISTERS = {
     }},
     "TRACE": {"addr": 0x1C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, 0, "wo"),
+    }},
+    "FW_STATUS": {"addr": 0x20, "reset": 0x00000000, "signed": (), "fields": {
+        "MODE": (0, 4, 0, "rw"),
+        "FAULT": (8, 4, 0, "rw"),
     }},
 }
 

@@ -170,3 +170,17 @@ def test_protection_params_of_the_default_scenario():
     assert firmware_params(sc).prot == p
     off = replace(sc, protection=replace(sc.protection, checks="off"))
     assert protection_params(off) == ProtParams()
+
+
+def test_the_soc_status_register_names_the_modes_and_faults_in_order():
+    """rtl/regs/hfi_soc.rdl, FW_STATUS: its field descriptions list the supervisor's modes and the fault codes
+    as golden numbers them (the firmware writes st.mode and st.fault there)."""
+    import re
+    from pathlib import Path
+    from golden.firmware.protection import FAULT_NAMES
+    from golden.firmware.supervisor import MODE_NAMES
+    rdl = " ".join((Path(__file__).resolve().parents[1] / "rtl/regs/hfi_soc.rdl").read_text().split())
+    modes = ", ".join(f"{k} {name}" for k, name in enumerate(MODE_NAMES))
+    faults = ", ".join(f"{k} {name}" for k, name in enumerate(FAULT_NAMES))
+    assert f"Supervisor mode: {modes}." in rdl
+    assert re.search(rf"last fault: {re.escape(faults)}\.", rdl), faults

@@ -106,6 +106,25 @@ typedef union {
     uint32_t w;
 } hfi_soc__TRACE_t;
 
+// reg - hfi_soc.FW_STATUS
+#define HFI_SOC__FW_STATUS__MODE_bm 0xf
+#define HFI_SOC__FW_STATUS__MODE_bp 0
+#define HFI_SOC__FW_STATUS__MODE_bw 4
+#define HFI_SOC__FW_STATUS__MODE_reset 0x0
+#define HFI_SOC__FW_STATUS__FAULT_bm 0xf00
+#define HFI_SOC__FW_STATUS__FAULT_bp 8
+#define HFI_SOC__FW_STATUS__FAULT_bw 4
+#define HFI_SOC__FW_STATUS__FAULT_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t MODE :4;
+        uint32_t :4;
+        uint32_t FAULT :4;
+        uint32_t :20;
+    } f;
+    uint32_t w;
+} hfi_soc__FW_STATUS_t;
+
 // addrmap - hfi_soc
 typedef struct __attribute__ ((__packed__)) {
     hfi_soc__ID_t ID;
@@ -116,6 +135,7 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_soc__UART_STATUS_t UART_STATUS;
     hfi_soc__UART_DIV_t UART_DIV;
     hfi_soc__TRACE_t TRACE;
+    hfi_soc__FW_STATUS_t FW_STATUS;
 } hfi_soc_t;
 
 
@@ -129,11 +149,12 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_SOC__UART_STATUS_offset 0x14
 #define HFI_SOC__UART_DIV_offset 0x18
 #define HFI_SOC__TRACE_offset 0x1c
+#define HFI_SOC__FW_STATUS_offset 0x20
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_soc_t) == 0x20, "hfi_soc_t: size");
+_Static_assert(sizeof(hfi_soc_t) == 0x24, "hfi_soc_t: size");
 _Static_assert(offsetof(hfi_soc_t, ID) == HFI_SOC__ID_offset, "hfi_soc_t: ID offset");
 _Static_assert(offsetof(hfi_soc_t, CTRL) == HFI_SOC__CTRL_offset, "hfi_soc_t: CTRL offset");
 _Static_assert(offsetof(hfi_soc_t, CYCLE_LO) == HFI_SOC__CYCLE_LO_offset, "hfi_soc_t: CYCLE_LO offset");
@@ -142,6 +163,7 @@ _Static_assert(offsetof(hfi_soc_t, UART_DATA) == HFI_SOC__UART_DATA_offset, "hfi
 _Static_assert(offsetof(hfi_soc_t, UART_STATUS) == HFI_SOC__UART_STATUS_offset, "hfi_soc_t: UART_STATUS offset");
 _Static_assert(offsetof(hfi_soc_t, UART_DIV) == HFI_SOC__UART_DIV_offset, "hfi_soc_t: UART_DIV offset");
 _Static_assert(offsetof(hfi_soc_t, TRACE) == HFI_SOC__TRACE_offset, "hfi_soc_t: TRACE offset");
+_Static_assert(offsetof(hfi_soc_t, FW_STATUS) == HFI_SOC__FW_STATUS_offset, "hfi_soc_t: FW_STATUS offset");
 #endif
 
 #ifdef __cplusplus

@@ -2,8 +2,8 @@
  *
  * Start-up: check the configuration block (fw_config.h), write the hfi_dsp configuration registers,
  * wait 32 CPU cycles (at least the carrier's H*STEP product of tick clocks, docs/rtl.md), enable the
- * window interrupt, set SOC CTRL.DSP_RUN (tick 0). Then main() only writes log lines to the UART
- * (mode changes).
+ * window interrupt, set SOC CTRL.DSP_RUN (tick 0). Then main() only reports mode changes: a log line on
+ * the UART (with the fault's name in FAULT) and SOC FW_STATUS (mode and fault code).
  *
  * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results (with
  * CIC_QA and CIC_QB only when the configuration runs the period square wave, CTRL.INJ_PER: two bus
@@ -235,6 +235,8 @@ int main(void)
         int32_t mode = *(volatile int32_t *)&st.mode;   /* written by the interrupt */
         if (mode != shown_mode && !halted) {
             shown_mode = mode;
+            SOC(FW_STATUS) = SOC_FIELD(FW_STATUS, MODE, mode) |
+                             SOC_FIELD(FW_STATUS, FAULT, *(volatile int32_t *)&st.fault);
             uart_puts("hfi_fw: window ");
             uart_putu(*(volatile uint32_t *)&shown_window);
             uart_puts(" mode ");

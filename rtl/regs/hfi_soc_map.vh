@@ -50,3 +50,12 @@ localparam [7:0] SOC_TRACE_ADDR = 8'h1C;
 localparam integer SOC_TRACE_VALUE_LSB = 0;  // wo
 localparam integer SOC_TRACE_VALUE_WIDTH = 32;
 localparam [31:0] SOC_TRACE_VALUE_RESET = 32'h0;
+
+// FW_STATUS @ 0x20: Firmware status
+localparam [7:0] SOC_FW_STATUS_ADDR = 8'h20;
+localparam integer SOC_FW_STATUS_MODE_LSB = 0;  // rw
+localparam integer SOC_FW_STATUS_MODE_WIDTH = 4;
+localparam [3:0] SOC_FW_STATUS_MODE_RESET = 4'h0;
+localparam integer SOC_FW_STATUS_FAULT_LSB = 8;  // rw
+localparam integer SOC_FW_STATUS_FAULT_WIDTH = 4;
+localparam [3:0] SOC_FW_STATUS_FAULT_RESET = 4'h0;

@@ -17,7 +17,8 @@ BAD_SCENARIO = '[scenario]\nname = "x"\nduration = "1 ms"\n[pwm]\ndead_time = "1
 
 METRICS_KEYS = {"scenario", "backend", "duration_s", "windows", "samples", "final_mode", "run_from_s",
                 "polarity_flipped", "angle_error_after_start", "angle_error_at_bottom", "locked", "segments",
-                "estimator_switches", "estimator_switch_events", "late_commits", "wall_s", "realtime_factor"}
+                "estimator_switches", "estimator_switch_events", "faults", "late_commits", "wall_s",
+                "realtime_factor"}
 """The keys of a golden-backend metrics.json, as docs/metrics.md lists them."""
 
 
@@ -148,6 +149,7 @@ def test_run_golden_writes_the_documented_outputs(tmp_path):
     assert m["final_mode"] == "CONVERGE"        # the polarity test starts after 60 ms
     assert m["segments"] == []                  # no settled part: RUN never reached
     assert m["estimator_switches"] == 0 and m["estimator_switch_events"] == []
+    assert m["faults"] == {"code": "none", "at_s": None, "injected": []}
     for name in ("trace.npz", "closed_loop.png", "angles.png", "phase_current.png"):
         assert (out / name).stat().st_size > 1000
     assert proc.stdout.splitlines()[-1] == "wrote " + ", ".join(

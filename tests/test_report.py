@@ -46,7 +46,7 @@ def synthetic() -> tuple[SimpleNamespace, ClosedLoopResult]:
     res = ClosedLoopResult(windows=windows, samples={"tick": np.arange(10)}, edges={}, writes={}, hw=None,
                            scales=Scales(i_lsb=1.0, v_lsb=1.0, w_lsb=RPM, f_sw=1000.0, pole_pairs=1),
                            tick_hz=100e6, flipped=0, wall_s=4.0)
-    sc = SimpleNamespace(name="synthetic", plant={"mech": {"imposed_speed": 0},
+    sc = SimpleNamespace(name="synthetic", faults=(), plant={"mech": {"imposed_speed": 0},
                                                   "load": {"t": [p[0] for p in LOAD], "v": [p[1] for p in LOAD]}})
     return sc, res
 

@@ -122,10 +122,11 @@ def _digest(paths: list[Path], extra: str) -> str:
     return h.hexdigest()
 
 
-def build_firmware() -> Path:
-    """``make -C firmware``: the RAM image ``out/firmware/hfi_fw.bin`` (and .elf, .hex, .lst)."""
-    _run(["make", "-C", str(ROOT / "firmware"), f"PYTHON={sys.executable}"], "firmware build")
-    return FW_OUT / "hfi_fw.elf"
+def build_firmware(acc: bool = True) -> Path:
+    """``make -C firmware``: the RAM image ``out/firmware/hfi_fw.bin`` (and .elf, .hex, .lst); ``acc=False``:
+    the build for a SoC without the accelerators (``ACC=0``, into ``out/firmware/noacc``)."""
+    _run(["make", "-C", str(ROOT / "firmware"), f"PYTHON={sys.executable}", f"ACC={int(acc)}"], "firmware build")
+    return (FW_OUT if acc else FW_OUT / "noacc") / "hfi_fw.elf"
 
 
 def build_sim(fst: bool = False, profile: bool = False) -> Path:

@@ -26,6 +26,9 @@
 module hfi_soc #(
     parameter RAM_BYTES = `HFI_SOC_RAM_BYTES,
     parameter RAM_INIT = "",
+    // 1: the arithmetic accelerators hfi_soc_acc on the ACC page; 0: none, the page reads 0 like an unmapped
+    // one (a smaller SoC for small parts; its firmware is built without FW_ACC, docs/boards.md)
+    parameter ACC = 1,
     // hfi_dsp parameters (rtl/hfi_dsp.v)
     parameter ADC_BITS = `HFI_SOC_ADC_BITS,
     parameter ADC_CONV_TICKS = 12,
@@ -111,7 +114,7 @@ module hfi_soc #(
     wire sel_ram = d_req && d_byte[31:32-PB] == `HFI_SOC_RAM_PAGE && d_byte[31-PB:0] < RAM_BYTES;
     wire sel_dsp = d_req && d_byte[31:32-PB] == `HFI_SOC_DSP_PAGE;
     wire sel_ctl = d_req && d_byte[31:32-PB] == `HFI_SOC_CTL_PAGE;
-    wire sel_acc = d_req && d_byte[31:32-PB] == `HFI_SOC_ACC_PAGE;
+    wire sel_acc = ACC != 0 && d_req && d_byte[31:32-PB] == `HFI_SOC_ACC_PAGE;
     wire sel_none = d_req && !sel_ram && !sel_dsp && !sel_ctl && !sel_acc;
     wire [3:0] d_wstrb = d_we ? d_sel : 4'd0;
     wire i_burst = i_cti == CTI_INCR;
@@ -157,11 +160,20 @@ module hfi_soc #(
     // the arithmetic accelerators (the firmware's sin/cos and flux-map look-up, in the CPU clock)
     wire        acc_ready;
     wire [31:0] acc_rdata;
-    hfi_soc_acc #(.RAM_AW(RAM_AW)) u_acc (
-        .clk(cpu_clk), .rst(rst_cpu), .sel(sel_acc), .addr(d_byte[7:0]), .wstrb(d_wstrb), .wdata(d_wdat),
-        .rdata(acc_rdata), .ready(acc_ready),
-        .mem_en(acc_mem_en), .mem_addr(acc_mem_addr), .mem_rdata(ram_ddat)
-    );
+    generate
+        if (ACC != 0) begin : g_acc
+            hfi_soc_acc #(.RAM_AW(RAM_AW)) u_acc (
+                .clk(cpu_clk), .rst(rst_cpu), .sel(sel_acc), .addr(d_byte[7:0]), .wstrb(d_wstrb),
+                .wdata(d_wdat), .rdata(acc_rdata), .ready(acc_ready),
+                .mem_en(acc_mem_en), .mem_addr(acc_mem_addr), .mem_rdata(ram_ddat)
+            );
+        end else begin : g_no_acc
+            assign acc_rdata = 32'd0;
+            assign acc_ready = 1'b0;
+            assign acc_mem_en = 1'b0;
+            assign acc_mem_addr = {RAM_AW{1'b0}};
+        end
+    endgenerate
 
     // hfi_dsp: the crossing into clk, then PicoRV32's native-to-AXI4-Lite adapter (from the
     // pythondata-cpu-picorv32 package) in front of hfi_dsp's AXI4-Lite slave

@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 CORE = ROOT / "hfi_dsp.core"
 
@@ -49,15 +51,17 @@ def test_verilator_lint_wall_whole_ip():
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
-def test_verilator_lint_wall_soc(tmp_path):
-    """The SoC (our files) passes -Wall too; the core and the AXI4-Lite adapter's file (dependencies, not
-    our source) are waived."""
+@pytest.mark.parametrize("acc", [1, 0])
+def test_verilator_lint_wall_soc(tmp_path, acc):
+    """The SoC (our files) passes -Wall too, with and without its accelerators (parameter ACC); the core and
+    the AXI4-Lite adapter's file (dependencies, not our source) are waived."""
     from hfi.rtl_backend import cpu_source, picorv32_source
 
     verilator = Path(sys.executable).parent / "verilator"
     waiver = tmp_path / "waive_dependencies.vlt"
     waiver.write_text(f'`verilator_config\nlint_off -file "*/picorv32.v"\nlint_off -file "*/{cpu_source().name}"\n')
     files = sorted({p.relative_to(ROOT).as_posix() for p in (ROOT / "rtl").glob("hfi_*.v")})
-    proc = subprocess.run([str(verilator), "--lint-only", "-Wall", "-Irtl", "--top-module", "hfi_soc", "--timescale", "1ns/1ps", str(waiver),
+    proc = subprocess.run([str(verilator), "--lint-only", "-Wall", "-Irtl", "--top-module", "hfi_soc", f"-GACC={acc}",
+                           "--timescale", "1ns/1ps", str(waiver),
                            *files, str(cpu_source()), str(picorv32_source())], cwd=ROOT, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr

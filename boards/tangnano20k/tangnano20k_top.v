@@ -12,6 +12,7 @@
 // gates and the driver enable off until the firmware re-arms (docs/spec.md 3.8).
 module tangnano20k_top #(
     parameter RAM_INIT = "",
+    parameter ACC = 1,                 // hfi_soc's accelerators (scripts/bitstream.py sets it per board)
     parameter RESET_CLOCKS = 255
 ) (
     input  wire       clk_27mhz,
@@ -49,7 +50,7 @@ module tangnano20k_top #(
     wire [5:0]  soc_gate;
     wire        trace_valid;
     wire [31:0] trace_data;
-    hfi_soc #(.RAM_INIT(RAM_INIT)) u_soc (
+    hfi_soc #(.RAM_INIT(RAM_INIT), .ACC(ACC)) u_soc (
         .clk(clk), .cpu_clk(cpu_clk), .rst(rst),
         .gate(soc_gate), .sto(!sto_n), .desat(!fault_n), .drive_allowed(drive_allowed),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),

@@ -344,7 +344,7 @@ def test_protect_step_random_sequences(seed):
                 (want, gold.emf_f, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0), \
                 (seed, q, k, p)
             seen.add(want)
-    assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT}, seen
+    assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE}, seen
 
 
 # ---- speed filter --------------------------------------------------------------------------------------------
@@ -615,7 +615,8 @@ def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:
 
 def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int) -> list[WindowResult]:
     """``count`` window results whose means stay within +-i_trip (no trip); gamma_d shifted by the bias;
-    CIC_QA/QB as :func:`random_cic_q`; VECTOR.STATE and NEXT 0..7, TOP_I s16 (mostly within +-4000)."""
+    CIC_QA/QB as :func:`random_cic_q`; VECTOR.STATE and NEXT 0..7, TOP_I s16 (mostly within +-4000); STATUS fault
+    latches in one window of 500."""
     gamma, gamma_d, wsum = (draw_array(rng, count, S32_MIN, S32_MAX) for _ in range(3))
     gamma_d = np.clip(gamma_d // 2 + gamma_d_bias, S32_MIN, S32_MAX)
     n = draw_array(rng, count, 0, U16_MAX, (1, 2, 10, 200))
@@ -630,8 +631,9 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
     vector, vector_next = (rng.integers(0, 8, size=count) for _ in range(2))
     top = [np.where(rng.random(count) < 0.8, rng.integers(-4000, 4001, size=count), draw_array(rng, count, S16_MIN, S16_MAX))
            for _ in range(2)]
+    status = np.where(rng.random(count) < 0.002, rng.choice([0x1, 0x2, 0x10, 0x20, 0x33], size=count), 0)
     cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase, random_cic_q(rng, count), random_cic_q(rng, count),
-            zeros, zeros, vector, vector_next, top[0], top[1])
+            zeros, zeros, vector, vector_next, top[0], top[1], status)
     return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
 
 

@@ -184,3 +184,14 @@ def test_the_soc_status_register_names_the_modes_and_faults_in_order():
     faults = ", ".join(f"{k} {name}" for k, name in enumerate(FAULT_NAMES))
     assert f"Supervisor mode: {modes}." in rdl
     assert re.search(rf"last fault: {re.escape(faults)}\.", rdl), faults
+
+
+@pytest.mark.parametrize("status", [0x1, 0x2, 0x10, 0x20])
+def test_a_hardware_trip_is_the_firmwares_fault_too(status):
+    """A fault latch of STATUS (the hardware turned the gates off): FAULT with code hardware in any mode, before
+    the software overcurrent; the outputs reset."""
+    from golden.firmware.protection import FAULT_HARDWARE
+    fw = _running(_params(), 1000)
+    win = WindowResult(gamma=0, gamma_d=0, sum_id=5000, sum_iq=0, wsum=0, n_samples=1, status=status)
+    assert fw.step(win, 0) == Outputs(0, 0, 0, 0, 32767, 0)          # |i_d| = 5000 > i_trip as well
+    assert (fw.mode, fw.fault) == (MODE_FAULT, FAULT_HARDWARE)

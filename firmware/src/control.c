@@ -1171,7 +1171,7 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
 const char *fw_fault_name(int32_t code)
 {
     static const char *const names[FW_FAULTS] = {"none", "overcurrent", "overspeed", "lock_loss", "current_tracking",
-                                                 "overload"};
+                                                 "overload", "hardware"};
 
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }
@@ -1472,7 +1472,9 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
     st->i_d = i_d;
     st->i_q = i_q;
     count_window(st);
-    if (st->mode != FW_FAULT && (over_trip(i_d, p->i_trip) || over_trip(i_q, p->i_trip)))
+    if (st->mode != FW_FAULT && win->status != 0)
+        trip(st, p, FW_FAULT_HARDWARE);
+    else if (st->mode != FW_FAULT && (over_trip(i_d, p->i_trip) || over_trip(i_q, p->i_trip)))
         trip(st, p, FW_FAULT_OVERCURRENT);
     if (st->mode != FW_FIXED && st->mode != FW_FAULT) {
         struct fw_meas m;

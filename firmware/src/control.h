@@ -35,7 +35,7 @@ enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1, FW_POL_NONE = 2 };
 
 /* Fault codes (golden.firmware.protection.FAULT_*; names in fw_fault_name). */
 enum fw_fault { FW_FAULT_NONE = 0, FW_FAULT_OVERCURRENT = 1, FW_FAULT_OVERSPEED = 2, FW_FAULT_LOCK_LOSS = 3,
-                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULTS = 6 };
+                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULTS = 7 };
 
 /* Limits of the fault checks (golden.firmware.protection.ProtParams; 0 turns a check off). */
 struct fw_prot_params {
@@ -447,6 +447,7 @@ struct fw_window {
     int32_t vector_next;    /* VECTOR.NEXT, u3 (golden WindowResult.vector_next) */
     int32_t top_ia;         /* TOP_I: s16 each, the Clarke currents of the carrier-top sample */
     int32_t top_ib;
+    uint32_t status;        /* STATUS's fault latches (FAULT_OC, WDT, STO, DESAT), other bits 0 */
 };
 
 /* What every estimator gets once per period (golden.firmware.estimator.Measurement). */

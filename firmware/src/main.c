@@ -133,6 +133,8 @@ static void control_step(void)
         win.top_ia = 0;
         win.top_ib = 0;
     }
+    win.status = DSP(STATUS) & (HFI_REGS__STATUS__FAULT_OC_bm | HFI_REGS__STATUS__FAULT_WDT_bm |
+                                HFI_REGS__STATUS__FAULT_STO_bm | HFI_REGS__STATUS__FAULT_DESAT_bm);
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
     struct fw_outputs o;

@@ -27,7 +27,8 @@ references it gave and the filtered speed of the estimator in charge.
                       reference step saturates the PI too, but its error then shrinks.
 
 The software overcurrent on the window means (``i_trip``) is checked in every mode by the supervisor
-itself (``FAULT_OVERCURRENT``).
+itself (``FAULT_OVERCURRENT``), and so are the hardware's own trips (``FAULT_HARDWARE``: a fault latch of
+``STATUS`` set, ``WindowResult.status``; the hardware has already turned the gates off).
 
 Units: voltage, current and speed LSB of the window formats (docs/spec.md 1); flux in ``v_lsb / (2 pi
 f_sw)`` per LSB, so that ``shr(omega * psi, 32)`` is a voltage in LSB (``omega`` in binary angle per
@@ -42,8 +43,9 @@ from dataclasses import dataclass
 
 from golden.fixed import sat, shr
 
-FAULT_NONE, FAULT_OVERCURRENT, FAULT_OVERSPEED, FAULT_LOCK_LOSS, FAULT_TRACKING, FAULT_OVERLOAD = range(6)
-FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload")
+(FAULT_NONE, FAULT_OVERCURRENT, FAULT_OVERSPEED, FAULT_LOCK_LOSS, FAULT_TRACKING, FAULT_OVERLOAD,
+ FAULT_HARDWARE) = range(7)
+FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload", "hardware")
 """Fault codes of the firmware (``struct fw_state.fault``, the trace column ``fault``; C ``enum fw_fault``)."""
 
 

@@ -63,7 +63,7 @@ from golden.firmware.means import window_means
 from golden.firmware.methods import CLASSES
 from golden.firmware.mtpa import mtpa_lookup
 from golden.firmware.pi import PiParams, pi_step
-from golden.firmware.protection import FAULT_NONE, FAULT_OVERCURRENT, ProtParams, protect_step
+from golden.firmware.protection import FAULT_HARDWARE, FAULT_NONE, FAULT_OVERCURRENT, ProtParams, protect_step
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -284,7 +284,9 @@ class Firmware:
         self.i_d, self.i_q = i_d, i_q = window_means(win.sum_id, win.sum_iq, win.n_samples)
         self.n += 1
         i_d_prev, i_q_prev = self.i_d_ref, self.i_q_ref       # the references of the last period
-        if self.mode != MODE_FAULT and (abs(i_d) > p.i_trip or abs(i_q) > p.i_trip):
+        if self.mode != MODE_FAULT and win.status != 0:
+            self._trip(FAULT_HARDWARE)
+        elif self.mode != MODE_FAULT and (abs(i_d) > p.i_trip or abs(i_q) > p.i_trip):
             self._trip(FAULT_OVERCURRENT)
         pilot = None
         s_inj, c_inj = sincos_q15(win.inj_phase) if p.inj_rot else (0, 32767)

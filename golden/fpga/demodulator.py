@@ -77,6 +77,11 @@ class WindowResult:
     top_ia, top_ib : int
         ``TOP_I``, s16 each: the Clarke currents of the window's carrier-top sample (spec 3.11; the
         previous window's while a window has none).
+    status : int
+        The fault latches of ``STATUS`` when the firmware reads the window (``FAULT_OC``, ``FAULT_WDT``,
+        ``FAULT_STO``, ``FAULT_DESAT`` at their register positions, the other bits 0): nonzero once the
+        hardware turned the gates off by itself. The golden closed loop does not model those trips (its runs
+        set OC_LIMIT at full scale and drive no STO/DESAT: docs/faults.md), so it passes 0.
     """
 
     gamma: int
@@ -94,6 +99,7 @@ class WindowResult:
     vector_next: int = 0
     top_ia: int = 0
     top_ib: int = 0
+    status: int = 0
 
 
 def _window_array(x, name: str) -> np.ndarray:

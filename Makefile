@@ -61,14 +61,15 @@ bitstream: setup
 prove: setup
 	$(ENV) .venv/bin/python scripts/prove.py
 
-# Register fuzzing of hfi_dsp (docs/fuzz.md): FUZZ_TRANSACTIONS random AXI4-Lite transactions with
-# every clock checked (no shoot-through, no gate on while a fault or STO/DESAT holds, bus answered);
-# FUZZ_SEED=<n> replays a run (default: a fresh seed, printed). make test runs a short one.
+# Register fuzzing (docs/fuzz.md): FUZZ_TRANSACTIONS random AXI4-Lite transactions on hfi_dsp with every
+# clock checked (no shoot-through, no gate on while a fault or STO/DESAT holds, bus answered), then as many
+# accesses on the SoC's native bus (hfi_soc_ctl, hfi_soc_acc); FUZZ_SEED=<n> replays a run (default: a
+# fresh seed, printed). make test runs short ones.
 FUZZ_TRANSACTIONS ?= 1000000
 .PHONY: fuzz
 fuzz: setup
 	$(ENV) FUZZ_TRANSACTIONS=$(FUZZ_TRANSACTIONS) $(if $(FUZZ_SEED),FUZZ_SEED=$(FUZZ_SEED)) \
-	    .venv/bin/python -m pytest -q -s -p no:cacheprovider cocotb_tests/test_reg_fuzz.py
+	    .venv/bin/python -m pytest -q -s -p no:cacheprovider cocotb_tests/test_reg_fuzz.py cocotb_tests/test_soc_bus_fuzz.py
 
 # Register maps: rtl/regs/hfi_regs.rdl and hfi_soc.rdl -> C headers, golden/regmap.py + socmap.py, docs, Verilog constants.
 .PHONY: regs

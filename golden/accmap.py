@@ -119,7 +119,7 @@ LUT_ID_VALUE_RESET = 0
 
 # LUT_IQ @ 0x28: Look-up current i_q
 LUT_IQ_ADDR = 0x28
-LUT_IQ_VALUE_LSB = 0  # rw
+LUT_IQ_VALUE_LSB = 0  # wo
 LUT_IQ_VALUE_WIDTH = 32
 LUT_IQ_VALUE_MASK = 0xFFFFFFFF
 LUT_IQ_VALUE_RESET = 0
@@ -253,7 +253,7 @@ REGISTERS = {
         "VALUE": (0, 32, 0, "rw"),
     }},
     "LUT_IQ": {"addr": 0x28, "reset": 0x00000000, "signed": (), "fields": {
-        "VALUE": (0, 32, 0, "rw"),
+        "VALUE": (0, 32, 0, "wo"),
     }},
     "LAM_D_LO": {"addr": 0x2C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),

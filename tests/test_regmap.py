@@ -259,7 +259,7 @@ def test_pack_unpack_errors(call, match):
 
 # ---------------------------------------------------------------- SoC map (rtl/regs/hfi_soc.rdl)
 SOC_ADDRS = {"ID": 0x00, "CTRL": 0x04, "CYCLE_LO": 0x08, "CYCLE_HI": 0x0C, "UART_DATA": 0x10,
-             "UART_STATUS": 0x14, "UART_DIV": 0x18, "TRACE": 0x1C}
+             "UART_STATUS": 0x14, "UART_DIV": 0x18, "TRACE": 0x1C, "FW_STATUS": 0x20}
 
 
 def test_soc_addresses():

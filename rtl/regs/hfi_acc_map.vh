@@ -80,7 +80,7 @@ localparam [31:0] ACC_LUT_ID_VALUE_RESET = 32'h0;
 
 // LUT_IQ @ 0x28: Look-up current i_q
 localparam [7:0] ACC_LUT_IQ_ADDR = 8'h28;
-localparam integer ACC_LUT_IQ_VALUE_LSB = 0;  // rw
+localparam integer ACC_LUT_IQ_VALUE_LSB = 0;  // wo
 localparam integer ACC_LUT_IQ_VALUE_WIDTH = 32;
 localparam [31:0] ACC_LUT_IQ_VALUE_RESET = 32'h0;
 

@@ -41,6 +41,8 @@ DURATION_SHORT_S = 1.0
 SPEEDS_RPM = (0.0, 50.0, 250.0)
 RATED_NM = 2.0
 """Rated torque of the Table I motor (the default scenario's full load)."""
+ZOOM_S = 0.15
+"""The right-hand panels of a run's figure: this long after the onset (and 20 ms before)."""
 HARMLESS_RPM = 100.0
 """An undetected fault is harmless if the speed stays within this of its value at the onset (and no runaway,
 no overcurrent)."""
@@ -58,7 +60,7 @@ FAULTS: dict[str, dict] = {
     "dc-link loss (20 ms)": {"kind": "dc_link", "factor": 0.0, "tau": "20 ms"},
     "load impact +2x rated": {"kind": "load_step", "torque": f"{2 * RATED_NM} N*m"},
     "rotor blocked": {"kind": "rotor_blocked"},
-    "load drives, -3x rated": {"kind": "load_step", "torque": f"{-3 * RATED_NM} N*m"},
+    "load drives at -3x rated": {"kind": "load_step", "torque": f"{-3 * RATED_NM} N*m"},
 }
 """Matrix rows: name -> the ``[[faults]]`` entry without ``at`` (``{}``: the healthy reference)."""
 
@@ -112,23 +114,28 @@ def reaction(res) -> str:
 
 
 def plot_row(res, row: dict, fig_dir: str) -> str:
-    """Speed (true, reference, estimated), current amplitude and the fault marks of one run."""
+    """Speed (true, reference, estimated) and current amplitude of one run: the whole run on the left, the
+    ZOOM_S after the onset on the right; the onset and the trip marked."""
     from hfi.report import plt, save_figure
     w, t = res.windows, res.t
-    fig, axes = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
-    axes[0].plot(t, w["speed_ref"] / res.scales.speed_mech(RPM), label="reference")
-    axes[0].plot(t, w["omega_m"] / RPM, lw=0.8, label="true (plant)")
-    axes[0].plot(t, w["omega_f"] / res.scales.speed_mech(RPM), lw=0.6, label="estimated")
-    axes[0].set_ylabel("speed [r/min]")
-    axes[1].plot(t, np.hypot(w["i_d_true"], w["i_q_true"]), lw=0.6, label="|i| (plant)")
-    axes[1].set(ylabel="[A]", xlabel="t [s]")
-    for ax in axes:
-        ax.axvline(ONSET_S, color="r", lw=0.8, label="fault onset")
-        trip = np.flatnonzero(w["mode"] == MODE_FAULT)
-        if len(trip):
-            ax.axvline(t[trip[0]], color="k", ls="--", lw=0.8, label=f"trip: {row['code']}")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left")
+    trip = np.flatnonzero(w["mode"] == MODE_FAULT)
+    zoom = (t >= ONSET_S - 0.02) & (t <= ONSET_S + ZOOM_S)
+    fig, axes = plt.subplots(2, 2, figsize=(11, 5.5), sharex="col", gridspec_kw={"width_ratios": (3, 2)})
+    for col, sel in enumerate((slice(None), zoom)):
+        ax_w, ax_i = axes[0, col], axes[1, col]
+        ax_w.plot(t[sel], w["speed_ref"][sel] / res.scales.speed_mech(RPM), label="reference")
+        ax_w.plot(t[sel], w["omega_m"][sel] / RPM, lw=0.8, label="true (plant)")
+        ax_w.plot(t[sel], w["omega_f"][sel] / res.scales.speed_mech(RPM), lw=0.6, label="estimated")
+        ax_i.plot(t[sel], np.hypot(w["i_d_true"], w["i_q_true"])[sel], lw=0.6, label="|i| (plant)")
+        ax_w.set_ylabel("speed [r/min]")
+        ax_i.set(ylabel="[A]", xlabel="t [s]")
+        for ax in (ax_w, ax_i):
+            ax.axvline(ONSET_S, color="r", lw=0.8, label="fault onset")
+            if len(trip):
+                ax.axvline(t[trip[0]], color="k", ls="--", lw=0.8, label=f"trip: {row['code']}")
+            ax.grid(alpha=0.3)
+        ax_w.legend(fontsize=7, loc="upper left")
+    axes[0, 1].set_title(f"{ZOOM_S * 1e3:g} ms after the onset", fontsize=9)
     fig.suptitle(f"{row['fault']}, {row['speed_rpm']:g} r/min, load {row['load']}: {row['verdict']}")
     slug = "".join(c if c.isalnum() else "_" for c in f"{row['fault']}_{row['speed_rpm']:g}_{row['load']}")
     return save_figure(fig, fig_dir, f"{slug}.png")

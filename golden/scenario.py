@@ -673,12 +673,13 @@ def _to_profile(spec: Field, raw: object, path: str) -> list[tuple[float, float]
 
 @dataclass(frozen=True)
 class FaultSpec:
-    """One ``[[faults]]`` entry: its kind (a key of :data:`FAULTS`), onset ``at`` [s] and its own keys
-    (SI values, defaults filled in)."""
+    """One ``[[faults]]`` entry: its kind (a key of :data:`FAULTS`), onset ``at`` [s], its end ``until`` [s]
+    (None: the end of the run) and its own keys (SI values, defaults filled in)."""
 
     kind: str
     at: float
     values: dict
+    until: float | None = None
 
 
 def _to_fault(raw: object, path: str) -> FaultSpec:
@@ -688,7 +689,7 @@ def _to_fault(raw: object, path: str) -> FaultSpec:
     if "kind" not in raw:
         raise _Problems(f"{path}.kind: missing (one of {', '.join(map(repr, FAULTS))})")
     kind = _to_choice(Field("choice", choices=dict.fromkeys(FAULTS, 0)), raw["kind"], f"{path}.kind")
-    fields = {"at": _q("time", _non_negative)} | FAULTS[kind][1]
+    fields = {"at": _q("time", _non_negative), "until": _q("time", _positive)} | FAULTS[kind][1]
     messages = [f"{path}.{key}: not a key of fault kind {kind!r} (valid: kind, {', '.join(fields)})"
                 for key in raw if key != "kind" and key not in fields]
     jobs = [(key, spec) for key, spec in fields.items() if key in raw]
@@ -702,7 +703,10 @@ def _to_fault(raw: object, path: str) -> FaultSpec:
         messages += exc.messages
     if messages:
         raise _Problems(*messages)
-    return FaultSpec(kind, values.pop("at"), values)
+    at, until = values.pop("at"), values.pop("until")
+    if until is not None and until <= at:
+        raise _Problems(f"{path}.until: {format_quantity(until, 's')} is not after at = {format_quantity(at, 's')}")
+    return FaultSpec(kind, at, values, until)
 
 
 def _to_faults(spec: Field, raw: object, path: str) -> list[FaultSpec]:
@@ -883,7 +887,8 @@ def _plant_fault(f: FaultSpec, tick_hz: float) -> dict:
         "adc_stuck": (v.get("code"), 0.0), "dc_link": (v.get("factor"), v.get("tau")),
         "load_step": (v.get("torque"), 0.0)}.get(f.kind, (0.0, 0.0))
     return {"kind": FAULT_KIND_IDS[FAULTS[f.kind][0]], "channel": channel,
-            "tick": round(f.at * tick_hz), "value": float(value), "rate": float(rate)}
+            "tick": round(f.at * tick_hz), "until": 0 if f.until is None else round(f.until * tick_hz),
+            "value": float(value), "rate": float(rate)}
 
 
 # ---- consistency checks ---------------------------------------------------------------------------
@@ -977,7 +982,7 @@ def _check_faults(reader: _Reader, plant: dict) -> None:
         if f.kind == "load_step" and plant["mech"]["imposed_speed"]:
             reader.error(f"{path}.kind", "a load step needs load.mode = \"torque\" (the load machine imposes "
                                         "the speed)")
-    if sum(f.kind == "phase_open" for f in faults) > 1:
+    if sum(f.kind == "phase_open" for f in faults) > 1:   # (the plant allows one, whatever their times)
         reader.error("faults", "at most one phase can be open (two open phases carry no current at all)")
 
 

@@ -33,3 +33,33 @@ def test_the_healthy_cell_does_not_trip(tmp_path):
 def test_unknown_rows_are_refused(capsys):
     assert cli.main(["faults", "--only", "phase open (a),no such fault"]) == 1
     assert "unknown fault rows ['no such fault']" in capsys.readouterr().err
+
+
+def test_a_restart_takes_the_drive_back_once_the_fault_clears():
+    """[protection] restarts = 1: a dead ADC lane from 0.8 to 0.85 s trips the overcurrent check; 0.2 s later the
+    firmware starts again (CONVERGE, the polarity test, RUN) and the drive is locked at 50 r/min again. Without
+    load: the default scenario's load is an active torque, which turns the coasting motor backwards, and the HF
+    estimator cannot catch a motor spinning at hundreds of r/min (the restart then trips again and stays)."""
+    import tomllib
+
+    import numpy as np
+
+    from golden.closedloop import ClosedLoop
+    from golden.firmware.supervisor import MODE_CONVERGE, MODE_FAULT, MODE_RUN
+    from golden.scenario import parse_scenario
+
+    data = tomllib.loads(faults.BASE.read_text())
+    data["scenario"]["duration"] = "1.6 s"
+    data["reference"]["speed"] = [["0 s", "0 rpm"], ["0.3 s", "0 rpm"], ["0.5 s", "50 rpm"]]
+    data["load"]["torque"] = [["0 s", "0 N*m"]]
+    data["faults"] = [dict(faults.FAULTS["ADC lane dead (b)"], at="0.8 s", until="0.85 s")]
+    data["protection"] = {"restarts": 1, "restart_delay": "0.2 s"}
+    res = ClosedLoop(parse_scenario(data)).run(progress=False)
+    mode, t = res.windows["mode"], res.t
+    changes = [(float(t[k]), int(mode[k])) for k in np.flatnonzero(np.diff(mode)) + 1]
+    trip = next(k for k, (_, m) in enumerate(changes) if m == MODE_FAULT)
+    assert 0.8 <= changes[trip][0] < 0.801 and changes[trip + 1][1] == MODE_CONVERGE
+    assert changes[trip + 1][0] == pytest.approx(changes[trip][0] + 0.2, abs=1e-3)
+    assert changes[-1][1] == MODE_RUN and mode[-1] == MODE_RUN
+    err = res.angle_error_deg()[t > 1.4]
+    assert np.sqrt(np.mean(err ** 2)) < 15.0                 # locked again (healthy: about 5 deg)

@@ -20,8 +20,9 @@ SENSOR_OFFSET, SENSOR_GAIN, ADC_STUCK, PHASE_OPEN, SWITCH_OPEN, DC_LINK, LOAD_ST
                                         "DC_LINK", "LOAD_STEP", "ROTOR_BLOCKED"))
 
 
-def fault(kind: int, t: float, channel: int = 0, value: float = 0.0, rate: float = 0.0) -> dict:
-    return {"kind": kind, "channel": channel, "tick": round(t * TICK), "value": value, "rate": rate}
+def fault(kind: int, t: float, channel: int = 0, value: float = 0.0, rate: float = 0.0, until: float = 0.0) -> dict:
+    return {"kind": kind, "channel": channel, "tick": round(t * TICK), "value": value, "rate": rate,
+            "until": round(until * TICK)}
 
 
 def plant(*faults: dict, **over) -> Plant:
@@ -138,6 +139,29 @@ def test_faults_do_not_change_a_run_before_their_onset():
 def test_bad_faults_are_refused(bad, message):
     with pytest.raises(PlantError, match=message):
         plant(bad)
+
+
+def test_a_fault_clears_at_its_end():
+    """A load step from 1 to 2 ms decelerates only then; an open phase from 1 to 2 ms lets the current
+    back into its phase after it; a drift ends with its fault."""
+    J, T_step = 4.0e-3, 2.0
+    p = plant(fault(LOAD_STEP, 1e-3, value=T_step, until=2e-3), omega_m0=10.0,
+              mech={"B": 0.0, "T_c": 0.0, "J": J}, mag={"psi_f": 0.0})
+    p.advance(round(3e-3 * TICK))
+    assert p.state()["omega_m"] == pytest.approx(10.0 - T_step / J * 1e-3, rel=1e-9)
+    q = plant(fault(PHASE_OPEN, 1e-3, channel=0, until=2e-3), mech={"imposed_speed": 1})
+    q.set_voltage([30.0, -15.0, -15.0])
+    q.advance(round(1.9e-3 * TICK))
+    assert abs(q.state()["i_abc"][0]) < 1e-6
+    q.advance(round(3e-3 * TICK))
+    assert q.state()["i_abc"][0] > 0.1
+    r = plant(fault(SENSOR_OFFSET, 1e-3, channel=2, value=0.1, rate=50.0, until=2e-3))
+    r.advance(round(1.5e-3 * TICK))
+    assert r.sample()[1][2] == pytest.approx(0.1 + 50.0 * 0.5e-3, abs=1e-12)
+    r.advance(round(2e-3 * TICK))
+    assert r.sample()[1][2] == 0.0
+    with pytest.raises(PlantError, match="until must be 0"):
+        plant(fault(LOAD_STEP, 2e-3, until=1e-3))
 
 
 def test_fault_order_and_one_open_phase():

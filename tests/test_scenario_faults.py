@@ -27,8 +27,9 @@ def test_every_kind_becomes_its_plant_fault_in_onset_order():
         {"kind": "phase_open", "at": "0.4 s", "phase": "c"},
         {"kind": "switch_open", "at": "0.5 s", "switch": "b_lo"},
         {"kind": "dc_link", "at": "0.6 s", "factor": 0.7, "tau": "20 ms"},
-        {"kind": "load_step", "at": "0.7 s", "torque": "-4 N*m"}))
+        {"kind": "load_step", "at": "0.7 s", "torque": "-4 N*m", "until": "0.8 s"}))
     got = [(f["kind"], f["channel"], f["tick"], f["value"], f["rate"]) for f in sc.plant["faults"]]
+    assert [f["until"] for f in sc.plant["faults"]] == [0] * 7 + [80_000_000, 0]
     assert got == [
         (KIND["FAULT_SENSOR_OFFSET"], 1, 10_000_000, 0.05, 2.0),
         (KIND["FAULT_SENSOR_GAIN"], 0, 20_000_000, 0.9, 0.0),
@@ -62,6 +63,7 @@ def test_no_faults_is_an_empty_list():
     ({"kind": "rotor_blocked", "at": "1 s"}, "not before the end of the run"),
     ({"kind": "load_step", "at": "0.1 s", "torque": "2 V"}, "faults[0].torque"),
     ("phase_open", "faults[0]: expected a table"),
+    ({"kind": "rotor_blocked", "at": "0.5 s", "until": "0.5 s"}, "faults[0].until: 500 ms is not after"),
 ])
 def test_bad_entries_name_their_path(entry, message):
     with pytest.raises(ScenarioError, match=message.replace("[", r"\[").replace("]", r"\]")):

@@ -83,7 +83,7 @@ struct plant {
     double load_t, load_v;                     /* load profile at load_t */
     double load_lo, load_hi, load_hold;        /* the load profile is load_hold on [load_lo, load_hi) */
     /* faults (docs/faults.md): the next one to apply, and the effects of those applied */
-    int fault_next;
+    long long fault_tick;     /* the last fault onset or end applied (-1: none yet) */
     int sens_fault;           /* 1 once a sensor or ADC fault acts: sample() takes the slow path */
     double f_gain[3];         /* sensor gain factors */
     double f_off[3], f_rate[3]; /* sensor offset added: f_off + f_rate * t [A] */
@@ -835,62 +835,92 @@ static int set_gates(struct plant *p, int gates)
     return status;
 }
 
-/* A fault takes effect at the present tick (docs/faults.md); like an input change, no step straddles it. */
-static void apply_fault(struct plant *p, const struct fault *f)
+/* The effects of the faults active at the present tick (docs/faults.md), from neutral: recomputed at every
+ * onset and end, like an input change (no step straddles one). A drift runs from its own onset. */
+static void fault_effects(struct plant *p)
 {
-    int ch = f->channel;
-    double t = tick_time(p, p->tick);
-    switch (f->kind) {
-    case FAULT_SENSOR_OFFSET:
-        p->f_off[ch] += f->value - f->rate * t;
-        p->f_rate[ch] += f->rate;
-        p->sens_fault = 1;
-        break;
-    case FAULT_SENSOR_GAIN:
-        p->f_gain[ch] *= f->value;
-        p->sens_fault = 1;
-        break;
-    case FAULT_ADC_STUCK:
-        p->f_stuck[ch] = (int)f->value;
-        p->sens_fault = 1;
-        break;
-    case FAULT_PHASE_OPEN:
-        p->open_phase = ch;
-        break;
-    case FAULT_SWITCH_OPEN:
-        p->dead_switches |= 1 << ch;
-        break;
-    case FAULT_DC_LINK:
-        p->dc_fault = 1;
-        p->dc_value = f->value;
-        p->dc_tau = f->rate;
-        p->dc_t0 = t;
-        break;
-    case FAULT_LOAD_STEP:
-        p->load_add += f->value;
-        break;
-    case FAULT_ROTOR_BLOCKED:
-        p->blocked = 1;
-        p->x[X_OMM] = 0.0;
-        break;
-    default: /* refused by plant_create */
-        break;
+    int was_blocked = p->blocked;
+    for (int k = 0; k < 3; k++) {
+        p->f_gain[k] = 1.0;
+        p->f_off[k] = p->f_rate[k] = 0.0;
+        p->f_stuck[k] = -1;
     }
+    p->sens_fault = p->dc_fault = p->blocked = p->dead_switches = 0;
+    p->open_phase = -1;
+    p->load_add = 0.0;
+    for (int i = 0; i < p->p.n_faults; i++) {
+        const struct fault *f = &p->p.faults[i];
+        if (f->tick > p->tick || (f->until > 0 && p->tick >= f->until))
+            continue;
+        int ch = f->channel;
+        double t = tick_time(p, f->tick);
+        switch (f->kind) {
+        case FAULT_SENSOR_OFFSET:
+            p->f_off[ch] += f->value - f->rate * t;
+            p->f_rate[ch] += f->rate;
+            p->sens_fault = 1;
+            break;
+        case FAULT_SENSOR_GAIN:
+            p->f_gain[ch] *= f->value;
+            p->sens_fault = 1;
+            break;
+        case FAULT_ADC_STUCK:
+            p->f_stuck[ch] = (int)f->value;
+            p->sens_fault = 1;
+            break;
+        case FAULT_PHASE_OPEN:
+            p->open_phase = ch;
+            break;
+        case FAULT_SWITCH_OPEN:
+            p->dead_switches |= 1 << ch;
+            break;
+        case FAULT_DC_LINK:
+            p->dc_fault = 1;
+            p->dc_value = f->value;
+            p->dc_tau = f->rate;
+            p->dc_t0 = t;
+            break;
+        case FAULT_LOAD_STEP:
+            p->load_add += f->value;
+            break;
+        case FAULT_ROTOR_BLOCKED:
+            p->blocked = 1;
+            break;
+        default: /* refused by plant_create */
+            break;
+        }
+    }
+    if (p->blocked && !was_blocked)
+        p->x[X_OMM] = 0.0;
     if (!p->voltage_mode)
         dead_switch_legs(p);
     settle(p);
 }
 
-/* Integrate to tick, applying every fault whose onset is on the way. */
+/* The next fault onset or end after the last one applied (fault_tick) and not after tick; -1 if none. */
+static long long next_fault_event(const struct plant *p, long long tick)
+{
+    long long next = -1;
+    for (int i = 0; i < p->p.n_faults; i++) {
+        const struct fault *f = &p->p.faults[i];
+        long long ev[2] = {f->tick, f->until};
+        for (int k = 0; k < 2; k++)
+            if ((k == 0 || ev[k] > 0) && ev[k] > p->fault_tick && ev[k] <= tick && (next < 0 || ev[k] < next))
+                next = ev[k];
+    }
+    return next;
+}
+
+/* Integrate to tick, applying every fault onset and end on the way. */
 static int advance(struct plant *p, long long tick)
 {
     if (tick < p->tick)
         return -1;
-    while (p->fault_next < p->p.n_faults && p->p.faults[p->fault_next].tick <= tick) {
-        const struct fault *f = &p->p.faults[p->fault_next++];
-        if (f->tick > p->tick)
-            advance_to(p, f->tick);
-        apply_fault(p, f);
+    for (long long ev; (ev = next_fault_event(p, tick)) >= 0;) {
+        if (ev > p->tick)
+            advance_to(p, ev);
+        p->fault_tick = ev;
+        fault_effects(p);
     }
     return advance_to(p, tick);
 }
@@ -1095,6 +1125,7 @@ static int params_ok(const struct plant_params *pp, char *err, int err_len)
                 k, f->kind);
         REQUIRE(f->tick >= 0 && (k == 0 || f->tick >= pp->faults[k - 1].tick),
                 "faults[%d]: tick must be >= 0 and not before the previous fault's", k);
+        REQUIRE(f->until == 0 || f->until > f->tick, "faults[%d]: until must be 0 (never) or after tick", k);
         REQUIRE(isfinite(f->value) && isfinite(f->rate), "faults[%d]: value and rate must be finite", k);
         int nch = f->kind == FAULT_SWITCH_OPEN ? 6 : 3;
         REQUIRE(f->channel >= 0 && f->channel < nch, "faults[%d]: channel must be in 0..%d", k, nch - 1);
@@ -1166,13 +1197,9 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     p->x[X_PSIQ] = 0.0;
     p->x[X_THM] = params->theta_m0;
     p->x[X_OMM] = params->omega_m0;
-    for (int k = 0; k < 3; k++) {
-        p->f_gain[k] = 1.0;
-        p->f_stuck[k] = -1;
-    }
-    p->open_phase = -1;
-    settle(p);
-    advance(p, 0); /* faults at tick 0 */
+    p->fault_tick = -1;
+    fault_effects(p); /* neutral */
+    advance(p, 0);    /* faults at tick 0 */
     return p;
 }
 

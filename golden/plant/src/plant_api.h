@@ -80,7 +80,7 @@ struct sensor_params {
     double adc_range;      /* +-adc_range [A] spans codes 0 .. 2^adc_bits-1; mid-scale = 0 A */
 };
 
-/* ---- faults (docs/faults.md): each acts from its tick on, for the rest of the run ---------------- */
+/* ---- faults (docs/faults.md): each acts from its tick on, until its end tick or the end of the run -- */
 enum fault_kind {
     FAULT_SENSOR_OFFSET = 1, /* sensor channel: offset += value [A] + rate*(t - t_fault) [A/s]         */
     FAULT_SENSOR_GAIN = 2,   /* sensor channel: gain *= value                                          */
@@ -97,6 +97,7 @@ struct fault {
     int kind;              /* enum fault_kind */
     int channel;           /* phase / ADC channel 0..2, or switch 0..5 (FAULT_SWITCH_OPEN); else 0 */
     long long tick;        /* onset [ticks]; faults are listed in non-decreasing tick order */
+    long long until;       /* the fault clears at this tick (0: never; else > tick) */
     double value;          /* see enum fault_kind */
     double rate;           /* see enum fault_kind */
 };

@@ -44,6 +44,17 @@ def random_seed() -> int:
     return secrets.randbits(32)
 
 
+def fuzz_seed() -> int:
+    """The fuzzers' seed: ``FUZZ_SEED`` if set (decimal or 0x...), else :func:`random_seed`."""
+    env = os.environ.get("FUZZ_SEED")
+    if env:
+        try:
+            return int(env, 0)
+        except ValueError:
+            raise ValueError(f"FUZZ_SEED={env!r} is not an integer") from None
+    return random_seed()
+
+
 def random_count(sim: str) -> int:
     """Number of random vectors for ``sim`` (``HFI_RANDOM_N`` overrides)."""
     env = os.environ.get("HFI_RANDOM_N")

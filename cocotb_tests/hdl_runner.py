@@ -33,26 +33,27 @@ RANDOM_N_ICARUS = 10_000
 SIMULATORS = ("verilator", "icarus")
 
 
+def _env_int(name: str) -> int | None:
+    """The integer in environment variable ``name`` (decimal or 0x...), None if unset."""
+    env = os.environ.get(name)
+    if not env:
+        return None
+    try:
+        return int(env, 0)
+    except ValueError:
+        raise ValueError(f"{name}={env!r} is not an integer") from None
+
+
 def random_seed() -> int:
     """The seed of this run: ``HFI_SEED`` if set, else a new random one (printed by the testbench)."""
-    env = os.environ.get("HFI_SEED")
-    if env:
-        try:
-            return int(env, 0)
-        except ValueError:
-            raise ValueError(f"HFI_SEED={env!r} is not an integer") from None
-    return secrets.randbits(32)
+    seed = _env_int("HFI_SEED")
+    return secrets.randbits(32) if seed is None else seed
 
 
 def fuzz_seed() -> int:
     """The fuzzers' seed: ``FUZZ_SEED`` if set (decimal or 0x...), else :func:`random_seed`."""
-    env = os.environ.get("FUZZ_SEED")
-    if env:
-        try:
-            return int(env, 0)
-        except ValueError:
-            raise ValueError(f"FUZZ_SEED={env!r} is not an integer") from None
-    return random_seed()
+    seed = _env_int("FUZZ_SEED")
+    return random_seed() if seed is None else seed
 
 
 def random_count(sim: str) -> int:
@@ -98,6 +99,8 @@ def run_cocotb(*, sim: str, toplevel: str, sources: list[Path], tb_module: str, 
     if sim == "verilator" and shutil.which("ccache"):
         os.environ.setdefault("OBJCACHE", "ccache")   # Verilator's makefiles: the runtime compiles once
     seed = random_seed()
+    if "HFI_SEED" in os.environ:   # the simulator takes the environment's value over extra_env: give it decimal
+        os.environ["HFI_SEED"] = str(seed)
     count = random_n if random_n is not None and not os.environ.get("HFI_RANDOM_N") else random_count(sim)
     extra_env = {"HFI_SEED": str(seed), "HFI_RANDOM_N": str(count),
                  "PYTHONPATH": os.pathsep.join([str(TB_DIR), str(ROOT), os.environ.get("PYTHONPATH", "")])}

@@ -1142,20 +1142,29 @@ int32_t fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q
     return sat32(abs64(e_d) + abs64(e_q));
 }
 
-/* protection.protect_step (OVL_CAP = 2^30) */
+#define OVL_CAP (1 << 30) /* protection.OVL_CAP */
+
+/* n + 1 while cond, up to OVL_CAP; 0 otherwise */
+static int32_t count_while(int32_t n, int cond)
+{
+    return cond ? (n < OVL_CAP ? n + 1 : OVL_CAP) : 0;
+}
+
+/* protection.protect_step */
 int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d,
                         int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t speed_ref,
                         int32_t at_limit)
 {
-    int32_t track = sat32(abs64((int64_t)i_d_ref - i_d) + abs64((int64_t)i_q_ref - i_q));
     int32_t err = sat32(abs64((int64_t)speed_ref - omega_f));
 
-    st->emf_f += (fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f) - st->emf_f) >> p->emf_k; /* both >= 0 */
-    st->track_f += (track - st->track_f) >> p->track_k;
-    st->ovl_n = at_limit ? (st->ovl_n < (1 << 30) ? st->ovl_n + 1 : 1 << 30) : 0;
+    if (p->emf_tol) /* a check that is off costs nothing; both values >= 0 */
+        st->emf_f += (fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f) - st->emf_f) >> p->emf_k;
+    if (p->track_tol)
+        st->track_f += (sat32(abs64((int64_t)i_d_ref - i_d) + abs64((int64_t)i_q_ref - i_q)) - st->track_f) >> p->track_k;
+    st->ovl_n = count_while(st->ovl_n, at_limit);
     if (st->ovl_n == 1)
         st->e0 = err;
-    st->ovl_e = at_limit && (int64_t)err - st->e0 > p->ovl_w ? (st->ovl_e < (1 << 30) ? st->ovl_e + 1 : 1 << 30) : 0;
+    st->ovl_e = count_while(st->ovl_e, at_limit && (int64_t)err - st->e0 > p->ovl_w);
     if (p->w_max && abs64(omega_f) > p->w_max)
         return FW_FAULT_OVERSPEED;
     if (p->emf_tol && st->emf_f > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))

@@ -116,11 +116,13 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
                  i_q_ref: int, omega_f: int, speed_ref: int, at_limit: bool) -> int:
     """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload; returns the
     first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_f``, ``track_f`` (s32, the
-    filtered values themselves), the counts ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached,
-    ``e0`` (the supervisor's
+    filtered values themselves; a filter whose check is off stays), the counts ``ovl_n``, ``ovl_e`` and the speed
+    error when the limit was reached, ``e0`` (the supervisor's
     :class:`~golden.firmware.supervisor.Firmware`); all are stepped every period."""
-    st.emf_f += shr(emf_residual(p, v_d, v_q, i_d, i_q, omega_f) - st.emf_f, p.emf_k)
-    st.track_f += shr(sat(abs(i_d_ref - i_d) + abs(i_q_ref - i_q), 32) - st.track_f, p.track_k)
+    if p.emf_tol:                                     # a check that is off costs nothing
+        st.emf_f += shr(emf_residual(p, v_d, v_q, i_d, i_q, omega_f) - st.emf_f, p.emf_k)
+    if p.track_tol:
+        st.track_f += shr(sat(abs(i_d_ref - i_d) + abs(i_q_ref - i_q), 32) - st.track_f, p.track_k)
     st.ovl_n = min(st.ovl_n + 1, OVL_CAP) if at_limit else 0
     err = sat(abs(speed_ref - omega_f), 32)
     if st.ovl_n == 1:

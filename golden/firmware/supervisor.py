@@ -42,9 +42,9 @@ States (``MODE_*``):
               overcurrent on the window means in any mode, or one of the RUN checks. Safe state: gates off
               (coast), or, when ``|omega_f|`` was above ``prot.w_asc`` at the fault and the law is
               ``LAW_FOC_PWM``, the active short circuit (zero voltage with the outputs enabled: the
-              modulator keeps every leg at half duty, the line-to-line voltages at zero). After
-              ``prot.restart_n`` periods after the tripping one the firmware restarts from CONVERGE (every state as at
-              power-up, the polarity test again) at most ``prot.restarts`` times; then FAULT holds to the
+              modulator keeps every leg at half duty, the line-to-line voltages at zero). ``prot.restart_n``
+              periods after the tripping one the firmware starts again from CONVERGE (every state as at
+              power-up, the polarity test again), at most ``prot.restarts`` times; then FAULT holds to the
               end of the run (docs/faults.md).
 """
 

@@ -82,7 +82,7 @@ struct plant {
     double cur_psid, cur_psiq, cur_id, cur_iq; /* mag_currents() at (cur_psid, cur_psiq) */
     double load_t, load_v;                     /* load profile at load_t */
     double load_lo, load_hi, load_hold;        /* the load profile is load_hold on [load_lo, load_hi) */
-    /* faults (docs/faults.md): the next one to apply, and the effects of those applied */
+    /* faults (docs/faults.md): the last onset or end applied, and the effects of the active faults */
     long long fault_tick;     /* the last fault onset or end applied (-1: none yet) */
     int sens_fault;           /* 1 once a sensor or ADC fault acts: sample() takes the slow path */
     double f_gain[3];         /* sensor gain factors */
@@ -800,34 +800,33 @@ static inline void ring_advance(struct plant *p)
     }
 }
 
+/* the state of leg k under the gate mask gates */
+static int leg_of(int gates, int k)
+{
+    int hi = (gates >> (2 * k)) & 1, lo = (gates >> (2 * k + 1)) & 1;
+    return hi && lo ? LEG_SHORT : (hi ? LEG_HIGH : (lo ? LEG_LOW : LEG_OFF));
+}
+
 /* the leg states of the commanded mask without the switches that never turn on (FAULT_SWITCH_OPEN) */
 static void dead_switch_legs(struct plant *p)
 {
-    int gates = p->gates & ~p->dead_switches;
-    for (int k = 0; k < 3; k++) {
-        int hi = (gates >> (2 * k)) & 1, lo = (gates >> (2 * k + 1)) & 1;
-        p->legs[k] = hi && lo ? LEG_SHORT : (hi ? LEG_HIGH : (lo ? LEG_LOW : LEG_OFF));
-    }
+    for (int k = 0; k < 3; k++)
+        p->legs[k] = leg_of(p->gates & ~p->dead_switches, k);
 }
 
 static int set_gates(struct plant *p, int gates)
 {
     int status = 0;
     for (int k = 0; k < 3; k++) {
-        int hi = (gates >> (2 * k)) & 1, lo = (gates >> (2 * k + 1)) & 1;
-        int leg = hi && lo ? LEG_SHORT : (hi ? LEG_HIGH : (lo ? LEG_LOW : LEG_OFF));
+        int leg = leg_of(gates & ~p->dead_switches, k); /* a switch that never turns on stays off */
         int was = p->voltage_mode ? LEG_OFF : p->legs[k];
         if ((leg == LEG_HIGH || leg == LEG_LOW) && leg != was && p->p.sens.ring_amp > 0.0) {
             ring_advance(p);
             p->ring_re[k] += leg == LEG_HIGH ? 1.0 : -1.0;
         }
-        if (leg == LEG_SHORT)
+        if (leg_of(gates, k) == LEG_SHORT) /* what was commanded */
             status = -2;
         p->legs[k] = leg;
-    }
-    if (p->dead_switches) { /* FAULT_SWITCH_OPEN: the commanded mask is kept, the dead switch stays off */
-        p->gates = gates & 63;
-        dead_switch_legs(p);
     }
     p->gates = gates & 63;
     p->voltage_mode = 0;

@@ -880,8 +880,7 @@ def _build_plant(reader: _Reader, presets: dict | None) -> dict:
 def _plant_fault(f: FaultSpec, tick_hz: float) -> dict:
     """A ``struct fault`` of the plant (plant_api.h) from a scenario fault."""
     v = f.values
-    channel = v.get("phase", GATE_BITS.get(v.get("switch"), 0))
-    channel = {"a": 0, "b": 1, "c": 2}.get(channel, channel)
+    channel = (_PHASE.choices[v["phase"]] if "phase" in v else GATE_BITS[v["switch"]] if "switch" in v else 0)
     value, rate = {
         "sensor_offset": (v.get("offset"), v.get("drift")), "sensor_gain": (v.get("gain"), 0.0),
         "adc_stuck": (v.get("code"), 0.0), "dc_link": (v.get("factor"), v.get("tau")),

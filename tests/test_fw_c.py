@@ -549,14 +549,15 @@ def random_mtpa(rng: np.random.Generator) -> tuple[int, tuple, tuple]:
             tuple(draw(rng, n, -(1 << 15), (1 << 15) - 1)))
 
 
-def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
+def random_params(rng: np.random.Generator, fixed: bool, prot: bool = False) -> FirmwareParams:
     """Valid parameters (PiParams, pll_gains, lowpass_coef, k_bb_raw ranges), short start-up counts; the
     low slot one of the low-slot methods (the square wave, the rotating injection, the period square wave
     with CIC), the high slot none or one of the high-slot methods (the rotor flux observer, the EEMF
     observer), with hand-over speeds that switch often; the 000 blocks (pilot polarity, MTPA,
     notch, speed-loop divider, rotating injection) each on in about half of the sets; the 003 ones: the
     hybrid flux observer in the low slot, the fcs_mpc law (mostly with it, sometimes with the others), no
-    polarity detection (a third of the sets each with current pulses and pilot voltages)."""
+    polarity detection (a third of the sets each with current pulses and pilot voltages); the fault checks
+    (:func:`random_prot`) with ``prot``, else off."""
     k_bb, pll_kp, pll_ki = draw(rng, 3, 0, S32_MAX, (27_342_611, 2621, 6711))
     inj_rot = int(rng.random() < 0.5)
     v_h = draw_one(rng, 0, (1 << 15) - 1, (2621,)) if inj_rot else draw_one(rng, -S32_MAX, S32_MAX, (300,))
@@ -587,7 +588,7 @@ def random_params(rng: np.random.Generator, fixed: bool) -> FirmwareParams:
         pol_mode=(POL_PILOT, POL_CURRENT, POL_NONE)[int(rng.integers(0, 3))], v_pilot=draw_one(rng, 0, (1 << 15) - 1, (9362,)),
         mtpa_shift=shift, mtpa_id=t_d, mtpa_iq=t_q, notch=random_coef(rng) if rng.random() < 0.5 else None,
         speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)),
-        prot=random_prot(rng) if rng.random() < 0.5 else ProtParams())
+        prot=random_prot(rng) if prot else ProtParams())
 
 
 def random_prot(rng: np.random.Generator) -> ProtParams:
@@ -631,14 +632,19 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
     vector, vector_next = (rng.integers(0, 8, size=count) for _ in range(2))
     top = [np.where(rng.random(count) < 0.8, rng.integers(-4000, 4001, size=count), draw_array(rng, count, S16_MIN, S16_MAX))
            for _ in range(2)]
-    status = np.where(rng.random(count) < 0.002, rng.choice([0x1, 0x2, 0x10, 0x20, 0x33], size=count), 0)
     cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase, random_cic_q(rng, count), random_cic_q(rng, count),
-            zeros, zeros, vector, vector_next, top[0], top[1], status)
+            zeros, zeros, vector, vector_next, top[0], top[1])
     return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
 
 
 def trip_window(rng: np.random.Generator, i_trip: int) -> WindowResult:
-    """A window result with one mean beyond +-i_trip (the other within)."""
+    """A window result with one mean beyond +-i_trip (the other within), or, one time in two, means within and
+    a fault latch of STATUS (the hardware's own trip)."""
+    gamma, gamma_d, wsum = draw(rng, 3, S32_MIN, S32_MAX)
+    if rng.random() < 0.5:
+        status = int(rng.choice([0x1, 0x2, 0x10, 0x20, 0x33]))
+        return WindowResult(gamma=gamma, gamma_d=gamma_d, sum_id=draw_one(rng, -i_trip, i_trip),
+                            sum_iq=draw_one(rng, -i_trip, i_trip), wsum=wsum, n_samples=1, status=status)
     if i_trip == S32_MAX:      # only abs(INT32_MIN) = 2^31 exceeds it
         n, over = 1, S32_MIN
     else:
@@ -648,7 +654,6 @@ def trip_window(rng: np.random.Generator, i_trip: int) -> WindowResult:
     sums = [over, draw_one(rng, -i_trip, i_trip)]
     if rng.random() < 0.5:
         sums.reverse()
-    gamma, gamma_d, wsum = draw(rng, 3, S32_MIN, S32_MAX)
     return WindowResult(gamma=gamma, gamma_d=gamma_d, sum_id=sums[0], sum_iq=sums[1], wsum=wsum, n_samples=n)
 
 
@@ -660,14 +665,16 @@ TRIP_FROM = (MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MO
 
 @pytest.mark.parametrize("chunk", range(STEP_CHUNKS))
 def test_fw_step_random_sequences(seed, chunk):
-    """SEQS_PER_CHUNK sequences of SEQ_LEN windows; each trips (if at all) from a chosen state."""
+    """SEQS_PER_CHUNK sequences of SEQ_LEN windows; each trips (if at all) from a chosen state, by the
+    overcurrent or the hardware's STATUS, and in RUN also by the fault checks (on in those sets only, so that
+    the other sets reach RUN with every method)."""
     rng = np.random.default_rng(seed + 100 + chunk)
-    visited, trips_from, flips, switches, running = set(), set(), set(), set(), set()
+    visited, trips_from, flips, switches, running, codes = set(), set(), set(), set(), set(), set()
     for q in range(SEQS_PER_CHUNK):
         fixed = q % 8 == 0
-        p = random_params(rng, fixed)
-        pair = Pair(p)
         trip_mode = MODE_FIXED if fixed else (None, *TRIP_FROM[:5])[q % 6]       # None: never trips
+        p = random_params(rng, fixed, prot=trip_mode == MODE_RUN)
+        pair = Pair(p)
         bias = draw_one(rng, -(1 << 20), 1 << 20) if q % 5 else 0
         speed_ref = draw_one(rng, S32_MIN, S32_MAX)
         windows = random_windows(rng, SEQ_LEN, p.i_trip, bias)
@@ -681,6 +688,7 @@ def test_fw_step_random_sequences(seed, chunk):
             visited.add(pair.fw.mode)
             if pair.fw.mode == MODE_FAULT and before != MODE_FAULT:
                 trips_from.add(before)
+                codes.add(pair.fw.fault)
             if before == MODE_POL_NEG and pair.fw.mode == MODE_RELAX:
                 flips.add(pair.fw.flipped)
             if pair.fw.active != active:
@@ -690,6 +698,7 @@ def test_fw_step_random_sequences(seed, chunk):
     assert SLOT_HIGH in switches, switches       # hand-overs happen (both ways: test_hand_over_*)
     assert visited == set(range(7)), visited
     assert trips_from == set(TRIP_FROM), trips_from
+    assert {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE} <= codes, codes
     assert flips == {0, 1}, flips
     assert {m for m, _ in running} == set(METHODS_BY_ID) and \
         {pol for _, pol in running} == {POL_CURRENT, POL_PILOT, POL_NONE}, running

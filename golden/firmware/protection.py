@@ -44,8 +44,8 @@ from dataclasses import dataclass
 from golden.fixed import sat, shr
 
 (FAULT_NONE, FAULT_OVERCURRENT, FAULT_OVERSPEED, FAULT_LOCK_LOSS, FAULT_TRACKING, FAULT_OVERLOAD,
- FAULT_HARDWARE) = range(7)
-FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload", "hardware")
+ FAULT_HARDWARE, FAULT_IDENT) = range(8)
+FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload", "hardware", "ident")
 """Fault codes of the firmware (``struct fw_state.fault``, the trace column ``fault``; C ``enum fw_fault``)."""
 
 

@@ -38,6 +38,9 @@ States (``MODE_*``):
               and speed in use (``sync``). The injection follows the estimator in charge.
 ``FIXED``     open-loop test (paper Sec. IV-A): theta_hat fixed, injection on, estimators off, current references 0
               (the current loops keep the back-EMF from driving current).
+``IDENT``     self-commissioning (``FirmwareParams.ident``): the identification program runs instead of the
+              start-up (:mod:`golden.firmware.ident`); a scan without HF response trips with ``FAULT_IDENT``.
+``DONE``      the program has ended: gates off to the end of the run.
 ``FAULT``     a fault was found (``fault``: the code of :mod:`golden.firmware.protection`): the software
               overcurrent on the window means in any mode, or one of the RUN checks. Safe state: gates off
               (coast), or, when ``|omega_f|`` was above ``prot.w_asc`` at the fault and the law is
@@ -56,6 +59,7 @@ from golden.firmware.biquad import Y_FRAC, BiquadCoef, BiquadState, biquad_step
 from golden.firmware.eemf_smo import SmoParams
 from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage
 from golden.firmware.hfo_proj import HfoParams
+from golden.firmware.ident import Ident, IdentParams
 from golden.firmware.estimator import (BY_ID, INJ_NONE, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage,
                                        window_voltage)
 from golden.firmware.lowpass import lowpass_out, lowpass_step
@@ -63,7 +67,8 @@ from golden.firmware.means import window_means
 from golden.firmware.methods import CLASSES
 from golden.firmware.mtpa import mtpa_lookup
 from golden.firmware.pi import PiParams, pi_step
-from golden.firmware.protection import FAULT_HARDWARE, FAULT_NONE, FAULT_OVERCURRENT, ProtParams, protect_step
+from golden.firmware.protection import (FAULT_HARDWARE, FAULT_IDENT, FAULT_NONE, FAULT_OVERCURRENT, ProtParams,
+                                       protect_step)
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -72,8 +77,8 @@ from golden.fixed import round_shr, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
 
-MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT = range(7)
-MODE_NAMES = ("CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT")
+MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT, MODE_IDENT, MODE_DONE = range(9)
+MODE_NAMES = ("CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT", "IDENT", "DONE")
 
 POL_CURRENT, POL_PILOT, POL_NONE = 0, 1, 2
 """Polarity detection: d-current pulses with the HF response (002), pilot voltages (000, Sec. II-D), or
@@ -141,6 +146,9 @@ class FirmwareParams:
         The ``hfo_proj`` estimator's parameters.
     prot : ProtParams
         Limits of the fault checks (:mod:`golden.firmware.protection`; all zero: every check off).
+    ident : IdentParams or None
+        The self-commissioning program (:mod:`golden.firmware.ident`): the firmware runs it from power-up
+        (``MODE_IDENT``) instead of the start-up; None: normal operation.
     """
 
     low: int
@@ -182,6 +190,7 @@ class FirmwareParams:
     fcs: FcsParams | None = None
     hfo: HfoParams | None = None
     prot: ProtParams = ProtParams()
+    ident: IdentParams | None = None
 
 
 @dataclass(frozen=True)
@@ -245,12 +254,15 @@ class Firmware:
     ovl_e: int = 0
     e0: int = 0
     restarts: int = 0                # automatic restarts done
+    ident: Ident | None = None       # the identification program's executor (FirmwareParams.ident)
     slots: list = field(init=False)
 
     def __post_init__(self) -> None:
         p = self.p
         self.slots = [None if m == 0 else CLASSES[m](getattr(p, CLASSES[m].PARAMS)) for m in (p.low, p.high)]
-        if p.fixed_angle is not None:
+        if p.ident is not None:
+            self.mode, self.ident = MODE_IDENT, Ident(p.ident)
+        elif p.fixed_angle is not None:
             self.mode = MODE_FIXED
             self.theta_hat = uwrap(p.fixed_angle, 32)
 
@@ -288,6 +300,11 @@ class Firmware:
             self._trip(FAULT_HARDWARE)
         elif self.mode != MODE_FAULT and (abs(i_d) > p.i_trip or abs(i_q) > p.i_trip):
             self._trip(FAULT_OVERCURRENT)
+        if self.mode in (MODE_IDENT, MODE_DONE):
+            out = self._ident_outputs(win, i_d, i_q) if self.mode == MODE_IDENT else RESET_OUTPUTS
+            self.prev = self.act[0]
+            self.act = [self.act[1], out]
+            return out
         pilot = None
         s_inj, c_inj = sincos_q15(win.inj_phase) if p.inj_rot else (0, 32767)
         if self.mode in (MODE_FIXED, MODE_FAULT):
@@ -333,6 +350,21 @@ class Firmware:
         self.prev = self.act[0]
         self.act = [self.act[1], out]
         return out
+
+    def _ident_outputs(self, win: WindowResult, i_d: int, i_q: int) -> Outputs:
+        """``MODE_IDENT``: one window of the identification program (:mod:`golden.firmware.ident`); gates off
+        at its end (``MODE_DONE``) or when the scan saw no HF response (``FAULT_IDENT``)."""
+        idn = self.ident
+        idn.measure(i_d, i_q, win.gamma_d, win.gamma, self.act[0], self.prev)
+        if idn.failed:
+            self._trip(FAULT_IDENT)
+            return RESET_OUTPUTS
+        if idn.done:
+            self._next(MODE_DONE)
+            return RESET_OUTPUTS
+        v_d, v_q, v_h, self.theta_hat, self.i_d_ref, self.i_q_ref = idn.refs(i_d, i_q, self)
+        s, c = sincos_q15(self.theta_hat)
+        return Outputs(v_d, v_q, v_h, s, c, 1, self.i_d_ref, self.i_q_ref)
 
     def _fcs_outputs(self, win: WindowResult, i_s: int) -> Outputs:
         """The ``fcs_mpc`` law (:mod:`golden.firmware.fcs_law`): the deadbeat voltage for the angle in use

@@ -1,0 +1,340 @@
+"""Self-commissioning, host side: the identification program and the reduction of its sums (docs/commissioning.md).
+
+:func:`build_program` turns the scenario's ``[commission]`` settings and the drive's formats into the
+program the firmware runs (:mod:`golden.firmware.ident`); :func:`reduce` turns the per-step sums the
+firmware leaves into the motor's data; :func:`tuning` into the controller's settings. The stages:
+
+1. ``probe``: one HF step at a small amplitude; the firmware sets the HF level (``F_LEVEL``) so that the
+   HF current of the later steps is ``hf_current``.
+2. ``scan``: the HF square wave on a frame at ``K`` angles over half a turn, no current control; the
+   firmware fits the rotor angle and sets the current PIs (``F_FIT``). Host: ``L_d``, ``L_q`` at zero current
+   from the mean and the second harmonic of the responses.
+3. ``polarity`` (magnets only): ``+I_p`` then ``-I_p`` on d with the injection; the firmware turns the
+   angle by half a turn when the second response is the larger (``F_POL``).
+4. ``map``: the incremental inductance matrix on a grid of (i_d, i_q): at each point the injection on d,
+   then on q (the frame turned by a quarter turn, the current references turned with it). Points with
+   ``i_q != 0`` make torque: the map needs the shaft held (``lock = "on"``: the scenario's plant holds
+   the rotor from the map's first to its last step, as a brake or a locking pin on a bench does);
+   without it only the ``i_q = 0`` line is measured.
+5. ``resistance``: two DC levels along one axis of the machine (the d axis with magnets, q without: the
+   rotor is pulled into alignment, not away); ``R = dV / dI`` removes every drop that does not depend on
+   the current level (the dead time's residual, the switches' knee voltages), and the intercept ``V0`` is
+   kept for the spin.
+6. ``spin``: the current vector turns at a prescribed speed profile (I/f), the rotor follows it:
+   up to ``speed / 2``, hold, accelerate to ``speed``, hold, decelerate to ``speed / 2``, hold, down to
+   0. Flux in the frame from the voltage model at constant frame speed, ``psi = (v - V0 - R i) / (j w)``;
+   torque ``1.5 p (psi x i)``; ``psi_f`` from the active flux ``psi - L_q i`` at the top speed; ``J`` from the
+   torques accelerating and decelerating through the same speeds, ``(T_acc - T_dec) / (2 a)`` (friction and
+   every constant bias cancel); the friction ``B``, ``T_c`` from the two holds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from golden.control_config import hardware_config, scales
+from golden.firmware.ident import F_ABS, F_FIT, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, IdentParams
+from golden.fixed import to_fixed
+from golden.fpga.adc_trigger import sample_phases
+from golden.fpga.carrier import counter
+from golden.fpga.cordic import demod_weight, sincos_q15
+from golden.fpga.modulator import compares
+
+QUARTER = 1 << 30
+R_LEVELS = (1 / 3, 2 / 3, 1.0)
+"""Current levels of the resistance steps (shares of ``current``)."""
+
+
+@dataclass(frozen=True)
+class CommissionSettings:
+    """``[commission]`` of the scenario (SI units; docs/scenario.md).
+
+    current : test current of the resistance, polarity and map steps and of the spin [A]
+    hf_current : target amplitude of the HF current [A]
+    probe_voltage : amplitude of the probe step [V]
+    hf_voltage_max : largest HF amplitude [V]
+    speed : top speed of the spin [rad/s mechanical]
+    spin_time : duration of the acceleration between half and full speed [s]
+    lock : the shaft is held during the map
+    scan_points : angles of the scan over half a turn
+    magnets : the machine has magnets (polarity test, psi_f)
+    settle, measure : windows before the measured ones and measured windows of a standstill step [s]
+    """
+
+    current: float
+    hf_current: float
+    probe_voltage: float
+    hf_voltage_max: float
+    speed: float
+    spin_time: float = 1.0
+    lock: bool = True
+    scan_points: int = 12
+    magnets: bool = True
+    settle: float = 0.02
+    measure: float = 0.04
+
+
+@dataclass(frozen=True)
+class StepInfo:
+    """What the host knows of a step: its stage, its currents in the frame [A], its frame angle relative to the
+    rotor (phi, rad) and the HF axis ("d" injection on the rotor d axis, "q" on q)."""
+
+    stage: str
+    i_d: float = 0.0
+    i_q: float = 0.0
+    phi: float = 0.0
+    axis: str = ""
+
+
+@dataclass(frozen=True)
+class Program:
+    """The firmware's program, each step's meaning, the per-window frame speed written by the firmware
+    [rad/s electrical] and the time span in which the shaft must be held (None: never)."""
+
+    params: IdentParams
+    steps: tuple
+    w_written: np.ndarray
+    lock: tuple | None
+    duration: float
+
+
+def hf_response(hw, scl, tick_hz: float, v_h: int, s: int, c: int, v_d: int = 0, v_q: int = 0) -> tuple[float, float]:
+    """``(GAMMA_D, GAMMA)`` of one window for an ideal inductance of 1 H: the hardware's HF gain.
+
+    The modulator's compares (spec 3.5) for the registers ``V_D = v_d``, ``V_Q = v_q``, ``V_H = v_h`` and the
+    frame ``SIN = s``, ``COS = c`` in both halves, the ideal switch signals (spec 2.4, no dead time), the phase
+    voltages without their common mode at every tick of a period, the current of a 1 H inductance (their
+    integral, without its mean: the steady state of a lossless load), Park into the frame, sampled at the
+    window's instants and weighted as the demodulator does (spec 3.3, 3.4). For a small ``V_H`` the HF
+    voltage comes as short pulses around the middle of each half period and the current is nearly a square
+    wave of amplitude ``V_H / (4 f_sw L)``, whose fundamental is ``4/pi`` of that (not the triangle of
+    Benevieri et al. 2023, eq. (17), ``8/pi^2``, which holds only when the pulses fill the halves). A machine's
+    response is this times its inverse incremental inductance in the injection direction (``GAMMA_D``) and
+    across it (``GAMMA``)."""
+    H, P = hw.pwm_half, 2 * hw.pwm_half
+    rise, fall = (np.array(compares(v_d, v_q, v_h, s, c, H, sign)) for sign in (-1, 1))
+    phi = np.arange(P)
+    on = np.where(phi[:, None] < H, phi[:, None] < rise[None, :], (P - phi[:, None]) <= fall[None, :])
+    v = on.astype(float) * (scl.v_lsb * 2**15)                       # leg voltages [V]
+    v -= v.mean(axis=1, keepdims=True)
+    v_al, v_be = v[:, 0], (v[:, 1] - v[:, 2]) / math.sqrt(3)
+    cf, sf = c / 32768, s / 32768
+    lam = np.cumsum(np.stack([v_al * cf + v_be * sf, v_be * cf - v_al * sf]), axis=1) / tick_hz
+    lam -= lam.mean(axis=1, keepdims=True)                           # current of 1 H [A]
+    rel = np.sort((sample_phases(hw.adc_mode, H, hw.os_ticks) - H // 2) % P)
+    phase = (rel + H // 2) % P
+    w = np.asarray(demod_weight(counter(phase, H), H, hw.cw_angle_step), dtype=float)
+    i = lam[:, phase] / scl.i_lsb
+    return float(i[0] @ w / 2**15), float(i[1] @ w / 2**15)
+
+
+def build_program(sc, cs: CommissionSettings) -> Program:
+    """The identification program of scenario ``sc`` with the settings ``cs`` (module docstring)."""
+    sc_, hw = scales(sc), hardware_config(sc)
+    f_sw = sc_.f_sw
+    win = lambda t: max(round(t * f_sw), 1)                        # noqa: E731
+    n_set, n_meas = win(cs.settle) + 2, win(cs.measure)
+    cur = sc_.current
+    rows, infos = [], []
+
+    def add(info: StepInfo, n: int, m: int, flags: int, i_d: float = 0.0, i_q: float = 0.0, vh: int = 0,
+            phi: int = 0, dw: int = 0) -> None:
+        rows.append((n, m, cur(i_d), cur(i_q), vh, phi % 2**32, dw, flags))
+        infos.append(info)
+
+    v_probe = min(sc_.voltage(cs.probe_voltage), 32767)
+    g_unit = hf_response(hw, sc_, sc.pwm.tick_hz, v_probe, 0, 32767)[0] / (v_probe * sc_.v_lsb)   # per V and 1/H
+    # 1. probe
+    add(StepInfo("probe", axis="d"), n_set + n_meas, n_meas, F_SET | F_OPEN | F_LEVEL, vh=v_probe)
+    # 2. scan
+    K = cs.scan_points
+    for k in range(K):
+        phi = (k << 31) // K
+        for twice in (0, 1):
+            add(StepInfo("scan", phi=phi * 2 * math.pi / 2**32, axis="frame"), n_set + n_meas, n_meas,
+                F_SET | F_OPEN | F_SCAN | (F_FIT if k == K - 1 and twice else 0) | (0 if twice else F_NEG),
+                vh=v_probe << twice, phi=phi)
+    # 3. polarity: twice the standstill time (the current loop settles first)
+    if cs.magnets:
+        for sign in (1, -1):
+            add(StepInfo("polarity", i_d=sign * cs.current, axis="d"), 2 * n_set + n_meas, n_meas,
+                F_SET | (F_POL if sign < 0 else 0), i_d=sign * cs.current, vh=v_probe)
+    # 4. map
+    lock_from = len(rows)
+    grid_q = (0.0, 0.5, 1.0) if cs.lock else (0.0,)
+    for fq in grid_q:
+        for fd in (-1.0, -0.5, 0.0, 0.5, 1.0):
+            i_d, i_q = fd * cs.current, fq * cs.current
+            for twice in (0, 1):
+                add(StepInfo("map", i_d, i_q, 0.0, "d"), n_set + n_meas, n_meas, F_SET, i_d=i_d, i_q=i_q,
+                    vh=v_probe << twice)
+            for twice in (0, 1):
+                add(StepInfo("map", i_d, i_q, math.pi / 2, "q"), n_set + n_meas, n_meas, F_SET, i_d=i_q, i_q=-i_d,
+                    vh=v_probe << twice, phi=QUARTER)
+    lock_to = len(rows)
+    # 5. resistance: the current on the axis of phase a (the others carry half of it, outside the dead-time
+    # compensation's zone when 0.25 current > dtc_zone), the rotor first aligned with it (align: 1 s)
+    add(StepInfo("align", cs.current), win(1.0), 0, F_SET | F_ABS, i_d=cs.current)
+    for level in R_LEVELS:
+        add(StepInfo("resistance", level * cs.current), win(0.1) + n_meas * 2, n_meas * 2, 0, i_d=level * cs.current)
+    # 6. spin
+    w_top = cs.speed * sc_.pole_pairs                                # rad/s electrical
+    a = 0.5 * w_top / cs.spin_time                                   # rad/s^2 electrical
+    to_dw = lambda acc: round(acc / f_sw / sc_.w_lsb)                 # noqa: E731  speed LSB per period
+    n_j, t_j = 4, min(0.25 * cs.spin_time, 0.3)
+
+    def ramp(stage: str, sign: int, t_const: float, measure: bool) -> None:
+        """Acceleration ``sign * a`` entered and left through ``n_j`` sub-steps each (jerk limited)."""
+        for j in range(n_j):
+            add(StepInfo(stage + "_in", cs.current), win(t_j / n_j), 0, 0, i_d=cs.current,
+                dw=to_dw(sign * a * (j + 0.5) / n_j))
+        n = win(t_const)
+        add(StepInfo(stage, cs.current), n, (n * 3) // 4 if measure else 0, 0, i_d=cs.current, dw=to_dw(sign * a))
+        for j in range(n_j):
+            add(StepInfo(stage + "_out", cs.current), win(t_j / n_j), 0, 0, i_d=cs.current,
+                dw=to_dw(sign * a * (n_j - j - 0.5) / n_j))
+
+    # speed gained by a ramp: a t_j (jerk phases) + a t_const; the half speed takes t_const = w/2a - t_j
+    t_half = max(0.5 * w_top / a - t_j, 0.05)
+    hold = win(max(0.5, 0.5 * cs.spin_time))
+    ramp("spin_up", 1, t_half, False)
+    add(StepInfo("hold_low", cs.current), hold, hold // 2, 0, i_d=cs.current)
+    ramp("accel", 1, t_half, True)
+    add(StepInfo("hold_high", cs.current), hold, hold // 2, 0, i_d=cs.current)
+    ramp("decel", -1, t_half, True)
+    add(StepInfo("hold_low2", cs.current), hold, hold // 2, 0, i_d=cs.current)
+    ramp("spin_down", -1, t_half, False)
+    add(StepInfo("stop", cs.current), win(0.2), 0, 0, i_d=cs.current)
+
+    cols = list(zip(*rows))
+    w_lsb = sc_.w_lsb
+    c_kp = round(2 * math.pi * sc.control.current_bw * sc_.i_lsb * 2**16 * K * n_meas * g_unit)
+    params = IdentParams(*[tuple(int(x) for x in c) for c in cols],
+                         c_kp=c_kp, c_ki=to_fixed(2 * math.pi * sc.control.current_bw / 4 / f_sw, 16),
+                         v_lim=min(sc_.voltage(sc.control.v_max), 32767),
+                         c_lvl=round(2**16 * g_unit * 4 * f_sw * cs.hf_current * n_meas),
+                         vh_max=min(sc_.voltage(cs.hf_voltage_max), 32767))
+    # frame speed per call (the executor: w += dw, except on the first call of an F_SET step: w = 0)
+    w, ws = 0, []
+    for n, dw, fl in zip(params.s_n, params.s_dw, params.s_flags):
+        for i in range(n):
+            w = 0 if (fl & F_SET and i == 0) else w + dw
+            ws.append(w)
+    starts = np.cumsum((0,) + params.s_n)
+    period = 1.0 / f_sw
+    lock = (float(starts[lock_from] * period), float(starts[lock_to] * period)) if cs.lock else None
+    return Program(params, tuple(infos), np.array(ws, dtype=float) * w_lsb, lock,
+                   float((starts[-1] + 4) * period))
+
+
+@dataclass
+class Results:
+    """The measured motor data (SI) and the intermediate values the report draws."""
+
+    values: dict = field(default_factory=dict)     # name -> measured value
+    theta_r: float = 0.0                           # rotor angle found [rad electrical]
+    scan: dict = field(default_factory=dict)
+    map: list = field(default_factory=list)         # (i_d, i_q, L 2x2) per grid point
+    spin: dict = field(default_factory=dict)
+    snr: float = 0.0
+
+
+def _step_means(st, k: int, m: int) -> dict:
+    """The means over the measured windows of step ``k`` [LSB]."""
+    return {name: getattr(st, "r_" + name)[k] / m for name in ("id", "iq", "vd", "vq", "gd", "gq", "g2")}
+
+
+def reduce(prog: Program, st, sc, cs: CommissionSettings) -> Results:
+    """The motor data from the firmware's sums ``st`` (an :class:`~golden.firmware.ident.Ident`)."""
+    sc_, hw = scales(sc), hardware_config(sc)
+    f_sw, i_lsb, v_lsb = sc_.f_sw, sc_.i_lsb, sc_.v_lsb
+    p = prog.params
+    res = Results(theta_r=st.theta_r * 2 * math.pi / 2**32)
+    means = [(_step_means(st, k, p.s_m[k]) if p.s_m[k] else None) for k in range(p.n_steps)]
+    vh = [min((p.s_vh[k] * st.lvl) >> 16, p.vh_max) for k in range(p.n_steps)]
+    gains = {}
+
+    def gain(k: int) -> float:
+        """The hardware's HF gain of step ``k`` (:func:`hf_response`) at its amplitude, its frame in the stator
+        (the scan before the angle was known: phi; later theta_r + phi) and its voltages."""
+        if k not in gains:
+            th = prog.steps[k].phi if prog.steps[k].stage in ("probe", "scan") else res.theta_r + prog.steps[k].phi
+            s, c = sincos_q15(round(th / (2 * math.pi) * 2**32) % 2**32)
+            gains[k] = hf_response(hw, sc_, sc.pwm.tick_hz, vh[k], s, c, round(means[k]["vd"]),
+                                   round(means[k]["vq"]))[0]
+        return gains[k]
+
+    def pair(k: int) -> complex:
+        """``Gamma_along - j Gamma_across`` [1/H] from the pair of steps ``k - 1`` (``v_h``) and ``k`` (``2 v_h``):
+        the difference of their responses over the difference of the hardware's gains."""
+        a, b = means[k - 1], means[k]
+        return ((b["gd"] - a["gd"]) - 1j * (b["gq"] - a["gq"])) / (gain(k) - gain(k - 1))
+
+    # scan: g_d - j g_q = Y0 + Y2 exp(j 2 (phi - theta_r))
+    scan = [k for k, s in enumerate(prog.steps) if s.stage == "scan"][1::2]
+    phi = np.array([prog.steps[k].phi for k in scan])
+    z = np.array([pair(k) for k in scan])
+    y0 = float(np.mean(z.real))
+    c2 = np.mean(z * np.exp(-2j * phi))
+    y2 = float(abs(c2))
+    res.values["L_d"], res.values["L_q"] = 1.0 / (y0 + y2), 1.0 / (y0 - y2)
+    res.scan = {"phi": phi, "gamma": z, "theta_r": float(-np.angle(c2) / 2) % math.pi}
+    # noise of one window's GAMMA_D, GAMMA (around their means), per axis
+    var = [means[k]["g2"] - means[k]["gd"] ** 2 - means[k]["gq"] ** 2 for k in scan]
+    sigma = math.sqrt(max(float(np.mean(var)), 0.0) / 2)
+    g_sal = y2 * (gain(scan[0]) - gain(scan[0] - 1))                  # the saliency part of GAMMA [LSB] per v_h
+    res.snr = g_sal / sigma if sigma > 0 else math.inf
+    res.scan.update(sigma=sigma, g_sal=g_sal, v_hf=(vh[scan[0]] - vh[scan[0] - 1]) * v_lsb)
+    # map: the columns of the inverse incremental inductance from the d and q injections (pairs of steps)
+    mp = [k for k, s in enumerate(prog.steps) if s.stage == "map"][1::2]
+    for kd, kq in zip(mp[::2], mp[1::2]):
+        zd, zq = pair(kd), pair(kq)
+        # frame of the q step: d' = q, q' = -d: its responses (along, across) are (Gqq, -Gdq)
+        G = np.array([[zd.real, zq.imag], [-zd.imag, zq.real]])
+        G = 0.5 * (G + G.T)
+        res.map.append((prog.steps[kd].i_d, prog.steps[kd].i_q, np.linalg.inv(G)))
+    # resistance: V = R i + V0 + b / i through the three levels (b: the dead time's share that the node
+    # capacitances take back at small currents, their charge time ~ C V_dc / i)
+    rk = [k for k, s in enumerate(prog.steps) if s.stage == "resistance"]
+    i_r = np.array([means[k]["id"] * i_lsb for k in rk])
+    v_r = np.array([means[k]["vd"] * v_lsb for k in rk])
+    R, v0, b = np.linalg.solve(np.stack([i_r, np.ones_like(i_r), 1 / i_r], axis=1), v_r)
+    res.values["R_s"] = float(R)
+    v0 = float(v0 + b / i_r[-1])                                     # the drops at the spin's current
+    res.spin.update(v0=v0, i_r=i_r, v_r=v_r, r2=float((v_r[-1] - v_r[0]) / (i_r[-1] - i_r[0])))
+    # spin: flux and torque of every measured step
+    starts = np.concatenate([[0], np.cumsum(p.s_n)])
+    pp = sc_.pole_pairs
+    L_d, L_q = res.values["L_d"], res.values["L_q"]
+    spin = {}
+    for k, s in enumerate(prog.steps):
+        if s.stage not in ("hold_low", "accel", "hold_high", "decel", "hold_low2") or means[k] is None:
+            continue
+        j1 = starts[k + 1]
+        # the frame speed active in the measured windows (written two calls before)
+        w = float(np.mean(prog.w_written[j1 - p.s_m[k] - 2:j1 - 2]))
+        mk = means[k]
+        i = np.array([mk["id"], mk["iq"]]) * i_lsb
+        v = np.array([mk["vd"], mk["vq"]]) * v_lsb
+        i_n = i / max(np.hypot(*i), 1e-9)
+        e = v - R * i - v0 * i_n                                    # drops along the current removed
+        psi = np.array([e[1], -e[0]]) / w
+        torque = 1.5 * pp * (psi[0] * i[1] - psi[1] * i[0])
+        act = psi - L_q * i
+        delta = math.atan2(act[1], act[0]) - math.atan2(i[1], i[0])
+        psi_f = float(np.hypot(*act) - (L_d - L_q) * np.hypot(*i) * math.cos(delta))
+        spin[s.stage] = {"w": w, "torque": torque, "psi_f": psi_f, "delta": delta}
+    a = abs(p.s_dw[[k for k, s in enumerate(prog.steps) if s.stage == "accel"][0]]) * sc_.w_lsb * f_sw  # rad/s^2 el
+    res.spin.update(spin)
+    if cs.magnets:
+        res.values["psi_f"] = spin["hold_high"]["psi_f"]
+    t_acc, t_dec = spin["accel"]["torque"], spin["decel"]["torque"]
+    res.values["J"] = (t_acc - t_dec) / (2 * a / pp)
+    w1, w2 = 0.5 * (spin["hold_low"]["w"] + spin["hold_low2"]["w"]) / pp, spin["hold_high"]["w"] / pp
+    t1, t2 = 0.5 * (spin["hold_low"]["torque"] + spin["hold_low2"]["torque"]), spin["hold_high"]["torque"]
+    res.values["B"] = (t2 - t1) / (w2 - w1)
+    res.values["T_c"] = t1 - res.values["B"] * w1
+    return res

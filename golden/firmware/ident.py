@@ -1,0 +1,234 @@
+"""Self-commissioning on the drive: the identification program executor (docs/commissioning.md).
+
+The host (:mod:`golden.commission`) writes a *program*: a list of steps, each holding a current reference
+in its own frame, an HF square-wave amplitude on that frame's d axis (the 002 hardware injection,
+``V_H``), and how the frame moves. The firmware runs the steps one window at a time, closes the current
+loops, and sums what it sees over the last ``m`` windows of each step: the window-mean currents, the
+voltage references applied in the window (in the step's frame) and the demodulated HF responses
+``GAMMA_D``, ``GAMMA`` and their squares. The host turns these sums into R_s, L_d, L_q, the saturation
+map, psi_f, J and the friction (:mod:`golden.commission`).
+
+The firmware itself makes the decisions the next steps depend on:
+
+* **HF level** (``F_LEVEL``): a probe step with a small amplitude ``s_vh`` measures the HF response ``G``;
+  from then on every step's amplitude is ``min(shr(s_vh * lvl, 16), vh_max)`` with
+  ``lvl = min(c_lvl / G, LVL_MAX)`` (Q16): the response of the later steps is the host's target whatever the
+  inductance (a 67 mH washing-machine motor and a 3.5 mH servo differ by 20 times). ``G <= 0``: no HF
+  response, the program stops (``failed``);
+
+* **rotor angle** (``F_FIT``, after the scan steps ``F_SCAN``): with the injection on a frame at the
+  angles ``phi_k`` (k = 0..K-1, spread over half a turn), the responses are
+  ``g_d - j g_q = Y0 + Y2 exp(j 2 (phi - theta_r))`` (``Y0``, ``Y2``: the mean and half the difference of
+  the inverse incremental inductances), so ``sum_k (G_d - j G_q) exp(-j 2 phi_k) = K Y2 exp(-j 2 theta_r)``
+  and ``theta_r = -arg(.) / 2`` (mod half a turn), i.e. half the angle of ``(x, y) = sum_k (G_d c_k - G_q s_k,
+  G_d s_k + G_q c_k)`` with ``(s_k, c_k)`` of ``2 phi_k`` (``Y2 > 0``: ``Y2 > 0``: the plant's d axis is the low-inductance one
+  for every machine, docs/motors.md). The sums are integer (s64), the angle by the vectoring CORDIC
+  (:func:`~golden.firmware.vector.vector_angle`) after shifting both sums into its range;
+  The scan takes each angle twice, at ``v_h`` (``F_SCAN | F_NEG``: its sums count negative) and at ``2 v_h``:
+  the difference is the response to ``v_h`` without the dead time's share, which does not grow with the
+  amplitude while the HF current crosses zero (docs/commissioning.md);
+* **current-loop gains** (``F_FIT``, on the last scan step, the ``2 v_h`` one of a pair): ``kp = c_kp (v_h(k) -
+  v_h(k - 1)) / sum_k G_d`` (the amplitude difference of the pair; the mean
+  inverse inductance sets ``kp = L w_c``; ``c_kp`` holds the hardware's HF gain, the bandwidth and the
+  formats), ``ki = kp c_ki / 2^16``
+  (integral zero at a fixed share of the bandwidth: no resistance is known yet). Steps before ``F_FIT``
+  must be ``F_OPEN`` (no current control);
+* **magnet polarity** (``F_POL``): the step before it had ``+I_p`` on d, this one ``-I_p``; a larger HF
+  response now (smaller incremental inductance: saturation) means the magnet's north is on ``-d``:
+  ``theta_r`` turns by half a turn.
+
+Frame of a step: ``F_SET`` puts it at ``theta_r + phi`` at rest at the step start (``F_ABS``: at ``phi``, an
+angle of the stator: the resistance steps put the current on a phase axis, so that no phase current sits in
+the dead-time compensation's uncertain zone, and the rotor aligns with it); otherwise it keeps
+moving: per period ``w += dw``, then ``theta += w`` (the speed ``w`` in binary angle per period). A step
+``F_OPEN`` writes zero voltage (current control off).
+
+Timing: the outputs of a call are active two windows later (docs/spec.md 2), so the host leaves at least
+two windows of a step before its ``m`` measured ones. At the end of the program the firmware turns the
+gates off (``MODE_DONE``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from golden.firmware.estimator import park, window_voltage
+from golden.firmware.pi import PiParams, pi_step
+from golden.firmware.vector import INPUT_LIMIT, vector_angle
+from golden.fixed import c_div, sat, shr, uwrap
+from golden.fpga.cordic import sincos_q15
+
+F_SET, F_SCAN, F_FIT, F_POL, F_OPEN, F_LEVEL, F_ABS, F_NEG = 1, 2, 4, 8, 16, 32, 64, 128
+"""Step flags (module docstring)."""
+IDENT_MAX = 160
+"""Most steps in a program (the C arrays' length)."""
+HALF_TURN = 1 << 31
+KP_MAX = (1 << 31) - 1
+LVL_MAX = 1 << 24
+"""Largest HF level factor (Q16: 256 times the probe's amplitude)."""
+
+
+@dataclass(frozen=True)
+class IdentParams:
+    """The program (one tuple per step field, all of one length ``<= IDENT_MAX``) and the gain constants.
+
+    Attributes
+    ----------
+    s_n, s_m : tuple of int
+        Windows of each step (>= 1) and how many of its last windows are summed (0..n).
+    s_id, s_iq : tuple of int
+        Current references in the step's frame [current LSB].
+    s_vh : tuple of int
+        HF square-wave amplitude on the frame's d axis [voltage LSB, 0..32767].
+    s_phi : tuple of int
+        Frame angle relative to the rotor angle found (u32 binary angle), used by ``F_SET``.
+    s_dw : tuple of int
+        Frame speed change per period [speed LSB per period] while the step runs.
+    s_flags : tuple of int
+        ``F_*`` flags.
+    c_kp : int
+        ``kp = c_kp v_h / sum G_d`` at ``F_FIT`` (0 <= c_kp < 2^46).
+    c_ki : int
+        ``ki = shr(kp * c_ki, 16)`` (Q16, 0..2^16).
+    v_lim : int
+        Current PIs' output limit [voltage LSB].
+    c_lvl, vh_max : int
+        ``F_LEVEL``: ``lvl = c_lvl / G`` (0 <= c_lvl < 2^46) and the largest amplitude [voltage LSB, 0..32767].
+    """
+
+    s_n: tuple
+    s_m: tuple
+    s_id: tuple
+    s_iq: tuple
+    s_vh: tuple
+    s_phi: tuple
+    s_dw: tuple
+    s_flags: tuple
+    c_kp: int
+    c_ki: int
+    v_lim: int
+    c_lvl: int = 0
+    vh_max: int = 32767
+    n_steps: int = field(init=False)
+
+    def __post_init__(self) -> None:
+        n = len(self.s_n)
+        cols = ("s_m", "s_id", "s_iq", "s_vh", "s_phi", "s_dw", "s_flags")
+        if not 1 <= n <= IDENT_MAX or any(len(getattr(self, c)) != n for c in cols):
+            raise ValueError(f"an identification program has 1..{IDENT_MAX} steps, every column as long as s_n")
+        for k in range(n):
+            if self.s_n[k] < 1 or not 0 <= self.s_m[k] <= self.s_n[k]:
+                raise ValueError(f"step {k}: n {self.s_n[k]} must be >= 1 and m {self.s_m[k]} in 0..n")
+            if not 0 <= self.s_vh[k] <= 32767:
+                raise ValueError(f"step {k}: v_h {self.s_vh[k]} outside 0..32767")
+        if not (0 <= self.c_kp < 1 << 46 and 0 <= self.c_ki <= 1 << 16 and 1 <= self.v_lim <= 32767
+                and 0 <= self.c_lvl < 1 << 46 and 0 <= self.vh_max <= 32767):
+            raise ValueError("c_kp, c_ki, v_lim, c_lvl or vh_max out of range")
+        object.__setattr__(self, "n_steps", n)
+
+
+@dataclass
+class Ident:
+    """State of the executor: the step, the frame, the fitted angle and gains, the sums of every step."""
+
+    p: IdentParams
+    k: int = 0                        # step index
+    n: int = 0                        # windows into the step
+    theta: int = 0                    # frame angle (u32)
+    w: int = 0                        # frame speed [binary angle per period]
+    theta_r: int = 0                  # rotor angle found (u32)
+    kp: int = 0                       # current-PI gains (Q16), set at F_FIT
+    ki: int = 0
+    lvl: int = 1 << 16                # HF level factor (Q16), set at F_LEVEL
+    fit_x: int = 0                    # scan sums (s64)
+    fit_y: int = 0
+    fit_y0: int = 0
+    failed: int = 0                   # 1: the scan saw no HF response (sum G_d <= 0)
+    done: int = 0
+    r_id: list = field(default_factory=lambda: [0] * IDENT_MAX)   # per-step sums over the last m windows
+    r_iq: list = field(default_factory=lambda: [0] * IDENT_MAX)
+    r_vd: list = field(default_factory=lambda: [0] * IDENT_MAX)
+    r_vq: list = field(default_factory=lambda: [0] * IDENT_MAX)
+    r_gd: list = field(default_factory=lambda: [0] * IDENT_MAX)
+    r_gq: list = field(default_factory=lambda: [0] * IDENT_MAX)
+    r_g2: list = field(default_factory=lambda: [0] * IDENT_MAX)
+
+    def __post_init__(self) -> None:
+        self._start()
+
+    def _start(self) -> None:
+        """Enter step ``k``: ``F_SET`` puts the frame at ``theta_r + phi``, at rest."""
+        f = self.p.s_flags[self.k]
+        if f & F_SET:
+            self.theta, self.w = uwrap((0 if f & F_ABS else self.theta_r) + self.p.s_phi[self.k], 32), 0
+
+    def measure(self, i_d: int, i_q: int, gamma_d: int, gamma_q: int, now, before) -> None:
+        """One window: sum it when it is one of the step's last ``m``; at the step's end, its action."""
+        p, k = self.p, self.k
+        self.n += 1
+        if self.n > p.s_n[k] - p.s_m[k]:
+            a, b = window_voltage(now, before)
+            v_d, v_q = park(a, b, now.sin, now.cos)
+            self.r_id[k] += i_d
+            self.r_iq[k] += i_q
+            self.r_vd[k] += v_d
+            self.r_vq[k] += v_q
+            self.r_gd[k] += gamma_d
+            self.r_gq[k] += gamma_q
+            self.r_g2[k] += gamma_d * gamma_d + gamma_q * gamma_q
+        if self.n < p.s_n[k]:
+            return
+        self._finish(k)
+        self.k, self.n = k + 1, 0
+        if self.k == p.n_steps:
+            self.done = 1
+        else:
+            self._start()
+
+    def v_h(self, k: int) -> int:
+        """The HF amplitude of step ``k`` after the level factor."""
+        return min(shr(self.p.s_vh[k] * self.lvl, 16), self.p.vh_max)
+
+    def _finish(self, k: int) -> None:
+        """The decisions at the end of step ``k`` (module docstring)."""
+        p, f = self.p, self.p.s_flags[k]
+        if f & F_LEVEL:
+            if self.r_gd[k] <= 0:
+                self.failed = 1
+            else:
+                self.lvl = min(c_div(p.c_lvl, self.r_gd[k]), LVL_MAX)
+        if f & F_SCAN:
+            s2, c2 = sincos_q15(uwrap(2 * p.s_phi[k], 32))
+            g_d, g_q = (-self.r_gd[k], -self.r_gq[k]) if f & F_NEG else (self.r_gd[k], self.r_gq[k])
+            self.fit_x += g_d * c2 - g_q * s2
+            self.fit_y += g_d * s2 + g_q * c2
+            self.fit_y0 += g_d
+        if f & F_FIT:
+            x, y = self.fit_x, self.fit_y
+            while max(abs(x), abs(y)) > INPUT_LIMIT:
+                x, y = shr(x, 1), shr(y, 1)
+            a, _ = vector_angle(x, y)
+            self.theta_r = a >> 1
+            if self.fit_y0 <= 0:
+                self.failed = 1
+            else:
+                self.kp = min(c_div(p.c_kp * (self.v_h(k) - self.v_h(k - 1)), self.fit_y0), KP_MAX)
+                self.ki = shr(self.kp * p.c_ki, 16)
+        if f & F_POL and self.r_gd[k] > self.r_gd[k - 1]:
+            self.theta_r = uwrap(self.theta_r + HALF_TURN, 32)
+
+    def refs(self, i_d: int, i_q: int, st) -> tuple[int, int, int, int, int, int]:
+        """The step's outputs after :meth:`measure`: advance the frame, run the current PIs (integrators in
+        ``st.id_int``, ``st.iq_int``); returns ``(v_d, v_q, v_h, theta, i_d_ref, i_q_ref)``."""
+        p, k = self.p, self.k
+        if not (p.s_flags[k] & F_SET and self.n == 0):
+            self.w = sat(self.w + p.s_dw[k], 32)
+            self.theta = uwrap(self.theta + self.w, 32)
+        r_d, r_q = p.s_id[k], p.s_iq[k]
+        if p.s_flags[k] & F_OPEN:
+            v_d = v_q = st.id_int = st.iq_int = 0
+        else:
+            pi = PiParams(self.kp, 16, self.ki, 16, p.v_lim)
+            v_d, st.id_int = pi_step(st.id_int, r_d, i_d, pi)
+            v_q, st.iq_int = pi_step(st.iq_int, r_q, i_q, pi)
+        return v_d, v_q, self.v_h(k), self.theta, r_d, r_q

@@ -1,9 +1,11 @@
 """Host-side configuration: physical controller settings -> register values and firmware integers.
 
 Everything the FPGA registers and the firmware need is computed here once, from the scenario's
-``[control]``, ``[pwm]``, ``[inverter]`` and ``[sensors]`` settings and the motor's nominal data
-(as a user tunes a drive from the data sheet: the plant's saturation, friction and sensor errors
-are not known to the controller). Scales (docs/spec.md, section 3):
+``[control]``, ``[pwm]``, ``[inverter]`` and ``[sensors]`` settings and the motor data the controller
+knows (:func:`controller_motor`): the ``[model]`` table when the scenario has one (the values ``hfi
+commission`` measured), else the plant's nominal data (as a user tunes a drive from the data sheet: the
+plant's saturation, friction and sensor errors are not known to the controller). Scales (docs/spec.md,
+section 3):
 
 * current: 1 LSB = ``I_FS / 2^15`` with ``I_FS`` the ADC range;
 * voltage: 1 LSB = ``V_dc / 2^15`` (nominal dc link);
@@ -34,13 +36,15 @@ from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams
 from golden.firmware.supervisor import POL_CURRENT, POL_NONE, POL_PILOT, FirmwareParams
-from golden.flux_tables import flux_lut, flux_reference_table, nominal_motor
+from golden.flux_tables import flux_lut, flux_reference_table, mtpa_point, nominal_motor
 from golden.scenario import HIGH_ESTIMATORS, LOW_ESTIMATORS
 from golden.fixed import shr, to_fixed, uwrap, wrap
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK, effective_os_ticks
 from golden.fpga.cordic import cw_angle_step, sincos_q15
 from golden.fpga.deadtime_comp import recip_half
 from golden.fpga.rot_injection import inj_step
+from golden.plant import defaults as plant_defaults
+from golden.plant.binding import MAG_KINDS
 from golden.scenario import Scenario
 
 ADC_MODE = {"OS": MODE_OS, "DS": MODE_DS, "OS_BLANK": MODE_OS_BLANK}
@@ -93,6 +97,65 @@ class HardwareConfig:
     cic_m: int = 2               # CIC_M: comb delay of the CIC interpolator (golden.fpga.diff_cic)
 
 
+@dataclass(frozen=True)
+class ControllerMotor:
+    """The motor data the controller is tuned from (:func:`controller_motor`), SI units.
+
+    ``mag`` is a magnetic model dict of the plant's layout (``golden.plant.defaults``; the functions of
+    golden.flux_tables and golden.plant.fluxmap take it). ``pole_pairs`` is always the scenario's (the name
+    plate's). ``B``, ``T_c``: the friction of the model (the controller's tunings do not use them yet).
+    """
+
+    R_s: float
+    mag: dict
+    J: float
+    pole_pairs: int
+    B: float = 0.0
+    T_c: float = 0.0
+
+
+def linear_mag(L_d: float, L_q: float, psi_f: float) -> dict:
+    """A complete linear magnetic model dict (``MAG_KINDS["linear"]``, the plant's layout) of the given
+    inductances [H] and magnet flux [V*s]."""
+    mag = plant_defaults.default_params()["mag"]
+    mag.update(kind=MAG_KINDS["linear"], L_d=L_d, L_q=L_q, psi_f=psi_f)
+    return mag
+
+
+def controller_motor(sc: Scenario) -> ControllerMotor:
+    """What the controller knows of its motor: the scenario's ``[model]`` table (``sc.model``, written by
+    ``hfi commission``) as a linear magnetic model, or, without it, the plant's own ``R_s``, ``mag`` and
+    ``mech`` data (``mag`` is then the plant's dict itself, so the firmware's parameters are those of a
+    drive tuned from the data sheet, unchanged from before ``[model]`` existed).
+
+    With ``[model]`` the 003 method's flux maps (:func:`hfo_proj_params`' ``flux_lut``, :func:`fcs_params`'
+    ``flux_reference_table``) are sampled from that linear model: the measured saturation map is not yet
+    fed to the controller. ``pole_pairs`` is always the scenario's (``motor.pole_pairs`` or the preset's)."""
+    mech = sc.plant["mech"]
+    p = int(mech["pole_pairs"])
+    m = sc.model
+    if m is None:
+        return ControllerMotor(R_s=sc.plant["R_s"], mag=sc.plant["mag"], J=mech["J"], pole_pairs=p,
+                               B=mech["B"], T_c=mech["T_c"])
+    return ControllerMotor(R_s=m.R_s, mag=linear_mag(m.L_d, m.L_q, m.psi_f), J=m.J, pole_pairs=p, B=m.B, T_c=m.T_c)
+
+
+def controller_nominal(sc: Scenario, i_nom: float) -> dict:
+    """``{"L_d", "L_q", "psi_f", "k_t"}`` of the controller's motor (:func:`controller_motor`) at ``i_nom`` [A]:
+    :func:`~golden.flux_tables.nominal_motor`, except for a ``[model]`` without a magnet (``psi_f = 0``), whose
+    torque per ampere is the MTPA point's at ``i_nom`` (the linear formula ``1.5 p psi_f`` would give 0).
+    Raises ValueError when that model makes no positive torque (it needs ``L_q > L_d``)."""
+    cm = controller_motor(sc)
+    nom = nominal_motor(cm.mag, cm.pole_pairs, i_nom)
+    if sc.model is not None and cm.mag["psi_f"] == 0:
+        t = mtpa_point(cm.mag, i_nom, cm.pole_pairs)[4]
+        if not t > 0:
+            raise ValueError(f"[model] without a magnet (psi_f = 0) needs L_q > L_d to make torque "
+                             f"(L_d = {cm.mag['L_d']:g} H, L_q = {cm.mag['L_q']:g} H; scenario {sc.name})")
+        nom["k_t"] = t / i_nom
+    return nom
+
+
 def scales(sc: Scenario) -> Scales:
     f_sw = sc.pwm.f_sw
     return Scales(i_lsb=sc.plant["sens"]["adc_range"] / 2**15, v_lsb=sc.plant["inv"]["V_dc"] / 2**15,
@@ -105,7 +168,7 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
     half = round(tick_hz / (2 * sc.pwm.f_sw))
     sc_ = scales(sc)
     dead = round(sc.pwm.dead_time * tick_hz)
-    mag = sc.plant["mag"]
+    mag = controller_motor(sc).mag
     rot = rotating_injection(sc)
     # eq. (17): the HF d-current is a triangle of amplitude V_h / (4 f_sw L_d); the rotating injection's
     # current is predicted by the firmware instead (FirmwareParams.hf_dtc), so HF_AMP is 0 then
@@ -147,14 +210,14 @@ def period_injection(sc: Scenario) -> bool:
 def rot_hf_current(sc: Scenario) -> int:
     """Tap et al. 2023, eq. (11): the positive-sequence HF current ``V_h L_0 / (w_h L_d L_q)`` [current LSB]
     of the rotating injection, which the firmware adds to the dead-time compensation's current."""
-    mag, sc_ = sc.plant["mag"], scales(sc)
+    mag, sc_ = controller_motor(sc).mag, scales(sc)
     w_h = 2 * math.pi * sc.estimator.params["rot_bpf"]["f_inj"]
     return min(sc_.current(sc.injection.V_h * 0.5 * (mag["L_d"] + mag["L_q"]) / (w_h * mag["L_d"] * mag["L_q"])),
                32767)
 
 
 def firmware_params(sc: Scenario) -> FirmwareParams:
-    """Firmware integers from the control settings and the motor's nominal data.
+    """Firmware integers from the control settings and the controller's motor data (:func:`controller_motor`).
 
     Current PIs: technical optimum on the nominal L and R (k_p = L·ω_c, k_i = R·ω_c, ω_c = 2π·current_bw).
     Speed PI: k_p = J·ω_s / (K_t·p) [A per electrical rad/s], integral zero at ω_s/4 (ω_s = 2π·speed_bw),
@@ -162,17 +225,17 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     """
     ctl, sc_ = sc.control, scales(sc)
     f_sw = sc.pwm.f_sw
-    mech = sc.plant["mech"]
-    p = int(mech["pole_pairs"])
-    mag = nominal_motor(sc.plant["mag"], p, 0.5 * ctl.i_max)
+    cm = controller_motor(sc)
+    p = cm.pole_pairs
+    mag = controller_nominal(sc, 0.5 * ctl.i_max)
     L = 0.5 * (mag["L_d"] + mag["L_q"])
     w_c = 2 * math.pi * ctl.current_bw
     v_lim = min(sc_.voltage(ctl.v_max), 32767)
-    kp, ki = pi_gains(L * w_c, sc.plant["R_s"] * w_c, sc_.i_lsb / sc_.v_lsb, f_sw, sp=16, si=16)
+    kp, ki = pi_gains(L * w_c, cm.R_s * w_c, sc_.i_lsb / sc_.v_lsb, f_sw, sp=16, si=16)
     cur_pi = PiParams(kp, 16, ki, 16, v_lim)
     k_t = mag["k_t"]
     w_s = 2 * math.pi * ctl.speed_bw
-    kp_w = mech["J"] * w_s / (k_t * p)
+    kp_w = cm.J * w_s / (k_t * p)
     speed_div = max(round(f_sw / ctl.speed_rate), 1) if ctl.speed_rate > 0 else 1
     kp_s, ki_s = pi_gains(kp_w, kp_w * w_s / 4, sc_.w_lsb / sc_.i_lsb, f_sw / speed_div, sp=24, si=31)
     speed_pi = PiParams(kp_s, 24, ki_s, 31, sc_.current(ctl.i_max))
@@ -224,8 +287,8 @@ full-load step at standstill on the Table I motor dips to -160 r/min before the 
 
 
 def protection_params(sc: Scenario) -> ProtParams:
-    """The fault checks' integers (golden.firmware.protection) from ``[protection]``, the nominal motor
-    (:func:`~golden.flux_tables.nominal_motor` at half ``i_max``) and the formats. Defaults of absent keys:
+    """The fault checks' integers (golden.firmware.protection) from ``[protection]``, the controller's nominal
+    motor (:func:`controller_nominal` at half ``i_max``) and the formats. Defaults of absent keys:
     ``lock_emf`` LOCK_EMF_SHARE * V_dc; ``track_current`` TRACK_SHARE * i_max; ``speed_max`` from
     SPEED_MAX_MARGIN; ``asc_speed`` the speed whose back-EMF amplitude ``p omega psi_f`` reaches V_dc/sqrt(3),
     above which a coasting motor charges the dc link through the diodes (0, never, without a magnet).
@@ -236,7 +299,8 @@ def protection_params(sc: Scenario) -> ProtParams:
     pr, ctl, sc_ = sc.protection, sc.control, scales(sc)
     if pr.checks == "off":
         return ProtParams()
-    mag = nominal_motor(sc.plant["mag"], sc_.pole_pairs, 0.5 * ctl.i_max)
+    cm = controller_motor(sc)
+    mag = controller_nominal(sc, 0.5 * ctl.i_max)
     v_dc = sc.plant["inv"]["V_dc"]
     flux = 2 * math.pi * sc_.f_sw / sc_.v_lsb          # flux LSB per V*s (golden.firmware.protection)
     ref = max((abs(v) for _, v in sc.reference_speed), default=0.0)
@@ -248,7 +312,7 @@ def protection_params(sc: Scenario) -> ProtParams:
     psi_nom = mag["psi_f"] if mag["psi_f"] > 0 else mag["L_q"] * ctl.i_max   # the back-EMF per speed
     shift = lambda tau: min(max(round(math.log2(tau * sc_.f_sw)), 0), 30)   # noqa: E731
     return ProtParams(
-        r=to_fixed(sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb, 16),
+        r=to_fixed(cm.R_s * sc_.i_lsb / sc_.v_lsb, 16),
         ld=to_fixed(mag["L_d"] * sc_.i_lsb * flux, 16), lq=to_fixed(mag["L_q"] * sc_.i_lsb * flux, 16),
         psi_f=to_fixed(mag["psi_f"] * flux, 0),
         emf_k=shift(pr.lock_time),
@@ -277,10 +341,11 @@ def dead_time_flux(sc: Scenario) -> int:
 
 
 def resistance_per_lsb(sc: Scenario) -> float:
-    """The 003 firmware's resistance: ``R_s`` plus the inverter's on-resistance ``[control] inv_r_drop``, in
-    voltage LSB per current LSB (the law's ``r_v``; times ``2^FLUX_FRAC`` the flux per period, ``r_f``)."""
+    """The 003 firmware's resistance: the controller's ``R_s`` (:func:`controller_motor`) plus the inverter's
+    on-resistance ``[control] inv_r_drop``, in voltage LSB per current LSB (the law's ``r_v``; times
+    ``2^FLUX_FRAC`` the flux per period, ``r_f``)."""
     sc_ = scales(sc)
-    return (sc.plant["R_s"] + sc.control.inv_r_drop) * sc_.i_lsb / sc_.v_lsb
+    return (controller_motor(sc).R_s + sc.control.inv_r_drop) * sc_.i_lsb / sc_.v_lsb
 
 
 def threshold_flux(sc: Scenario) -> int:
@@ -290,11 +355,12 @@ def threshold_flux(sc: Scenario) -> int:
 
 def fcs_params(sc: Scenario) -> FcsParams:
     """The ``fcs_mpc`` law's integers (golden.firmware.fcs_law): ``R_s`` as flux and as voltage per current
-    LSB, the flux reference table over ``0..i_max`` from the plant's map with ``control.flux_min``, and the
-    constraint's threshold ``estimator.hfo_proj.phi_min``."""
-    ctl, sc_ = sc.control, scales(sc)
+    LSB, the flux reference table over ``0..i_max`` from the controller's map (:func:`controller_motor`: the
+    plant's, or the linear model of ``[model]``) with ``control.flux_min``, and the constraint's threshold
+    ``estimator.hfo_proj.phi_min``."""
+    ctl, sc_, cm = sc.control, scales(sc), controller_motor(sc)
     r = resistance_per_lsb(sc)
-    shift, t_d, t_q = flux_reference_table(sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"]), sc_.i_lsb,
+    shift, t_d, t_q = flux_reference_table(cm.mag, cm.pole_pairs, sc_.i_lsb,
                                            flux_lsb(sc), sc_.current(ctl.i_max), ctl.flux_min)
     if not t_d or max(map(abs, t_d + t_q)) >= 1 << 30:
         raise ValueError(f"fcs_mpc: the flux reference table leaves +-2^30 flux units (scenario {sc.name})")
@@ -305,11 +371,12 @@ def fcs_params(sc: Scenario) -> FcsParams:
 
 def hfo_proj_params(sc: Scenario) -> HfoParams:
     """``estimator.hfo_proj``: the 003 estimator's integers (golden.firmware.hfo_proj). The flux LUT from the
-    plant's map (times ``map_scale_d/q``); ``g``, ``w_g`` as electrical speeds; the PLL's poles at ``-Omega`` (eq. (40): ``k_p = 2 Omega``,
+    controller's map (:func:`controller_motor`: the plant's, or the linear model of ``[model]``: the measured
+    saturation map is not yet fed to the controller; times ``map_scale_d/q``); ``g``, ``w_g`` as electrical speeds; the PLL's poles at ``-Omega`` (eq. (40): ``k_p = 2 Omega``,
     ``k_i = Omega^2``)."""
     t, sc_, f_sw = sc.estimator.params["hfo_proj"], scales(sc), sc.pwm.f_sw
     T = 1.0 / f_sw
-    lut = flux_lut(sc.plant["mag"], sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], t["lut_coarse"],
+    lut = flux_lut(controller_motor(sc).mag, sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], t["lut_coarse"],
                    t["lut_max_d"], t["lut_max_q"],
                    t["map_scale_d"], t["map_scale_q"])
     omega = 2 * math.pi * t["pll_bw"]
@@ -341,9 +408,10 @@ def rfo_params(sc: Scenario) -> RfoParams:
     t, sc_ = sc.estimator.params["rfo"], scales(sc)
     f_sw = sc.pwm.f_sw
     f_lsb = flux_lsb(sc)
-    mag = sc.plant["mag"]
+    cm = controller_motor(sc)
+    mag = cm.mag
     kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
-    p = RfoParams(r_s=to_fixed(sc.plant["R_s"] * sc_.i_lsb / sc_.v_lsb, 16),
+    p = RfoParams(r_s=to_fixed(cm.R_s * sc_.i_lsb / sc_.v_lsb, 16),
                   l_s=to_fixed(mag["L_q"] * sc_.i_lsb / f_lsb, 16),
                   psi_f=to_fixed(mag["psi_f"] / f_lsb, 0),
                   k_c=lowpass_coef(t["flux_bw"], f_sw), pll_kp=kp, pll_ki=ki, i_d=-sc_.current(t["i_d_min"]))
@@ -378,7 +446,8 @@ def rot_bpf_delay(bpf: biquad.BiquadCoef, f_inj: float, n_avg: int, f_sw: float,
 def rot_bpf_params(sc: Scenario) -> RotParams:
     """``estimator.rot_bpf``: the 000 method's integers (golden.firmware.rot_bpf)."""
     t, f_sw = sc.estimator.params["rot_bpf"], sc.pwm.f_sw
-    mag, p = sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"])
+    cm = controller_motor(sc)
+    mag, p = cm.mag, cm.pole_pairs
     step = injection_step(sc)
     q_sin, q_cos = sincos_q15(uwrap(-shr(wrap(step, 32), 2), 32))     # -INJ_STEP / 4
     bpf = biquad.bandpass(2 * t["f_inj"], t["bpf_width"], f_sw)
@@ -387,7 +456,7 @@ def rot_bpf_params(sc: Scenario) -> RotParams:
     delay = rot_bpf_delay(bpf, t["f_inj"], t["n_avg"], f_sw, max(f_e_max, 1.0))
     # the negative sequence's phase: +-pi/2 by the saliency's sign (docs/methods.md), less the stator
     # resistance's share, which eqs. (8)-(11) neglect: arg 1/((R + j w L_d)(R + j w L_q)) + pi
-    w_h, r = 2 * math.pi * t["f_inj"], sc.plant["R_s"]
+    w_h, r = 2 * math.pi * t["f_inj"], cm.R_s
     d_r = math.atan(r / (w_h * mag["L_d"])) + math.atan(r / (w_h * mag["L_q"]))
     offset = (2**30 if mag["L_q"] > mag["L_d"] else 3 * 2**30) - to_fixed(d_r / (2 * math.pi), 32)
     return RotParams(q_cos=q_cos, q_sin=q_sin, bpf=bpf, n_avg=t["n_avg"], offset=offset % 2**32, pll_kp=kp, pll_ki=ki,
@@ -427,13 +496,14 @@ def sqw_cic_params(sc: Scenario) -> CicParams:
     period^2), ``c_r`` per LSB^2 (Q40); ``q_min``: the ``vector_angle`` magnitude of ``cic_m`` envelope
     values of ``q_min`` each. Raises ValueError on a motor without saliency."""
     t, sc_, f_sw = sc.estimator.params["sqw_cic"], scales(sc), sc.pwm.f_sw
-    mag, mech, T = sc.plant["mag"], sc.plant["mech"], 1.0 / f_sw
+    cm, T = controller_motor(sc), 1.0 / f_sw
+    mag = cm.mag
     if mag["L_q"] == mag["L_d"]:
         raise ValueError("estimator sqw_cic needs a salient motor (L_d != L_q): the envelope carries no angle")
     a = 2 * math.pi * t["observer_bw"]
-    p = int(mech["pole_pairs"])
+    p = cm.pole_pairs
     turn = 2**32 / (2 * math.pi)                                 # binary angle per radian
-    acc = p * 1.5 * p / mech["J"] * T * T * turn                 # n_p T_e / J per (N*m / 1.5 n_p) per period^2
+    acc = p * 1.5 * p / cm.J * T * T * turn                 # n_p T_e / J per (N*m / 1.5 n_p) per period^2
     on = t["torque_ff"] == "on"
     c_t = to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24) if on else 0
     c_r = to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if on else 0
@@ -462,14 +532,15 @@ def eemf_smo_params(sc: Scenario) -> SmoParams:
     speed between ``lpf_min`` and ``lpf_max``. ``lag0`` and ``k_delay`` [periods]: :func:`eemf_smo_lag`
     and one period from the PLL's prediction to the window of use."""
     t, sc_, f_sw = sc.estimator.params["eemf_smo"], scales(sc), sc.pwm.f_sw
-    mag, T = sc.plant["mag"], 1.0 / f_sw
+    cm, T = controller_motor(sc), 1.0 / f_sw
+    mag = cm.mag
     l_o = mag["L_q"] if t["model"] == "Lq" else mag["L_d"]
     dl = (l_o - mag["L_q"]) / l_o
     c_v = T / l_o * sc_.v_lsb / sc_.i_lsb                       # current LSB per voltage LSB per period
-    c_r = T * sc.plant["R_s"] / l_o
+    c_r = T * cm.R_s / l_o
     k = (1 - c_r - t["obs_pole"]) / c_v                         # voltage LSB per current LSB
     kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
-    pp = int(sc.plant["mech"]["pole_pairs"])
+    pp = cm.pole_pairs
     f_e_max = sc.plant["rated"]["speed_rpm"] / 60 * pp if "rated" in sc.plant else 100.0
     f_e_min = sc.estimator.handover_down * pp / (2 * math.pi)
     c_a = to_fixed(t["lpf_ratio"] * 2 * math.pi * 2**8, 0)

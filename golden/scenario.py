@@ -147,7 +147,7 @@ _TABLE = Field("table")
 SCHEMA: dict[str, dict[str, Field]] = {
     "": {**{name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
                                       "injection", "load", "reference", "control", "estimator",
-                                      "simulation", "output", "protection")},
+                                      "simulation", "output", "protection", "model")},
          "faults": Field("faults")},
     "scenario": {
         "name": Field("text", check=_file_name, required=True),
@@ -352,6 +352,18 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "restarts": Field("integer", check=_between(0, 1000), default=0),
         "restart_delay": _q("time", _positive, default=0.5),
     },
+    # The controller's motor model (measured by `hfi commission`): what golden.control_config tunes the firmware
+    # from instead of the plant's own data; R_s, L_d, L_q, psi_f and J are required when the table is given
+    # (_check_model), absent: the plant's nominal data.
+    "model": {
+        "R_s": _q("resistance", _positive),
+        "L_d": _q("inductance", _positive),
+        "L_q": _q("inductance", _positive),
+        "psi_f": _q("flux", _non_negative),
+        "J": _q("inertia", _positive),
+        "B": _q("viscous_friction", _non_negative, default=0.0),
+        "T_c": _q("torque", _non_negative, default=0.0),
+    },
     "simulation": {
         "max_substep": _q("time", _positive),
         "max_substep_commutation": _q("time", _positive),
@@ -505,6 +517,25 @@ class ProtectionSettings:
 
 
 @dataclass(frozen=True)
+class ModelSettings:
+    """The ``[model]`` table (docs/scenario.md): the motor data the controller uses, SI units. ``R_s`` [ohm]
+    (motor and inverter), ``L_d``, ``L_q`` [H] (incremental, at zero current), ``psi_f`` [V*s] (0: a reluctance
+    machine), ``J`` [kg*m^2], ``B`` [N*m*s/rad], ``T_c`` [N*m]."""
+
+    R_s: float
+    L_d: float
+    L_q: float
+    psi_f: float
+    J: float
+    B: float
+    T_c: float
+
+
+MODEL_REQUIRED = ("R_s", "L_d", "L_q", "psi_f", "J")
+"""The ``[model]`` keys required when the table is given."""
+
+
+@dataclass(frozen=True)
 class OutputSettings:
     """Where the run writes its results (a directory, relative to the working directory)."""
 
@@ -537,6 +568,9 @@ class Scenario:
         The ``[[faults]]`` entries in onset order (also ``plant["faults"]``).
     protection : ProtectionSettings
         The fault checks' settings (``[protection]``, defaults filled in where fixed).
+    model : ModelSettings or None
+        The controller's motor model (``[model]``); None when the table is absent (the controller then
+        takes the plant's nominal data: golden.control_config.controller_motor).
     """
 
     name: str
@@ -554,6 +588,7 @@ class Scenario:
     source: str = "<dict>"
     faults: tuple = ()
     protection: ProtectionSettings | None = None
+    model: ModelSettings | None = None
 
     def summary(self) -> str:
         """One line: name, duration, motor, load, PWM and injection."""
@@ -727,6 +762,8 @@ def _suggestion(key: str, section: str) -> str:
     """A hint for an unknown key: the same key in another table, or the closest valid key."""
     elsewhere = [_join(other, key) for other, fields in SCHEMA.items()
                  if other != section and key in fields]
+    # [model] repeats motor keys for the controller: a misplaced motor key more likely means the plant's
+    elsewhere = [path for path in elsewhere if not path.startswith("model.")] or elsewhere
     if elsewhere:
         return f" (did you mean {' or '.join(map(repr, elsewhere))}?)"
     valid = {name.lower(): name for name in SCHEMA[section]}
@@ -966,6 +1003,16 @@ def _check_estimator(reader: _Reader) -> None:
                      f"({up * 30 / math.pi:g} rpm): the hysteresis needs down <= up")
 
 
+def _check_model(reader: _Reader) -> None:
+    """A ``[model]`` table gives the whole model the controller needs (B and T_c default to 0)."""
+    if not reader.has_table("model"):
+        return
+    for key in MODEL_REQUIRED:
+        path = f"model.{key}"
+        if path not in reader.values and path not in reader.invalid:
+            reader.error(path, "missing (required when [model] is given)")
+
+
 def _check_faults(reader: _Reader, plant: dict) -> None:
     """Onsets inside the run, one open phase, codes the ADC has, load steps only on a torque load."""
     faults, duration = reader.get("faults") or [], reader.get("scenario.duration")
@@ -1017,6 +1064,7 @@ def parse_scenario(data: dict, source: str = "<dict>", presets: dict | None = No
     _check_magnetics(reader, plant["mag"])
     _check_injection(reader, plant)
     _check_estimator(reader)
+    _check_model(reader)
     check_limits(reader, plant)
     _check_faults(reader, plant)
     if reader.problems:
@@ -1049,6 +1097,8 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
         source=source,
         faults=tuple(sorted(get("faults") or [], key=lambda f: f.at)),
         protection=ProtectionSettings(*(get(f"protection.{f.name}") for f in dataclass_fields(ProtectionSettings))),
+        model=(ModelSettings(*(get(f"model.{f.name}") for f in dataclass_fields(ModelSettings)))
+               if reader.has_table("model") else None),
     )
 
 

@@ -44,7 +44,7 @@ from golden.fpga.cordic import demod_weight, sincos_q15
 from golden.fpga.modulator import compares
 
 QUARTER = 1 << 30
-R_LEVELS = (1 / 3, 2 / 3, 1.0)
+R_LEVELS = (0.5, 0.75, 1.0)
 """Current levels of the resistance steps (shares of ``current``)."""
 
 
@@ -75,6 +75,21 @@ class CommissionSettings:
     magnets: bool = True
     settle: float = 0.02
     measure: float = 0.04
+
+
+def settings(sc) -> CommissionSettings:
+    """The scenario's ``[commission]`` table with its derived defaults: ``current`` = ``control.i_max``,
+    ``hf_current`` a quarter of it, ``probe_voltage`` 2 % and ``hf_voltage_max`` 25 % of V_dc, ``speed`` the
+    largest reference speed (at least 300 r/min). ``magnets``: the machine type, which the user knows (a
+    reluctance machine is the one whose angle is pi-periodic, ``Scales.angle_period_deg``)."""
+    t, ctl, v_dc = sc.commission, sc.control, sc.plant["inv"]["V_dc"]
+    current = t.current or ctl.i_max
+    ref = max((abs(v) for _, v in sc.reference_speed), default=0.0)
+    return CommissionSettings(
+        current=current, hf_current=t.hf_current or 0.25 * current, probe_voltage=t.probe_voltage or 0.02 * v_dc,
+        hf_voltage_max=t.hf_voltage_max or 0.25 * v_dc, speed=t.speed or max(ref, 300 * math.pi / 30),
+        spin_time=t.spin_time, lock=t.lock == "on", scan_points=t.scan_points,
+        magnets=scales(sc).angle_period_deg == 360.0)
 
 
 @dataclass(frozen=True)
@@ -157,23 +172,24 @@ def build_program(sc, cs: CommissionSettings) -> Program:
             add(StepInfo("scan", phi=phi * 2 * math.pi / 2**32, axis="frame"), n_set + n_meas, n_meas,
                 F_SET | F_OPEN | F_SCAN | (F_FIT if k == K - 1 and twice else 0) | (0 if twice else F_NEG),
                 vh=v_probe << twice, phi=phi)
-    # 3. polarity: twice the standstill time (the current loop settles first)
+    # 3. polarity: twice the standstill time (the current loop settles first); the shaft is held from here
+    lock_from = len(rows)
     if cs.magnets:
         for sign in (1, -1):
             add(StepInfo("polarity", i_d=sign * cs.current, axis="d"), 2 * n_set + n_meas, n_meas,
                 F_SET | (F_POL if sign < 0 else 0), i_d=sign * cs.current, vh=v_probe)
-    # 4. map
-    lock_from = len(rows)
+    # 4. map: each response from a pair at half and full amplitude (the HF current stays below the bias of
+    # the grid's first ring, so the phases with a bias do not cross zero)
     grid_q = (0.0, 0.5, 1.0) if cs.lock else (0.0,)
     for fq in grid_q:
         for fd in (-1.0, -0.5, 0.0, 0.5, 1.0):
             i_d, i_q = fd * cs.current, fq * cs.current
             for twice in (0, 1):
                 add(StepInfo("map", i_d, i_q, 0.0, "d"), n_set + n_meas, n_meas, F_SET, i_d=i_d, i_q=i_q,
-                    vh=v_probe << twice)
+                    vh=(v_probe << twice) >> 1)
             for twice in (0, 1):
                 add(StepInfo("map", i_d, i_q, math.pi / 2, "q"), n_set + n_meas, n_meas, F_SET, i_d=i_q, i_q=-i_d,
-                    vh=v_probe << twice, phi=QUARTER)
+                    vh=(v_probe << twice) >> 1, phi=QUARTER)
     lock_to = len(rows)
     # 5. resistance: the current on the axis of phase a (the others carry half of it, outside the dead-time
     # compensation's zone when 0.25 current > dtc_zone), the rotor first aligned with it (align: 1 s)

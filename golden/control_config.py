@@ -173,7 +173,9 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
     # eq. (17): the HF d-current is a triangle of amplitude V_h / (4 f_sw L_d); the rotating injection's
     # current is predicted by the firmware instead (FirmwareParams.hf_dtc), so HF_AMP is 0 then
     direct = int(ctl.law == "fcs_mpc")
-    hf_amp = 0 if rot or period_injection(sc) or direct else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
+    # self-commissioning: no HF prediction (the amplitude is the program's, the inductance not yet known)
+    ident = sc.control is not None and sc.control.mode == "commission"
+    hf_amp = 0 if rot or period_injection(sc) or direct or ident else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
     dtc_gain = min(to_fixed(dead / max(sc_.current(ctl.dtc_zone), 1), 8), 65535) if ctl.dead_time_comp == "on" else 0
     per = period_injection(sc)
     return HardwareConfig(
@@ -272,7 +274,15 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         law=LAW_FCS_MPC if ctl.law == "fcs_mpc" else LAW_FOC_PWM,
         fcs=fcs_params(sc) if ctl.law == "fcs_mpc" else None,
         hfo=hfo_proj_params(sc) if METHOD_HFO_PROJ in methods else None,
-        prot=protection_params(sc))
+        prot=protection_params(sc), ident=ident_params(sc))
+
+
+def ident_params(sc: Scenario):
+    """The identification program (golden.commission) when ``control.mode = "commission"``, else None."""
+    if sc.control.mode != "commission":
+        return None
+    from golden.commission import build_program, settings      # golden.commission imports this module
+    return build_program(sc, settings(sc)).params
 
 
 LOCK_EMF_SHARE = 0.06

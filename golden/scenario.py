@@ -40,7 +40,7 @@ MAG_MODELS: dict[str, int] = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3
 LOAD_MODES: dict[str, int] = {"torque": 0, "speed": 1}
 """``load.mode`` name -> ``mech.imposed_speed``."""
 
-CONTROL_MODES: dict[str, int] = {"closed": 0, "fixed_angle": 1}
+CONTROL_MODES: dict[str, int] = {"closed": 0, "fixed_angle": 1, "commission": 2}
 """``control.mode``: sensorless speed control, or the open-loop test with a fixed estimated angle."""
 
 ADC_MODES: dict[str, int] = {"OS": 0, "DS": 1, "OS_BLANK": 2}
@@ -147,7 +147,7 @@ _TABLE = Field("table")
 SCHEMA: dict[str, dict[str, Field]] = {
     "": {**{name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
                                       "injection", "load", "reference", "control", "estimator",
-                                      "simulation", "output", "protection", "model")},
+                                      "simulation", "output", "protection", "model", "commission")},
          "faults": Field("faults")},
     "scenario": {
         "name": Field("text", check=_file_name, required=True),
@@ -352,6 +352,18 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "restarts": Field("integer", check=_between(0, 1000), default=0),
         "restart_delay": _q("time", _positive, default=0.5),
     },
+    # Self-commissioning (`hfi commission`, golden.commission): absent keys are derived from the scenario
+    "commission": {
+        "current": _q("current", _positive),
+        "hf_current": _q("current", _positive),
+        "probe_voltage": _q("voltage", _positive),
+        "hf_voltage_max": _q("voltage", _positive),
+        "speed": _q("speed", _positive),
+        "spin_time": _q("time", _positive, default=1.0),
+        "lock": Field("choice", choices={"on": 1, "off": 0}, default="on"),
+        "scan_points": Field("integer", check=_between(4, 24), default=12),
+        "snr": Field("number", check=_positive, default=8.0),
+    },
     # The controller's motor model (measured by `hfi commission`): what golden.control_config tunes the firmware
     # from instead of the plant's own data; R_s, L_d, L_q, psi_f and J are required when the table is given
     # (_check_model), absent: the plant's nominal data.
@@ -517,6 +529,22 @@ class ProtectionSettings:
 
 
 @dataclass(frozen=True)
+class CommissionTable:
+    """The ``[commission]`` table (docs/commissioning.md): SI values, None where a key is absent (its default is
+    derived from the scenario by golden.commission.settings)."""
+
+    current: float | None
+    hf_current: float | None
+    probe_voltage: float | None
+    hf_voltage_max: float | None
+    speed: float | None
+    spin_time: float
+    lock: str
+    scan_points: int
+    snr: float
+
+
+@dataclass(frozen=True)
 class ModelSettings:
     """The ``[model]`` table (docs/scenario.md): the motor data the controller uses, SI units. ``R_s`` [ohm]
     (motor and inverter), ``L_d``, ``L_q`` [H] (incremental, at zero current), ``psi_f`` [V*s] (0: a reluctance
@@ -589,6 +617,7 @@ class Scenario:
     faults: tuple = ()
     protection: ProtectionSettings | None = None
     model: ModelSettings | None = None
+    commission: CommissionTable | None = None
 
     def summary(self) -> str:
         """One line: name, duration, motor, load, PWM and injection."""
@@ -1097,6 +1126,7 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
         source=source,
         faults=tuple(sorted(get("faults") or [], key=lambda f: f.at)),
         protection=ProtectionSettings(*(get(f"protection.{f.name}") for f in dataclass_fields(ProtectionSettings))),
+        commission=CommissionTable(*(get(f"commission.{f.name}") for f in dataclass_fields(CommissionTable))),
         model=(ModelSettings(*(get(f"model.{f.name}") for f in dataclass_fields(ModelSettings)))
                if reader.has_table("model") else None),
     )

@@ -103,6 +103,19 @@ def cmd_faults(args) -> int:
     return fault_matrix(short=args.short, jobs=args.jobs, out=Path(args.out), only=args.only)
 
 
+def cmd_commission(args) -> int:
+    from hfi.commission import commission   # imports matplotlib: only when needed
+    if args.backend != "golden":
+        print("hfi commission: only --backend golden reads the firmware's identification sums back so far "
+              "(docs/commissioning.md)", file=sys.stderr)
+        return 1
+    path = Path(args.file)
+    out = Path(args.out) if args.out else ROOT / "out" / (path.stem + "_commission")
+    commission(path, out, progress=not args.quiet)
+    print(f"wrote {out}/commission.json, commissioned.toml and the figures", flush=True)
+    return 0
+
+
 def cmd_bench(args) -> int:
     for name in BENCH_SCRIPTS:
         script = ROOT / "scripts" / name
@@ -174,6 +187,19 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default=str(ROOT / "out" / "faults"), metavar="DIR", help="output directory "
                    "(default out/faults)")
     p.set_defaults(func=cmd_faults)
+
+    p = sub.add_parser("commission", help="the drive measures its motor and tunes itself (docs/commissioning.md)",
+                       description="Run the self-commissioning program on the plant of FILE (motor at rest, no "
+                       "load profile; the shaft held during the inductance map unless commission.lock = off): "
+                       "R_s, L_d, L_q and their map, the magnet polarity and psi_f, J and friction; compare each "
+                       "with the plant's truth; write commission.json, commissioned.toml (the scenario with "
+                       "the measured [model] and the tuned V_h and hand-over speeds) and figures.")
+    p.add_argument("file", metavar="FILE", nargs="?", default=str(DEFAULT_SCENARIO),
+                   help="scenario file (default: the default scenario)")
+    p.add_argument("--backend", default="golden", help="golden (the only one so far)")
+    p.add_argument("--out", metavar="DIR", help="output directory (default out/<FILE stem>_commission)")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.set_defaults(func=cmd_commission)
 
     p = sub.add_parser("bench", help="run the plant and closed-loop benchmarks",
                        description=f"Run {', '.join(f'scripts/{s}' for s in BENCH_SCRIPTS)} in turn; stop at "

@@ -1,0 +1,235 @@
+"""``hfi commission FILE``: the drive measures its motor and tunes itself (docs/commissioning.md).
+
+The scenario gives the plant (motor, inverter, sensors) and the drive's settings; the application's load
+profile, speed reference and faults are left out: commissioning runs with the motor at rest and free (the
+shaft held during the inductance map when ``commission.lock = "on"``). The run is itself a scenario
+(``control.mode = "commission"``, written to ``commission_run.toml``); the firmware runs the identification
+program (golden.firmware.ident), the host reduces its sums (golden.commission), compares every value with
+the plant's truth and writes:
+
+* ``commission.json``: for each quantity ``measured``, ``truth``, ``rel_error``, plus the tuning;
+* ``commissioned.toml``: the scenario with the measured ``[model]``, the tuned ``injection.V_h`` and the
+  hand-over speeds, which every other command takes;
+* ``commission_scan.png``, ``commission_map.png``, ``commission_spin.png``.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import tomli_w
+
+from golden.commission import build_program, reduce, settings
+from golden.control_config import scales
+from golden.plant.fluxmap import incremental_inductance, psi_from_current
+from golden.scenario import parse_scenario
+
+HANDOVER_EMF = 2.0
+"""Hand-over speed: the back-EMF is this many times the dead time's voltage ``t_d f_sw V_dc`` (the 002 paper's
+350 r/min on its Table I motor is 1.9 times)."""
+HANDOVER_DOWN = 300 / 350
+"""Hand-over down speed as a share of the up speed (the 002 paper's 300 and 350 r/min)."""
+SNR_MIN_SALIENCY = 2.0
+"""Below this SNR of the saliency signal at the largest HF amplitude an HF method is refused."""
+
+
+def run_scenario_dict(path: str | Path) -> dict:
+    """The commissioning run's scenario tree from the scenario file ``path`` (module docstring)."""
+    with open(path, "rb") as f:
+        raw = tomllib.load(f)
+    sc0 = parse_scenario(raw, str(path))
+    d = copy.deepcopy(raw)
+    for key in ("faults", "reference"):
+        d.pop(key, None)
+    d["load"] = {k: v for k, v in d.get("load", {}).items() if k == "initial"}
+    ctl = d.setdefault("control", {})
+    ctl.update(mode="commission", law="foc_pwm", adc_mode="OS", polarity="current")
+    ctl.pop("switch_to_ds_at", None)
+    d["estimator"] = {"low": "sqw_bangbang", "high": "none"}
+    com = d.setdefault("commission", {})
+    if "speed" not in com:
+        ref = max((abs(v) for _, v in sc0.reference_speed), default=0.0)
+        com["speed"] = f"{max(ref, 300 * math.pi / 30) * 30 / math.pi:.6g} rpm"
+    d["scenario"]["name"] = sc0.name + "_commission"
+    sc1 = parse_scenario(d, str(path))
+    prog = build_program(sc1, settings(sc1))
+    d["scenario"]["duration"] = f"{prog.duration:.6g} s"
+    if prog.lock:
+        d["faults"] = [{"kind": "rotor_blocked", "at": f"{prog.lock[0]:.9g} s", "until": f"{prog.lock[1]:.9g} s"}]
+    return d
+
+
+def truth(sc) -> dict:
+    """The plant's values the measurements are compared with."""
+    mag, mech, inv = sc.plant["mag"], sc.plant["mech"], sc.plant["inv"]
+    L0 = incremental_inductance(mag, *psi_from_current(mag, 0.0, 0.0))
+    return {"R_s": sc.plant["R_s"], "R_path": sc.plant["R_s"] + 0.5 * (inv["r_sw"] + inv["r_diode"]),
+            "L_d": float(L0[0, 0]), "L_q": float(L0[1, 1]), "psi_f": mag["psi_f"], "J": mech["J"],
+            "B": mech["B"], "T_c": mech["T_c"]}
+
+
+def tuning(sc, res) -> dict:
+    """The controller's settings from the measurements: the HF amplitude for ``commission.snr`` (the
+    saliency signal of one window over its noise, both measured by the scan, the signal growing with the
+    amplitude), the hand-over speeds (HANDOVER_EMF), and whether an HF method can run at all."""
+    sc_, v_dc = scales(sc), sc.plant["inv"]["V_dc"]
+    per_volt = res.scan["g_sal"] / res.scan["v_hf"]
+    sigma = res.scan["sigma"]
+    v_max = settings(sc).hf_voltage_max
+    v_h = min(max(sc.commission.snr * sigma / per_volt, 0.01 * v_dc), v_max) if per_volt > 0 else v_max
+    out = {"V_h": v_h, "snr_at_V_h": per_volt * v_h / sigma if sigma > 0 else math.inf,
+           "hf_possible": bool(per_volt * v_max / max(sigma, 1e-12) >= SNR_MIN_SALIENCY)}
+    psi_f = res.values.get("psi_f", 0.0)
+    if psi_f > 0:
+        v_dt = sc.pwm.dead_time * sc_.f_sw * v_dc
+        w_up = HANDOVER_EMF * v_dt / (sc_.pole_pairs * psi_f)
+        out.update(handover_up=w_up, handover_down=HANDOVER_DOWN * w_up)
+    return out
+
+
+def commissioned_scenario(path: str | Path, res, tune: dict) -> dict:
+    """The scenario file's tree with the measured ``[model]`` and the tuned settings."""
+    with open(path, "rb") as f:
+        d = tomllib.load(f)
+    v = res.values
+    d["model"] = {"R_s": f"{v['R_s']:.6g} ohm", "L_d": f"{v['L_d']:.6g} H", "L_q": f"{v['L_q']:.6g} H",
+                  "psi_f": f"{v.get('psi_f', 0.0):.6g} Wb", "J": f"{v['J']:.6g} kg*m^2",
+                  "B": f"{max(v['B'], 0.0):.6g} N*m*s/rad", "T_c": f"{max(v['T_c'], 0.0):.6g} N*m"}
+    d.setdefault("injection", {})["V_h"] = f"{tune['V_h']:.4g} V"
+    if "handover_up" in tune:
+        est = d.setdefault("estimator", {})
+        est["handover_up"] = f"{tune['handover_up'] * 30 / math.pi:.4g} rpm"
+        est["handover_down"] = f"{tune['handover_down'] * 30 / math.pi:.4g} rpm"
+    d["scenario"]["name"] = d["scenario"]["name"] + "_commissioned"
+    d.setdefault("output", {})["dir"] = f"out/{d['scenario']['name']}"
+    return d
+
+
+def commission(path: str | Path, out: Path, progress: bool = True) -> dict:
+    """Run the commissioning of the scenario file ``path`` on the golden model; returns the summary."""
+    from golden.closedloop import ClosedLoop
+    d = run_scenario_dict(path)
+    sc = parse_scenario(d, str(path))
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "commission_run.toml").write_text(tomli_w.dumps(d))
+    cs = settings(sc)
+    prog = build_program(sc, cs)
+    if progress:
+        print(f"{sc.name}: {prog.params.n_steps} steps, {prog.duration:.2f} s simulated"
+              + (f", shaft held {prog.lock[0]:.2f}-{prog.lock[1]:.2f} s" if prog.lock else ""), flush=True)
+    cl = ClosedLoop(sc)
+    run = cl.run(progress=progress)
+    fw = cl.fw
+    if fw.ident is None or not fw.ident.done:
+        raise RuntimeError(f"the identification program did not finish (mode {fw.mode}, fault {fw.fault})")
+    res = reduce(prog, fw.ident, sc, cs)
+    tr = truth(sc)
+    rows = {}
+    for name in ("R_s", "L_d", "L_q", "psi_f", "J", "B", "T_c"):
+        if name not in res.values:
+            continue
+        ref = tr["R_path"] if name == "R_s" else tr[name]
+        rows[name] = {"measured": res.values[name], "truth": ref,
+                      "rel_error": (res.values[name] - ref) / ref if ref else None}
+    rows["R_s"]["truth_motor_only"] = tr["R_s"]
+    th_true = (run.windows["theta_e"][0] / 2**32 * 2 * math.pi)
+    period = 2 * math.pi if cs.magnets else math.pi
+    err = (res.theta_r - th_true + period / 2) % period - period / 2
+    mag = sc.plant["mag"]
+    map_rows = []
+    for i_d, i_q, L in res.map:
+        Lt = incremental_inductance(mag, *psi_from_current(mag, i_d, i_q))
+        map_rows.append({"i_d": i_d, "i_q": i_q, "L_dd": float(L[0, 0]), "L_qq": float(L[1, 1]),
+                         "L_dq": float(L[0, 1]), "truth_dd": float(Lt[0, 0]), "truth_qq": float(Lt[1, 1]),
+                         "truth_dq": float(Lt[0, 1]),
+                         "rel_error_dd": float(L[0, 0] / Lt[0, 0] - 1), "rel_error_qq": float(L[1, 1] / Lt[1, 1] - 1)})
+    tune = tuning(sc, res)
+    summary = {"scenario": str(path), "duration_s": prog.duration, "steps": prog.params.n_steps,
+               "wall_s": run.wall_s, "values": rows, "angle_error_deg": math.degrees(err),
+               "snr_scan": res.snr, "map": map_rows,
+               "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
+               "tuning": tune}
+    (out / "commission.json").write_text(json.dumps(summary, indent=1, default=float))
+    (out / "commissioned.toml").write_text(tomli_w.dumps(commissioned_scenario(path, res, tune)))
+    _figures(out, prog, res, run, sc, map_rows)
+    if progress:
+        _print(summary)
+    return summary
+
+
+def _print(s: dict) -> None:
+    print(f"{'quantity':8s} {'measured':>12s} {'truth':>12s} {'error':>8s}")
+    for name, r in s["values"].items():
+        e = "" if r["rel_error"] is None else f"{100 * r['rel_error']:+7.2f}%"
+        print(f"{name:8s} {r['measured']:12.5g} {r['truth']:12.5g} {e:>8s}")
+    print(f"rotor angle error at standstill {s['angle_error_deg']:+.2f} deg; scan SNR {s['snr_scan']:.1f}; "
+          f"map: largest error {100 * s['map_max_rel_error']:.1f}% over {len(s['map'])} points")
+    t = s["tuning"]
+    print(f"tuning: V_h {t['V_h']:.1f} V (SNR {t['snr_at_V_h']:.1f})"
+          + (f", hand-over {t['handover_up'] * 30 / math.pi:.0f}/{t['handover_down'] * 30 / math.pi:.0f} r/min"
+             if "handover_up" in t else "") + ("" if t["hf_possible"] else "; HF methods REFUSED: saliency too small"))
+
+
+def _figures(out: Path, prog, res, run, sc, map_rows) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from golden.plant.fluxmap import incremental_inductance as l_inc
+    mag = sc.plant["mag"]
+    # scan
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ph = np.degrees(res.scan["phi"])
+    ax.plot(ph, res.scan["gamma"].real, "o", label="along the injection (measured)")
+    ax.plot(ph, -res.scan["gamma"].imag, "s", label="across (measured)")
+    th = run.windows["theta_e"][0] / 2**32 * 2 * math.pi
+    L0 = l_inc(mag, *psi_from_current(mag, 0, 0))
+    G = np.linalg.inv(L0)
+    fine = np.linspace(0, math.pi, 181)
+    rel = fine - th
+    along = [np.array([math.cos(a), math.sin(a)]) @ G @ np.array([math.cos(a), math.sin(a)]) for a in rel]
+    across = [np.array([-math.sin(a), math.cos(a)]) @ G @ np.array([math.cos(a), math.sin(a)]) for a in rel]
+    ax.plot(np.degrees(fine), along, "-", lw=1, label="plant: along")
+    ax.plot(np.degrees(fine), across, "--", lw=1, label="plant: across")
+    ax.set_xlabel("injection angle in the stator [deg el]")
+    ax.set_ylabel("inverse incremental inductance [1/H]")
+    ax.set_title(f"{sc.name}: HF scan at standstill (rotor at {math.degrees(th) % 360:.1f} deg, "
+                 f"found {math.degrees(res.theta_r) % 360:.1f} deg)", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "commission_scan.png", dpi=110)
+    plt.close(fig)
+    # map
+    fig, axs = plt.subplots(1, 2, figsize=(10, 4))
+    for key, ax, name in (("dd", axs[0], "L_dd"), ("qq", axs[1], "L_qq")):
+        for iq in sorted({r["i_q"] for r in map_rows}):
+            rr = [r for r in map_rows if r["i_q"] == iq]
+            x = [r["i_d"] for r in rr]
+            line, = ax.plot(x, [1e3 * r["truth_" + key] for r in rr], "-", lw=1)
+            ax.plot(x, [1e3 * r["L_" + key] for r in rr], "o", color=line.get_color(), label=f"i_q = {iq:.2f} A")
+        ax.set_xlabel("i_d [A]")
+        ax.set_ylabel(f"{name} [mH] (markers measured, lines plant)")
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{sc.name}: incremental inductance map", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out / "commission_map.png", dpi=110)
+    plt.close(fig)
+    # spin
+    fig, ax = plt.subplots(figsize=(8, 4))
+    t = run.t
+    pp = sc.plant["mech"]["pole_pairs"]
+    n0 = len(t) - len(prog.w_written)
+    ax.plot(t, run.windows["omega_m"] * 30 / math.pi, lw=1, label="rotor speed (plant)")
+    w_frame = np.concatenate([np.zeros(max(n0, 0)), prog.w_written])[:len(t)] / pp * 30 / math.pi
+    ax.plot(t, w_frame, "--", lw=1, label="frame speed (program)")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("speed [r/min]")
+    ax.set_title(f"{sc.name}: spin test (I/f); J {res.values['J']:.4g} kg*m^2", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "commission_spin.png", dpi=110)
+    plt.close(fig)

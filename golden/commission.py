@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from golden.control_config import hardware_config, scales
-from golden.firmware.ident import F_ABS, F_FIT, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, IdentParams
+from golden.firmware.ident import F_FIT, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, F_SNAP, IdentParams
 from golden.fixed import to_fixed
 from golden.fpga.adc_trigger import sample_phases
 from golden.fpga.carrier import counter
@@ -191,9 +191,11 @@ def build_program(sc, cs: CommissionSettings) -> Program:
                 add(StepInfo("map", i_d, i_q, math.pi / 2, "q"), n_set + n_meas, n_meas, F_SET, i_d=i_q, i_q=-i_d,
                     vh=(v_probe << twice) >> 1, phi=QUARTER)
     lock_to = len(rows)
-    # 5. resistance: the current on the axis of phase a (the others carry half of it, outside the dead-time
-    # compensation's zone when 0.25 current > dtc_zone), the rotor first aligned with it (align: 1 s)
-    add(StepInfo("align", cs.current), win(1.0), 0, F_SET | F_ABS, i_d=cs.current)
+    # 5. resistance: the current on the nearest phase axis (the other phases carry half of it, outside the
+    # dead-time compensation's zone when current / 4 > dtc_zone): it starts on the rotor's own axis (d with
+    # magnets, q without: the rotor is pulled into alignment, not away) and turns there in 1 s (F_SNAP)
+    add(StepInfo("align", cs.current), win(1.0), 0, F_SET | F_SNAP, i_d=cs.current,
+        phi=0 if cs.magnets else QUARTER)
     for level in R_LEVELS:
         add(StepInfo("resistance", level * cs.current), win(0.1) + n_meas * 2, n_meas * 2, 0, i_d=level * cs.current)
     # 6. spin
@@ -226,13 +228,16 @@ def build_program(sc, cs: CommissionSettings) -> Program:
     add(StepInfo("stop", cs.current), win(0.2), 0, 0, i_d=cs.current)
 
     cols = list(zip(*rows))
+    params_vh = cols[4]
+    vh_max = min(sc_.voltage(cs.hf_voltage_max), 32767)
     w_lsb = sc_.w_lsb
     c_kp = round(2 * math.pi * sc.control.current_bw * sc_.i_lsb * 2**16 * K * n_meas * g_unit)
     params = IdentParams(*[tuple(int(x) for x in c) for c in cols],
                          c_kp=c_kp, c_ki=to_fixed(2 * math.pi * sc.control.current_bw / 4 / f_sw, 16),
                          v_lim=min(sc_.voltage(sc.control.v_max), 32767),
                          c_lvl=round(2**16 * g_unit * 4 * f_sw * cs.hf_current * n_meas),
-                         vh_max=min(sc_.voltage(cs.hf_voltage_max), 32767))
+                         i_slew=max(cur(cs.current) // max(n_set // 4, 1), 1),
+                         lvl_max=min((vh_max << 16) // max(max(params_vh), 1), 1 << 24), vh_max=vh_max)
     # frame speed per call (the executor: w += dw, except on the first call of an F_SET step: w = 0)
     w, ws = 0, []
     for n, dw, fl in zip(params.s_n, params.s_dw, params.s_flags):

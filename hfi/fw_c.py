@@ -21,6 +21,7 @@ from pathlib import Path
 import cffi
 
 from golden.firmware.biquad import BiquadState
+from golden.firmware.ident import IDENT_MAX
 from golden.firmware.pi import PiParams
 from golden.firmware.pll import PllState
 from golden.firmware.supervisor import Firmware, FirmwareParams, Outputs
@@ -49,6 +50,11 @@ OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_re
                  "fcs_constrain")
 """Fields shared by ``struct fw_outputs`` and :class:`~golden.firmware.supervisor.Outputs`."""
 PI_FIELDS = ("kp", "sp", "ki", "si", "limit")
+IDENT_FIELDS = ("k", "n", "theta", "w", "theta_r", "kp", "ki", "lvl", "fit_x", "fit_y", "fit_y0", "failed", "done")
+"""Scalar fields shared by ``struct fw_ident_state`` and :class:`~golden.firmware.ident.Ident` (besides its
+per-step sum arrays, :data:`IDENT_ARRAYS`)."""
+IDENT_ARRAYS = ("r_id", "r_iq", "r_vd", "r_vq", "r_gd", "r_gq", "r_g2")
+"""The per-step sum arrays of ``struct fw_ident_state`` and :class:`~golden.firmware.ident.Ident` (IDENT_MAX each)."""
 """Fields shared by ``struct fw_pi_params`` and :class:`~golden.firmware.pi.PiParams`."""
 
 
@@ -126,7 +132,8 @@ def params_to_c(ffi: cffi.FFI, p: FirmwareParams):
     dataclasses such as ``HfoParams.lut`` and tuples such as the tables go into their structs and arrays);
     ``fixed_enable = 1`` and ``fixed_angle = uwrap(angle, 32)`` for an open-loop test angle (as
     ``Firmware.__post_init__``), both 0 for ``fixed_angle=None``; ``fcs.len`` = ``len(fcs.t_d)`` (C only, as
-    ``mtpa_len``)."""
+    ``mtpa_len``); ``ident_on = 1`` and the program in ``ident`` (with its ``n_steps``) for an identification
+    program, ``ident_on = 0`` (the block zero) for ``ident=None``."""
     c = ffi.new("struct fw_params *")
     _fill(c, replace(p, fixed_angle=None))
     c.fixed_enable = 0 if p.fixed_angle is None else 1
@@ -134,6 +141,9 @@ def params_to_c(ffi: cffi.FFI, p: FirmwareParams):
     c.mtpa_len = len(p.mtpa_id)
     c.notch_on = 0 if p.notch is None else 1
     c.fcs.len = 0 if p.fcs is None else len(p.fcs.t_d)
+    c.ident_on = 0 if p.ident is None else 1
+    if p.ident is not None:
+        c.ident.n_steps = p.ident.n_steps      # derived (init=False): _fill skips it
     return c
 
 
@@ -195,6 +205,11 @@ def state_to_c(ffi: cffi.FFI, fw: Firmware):
     for est in fw.slots:
         if est is not None:
             _estimator_into(getattr(c, est.PARAMS), est)
+    if fw.ident is not None:
+        for name in IDENT_FIELDS:
+            setattr(c.ident, name, getattr(fw.ident, name))
+        for name in IDENT_ARRAYS:
+            getattr(c.ident, name)[0:IDENT_MAX] = getattr(fw.ident, name)
     return c
 
 
@@ -235,4 +250,9 @@ def state_from_c(c, p: FirmwareParams) -> Firmware:
             else:
                 v = getattr(block, name)
             setattr(est, name, v)
+    if fw.ident is not None:        # the executor (p.ident set): its state from the block, by name
+        for name in IDENT_FIELDS:
+            setattr(fw.ident, name, getattr(c.ident, name))
+        for name in IDENT_ARRAYS:
+            setattr(fw.ident, name, list(getattr(c.ident, name)))
     return fw

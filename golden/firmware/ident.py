@@ -12,7 +12,8 @@ The firmware itself makes the decisions the next steps depend on:
 
 * **HF level** (``F_LEVEL``): a probe step with a small amplitude ``s_vh`` measures the HF response ``G``;
   from then on every step's amplitude is ``min(shr(s_vh * lvl, 16), vh_max)`` with
-  ``lvl = min(c_lvl / G, LVL_MAX)`` (Q16): the response of the later steps is the host's target whatever the
+  ``lvl = min(c_lvl / G, lvl_max)`` (Q16; the host caps it so that the largest amplitude of the program stays
+  within ``vh_max``): the response of the later steps is the host's target whatever the
   inductance (a 67 mH washing-machine motor and a 3.5 mH servo differ by 20 times). ``G <= 0``: no HF
   response, the program stops (``failed``);
 
@@ -37,6 +38,10 @@ The firmware itself makes the decisions the next steps depend on:
   response now (smaller incremental inductance: saturation) means the magnet's north is on ``-d``:
   ``theta_r`` turns by half a turn.
 
+``F_SNAP`` (with ``F_SET``): the frame turns at a constant speed from its start to the nearest phase axis (a
+multiple of 60 deg in the stator) over the step, and stops there at its end: the rotor, aligned with the
+current at the start, follows it there without a swing (``w = wrap(axis - theta, 32) / n``, ``c_div``).
+
 Frame of a step: ``F_SET`` puts it at ``theta_r + phi`` at rest at the step start (``F_ABS``: at ``phi``, an
 angle of the stator: the resistance steps put the current on a phase axis, so that no phase current sits in
 the dead-time compensation's uncertain zone, and the rotor aligns with it); otherwise it keeps
@@ -52,20 +57,20 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from golden.firmware.estimator import park, window_voltage
+from golden.firmware.estimator import inv_park, park, window_voltage
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.vector import INPUT_LIMIT, vector_angle
-from golden.fixed import c_div, sat, shr, uwrap
+from golden.fixed import c_div, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
 
-F_SET, F_SCAN, F_FIT, F_POL, F_OPEN, F_LEVEL, F_ABS, F_NEG = 1, 2, 4, 8, 16, 32, 64, 128
+F_SET, F_SCAN, F_FIT, F_POL, F_OPEN, F_LEVEL, F_ABS, F_NEG, F_SNAP = 1, 2, 4, 8, 16, 32, 64, 128, 256
 """Step flags (module docstring)."""
 IDENT_MAX = 160
 """Most steps in a program (the C arrays' length)."""
 HALF_TURN = 1 << 31
+SIXTH = (1 << 32) // 6
+"""A sixth of a turn, rounded down (the phase axes are at ``(k << 32) // 6``)."""
 KP_MAX = (1 << 31) - 1
-LVL_MAX = 1 << 24
-"""Largest HF level factor (Q16: 256 times the probe's amplitude)."""
 
 
 @dataclass(frozen=True)
@@ -92,8 +97,12 @@ class IdentParams:
         ``ki = shr(kp * c_ki, 16)`` (Q16, 0..2^16).
     v_lim : int
         Current PIs' output limit [voltage LSB].
-    c_lvl, vh_max : int
-        ``F_LEVEL``: ``lvl = c_lvl / G`` (0 <= c_lvl < 2^46) and the largest amplitude [voltage LSB, 0..32767].
+    c_lvl, lvl_max, vh_max : int
+        ``F_LEVEL``: ``lvl = min(c_lvl / G, lvl_max)`` (0 <= c_lvl < 2^46, 0 <= lvl_max <= 2^24) and the largest
+        amplitude [voltage LSB, 0..32767].
+    i_slew : int
+        Largest change of a current reference per period [current LSB, 1..2^20]: a step's references are
+        approached at this rate (a 12 A step at 1 kHz PWM otherwise overshoots to the trip level).
     """
 
     s_n: tuple
@@ -108,6 +117,8 @@ class IdentParams:
     c_ki: int
     v_lim: int
     c_lvl: int = 0
+    lvl_max: int = 1 << 16
+    i_slew: int = 1 << 20
     vh_max: int = 32767
     n_steps: int = field(init=False)
 
@@ -122,8 +133,9 @@ class IdentParams:
             if not 0 <= self.s_vh[k] <= 32767:
                 raise ValueError(f"step {k}: v_h {self.s_vh[k]} outside 0..32767")
         if not (0 <= self.c_kp < 1 << 46 and 0 <= self.c_ki <= 1 << 16 and 1 <= self.v_lim <= 32767
-                and 0 <= self.c_lvl < 1 << 46 and 0 <= self.vh_max <= 32767):
-            raise ValueError("c_kp, c_ki, v_lim, c_lvl or vh_max out of range")
+                and 0 <= self.c_lvl < 1 << 46 and 0 <= self.lvl_max <= 1 << 24 and 0 <= self.vh_max <= 32767
+                and 1 <= self.i_slew <= 1 << 20):
+            raise ValueError("c_kp, c_ki, v_lim, c_lvl, lvl_max, vh_max or i_slew out of range")
         object.__setattr__(self, "n_steps", n)
 
 
@@ -140,6 +152,9 @@ class Ident:
     kp: int = 0                       # current-PI gains (Q16), set at F_FIT
     ki: int = 0
     lvl: int = 1 << 16                # HF level factor (Q16), set at F_LEVEL
+    ref_d: int = 0                    # current references in use (slew-limited towards the step's)
+    ref_q: int = 0
+    jump: int = 0                     # u32: the frame's turn at the last F_SET
     fit_x: int = 0                    # scan sums (s64)
     fit_y: int = 0
     fit_y0: int = 0
@@ -160,7 +175,11 @@ class Ident:
         """Enter step ``k``: ``F_SET`` puts the frame at ``theta_r + phi``, at rest."""
         f = self.p.s_flags[self.k]
         if f & F_SET:
-            self.theta, self.w = uwrap((0 if f & F_ABS else self.theta_r) + self.p.s_phi[self.k], 32), 0
+            theta = uwrap((0 if f & F_ABS else self.theta_r) + self.p.s_phi[self.k], 32)
+            self.jump, self.theta, self.w = uwrap(theta - self.theta, 32), theta, 0
+            if f & F_SNAP:
+                axis = ((((theta + (SIXTH >> 1)) // SIXTH) % 6) << 32) // 6
+                self.w = c_div(wrap(axis - theta, 32), self.p.s_n[self.k])
 
     def measure(self, i_d: int, i_q: int, gamma_d: int, gamma_q: int, now, before) -> None:
         """One window: sum it when it is one of the step's last ``m``; at the step's end, its action."""
@@ -196,7 +215,7 @@ class Ident:
             if self.r_gd[k] <= 0:
                 self.failed = 1
             else:
-                self.lvl = min(c_div(p.c_lvl, self.r_gd[k]), LVL_MAX)
+                self.lvl = min(c_div(p.c_lvl, self.r_gd[k]), p.lvl_max)
         if f & F_SCAN:
             s2, c2 = sincos_q15(uwrap(2 * p.s_phi[k], 32))
             g_d, g_q = (-self.r_gd[k], -self.r_gq[k]) if f & F_NEG else (self.r_gd[k], self.r_gq[k])
@@ -214,17 +233,30 @@ class Ident:
             else:
                 self.kp = min(c_div(p.c_kp * (self.v_h(k) - self.v_h(k - 1)), self.fit_y0), KP_MAX)
                 self.ki = shr(self.kp * p.c_ki, 16)
+        if f & F_SNAP:
+            self.w = 0
         if f & F_POL and self.r_gd[k] > self.r_gd[k - 1]:
             self.theta_r = uwrap(self.theta_r + HALF_TURN, 32)
 
-    def refs(self, i_d: int, i_q: int, st) -> tuple[int, int, int, int, int, int]:
+    def refs(self, i_d: int, i_q: int, now, st) -> tuple[int, int, int, int, int, int]:
         """The step's outputs after :meth:`measure`: advance the frame, run the current PIs (integrators in
-        ``st.id_int``, ``st.iq_int``); returns ``(v_d, v_q, v_h, theta, i_d_ref, i_q_ref)``."""
+        ``st.id_int``, ``st.iq_int``) on the window means turned from the frame active in the window (``now``)
+        into the one written now; returns ``(v_d, v_q, v_h, theta, i_d_ref, i_q_ref)``."""
         p, k = self.p, self.k
-        if not (p.s_flags[k] & F_SET and self.n == 0):
+        if p.s_flags[k] & F_SET and self.n == 0:
+            # the current and voltage vectors are continuous in the stator: the references in use and the
+            # PI integrators turn into the new frame
+            s, c = sincos_q15(self.jump)
+            self.ref_d, self.ref_q = park(self.ref_d, self.ref_q, s, c)
+            st.id_int, st.iq_int = park(st.id_int, st.iq_int, s, c)
+        else:
             self.w = sat(self.w + p.s_dw[k], 32)
-            self.theta = uwrap(self.theta + self.w, 32)
-        r_d, r_q = p.s_id[k], p.s_iq[k]
+        self.theta = uwrap(self.theta + (self.w if self.n or not p.s_flags[k] & F_SET else 0), 32)
+        self.ref_d = min(max(p.s_id[k], self.ref_d - p.i_slew), self.ref_d + p.i_slew)
+        self.ref_q = min(max(p.s_iq[k], self.ref_q - p.i_slew), self.ref_q + p.i_slew)
+        r_d, r_q = self.ref_d, self.ref_q
+        s, c = sincos_q15(self.theta)
+        i_d, i_q = park(*inv_park(i_d, i_q, now.sin, now.cos), s, c)
         if p.s_flags[k] & F_OPEN:
             v_d = v_q = st.id_int = st.iq_int = 0
         else:

@@ -292,6 +292,10 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings) -> Results:
         """``Gamma_along - j Gamma_across`` [1/H] from the pair of steps ``k - 1`` (``v_h``) and ``k`` (``2 v_h``):
         the difference of their responses over the difference of the hardware's gains."""
         a, b = means[k - 1], means[k]
+        if gain(k) == gain(k - 1):
+            raise ValueError(f"step {k} ({prog.steps[k].stage}): the HF amplitude pair is one amplitude "
+                             f"({vh[k]} LSB: commission.hf_voltage_max reached by both); raise hf_voltage_max or "
+                             "lower hf_current")
         return ((b["gd"] - a["gd"]) - 1j * (b["gq"] - a["gq"])) / (gain(k) - gain(k - 1))
 
     # scan: g_d - j g_q = Y0 + Y2 exp(j 2 (phi - theta_r))

@@ -50,12 +50,13 @@ OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_re
                  "fcs_constrain")
 """Fields shared by ``struct fw_outputs`` and :class:`~golden.firmware.supervisor.Outputs`."""
 PI_FIELDS = ("kp", "sp", "ki", "si", "limit")
-IDENT_FIELDS = ("k", "n", "theta", "w", "theta_r", "kp", "ki", "lvl", "fit_x", "fit_y", "fit_y0", "failed", "done")
+"""Fields shared by ``struct fw_pi_params`` and :class:`~golden.firmware.pi.PiParams`."""
+IDENT_FIELDS = ("k", "n", "theta", "w", "theta_r", "kp", "ki", "lvl", "ref_d", "ref_q", "jump", "fit_x", "fit_y",
+                "fit_y0", "failed", "done")
 """Scalar fields shared by ``struct fw_ident_state`` and :class:`~golden.firmware.ident.Ident` (besides its
 per-step sum arrays, :data:`IDENT_ARRAYS`)."""
 IDENT_ARRAYS = ("r_id", "r_iq", "r_vd", "r_vq", "r_gd", "r_gq", "r_g2")
 """The per-step sum arrays of ``struct fw_ident_state`` and :class:`~golden.firmware.ident.Ident` (IDENT_MAX each)."""
-"""Fields shared by ``struct fw_pi_params`` and :class:`~golden.firmware.pi.PiParams`."""
 
 
 class FirmwareBuildError(RuntimeError):

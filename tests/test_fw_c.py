@@ -34,6 +34,8 @@ from golden.firmware.applied_flux import applied_flux
 from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage, flux_reference
 from golden.firmware.flux_lut import LUT_MAX_POINTS, FluxLut, lut_flux, lut_point, warp
 from golden.firmware.hfo_proj import HfoParams, HybridFluxProjection, projection_coefficients
+from golden.firmware import ident as ident_mod
+from golden.firmware.ident import IDENT_MAX, Ident, IdentParams
 from golden.fpga.fcs_mpc import state_voltage
 from golden.firmware.methods import CLASSES
 from golden.firmware.lowpass import lowpass_out, lowpass_step
@@ -47,8 +49,8 @@ from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams, SquareWaveCic
 from golden.firmware.vector import vector_angle
-from golden.firmware.supervisor import (MODE_CONVERGE, MODE_FAULT, MODE_FIXED, MODE_NAMES, MODE_POL_NEG,
-                                        MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_NONE, POL_PILOT, Firmware,
+from golden.firmware.supervisor import (MODE_CONVERGE, MODE_DONE, MODE_FAULT, MODE_FIXED, MODE_IDENT, MODE_NAMES,
+                                        MODE_POL_NEG, MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_NONE, POL_PILOT, Firmware,
                                         FirmwareParams, Outputs)
 from golden.fixed import c_div, uwrap
 from golden.fpga.cordic import sincos_q15
@@ -107,8 +109,9 @@ def random_pi(rng: np.random.Generator) -> PiParams:
 def test_header_parsed_and_modes_match_golden():
     """cffi parsed control.h: the enum equals the golden MODE_* constants."""
     c_modes = [lib.FW_CONVERGE, lib.FW_POL_POS, lib.FW_POL_NEG, lib.FW_RELAX, lib.FW_RUN, lib.FW_FIXED,
-               lib.FW_FAULT]
-    assert c_modes == [MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT]
+               lib.FW_FAULT, lib.FW_IDENT, lib.FW_DONE]
+    assert c_modes == [MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT,
+                       MODE_IDENT, MODE_DONE]
     assert len(MODE_NAMES) == len(c_modes)
     assert "#" not in fw_c.header_cdef()
 
@@ -173,6 +176,18 @@ def test_blocks_match_golden_fields():
         [f.name for f in dataclass_fields(Outputs)]
     assert set(fw_c.STATE_FIELDS) <= {f.name for f in dataclass_fields(Firmware)}
     assert "vec_before" in fw_c.STATE_FIELDS
+    # the identification program: its parameters and the executor's state, field by field under the golden names
+    assert [name for name, _ in ffi.typeof("struct fw_ident_params").fields] == \
+        [f.name for f in dataclass_fields(IdentParams)]
+    assert [name for name, _ in ffi.typeof("struct fw_ident_state").fields] == \
+        [f.name for f in dataclass_fields(Ident) if f.name != "p"] == [*fw_c.IDENT_FIELDS, *fw_c.IDENT_ARRAYS]
+    ip, ist = dict(ffi.typeof("struct fw_ident_params").fields), dict(ffi.typeof("struct fw_ident_state").fields)
+    assert {ip[n].type.length for n in ("s_n", "s_m", "s_id", "s_iq", "s_vh", "s_phi", "s_dw", "s_flags")} == \
+        {ist[n].type.length for n in fw_c.IDENT_ARRAYS} == {IDENT_MAX}
+    assert ip["s_phi"].type.item.cname == "uint32_t" and ip["c_kp"].type.cname == ip["c_lvl"].type.cname == "int64_t"
+    assert {ist[n].type.item.cname for n in fw_c.IDENT_ARRAYS} == {"int64_t"}
+    assert {n: ist[n].type.cname for n in ("theta", "theta_r", "fit_x", "fit_y", "fit_y0")} == \
+        {"theta": "uint32_t", "theta_r": "uint32_t", "fit_x": "int64_t", "fit_y": "int64_t", "fit_y0": "int64_t"}
 
 
 def test_build_failure_reports_make_output(tmp_path):
@@ -483,6 +498,11 @@ def state_diff(a: Firmware, b: Firmware) -> dict:
     for slot, (ea, eb) in enumerate(zip(a.slots, b.slots)):
         if ea is not None:
             diff.update({(slot, k): (v, vars(eb)[k]) for k, v in vars(ea).items() if v != vars(eb)[k]})
+    if (a.ident is None) != (b.ident is None):
+        diff["ident"] = (a.ident, b.ident)
+    elif a.ident is not None:
+        diff.update({("ident", k): (getattr(a.ident, k), getattr(b.ident, k))
+                     for k in (*fw_c.IDENT_FIELDS, *fw_c.IDENT_ARRAYS) if getattr(a.ident, k) != getattr(b.ident, k)})
     return diff
 
 
@@ -1413,3 +1433,159 @@ def test_hfo_fcs_params_of_the_scenario():
         assert list(getattr(cp.hfo.lut, name)[0:lut.n_d * lut.n_q]) == list(getattr(lut, name)), name
     assert {k: getattr(cp.hfo, k) for k in vars(h) if k != "lut"} == {k: v for k, v in vars(h).items() if k != "lut"}
     assert list(cp.fcs.t_d[0:cp.fcs.len]) == list(f.t_d) and list(cp.fcs.t_q[0:cp.fcs.len]) == list(f.t_q)
+
+
+# ---- self-commissioning: the identification program (golden.firmware.ident, MODE_IDENT / MODE_DONE) -----------
+F = ident_mod
+IDENT_PROGRAMS = 400
+IDENT_GAMMA = 1 << 28           # |GAMMA_D|, |GAMMA| of the ident windows (control.h: the sums stay within int64)
+IDENT_I_MAX = 1 << 29           # |s_id|, |s_iq| (control.h: the references in use stay within s32)
+
+
+def random_ident(rng: np.random.Generator) -> IdentParams:
+    """A random program: 1..12 steps (one in twenty 100..IDENT_MAX one-window steps, the arrays' ends), each of
+    1..6 windows and 0..n summed, currents mostly within s16 (sometimes up to IDENT_I_MAX), any amplitude, angle
+    and speed change (the frame speed saturates), random flags (F_SNAP among them); F_FIT and F_POL only from the second step on, and an
+    F_FIT step's amplitude not below its predecessor's (kp >= 0: golden's PiParams refuses a negative gain;
+    control.h); gain constants over their ranges."""
+    long = rng.random() < 0.05
+    n = int(rng.integers(100, IDENT_MAX + 1)) if long else int(rng.integers(1, 13))
+    s_n = [1] * n if long else [int(v) for v in rng.integers(1, 7, size=n)]
+    s_m = [int(rng.integers(0, k + 1)) for k in s_n]
+    cur = [draw(rng, n, -(1 << 15), (1 << 15) - 1, (0,)) if rng.random() < 0.8
+           else draw(rng, n, -IDENT_I_MAX, IDENT_I_MAX) for _ in range(2)]
+    s_vh = draw(rng, n, 0, S16_MAX, (0, 1, 300))
+    s_phi = draw(rng, n, 0, U32_MAX, (0, 1 << 30, 1 << 31, 3 << 30))
+    s_dw = draw(rng, n, -(1 << 16), 1 << 16, (0,)) if rng.random() < 0.7 else draw(rng, n, S32_MIN, S32_MAX)
+    base = (F.F_SET, F.F_SCAN, F.F_NEG, F.F_OPEN, F.F_LEVEL, F.F_ABS, F.F_SNAP)
+    s_flags = []
+    for k in range(n):
+        f = sum(b for b in base if rng.random() < 0.4)
+        if k > 0 and rng.random() < 0.3:
+            f |= F.F_FIT
+            s_vh[k] = max(s_vh[k], s_vh[k - 1])
+        if k > 0 and rng.random() < 0.3:
+            f |= F.F_POL
+        s_flags.append(f)
+    return IdentParams(s_n=tuple(s_n), s_m=tuple(s_m), s_id=tuple(cur[0]), s_iq=tuple(cur[1]), s_vh=tuple(s_vh),
+                       s_phi=tuple(s_phi), s_dw=tuple(s_dw), s_flags=tuple(s_flags),
+                       c_kp=draw_one(rng, 0, (1 << 46) - 1, (1 << 30,)), c_ki=draw_one(rng, 0, 1 << 16, (4096,)),
+                       v_lim=draw_one(rng, 1, S16_MAX, (2000,)), c_lvl=draw_one(rng, 0, (1 << 46) - 1, (1 << 36,)),
+                       lvl_max=draw_one(rng, 0, 1 << 24, (1 << 16, 1 << 24)),
+                       i_slew=draw_one(rng, 1, 1 << 20, (1, 100, 1 << 20)), vh_max=draw_one(rng, 0, S16_MAX, (S16_MAX, 3000)))
+
+
+def ident_windows(rng: np.random.Generator, count: int, i_trip: int) -> list[WindowResult]:
+    """:func:`random_windows` with GAMMA, GAMMA_D within +-IDENT_GAMMA, GAMMA_D mostly of one sign (biased
+    positive in two programs of three: the probe and the scan see a response, the program runs on)."""
+    bias = (IDENT_GAMMA // 2 if rng.random() < 2 / 3 else draw_one(rng, -IDENT_GAMMA // 2, IDENT_GAMMA // 2))
+    g = draw_array(rng, count, -IDENT_GAMMA // 2, IDENT_GAMMA // 2).tolist()
+    gd = draw_array(rng, count, -IDENT_GAMMA // 2, IDENT_GAMMA // 2)
+    gd = (np.where(rng.random(count) < 0.8, gd // 8, gd) + bias).tolist()
+    return [replace(w, gamma=a, gamma_d=b) for w, a, b in zip(random_windows(rng, count, i_trip, 0), g, gd)]
+
+
+def test_ident_random_programs(seed):
+    """IDENT_PROGRAMS random programs (random_ident) on random parameter sets (sometimes with FIXED, whose angle
+    the program overrides, and with restarts after a fault): fw_step = Firmware.step through the program, a few
+    windows of DONE after it, trips by the overcurrent or STATUS in IDENT and DONE (one program in eight); every
+    output and every state field (the executor's scalars and sum arrays included) after every step."""
+    rng = np.random.default_rng(seed + 300)
+    seen, codes, flips, gains = set(), set(), 0, 0
+    for q in range(IDENT_PROGRAMS):
+        base = random_params(rng, fixed=q % 7 == 0, prot=q % 3 == 0)
+        ip = random_ident(rng)
+        p = replace(base, ident=ip)
+        pair = Pair(p)
+        assert pair.fw.mode == MODE_IDENT == pair.st.mode
+        total = sum(ip.s_n) + int(rng.integers(0, 6))
+        trip_in = (None, MODE_IDENT, MODE_DONE)[int(rng.integers(0, 3))] if q % 8 == 0 else None
+        speed_ref = draw_one(rng, S32_MIN, S32_MAX)
+        for k, w in enumerate(ident_windows(rng, total, p.i_trip)):
+            before = pair.fw.mode
+            if before == trip_in and rng.random() < 0.2:
+                w = trip_window(rng, p.i_trip)
+            pair.step(w, speed_ref, (seed, q, k, p))
+            seen.add(pair.fw.mode)
+            if pair.fw.mode == MODE_FAULT and before != MODE_FAULT:
+                codes.add((before, pair.fw.fault))
+        if pair.fw.ident is not None:
+            flips += pair.fw.ident.theta_r >= 1 << 31
+            gains += pair.fw.ident.kp > 0
+    assert {MODE_IDENT, MODE_DONE, MODE_FAULT} <= seen, seen
+    assert (MODE_IDENT, protection.FAULT_IDENT) in codes, codes
+    assert {(MODE_IDENT, protection.FAULT_HARDWARE), (MODE_DONE, protection.FAULT_HARDWARE)} & codes, codes
+    assert flips > 0 and gains > 0, (flips, gains)
+
+
+def _ident_params(ip: IdentParams, **kw) -> FirmwareParams:
+    return _params(ident=ip, i_trip=1 << 20, **kw)
+
+
+def _program(steps, **kw) -> IdentParams:
+    """An IdentParams from (n, m, i_d, i_q, v_h, phi, dw, flags) rows."""
+    cols = list(zip(*steps))
+    return IdentParams(*(tuple(c) for c in cols), **{"c_kp": 1 << 30, "c_ki": 4096, "v_lim": 2000,
+                                                      "lvl_max": 1 << 20, "i_slew": 150, **kw})
+
+
+def test_ident_probe_without_response_trips():
+    """F_LEVEL with sum GAMMA_D <= 0 over its summed windows: FAULT with FAULT_IDENT at the step's end, the
+    reset outputs (gates off); the same in C."""
+    for gd in (0, -1, -5000):
+        ip = _program([(4, 2, 0, 0, 300, 0, 0, F.F_SET | F.F_OPEN | F.F_LEVEL), (3, 3, 0, 0, 300, 0, 0, F.F_OPEN)],
+                      c_lvl=1 << 36)
+        pair = Pair(_ident_params(ip))
+        for k in range(4):
+            out = pair.step(_win(gamma=7, gamma_d=gd if k >= 2 else 10 ** 6, sum_id=30), 0, (gd, k))
+        assert pair.fw.mode == MODE_FAULT and pair.fw.fault == protection.FAULT_IDENT == pair.st.fault
+        assert out == Outputs(0, 0, 0, 0, 32767, 0) and pair.fw.ident.failed == 1
+        assert ffi.string(lib.fw_fault_name(pair.st.fault)).decode() == "ident"
+        pair.step(_win(), 0)
+        assert pair.fw.mode == MODE_FAULT
+
+
+def test_ident_program_runs_to_done():
+    """A commissioning-like program: a probe (F_LEVEL), a scan of four angles in pairs at v_h and 2 v_h (F_SCAN,
+    F_NEG; F_FIT on the last), a polarity pair under current control (F_POL), a moving step (dw), an absolute
+    step (F_ABS); the response depends on the frame angle, so the fit and the gains are non-trivial. C = golden
+    every window; then DONE with the gates off."""
+    steps = [(6, 3, 0, 0, 200, 0, 0, F.F_SET | F.F_OPEN | F.F_LEVEL)]
+    for j in range(4):
+        phi = j << 30 >> 1                       # 0, 45, 90, 135 deg
+        steps += [(4, 2, 0, 0, 1000, phi, 0, F.F_SET | F.F_OPEN | F.F_SCAN | F.F_NEG),
+                  (4, 2, 0, 0, 2000, phi, 0, F.F_SET | F.F_OPEN | F.F_SCAN | (F.F_FIT if j == 3 else 0))]
+    steps += [(5, 3, 400, 0, 1000, 0, 0, F.F_SET), (5, 3, -400, 0, 1000, 0, 0, F.F_SET | F.F_POL),
+              (8, 4, 0, 300, 1000, 0, 5000, F.F_SET), (6, 2, 300, 0, 0, 1 << 28, 0, F.F_SET | F.F_SNAP),
+              (4, 2, 200, 0, 0, 3 << 30, 0, F.F_SET | F.F_ABS)]
+    ip = _program(steps, c_lvl=1 << 29, vh_max=3000)
+    pair = Pair(_ident_params(ip))
+    theta_true = 1 << 29
+    n = 0
+    while pair.fw.mode == MODE_IDENT:
+        act = pair.fw.act[0]
+        ang = (act.sin, act.cos)
+        phase = (uwrap(theta_true, 32) - (int(np.arctan2(ang[0], ang[1]) / (2 * np.pi) * 2 ** 32))) % (1 << 32)
+        resp = int(act.v_h * (20 + 5 * np.cos(2 * np.pi * phase / 2 ** 32 * 2)))
+        i_d = act.v_d // 4
+        pair.step(_win(gamma=resp // 3, gamma_d=resp, sum_id=i_d * 10, sum_iq=-i_d * 5), 0, n)
+        n += 1
+        assert n < 200
+    assert n == sum(ip.s_n)
+    idn = pair.fw.ident
+    assert pair.fw.mode == MODE_DONE and idn.done == 1 and idn.failed == 0 and idn.k == ip.n_steps
+    assert idn.lvl != 1 << 16 and idn.kp > 0 and idn.ki > 0 and idn.r_g2[0] > 0
+    for _ in range(3):
+        assert pair.step(_win(gamma=5, gamma_d=5), 0) == Outputs(0, 0, 0, 0, 32767, 0)
+    assert pair.fw.mode == MODE_DONE
+
+
+def test_ident_first_step_reads_the_last_as_previous():
+    """F_FIT and F_POL on step 0 read step k - 1 = -1 as Python does (golden does not forbid it): s_vh of the
+    program's last step and r_gd[IDENT_MAX - 1]; the C mirrors it."""
+    ip = _program([(3, 2, 0, 0, 3000, 0, 0, F.F_SET | F.F_OPEN | F.F_SCAN | F.F_FIT | F.F_POL),
+                   (2, 1, 100, 0, 1000, 0, 0, F.F_SET)])
+    pair = Pair(_ident_params(ip))
+    for k in range(5):
+        pair.step(_win(gamma=300, gamma_d=900), 0, k)
+    assert pair.fw.mode == MODE_DONE and pair.fw.ident.kp > 0 and pair.fw.ident.theta_r >= 1 << 31

@@ -40,7 +40,8 @@ The firmware itself makes the decisions the next steps depend on:
 
 ``F_SNAP`` (with ``F_SET``): the frame turns at a constant speed from its start to the nearest phase axis (a
 multiple of 60 deg in the stator) over the step, and stops there at its end: the rotor, aligned with the
-current at the start, follows it there without a swing (``w = wrap(axis - theta, 32) / n``, ``c_div``).
+current at the start, follows it there without a swing (``w = c_div(wrap(axis - theta, 32), n - 1)``: the
+step's first call does not move the frame).
 
 Frame of a step: ``F_SET`` puts it at ``theta_r + phi`` at rest at the step start (``F_ABS``: at ``phi``, an
 angle of the stator: the resistance steps put the current on a phase axis, so that no phase current sits in
@@ -179,7 +180,7 @@ class Ident:
             self.jump, self.theta, self.w = uwrap(theta - self.theta, 32), theta, 0
             if f & F_SNAP:
                 axis = ((((theta + (SIXTH >> 1)) // SIXTH) % 6) << 32) // 6
-                self.w = c_div(wrap(axis - theta, 32), self.p.s_n[self.k])
+                self.w = c_div(wrap(axis - theta, 32), max(self.p.s_n[self.k] - 1, 1))
 
     def measure(self, i_d: int, i_q: int, gamma_d: int, gamma_q: int, now, before) -> None:
         """One window: sum it when it is one of the step's last ``m``; at the step's end, its action."""

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from golden.control_config import hardware_config, scales
-from golden.firmware.ident import F_FIT, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, F_SNAP, IdentParams
+from golden.firmware.ident import G2_SHIFT, F_FIT, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, F_SNAP, IdentParams
 from golden.fixed import to_fixed
 from golden.fpga.adc_trigger import sample_phases
 from golden.fpga.carrier import counter
@@ -265,7 +265,7 @@ class Results:
 
 def _step_means(st, k: int, m: int) -> dict:
     """The means over the measured windows of step ``k`` [LSB]."""
-    return {name: getattr(st, "r_" + name)[k] / m for name in ("id", "iq", "vd", "vq", "gd", "gq", "g2")}
+    return {name: getattr(st, "r_" + name)[k] / m for name in ("id", "iq", "vd", "vq", "gd", "gq")}
 
 
 def reduce(prog: Program, st, sc, cs: CommissionSettings) -> Results:
@@ -307,9 +307,12 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings) -> Results:
     y2 = float(abs(c2))
     res.values["L_d"], res.values["L_q"] = 1.0 / (y0 + y2), 1.0 / (y0 - y2)
     res.scan = {"phi": phi, "gamma": z, "theta_r": float(-np.angle(c2) / 2) % math.pi}
-    # noise of one window's GAMMA_D, GAMMA (around their means), per axis
-    var = [means[k]["g2"] - means[k]["gd"] ** 2 - means[k]["gq"] ** 2 for k in scan]
-    sigma = math.sqrt(max(float(np.mean(var)), 0.0) / 2)
+    # noise of one window's GAMMA_D, GAMMA (around each step's means), per axis, from the firmware's sum of
+    # squares over every scan step
+    every = [k for k, s in enumerate(prog.steps) if s.stage == "scan"]
+    n_win = sum(p.s_m[k] for k in every)
+    var = (st.g2 * 2**G2_SHIFT - sum(p.s_m[k] * (means[k]["gd"] ** 2 + means[k]["gq"] ** 2) for k in every)) / n_win
+    sigma = math.sqrt(max(var, 0.0) / 2)
     g_sal = y2 * (gain(scan[0]) - gain(scan[0] - 1))                  # the saliency part of GAMMA [LSB] per v_h
     res.snr = g_sal / sigma if sigma > 0 else math.inf
     res.scan.update(sigma=sigma, g_sal=g_sal, v_hf=(vh[scan[0]] - vh[scan[0] - 1]) * v_lsb)

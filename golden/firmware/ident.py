@@ -22,7 +22,7 @@ The firmware itself makes the decisions the next steps depend on:
   ``g_d - j g_q = Y0 + Y2 exp(j 2 (phi - theta_r))`` (``Y0``, ``Y2``: the mean and half the difference of
   the inverse incremental inductances), so ``sum_k (G_d - j G_q) exp(-j 2 phi_k) = K Y2 exp(-j 2 theta_r)``
   and ``theta_r = -arg(.) / 2`` (mod half a turn), i.e. half the angle of ``(x, y) = sum_k (G_d c_k - G_q s_k,
-  G_d s_k + G_q c_k)`` with ``(s_k, c_k)`` of ``2 phi_k`` (``Y2 > 0``: ``Y2 > 0``: the plant's d axis is the low-inductance one
+  G_d s_k + G_q c_k)`` with ``(s_k, c_k)`` of ``2 phi_k`` (``Y2 > 0``: the plant's d axis is the low-inductance one
   for every machine, docs/motors.md). The sums are integer (s64), the angle by the vectoring CORDIC
   (:func:`~golden.firmware.vector.vector_angle`) after shifting both sums into its range;
   The scan takes each angle twice, at ``v_h`` (``F_SCAN | F_NEG``: its sums count negative) and at ``2 v_h``:
@@ -69,6 +69,10 @@ F_SET, F_SCAN, F_FIT, F_POL, F_OPEN, F_LEVEL, F_ABS, F_NEG, F_SNAP = 1, 2, 4, 8,
 IDENT_MAX = 160
 """Most steps in a program (the C arrays' length)."""
 HALF_TURN = 1 << 31
+M_MAX = 32767
+"""Most measured windows of a step: the s16 means sum into s32 (``r_id, r_iq, r_vd, r_vq``)."""
+G2_SHIFT, G2_BITS = 8, 24
+"""The scan's noise sum: ``g2 += shr(sat(g_d, 24)^2 + sat(g_q, 24)^2, 8)`` (at most 2^40 per window)."""
 SIXTH = (1 << 32) // 6
 """A sixth of a turn, rounded down (the phase axes are at ``(k << 32) // 6``)."""
 KP_MAX = (1 << 31) - 1
@@ -129,10 +133,19 @@ class IdentParams:
         if not 1 <= n <= IDENT_MAX or any(len(getattr(self, c)) != n for c in cols):
             raise ValueError(f"an identification program has 1..{IDENT_MAX} steps, every column as long as s_n")
         for k in range(n):
-            if self.s_n[k] < 1 or not 0 <= self.s_m[k] <= self.s_n[k]:
-                raise ValueError(f"step {k}: n {self.s_n[k]} must be >= 1 and m {self.s_m[k]} in 0..n")
+            f = self.s_flags[k]
+            if self.s_n[k] < 1 or not 0 <= self.s_m[k] <= min(self.s_n[k], M_MAX):
+                raise ValueError(f"step {k}: n {self.s_n[k]} must be >= 1 and m {self.s_m[k]} in 0..min(n, {M_MAX})")
             if not 0 <= self.s_vh[k] <= 32767:
                 raise ValueError(f"step {k}: v_h {self.s_vh[k]} outside 0..32767")
+            if not (-32768 <= self.s_id[k] <= 32767 and -32768 <= self.s_iq[k] <= 32767):
+                raise ValueError(f"step {k}: current references outside s16")
+            if f & (F_FIT | F_POL) and k == 0:
+                raise ValueError("step 0 cannot compare with a step before it (F_FIT, F_POL)")
+            if f & F_FIT and self.s_vh[k] <= self.s_vh[k - 1]:
+                raise ValueError(f"step {k}: F_FIT needs an amplitude above the step before (the pair v, 2v)")
+            if f & F_SNAP and self.s_n[k] < 2:
+                raise ValueError(f"step {k}: F_SNAP needs n >= 2")
         if not (0 <= self.c_kp < 1 << 46 and 0 <= self.c_ki <= 1 << 16 and 1 <= self.v_lim <= 32767
                 and 0 <= self.c_lvl < 1 << 46 and 0 <= self.lvl_max <= 1 << 24 and 0 <= self.vh_max <= 32767
                 and 1 <= self.i_slew <= 1 << 20):
@@ -159,15 +172,16 @@ class Ident:
     fit_x: int = 0                    # scan sums (s64)
     fit_y: int = 0
     fit_y0: int = 0
-    failed: int = 0                   # 1: the scan saw no HF response (sum G_d <= 0)
+    failed: int = 0                   # 1: the probe or the scan saw no HF response (G <= 0)
     done: int = 0
-    r_id: list = field(default_factory=lambda: [0] * IDENT_MAX)   # per-step sums over the last m windows
+    r_id: list = field(default_factory=lambda: [0] * IDENT_MAX)   # per-step sums over the last m windows (s32
+    #                                                               for the s16 means; s64 for the responses)
     r_iq: list = field(default_factory=lambda: [0] * IDENT_MAX)
     r_vd: list = field(default_factory=lambda: [0] * IDENT_MAX)
     r_vq: list = field(default_factory=lambda: [0] * IDENT_MAX)
     r_gd: list = field(default_factory=lambda: [0] * IDENT_MAX)
     r_gq: list = field(default_factory=lambda: [0] * IDENT_MAX)
-    r_g2: list = field(default_factory=lambda: [0] * IDENT_MAX)
+    g2: int = 0                       # the scan steps' noise sum (s64, G2_SHIFT)
 
     def __post_init__(self) -> None:
         self._start()
@@ -195,7 +209,9 @@ class Ident:
             self.r_vq[k] += v_q
             self.r_gd[k] += gamma_d
             self.r_gq[k] += gamma_q
-            self.r_g2[k] += gamma_d * gamma_d + gamma_q * gamma_q
+            if p.s_flags[k] & F_SCAN:
+                g_d, g_q = sat(gamma_d, G2_BITS), sat(gamma_q, G2_BITS)
+                self.g2 += shr(g_d * g_d + g_q * g_q, G2_SHIFT)
         if self.n < p.s_n[k]:
             return
         self._finish(k)
@@ -248,7 +264,7 @@ class Ident:
             # the current and voltage vectors are continuous in the stator: the references in use and the
             # PI integrators turn into the new frame
             s, c = sincos_q15(self.jump)
-            self.ref_d, self.ref_q = park(self.ref_d, self.ref_q, s, c)
+            self.ref_d, self.ref_q = (sat(x, 16) for x in park(self.ref_d, self.ref_q, s, c))
             st.id_int, st.iq_int = park(st.id_int, st.iq_int, s, c)
         else:
             self.w = sat(self.w + p.s_dw[k], 32)

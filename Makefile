@@ -36,6 +36,15 @@ paper: setup
 faults: setup
 	$(ENV) .venv/bin/hfi faults
 
+# Self-commissioning of the four papers' motors (docs/commissioning.md): out/commission/<scenario>/commission.json,
+# commissioned.toml, figures; then the rotor angle and polarity from 20 random standstill angles per PM motor.
+COMMISSION_SCENARIOS = fullload_start bench2_loadsteps xue2022_noload tap2023_step varatharajan2020_speedrange
+.PHONY: commission
+commission: setup
+	@for s in $(COMMISSION_SCENARIOS); do $(ENV) .venv/bin/hfi commission scenarios/$$s.toml --out out/commission/$$s \
+		|| echo "commission: $$s FAILED (docs/commissioning.md)"; done
+	$(ENV) .venv/bin/python scripts/commission_polarity.py --n 20
+
 # Synthesis and timing of the hfi_dsp IP, the hfi_soc SoC and its CPU alone (yowasp Yosys + nextpnr-ecp5): out/synth/report.json + table.
 .PHONY: synth
 synth: setup

@@ -4,8 +4,8 @@
 program the firmware runs (:mod:`golden.firmware.ident`); :func:`reduce` turns the per-step sums the
 firmware leaves into the motor's data; :func:`tuning` into the controller's settings. The stages:
 
-1. ``probe``: one HF step at a small amplitude; the firmware sets the HF level (``F_LEVEL``) so that the
-   HF current of the later steps is ``hf_current``.
+1. ``probe``: one HF step at ``probe_voltage``; the firmware lowers the HF level (``F_LEVEL``) when the HF
+   current would exceed ``hf_current`` (a motor of small inductance), never raises it.
 2. ``scan``: the HF square wave on a frame at ``K`` angles over half a turn, no current control; the
    firmware fits the rotor angle and sets the current PIs (``F_FIT``). Host: ``L_d``, ``L_q`` at zero current
    from the mean and the second harmonic of the responses.
@@ -23,7 +23,8 @@ firmware leaves into the motor's data; :func:`tuning` into the controller's sett
 6. ``spin``: the current vector turns at a prescribed speed profile (I/f), the rotor follows it:
    up to ``speed / 2``, hold, accelerate to ``speed``, hold, decelerate to ``speed / 2``, hold, down to
    0. Flux in the frame from the voltage model at constant frame speed, ``psi = (v - V0 - R i) / (j w)``;
-   torque ``1.5 p (psi x i)``; ``psi_f`` from the active flux ``psi - L_q i`` at the top speed; ``J`` from the
+   torque ``1.5 p (psi x i)``; ``psi_f = abs(v) / w_r`` in a coast at the top speed with the current held at
+   zero (``w_r`` the frame's speed plus the turn of the back-EMF in the frame); ``J`` from the
    torques accelerating and decelerating through the same speeds, ``(T_acc - T_dec) / (2 a)`` (friction and
    every constant bias cancel); the friction ``B``, ``T_c`` from the two holds.
 """
@@ -44,6 +45,18 @@ from golden.fpga.cordic import demod_weight, sincos_q15
 from golden.fpga.modulator import compares
 
 QUARTER = 1 << 30
+PROBE_DEAD_TIMES = 8.0
+"""The probe's HF amplitude is this many times the dead time's voltage (the scan's pair: once and twice it, the
+map's pair half and once), unless ``hf_current`` caps it. Measured (golden): on the 002 Table I motor (11.2 V of
+dead time) a scan pair of 2.2 and 4.4 times put the angle 20 deg off and L_q 36 % high, 4 and 8 times gave
+0.4 % but a map pair of 2 and 4 times errors up to 20 %, 4.3 and 8.6 times (map 2.1 and 4.3) 0.3 % and a map
+within 9 %; on the 001 motor (2.2 V) 4 and 8 times: L_d 3.9 % low, 8.8 and 17.6 times: within 1.1 % and the map
+within 4.2 %."""
+HF_CURRENT_SHARE = 1 / 6
+"""Default ``hf_current`` (the cap of the HF current amplitude) as a share of ``current``: a larger HF excursion
+saturates the motor (the 001 motor at a quarter of its 12 A: L_q 3.4 % low)."""
+SPIN_SPEED_MIN = 500 * math.pi / 30
+"""The default spin speed is half the largest reference speed, at least this [rad/s mechanical]."""
 R_LEVELS = (0.5, 0.75, 1.0)
 """Current levels of the resistance steps (shares of ``current``)."""
 
@@ -79,15 +92,19 @@ class CommissionSettings:
 
 def settings(sc) -> CommissionSettings:
     """The scenario's ``[commission]`` table with its derived defaults: ``current`` = ``control.i_max``,
-    ``hf_current`` a quarter of it, ``probe_voltage`` 2 % and ``hf_voltage_max`` 25 % of V_dc, ``speed`` the
-    largest reference speed (at least 300 r/min). ``magnets``: the machine type, which the user knows (a
+    ``hf_current`` HF_CURRENT_SHARE of it, ``probe_voltage`` PROBE_DEAD_TIMES times the dead time's voltage ``t_d f_sw
+    V_dc`` (at least 2 % of V_dc, at most half of ``hf_voltage_max``), ``hf_voltage_max`` 25 % of V_dc, ``speed`` the
+    largest reference speed (at least SPIN_SPEED_MIN). ``magnets``: the machine type, which the user knows (a
     reluctance machine is the one whose angle is pi-periodic, ``Scales.angle_period_deg``)."""
     t, ctl, v_dc = sc.commission, sc.control, sc.plant["inv"]["V_dc"]
     current = t.current or ctl.i_max
+    v_dt = sc.pwm.dead_time * sc.pwm.f_sw * v_dc                     # the dead time's voltage
+    v_max = t.hf_voltage_max or 0.25 * v_dc
     ref = max((abs(v) for _, v in sc.reference_speed), default=0.0)
     return CommissionSettings(
-        current=current, hf_current=t.hf_current or 0.25 * current, probe_voltage=t.probe_voltage or 0.02 * v_dc,
-        hf_voltage_max=t.hf_voltage_max or 0.25 * v_dc, speed=t.speed or max(ref, 300 * math.pi / 30),
+        current=current, hf_current=t.hf_current or HF_CURRENT_SHARE * current,
+        probe_voltage=t.probe_voltage or min(max(PROBE_DEAD_TIMES * v_dt, 0.02 * v_dc), 0.5 * v_max),
+        hf_voltage_max=v_max, speed=t.speed or max(0.5 * ref, SPIN_SPEED_MIN),
         spin_time=t.spin_time, lock=t.lock == "on", scan_points=t.scan_points,
         magnets=scales(sc).angle_period_deg == 360.0)
 
@@ -190,14 +207,24 @@ def build_program(sc, cs: CommissionSettings) -> Program:
             for twice in (0, 1):
                 add(StepInfo("map", i_d, i_q, math.pi / 2, "q"), n_set + n_meas, n_meas, F_SET, i_d=i_q, i_q=-i_d,
                     vh=(v_probe << twice) >> 1, phi=QUARTER)
-    lock_to = len(rows)
     # 5. resistance: the current on the nearest phase axis (the other phases carry half of it, outside the
     # dead-time compensation's zone when current / 4 > dtc_zone): it starts on the rotor's own axis (d with
-    # magnets, q without: the rotor is pulled into alignment, not away) and turns there in 1 s (F_SNAP)
+    # magnets, q without: a free rotor is pulled into alignment, not away) and turns there in 1 s (F_SNAP);
+    # with the lock the shaft is still held (a free rotor of a machine whose reluctance torque outweighs the
+    # magnet's at this current, the 000 motor's, would swing between the levels)
     add(StepInfo("align", cs.current), win(1.0), 0, F_SET | F_SNAP, i_d=cs.current,
         phi=0 if cs.magnets else QUARTER)
     for level in R_LEVELS:
         add(StepInfo("resistance", level * cs.current), win(0.1) + n_meas * 2, n_meas * 2, 0, i_d=level * cs.current)
+    # the spin's current: half the test current (the I/f needs only the friction's and the ramps' torque; a
+    # smaller current snaps the rotor less when it comes back after a coast)
+    i_spin = 0.5 * cs.current
+    # the current down, the shaft released, then up again in steps over 0.6 s: the rotor moves to its
+    # equilibrium with the current slowly instead of swinging there
+    add(StepInfo("release"), win(0.1), 0, 0)
+    lock_to = len(rows)
+    for j in range(6):
+        add(StepInfo("spin_in", (j + 1) / 6 * i_spin), win(0.1), 0, 0, i_d=(j + 1) / 6 * i_spin)
     # 6. spin
     w_top = cs.speed * sc_.pole_pairs                                # rad/s electrical
     a = 0.5 * w_top / cs.spin_time                                   # rad/s^2 electrical
@@ -207,28 +234,43 @@ def build_program(sc, cs: CommissionSettings) -> Program:
     def ramp(stage: str, sign: int, t_const: float, measure: bool) -> None:
         """Acceleration ``sign * a`` entered and left through ``n_j`` sub-steps each (jerk limited)."""
         for j in range(n_j):
-            add(StepInfo(stage + "_in", cs.current), win(t_j / n_j), 0, 0, i_d=cs.current,
+            add(StepInfo(stage + "_in", i_spin), win(t_j / n_j), 0, 0, i_d=i_spin,
                 dw=to_dw(sign * a * (j + 0.5) / n_j))
         n = win(t_const)
-        add(StepInfo(stage, cs.current), n, (n * 3) // 4 if measure else 0, 0, i_d=cs.current, dw=to_dw(sign * a))
+        add(StepInfo(stage, i_spin), n, (n * 3) // 4 if measure else 0, 0, i_d=i_spin, dw=to_dw(sign * a))
         for j in range(n_j):
-            add(StepInfo(stage + "_out", cs.current), win(t_j / n_j), 0, 0, i_d=cs.current,
+            add(StepInfo(stage + "_out", i_spin), win(t_j / n_j), 0, 0, i_d=i_spin,
                 dw=to_dw(sign * a * (n_j - j - 0.5) / n_j))
+
+    def back(stage: str) -> None:
+        """The current back after a coast, in four steps over 0.2 s (the rotor, slipped back a little, is
+        caught without a current surge)."""
+        for j in range(4):
+            add(StepInfo(stage, (j + 1) / 4 * i_spin), win(0.05), 0, 0, i_d=(j + 1) / 4 * i_spin)
 
     # speed gained by a ramp: a t_j (jerk phases) + a t_const; the half speed takes t_const = w/2a - t_j
     t_half = max(0.5 * w_top / a - t_j, 0.05)
     hold = win(max(0.5, 0.5 * cs.spin_time))
     ramp("spin_up", 1, t_half, False)
-    add(StepInfo("hold_low", cs.current), hold, hold // 2, 0, i_d=cs.current)
+    add(StepInfo("hold_low", i_spin), hold, hold // 2, 0, i_d=i_spin)
     ramp("accel", 1, t_half, True)
-    add(StepInfo("hold_high", cs.current), hold, hold // 2, 0, i_d=cs.current)
+    add(StepInfo("hold_high", i_spin), hold, hold // 2, 0, i_d=i_spin)
+    if cs.magnets:
+        # coast: no current for 60 ms, the voltage is the back-EMF alone (the rotor slows by its friction only;
+        # at zero current the dead time shifts the edges but not the pulse widths: no voltage error)
+        # two measured halves of three sixths of an electrical turn each (the inverter's error with the PWM
+        # ripple crossing zero repeats every sixth), after the current has decayed
+        m_c = max(round(math.pi / w_top * f_sw), 1)
+        add(StepInfo("coast"), n_set, 0, 0)
+        add(StepInfo("coast_a"), m_c, m_c, 0)
+        add(StepInfo("coast_b"), m_c, m_c, 0)
+        back("hold_high_back")
     ramp("decel", -1, t_half, True)
-    add(StepInfo("hold_low2", cs.current), hold, hold // 2, 0, i_d=cs.current)
+    add(StepInfo("hold_low2", i_spin), hold, hold // 2, 0, i_d=i_spin)
     ramp("spin_down", -1, t_half, False)
-    add(StepInfo("stop", cs.current), win(0.2), 0, 0, i_d=cs.current)
+    add(StepInfo("stop", i_spin), win(0.2), 0, 0, i_d=i_spin)
 
     cols = list(zip(*rows))
-    params_vh = cols[4]
     vh_max = min(sc_.voltage(cs.hf_voltage_max), 32767)
     w_lsb = sc_.w_lsb
     c_kp = round(2 * math.pi * sc.control.current_bw * sc_.i_lsb * 2**16 * K * n_meas * g_unit)
@@ -237,7 +279,7 @@ def build_program(sc, cs: CommissionSettings) -> Program:
                          v_lim=min(sc_.voltage(sc.control.v_max), 32767),
                          c_lvl=round(2**16 * g_unit * 4 * f_sw * cs.hf_current * n_meas),
                          i_slew=max(cur(cs.current) // max(n_set // 4, 1), 1),
-                         lvl_max=min((vh_max << 16) // max(max(params_vh), 1), 1 << 24), vh_max=vh_max)
+                         lvl_max=1 << 16, vh_max=vh_max)
     # frame speed per call (the executor: w += dw, except on the first call of an F_SET step: w = 0)
     w, ws = 0, []
     for n, dw, fl in zip(params.s_n, params.s_dw, params.s_flags):
@@ -336,10 +378,10 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings) -> Results:
     # spin: flux and torque of every measured step
     starts = np.concatenate([[0], np.cumsum(p.s_n)])
     pp = sc_.pole_pairs
-    L_d, L_q = res.values["L_d"], res.values["L_q"]
+    L_q = res.values["L_q"]
     spin = {}
     for k, s in enumerate(prog.steps):
-        if s.stage not in ("hold_low", "accel", "hold_high", "decel", "hold_low2") or means[k] is None:
+        if s.stage not in ("hold_low", "accel", "hold_high", "coast_a", "coast_b", "decel", "hold_low2") or means[k] is None:
             continue
         j1 = starts[k + 1]
         # the frame speed active in the measured windows (written two calls before)
@@ -353,12 +395,18 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings) -> Results:
         torque = 1.5 * pp * (psi[0] * i[1] - psi[1] * i[0])
         act = psi - L_q * i
         delta = math.atan2(act[1], act[0]) - math.atan2(i[1], i[0])
-        psi_f = float(np.hypot(*act) - (L_d - L_q) * np.hypot(*i) * math.cos(delta))
-        spin[s.stage] = {"w": w, "torque": torque, "psi_f": psi_f, "delta": delta}
+        spin[s.stage] = {"w": w, "torque": torque, "delta": delta, "v": v}
     a = abs(p.s_dw[[k for k, s in enumerate(prog.steps) if s.stage == "accel"][0]]) * sc_.w_lsb * f_sw  # rad/s^2 el
     res.spin.update(spin)
     if cs.magnets:
-        res.values["psi_f"] = spin["hold_high"]["psi_f"]
+        # the coast: |v| = w_r psi_f, the rotor's speed w_r = the frame's plus the turn of the back-EMF in the
+        # frame from the first half to the second (the rotor keeps the speed its I/f swing had)
+        ca, cb = spin["coast_a"], spin["coast_b"]
+        turn = math.remainder(math.atan2(cb["v"][1], cb["v"][0]) - math.atan2(ca["v"][1], ca["v"][0]), 2 * math.pi)
+        w_r = 0.5 * (ca["w"] + cb["w"]) + turn * f_sw / p.s_m[[k for k, s in enumerate(prog.steps)
+                                                              if s.stage == "coast_a"][0]]
+        res.values["psi_f"] = 0.5 * (np.hypot(*ca["v"]) + np.hypot(*cb["v"])) / w_r
+        res.spin["w_coast"] = w_r
     t_acc, t_dec = spin["accel"]["torque"], spin["decel"]["torque"]
     res.values["J"] = (t_acc - t_dec) / (2 * a / pp)
     w1, w2 = 0.5 * (spin["hold_low"]["w"] + spin["hold_low2"]["w"]) / pp, spin["hold_high"]["w"] / pp

@@ -16,6 +16,7 @@ the plant's truth and writes:
 from __future__ import annotations
 
 import copy
+import dataclasses
 import json
 import math
 import tomllib
@@ -24,7 +25,8 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
-from golden.commission import build_program, reduce, settings
+from golden.commission import SPIN_SPEED_MIN, build_program, reduce, settings
+from golden.firmware.ident import IdentParams
 from golden.control_config import scales
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
 from golden.scenario import parse_scenario
@@ -34,6 +36,8 @@ HANDOVER_EMF = 2.0
 350 r/min on its Table I motor is 1.9 times)."""
 HANDOVER_DOWN = 300 / 350
 """Hand-over down speed as a share of the up speed (the 002 paper's 300 and 350 r/min)."""
+STANDSTILL_STAGES = ("probe", "scan", "polarity")
+"""The stages that find the rotor angle and the magnet's polarity at standstill."""
 SNR_MIN_SALIENCY = 2.0
 """Below this SNR of the saliency signal at the largest HF amplitude an HF method is refused."""
 
@@ -54,7 +58,7 @@ def run_scenario_dict(path: str | Path) -> dict:
     com = d.setdefault("commission", {})
     if "speed" not in com:
         ref = max((abs(v) for _, v in sc0.reference_speed), default=0.0)
-        com["speed"] = f"{max(ref, 300 * math.pi / 30) * 30 / math.pi:.6g} rpm"
+        com["speed"] = f"{max(ref, SPIN_SPEED_MIN) * 30 / math.pi:.6g} rpm"
     d["scenario"]["name"] = sc0.name + "_commission"
     sc1 = parse_scenario(d, str(path))
     prog = build_program(sc1, settings(sc1))
@@ -62,6 +66,31 @@ def run_scenario_dict(path: str | Path) -> dict:
     if prog.lock:
         d["faults"] = [{"kind": "rotor_blocked", "at": f"{prog.lock[0]:.9g} s", "until": f"{prog.lock[1]:.9g} s"}]
     return d
+
+
+def standstill_angle(path: str, theta_m_deg: float) -> tuple[float, float]:
+    """``(found, true)`` electrical angles [deg] after the standstill stages (STANDSTILL_STAGES, the rest of the
+    program cut off) of the scenario file ``path`` from the initial rotor angle ``theta_m_deg`` [deg mechanical]:
+    the angle the firmware found and the plant's at the end."""
+    from golden.closedloop import ClosedLoop
+    from golden.control_config import firmware_params
+    from golden.firmware.supervisor import Firmware
+    d = run_scenario_dict(path)
+    d["load"].setdefault("initial", {})["theta_m"] = f"{theta_m_deg} deg"
+    sc = parse_scenario(d, path)
+    prog = build_program(sc, settings(sc))
+    n = sum(1 for s in prog.steps if s.stage in STANDSTILL_STAGES)
+    p = prog.params
+    cut = IdentParams(*(getattr(p, f.name)[:n] for f in dataclasses.fields(p) if f.name.startswith("s_")),
+                      **{f.name: getattr(p, f.name) for f in dataclasses.fields(p)
+                         if f.init and not f.name.startswith("s_")})
+    d["scenario"]["duration"] = f"{(sum(cut.s_n) + 4) / sc.pwm.f_sw:.6g} s"
+    sc = parse_scenario(d, path)                                      # (the shaft lock from the polarity test on)
+    cl = ClosedLoop(sc)
+    cl.fw = Firmware(dataclasses.replace(firmware_params(sc), ident=cut))
+    run = cl.run(progress=False)
+    true = run.windows["theta_e"][-1] / 2**32 * 360.0
+    return cl.fw.ident.theta_r / 2**32 * 360.0, true
 
 
 def truth(sc) -> dict:

@@ -42,7 +42,7 @@ def run(idn: Ident, windows) -> None:
         idn.measure(0, 0, g_d, g_q, RESET_OUTPUTS, RESET_OUTPUTS)
         if idn.done:
             return
-        idn.refs(0, 0, RESET_OUTPUTS, st)
+        idn.refs(0, 0, st)
 
 
 @pytest.mark.parametrize("theta_deg", [0.0, 17.0, 63.5, 101.0, 179.0])
@@ -99,10 +99,10 @@ def test_frame_speed_ramp():
     p = program([(1, 0, 0, 0, 0, 0, 0, F_SET), (n + 1, 0, 0, 0, 0, 0, dw, 0)])
     idn = Ident(p)
     st = _St()
-    idn.refs(0, 0, RESET_OUTPUTS, st)                 # step 0: the F_SET call
+    idn.refs(0, 0, st)                 # step 0: the F_SET call
     for _ in range(n):
         idn.measure(0, 0, 0, 0, RESET_OUTPUTS, RESET_OUTPUTS)
-        idn.refs(0, 0, RESET_OUTPUTS, st)
+        idn.refs(0, 0, st)
     assert idn.w == n * dw
     assert idn.theta == (dw * n * (n + 1) // 2) % 2**32
 
@@ -118,7 +118,7 @@ def test_snap_ends_on_a_phase_axis(theta_r):
     idn._start()
     st = _St()
     for _ in range(n + 2):
-        idn.refs(0, 0, RESET_OUTPUTS, st)
+        idn.refs(0, 0, st)
         idn.measure(0, 0, 0, 0, RESET_OUTPUTS, RESET_OUTPUTS)
     nearest = min(((k << 32) // 6 for k in range(7)), key=lambda a: abs(wrap(a - theta_r, 32)))
     assert abs(wrap(idn.theta - nearest, 32)) <= n
@@ -147,6 +147,17 @@ def test_hf_response_square_wave_limit():
     square = np.where((phase < H // 2) | (phase >= P - H // 2), amp, -amp)
     assert g_d == pytest.approx(float(square @ w) / 2**15, rel=0.01)
     assert abs(g_q) < 0.01 * abs(g_d)
+
+
+@pytest.mark.parametrize("path, theta_m", [(DEFAULT, 7.0), (DEFAULT, 61.0), (DEFAULT, 152.0),
+                                           ("scenarios/xue2022_noload.toml", 33.0),
+                                           ("scenarios/xue2022_noload.toml", 171.0)])
+def test_standstill_angle_and_polarity(path, theta_m):
+    """The rotor angle found at standstill (probe, scan, polarity) within 10 deg of the plant's, the polarity right
+    (scripts/commission_polarity.py runs 20 random angles per motor)."""
+    from hfi.commission import standstill_angle
+    found, true = standstill_angle(path, theta_m)
+    assert abs((found - true + 180.0) % 360.0 - 180.0) < 10.0
 
 
 @pytest.fixture(scope="module")

@@ -58,7 +58,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from golden.firmware.estimator import inv_park, park, window_voltage
+from golden.firmware.estimator import park, window_voltage
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.vector import INPUT_LIMIT, vector_angle
 from golden.fixed import c_div, sat, shr, uwrap, wrap
@@ -255,10 +255,11 @@ class Ident:
         if f & F_POL and self.r_gd[k] > self.r_gd[k - 1]:
             self.theta_r = uwrap(self.theta_r + HALF_TURN, 32)
 
-    def refs(self, i_d: int, i_q: int, now, st) -> tuple[int, int, int, int, int, int]:
+    def refs(self, i_d: int, i_q: int, st) -> tuple[int, int, int, int, int, int]:
         """The step's outputs after :meth:`measure`: advance the frame, run the current PIs (integrators in
-        ``st.id_int``, ``st.iq_int``) on the window means turned from the frame active in the window (``now``)
-        into the one written now; returns ``(v_d, v_q, v_h, theta, i_d_ref, i_q_ref)``."""
+        ``st.id_int``, ``st.iq_int``); returns ``(v_d, v_q, v_h, theta, i_d_ref, i_q_ref)``. The window means of
+        the first two calls of an ``F_SET`` step ran in the frame before its jump: they are turned by the jump
+        (all others are used as measured: a frame turning at a steady speed carries the currents with it)."""
         p, k = self.p, self.k
         if p.s_flags[k] & F_SET and self.n == 0:
             # the current and voltage vectors are continuous in the stator: the references in use and the
@@ -272,8 +273,9 @@ class Ident:
         self.ref_d = min(max(p.s_id[k], self.ref_d - p.i_slew), self.ref_d + p.i_slew)
         self.ref_q = min(max(p.s_iq[k], self.ref_q - p.i_slew), self.ref_q + p.i_slew)
         r_d, r_q = self.ref_d, self.ref_q
-        s, c = sincos_q15(self.theta)
-        i_d, i_q = park(*inv_park(i_d, i_q, now.sin, now.cos), s, c)
+        if p.s_flags[k] & F_SET and self.n < 2:
+            s, c = sincos_q15(self.jump)
+            i_d, i_q = park(i_d, i_q, s, c)
         if p.s_flags[k] & F_OPEN:
             v_d = v_q = st.id_int = st.iq_int = 0
         else:

@@ -362,7 +362,7 @@ class Firmware:
         if idn.done:
             self._next(MODE_DONE)
             return RESET_OUTPUTS
-        v_d, v_q, v_h, self.theta_hat, self.i_d_ref, self.i_q_ref = idn.refs(i_d, i_q, self.act[0], self)
+        v_d, v_q, v_h, self.theta_hat, self.i_d_ref, self.i_q_ref = idn.refs(i_d, i_q, self)
         s, c = sincos_q15(self.theta_hat)
         return Outputs(v_d, v_q, v_h, s, c, 1, self.i_d_ref, self.i_q_ref)
 

@@ -310,8 +310,9 @@ def _step_means(st, k: int, m: int) -> dict:
     return {name: getattr(st, "r_" + name)[k] / m for name in ("id", "iq", "vd", "vq", "gd", "gq")}
 
 
-def reduce(prog: Program, st, sc, cs: CommissionSettings) -> Results:
-    """The motor data from the firmware's sums ``st`` (an :class:`~golden.firmware.ident.Ident`)."""
+def reduce(prog: Program, st, sc, cs: CommissionSettings, scan_only: bool = False) -> Results:
+    """The motor data from the firmware's sums ``st`` (an :class:`~golden.firmware.ident.Ident`); ``scan_only``:
+    the inductances, the angle and the noise of the scan alone (a program that stopped after it)."""
     sc_, hw = scales(sc), hardware_config(sc)
     f_sw, i_lsb, v_lsb = sc_.f_sw, sc_.i_lsb, sc_.v_lsb
     p = prog.params
@@ -358,6 +359,8 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings) -> Results:
     g_sal = y2 * (gain(scan[0]) - gain(scan[0] - 1))                  # the saliency part of GAMMA [LSB] per v_h
     res.snr = g_sal / sigma if sigma > 0 else math.inf
     res.scan.update(sigma=sigma, g_sal=g_sal, v_hf=(vh[scan[0]] - vh[scan[0] - 1]) * v_lsb)
+    if scan_only:
+        return res
     # map: the columns of the inverse incremental inductance from the d and q injections (pairs of steps)
     mp = [k for k, s in enumerate(prog.steps) if s.stage == "map"][1::2]
     for kd, kq in zip(mp[::2], mp[1::2]):

@@ -104,14 +104,18 @@ def cmd_faults(args) -> int:
 
 
 def cmd_commission(args) -> int:
-    from hfi.commission import commission   # imports matplotlib: only when needed
+    from hfi.commission import CommissionError, commission   # imports matplotlib: only when needed
     if args.backend != "golden":
         print("hfi commission: only --backend golden reads the firmware's identification sums back so far "
               "(docs/commissioning.md)", file=sys.stderr)
         return 1
     path = Path(args.file)
     out = Path(args.out) if args.out else ROOT / "out" / (path.stem + "_commission")
-    commission(path, out, progress=not args.quiet)
+    try:
+        commission(path, out, progress=not args.quiet)
+    except CommissionError as exc:
+        print(f"hfi commission: {exc}", file=sys.stderr)
+        return 1
     print(f"wrote {out}/commission.json, commissioned.toml and the figures", flush=True)
     return 0
 

@@ -155,7 +155,7 @@ def commission(path: str | Path, out: Path, progress: bool = True) -> dict:
     run = cl.run(progress=progress)
     fw = cl.fw
     if fw.ident is None or not fw.ident.done:
-        raise RuntimeError(f"the identification program did not finish (mode {fw.mode}, fault {fw.fault})")
+        raise CommissionError(_stopped(prog, fw, sc, cs))
     res = reduce(prog, fw.ident, sc, cs)
     tr = truth(sc)
     rows = {}
@@ -189,6 +189,30 @@ def commission(path: str | Path, out: Path, progress: bool = True) -> dict:
     if progress:
         _print(summary)
     return summary
+
+
+class CommissionError(RuntimeError):
+    """The identification program stopped before its end; the message says where and why."""
+
+
+def _stopped(prog, fw, sc, cs) -> str:
+    """Where the program stopped, with what the scan saw when it got that far."""
+    from golden.firmware.protection import FAULT_NAMES
+    k = fw.ident.k
+    stage = prog.steps[k].stage if k < len(prog.steps) else "end"
+    msg = (f"{sc.name}: the identification program stopped in stage {stage!r} (step {k} of {prog.params.n_steps}), "
+           f"fault {FAULT_NAMES[fw.fault]}")
+    last_scan = max(i for i, s in enumerate(prog.steps) if s.stage == "scan")
+    if k > last_scan:
+        res = reduce(prog, fw.ident, sc, cs, scan_only=True)
+        sal = (res.values["L_q"] - res.values["L_d"]) / (res.values["L_q"] + res.values["L_d"])
+        msg += (f"; the scan at zero current saw L_d {res.values['L_d']:.4g} H, L_q {res.values['L_q']:.4g} H "
+                f"(saliency {100 * sal:.2f} %, SNR {res.snr:.1f} per window)")
+        if res.snr < SNR_MIN_SALIENCY or abs(sal) < 0.02:
+            msg += (": too little saliency at zero current to find the rotor angle, so the map and the spin ran in "
+                    "a wrong frame (a reluctance machine whose saliency appears only with current needs a biased "
+                    "scan: docs/commissioning.md)")
+    return msg
 
 
 def _print(s: dict) -> None:

@@ -8,6 +8,11 @@ struct layouts and prototypes are written.
 The converters map the golden objects of :mod:`golden.firmware` and :mod:`golden.fpga.demodulator` to
 the C structs and back, field by field under the same names. cffi raises ``OverflowError`` when a
 golden value does not fit its C field (e.g. an unbounded Python int beyond the C type).
+
+The identification program (``FirmwareParams.ident``, the executor ``Firmware.ident``) is not part of
+``struct fw_params`` / ``struct fw_state``: it sits in a ``struct fw_ident`` that ``fw_state.ident`` points to
+(NULL: none; control.h). :func:`new_state` and :func:`state_to_c` allocate that block and keep it alive as long
+as the state object (:data:`_IDENT_BLOCKS`).
 """
 
 from __future__ import annotations
@@ -15,13 +20,14 @@ from __future__ import annotations
 import fcntl
 import functools
 import subprocess
+import weakref
 from dataclasses import fields as dataclass_fields, is_dataclass, replace
 from pathlib import Path
 
 import cffi
 
 from golden.firmware.biquad import BiquadState
-from golden.firmware.ident import IDENT_MAX
+from golden.firmware.ident import IDENT_MAX, Ident, IdentParams
 from golden.firmware.pi import PiParams
 from golden.firmware.pll import PllState
 from golden.firmware.supervisor import Firmware, FirmwareParams, Outputs
@@ -52,11 +58,16 @@ OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_re
 PI_FIELDS = ("kp", "sp", "ki", "si", "limit")
 """Fields shared by ``struct fw_pi_params`` and :class:`~golden.firmware.pi.PiParams`."""
 IDENT_FIELDS = ("k", "n", "theta", "w", "theta_r", "kp", "ki", "lvl", "ref_d", "ref_q", "jump", "fit_x", "fit_y",
-                "fit_y0", "failed", "done")
+                "fit_y0", "failed", "done", "g2")
 """Scalar fields shared by ``struct fw_ident_state`` and :class:`~golden.firmware.ident.Ident` (besides its
 per-step sum arrays, :data:`IDENT_ARRAYS`)."""
-IDENT_ARRAYS = ("r_id", "r_iq", "r_vd", "r_vq", "r_gd", "r_gq", "r_g2")
+IDENT_ARRAYS = ("r_id", "r_iq", "r_vd", "r_vq", "r_gd", "r_gq")
 """The per-step sum arrays of ``struct fw_ident_state`` and :class:`~golden.firmware.ident.Ident` (IDENT_MAX each)."""
+
+
+_IDENT_BLOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+"""``struct fw_state *`` -> the ``struct fw_ident *`` its ``ident`` points to (made by :func:`new_state`,
+:func:`state_to_c`, :func:`attach_ident`): the block lives as long as the state object."""
 
 
 class FirmwareBuildError(RuntimeError):
@@ -133,19 +144,47 @@ def params_to_c(ffi: cffi.FFI, p: FirmwareParams):
     dataclasses such as ``HfoParams.lut`` and tuples such as the tables go into their structs and arrays);
     ``fixed_enable = 1`` and ``fixed_angle = uwrap(angle, 32)`` for an open-loop test angle (as
     ``Firmware.__post_init__``), both 0 for ``fixed_angle=None``; ``fcs.len`` = ``len(fcs.t_d)`` (C only, as
-    ``mtpa_len``); ``ident_on = 1`` and the program in ``ident`` (with its ``n_steps``) for an identification
-    program, ``ident_on = 0`` (the block zero) for ``ident=None``."""
+    ``mtpa_len``). ``p.ident`` (the identification program) does not go here: it goes with the state
+    (:func:`new_state`, ``struct fw_ident``)."""
     c = ffi.new("struct fw_params *")
-    _fill(c, replace(p, fixed_angle=None))
+    _fill(c, replace(p, fixed_angle=None, ident=None))
     c.fixed_enable = 0 if p.fixed_angle is None else 1
     c.fixed_angle = 0 if p.fixed_angle is None else uwrap(p.fixed_angle, 32)
     c.mtpa_len = len(p.mtpa_id)
     c.notch_on = 0 if p.notch is None else 1
     c.fcs.len = 0 if p.fcs is None else len(p.fcs.t_d)
-    c.ident_on = 0 if p.ident is None else 1
-    if p.ident is not None:
-        c.ident.n_steps = p.ident.n_steps      # derived (init=False): _fill skips it
     return c
+
+
+def ident_to_c(ffi: cffi.FFI, ip: IdentParams):
+    """``struct fw_ident *`` with the program ``ip`` in ``p`` (``n_steps`` too) and the executor's state ``s`` zero
+    (``fw_init`` starts it)."""
+    c = ffi.new("struct fw_ident *")
+    _fill(c.p, ip)
+    c.p.n_steps = ip.n_steps      # derived (init=False): _fill skips it
+    return c
+
+
+def attach_ident(ffi: cffi.FFI, st, ip: IdentParams | None):
+    """Point ``st.ident`` (a ``struct fw_state *``) at a new :func:`ident_to_c` block of ``ip``, kept alive with
+    ``st``, or set it NULL for ``ip=None``; returns the block (or None)."""
+    if ip is None:
+        st.ident = ffi.NULL
+        _IDENT_BLOCKS.pop(st, None)
+        return None
+    block = ident_to_c(ffi, ip)
+    st.ident = block
+    _IDENT_BLOCKS[st] = block
+    return block
+
+
+def new_state(ffi: cffi.FFI, p: FirmwareParams):
+    """A zero ``struct fw_state *`` for ``fw_init(st, params_to_c(p))``: its ``ident`` points at a block holding
+    ``p.ident`` (:func:`attach_ident`; NULL for ``ident=None``), so that fw_init starts the identification
+    program as ``Firmware(p)`` does."""
+    st = ffi.new("struct fw_state *")
+    attach_ident(ffi, st, p.ident)
+    return st
 
 
 def window_to_c(ffi: cffi.FFI, w: WindowResult, c=None):
@@ -193,7 +232,8 @@ def _biquad_from(c) -> BiquadState:
 
 
 def state_to_c(ffi: cffi.FFI, fw: Firmware):
-    """``struct fw_state *`` holding the state of ``fw`` (its parameters go by :func:`params_to_c`)."""
+    """``struct fw_state *`` holding the state of ``fw`` (its parameters go by :func:`params_to_c`); with an
+    executor (``fw.ident``) ``ident`` points at a block of its program and state (NULL for None)."""
     c = ffi.new("struct fw_state *")
     for name in STATE_FIELDS:
         setattr(c, name, getattr(fw, name))
@@ -206,11 +246,12 @@ def state_to_c(ffi: cffi.FFI, fw: Firmware):
     for est in fw.slots:
         if est is not None:
             _estimator_into(getattr(c, est.PARAMS), est)
-    if fw.ident is not None:
+    block = attach_ident(ffi, c, None if fw.ident is None else fw.ident.p)
+    if block is not None:
         for name in IDENT_FIELDS:
-            setattr(c.ident, name, getattr(fw.ident, name))
+            setattr(block.s, name, getattr(fw.ident, name))
         for name in IDENT_ARRAYS:
-            getattr(c.ident, name)[0:IDENT_MAX] = getattr(fw.ident, name)
+            getattr(block.s, name)[0:IDENT_MAX] = getattr(fw.ident, name)
     return c
 
 
@@ -225,8 +266,17 @@ def outputs_from_c(c) -> Outputs:
     return Outputs(*(getattr(c, name) for name in OUTPUT_FIELDS))
 
 
+def ident_params_from_c(c) -> IdentParams:
+    """The :class:`IdentParams` held by a ``struct fw_ident_params`` (its first ``n_steps`` steps)."""
+    n = c.n_steps
+    return IdentParams(**{f.name: tuple(getattr(c, f.name)[0:n]) if f.name.startswith("s_") else getattr(c, f.name)
+                          for f in dataclass_fields(IdentParams) if f.init})
+
+
 def state_from_c(c, p: FirmwareParams) -> Firmware:
-    """A golden :class:`Firmware` with parameters ``p`` and the state held by a ``struct fw_state``."""
+    """A golden :class:`Firmware` with parameters ``p`` and the state held by a ``struct fw_state``; its executor
+    from the block ``c.ident`` points to (None for NULL, whatever ``p.ident``; one with the block's program when
+    ``p.ident`` is None)."""
     fw = Firmware(p)
     for name in STATE_FIELDS:
         setattr(fw, name, getattr(c, name))
@@ -251,9 +301,14 @@ def state_from_c(c, p: FirmwareParams) -> Firmware:
             else:
                 v = getattr(block, name)
             setattr(est, name, v)
-    if fw.ident is not None:        # the executor (p.ident set): its state from the block, by name
+    if not c.ident:                 # NULL: no executor
+        fw.ident = None
+    else:                           # the executor: its state from the block, by name
+        if fw.ident is None:
+            fw.ident = Ident(ident_params_from_c(c.ident.p))
+        s = c.ident.s
         for name in IDENT_FIELDS:
-            setattr(fw.ident, name, getattr(c.ident, name))
+            setattr(fw.ident, name, getattr(s, name))
         for name in IDENT_ARRAYS:
-            setattr(fw.ident, name, list(getattr(c.ident, name)))
+            setattr(fw.ident, name, list(getattr(s, name)))
     return fw

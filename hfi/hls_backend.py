@@ -98,7 +98,11 @@ class HlsClosedLoop:
         setup.ds_from_tick = INT64_MAX if ds is None else math.ceil(ds * tick_hz)
         refs = ffi.from_buffer("int32_t[]", speed_ref)
         setup.speed_ref = refs
-        fwp = params_to_c(ffi, firmware_params(sc))
+        fp = firmware_params(sc)
+        if fp.ident is not None:    # params_to_c leaves the program out; the loop's fw_state.ident stays NULL
+            raise HlsBackendError(f"scenario {sc.name}: control.mode = \"commission\" runs on the golden backend "
+                                  "only (the hls loop starts the firmware without an identification program)")
+        fwp = params_to_c(ffi, fp)
         plant = Plant(sc.plant)
         err = ffi.new("char[]", 512)
         h = lib.hls_loop_create(setup, fwp, ffi.cast("struct plant *", plant._p), err, 512)

@@ -192,7 +192,11 @@ def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     h.wdt_periods = rm.WDT_PERIODS_VALUE_RESET
     h.adc_mode, h.inj_en, h.inj_rot, h.inj_step = hw.adc_mode, 1, hw.inj_rot, hw.inj_step
     h.inj_per, h.cic_m, h.direct = hw.inj_per, hw.cic_m, hw.direct
-    p = params_to_c(_cfg_ffi, firmware_params(sc))
+    fp = firmware_params(sc)
+    if fp.ident is not None:        # params_to_c leaves the program out (it goes with the state, control.h)
+        raise RtlBackendError(f"scenario {sc.name}: control.mode = \"commission\" runs on the golden backend only: "
+                              "the firmware image has no identification executor (firmware/Makefile, FW_NO_IDENT)")
+    p = params_to_c(_cfg_ffi, fp)
     cfg.fw = p[0]
     return bytes(_cfg_ffi.buffer(cfg))
 

@@ -13,6 +13,7 @@ set, else a fresh one, and it is printed (replay: ``HFI_SEED=<seed> .venv/bin/py
 from __future__ import annotations
 
 import functools
+import gc
 import shutil
 import typing
 from dataclasses import fields as dataclass_fields, replace
@@ -176,18 +177,31 @@ def test_blocks_match_golden_fields():
         [f.name for f in dataclass_fields(Outputs)]
     assert set(fw_c.STATE_FIELDS) <= {f.name for f in dataclass_fields(Firmware)}
     assert "vec_before" in fw_c.STATE_FIELDS
-    # the identification program: its parameters and the executor's state, field by field under the golden names
+    # the identification program: outside fw_params / fw_state (the RISC-V image's RAM, control.h), in a struct
+    # fw_ident the state points to (NULL: none); its parameters and the executor's state, field by field under
+    # the golden names
+    params_fields, state_fields = dict(ffi.typeof("struct fw_params").fields), dict(ffi.typeof("struct fw_state").fields)
+    assert not {"ident", "ident_on"} & set(params_fields)
+    assert state_fields["ident"].type.kind == "pointer" and state_fields["ident"].type.item.cname == "struct fw_ident"
+    assert list(state_fields)[-1] == "ident"
+    assert [(name, f.type.cname) for name, f in ffi.typeof("struct fw_ident").fields] == \
+        [("p", "struct fw_ident_params"), ("s", "struct fw_ident_state")]
     assert [name for name, _ in ffi.typeof("struct fw_ident_params").fields] == \
         [f.name for f in dataclass_fields(IdentParams)]
     assert [name for name, _ in ffi.typeof("struct fw_ident_state").fields] == \
-        [f.name for f in dataclass_fields(Ident) if f.name != "p"] == [*fw_c.IDENT_FIELDS, *fw_c.IDENT_ARRAYS]
+        [f.name for f in dataclass_fields(Ident) if f.name != "p"]
+    assert sorted(name for name, _ in ffi.typeof("struct fw_ident_state").fields) == \
+        sorted([*fw_c.IDENT_FIELDS, *fw_c.IDENT_ARRAYS])
     ip, ist = dict(ffi.typeof("struct fw_ident_params").fields), dict(ffi.typeof("struct fw_ident_state").fields)
     assert {ip[n].type.length for n in ("s_n", "s_m", "s_id", "s_iq", "s_vh", "s_phi", "s_dw", "s_flags")} == \
         {ist[n].type.length for n in fw_c.IDENT_ARRAYS} == {IDENT_MAX}
     assert ip["s_phi"].type.item.cname == "uint32_t" and ip["c_kp"].type.cname == ip["c_lvl"].type.cname == "int64_t"
-    assert {ist[n].type.item.cname for n in fw_c.IDENT_ARRAYS} == {"int64_t"}
-    assert {n: ist[n].type.cname for n in ("theta", "theta_r", "fit_x", "fit_y", "fit_y0")} == \
-        {"theta": "uint32_t", "theta_r": "uint32_t", "fit_x": "int64_t", "fit_y": "int64_t", "fit_y0": "int64_t"}
+    # the s16 means sum in s32 over at most M_MAX windows, the responses in s64
+    assert {n: ist[n].type.item.cname for n in fw_c.IDENT_ARRAYS} == \
+        {"r_id": "int32_t", "r_iq": "int32_t", "r_vd": "int32_t", "r_vq": "int32_t", "r_gd": "int64_t", "r_gq": "int64_t"}
+    assert {n: ist[n].type.cname for n in ("theta", "theta_r", "fit_x", "fit_y", "fit_y0", "g2")} == \
+        {"theta": "uint32_t", "theta_r": "uint32_t", "fit_x": "int64_t", "fit_y": "int64_t", "fit_y0": "int64_t",
+         "g2": "int64_t"}
 
 
 def test_build_failure_reports_make_output(tmp_path):
@@ -359,7 +373,8 @@ def test_protect_step_random_sequences(seed):
                 (want, gold.emf_f, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0), \
                 (seed, q, k, p)
             seen.add(want)
-    assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE}, seen
+    assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE,
+                                                    protection.FAULT_IDENT}, seen
 
 
 # ---- speed filter --------------------------------------------------------------------------------------------
@@ -467,7 +482,7 @@ class Pair:
         self.p, self.fw = p, Firmware(p) if fw is None else fw
         self.cp = fw_c.params_to_c(ffi, p)
         if fw is None:
-            self.st = ffi.new("struct fw_state *")
+            self.st = fw_c.new_state(ffi, p)      # with p.ident: st.ident points at its program
             lib.fw_init(self.st, self.cp)
         else:
             self.st = fw_c.state_to_c(ffi, fw)
@@ -1438,32 +1453,30 @@ def test_hfo_fcs_params_of_the_scenario():
 # ---- self-commissioning: the identification program (golden.firmware.ident, MODE_IDENT / MODE_DONE) -----------
 F = ident_mod
 IDENT_PROGRAMS = 400
-IDENT_GAMMA = 1 << 28           # |GAMMA_D|, |GAMMA| of the ident windows (control.h: the sums stay within int64)
-IDENT_I_MAX = 1 << 29           # |s_id|, |s_iq| (control.h: the references in use stay within s32)
 
 
 def random_ident(rng: np.random.Generator) -> IdentParams:
-    """A random program: 1..12 steps (one in twenty 100..IDENT_MAX one-window steps, the arrays' ends), each of
-    1..6 windows and 0..n summed, currents mostly within s16 (sometimes up to IDENT_I_MAX), any amplitude, angle
-    and speed change (the frame speed saturates), random flags (F_SNAP among them); F_FIT and F_POL only from the second step on, and an
-    F_FIT step's amplitude not below its predecessor's (kp >= 0: golden's PiParams refuses a negative gain;
-    control.h); gain constants over their ranges."""
+    """A random program that IdentParams accepts: 1..12 steps (one in twenty 100..IDENT_MAX one-window steps, the
+    arrays' ends), each of 1..6 windows and 0..n summed, s16 currents (mostly small, sometimes the extremes), any
+    amplitude, angle and speed change (the frame speed saturates), random flags; F_SNAP only on steps of n >= 2,
+    F_FIT and F_POL only from the second step on, an F_FIT step's amplitude above its predecessor's (kp >= 0);
+    gain constants over their ranges."""
     long = rng.random() < 0.05
     n = int(rng.integers(100, IDENT_MAX + 1)) if long else int(rng.integers(1, 13))
     s_n = [1] * n if long else [int(v) for v in rng.integers(1, 7, size=n)]
     s_m = [int(rng.integers(0, k + 1)) for k in s_n]
-    cur = [draw(rng, n, -(1 << 15), (1 << 15) - 1, (0,)) if rng.random() < 0.8
-           else draw(rng, n, -IDENT_I_MAX, IDENT_I_MAX) for _ in range(2)]
+    cur = [draw(rng, n, -(1 << 15), (1 << 15) - 1, (0,)) if rng.random() < 0.6
+           else draw(rng, n, -3000, 3000, (0,)) for _ in range(2)]
     s_vh = draw(rng, n, 0, S16_MAX, (0, 1, 300))
     s_phi = draw(rng, n, 0, U32_MAX, (0, 1 << 30, 1 << 31, 3 << 30))
     s_dw = draw(rng, n, -(1 << 16), 1 << 16, (0,)) if rng.random() < 0.7 else draw(rng, n, S32_MIN, S32_MAX)
     base = (F.F_SET, F.F_SCAN, F.F_NEG, F.F_OPEN, F.F_LEVEL, F.F_ABS, F.F_SNAP)
     s_flags = []
     for k in range(n):
-        f = sum(b for b in base if rng.random() < 0.4)
-        if k > 0 and rng.random() < 0.3:
+        f = sum(b for b in base if rng.random() < 0.4 and (b != F.F_SNAP or s_n[k] >= 2))
+        if k > 0 and s_vh[k - 1] < S16_MAX and rng.random() < 0.3:
             f |= F.F_FIT
-            s_vh[k] = max(s_vh[k], s_vh[k - 1])
+            s_vh[k] = max(s_vh[k], s_vh[k - 1] + 1)
         if k > 0 and rng.random() < 0.3:
             f |= F.F_POL
         s_flags.append(f)
@@ -1476,13 +1489,17 @@ def random_ident(rng: np.random.Generator) -> IdentParams:
 
 
 def ident_windows(rng: np.random.Generator, count: int, i_trip: int) -> list[WindowResult]:
-    """:func:`random_windows` with GAMMA, GAMMA_D within +-IDENT_GAMMA, GAMMA_D mostly of one sign (biased
-    positive in two programs of three: the probe and the scan see a response, the program runs on)."""
-    bias = (IDENT_GAMMA // 2 if rng.random() < 2 / 3 else draw_one(rng, -IDENT_GAMMA // 2, IDENT_GAMMA // 2))
-    g = draw_array(rng, count, -IDENT_GAMMA // 2, IDENT_GAMMA // 2).tolist()
-    gd = draw_array(rng, count, -IDENT_GAMMA // 2, IDENT_GAMMA // 2)
-    gd = (np.where(rng.random(count) < 0.8, gd // 8, gd) + bias).tolist()
-    return [replace(w, gamma=a, gamma_d=b) for w, a, b in zip(random_windows(rng, count, i_trip, 0), g, gd)]
+    """:func:`random_windows` with s16 current means (the hardware's: sums of s16 samples; control.h) and
+    GAMMA, GAMMA_D within +-scale (2^20, 2^23: around the noise sum's 24-bit saturation, or all of s32), GAMMA_D
+    mostly of one sign (biased positive in two programs of three: the probe and the scan see a response, the
+    program runs on)."""
+    scale = int(rng.choice([1 << 20, 1 << 23, 1 << 31]))
+    bias = scale // 2 if rng.random() < 2 / 3 else draw_one(rng, -scale // 2, scale // 2)
+    g = draw(rng, count, max(-scale, S32_MIN), min(scale, S32_MAX))
+    gd = draw_array(rng, count, -scale // 2, scale // 2)
+    gd = np.clip(np.where(rng.random(count) < 0.8, gd // 8, gd) + bias, S32_MIN, S32_MAX).tolist()
+    windows = random_windows(rng, count, min(i_trip, S16_MAX), 0)
+    return [replace(w, gamma=a, gamma_d=b) for w, a, b in zip(windows, g, gd)]
 
 
 def test_ident_random_programs(seed):
@@ -1519,7 +1536,7 @@ def test_ident_random_programs(seed):
 
 
 def _ident_params(ip: IdentParams, **kw) -> FirmwareParams:
-    return _params(ident=ip, i_trip=1 << 20, **kw)
+    return _params(**{"ident": ip, "i_trip": 1 << 20, **kw})
 
 
 def _program(steps, **kw) -> IdentParams:
@@ -1574,18 +1591,76 @@ def test_ident_program_runs_to_done():
     assert n == sum(ip.s_n)
     idn = pair.fw.ident
     assert pair.fw.mode == MODE_DONE and idn.done == 1 and idn.failed == 0 and idn.k == ip.n_steps
-    assert idn.lvl != 1 << 16 and idn.kp > 0 and idn.ki > 0 and idn.r_g2[0] > 0
+    assert idn.lvl != 1 << 16 and idn.kp > 0 and idn.ki > 0 and idn.g2 > 0
     for _ in range(3):
         assert pair.step(_win(gamma=5, gamma_d=5), 0) == Outputs(0, 0, 0, 0, 32767, 0)
     assert pair.fw.mode == MODE_DONE
 
 
-def test_ident_first_step_reads_the_last_as_previous():
-    """F_FIT and F_POL on step 0 read step k - 1 = -1 as Python does (golden does not forbid it): s_vh of the
-    program's last step and r_gd[IDENT_MAX - 1]; the C mirrors it."""
-    ip = _program([(3, 2, 0, 0, 3000, 0, 0, F.F_SET | F.F_OPEN | F.F_SCAN | F.F_FIT | F.F_POL),
-                   (2, 1, 100, 0, 1000, 0, 0, F.F_SET)])
-    pair = Pair(_ident_params(ip))
-    for k in range(5):
-        pair.step(_win(gamma=300, gamma_d=900), 0, k)
-    assert pair.fw.mode == MODE_DONE and pair.fw.ident.kp > 0 and pair.fw.ident.theta_r >= 1 << 31
+def test_ident_block_converters():
+    """new_state / state_to_c / state_from_c: fw_state.ident NULL <-> None; a program's block (n_steps included)
+    kept alive with the state; fw_init keeps the pointer and starts the program, and starts CONVERGE without one
+    (a params block does not carry the program)."""
+    ip = _program([(3, 2, 100, -5, 1000, 7, 3, F.F_SET | F.F_OPEN), (2, 1, 0, 0, 0, 0, 0, F.F_SET)])
+    st = fw_c.new_state(ffi, _params())
+    assert st.ident == ffi.NULL and fw_c.state_from_c(st, _params()).ident is None
+    p = _ident_params(ip)
+    st = fw_c.new_state(ffi, p)
+    block = st.ident
+    gc.collect()
+    assert fw_c.ident_params_from_c(block.p) == ip and block.p.n_steps == 2
+    lib.fw_init(st, fw_c.params_to_c(ffi, p))
+    assert st.ident == block and st.mode == MODE_IDENT and block.s.lvl == 1 << 16
+    assert fw_c.state_from_c(st, replace(p, ident=None)).ident.p == ip     # the program from the block
+    assert fw_c.state_from_c(st, p).ident == Firmware(p).ident
+    fw = Firmware(p)
+    fw.ident.r_gd[5], fw.ident.g2 = -(1 << 40), 1 << 50
+    c = fw_c.state_to_c(ffi, fw)
+    assert fw_c.ident_params_from_c(c.ident.p) == ip and fw_c.state_from_c(c, p).ident == fw.ident
+    assert fw_c.state_to_c(ffi, Firmware(_params())).ident == ffi.NULL
+
+
+def test_ident_programs_refused():
+    """The programs the C does not handle (control.h) are refused by IdentParams: F_FIT or F_POL on step 0 (no step
+    before), F_FIT not above the step before, F_SNAP with n < 2, currents beyond s16, m beyond M_MAX."""
+    ok = (3, 2, 0, 0, 1000, 0, 0, F.F_SET | F.F_OPEN | F.F_SCAN)
+    _program([ok, (3, 2, 0, 0, 2000, 0, 0, F.F_SET | F.F_OPEN | F.F_SCAN | F.F_FIT | F.F_POL)])
+    _program([(F.M_MAX + 1, F.M_MAX, -(1 << 15), (1 << 15) - 1, 0, 0, 0, F.F_SET | F.F_SNAP)])
+    for steps in ([(3, 2, 0, 0, 3000, 0, 0, F.F_SET | F.F_OPEN | F.F_SCAN | F.F_FIT), ok],
+                  [(3, 2, 0, 0, 3000, 0, 0, F.F_SET | F.F_POL), ok],
+                  [ok, (3, 2, 0, 0, 1000, 0, 0, F.F_SET | F.F_OPEN | F.F_SCAN | F.F_FIT)],
+                  [ok, (1, 0, 0, 0, 0, 0, 0, F.F_SET | F.F_SNAP)],
+                  [ok, (3, 2, 1 << 15, 0, 0, 0, 0, F.F_SET)], [ok, (3, 2, 0, -(1 << 15) - 1, 0, 0, 0, F.F_SET)],
+                  [ok, (F.M_MAX + 1, F.M_MAX + 1, 0, 0, 0, 0, 0, F.F_SET)]):
+        with pytest.raises(ValueError):
+            _program(steps)
+
+
+def test_ident_sums_at_their_limits():
+    """A step of M_MAX + 1 windows summed over M_MAX at the extremes the formats allow (control.h): s16 current
+    means, the voltages at the PI limit 32767 (a scan pair first sets the largest kp; the current errors of
+    65535), s32 responses (the noise sum saturates them to 24 bits, the scan sums reach 2^61); a fit after it.
+    C = golden: the outputs every window, the state every 1000."""
+    n = F.M_MAX + 1
+    ip = _program([(3, 2, 0, 0, 1000, 0, 0, F.F_SET | F.F_OPEN | F.F_SCAN | F.F_NEG),
+                   (3, 2, 0, 0, 2000, 0, 0, F.F_SET | F.F_OPEN | F.F_SCAN | F.F_FIT),
+                   (n, F.M_MAX, -(1 << 15), (1 << 15) - 1, 1000, 0, 0, F.F_SET | F.F_SCAN),
+                   (4, 3, 0, 0, 2000, 0, 0, F.F_SET | F.F_SCAN | F.F_FIT)],
+                  v_lim=S16_MAX, c_kp=(1 << 46) - 1, c_ki=1 << 16, i_slew=1 << 20)
+    pair = Pair(_ident_params(ip, i_trip=S32_MAX))
+    for k in range(6):
+        pair.step(_win(gamma=0, gamma_d=1000 if k < 3 else 5000), 0, k)
+    assert pair.fw.ident.kp == F.KP_MAX
+    w = _win(gamma=S32_MIN, gamma_d=S32_MAX, sum_id=S16_MAX, sum_iq=S16_MIN, n=1)
+    for k in range(n + 4):
+        want = pair.fw.step(w, 0)
+        lib.fw_step(pair.st, pair.cp, fw_c.window_to_c(ffi, w, pair.win), 0, pair.out)
+        assert fw_c.outputs_from_c(pair.out) == want, k
+        if k % 1000 == 0 or k >= n - 2:
+            pair.check_state(k)
+    idn = pair.fw.ident
+    assert pair.fw.mode == MODE_DONE and idn.failed == 0
+    assert (idn.r_id[2], idn.r_iq[2]) == (S16_MAX * F.M_MAX, S16_MIN * F.M_MAX)
+    assert idn.r_vd[2] < -S16_MAX * (F.M_MAX - 4) and idn.r_vq[2] > S16_MAX * (F.M_MAX - 4)
+    assert idn.r_gd[2] == S32_MAX * F.M_MAX and idn.fit_x > 1 << 60
+    assert idn.g2 >= F.M_MAX * ((1 << 2 * (F.G2_BITS - 1) + 1) - (1 << F.G2_BITS)) >> F.G2_SHIFT

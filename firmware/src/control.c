@@ -4,7 +4,8 @@
  * integer operations its docstring prescribes for C, in the same order: int32_t/uint32_t/int64_t only,
  * arithmetic right shifts of signed values (GCC), wrapping unsigned adds for binary angles, casts to
  * int32_t for angle differences (golden.fixed.wrap), `/` for golden.fixed.c_div. No floating point,
- * no libc, no global mutable state (the only static data is the generated CORDIC table).
+ * no libc but memset (firmware/src/mem.c on the core), no global mutable state (the only static data is the
+ * generated CORDIC table).
  * For the cycle budget on PicoRV32 a few steps take a cheaper form with the same value for every legal
  * input (each says so where it is): the PI error as an overflow-checked 32-bit subtraction, 64-bit
  * shifts by 0..31 from 32-bit halves, the speed filter's r a in uint32_t, the CORDIC unrolled, the PI
@@ -17,8 +18,12 @@
  */
 #include "control.h"
 
+#include <stddef.h>
+
 #include "fw_cordic_table.h"
 #include "fw_methods.h"
+
+void *memset(void *dst, int c, size_t n); /* firmware/src/mem.c (the host build: the C library's) */
 
 #define HALF_TURN 0x80000000u /* golden.firmware.supervisor.HALF_TURN: half an electrical turn */
 
@@ -1104,21 +1109,234 @@ static int32_t slot_method(const struct fw_params *p, int32_t slot)
     return slot == FW_SLOT_LOW ? p->low : p->high;
 }
 
+/* ---- self-commissioning: the identification program's executor (golden.firmware.ident.Ident) ----- */
+
+_Static_assert(sizeof(((struct fw_ident_params *)0)->s_n) / sizeof(int32_t) == FW_IDENT_MAX,
+               "struct fw_ident_params: the step arrays must have FW_IDENT_MAX entries");
+_Static_assert(sizeof(((struct fw_ident_state *)0)->r_id) / sizeof(int32_t) == FW_IDENT_MAX &&
+               sizeof(((struct fw_ident_state *)0)->r_gd) / sizeof(int64_t) == FW_IDENT_MAX,
+               "struct fw_ident_state: the sum arrays must have FW_IDENT_MAX entries");
+
+/* FW_NO_IDENT (the RISC-V image by default, firmware/Makefile): the executor is compiled out; fw_init does not
+ * read fw_state.ident and the state never enters FW_IDENT. The host build (cffi, tests/test_fw_c.py) has it. */
+#ifndef FW_NO_IDENT
+
+enum { F_SET = 1, F_SCAN = 2, F_FIT = 4, F_POL = 8, F_OPEN = 16, F_LEVEL = 32, F_ABS = 64, F_NEG = 128,
+       F_SNAP = 256 }; /* ident.F_* */
+#define IDENT_KP_MAX INT32_MAX         /* ident.KP_MAX */
+#define IDENT_SIXTH 715827882          /* ident.SIXTH = 2^32 // 6 */
+#define VECTOR_INPUT_LIMIT (1 << 28)   /* golden.firmware.vector.INPUT_LIMIT */
+#define IDENT_G2_SHIFT 8               /* ident.G2_SHIFT */
+#define IDENT_G2_BITS 24               /* ident.G2_BITS */
+
+/* Ident._start: enter step k; F_SET puts the frame at theta_r + phi (F_ABS: at phi), at rest, and keeps its
+ * turn (jump); F_SNAP then sets the speed that takes it to the nearest phase axis over the step's other
+ * windows: w = c_div(wrap(axis - theta, 32), max(n - 1, 1)) with axis = ((floor((theta + SIXTH / 2) / SIXTH)
+ * mod 6) 2^32) // 6 (in int64: theta + SIXTH / 2 exceeds u32). */
+static void ident_start(struct fw_ident_state *id, const struct fw_ident_params *p)
+{
+    int32_t f = p->s_flags[id->k];
+
+    if (f & F_SET) {
+        uint32_t theta = ((f & F_ABS) ? 0u : id->theta_r) + p->s_phi[id->k];
+
+        id->jump = theta - id->theta;
+        id->theta = theta;
+        id->w = 0;
+        if (f & F_SNAP) {
+            int64_t sector = (((int64_t)theta + (IDENT_SIXTH >> 1)) / IDENT_SIXTH) % 6;
+            uint32_t axis = (uint32_t)((sector << 32) / 6);
+            int32_t n1 = p->s_n[id->k] - 1;
+
+            id->w = (int32_t)(axis - theta) / (n1 > 1 ? n1 : 1);   /* c_div, the divisor >= 1 (n >= 2) */
+        }
+    }
+}
+
+/* Ident.__init__ / __post_init__: everything 0 (cleared in place) but the level factor (1.0, Q16), then step 0
+ * starts. */
+static void ident_init(struct fw_ident_state *id, const struct fw_ident_params *p)
+{
+    memset(id, 0, sizeof *id);
+    id->lvl = 1 << 16;
+    ident_start(id, p);
+}
+
+/* Ident.v_h: min(shr(s_vh[k] lvl, 16), vh_max) (s_vh <= 2^15, lvl <= 2^24: the product below 2^39) */
+static int32_t ident_v_h(const struct fw_ident_state *id, const struct fw_ident_params *p, int32_t k)
+{
+    int64_t v = ((int64_t)p->s_vh[k] * id->lvl) >> 16;
+
+    return v < p->vh_max ? (int32_t)v : p->vh_max;
+}
+
+/* Ident._finish: the decisions at the end of step k (F_LEVEL, F_SCAN, F_FIT, F_POL, in this order). */
+static void ident_finish(struct fw_ident_state *id, const struct fw_ident_params *p, int32_t k)
+{
+    int32_t f = p->s_flags[k];
+
+    if (f & F_LEVEL) {
+        if (id->r_gd[k] <= 0) {
+            id->failed = 1;
+        } else {
+            int64_t lvl = p->c_lvl / id->r_gd[k];      /* c_div, both >= 0 */
+            id->lvl = lvl < p->lvl_max ? (int32_t)lvl : p->lvl_max;
+        }
+    }
+    if (f & F_SCAN) {
+        int32_t s2, c2;
+        int64_t g_d = id->r_gd[k], g_q = id->r_gq[k];
+
+        fw_sincos_q15(2u * p->s_phi[k], &s2, &c2);
+        if (f & F_NEG) {
+            g_d = -g_d;
+            g_q = -g_q;
+        }
+        id->fit_x += g_d * c2 - g_q * s2;
+        id->fit_y += g_d * s2 + g_q * c2;
+        id->fit_y0 += g_d;
+    }
+    if (f & F_FIT) {
+        int64_t x = id->fit_x, y = id->fit_y;
+        uint32_t a;
+        int32_t mag;
+
+        while (abs64(x) > VECTOR_INPUT_LIMIT || abs64(y) > VECTOR_INPUT_LIMIT) { /* max(|x|, |y|) > limit */
+            x >>= 1;
+            y >>= 1;
+        }
+        fw_vector_angle((int32_t)x, (int32_t)y, &a, &mag);
+        id->theta_r = a >> 1;
+        if (id->fit_y0 <= 0) {
+            id->failed = 1;
+        } else {
+            int64_t dv = (int64_t)ident_v_h(id, p, k) - ident_v_h(id, p, k - 1);   /* k >= 1 (IdentParams) */
+            int64_t kp = p->c_kp * dv / id->fit_y0;     /* c_div: 0 <= c_kp dv < 2^61 */
+
+            id->kp = kp < IDENT_KP_MAX ? (int32_t)kp : IDENT_KP_MAX;   /* >= 0: s_vh[k] > s_vh[k - 1] */
+            id->ki = (int32_t)(((int64_t)id->kp * p->c_ki) >> 16);
+        }
+    }
+    if (f & F_SNAP)
+        id->w = 0;
+    if ((f & F_POL) && id->r_gd[k] > id->r_gd[k - 1])   /* k >= 1 (IdentParams) */
+        id->theta_r += HALF_TURN;
+}
+
+/* Ident.measure: one window; summed when it is one of the step's last m; at the step's end, its action. */
+static void ident_measure(struct fw_ident_state *id, const struct fw_ident_params *p, int32_t i_d, int32_t i_q,
+                          int32_t gamma_d, int32_t gamma_q, const struct fw_outputs *now,
+                          const struct fw_outputs *before)
+{
+    int32_t k = id->k;
+
+    id->n++;
+    if ((int64_t)id->n > (int64_t)p->s_n[k] - p->s_m[k]) {
+        int32_t a, b;
+        int64_t v_d, v_q;
+
+        fw_window_voltage(now, before, &a, &b);
+        park64(a, b, now->sin, now->cos, &v_d, &v_q);
+        id->r_id[k] += i_d;                     /* s16-range means, m <= 32767: within int32 (control.h) */
+        id->r_iq[k] += i_q;
+        id->r_vd[k] += (int32_t)v_d;
+        id->r_vq[k] += (int32_t)v_q;
+        id->r_gd[k] += gamma_d;
+        id->r_gq[k] += gamma_q;
+        if (p->s_flags[k] & F_SCAN) {
+            int64_t g_d = sat_bits(gamma_d, IDENT_G2_BITS), g_q = sat_bits(gamma_q, IDENT_G2_BITS);
+
+            id->g2 += (g_d * g_d + g_q * g_q) >> IDENT_G2_SHIFT;   /* shr: the sum >= 0 */
+        }
+    }
+    if (id->n < p->s_n[k])
+        return;
+    ident_finish(id, p, k);
+    id->k = k + 1;
+    id->n = 0;
+    if (id->k == p->n_steps)
+        id->done = 1;
+    else
+        ident_start(id, p);
+}
+
+/* Ident.refs: in an F_SET step's first call the references in use and the PI integrators turn with the
+ * frame's jump (park, int64), else the frame advances (w += dw saturated, theta += w); the references approach
+ * the step's by at most i_slew; the window means of an F_SET step's first two calls (run in the frame before
+ * its jump) turn by the jump (park in int64), all others are used as measured (the PI's error is
+ * sat(ref - mean, 32) as golden's pi_step, formed here and handed to fw_pi_step as ref - 0); the current PIs
+ * (kp, ki Q16, the integrators id_int, iq_int of fw_state) or zero voltage (F_OPEN); out->v_h the step's
+ * amplitude. */
+static void ident_refs(struct fw_state *st, const struct fw_ident_params *p, int32_t i_d, int32_t i_q,
+                       struct fw_outputs *out)
+{
+    struct fw_ident_state *id = &st->ident->s;
+    int32_t k = id->k, f = p->s_flags[k], s, c;
+    int64_t d, q;
+
+    if ((f & F_SET) && id->n == 0) {
+        fw_sincos_q15(id->jump, &s, &c);
+        park64(id->ref_d, id->ref_q, s, c, &d, &q);
+        id->ref_d = sat16(sat32(d));            /* sat(x, 16); |d|, |q| < 2^17 (s16 references) */
+        id->ref_q = sat16(sat32(q));
+        park64(st->id_int, st->iq_int, s, c, &d, &q);
+        st->id_int = d;
+        st->iq_int = q;
+    } else {
+        id->w = sat32((int64_t)id->w + p->s_dw[k]);
+        id->theta += (uint32_t)id->w;
+    }
+    d = (int64_t)id->ref_d - p->i_slew;
+    q = (int64_t)id->ref_d + p->i_slew;
+    id->ref_d = (int32_t)(p->s_id[k] < d ? d : p->s_id[k] > q ? q : p->s_id[k]);
+    d = (int64_t)id->ref_q - p->i_slew;
+    q = (int64_t)id->ref_q + p->i_slew;
+    id->ref_q = (int32_t)(p->s_iq[k] < d ? d : p->s_iq[k] > q ? q : p->s_iq[k]);
+    d = i_d;
+    q = i_q;
+    if ((f & F_SET) && id->n < 2) {   /* the means of the step's first two calls: in the frame before its jump */
+        fw_sincos_q15(id->jump, &s, &c);
+        park64(i_d, i_q, s, c, &d, &q);
+    }
+    if (f & F_OPEN) {
+        out->v_d = out->v_q = 0;
+        st->id_int = st->iq_int = 0;
+    } else {
+        const struct fw_pi_params pi = {id->kp, 16, id->ki, 16, p->v_lim};
+
+        out->v_d = fw_pi_step(&st->id_int, sat32((int64_t)id->ref_d - d), 0, &pi);
+        out->v_q = fw_pi_step(&st->iq_int, sat32((int64_t)id->ref_q - q), 0, &pi);
+    }
+    out->v_h = ident_v_h(id, p, k);
+}
+#endif /* FW_NO_IDENT */
+
 /* ---- supervisor (golden.firmware.supervisor.Firmware) ------------------------------------------- */
 
 static const struct fw_outputs reset_outputs = {0, 0, 0, 0, 32767, 0, 0, 0, 0, 0, 0, 0}; /* RESET_OUTPUTS */
 
 /* Firmware.__init__ / __post_init__: everything 0 (the EEMF observer's direction forwards), CONVERGE; FIXED at
- * fixed_angle if enabled. */
+ * fixed_angle if enabled; IDENT with the executor at its step 0 if st->ident is set (before FIXED). */
 void fw_init(struct fw_state *st, const struct fw_params *p)
 {
-    static const struct fw_state zero;
+#ifndef FW_NO_IDENT
+    struct fw_ident *ident = st->ident; /* the caller's (control.h): kept */
+#endif
 
-    *st = zero;
+    /* cleared in place (a static zero copy would take its size again in the RAM image) */
+    memset(st, 0, sizeof *st);
     st->mode = p->fixed_enable ? FW_FIXED : FW_CONVERGE;
     st->theta_hat = p->fixed_enable ? p->fixed_angle : 0u;
     st->act[0] = st->act[1] = st->prev = reset_outputs;
     st->smo.dir = 1; /* EemfSmo.__init__: forwards */
+#ifndef FW_NO_IDENT
+    st->ident = ident;
+    if (ident) { /* the identification program instead of the start-up (and of FIXED) */
+        st->mode = FW_IDENT;
+        st->theta_hat = 0u;
+        ident_init(&ident->s, &ident->p);
+    }
+#endif
 }
 
 /* Firmware._next */
@@ -1180,7 +1398,7 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
 const char *fw_fault_name(int32_t code)
 {
     static const char *const names[FW_FAULTS] = {"none", "overcurrent", "overspeed", "lock_loss", "current_tracking",
-                                                 "overload", "hardware"};
+                                                 "overload", "hardware", "ident"};
 
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }
@@ -1464,6 +1682,37 @@ static void fcs_outputs(struct fw_state *st, const struct fw_params *p, const st
     out->fcs_constrain = f.constrain;
 }
 
+#ifndef FW_NO_IDENT
+/* Firmware._ident_outputs: one window of the identification program (st->ident); gates off (the reset values)
+ * when the program has ended (DONE) or failed (FAULT, FW_FAULT_IDENT). Not inlined: fw_step's own code (the
+ * instruction cache's working set in operation) stays as without the executor. */
+static __attribute__((noinline)) void ident_outputs(struct fw_state *st, const struct fw_params *p,
+                                                    const struct fw_window *win, int32_t i_d, int32_t i_q,
+                                                    struct fw_outputs *out)
+{
+    struct fw_ident_state *id = &st->ident->s;
+
+    *out = reset_outputs;
+    ident_measure(id, &st->ident->p, i_d, i_q, win->gamma_d, win->gamma, &st->act[0], &st->prev);
+    if (id->failed) {
+        trip(st, p, FW_FAULT_IDENT);
+        return;
+    }
+    if (id->done) {
+        next_mode(st, FW_DONE);
+        return;
+    }
+    ident_refs(st, &st->ident->p, i_d, i_q, out);
+    st->theta_hat = id->theta;
+    st->i_d_ref = id->ref_d;
+    st->i_q_ref = id->ref_q;
+    fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
+    out->enable = 1;
+    out->i_d_ref = st->i_d_ref;
+    out->i_q_ref = st->i_q_ref;
+}
+#endif /* FW_NO_IDENT */
+
 /* golden.firmware.supervisor.Firmware.step: one window interrupt, same state updates in the same order. */
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out)
@@ -1485,6 +1734,18 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         trip(st, p, FW_FAULT_HARDWARE);
     else if (st->mode != FW_FAULT && (over_trip(i_d, p->i_trip) || over_trip(i_q, p->i_trip)))
         trip(st, p, FW_FAULT_OVERCURRENT);
+#ifndef FW_NO_IDENT
+    if (st->mode == FW_IDENT || st->mode == FW_DONE) { /* self-commissioning, before everything else */
+        if (st->mode == FW_IDENT)
+            ident_outputs(st, p, win, i_d, i_q, out);
+        else
+            *out = reset_outputs;
+        st->prev = st->act[0];
+        st->act[0] = st->act[1];
+        st->act[1] = *out;
+        return;
+    }
+#endif
     if (st->mode != FW_FIXED && st->mode != FW_FAULT) {
         struct fw_meas m;
 

@@ -15,7 +15,8 @@
 #include <stdint.h>
 
 /* Supervisor states (golden.firmware.supervisor.MODE_*). */
-enum fw_mode { FW_CONVERGE = 0, FW_POL_POS = 1, FW_POL_NEG = 2, FW_RELAX = 3, FW_RUN = 4, FW_FIXED = 5, FW_FAULT = 6 };
+enum fw_mode { FW_CONVERGE = 0, FW_POL_POS = 1, FW_POL_NEG = 2, FW_RELAX = 3, FW_RUN = 4, FW_FIXED = 5, FW_FAULT = 6,
+               FW_IDENT = 7, FW_DONE = 8 };
 
 /* PI parameters (golden.firmware.pi.PiParams): kp in Q(sp), ki in Q(si), |u| <= limit. */
 struct fw_pi_params {
@@ -35,7 +36,7 @@ enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1, FW_POL_NONE = 2 };
 
 /* Fault codes (golden.firmware.protection.FAULT_*; names in fw_fault_name). */
 enum fw_fault { FW_FAULT_NONE = 0, FW_FAULT_OVERCURRENT = 1, FW_FAULT_OVERSPEED = 2, FW_FAULT_LOCK_LOSS = 3,
-                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULTS = 7 };
+                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULT_IDENT = 7, FW_FAULTS = 8 };
 
 /* Limits of the fault checks (golden.firmware.protection.ProtParams; 0 turns a check off). */
 struct fw_prot_params {
@@ -323,10 +324,84 @@ struct fw_fcs_params {
     int32_t len;
 };
 
+/* ---- self-commissioning: the identification program (golden.firmware.ident.IdentParams; docs/commissioning.md) ----
+ * One array entry per step (n_steps <= FW_IDENT_MAX entries used; the arrays are written with the literal 160
+ * because cffi parses this header without its preprocessor lines: control.c checks it against FW_IDENT_MAX).
+ * IdentParams checks the ranges the C relies on: s_n >= 1, 0 <= s_m <= min(s_n, 32767) (M_MAX), |s_id|, |s_iq|
+ * within s16, 0 <= s_vh <= 32767, F_FIT and F_POL not on step 0, F_FIT with s_vh[k] > s_vh[k - 1] (kp >= 0),
+ * F_SNAP with s_n >= 2, 0 <= c_kp < 2^46, 0 <= c_ki <= 2^16, 1 <= v_lim <= 32767, 0 <= c_lvl < 2^46,
+ * 0 <= lvl_max <= 2^24, 1 <= i_slew <= 2^20, 0 <= vh_max <= 32767. n_steps: IdentParams.n_steps (a derived
+ * field, init=False: hfi/fw_c.py ident_to_c writes it).
+ * Neither block is part of struct fw_params / struct fw_state (nor of the config block, fw_config.h): together
+ * they take about 10 KB, more than the RISC-V image has to spare in its 64 KiB of RAM. They sit in a
+ * struct fw_ident that the state points to (fw_state.ident; NULL: no identification, the default image,
+ * firmware/Makefile).
+ * The sums (struct fw_ident_state): r_id, r_iq, r_vd, r_vq add s16-range means (the window current means of
+ * s16 samples; the voltages within the PI limit turned by park: |v| < 46341) over at most M_MAX windows, so
+ * int32; r_gd, r_gq add the s32 responses (int64); g2 saturates the responses to 24 bits (< 2^39 a window,
+ * < 2^62 over 160 steps of M_MAX windows). One range golden does not check: the scan sums fit_x, fit_y add
+ * r_g * 2^15 per F_SCAN step, within int64 while the sum over the scan steps of m (|GAMMA_D| + |GAMMA|) stays
+ * below 2^47 (e.g. 2^31 responses over 2^15 summed scan windows). */
+#define FW_IDENT_MAX 160 /* golden.firmware.ident.IDENT_MAX */
+
+struct fw_ident_params {
+    int32_t s_n[160];        /* windows of each step (FW_IDENT_MAX) */
+    int32_t s_m[160];        /* how many of its last windows are summed */
+    int32_t s_id[160];       /* current references in the step's frame */
+    int32_t s_iq[160];
+    int32_t s_vh[160];       /* HF amplitude before the level factor */
+    uint32_t s_phi[160];     /* frame angle (u32 binary angle) */
+    int32_t s_dw[160];       /* frame speed change per period */
+    int32_t s_flags[160];    /* golden.firmware.ident.F_* */
+    int64_t c_kp;
+    int32_t c_ki;
+    int32_t v_lim;
+    int64_t c_lvl;
+    int32_t lvl_max;         /* 0..2^24 */
+    int32_t i_slew;          /* current LSB per period, 1..2^20 */
+    int32_t vh_max;
+    int32_t n_steps;
+};
+
+/* The executor's state (golden.firmware.ident.Ident): the step, the frame, the fitted angle and gains, the sums. */
+struct fw_ident_state {
+    int32_t k;               /* step index */
+    int32_t n;               /* windows into the step */
+    uint32_t theta;          /* frame angle */
+    int32_t w;               /* frame speed, binary angle per period */
+    uint32_t theta_r;        /* rotor angle found */
+    int32_t kp;              /* current-PI gains (Q16), set at F_FIT */
+    int32_t ki;
+    int32_t lvl;             /* HF level factor (Q16), set at F_LEVEL */
+    int32_t ref_d;           /* current references in use (slew-limited towards the step's) */
+    int32_t ref_q;
+    uint32_t jump;           /* the frame's turn at the last F_SET */
+    int64_t fit_x;           /* scan sums */
+    int64_t fit_y;
+    int64_t fit_y0;
+    int32_t failed;
+    int32_t done;
+    int32_t r_id[160];       /* per-step sums over the last m windows (FW_IDENT_MAX): the s16 means */
+    int32_t r_iq[160];
+    int32_t r_vd[160];
+    int32_t r_vq[160];
+    int64_t r_gd[160];       /* the responses */
+    int64_t r_gq[160];
+    int64_t g2;              /* the scan steps' noise sum: shr(sat(GAMMA_D, 24)^2 + sat(GAMMA, 24)^2, 8) */
+};
+
+/* The identification program and its executor (golden: FirmwareParams.ident and Firmware.ident), reached through
+ * fw_state.ident. */
+struct fw_ident {
+    struct fw_ident_params p;
+    struct fw_ident_state s;
+};
+
 /* Firmware parameters (golden.firmware.supervisor.FirmwareParams), computed on the host by
  * golden/control_config.py: the method of each slot, one parameter block per method (zero when no slot
  * uses it), the shared loops. fixed_enable = 1 selects the open-loop test at fixed_angle (FIXED);
- * mtpa_len = 0 (no table) and notch_on = 0 turn those blocks off. */
+ * mtpa_len = 0 (no table) and notch_on = 0 turn those blocks off. The identification program (golden's
+ * FirmwareParams.ident) is not here: it comes with fw_state.ident. */
 struct fw_params {
     int32_t low;
     int32_t high;
@@ -430,6 +505,11 @@ struct fw_state {
     struct fw_smo_state smo;
     struct fw_cic_state cic;
     struct fw_hfo_state hfo;
+    struct fw_ident *ident;        /* the identification program and its executor's state (golden:
+                                    * FirmwareParams.ident, Firmware.ident); NULL: none. Set by the caller before
+                                    * fw_init, which keeps it (the only member it does not clear; with FW_NO_IDENT
+                                    * it clears it too). fw_state (8-byte aligned) has no 4-byte hole on RV32:
+                                    * wherever it goes it grows the struct by 8 (960 -> 968, 4 of them padding). */
 };
 
 /* Window results of the demodulator (registers GAMMA ... N_SAMPLES). */
@@ -568,7 +648,10 @@ void fw_hfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
 int32_t fw_hfo_i_d(const struct fw_params *p);
 void fw_hfo_flux(const struct fw_state *st, struct fw_est_flux *f);
 
-/* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref) */
+/* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref). fw_init keeps st->ident (the
+ * caller sets it first: the identification program in its p, or NULL) and with a program starts in FW_IDENT.
+ * Built with FW_NO_IDENT (the RISC-V image, firmware/Makefile) the executor is compiled out: fw_init clears
+ * st->ident with the rest (the start-up as with NULL). */
 void fw_init(struct fw_state *st, const struct fw_params *p);
 int32_t fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
                         int32_t omega);

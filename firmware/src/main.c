@@ -44,6 +44,9 @@
 /* The run's configuration, patched into the RAM image (zero here: the firmware then refuses to run). */
 __attribute__((section(".config"), used)) struct fw_config fw_config;
 #define cfg fw_config
+/* st.ident stays NULL: this image has no identification program (self-commissioning; control.h, built with
+ * FW_NO_IDENT by firmware/Makefile). A commissioning image would point it at a struct fw_ident before fw_init
+ * (and not run the warm-up step below on a copy that shares the block). */
 static struct fw_state st;
 static volatile int32_t shown_mode = -1;
 static volatile uint32_t shown_window;
@@ -89,7 +92,8 @@ static void uart_putu(uint32_t v)
     uart_puts(buf + i);
 }
 
-static const char *const mode_names[] = {"CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT"};
+static const char *const mode_names[] = {"CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT",
+                                         "IDENT", "DONE"};
 
 /* ---------------------------------------------------------------- control interrupt */
 static void gates_off(void)
@@ -242,7 +246,7 @@ int main(void)
             uart_puts("hfi_fw: window ");
             uart_putu(*(volatile uint32_t *)&shown_window);
             uart_puts(" mode ");
-            uart_puts(mode >= 0 && mode <= FW_FAULT ? mode_names[mode] : "?");
+            uart_puts(mode >= 0 && mode <= FW_DONE ? mode_names[mode] : "?");
             if (mode == FW_FAULT) {
                 uart_puts(" ");
                 uart_puts(fw_fault_name(*(volatile int32_t *)&st.fault));

@@ -163,17 +163,30 @@ def test_standstill_angle_and_polarity(path, theta_m):
 @pytest.fixture(scope="module")
 def default_commission(tmp_path_factory):
     from hfi.commission import commission
-    return commission(DEFAULT, tmp_path_factory.mktemp("commission"), progress=False)
+    out = tmp_path_factory.mktemp("commission")
+    return commission(DEFAULT, out, progress=False), out
 
 
 def test_commission_default_motor(default_commission):
     """The whole sequence on the Table I motor with the scenario's sensors, offsets and 4 us dead time: R (the
     current path: motor plus the inverter's conduction slope), L_d, L_q at zero current and psi_f within 3 %,
     J within 10 % of the plant's, the rotor angle at standstill within 10 deg."""
-    s = default_commission
+    s = default_commission[0]
     v = s["values"]
     for name in ("R_s", "L_d", "L_q", "psi_f"):
         assert abs(v[name]["rel_error"]) < 0.03, (name, v[name])
     assert abs(v["J"]["rel_error"]) < 0.10
     assert abs(s["angle_error_deg"]) < 10.0
     assert s["tuning"]["hf_possible"]
+
+
+def test_self_tuned_drive_no_worse_than_hand_tuned(default_commission, tmp_path):
+    """The default scenario with the commissioned [model], V_h and hand-over speeds (commissioned.toml) on the
+    golden loop: no fault, and the angle error RMS of every speed plateau no worse than the hand-tuned run's."""
+    from hfi.run import run_file
+    tuned = run_file(str(default_commission[1] / "commissioned.toml"), "golden", str(tmp_path / "tuned"), progress=False)
+    hand = run_file(DEFAULT, "golden", str(tmp_path / "hand"), progress=False)
+    assert tuned.metrics["faults"]["code"] == "none"
+    for a, b in zip(tuned.metrics["segments"], hand.metrics["segments"]):
+        assert a["speed_ref_rpm"] == b["speed_ref_rpm"]
+        assert a["err_rms_deg"] <= b["err_rms_deg"], (a, b)

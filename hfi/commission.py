@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
-from golden.commission import SPIN_SPEED_MIN, build_program, reduce, settings
+from golden.commission import SCAN_BIAS_SHARE, SPIN_SPEED_MIN, build_program, reduce, settings
 from golden.firmware.ident import IdentParams
 from golden.control_config import scales
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
@@ -93,12 +93,15 @@ def standstill_angle(path: str, theta_m_deg: float) -> tuple[float, float]:
     return cl.fw.ident.theta_r / 2**32 * 360.0, true
 
 
-def truth(sc) -> dict:
-    """The plant's values the measurements are compared with."""
+def truth(sc, bias: float = 0.0) -> dict:
+    """The plant's values the measurements are compared with; ``bias`` [A]: the scan's bias current (a reluctance
+    machine's, golden.commission.SCAN_BIAS_SHARE): its L_d is the incremental one with the bias on d, its L_q with
+    the bias on q."""
     mag, mech, inv = sc.plant["mag"], sc.plant["mech"], sc.plant["inv"]
-    L0 = incremental_inductance(mag, *psi_from_current(mag, 0.0, 0.0))
+    L_d = incremental_inductance(mag, *psi_from_current(mag, bias, 0.0))[0, 0]
+    L_q = incremental_inductance(mag, *psi_from_current(mag, 0.0, bias))[1, 1]
     return {"R_s": sc.plant["R_s"], "R_path": sc.plant["R_s"] + 0.5 * (inv["r_sw"] + inv["r_diode"]),
-            "L_d": float(L0[0, 0]), "L_q": float(L0[1, 1]), "psi_f": mag["psi_f"], "J": mech["J"],
+            "L_d": float(L_d), "L_q": float(L_q), "psi_f": mag["psi_f"], "J": mech["J"],
             "B": mech["B"], "T_c": mech["T_c"]}
 
 
@@ -157,7 +160,8 @@ def commission(path: str | Path, out: Path, progress: bool = True) -> dict:
     if fw.ident is None or not fw.ident.done:
         raise CommissionError(_stopped(prog, fw, sc, cs))
     res = reduce(prog, fw.ident, sc, cs)
-    tr = truth(sc)
+    bias = 0.0 if cs.magnets else cs.current * SCAN_BIAS_SHARE
+    tr = truth(sc, bias)
     rows = {}
     for name in ("R_s", "L_d", "L_q", "psi_f", "J", "B", "T_c"):
         if name not in res.values:
@@ -166,6 +170,8 @@ def commission(path: str | Path, out: Path, progress: bool = True) -> dict:
         rows[name] = {"measured": res.values[name], "truth": ref,
                       "rel_error": (res.values[name] - ref) / ref if ref else None}
     rows["R_s"]["truth_motor_only"] = tr["R_s"]
+    for name in ("L_d", "L_q"):
+        rows[name]["at_current"] = bias
     th_true = (run.windows["theta_e"][0] / 2**32 * 2 * math.pi)
     period = 2 * math.pi if cs.magnets else math.pi
     err = (res.theta_r - th_true + period / 2) % period - period / 2
@@ -206,7 +212,7 @@ def _stopped(prog, fw, sc, cs) -> str:
     if k > last_scan:
         res = reduce(prog, fw.ident, sc, cs, scan_only=True)
         sal = (res.values["L_q"] - res.values["L_d"]) / (res.values["L_q"] + res.values["L_d"])
-        msg += (f"; the scan at zero current saw L_d {res.values['L_d']:.4g} H, L_q {res.values['L_q']:.4g} H "
+        msg += (f"; the scan saw L_d {res.values['L_d']:.4g} H, L_q {res.values['L_q']:.4g} H "
                 f"(saliency {100 * sal:.2f} %, SNR {res.snr:.1f} per window)")
         if res.snr < SNR_MIN_SALIENCY or abs(sal) < 0.02:
             msg += (": too little saliency at zero current to find the rotor angle, so the map and the spin ran in "

@@ -195,7 +195,8 @@ def test_blocks_match_golden_fields():
     ip, ist = dict(ffi.typeof("struct fw_ident_params").fields), dict(ffi.typeof("struct fw_ident_state").fields)
     assert {ip[n].type.length for n in ("s_n", "s_m", "s_id", "s_iq", "s_vh", "s_phi", "s_dw", "s_flags")} == \
         {ist[n].type.length for n in fw_c.IDENT_ARRAYS} == {IDENT_MAX}
-    assert ip["s_phi"].type.item.cname == "uint32_t" and ip["c_kp"].type.cname == ip["c_lvl"].type.cname == "int64_t"
+    assert ip["s_phi"].type.item.cname == "uint32_t"
+    assert ip["c_kp"].type.cname == ip["c_lvl"].type.cname == ip["c_gain"].type.cname == "int64_t"
     # the s16 means sum in s32 over at most M_MAX windows, the responses in s64
     assert {n: ist[n].type.item.cname for n in fw_c.IDENT_ARRAYS} == \
         {"r_id": "int32_t", "r_iq": "int32_t", "r_vd": "int32_t", "r_vq": "int32_t", "r_gd": "int64_t", "r_gq": "int64_t"}
@@ -1470,7 +1471,7 @@ def random_ident(rng: np.random.Generator) -> IdentParams:
     s_vh = draw(rng, n, 0, S16_MAX, (0, 1, 300))
     s_phi = draw(rng, n, 0, U32_MAX, (0, 1 << 30, 1 << 31, 3 << 30))
     s_dw = draw(rng, n, -(1 << 16), 1 << 16, (0,)) if rng.random() < 0.7 else draw(rng, n, S32_MIN, S32_MAX)
-    base = (F.F_SET, F.F_SCAN, F.F_NEG, F.F_OPEN, F.F_LEVEL, F.F_ABS, F.F_SNAP)
+    base = (F.F_SET, F.F_SCAN, F.F_NEG, F.F_OPEN, F.F_LEVEL, F.F_ABS, F.F_SNAP, F.F_GAIN)
     s_flags = []
     for k in range(n):
         f = sum(b for b in base if rng.random() < 0.4 and (b != F.F_SNAP or s_n[k] >= 2))
@@ -1482,7 +1483,8 @@ def random_ident(rng: np.random.Generator) -> IdentParams:
         s_flags.append(f)
     return IdentParams(s_n=tuple(s_n), s_m=tuple(s_m), s_id=tuple(cur[0]), s_iq=tuple(cur[1]), s_vh=tuple(s_vh),
                        s_phi=tuple(s_phi), s_dw=tuple(s_dw), s_flags=tuple(s_flags),
-                       c_kp=draw_one(rng, 0, (1 << 46) - 1, (1 << 30,)), c_ki=draw_one(rng, 0, 1 << 16, (4096,)),
+                       c_kp=draw_one(rng, 0, (1 << 46) - 1, (0, 1 << 30)), c_ki=draw_one(rng, 0, 1 << 16, (4096,)),
+                       c_gain=draw_one(rng, 0, (1 << 46) - 1, (0, 1 << 30)),
                        v_lim=draw_one(rng, 1, S16_MAX, (2000,)), c_lvl=draw_one(rng, 0, (1 << 46) - 1, (1 << 36,)),
                        lvl_max=draw_one(rng, 0, 1 << 24, (1 << 16, 1 << 24)),
                        i_slew=draw_one(rng, 1, 1 << 20, (1, 100, 1 << 20)), vh_max=draw_one(rng, 0, S16_MAX, (S16_MAX, 3000)))

@@ -1122,7 +1122,7 @@ _Static_assert(sizeof(((struct fw_ident_state *)0)->r_id) / sizeof(int32_t) == F
 #ifndef FW_NO_IDENT
 
 enum { F_SET = 1, F_SCAN = 2, F_FIT = 4, F_POL = 8, F_OPEN = 16, F_LEVEL = 32, F_ABS = 64, F_NEG = 128,
-       F_SNAP = 256 }; /* ident.F_* */
+       F_SNAP = 256, F_GAIN = 512 }; /* ident.F_* */
 #define IDENT_KP_MAX INT32_MAX         /* ident.KP_MAX */
 #define IDENT_SIXTH 715827882          /* ident.SIXTH = 2^32 // 6 */
 #define VECTOR_INPUT_LIMIT (1 << 28)   /* golden.firmware.vector.INPUT_LIMIT */
@@ -1170,11 +1170,22 @@ static int32_t ident_v_h(const struct fw_ident_state *id, const struct fw_ident_
     return v < p->vh_max ? (int32_t)v : p->vh_max;
 }
 
-/* Ident._finish: the decisions at the end of step k (F_LEVEL, F_SCAN, F_FIT, F_POL, in this order). */
+/* Ident._finish: the decisions at the end of step k (F_GAIN, F_LEVEL, F_SCAN, F_FIT, F_SNAP, F_POL, in this
+ * order). */
 static void ident_finish(struct fw_ident_state *id, const struct fw_ident_params *p, int32_t k)
 {
     int32_t f = p->s_flags[k];
 
+    if (f & F_GAIN) {                                  /* at the amplitude the step ran with: before F_LEVEL */
+        if (id->r_gd[k] <= 0) {
+            id->failed = 1;
+        } else {
+            int64_t kp = p->c_gain * ident_v_h(id, p, k) / id->r_gd[k];   /* c_div: 0 <= c_gain v_h < 2^61 */
+
+            id->kp = kp < IDENT_KP_MAX ? (int32_t)kp : IDENT_KP_MAX;
+            id->ki = (int32_t)(((int64_t)id->kp * p->c_ki) >> 16);
+        }
+    }
     if (f & F_LEVEL) {
         if (id->r_gd[k] <= 0) {
             id->failed = 1;
@@ -1209,7 +1220,7 @@ static void ident_finish(struct fw_ident_state *id, const struct fw_ident_params
         id->theta_r = a >> 1;
         if (id->fit_y0 <= 0) {
             id->failed = 1;
-        } else {
+        } else if (p->c_kp) {
             int64_t dv = (int64_t)ident_v_h(id, p, k) - ident_v_h(id, p, k - 1);   /* k >= 1 (IdentParams) */
             int64_t kp = p->c_kp * dv / id->fit_y0;     /* c_div: 0 <= c_kp dv < 2^61 */
 

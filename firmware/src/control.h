@@ -329,7 +329,7 @@ struct fw_fcs_params {
  * because cffi parses this header without its preprocessor lines: control.c checks it against FW_IDENT_MAX).
  * IdentParams checks the ranges the C relies on: s_n >= 1, 0 <= s_m <= min(s_n, 32767) (M_MAX), |s_id|, |s_iq|
  * within s16, 0 <= s_vh <= 32767, F_FIT and F_POL not on step 0, F_FIT with s_vh[k] > s_vh[k - 1] (kp >= 0),
- * F_SNAP with s_n >= 2, 0 <= c_kp < 2^46, 0 <= c_ki <= 2^16, 1 <= v_lim <= 32767, 0 <= c_lvl < 2^46,
+ * F_SNAP with s_n >= 2, 0 <= c_kp < 2^46, 0 <= c_ki <= 2^16, 1 <= v_lim <= 32767, 0 <= c_lvl, c_gain < 2^46,
  * 0 <= lvl_max <= 2^24, 1 <= i_slew <= 2^20, 0 <= vh_max <= 32767. n_steps: IdentParams.n_steps (a derived
  * field, init=False: hfi/fw_c.py ident_to_c writes it).
  * Neither block is part of struct fw_params / struct fw_state (nor of the config block, fw_config.h): together
@@ -357,6 +357,7 @@ struct fw_ident_params {
     int32_t c_ki;
     int32_t v_lim;
     int64_t c_lvl;
+    int64_t c_gain;          /* F_GAIN: kp = c_gain v_h / G, 0..2^46 */
     int32_t lvl_max;         /* 0..2^24 */
     int32_t i_slew;          /* current LSB per period, 1..2^20 */
     int32_t vh_max;

@@ -32,7 +32,10 @@ The firmware itself makes the decisions the next steps depend on:
   v_h(k - 1)) / sum_k G_d`` (the amplitude difference of the pair; the mean
   inverse inductance sets ``kp = L w_c``; ``c_kp`` holds the hardware's HF gain, the bandwidth and the
   formats), ``ki = kp c_ki / 2^16``
-  (integral zero at a fixed share of the bandwidth: no resistance is known yet). Steps before ``F_FIT``
+  (integral zero at a fixed share of the bandwidth: no resistance is known yet); ``F_GAIN`` sets them from one
+  step's response instead, ``kp = c_gain v_h / G`` (the probe of a reluctance machine, whose scan needs a
+  bias current and so current control before the fit; ``c_kp = 0``: ``F_FIT`` leaves the gains). Steps before
+  the gains are set
   must be ``F_OPEN`` (no current control);
 * **magnet polarity** (``F_POL``): the step before it had ``+I_p`` on d, this one ``-I_p``; a larger HF
   response now (smaller incremental inductance: saturation) means the magnet's north is on ``-d``:
@@ -64,7 +67,7 @@ from golden.firmware.vector import INPUT_LIMIT, vector_angle
 from golden.fixed import c_div, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
 
-F_SET, F_SCAN, F_FIT, F_POL, F_OPEN, F_LEVEL, F_ABS, F_NEG, F_SNAP = 1, 2, 4, 8, 16, 32, 64, 128, 256
+F_SET, F_SCAN, F_FIT, F_POL, F_OPEN, F_LEVEL, F_ABS, F_NEG, F_SNAP, F_GAIN = 1, 2, 4, 8, 16, 32, 64, 128, 256, 512
 """Step flags (module docstring)."""
 IDENT_MAX = 160
 """Most steps in a program (the C arrays' length)."""
@@ -102,6 +105,8 @@ class IdentParams:
         ``ki = shr(kp * c_ki, 16)`` (Q16, 0..2^16).
     v_lim : int
         Current PIs' output limit [voltage LSB].
+    c_gain : int
+        ``F_GAIN``: ``kp = c_gain v_h / G`` (0 <= c_gain < 2^46).
     c_lvl, lvl_max, vh_max : int
         ``F_LEVEL``: ``lvl = min(c_lvl / G, lvl_max)`` (0 <= c_lvl < 2^46, 0 <= lvl_max <= 2^24) and the largest
         amplitude [voltage LSB, 0..32767].
@@ -122,6 +127,7 @@ class IdentParams:
     c_ki: int
     v_lim: int
     c_lvl: int = 0
+    c_gain: int = 0
     lvl_max: int = 1 << 16
     i_slew: int = 1 << 20
     vh_max: int = 32767
@@ -147,9 +153,9 @@ class IdentParams:
             if f & F_SNAP and self.s_n[k] < 2:
                 raise ValueError(f"step {k}: F_SNAP needs n >= 2")
         if not (0 <= self.c_kp < 1 << 46 and 0 <= self.c_ki <= 1 << 16 and 1 <= self.v_lim <= 32767
-                and 0 <= self.c_lvl < 1 << 46 and 0 <= self.lvl_max <= 1 << 24 and 0 <= self.vh_max <= 32767
+                and 0 <= self.c_lvl < 1 << 46 and 0 <= self.c_gain < 1 << 46 and 0 <= self.lvl_max <= 1 << 24 and 0 <= self.vh_max <= 32767
                 and 1 <= self.i_slew <= 1 << 20):
-            raise ValueError("c_kp, c_ki, v_lim, c_lvl, lvl_max, vh_max or i_slew out of range")
+            raise ValueError("c_kp, c_ki, v_lim, c_lvl, c_gain, lvl_max, vh_max or i_slew out of range")
         object.__setattr__(self, "n_steps", n)
 
 
@@ -228,6 +234,12 @@ class Ident:
     def _finish(self, k: int) -> None:
         """The decisions at the end of step ``k`` (module docstring)."""
         p, f = self.p, self.p.s_flags[k]
+        if f & F_GAIN:                                   # (before F_LEVEL: at the amplitude the step ran with)
+            if self.r_gd[k] <= 0:
+                self.failed = 1
+            else:
+                self.kp = min(c_div(p.c_gain * self.v_h(k), self.r_gd[k]), KP_MAX)
+                self.ki = shr(self.kp * p.c_ki, 16)
         if f & F_LEVEL:
             if self.r_gd[k] <= 0:
                 self.failed = 1
@@ -247,9 +259,10 @@ class Ident:
             self.theta_r = a >> 1
             if self.fit_y0 <= 0:
                 self.failed = 1
-            else:
+            elif p.c_kp:
                 self.kp = min(c_div(p.c_kp * (self.v_h(k) - self.v_h(k - 1)), self.fit_y0), KP_MAX)
                 self.ki = shr(self.kp * p.c_ki, 16)
+
         if f & F_SNAP:
             self.w = 0
         if f & F_POL and self.r_gd[k] > self.r_gd[k - 1]:

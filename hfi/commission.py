@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
-from golden.commission import SCAN_BIAS_SHARE, SPIN_SPEED_MIN, build_program, reduce, settings
+from golden.commission import SCAN_BIAS_SHARE, build_program, reduce, settings, spin_speed
 from golden.firmware.ident import IdentParams
 from golden.control_config import scales
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
@@ -56,9 +56,8 @@ def run_scenario_dict(path: str | Path) -> dict:
     ctl.pop("switch_to_ds_at", None)
     d["estimator"] = {"low": "sqw_bangbang", "high": "none"}
     com = d.setdefault("commission", {})
-    if "speed" not in com:
-        ref = max((abs(v) for _, v in sc0.reference_speed), default=0.0)
-        com["speed"] = f"{max(ref, SPIN_SPEED_MIN) * 30 / math.pi:.6g} rpm"
+    if "speed" not in com:                       # from the application's reference, which the run leaves out
+        com["speed"] = f"{spin_speed(sc0.reference_speed) * 30 / math.pi:.6g} rpm"
     d["scenario"]["name"] = sc0.name + "_commission"
     sc1 = parse_scenario(d, str(path))
     prog = build_program(sc1, settings(sc1))

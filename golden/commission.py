@@ -6,27 +6,27 @@ firmware leaves into the motor's data; :func:`tuning` into the controller's sett
 
 1. ``probe``: one HF step at ``probe_voltage``; the firmware lowers the HF level (``F_LEVEL``) when the HF
    current would exceed ``hf_current`` (a motor of small inductance), never raises it.
-2. ``scan``: the HF square wave on a frame at ``K`` angles over half a turn, no current control; the
-   firmware fits the rotor angle and sets the current PIs (``F_FIT``). Host: ``L_d``, ``L_q`` at zero current
-   from the mean and the second harmonic of the responses.
+2. ``scan``: the HF square wave on a frame at ``K`` angles over half a turn, each at ``v`` and ``2 v`` (the
+   difference removes the dead time's share), no current control; the firmware fits the rotor angle and sets
+   the current PIs (``F_FIT``). Host: ``L_d``, ``L_q`` at zero current from the mean and the second harmonic of
+   the responses. A reluctance machine, whose saliency appears only with current: a bias along the injection,
+   current control with gains from the probe (``F_GAIN``), the shaft held.
 3. ``polarity`` (magnets only): ``+I_p`` then ``-I_p`` on d with the injection; the firmware turns the
-   angle by half a turn when the second response is the larger (``F_POL``).
+   angle by half a turn when the second response is the larger (``F_POL``). The shaft is held from here.
 4. ``map``: the incremental inductance matrix on a grid of (i_d, i_q): at each point the injection on d,
-   then on q (the frame turned by a quarter turn, the current references turned with it). Points with
-   ``i_q != 0`` make torque: the map needs the shaft held (``lock = "on"``: the scenario's plant holds
-   the rotor from the map's first to its last step, as a brake or a locking pin on a bench does);
-   without it only the ``i_q = 0`` line is measured.
-5. ``resistance``: two DC levels along one axis of the machine (the d axis with magnets, q without: the
-   rotor is pulled into alignment, not away); ``R = dV / dI`` removes every drop that does not depend on
-   the current level (the dead time's residual, the switches' knee voltages), and the intercept ``V0`` is
-   kept for the spin.
-6. ``spin``: the current vector turns at a prescribed speed profile (I/f), the rotor follows it:
-   up to ``speed / 2``, hold, accelerate to ``speed``, hold, decelerate to ``speed / 2``, hold, down to
-   0. Flux in the frame from the voltage model at constant frame speed, ``psi = (v - V0 - R i) / (j w)``;
-   torque ``1.5 p (psi x i)``; ``psi_f = abs(v) / w_r`` in a coast at the top speed with the current held at
-   zero (``w_r`` the frame's speed plus the turn of the back-EMF in the frame); ``J`` from the
-   torques accelerating and decelerating through the same speeds, ``(T_acc - T_dec) / (2 a)`` (friction and
-   every constant bias cancel); the friction ``B``, ``T_c`` from the two holds.
+   then on q (the frame turned by a quarter turn, the current references turned with it), each at ``v/2`` and
+   ``v``. Points with ``i_q != 0`` make torque: the map needs the shaft held (``lock = "on"``, as a brake or a
+   locking pin on a bench does); without it only the ``i_q = 0`` line is measured.
+5. ``resistance``: the current turned from the rotor's axis to the nearest phase axis (``F_SNAP``), three
+   levels; ``V = R i + V0 + b / i`` removes the drops that do not depend on the current level (the dead
+   time's residual, the switches' knee voltages) and the node capacitances' share at small currents.
+6. ``spin``: the shaft released, the current vector (half the test current) turns at a prescribed speed
+   profile (I/f), the rotor follows it: up to ``speed / 2``, hold, accelerate to ``speed``, hold, coast,
+   decelerate to ``speed / 2``, hold, down to 0. Flux in the frame from the voltage model at constant frame
+   speed, ``psi = (v - V0 - R i) / (j w)``; torque ``1.5 p (psi x i)``; ``psi_f = abs(v) / w_r`` in the coast
+   with the current held at zero (``w_r`` the frame's speed plus the turn of the back-EMF in the frame); ``J``
+   from the torques accelerating and decelerating through the same speeds, ``(T_acc - T_dec) / (2 a)``
+   (friction and every constant bias cancel); the friction ``B``, ``T_c`` from the holds.
 """
 
 from __future__ import annotations
@@ -37,7 +37,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from golden.control_config import hardware_config, scales
-from golden.firmware.ident import G2_SHIFT, F_FIT, F_GAIN, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, F_SNAP, IdentParams
+from golden.firmware.ident import (F_FIT, F_GAIN, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, F_SNAP, G2_SHIFT,
+                                   IdentParams)
 from golden.fixed import to_fixed
 from golden.fpga.adc_trigger import sample_phases
 from golden.fpga.carrier import counter
@@ -66,6 +67,8 @@ SPIN_SPEED_MIN = 500 * math.pi / 30
 """The default spin speed is half the largest reference speed, at least this [rad/s mechanical]."""
 R_LEVELS = (0.5, 0.75, 1.0)
 """Current levels of the resistance steps (shares of ``current``)."""
+SPIN_MEASURED = ("hold_low", "accel", "hold_high", "coast_a", "coast_b", "decel", "hold_low2")
+"""The spin's measured stages."""
 
 
 @dataclass(frozen=True)
@@ -404,7 +407,7 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, scan_only: bool = Fals
     L_q = res.values["L_q"]
     spin = {}
     for k, s in enumerate(prog.steps):
-        if s.stage not in ("hold_low", "accel", "hold_high", "coast_a", "coast_b", "decel", "hold_low2") or means[k] is None:
+        if s.stage not in SPIN_MEASURED or means[k] is None:
             continue
         j1 = starts[k + 1]
         # the frame speed active in the measured windows (written two calls before)

@@ -153,8 +153,8 @@ class IdentParams:
             if f & F_SNAP and self.s_n[k] < 2:
                 raise ValueError(f"step {k}: F_SNAP needs n >= 2")
         if not (0 <= self.c_kp < 1 << 46 and 0 <= self.c_ki <= 1 << 16 and 1 <= self.v_lim <= 32767
-                and 0 <= self.c_lvl < 1 << 46 and 0 <= self.c_gain < 1 << 46 and 0 <= self.lvl_max <= 1 << 24 and 0 <= self.vh_max <= 32767
-                and 1 <= self.i_slew <= 1 << 20):
+                and 0 <= self.c_lvl < 1 << 46 and 0 <= self.c_gain < 1 << 46 and 0 <= self.lvl_max <= 1 << 24
+                and 0 <= self.vh_max <= 32767 and 1 <= self.i_slew <= 1 << 20):
             raise ValueError("c_kp, c_ki, v_lim, c_lvl, c_gain, lvl_max, vh_max or i_slew out of range")
         object.__setattr__(self, "n_steps", n)
 

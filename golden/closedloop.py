@@ -93,6 +93,8 @@ class ClosedLoopResult:
     soc: dict | None = None  # rtl backend only: firmware cycles, late commits, co-simulation speed, UART log
     backend: str = "golden"  # golden, rtl or hls
     plant_wall_s: float | None = None  # hls backend: wall seconds inside the plant calls (of wall_s)
+    ident: object = None     # control.mode = "commission" (golden, hls): the identification executor at the end
+                             # (golden.firmware.ident.Ident: its sums for golden.commission.reduce); None otherwise
 
     @property
     def t(self) -> np.ndarray:
@@ -296,7 +298,7 @@ class ClosedLoop:
         edges = {"tick": np.concatenate(edge_ticks), "mask": np.concatenate(edge_masks)}
         writes = {f: np.array([getattr(o, f) for o in outs], dtype=np.int64) for f in OUTPUT_FIELDS}
         return ClosedLoopResult(rec, samples, edges, writes, hw, self.scales, tick_hz, fw.flipped,
-                                time.perf_counter() - t0)
+                                time.perf_counter() - t0, ident=fw.ident)
 
 
 def _direct_next(regs: Outputs, state: int) -> int:

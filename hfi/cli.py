@@ -104,15 +104,17 @@ def cmd_faults(args) -> int:
 
 
 def cmd_commission(args) -> int:
-    from hfi.commission import CommissionError, commission   # imports matplotlib: only when needed
-    if args.backend != "golden":
-        print("hfi commission: only --backend golden reads the firmware's identification sums back so far "
-              "(docs/commissioning.md)", file=sys.stderr)
+    from hfi.commission import BACKENDS, CommissionError, commission   # imports matplotlib: only when needed
+    if args.backend not in BACKENDS:
+        why = (": the RISC-V image has no room for the identification block (64 KiB RAM; it is built with "
+               "FW_NO_IDENT)" if args.backend == "rtl" else "")
+        print(f"hfi commission: --backend {args.backend} cannot run the commissioning{why}; use "
+              f"{' or '.join(BACKENDS)} (docs/commissioning.md)", file=sys.stderr)
         return 1
     path = Path(args.file)
     out = Path(args.out) if args.out else ROOT / "out" / (path.stem + "_commission")
     try:
-        commission(path, out, progress=not args.quiet)
+        commission(path, out, progress=not args.quiet, backend=args.backend)
     except CommissionError as exc:
         print(f"hfi commission: {exc}", file=sys.stderr)
         return 1
@@ -200,7 +202,9 @@ def parser() -> argparse.ArgumentParser:
                        "the measured [model] and the tuned V_h and hand-over speeds) and figures.")
     p.add_argument("file", metavar="FILE", nargs="?", default=str(DEFAULT_SCENARIO),
                    help="scenario file (default: the default scenario)")
-    p.add_argument("--backend", default="golden", help="golden (the only one so far)")
+    p.add_argument("--backend", default="golden", choices=("golden", "hls", "rtl"), metavar="BACKEND",
+                   help="golden (default) or hls (the same results, native); rtl is refused: its RISC-V image has "
+                        "no room for the identification block")
     p.add_argument("--out", metavar="DIR", help="output directory (default out/<FILE stem>_commission)")
     p.add_argument("--quiet", action="store_true", help="no progress output")
     p.set_defaults(func=cmd_commission)

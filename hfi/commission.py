@@ -141,9 +141,18 @@ def commissioned_scenario(path: str | Path, res, tune: dict) -> dict:
     return d
 
 
-def commission(path: str | Path, out: Path, progress: bool = True) -> dict:
-    """Run the commissioning of the scenario file ``path`` on the golden model; returns the summary."""
-    from golden.closedloop import ClosedLoop
+BACKENDS = ("golden", "hls")
+"""The backends that run the identification program and return its sums (``ClosedLoopResult.ident``); the rtl
+backend's RISC-V image has no room for the identification block (64 KiB RAM: built with FW_NO_IDENT)."""
+
+
+def commission(path: str | Path, out: Path, progress: bool = True, backend: str = "golden") -> dict:
+    """Run the commissioning of the scenario file ``path`` on ``backend`` (:data:`BACKENDS`: the golden model or
+    the hls loop, bit-identical); returns the summary."""
+    from hfi.backends import run as run_backend
+    if backend not in BACKENDS:
+        raise ValueError(f"commissioning runs on the {' or '.join(BACKENDS)} backend, not {backend!r} (the rtl "
+                         "backend's RISC-V image has no room for the identification block: 64 KiB RAM)")
     d = run_scenario_dict(path)
     sc = parse_scenario(d, str(path))
     out.mkdir(parents=True, exist_ok=True)
@@ -153,12 +162,11 @@ def commission(path: str | Path, out: Path, progress: bool = True) -> dict:
     if progress:
         print(f"{sc.name}: {prog.params.n_steps} steps, {prog.duration:.2f} s simulated"
               + (f", shaft held {prog.lock[0]:.2f}-{prog.lock[1]:.2f} s" if prog.lock else ""), flush=True)
-    cl = ClosedLoop(sc)
-    run = cl.run(progress=progress)
-    fw = cl.fw
-    if fw.ident is None or not fw.ident.done:
-        raise CommissionError(_stopped(prog, fw, sc, cs))
-    res = reduce(prog, fw.ident, sc, cs)
+    run = run_backend(sc, backend, progress=progress)
+    ident = run.ident
+    if ident is None or not ident.done:
+        raise CommissionError(_stopped(prog, ident, run, sc, cs))
+    res = reduce(prog, ident, sc, cs)
     bias = 0.0 if cs.magnets else cs.current * SCAN_BIAS_SHARE
     tr = truth(sc, bias)
     rows = {}
@@ -200,16 +208,19 @@ class CommissionError(RuntimeError):
     """The identification program stopped before its end; the message says where and why."""
 
 
-def _stopped(prog, fw, sc, cs) -> str:
-    """Where the program stopped, with what the scan saw when it got that far."""
+def _stopped(prog, ident, run, sc, cs) -> str:
+    """Where the program (the executor ``ident`` at the end of ``run``) stopped, with what the scan saw when it got
+    that far."""
     from golden.firmware.protection import FAULT_NAMES
-    k = fw.ident.k
+    if ident is None:
+        return f"{sc.name}: the {run.backend} backend returned no identification state"
+    k = ident.k
     stage = prog.steps[k].stage if k < len(prog.steps) else "end"
     msg = (f"{sc.name}: the identification program stopped in stage {stage!r} (step {k} of {prog.params.n_steps}), "
-           f"fault {FAULT_NAMES[fw.fault]}")
+           f"fault {FAULT_NAMES[int(run.windows['fault'][-1])]}")
     last_scan = max(i for i, s in enumerate(prog.steps) if s.stage == "scan")
     if k > last_scan:
-        res = reduce(prog, fw.ident, sc, cs, scan_only=True)
+        res = reduce(prog, ident, sc, cs, scan_only=True)
         sal = (res.values["L_q"] - res.values["L_d"]) / (res.values["L_q"] + res.values["L_d"])
         msg += (f"; the scan saw L_d {res.values['L_d']:.4g} H, L_q {res.values['L_q']:.4g} H "
                 f"(saliency {100 * sal:.2f} %, SNR {res.snr:.1f} per window)")

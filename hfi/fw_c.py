@@ -301,14 +301,18 @@ def state_from_c(c, p: FirmwareParams) -> Firmware:
             else:
                 v = getattr(block, name)
             setattr(est, name, v)
-    if not c.ident:                 # NULL: no executor
-        fw.ident = None
-    else:                           # the executor: its state from the block, by name
-        if fw.ident is None:
-            fw.ident = Ident(ident_params_from_c(c.ident.p))
-        s = c.ident.s
-        for name in IDENT_FIELDS:
-            setattr(fw.ident, name, getattr(s, name))
-        for name in IDENT_ARRAYS:
-            setattr(fw.ident, name, list(getattr(s, name)))
+    # NULL: no executor; otherwise its state from the block
+    fw.ident = None if not c.ident else ident_from_c(c.ident, fw.ident.p if fw.ident is not None else None)
     return fw
+
+
+def ident_from_c(c, ip: IdentParams | None = None) -> Ident:
+    """A golden :class:`Ident` with the executor's state held by a ``struct fw_ident`` ``c`` (its ``s``, by name);
+    its program ``ip``, or the block's own (:func:`ident_params_from_c`) for None."""
+    ident = Ident(ident_params_from_c(c.p) if ip is None else ip)
+    s = c.s
+    for name in IDENT_FIELDS:
+        setattr(ident, name, getattr(s, name))
+    for name in IDENT_ARRAYS:
+        setattr(ident, name, list(getattr(s, name)))
+    return ident

@@ -26,7 +26,7 @@ from golden.plant import Plant, binding
 from golden.scenario import Scenario
 from hfi import hls_build
 from hfi.backends import BackendError
-from hfi.fw_c import OUTPUT_FIELDS as FW_OUTPUT_FIELDS, cdef_text, params_to_c
+from hfi.fw_c import OUTPUT_FIELDS as FW_OUTPUT_FIELDS, cdef_text, ident_from_c, ident_to_c, params_to_c
 
 HEADERS = tuple(hls_build.ROOT / h for h in ("firmware/src/control.h", "sim/plant_records.h",
                                               "hls/backend/hls_window.h", "hls/backend/hls_loop.h"))
@@ -43,7 +43,7 @@ class HlsBackendError(BackendError):
 @functools.lru_cache(maxsize=None)
 def _library():
     ffi = cffi.FFI()
-    ffi.cdef(cdef_text(*HEADERS, drop=("struct plant;", "struct fw_params;")).replace(
+    ffi.cdef(cdef_text(*HEADERS, drop=("struct plant;", "struct fw_params;", "struct fw_ident;")).replace(
         "struct hls_loop;", "struct hls_loop; struct plant;"))
     return ffi, ffi.dlopen(str(hls_build.build("loop")))
 
@@ -99,16 +99,18 @@ class HlsClosedLoop:
         refs = ffi.from_buffer("int32_t[]", speed_ref)
         setup.speed_ref = refs
         fp = firmware_params(sc)
-        if fp.ident is not None:    # params_to_c leaves the program out; the loop's fw_state.ident stays NULL
-            raise HlsBackendError(f"scenario {sc.name}: control.mode = \"commission\" runs on the golden backend "
-                                  "only (the hls loop starts the firmware without an identification program)")
-        fwp = params_to_c(ffi, fp)
+        fwp = params_to_c(ffi, fp)    # without the identification program: it goes in its own block
+        # control.mode = "commission": the program and its executor's state in a struct fw_ident that the loop's
+        # fw_state.ident points to (hls_loop_set_ident); kept alive here until the run's state is read back
+        block = None if fp.ident is None else ident_to_c(ffi, fp.ident)
         plant = Plant(sc.plant)
         err = ffi.new("char[]", 512)
         h = lib.hls_loop_create(setup, fwp, ffi.cast("struct plant *", plant._p), err, 512)
         if h == ffi.NULL:
             raise HlsBackendError(f"scenario {sc.name}: {ffi.string(err).decode()}")
         try:
+            if block is not None and lib.hls_loop_set_ident(h, block) != 0:
+                raise HlsBackendError(f"scenario {sc.name}: the loop refused the identification block")
             t0 = time.perf_counter()
             bar = None
             if progress:
@@ -133,6 +135,7 @@ class HlsClosedLoop:
             edges = _records(lib, h, "edges", ffi.sizeof("struct gate_edge"), [("tick", "<i8"), ("mask", "<i8")])
             flipped = int(lib.hls_loop_flipped(h))
             plant_s = float(lib.hls_loop_plant_seconds(h))
+            ident = None if block is None else ident_from_c(block, fp.ident)
         finally:
             lib.hls_loop_free(h)
         columns = [f.name if isinstance(f, str) else f[0] for f in ffi.typeof("struct hls_window").fields]
@@ -143,4 +146,4 @@ class HlsClosedLoop:
                        "adc_b": samples["b"].astype(np.uint16)}
         edges_out = {"tick": edges["tick"].copy(), "mask": edges["mask"].astype(np.int32)}
         return ClosedLoopResult(windows, samples_out, edges_out, writes, hw, self.scales, tick_hz, flipped, wall,
-                                backend="hls", plant_wall_s=plant_s)
+                                backend="hls", plant_wall_s=plant_s, ident=ident)

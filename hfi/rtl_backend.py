@@ -194,8 +194,9 @@ def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     h.inj_per, h.cic_m, h.direct = hw.inj_per, hw.cic_m, hw.direct
     fp = firmware_params(sc)
     if fp.ident is not None:        # params_to_c leaves the program out (it goes with the state, control.h)
-        raise RtlBackendError(f"scenario {sc.name}: control.mode = \"commission\" runs on the golden backend only: "
-                              "the firmware image has no identification executor (firmware/Makefile, FW_NO_IDENT)")
+        raise RtlBackendError(f"scenario {sc.name}: control.mode = \"commission\" runs on the golden and hls backends "
+                              "only: the firmware image has no identification executor (firmware/Makefile, FW_NO_IDENT: "
+                              "no room for the identification block in the 64 KiB RAM)")
     p = params_to_c(_cfg_ffi, fp)
     cfg.fw = p[0]
     return bytes(_cfg_ffi.buffer(cfg))

@@ -190,3 +190,27 @@ def test_self_tuned_drive_no_worse_than_hand_tuned(default_commission, tmp_path)
     for a, b in zip(tuned.metrics["segments"], hand.metrics["segments"]):
         assert a["speed_ref_rpm"] == b["speed_ref_rpm"]
         assert a["err_rms_deg"] <= b["err_rms_deg"], (a, b)
+
+
+def test_commission_hls_identical_to_golden():
+    """The commissioning run (cut to 3 s: the probe, the scan, the polarity test, the first steps of the map with
+    the shaft held) on
+    the hls backend (native loop, host build of the C firmware with its identification block) gives the golden
+    backend's trace and the identification executor's state (every sum of every step) bit for bit."""
+    import dataclasses
+
+    from golden.scenario import parse_scenario
+    from hfi.backends import run
+    from hfi.commission import run_scenario_dict
+    path = "scenarios/xue2022_noload.toml"
+    d = run_scenario_dict(path)
+    d["scenario"]["duration"] = "3 s"
+    sc = parse_scenario(d, path)
+    gold = run(sc, "golden", progress=False)
+    hls = run(sc, "hls", progress=False)
+    for name in ("mode", "i_d", "i_q", "v_d", "v_q", "gamma", "gamma_d", "theta_hat", "fault"):
+        np.testing.assert_array_equal(hls.windows[name], gold.windows[name], err_msg=name)
+    assert isinstance(hls.ident, Ident) and isinstance(gold.ident, Ident)
+    assert gold.ident.k > 0 and any(gold.ident.r_gd)        # it got into the program and summed something
+    for f in dataclasses.fields(Ident):
+        assert getattr(hls.ident, f.name) == getattr(gold.ident, f.name), f.name

@@ -478,6 +478,13 @@ hls_loop *hls_loop_create(const hls_setup *setup, const fw_params *fw, plant *pl
     return h;
 }
 
+int32_t hls_loop_set_ident(hls_loop *h, fw_ident *ident) {
+    if (ident == nullptr || h->loop.windows_ended() != 0) return -1;
+    h->fw.ident = ident;
+    fw_init(&h->fw, &h->fwp);              // keeps the pointer and starts the program (FW_IDENT)
+    return 0;
+}
+
 int32_t hls_loop_run(hls_loop *h, int32_t n_windows) {
     if (!h->error.empty()) return -1;
     for (int32_t i = 0; i < n_windows && h->loop.windows_ended() < h->loop.n_windows(); i++)

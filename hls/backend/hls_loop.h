@@ -22,6 +22,7 @@ extern "C" {
 
 struct plant;
 struct fw_params;
+struct fw_ident;
 struct hls_loop;
 
 /* Hardware configuration (golden.control_config.HardwareConfig, effective values) and the run. */
@@ -57,6 +58,12 @@ enum hls_kind { HLS_WINDOWS = 0, HLS_OUTPUTS = 1, HLS_TRUTH = 2, HLS_SAMPLES = 3
 /* NULL and a message in err (err_len bytes) on a bad setup. The plant stays owned by the caller. */
 struct hls_loop *hls_loop_create(const struct hls_setup *setup, const struct fw_params *fw, struct plant *plant,
                                  char *err, int err_len);
+/* Gives the firmware the identification block `ident` (struct fw_ident, control.h: the program in ident->p, its
+ * state in ident->s) and restarts it with fw_init, so it starts in FW_IDENT as the golden Firmware with
+ * FirmwareParams.ident does. Only before the first window (returns -1 otherwise, and for NULL). The block stays
+ * owned by the caller and must outlive the loop; the loop writes the executor's state into ident->s. Without
+ * this call fw_state.ident stays NULL. */
+int32_t hls_loop_set_ident(struct hls_loop *h, struct fw_ident *ident);
 /* Runs up to n_windows more windows. Returns the number of windows done in total, -1 on an error
  * (hls_loop_error says which; the records up to it stay readable). */
 int32_t hls_loop_run(struct hls_loop *h, int32_t n_windows);

@@ -26,14 +26,17 @@ import numpy as np
 import tomli_w
 
 from golden.commission import SCAN_BIAS_SHARE, build_program, reduce, settings, spin_speed
+from golden.firmware.estimator import INJ_NONE, METHODS
 from golden.firmware.ident import IdentParams
 from golden.control_config import scales
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
-from golden.scenario import parse_scenario
+from golden.scenario import load_scenario, parse_scenario
 
 HANDOVER_EMF = 2.0
 """Hand-over speed: the back-EMF is this many times the dead time's voltage ``t_d f_sw V_dc`` (the 002 paper's
-350 r/min on its Table I motor is 1.9 times)."""
+350 r/min on its Table I motor is 1.9 times; the rule gives 355 r/min there, 157 r/min on the Table III motor
+and 669 r/min on the 000 motor, whose scenarios hand over at 350 and 380 r/min: a heuristic of one paper's
+case). Written only for a scenario with a high-speed estimator."""
 HANDOVER_DOWN = 300 / 350
 """Hand-over down speed as a share of the up speed (the 002 paper's 300 and 350 r/min)."""
 STANDSTILL_STAGES = ("probe", "scan", "polarity")
@@ -132,8 +135,8 @@ def commissioned_scenario(path: str | Path, res, tune: dict) -> dict:
                   "psi_f": f"{v.get('psi_f', 0.0):.6g} Wb", "J": f"{v['J']:.6g} kg*m^2",
                   "B": f"{max(v['B'], 0.0):.6g} N*m*s/rad", "T_c": f"{max(v['T_c'], 0.0):.6g} N*m"}
     d.setdefault("injection", {})["V_h"] = f"{tune['V_h']:.4g} V"
-    if "handover_up" in tune:
-        est = d.setdefault("estimator", {})
+    if "handover_up" in tune and d.get("estimator", {}).get("high", "none") != "none":   # a hand-over to tune
+        est = d["estimator"]
         est["handover_up"] = f"{tune['handover_up'] * 30 / math.pi:.4g} rpm"
         est["handover_down"] = f"{tune['handover_down'] * 30 / math.pi:.4g} rpm"
     d["scenario"]["name"] = d["scenario"]["name"] + "_commissioned"
@@ -197,11 +200,18 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
                "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
                "tuning": tune}
     (out / "commission.json").write_text(json.dumps(summary, indent=1, default=float))
-    (out / "commissioned.toml").write_text(tomli_w.dumps(commissioned_scenario(path, res, tune)))
     _figures(out, prog, res, run, sc, map_rows)
     if progress:
         _print(summary)
+    method = load_scenario(path).estimator.low                     # the application's own method
+    if not tune["hf_possible"] and METHODS[method].injection != INJ_NONE:
+        raise CommissionError(f"{sc.name}: the HF method {method!r} is refused: the saliency signal at the largest HF "
+                              f"amplitude ({tune['snr_at_V_h']:.2f} per window at V_h {tune['V_h']:.0f} V) is below "
+                              f"{SNR_MIN_SALIENCY} times the measured noise (commission.json written, no "
+                              "commissioned.toml): choose a model-based method or a larger commission.hf_voltage_max")
+    (out / "commissioned.toml").write_text(tomli_w.dumps(commissioned_scenario(path, res, tune)))
     return summary
+
 
 
 class CommissionError(RuntimeError):
@@ -224,10 +234,13 @@ def _stopped(prog, ident, run, sc, cs) -> str:
         sal = (res.values["L_q"] - res.values["L_d"]) / (res.values["L_q"] + res.values["L_d"])
         msg += (f"; the scan saw L_d {res.values['L_d']:.4g} H, L_q {res.values['L_q']:.4g} H "
                 f"(saliency {100 * sal:.2f} %, SNR {res.snr:.1f} per window)")
-        if res.snr < SNR_MIN_SALIENCY or abs(sal) < 0.02:
-            msg += (": too little saliency at zero current to find the rotor angle, so the map and the spin ran in "
-                    "a wrong frame (a reluctance machine whose saliency appears only with current needs a biased "
-                    "scan: docs/commissioning.md)")
+        if not cs.magnets and abs(sal) < 0.02:
+            msg += (": too little saliency to find the rotor angle, so the map and the spin ran in a wrong frame (a "
+                    "reluctance machine whose saliency appears only with current needs the biased scan)")
+        else:
+            msg += (": the current gains come from the scan's inductances; an HF amplitude small beside the dead "
+                    f"time's voltage ({sc.pwm.dead_time * sc.pwm.f_sw * sc.plant['inv']['V_dc']:.3g} V here) makes "
+                    "them wrong: raise commission.hf_voltage_max or commission.probe_voltage (docs/commissioning.md)")
     return msg
 
 

@@ -214,3 +214,36 @@ def test_commission_hls_identical_to_golden():
     assert gold.ident.k > 0 and any(gold.ident.r_gd)        # it got into the program and summed something
     for f in dataclasses.fields(Ident):
         assert getattr(hls.ident, f.name) == getattr(gold.ident, f.name), f.name
+
+
+def _weak_scenario(tmp_path, v_max: str):
+    import tomllib
+
+    import tomli_w
+    with open("scenarios/xue2022_noload.toml", "rb") as f:
+        d = tomllib.load(f)
+    d["commission"] = {"hf_voltage_max": v_max}
+    path = tmp_path / "weak.toml"
+    path.write_text(tomli_w.dumps(d))
+    return path
+
+
+def test_too_small_hf_amplitude_stops_with_its_reason(tmp_path):
+    """The 001 drive with the HF amplitude capped at 0.3 V (the dead time's voltage is 2.2 V): the scan's
+    inductances are wrong, the current gains from them too, and the polarity test trips on overcurrent; the error
+    names the stage, the fault, what the scan saw and what to raise."""
+    from hfi.commission import CommissionError, commission
+    with pytest.raises(CommissionError, match=r"stage 'polarity'.*fault overcurrent.*scan saw L_d.*hf_voltage_max"):
+        commission(_weak_scenario(tmp_path, "0.3 V"), tmp_path / "out", progress=False)
+
+
+def test_hf_method_refused_writes_no_configuration(tmp_path, monkeypatch):
+    """When the tuning finds the saliency signal below SNR_MIN_SALIENCY times the noise (forced here), the
+    application's HF method (sqw_cic) is refused with the numbers: commission.json written, no commissioned.toml."""
+    import hfi.commission as hc
+    real = hc.tuning
+    monkeypatch.setattr(hc, "tuning", lambda sc, res: {**real(sc, res), "hf_possible": False})
+    with pytest.raises(hc.CommissionError, match="'sqw_cic' is refused"):
+        hc.commission("scenarios/xue2022_noload.toml", tmp_path / "out", progress=False)
+    assert (tmp_path / "out" / "commission.json").is_file()
+    assert not (tmp_path / "out" / "commissioned.toml").exists()

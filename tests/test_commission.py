@@ -180,6 +180,19 @@ def test_commission_default_motor(default_commission):
     assert s["tuning"]["hf_possible"]
 
 
+@pytest.mark.parametrize("path", ["scenarios/bench2_loadsteps.toml", "scenarios/xue2022_noload.toml"])
+def test_commission_other_pm_motors(path, tmp_path):
+    """The 002 Table III motor and the 001 IPMSM, each with its scenario's sensors, offsets and dead time: R, L_d,
+    L_q, psi_f within 3 % and J within 10 % of the plant's, the standstill angle within 10 deg (the 000 and 003
+    motors miss the inductance targets: docs/commissioning.md)."""
+    from hfi.commission import commission
+    s = commission(path, tmp_path, progress=False)
+    for name in ("R_s", "L_d", "L_q", "psi_f"):
+        assert abs(s["values"][name]["rel_error"]) < 0.03, (name, s["values"][name])
+    assert abs(s["values"]["J"]["rel_error"]) < 0.10
+    assert abs(s["angle_error_deg"]) < 10.0
+
+
 def test_self_tuned_drive_no_worse_than_hand_tuned(default_commission, tmp_path):
     """The default scenario with the commissioned [model], V_h and hand-over speeds (commissioned.toml) on the
     golden loop: no fault, and the angle error RMS of every speed plateau no worse than the hand-tuned run's."""

@@ -1471,7 +1471,7 @@ def random_ident(rng: np.random.Generator) -> IdentParams:
     s_vh = draw(rng, n, 0, S16_MAX, (0, 1, 300))
     s_phi = draw(rng, n, 0, U32_MAX, (0, 1 << 30, 1 << 31, 3 << 30))
     s_dw = draw(rng, n, -(1 << 16), 1 << 16, (0,)) if rng.random() < 0.7 else draw(rng, n, S32_MIN, S32_MAX)
-    base = (F.F_SET, F.F_SCAN, F.F_NEG, F.F_OPEN, F.F_LEVEL, F.F_ABS, F.F_SNAP, F.F_GAIN)
+    base = (F.F_SET, F.F_SCAN, F.F_NEG, F.F_OPEN, F.F_LEVEL, F.F_SNAP, F.F_GAIN, 64)   # 64: unused, both ignore it
     s_flags = []
     for k in range(n):
         f = sum(b for b in base if rng.random() < 0.4 and (b != F.F_SNAP or s_n[k] >= 2))
@@ -1566,8 +1566,8 @@ def test_ident_probe_without_response_trips():
 
 def test_ident_program_runs_to_done():
     """A commissioning-like program: a probe (F_LEVEL), a scan of four angles in pairs at v_h and 2 v_h (F_SCAN,
-    F_NEG; F_FIT on the last), a polarity pair under current control (F_POL), a moving step (dw), an absolute
-    step (F_ABS); the response depends on the frame angle, so the fit and the gains are non-trivial. C = golden
+    F_NEG; F_FIT on the last), a polarity pair under current control (F_POL), a moving step (dw), a frame jump by
+    three quarters of a turn; the response depends on the frame angle, so the fit and the gains are non-trivial. C = golden
     every window; then DONE with the gates off."""
     steps = [(6, 3, 0, 0, 200, 0, 0, F.F_SET | F.F_OPEN | F.F_LEVEL)]
     for j in range(4):
@@ -1576,7 +1576,7 @@ def test_ident_program_runs_to_done():
                   (4, 2, 0, 0, 2000, phi, 0, F.F_SET | F.F_OPEN | F.F_SCAN | (F.F_FIT if j == 3 else 0))]
     steps += [(5, 3, 400, 0, 1000, 0, 0, F.F_SET), (5, 3, -400, 0, 1000, 0, 0, F.F_SET | F.F_POL),
               (8, 4, 0, 300, 1000, 0, 5000, F.F_SET), (6, 2, 300, 0, 0, 1 << 28, 0, F.F_SET | F.F_SNAP),
-              (4, 2, 200, 0, 0, 3 << 30, 0, F.F_SET | F.F_ABS)]
+              (4, 2, 200, 0, 0, 3 << 30, 0, F.F_SET)]
     ip = _program(steps, c_lvl=1 << 29, vh_max=3000)
     pair = Pair(_ident_params(ip))
     theta_true = 1 << 29

@@ -1121,7 +1121,7 @@ _Static_assert(sizeof(((struct fw_ident_state *)0)->r_id) / sizeof(int32_t) == F
  * read fw_state.ident and the state never enters FW_IDENT. The host build (cffi, tests/test_fw_c.py) has it. */
 #ifndef FW_NO_IDENT
 
-enum { F_SET = 1, F_SCAN = 2, F_FIT = 4, F_POL = 8, F_OPEN = 16, F_LEVEL = 32, F_ABS = 64, F_NEG = 128,
+enum { F_SET = 1, F_SCAN = 2, F_FIT = 4, F_POL = 8, F_OPEN = 16, F_LEVEL = 32, F_NEG = 128,
        F_SNAP = 256, F_GAIN = 512 }; /* ident.F_* */
 #define IDENT_KP_MAX INT32_MAX         /* ident.KP_MAX */
 #define IDENT_SIXTH 715827882          /* ident.SIXTH = 2^32 // 6 */
@@ -1129,7 +1129,7 @@ enum { F_SET = 1, F_SCAN = 2, F_FIT = 4, F_POL = 8, F_OPEN = 16, F_LEVEL = 32, F
 #define IDENT_G2_SHIFT 8               /* ident.G2_SHIFT */
 #define IDENT_G2_BITS 24               /* ident.G2_BITS */
 
-/* Ident._start: enter step k; F_SET puts the frame at theta_r + phi (F_ABS: at phi), at rest, and keeps its
+/* Ident._start: enter step k; F_SET puts the frame at theta_r + phi, at rest, and keeps its
  * turn (jump); F_SNAP then sets the speed that takes it to the nearest phase axis over the step's other
  * windows: w = c_div(wrap(axis - theta, 32), max(n - 1, 1)) with axis = ((floor((theta + SIXTH / 2) / SIXTH)
  * mod 6) 2^32) // 6 (in int64: theta + SIXTH / 2 exceeds u32). */
@@ -1138,7 +1138,7 @@ static void ident_start(struct fw_ident_state *id, const struct fw_ident_params 
     int32_t f = p->s_flags[id->k];
 
     if (f & F_SET) {
-        uint32_t theta = ((f & F_ABS) ? 0u : id->theta_r) + p->s_phi[id->k];
+        uint32_t theta = id->theta_r + p->s_phi[id->k];
 
         id->jump = theta - id->theta;
         id->theta = theta;

@@ -5,17 +5,15 @@ in its own frame, an HF square-wave amplitude on that frame's d axis (the 002 ha
 ``V_H``), and how the frame moves. The firmware runs the steps one window at a time, closes the current
 loops, and sums what it sees over the last ``m`` windows of each step: the window-mean currents, the
 voltage references applied in the window (in the step's frame) and the demodulated HF responses
-``GAMMA_D``, ``GAMMA`` and their squares. The host turns these sums into R_s, L_d, L_q, the saturation
+``GAMMA_D``, ``GAMMA`` (and one sum of their squares over the scan steps, for the noise). The host turns these sums into R_s, L_d, L_q, the saturation
 map, psi_f, J and the friction (:mod:`golden.commission`).
 
 The firmware itself makes the decisions the next steps depend on:
 
-* **HF level** (``F_LEVEL``): a probe step with a small amplitude ``s_vh`` measures the HF response ``G``;
-  from then on every step's amplitude is ``min(shr(s_vh * lvl, 16), vh_max)`` with
-  ``lvl = min(c_lvl / G, lvl_max)`` (Q16; the host caps it so that the largest amplitude of the program stays
-  within ``vh_max``): the response of the later steps is the host's target whatever the
-  inductance (a 67 mH washing-machine motor and a 3.5 mH servo differ by 20 times). ``G <= 0``: no HF
-  response, the program stops (``failed``);
+* **HF level** (``F_LEVEL``): a probe step at the amplitude ``s_vh`` measures the HF response ``G``; from
+  then on every step's amplitude is ``min(shr(s_vh * lvl, 16), vh_max)`` with ``lvl = min(c_lvl / G,
+  lvl_max)`` (Q16; the host's ``lvl_max`` = 1: the level only lowers the amplitude of a motor whose HF current
+  would exceed the host's cap). ``G <= 0``: no HF response, the program stops (``failed``);
 
 * **rotor angle** (``F_FIT``, after the scan steps ``F_SCAN``): with the injection on a frame at the
   angles ``phi_k`` (k = 0..K-1, spread over half a turn), the responses are
@@ -24,19 +22,17 @@ The firmware itself makes the decisions the next steps depend on:
   and ``theta_r = -arg(.) / 2`` (mod half a turn), i.e. half the angle of ``(x, y) = sum_k (G_d c_k - G_q s_k,
   G_d s_k + G_q c_k)`` with ``(s_k, c_k)`` of ``2 phi_k`` (``Y2 > 0``: the plant's d axis is the low-inductance one
   for every machine, docs/motors.md). The sums are integer (s64), the angle by the vectoring CORDIC
-  (:func:`~golden.firmware.vector.vector_angle`) after shifting both sums into its range;
+  (:func:`~golden.firmware.vector.vector_angle`) after shifting both sums into its range.
   The scan takes each angle twice, at ``v_h`` (``F_SCAN | F_NEG``: its sums count negative) and at ``2 v_h``:
   the difference is the response to ``v_h`` without the dead time's share, which does not grow with the
   amplitude while the HF current crosses zero (docs/commissioning.md);
 * **current-loop gains** (``F_FIT``, on the last scan step, the ``2 v_h`` one of a pair): ``kp = c_kp (v_h(k) -
-  v_h(k - 1)) / sum_k G_d`` (the amplitude difference of the pair; the mean
-  inverse inductance sets ``kp = L w_c``; ``c_kp`` holds the hardware's HF gain, the bandwidth and the
-  formats), ``ki = kp c_ki / 2^16``
-  (integral zero at a fixed share of the bandwidth: no resistance is known yet); ``F_GAIN`` sets them from one
-  step's response instead, ``kp = c_gain v_h / G`` (the probe of a reluctance machine, whose scan needs a
-  bias current and so current control before the fit; ``c_kp = 0``: ``F_FIT`` leaves the gains). Steps before
-  the gains are set
-  must be ``F_OPEN`` (no current control);
+  v_h(k - 1)) / sum_k G_d`` (the amplitude difference of the pair; the mean inverse inductance sets
+  ``kp = L w_c``; ``c_kp`` holds the hardware's HF gain, the bandwidth and the formats), ``ki = kp c_ki / 2^16``
+  (integral zero at a fixed share of the bandwidth: no resistance is known yet). ``F_GAIN`` sets them from one
+  step's response instead, ``kp = c_gain v_h / G`` (the probe of a reluctance machine, whose scan needs a bias
+  current and so current control before the fit; ``c_kp = 0``: ``F_FIT`` leaves the gains). Steps before the
+  gains are set must be ``F_OPEN`` (no current control);
 * **magnet polarity** (``F_POL``): the step before it had ``+I_p`` on d, this one ``-I_p``; a larger HF
   response now (smaller incremental inductance: saturation) means the magnet's north is on ``-d``:
   ``theta_r`` turns by half a turn.
@@ -46,10 +42,10 @@ multiple of 60 deg in the stator) over the step, and stops there at its end: the
 current at the start, follows it there without a swing (``w = c_div(wrap(axis - theta, 32), n - 1)``: the
 step's first call does not move the frame).
 
-Frame of a step: ``F_SET`` puts it at ``theta_r + phi`` at rest at the step start (``F_ABS``: at ``phi``, an
-angle of the stator: the resistance steps put the current on a phase axis, so that no phase current sits in
-the dead-time compensation's uncertain zone, and the rotor aligns with it); otherwise it keeps
-moving: per period ``w += dw``, then ``theta += w`` (the speed ``w`` in binary angle per period). A step
+Frame of a step: ``F_SET`` puts it at ``theta_r + phi`` at rest at the step start; the references in use and
+the PI integrators turn with the jump, and so do the window means of the step's first two calls (measured in
+the frame before it); otherwise the frame keeps moving: per period ``w += dw``, then ``theta += w`` (the speed
+``w`` in binary angle per period). The references approach the step's at ``i_slew`` per period. A step
 ``F_OPEN`` writes zero voltage (current control off).
 
 Timing: the outputs of a call are active two windows later (docs/spec.md 2), so the host leaves at least
@@ -67,8 +63,8 @@ from golden.firmware.vector import INPUT_LIMIT, vector_angle
 from golden.fixed import c_div, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
 
-F_SET, F_SCAN, F_FIT, F_POL, F_OPEN, F_LEVEL, F_ABS, F_NEG, F_SNAP, F_GAIN = 1, 2, 4, 8, 16, 32, 64, 128, 256, 512
-"""Step flags (module docstring)."""
+F_SET, F_SCAN, F_FIT, F_POL, F_OPEN, F_LEVEL, F_NEG, F_SNAP, F_GAIN = 1, 2, 4, 8, 16, 32, 128, 256, 512
+"""Step flags (module docstring; 64 is not used)."""
 IDENT_MAX = 160
 """Most steps in a program (the C arrays' length)."""
 HALF_TURN = 1 << 31
@@ -196,7 +192,7 @@ class Ident:
         """Enter step ``k``: ``F_SET`` puts the frame at ``theta_r + phi``, at rest."""
         f = self.p.s_flags[self.k]
         if f & F_SET:
-            theta = uwrap((0 if f & F_ABS else self.theta_r) + self.p.s_phi[self.k], 32)
+            theta = uwrap(self.theta_r + self.p.s_phi[self.k], 32)
             self.jump, self.theta, self.w = uwrap(theta - self.theta, 32), theta, 0
             if f & F_SNAP:
                 axis = ((((theta + (SIXTH >> 1)) // SIXTH) % 6) << 32) // 6

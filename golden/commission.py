@@ -139,12 +139,11 @@ class StepInfo:
 
 @dataclass(frozen=True)
 class Program:
-    """The firmware's program, each step's meaning, the per-window frame speed written by the firmware
-    [rad/s electrical] and the time span in which the shaft must be held (None: never)."""
+    """The firmware's program, each step's meaning and the time span in which the shaft must be held (None:
+    never)."""
 
     params: IdentParams
     steps: tuple
-    w_written: np.ndarray
     lock: tuple | None
     duration: float
 
@@ -293,7 +292,6 @@ def build_program(sc, cs: CommissionSettings) -> Program:
 
     cols = list(zip(*rows))
     vh_max = min(sc_.voltage(cs.hf_voltage_max), 32767)
-    w_lsb = sc_.w_lsb
     c_kp = round(2 * math.pi * sc.control.current_bw * sc_.i_lsb * 2**16 * K * n_meas * g_unit) if cs.magnets else 0
     c_gain = 0 if cs.magnets else round(2 * math.pi * sc.control.current_bw * sc_.i_lsb * 2**16 * n_meas * g_unit
                                         / SATURATION_RATIO)
@@ -303,17 +301,10 @@ def build_program(sc, cs: CommissionSettings) -> Program:
                          c_lvl=round(2**16 * g_unit * 4 * f_sw * cs.hf_current * n_meas),
                          i_slew=max(cur(cs.current) // max(n_set // 4, 1), 1),
                          c_gain=c_gain, lvl_max=1 << 16, vh_max=vh_max)
-    # frame speed per call (the executor: w += dw, except on the first call of an F_SET step: w = 0)
-    w, ws = 0, []
-    for n, dw, fl in zip(params.s_n, params.s_dw, params.s_flags):
-        for i in range(n):
-            w = 0 if (fl & F_SET and i == 0) else w + dw
-            ws.append(w)
     starts = np.cumsum((0,) + params.s_n)
     period = 1.0 / f_sw
     lock = (float(starts[lock_from] * period), float(starts[lock_to] * period)) if cs.lock else None
-    return Program(params, tuple(infos), np.array(ws, dtype=float) * w_lsb, lock,
-                   float((starts[-1] + 4) * period))
+    return Program(params, tuple(infos), lock, float((starts[-1] + 4) * period))
 
 
 @dataclass
@@ -333,9 +324,18 @@ def _step_means(st, k: int, m: int) -> dict:
     return {name: getattr(st, "r_" + name)[k] / m for name in ("id", "iq", "vd", "vq", "gd", "gq")}
 
 
-def reduce(prog: Program, st, sc, cs: CommissionSettings, scan_only: bool = False) -> Results:
-    """The motor data from the firmware's sums ``st`` (an :class:`~golden.firmware.ident.Ident`); ``scan_only``:
-    the inductances, the angle and the noise of the scan alone (a program that stopped after it)."""
+def frame_speed(theta: np.ndarray, w_lsb: float) -> np.ndarray:
+    """The frame speed [rad/s electrical] the firmware wrote at each call, from the angles it wrote (the trace's
+    ``theta_hat``: ``theta_k = theta_(k-1) + w_k``); 0 at the first."""
+    d = np.diff(np.asarray(theta, dtype=np.int64), prepend=int(theta[0]))
+    return ((d + 2**31) % 2**32 - 2**31) * w_lsb
+
+
+def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | None = None,
+           scan_only: bool = False) -> Results:
+    """The motor data from the firmware's sums ``st`` (an :class:`~golden.firmware.ident.Ident`) and the frame
+    angles it wrote each window (``theta``, the trace's ``theta_hat``; the spin's speeds); ``scan_only``: the
+    inductances, the angle and the noise of the scan alone (a program that stopped after it)."""
     sc_, hw = scales(sc), hardware_config(sc)
     f_sw, i_lsb, v_lsb = sc_.f_sw, sc_.i_lsb, sc_.v_lsb
     p = prog.params
@@ -403,6 +403,7 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, scan_only: bool = Fals
     res.spin.update(v0=v0, i_r=i_r, v_r=v_r, r2=float((v_r[-1] - v_r[0]) / (i_r[-1] - i_r[0])))
     # spin: flux and torque of every measured step
     starts = np.concatenate([[0], np.cumsum(p.s_n)])
+    w_frame = frame_speed(theta, sc_.w_lsb)
     pp = sc_.pole_pairs
     L_q = res.values["L_q"]
     spin = {}
@@ -411,7 +412,7 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, scan_only: bool = Fals
             continue
         j1 = starts[k + 1]
         # the frame speed active in the measured windows (written two calls before)
-        w = float(np.mean(prog.w_written[j1 - p.s_m[k] - 2:j1 - 2]))
+        w = float(np.mean(w_frame[j1 - p.s_m[k] - 2:j1 - 2]))
         mk = means[k]
         i = np.array([mk["id"], mk["iq"]]) * i_lsb
         v = np.array([mk["vd"], mk["vq"]]) * v_lsb

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
-from golden.commission import SCAN_BIAS_SHARE, build_program, reduce, settings, spin_speed
+from golden.commission import SCAN_BIAS_SHARE, build_program, frame_speed, reduce, settings, spin_speed
 from golden.firmware.estimator import INJ_NONE, METHODS
 from golden.firmware.ident import IdentParams
 from golden.control_config import scales
@@ -169,7 +169,7 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
     ident = run.ident
     if ident is None or not ident.done:
         raise CommissionError(_stopped(prog, ident, run, sc, cs))
-    res = reduce(prog, ident, sc, cs)
+    res = reduce(prog, ident, sc, cs, run.windows["theta_hat"])
     bias = 0.0 if cs.magnets else cs.current * SCAN_BIAS_SHARE
     tr = truth(sc, bias)
     rows = {}
@@ -304,9 +304,9 @@ def _figures(out: Path, prog, res, run, sc, map_rows) -> None:
     fig, ax = plt.subplots(figsize=(8, 4))
     t = run.t
     pp = sc.plant["mech"]["pole_pairs"]
-    n0 = len(t) - len(prog.w_written)
+
     ax.plot(t, run.windows["omega_m"] * 30 / math.pi, lw=1, label="rotor speed (plant)")
-    w_frame = np.concatenate([np.zeros(max(n0, 0)), prog.w_written])[:len(t)] / pp * 30 / math.pi
+    w_frame = frame_speed(run.windows["theta_hat"], scales(sc).w_lsb) / pp * 30 / math.pi
     ax.plot(t, w_frame, "--", lw=1, label="frame speed (program)")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("speed [r/min]")

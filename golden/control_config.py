@@ -36,7 +36,7 @@ from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams
 from golden.firmware.supervisor import POL_CURRENT, POL_NONE, POL_PILOT, FirmwareParams
-from golden.flux_tables import flux_lut, flux_reference_table, mtpa_point, nominal_motor
+from golden.flux_tables import flux_lut, flux_reference_table, nominal_motor
 from golden.scenario import HIGH_ESTIMATORS, LOW_ESTIMATORS
 from golden.fixed import shr, to_fixed, uwrap, wrap
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK, effective_os_ticks
@@ -140,22 +140,6 @@ def controller_motor(sc: Scenario) -> ControllerMotor:
     return ControllerMotor(R_s=m.R_s, mag=linear_mag(m.L_d, m.L_q, m.psi_f), J=m.J, pole_pairs=p, B=m.B, T_c=m.T_c)
 
 
-def controller_nominal(sc: Scenario, i_nom: float) -> dict:
-    """``{"L_d", "L_q", "psi_f", "k_t"}`` of the controller's motor (:func:`controller_motor`) at ``i_nom`` [A]:
-    :func:`~golden.flux_tables.nominal_motor`, except for a ``[model]`` without a magnet (``psi_f = 0``), whose
-    torque per ampere is the MTPA point's at ``i_nom`` (the linear formula ``1.5 p psi_f`` would give 0).
-    Raises ValueError when that model makes no positive torque (it needs ``L_q > L_d``)."""
-    cm = controller_motor(sc)
-    nom = nominal_motor(cm.mag, cm.pole_pairs, i_nom)
-    if sc.model is not None and cm.mag["psi_f"] == 0:
-        t = mtpa_point(cm.mag, i_nom, cm.pole_pairs)[4]
-        if not t > 0:
-            raise ValueError(f"[model] without a magnet (psi_f = 0) needs L_q > L_d to make torque "
-                             f"(L_d = {cm.mag['L_d']:g} H, L_q = {cm.mag['L_q']:g} H; scenario {sc.name})")
-        nom["k_t"] = t / i_nom
-    return nom
-
-
 def scales(sc: Scenario) -> Scales:
     f_sw = sc.pwm.f_sw
     return Scales(i_lsb=sc.plant["sens"]["adc_range"] / 2**15, v_lsb=sc.plant["inv"]["V_dc"] / 2**15,
@@ -229,7 +213,7 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     f_sw = sc.pwm.f_sw
     cm = controller_motor(sc)
     p = cm.pole_pairs
-    mag = controller_nominal(sc, 0.5 * ctl.i_max)
+    mag = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * ctl.i_max)
     L = 0.5 * (mag["L_d"] + mag["L_q"])
     w_c = 2 * math.pi * ctl.current_bw
     v_lim = min(sc_.voltage(ctl.v_max), 32767)
@@ -298,7 +282,7 @@ full-load step at standstill on the Table I motor dips to -160 r/min before the 
 
 def protection_params(sc: Scenario) -> ProtParams:
     """The fault checks' integers (golden.firmware.protection) from ``[protection]``, the controller's nominal
-    motor (:func:`controller_nominal` at half ``i_max``) and the formats. Defaults of absent keys:
+    motor (:func:`~golden.flux_tables.nominal_motor` of :func:`controller_motor` at half ``i_max``) and the formats. Defaults of absent keys:
     ``lock_emf`` LOCK_EMF_SHARE * V_dc; ``track_current`` TRACK_SHARE * i_max; ``speed_max`` from
     SPEED_MAX_MARGIN; ``asc_speed`` the speed whose back-EMF amplitude ``p omega psi_f`` reaches V_dc/sqrt(3),
     above which a coasting motor charges the dc link through the diodes (0, never, without a magnet).
@@ -310,7 +294,7 @@ def protection_params(sc: Scenario) -> ProtParams:
     if pr.checks == "off":
         return ProtParams()
     cm = controller_motor(sc)
-    mag = controller_nominal(sc, 0.5 * ctl.i_max)
+    mag = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * ctl.i_max)
     v_dc = sc.plant["inv"]["V_dc"]
     flux = 2 * math.pi * sc_.f_sw / sc_.v_lsb          # flux LSB per V*s (golden.firmware.protection)
     ref = max((abs(v) for _, v in sc.reference_speed), default=0.0)

@@ -111,10 +111,18 @@ def flux_reference_table(mag: dict, pole_pairs: int, i_lsb: float, flux_lsb: flo
 
 
 def nominal_motor(mag: dict, pole_pairs: int, i_nom: float) -> dict:
-    """``{"L_d", "L_q", "psi_f", "k_t"}``: a linear model's own values (``k_t = 1.5 p psi_f``), or, for a
-    map, the apparent inductances ``psi / i`` and the torque per ampere of the MTPA point at ``i_nom`` [A]
-    (``psi_f = 0``)."""
+    """``{"L_d", "L_q", "psi_f", "k_t"}``: a linear model's own values (``k_t = 1.5 p psi_f``; without a magnet,
+    the torque per ampere of its MTPA point at ``i_nom`` [A], which needs ``L_q > L_d``: ValueError otherwise),
+    or, for a map, the apparent inductances ``psi / i`` and the torque per ampere of the MTPA point (``psi_f =
+    0``)."""
     if is_linear(mag):
-        return {"L_d": mag["L_d"], "L_q": mag["L_q"], "psi_f": mag["psi_f"], "k_t": 1.5 * pole_pairs * mag["psi_f"]}
+        nom = {"L_d": mag["L_d"], "L_q": mag["L_q"], "psi_f": mag["psi_f"], "k_t": 1.5 * pole_pairs * mag["psi_f"]}
+        if mag["psi_f"] == 0:
+            t = mtpa_point(mag, i_nom, pole_pairs)[4]
+            if not t > 0:
+                raise ValueError(f"a linear model without a magnet (psi_f = 0) needs L_q > L_d to make torque "
+                                 f"(L_d = {mag['L_d']:g} H, L_q = {mag['L_q']:g} H)")
+            nom["k_t"] = t / i_nom
+        return nom
     i_d, i_q, psi_d, psi_q, t = mtpa_point(mag, i_nom, pole_pairs)
     return {"L_d": psi_d / i_d, "L_q": psi_q / i_q, "psi_f": 0.0, "k_t": t / i_nom}

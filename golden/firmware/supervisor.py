@@ -39,7 +39,7 @@ States (``MODE_*``):
 ``FIXED``     open-loop test (paper Sec. IV-A): theta_hat fixed, injection on, estimators off, current references 0
               (the current loops keep the back-EMF from driving current).
 ``IDENT``     self-commissioning (``FirmwareParams.ident``): the identification program runs instead of the
-              start-up (:mod:`golden.firmware.ident`); a scan without HF response trips with ``FAULT_IDENT``.
+              start-up (:mod:`golden.firmware.ident`); a probe or scan without HF response trips with ``FAULT_IDENT``.
 ``DONE``      the program has ended: gates off to the end of the run.
 ``FAULT``     a fault was found (``fault``: the code of :mod:`golden.firmware.protection`): the software
               overcurrent on the window means in any mode, or one of the RUN checks. Safe state: gates off
@@ -353,7 +353,7 @@ class Firmware:
 
     def _ident_outputs(self, win: WindowResult, i_d: int, i_q: int) -> Outputs:
         """``MODE_IDENT``: one window of the identification program (:mod:`golden.firmware.ident`); gates off
-        at its end (``MODE_DONE``) or when the scan saw no HF response (``FAULT_IDENT``)."""
+        at its end (``MODE_DONE``) or when a probe or the scan saw no HF response (``FAULT_IDENT``)."""
         idn = self.ident
         idn.measure(i_d, i_q, win.gamma_d, win.gamma, self.act[0], self.prev)
         if idn.failed:

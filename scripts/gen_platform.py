@@ -41,7 +41,7 @@ if str(ROOT) not in sys.path:
 import numpy as np  # noqa: E402
 
 from golden.closedloop import WINDOW_FIELDS, truth_columns  # noqa: E402
-from golden.firmware import biquad, eemf_smo, flux_lut, mtpa, rfo, rot_bpf, sqw_bangbang, supervisor  # noqa: E402
+from golden.firmware import biquad, eemf_smo, flux_lut, motion, mtpa, rfo, rot_bpf, sqw_bangbang, supervisor  # noqa: E402
 from golden.firmware.estimator import INJ_NONE, METHODS  # noqa: E402
 from golden.plant.binding import STATE_DTYPE  # noqa: E402
 from hfi import generated  # noqa: E402
@@ -155,6 +155,8 @@ def render_methods() -> str:
         f"#define FW_ROT_N_MAX {rot_bpf.N_MAX}  /* golden.firmware.rot_bpf.N_MAX */",
         f"#define FW_ROT_X_BITS {rot_bpf.X_BITS}  /* golden.firmware.rot_bpf.X_BITS */",
         f"#define FW_ROT_Z_BITS {rot_bpf.Z_BITS}  /* golden.firmware.rot_bpf.Z_BITS */",
+        f"#define FW_ROT_TRACK_OBSERVER {rot_bpf.TRACK_OBSERVER}  /* golden.firmware.rot_bpf.TRACK_OBSERVER */",
+        f"#define FW_MOTION_Q_W {motion.Q_W}  /* golden.firmware.motion.Q_W */",
         f"#define FW_SMO_I_FRAC {eemf_smo.I_FRAC}  /* golden.firmware.eemf_smo.I_FRAC */",
         f"#define FW_SMO_QUARTER {eemf_smo.QUARTER}u  /* golden.firmware.eemf_smo.QUARTER */",
         f"#define FW_MTPA_LEN {mtpa.MTPA_LEN}  /* golden.firmware.mtpa.MTPA_LEN */",

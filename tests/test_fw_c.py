@@ -540,13 +540,19 @@ def random_coef(rng: np.random.Generator) -> BiquadCoef:
 
 
 def random_rot(rng: np.random.Generator) -> RotParams:
-    """rot_bpf integers over their documented ranges (golden.firmware.rot_bpf), the 000 values frequent."""
+    """rot_bpf integers over their documented ranges (golden.firmware.rot_bpf), the 000 values frequent; half
+    the sets track with the motion observer (its gains over struct fw_cic_params' ranges, the tap2023_step
+    values ROT_MOTION_HOST frequent)."""
     q_sin, q_cos = sincos_q15(draw_one(rng, 0, U32_MAX, (3_972_844_748,)))
+    h = ROT_MOTION_HOST
+    c1, c2, c3 = (draw_one(rng, S32_MIN, S32_MAX, (h[k],)) for k in ("c1", "c2", "c3"))
     return RotParams(q_cos=q_cos, q_sin=q_sin, bpf=random_coef(rng), n_avg=draw_one(rng, 1, rot_bpf.N_MAX, (20,)),
                      offset=draw_one(rng, 0, U32_MAX, (1 << 30, 3 << 30)), pll_kp=draw_one(rng, 0, S32_MAX, (655,)),
                      pll_ki=draw_one(rng, 0, S32_MAX, (419,)), k_delay=draw_one(rng, -(1 << 24) + 1, (1 << 24) - 1,
                                                                                 (2_033_024,)),
-                     n_hold=draw_one(rng, 0, 30, (0, 1)))
+                     n_hold=draw_one(rng, 0, 30, (0, 1)), tracking=int(rng.integers(0, 2)), c1=c1, c2=c2, c3=c3,
+                     c_t=draw_one(rng, -CIC_CT_MAX, CIC_CT_MAX, (h["c_t"], 0)),
+                     c_r=draw_one(rng, -CIC_CR_MAX, CIC_CR_MAX, (h["c_r"], 0)))
 
 
 def random_smo(rng: np.random.Generator) -> SmoParams:
@@ -565,6 +571,8 @@ def random_smo(rng: np.random.Generator) -> SmoParams:
 CIC_HOST = CicParams(g=124_104, c1=4162, c2=198_701, c3=12_353, c_t=4_199_825_053, c_r=-1_327_144_717,
                     k_delay=147_456, q_min=328, n_hold=4)
 """golden.control_config.sqw_cic_params of scenarios/xue2022_noload.toml (test_cic_params_of_the_scenario)."""
+ROT_MOTION_HOST = {"c1": 2, "c2": 1272, "c3": 988, "c_t": 3_733_178, "c_r": -44_720_359}
+"""The motion observer's gains of rot_bpf in scenarios/tap2023_step.toml (test_rot_observer_of_the_scenario)."""
 
 
 def random_cic(rng: np.random.Generator) -> CicParams:
@@ -1070,6 +1078,19 @@ def test_cic_step_corners(p, state, qa, qb, i_d, i_q):
     for _ in range(2):
         out = pair.step(est, qa, qb, i_d, i_q)
         assert pair.diff(est) == {} and out == (est.theta, est.omega), (pair.diff(est), out)
+
+
+def test_rot_observer_of_the_scenario():
+    """scenarios/tap2023_step.toml tracks with the motion observer: its gains (golden.control_config.motion_gains,
+    8 Hz) are ROT_MOTION_HOST, inside the ranges control.h documents, and convert into struct fw_params
+    unchanged."""
+    p = firmware_params(load_scenario(ROOT / "scenarios" / "tap2023_step.toml"))
+    r = p.rot
+    assert r is not None and r.tracking == rot_bpf.TRACK_OBSERVER
+    assert {k: getattr(r, k) for k in ROT_MOTION_HOST} == ROT_MOTION_HOST
+    cp = fw_c.params_to_c(ffi, p)
+    assert (cp.rot.tracking, cp.rot.c1, cp.rot.c2, cp.rot.c3, cp.rot.c_t, cp.rot.c_r) == \
+        (r.tracking, r.c1, r.c2, r.c3, r.c_t, r.c_r)
 
 
 def test_cic_params_of_the_scenario():

@@ -455,6 +455,50 @@ int32_t fw_rfo_i_d(const struct fw_params *p)
     return p->rfo.i_d;
 }
 
+/* ---- the motion observer (golden.firmware.motion), shared by rot_bpf and sqw_cic ------------------------- */
+
+/* golden.fixed.sat(a + b, 64) of int64 a, b: on overflow both have the sign of b. */
+static int64_t sat_add64(int64_t a, int64_t b)
+{
+    int64_t s;
+
+    if (__builtin_add_overflow(a, b, &s))
+        s = b < 0 ? INT64_MIN : INT64_MAX;
+    return s;
+}
+
+/* golden.fixed.sat(a + b + c, 64) of the exact sum of int64 a, b, c (|a + b + c| < 3 2^63): each of the
+ * two wrapping adds is off by +-2^64 when it overflows (the sign of its second operand); with k such
+ * wraps in all the wrapped result t is the exact sum - k 2^64, so k > 0 means above INT64_MAX, k < 0
+ * below INT64_MIN, k = 0 that t is the exact sum. */
+static int64_t sat_add3_64(int64_t a, int64_t b, int64_t c)
+{
+    int64_t s, t;
+    int k = 0;
+
+    if (__builtin_add_overflow(a, b, &s))
+        k += b < 0 ? -1 : 1;
+    if (__builtin_add_overflow(s, c, &t))
+        k += c < 0 ? -1 : 1;
+    return k > 0 ? INT64_MAX : k < 0 ? INT64_MIN : t;
+}
+
+/* golden.firmware.motion.motion_step: the motion observer (Xue et al. 2022, eqs. (9)-(12); poles at -a) with
+ * the torque feed-forward, shared by sqw_cic and rot_bpf; the same operations in the same order. Ranges:
+ * struct fw_cic_params (control.h): |c_t i_q| <= 2^61, |c_r i_d i_q| <= 2^62 after the s16 saturation, so
+ * |c2 e + ff| < 2^63. */
+static void fw_motion_step(uint32_t *theta_o, int64_t *w, int64_t *z, int32_t *omega, int32_t err, int32_t i_d_mean,
+                           int32_t i_q_mean, int32_t c1, int32_t c2, int32_t c3, int64_t c_t, int64_t c_r)
+{
+    err = opaque_s32(err); /* opaque_s32: the products below as 32 x 32 (speed, no value change) */
+    int32_t i_d = opaque_s32(sat16(i_d_mean)), i_q = opaque_s32(sat16(i_q_mean));
+    int64_t ff = c_t * i_q + ((c_r * (i_d * i_q)) >> 16); /* n_p T_e / J: the torque feed-forward */
+    *z = sat_add64(*z, (int64_t)c1 * err);
+    *w = sat_add3_64(*w, *z, (int64_t)c2 * err + ff);
+    *omega = sat32(*w >> FW_MOTION_Q_W);
+    *theta_o += (uint32_t)*omega + (uint32_t)(((int64_t)c3 * err) >> 16);
+}
+
 /* ---- estimator rot_bpf (golden.firmware.rot_bpf; Tap et al. 2023, Sec. II-B..E) ------------------------ */
 
 void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
@@ -483,15 +527,24 @@ void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw
     e->buf_q[k] = z_q;
     e->idx = k + 1 < rp->n_avg ? k + 1 : 0;
     fw_vector_angle((int32_t)sat_bits(e->sum_d, 29), (int32_t)sat_bits(e->sum_q, 29), &psi, &e->mag);
+    int observer = rp->tracking == FW_ROT_TRACK_OBSERVER;
+    uint32_t tracked = observer ? e->theta_o : e->pll.theta;
     if (e->hold > 0) {
         e->hold--;
         e->err = 0;
     } else { /* eq. (17), normalised */
-        e->err = (int32_t)(psi - rp->offset - 2u * e->pll.theta) >> 1;
+        e->err = (int32_t)(psi - rp->offset - 2u * tracked) >> 1;
     }
-    fw_pll_step(&e->pll, e->pll.theta + (uint32_t)e->err, rp->pll_kp, rp->pll_ki);
-    e->omega = e->pll.omega;
-    e->theta = e->pll.theta + (uint32_t)(((int64_t)e->omega * rp->k_delay) >> 16); /* eqs. (18)-(19) */
+    if (observer) {
+        fw_motion_step(&e->theta_o, &e->w, &e->z, &e->omega, e->err, m->i_d, m->i_q, rp->c1, rp->c2, rp->c3, rp->c_t,
+                       rp->c_r);
+        tracked = e->theta_o;
+    } else {
+        fw_pll_step(&e->pll, e->pll.theta + (uint32_t)e->err, rp->pll_kp, rp->pll_ki);
+        e->omega = e->pll.omega;
+        tracked = e->pll.theta;
+    }
+    e->theta = tracked + (uint32_t)(((int64_t)e->omega * rp->k_delay) >> 16); /* eqs. (18)-(19) */
     *theta = e->theta;
     *omega = e->omega;
 }
@@ -499,6 +552,7 @@ void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw
 void fw_rot_turn(struct fw_state *st, uint32_t delta)
 {
     st->rot.pll.theta += delta;
+    st->rot.theta_o += delta;
     st->rot.theta += delta;
 }
 
@@ -511,6 +565,8 @@ void fw_rot_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
     e->pll.theta = theta - (uint32_t)(((int64_t)omega * p->rot.k_delay) >> 16);
     e->pll.integ = (int64_t)omega * 16777216;
     e->pll.omega = omega;
+    e->theta_o = e->pll.theta; /* golden.firmware.motion.motion_sync */
+    e->w = (int64_t)omega * 16777216;
     e->theta = theta;
     e->omega = omega;
     e->hold = p->rot.n_hold;
@@ -599,32 +655,6 @@ int32_t fw_smo_i_d(const struct fw_params *p)
 
 /* ---- estimator sqw_cic (golden.firmware.sqw_cic; Xue et al. 2022, Sec. 3, Figs. 2 and 10) -------------- */
 
-/* golden.fixed.sat(a + b, 64) of int64 a, b: on overflow both have the sign of b. */
-static int64_t sat_add64(int64_t a, int64_t b)
-{
-    int64_t s;
-
-    if (__builtin_add_overflow(a, b, &s))
-        s = b < 0 ? INT64_MIN : INT64_MAX;
-    return s;
-}
-
-/* golden.fixed.sat(a + b + c, 64) of the exact sum of int64 a, b, c (|a + b + c| < 3 2^63): each of the
- * two wrapping adds is off by +-2^64 when it overflows (the sign of its second operand); with k such
- * wraps in all the wrapped result t is the exact sum - k 2^64, so k > 0 means above INT64_MAX, k < 0
- * below INT64_MIN, k = 0 that t is the exact sum. */
-static int64_t sat_add3_64(int64_t a, int64_t b, int64_t c)
-{
-    int64_t s, t;
-    int k = 0;
-
-    if (__builtin_add_overflow(a, b, &s))
-        k += b < 0 ? -1 : 1;
-    if (__builtin_add_overflow(s, c, &t))
-        k += c < 0 ? -1 : 1;
-    return k > 0 ? INT64_MAX : k < 0 ? INT64_MIN : t;
-}
-
 /* golden.firmware.sqw_cic.SquareWaveCic.step (Xue et al. 2022): the angle of the CIC-interpolated
  * quadrature signal (eq. (6)), the quadrature PLL's error scaled to slope 1 (Fig. 10), the Luenberger
  * observer with the torque feed-forward (eqs. (9)-(12)), the delay compensation; the same operations in
@@ -646,14 +676,9 @@ void fw_cic_step(struct fw_state *st, const struct fw_params *p, const struct fw
     } else { /* Fig. 10, scaled to slope 1 */
         err = sat32(((int64_t)cp->g * (int32_t)(psi - e->theta_o)) >> 16);
     }
-    e->err = err = opaque_s32(err); /* opaque_s32: the products below as 32 x 32 (speed, no value change) */
-    int32_t i_d = opaque_s32(sat16(m->i_d)), i_q = opaque_s32(sat16(m->i_q));
-    /* n_p T_e / J: the torque feed-forward; |c_t i_q| <= 2^61, |c_r i_d i_q| <= 2^62 */
-    int64_t ff = cp->c_t * i_q + ((cp->c_r * (i_d * i_q)) >> 16);
-    e->z = sat_add64(e->z, (int64_t)cp->c1 * err); /* eqs. (9)-(12): poles at -a */
-    e->w = sat_add3_64(e->w, e->z, (int64_t)cp->c2 * err + ff); /* |c2 e + ff| < 2^63 */
-    e->omega = sat32(e->w >> 24);
-    e->theta_o += (uint32_t)e->omega + (uint32_t)(((int64_t)cp->c3 * err) >> 16);
+    e->err = err;
+    fw_motion_step(&e->theta_o, &e->w, &e->z, &e->omega, err, m->i_d, m->i_q, cp->c1, cp->c2, cp->c3, cp->c_t,
+                   cp->c_r); /* eqs. (9)-(12): poles at -a, torque feed-forward */
     e->theta = e->theta_o + (uint32_t)(((int64_t)e->omega * cp->k_delay) >> 16);
     *theta = e->theta;
     *omega = e->omega;

@@ -134,12 +134,21 @@ struct fw_rot_params {
     int32_t pll_ki;
     int32_t k_delay;
     int32_t n_hold;
+    int32_t tracking;        /* golden.firmware.rot_bpf.TRACK_PLL 0, TRACK_OBSERVER 1 */
+    int32_t c1;              /* the motion observer's gains (golden.firmware.motion; ranges: struct fw_cic_params) */
+    int32_t c2;
+    int32_t c3;
+    int64_t c_t;
+    int64_t c_r;
 };
 
 struct fw_rot_state {
     uint32_t theta;
     int32_t omega;
     struct fw_pll pll;
+    uint32_t theta_o;        /* the motion observer (TRACK_OBSERVER): angle, speed and load acceleration, Q24 */
+    int64_t w;
+    int64_t z;
     struct fw_biquad bd;
     struct fw_biquad bq;
     int32_t buf_d[32];       /* golden.firmware.rot_bpf.N_MAX */

@@ -13,6 +13,8 @@
 #define FW_ROT_N_MAX 32  /* golden.firmware.rot_bpf.N_MAX */
 #define FW_ROT_X_BITS 21  /* golden.firmware.rot_bpf.X_BITS */
 #define FW_ROT_Z_BITS 26  /* golden.firmware.rot_bpf.Z_BITS */
+#define FW_ROT_TRACK_OBSERVER 1  /* golden.firmware.rot_bpf.TRACK_OBSERVER */
+#define FW_MOTION_Q_W 24  /* golden.firmware.motion.Q_W */
 #define FW_SMO_I_FRAC 8  /* golden.firmware.eemf_smo.I_FRAC */
 #define FW_SMO_QUARTER 1073741824u  /* golden.firmware.eemf_smo.QUARTER */
 #define FW_MTPA_LEN 33  /* golden.firmware.mtpa.MTPA_LEN */

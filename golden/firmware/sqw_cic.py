@@ -13,17 +13,8 @@ rotor's d-axis. Once per control period:
    ``q e^{-j theta_hat} ~ L_avg - L_dif e^{j 2 (theta - theta_hat)}``, whose angle is ``(1 - L_d/L_q)``
    times the angle error for small errors, not the error itself; 0 while ``hold > 0`` (after a restart,
    until the CIC holds envelopes of the new injection) and while ``mag < q_min``;
-3. the Luenberger observer (eqs. (9)-(12), with the torque feed-forward written as the motion equation
-   means it: ``d omega/dt = n_p T_e / J + ...``; eq. (9) as printed multiplies ``T_e`` by the error),
-   the gains ``K1 = a^3 J``, ``K2 = 3 a^2 J``, ``K3 = 3 a J`` divided by ``J`` (the poles at ``-a``):
-
-   * ``z = sat(z + c1 e, 64)``                    (Q24 binary angle per period^2; ``c1 = a^3 T^3``)
-   * ``w = sat(w + z + c2 e + ff, 64)``           (Q24 binary angle per period; ``c2 = 3 a^2 T^2``)
-   * ``omega = sat(shr(w, 24), 32)``
-   * ``theta_o = uwrap(theta_o + omega + shr(c3 e, 16), 32)``   (``c3 = 3 a T``, Q16)
-
-   with ``ff = c_t i_q + shr(c_r i_d i_q, 16)`` (``i_d, i_q``: the window means saturated to s16; ``c_t,
-   c_r``: ``n_p T_e / J`` per current LSB and per LSB^2, Q24 and Q40), 0 when ``c_t = c_r = 0``;
+3. the Luenberger observer of eqs. (9)-(12) with the torque feed-forward, poles at ``-a``
+   (:mod:`golden.firmware.motion`: ``motion_step(self, e, i_d, i_q, p)`` on ``theta_o, w, z, omega``);
 4. delay compensation: ``theta = uwrap(theta_o + shr(omega * k_delay, 16), 32)``, ``k_delay`` (Q16
    periods) from the implemented timing (``golden.control_config.sqw_cic_delay``: the CIC output's age
    plus the time to the middle of the window the angle is used in; docs/methods.md derives it).
@@ -37,6 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from golden.firmware.estimator import METHOD_SQW_CIC, Estimator, Measurement
+from golden.firmware.motion import motion_step, motion_sync
 from golden.firmware.vector import vector_angle
 from golden.fixed import sat, shr, uwrap, wrap
 
@@ -86,12 +78,7 @@ class SquareWaveCic(Estimator):
         else:                                             # Fig. 10, scaled to slope 1
             e = sat(shr(p.g * wrap(psi - self.theta_o, 32), 16), 32)
         self.err = e
-        i_d, i_q = sat(m.i_d, 16), sat(m.i_q, 16)
-        ff = p.c_t * i_q + shr(p.c_r * (i_d * i_q), 16)   # n_p T_e / J: the torque feed-forward
-        self.z = sat(self.z + p.c1 * e, 64)               # eqs. (9)-(12): poles at -a
-        self.w = sat(self.w + self.z + p.c2 * e + ff, 64)
-        self.omega = sat(shr(self.w, 24), 32)
-        self.theta_o = uwrap(self.theta_o + self.omega + shr(p.c3 * e, 16), 32)
+        motion_step(self, e, m.i_d, m.i_q, p)             # eqs. (9)-(12): poles at -a, torque feed-forward
         self.theta = uwrap(self.theta_o + shr(self.omega * p.k_delay, 16), 32)
 
     def turn(self, delta: int) -> None:
@@ -100,8 +87,6 @@ class SquareWaveCic(Estimator):
 
     def sync(self, theta: int, omega: int) -> None:
         p = self.p
-        self.theta_o = uwrap(theta - shr(omega * p.k_delay, 16), 32)
-        self.w = omega << 24
-        self.z = 0
+        motion_sync(self, theta - shr(omega * p.k_delay, 16), omega)
         self.hold = p.n_hold
-        self.theta, self.omega = theta, omega
+        self.theta = theta

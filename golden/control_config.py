@@ -31,6 +31,7 @@ from golden.firmware.pi import PiParams, pi_gains
 from golden.firmware.pll import pll_gains
 from golden.firmware.protection import ProtParams
 from golden.firmware.rfo import RfoParams
+from golden.firmware.load_observer import LoadObsParams
 from golden.firmware.rot_bpf import TRACK_OBSERVER, TRACK_PLL, RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams
@@ -222,7 +223,10 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     w_s = 2 * math.pi * ctl.speed_bw
     kp_w = cm.J * w_s / (k_t * p)
     speed_div = max(round(f_sw / ctl.speed_rate), 1) if ctl.speed_rate > 0 else 1
-    kp_s, ki_s = pi_gains(kp_w, kp_w * w_s / 4, sc_.w_lsb / sc_.i_lsb, f_sw / speed_div, sp=24, si=31)
+    lobs = load_observer_params(sc, k_t, speed_div)
+    # with the load observer the speed controller is P only: the observer's load current is its integral action
+    ki_w = 0.0 if lobs.g else kp_w * w_s / 4
+    kp_s, ki_s = pi_gains(kp_w, ki_w, sc_.w_lsb / sc_.i_lsb, f_sw / speed_div, sp=24, si=31)
     speed_pi = PiParams(kp_s, 24, ki_s, 31, sc_.current(ctl.i_max))
     fixed = to_fixed(ctl.theta_hat / (2 * math.pi), 32) % 2**32 if ctl.mode == "fixed_angle" else None
     est = sc.estimator
@@ -257,7 +261,28 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         law=LAW_FCS_MPC if ctl.law == "fcs_mpc" else LAW_FOC_PWM,
         fcs=fcs_params(sc) if ctl.law == "fcs_mpc" else None,
         hfo=hfo_proj_params(sc) if METHOD_HFO_PROJ in methods else None,
-        prot=protection_params(sc), ident=ident_params(sc))
+        prot=protection_params(sc), lobs=lobs, ident=ident_params(sc))
+
+
+def load_observer_params(sc: Scenario, k_t: float, speed_div: int) -> LoadObsParams:
+    """``control.load_observer`` (Hz; 0: off): the load-torque observer's integers (golden.firmware.load_observer)
+    for the controller's motor (torque per ampere ``k_t`` of its nominal model, ``J``, pole pairs) and the speed
+    loop's step ``T_s = speed_div / f_sw``: ``g = (k_t p / J) T_s i_lsb / w_lsb`` (Q16), both poles at
+    ``-w_o``: ``l1 = 2 w_o T_s`` (Q24), ``l2g = (w_o T_s)^2 / g`` (Q40). Raises ValueError when an integer
+    leaves its range (docs/scenario.md)."""
+    f_o = sc.control.load_observer
+    if f_o <= 0:
+        return LoadObsParams()
+    sc_, cm = scales(sc), controller_motor(sc)
+    t_s = speed_div / sc.pwm.f_sw
+    g = k_t * cm.pole_pairs / cm.J * t_s * sc_.i_lsb / sc_.w_lsb
+    w_t = 2 * math.pi * f_o * t_s
+    p = LoadObsParams(g=to_fixed(g, 16), l1=to_fixed(2 * w_t, 24), l2g=to_fixed(w_t * w_t / g, 40))
+    for name, v in (("g", p.g), ("l1", p.l1), ("l2g", p.l2g)):
+        if not 0 < v < 1 << 31:
+            raise ValueError(f"control.load_observer: {name} = {v} is outside 1..2^31-1 (the observer at "
+                             f"{f_o:g} Hz with this motor's J, torque constant and speed-loop rate; docs/scenario.md)")
+    return p
 
 
 def ident_params(sc: Scenario):

@@ -259,6 +259,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "notch_width": _q("frequency", _positive, default=400.0),
         "speed_rate": _q("frequency", _non_negative, default=0.0),
         "current_slew": _q("current_rate", _non_negative, default=0.0),
+        "load_observer": _q("frequency", _non_negative, default=0.0),
         "law": Field("choice", choices={"foc_pwm": 0, "fcs_mpc": 1}, default="foc_pwm"),
         "flux_min": _q("flux", _non_negative, default=0.06),
         "inv_v_drop": _q("voltage", _non_negative, default=0.0),
@@ -490,6 +491,7 @@ class ControlSettings:
     notch_width: float
     speed_rate: float
     current_slew: float
+    load_observer: float
     law: str
     flux_min: float
     inv_v_drop: float

@@ -41,7 +41,8 @@ if str(ROOT) not in sys.path:
 import numpy as np  # noqa: E402
 
 from golden.closedloop import WINDOW_FIELDS, truth_columns  # noqa: E402
-from golden.firmware import biquad, eemf_smo, flux_lut, motion, mtpa, rfo, rot_bpf, sqw_bangbang, supervisor  # noqa: E402
+from golden.firmware import (biquad, eemf_smo, flux_lut, load_observer, motion, mtpa, rfo, rot_bpf,  # noqa: E402
+                             sqw_bangbang, supervisor)
 from golden.firmware.estimator import INJ_NONE, METHODS  # noqa: E402
 from golden.plant.binding import STATE_DTYPE  # noqa: E402
 from hfi import generated  # noqa: E402
@@ -157,6 +158,8 @@ def render_methods() -> str:
         f"#define FW_ROT_Z_BITS {rot_bpf.Z_BITS}  /* golden.firmware.rot_bpf.Z_BITS */",
         f"#define FW_ROT_TRACK_OBSERVER {rot_bpf.TRACK_OBSERVER}  /* golden.firmware.rot_bpf.TRACK_OBSERVER */",
         f"#define FW_MOTION_Q_W {motion.Q_W}  /* golden.firmware.motion.Q_W */",
+        f"#define FW_LOBS_W_FRAC {load_observer.W_FRAC}  /* golden.firmware.load_observer.W_FRAC */",
+        f"#define FW_LOBS_I_FRAC {load_observer.I_FRAC}  /* golden.firmware.load_observer.I_FRAC */",
         f"#define FW_SMO_I_FRAC {eemf_smo.I_FRAC}  /* golden.firmware.eemf_smo.I_FRAC */",
         f"#define FW_SMO_QUARTER {eemf_smo.QUARTER}u  /* golden.firmware.eemf_smo.QUARTER */",
         f"#define FW_MTPA_LEN {mtpa.MTPA_LEN}  /* golden.firmware.mtpa.MTPA_LEN */",

@@ -49,6 +49,7 @@ from golden.firmware.rfo import Q_LIMIT, RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams, SquareWaveCic
+from golden.firmware.load_observer import LoadObsParams
 from golden.firmware.vector import vector_angle
 from golden.firmware.supervisor import (MODE_CONVERGE, MODE_DONE, MODE_FAULT, MODE_FIXED, MODE_IDENT, MODE_NAMES,
                                         MODE_POL_NEG, MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_NONE, POL_PILOT, Firmware,
@@ -632,7 +633,17 @@ def random_params(rng: np.random.Generator, fixed: bool, prot: bool = False) -> 
         pol_mode=(POL_PILOT, POL_CURRENT, POL_NONE)[int(rng.integers(0, 3))], v_pilot=draw_one(rng, 0, (1 << 15) - 1, (9362,)),
         mtpa_shift=shift, mtpa_id=t_d, mtpa_iq=t_q, notch=random_coef(rng) if rng.random() < 0.5 else None,
         speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)),
-        prot=random_prot(rng) if prot else ProtParams())
+        prot=random_prot(rng) if prot else ProtParams(),
+        lobs=random_lobs(rng) if rng.random() < 0.5 else LoadObsParams())
+
+
+LOBS_HOST = LoadObsParams(g=31302, l1=63249, l2g=8179263)
+"""golden.control_config.load_observer_params of scenarios/varatharajan2020_torquestep.toml (3 Hz)."""
+
+
+def random_lobs(rng: np.random.Generator) -> LoadObsParams:
+    """Load-observer integers over the ranges control.h documents (0 < g, l1, l2g < 2^31), LOBS_HOST's frequent."""
+    return LoadObsParams(*(draw_one(rng, 1, S32_MAX, (v, 1)) for v in (LOBS_HOST.g, LOBS_HOST.l1, LOBS_HOST.l2g)))
 
 
 def random_prot(rng: np.random.Generator) -> ProtParams:

@@ -1648,12 +1648,35 @@ static void feedback(struct fw_state *st, const struct fw_params *p, int32_t *i_
     *i_q = (int32_t)round_shr64(st->nq.y1, FW_BIQUAD_Y_FRAC);
 }
 
-/* Firmware._run_refs: the speed PI every speed_div periods, the slew limit, then MTPA (if a table is given). */
+/* golden.firmware.load_observer.load_obs_step: the speed loop's load-torque observer, the same operations in
+ * the same order. |g sat(.)| < 2^62 and |shr(l1 e, 8)| < 2^55: their sum is exact in int64; the sums with w and
+ * i_l saturate (sat_add64), and i_l is then clamped to +-(limit << 32) <= 2^63 - 2^32 as golden's exact sum. */
+static void fw_lobs_step(struct fw_state *st, const struct fw_lobs_params *lp, int32_t omega, int32_t limit)
+{
+    int32_t e = sat32((int64_t)omega - (st->lobs_w >> FW_LOBS_W_FRAC));
+    int32_t di = sat32((int64_t)st->i_s_cmd - (st->lobs_i >> FW_LOBS_I_FRAC));
+    st->lobs_w = sat_add64(st->lobs_w, (int64_t)lp->g * di + (((int64_t)lp->l1 * e) >> 8));
+    int64_t lim = (int64_t)limit << FW_LOBS_I_FRAC;
+    int64_t i_l = sat_add64(st->lobs_i, -(((int64_t)lp->l2g * e) >> 8));
+    st->lobs_i = i_l < -lim ? -lim : i_l > lim ? lim : i_l;
+}
+
+/* Firmware._run_refs: the speed PI every speed_div periods (plus the load observer's current, if on), the slew
+ * limit, then MTPA (if a table is given). */
 static void run_refs(struct fw_state *st, const struct fw_params *p, int32_t speed_ref, int32_t *i_d_ref,
                      int32_t *i_q_ref)
 {
-    if (st->speed_cnt == 0)
-        st->i_s_ref = pi_step(&st->speed_int, speed_ref, fw_lowpass_out(st->speed_f), &p->speed_pi);
+    if (st->speed_cnt == 0) {
+        int32_t omega = fw_lowpass_out(st->speed_f);
+        int32_t u = pi_step(&st->speed_int, speed_ref, omega, &p->speed_pi);
+        if (p->lobs.g != 0) {
+            int32_t lim = p->speed_pi.limit;
+            fw_lobs_step(st, &p->lobs, omega, lim);
+            int64_t v = (int64_t)u + (st->lobs_i >> FW_LOBS_I_FRAC);
+            u = (int32_t)(v < -lim ? -lim : v > lim ? lim : v);
+        }
+        st->i_s_ref = u;
+    }
     st->speed_cnt = st->speed_cnt + 1 < p->speed_div ? st->speed_cnt + 1 : 0;
     if (p->i_slew > 0) { /* |i_s_cmd| <= 2^31, i_slew <= 2^30: the bounds in int64 */
         int64_t lo = (int64_t)st->i_s_cmd - p->i_slew, hi = (int64_t)st->i_s_cmd + p->i_slew;

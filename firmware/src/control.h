@@ -123,6 +123,14 @@ struct fw_rfo_state {
     int32_t mag;
 };
 
+/* ---- the speed loop's load-torque observer (golden.firmware.load_observer; g = 0: off) ----
+ * 0 < g, l1, l2g < 2^31 when on (golden.control_config.load_observer_params checks them). */
+struct fw_lobs_params {
+    int32_t g;               /* Q16 speed per current LSB per speed-loop step */
+    int32_t l1;              /* Q24 */
+    int32_t l2g;             /* Q40 */
+};
+
 /* ---- method rot_bpf (golden.firmware.rot_bpf) ---- */
 struct fw_rot_params {
     int32_t q_cos;
@@ -455,6 +463,7 @@ struct fw_params {
     int32_t law;             /* enum fw_law */
     struct fw_fcs_params fcs;
     struct fw_prot_params prot;
+    struct fw_lobs_params lobs;
 };
 
 /* Register values written by one control step (golden.firmware.supervisor.Outputs). */
@@ -498,6 +507,8 @@ struct fw_state {
     int32_t speed_cnt;          /* periods since the last speed-PI step */
     int32_t i_s_ref;            /* speed-PI output, held between its steps */
     int32_t i_s_cmd;            /* the current command: i_s_ref through the slew limit */
+    int64_t lobs_w;             /* load observer: speed, Q16 */
+    int64_t lobs_i;             /* load observer: load current, Q32 (|.| <= speed_pi.limit << 32) */
     int32_t vec_before;         /* fcs_mpc: VECTOR of the previous step */
     int32_t fault;              /* enum fw_fault, set with FW_FAULT */
     int32_t asc;                /* 1: the safe state is the active short circuit */

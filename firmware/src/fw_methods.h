@@ -15,6 +15,8 @@
 #define FW_ROT_Z_BITS 26  /* golden.firmware.rot_bpf.Z_BITS */
 #define FW_ROT_TRACK_OBSERVER 1  /* golden.firmware.rot_bpf.TRACK_OBSERVER */
 #define FW_MOTION_Q_W 24  /* golden.firmware.motion.Q_W */
+#define FW_LOBS_W_FRAC 16  /* golden.firmware.load_observer.W_FRAC */
+#define FW_LOBS_I_FRAC 32  /* golden.firmware.load_observer.I_FRAC */
 #define FW_SMO_I_FRAC 8  /* golden.firmware.eemf_smo.I_FRAC */
 #define FW_SMO_QUARTER 1073741824u  /* golden.firmware.eemf_smo.QUARTER */
 #define FW_MTPA_LEN 33  /* golden.firmware.mtpa.MTPA_LEN */

@@ -27,7 +27,8 @@ States (``MODE_*``):
               compared: the larger is the saturating direction, the magnet's north.
 ``RELAX``     i_d* = 0 for ``n_settle`` windows; at its end the high-speed estimator (if any) is
               synchronised to the low-speed one's angle and speed.
-``RUN``       speed PI on the filtered speed of the estimator in charge, every ``speed_div`` periods ->
+``RUN``       speed PI on the filtered speed of the estimator in charge, every ``speed_div`` periods (with
+              the load observer on, :mod:`golden.firmware.load_observer`: P control plus its load current) ->
               i_q*, i_d* as that estimator asks (``Estimator.i_d``: 0, or the rotor flux observer's
               minimum current); with an MTPA table the PI output is the current magnitude and the table
               gives (i_d*, |i_q*|), i_d* the smaller of the table's and the estimator's. Hand-over
@@ -62,6 +63,7 @@ from golden.firmware.hfo_proj import HfoParams
 from golden.firmware.ident import Ident, IdentParams
 from golden.firmware.estimator import (BY_ID, INJ_NONE, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage,
                                        window_voltage)
+from golden.firmware.load_observer import I_FRAC, LoadObsParams, load_obs_step
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
 from golden.firmware.methods import CLASSES
@@ -136,6 +138,9 @@ class FirmwareParams:
         Notch on the d and q current feedback of the current PIs (Tap et al. 2023, Sec. II-C); None: off.
     speed_div : int
         The speed PI runs every ``speed_div`` periods (its gains computed for that period).
+    lobs : LoadObsParams
+        The load-torque observer of the speed loop (:mod:`golden.firmware.load_observer`; ``g = 0``: off),
+        stepped with the speed PI; its load current is added to the PI's output.
     i_slew : int
         Largest change of the current command per period [current LSB] (0: no limit): the HF estimators
         take a current step's transient for position signal (docs/methods.md).
@@ -190,6 +195,7 @@ class FirmwareParams:
     fcs: FcsParams | None = None
     hfo: HfoParams | None = None
     prot: ProtParams = ProtParams()
+    lobs: LoadObsParams = LoadObsParams()
     ident: IdentParams | None = None
 
 
@@ -241,6 +247,8 @@ class Firmware:
     speed_cnt: int = 0               # periods since the last speed-PI step (0..speed_div-1)
     i_s_ref: int = 0                 # speed-PI output, held between its steps
     i_s_cmd: int = 0                 # the current command: i_s_ref through the slew limit
+    lobs_w: int = 0                  # load observer: speed (Q16) and load current (Q32)
+    lobs_i: int = 0
     nd: BiquadState = field(default_factory=BiquadState)   # notch states of the d and q feedback
     nq: BiquadState = field(default_factory=BiquadState)
     act: list = field(default_factory=lambda: [RESET_OUTPUTS, RESET_OUTPUTS])  # outputs of steps k-2, k-1
@@ -429,7 +437,13 @@ class Firmware:
         s64, ``i_slew`` <= 2^30), then MTPA (if a table is given)."""
         p = self.p
         if self.speed_cnt == 0:
-            self.i_s_ref, self.speed_int = pi_step(self.speed_int, speed_ref, self.omega_f, p.speed_pi)
+            u, self.speed_int = pi_step(self.speed_int, speed_ref, self.omega_f, p.speed_pi)
+            if p.lobs.g != 0:
+                lim = p.speed_pi.limit
+                self.lobs_w, self.lobs_i = load_obs_step(self.lobs_w, self.lobs_i, self.omega_f, self.i_s_cmd,
+                                                         p.lobs, lim)
+                u = min(max(u + shr(self.lobs_i, I_FRAC), -lim), lim)
+            self.i_s_ref = u
         self.speed_cnt = self.speed_cnt + 1 if self.speed_cnt + 1 < p.speed_div else 0
         if p.i_slew > 0:
             self.i_s_cmd = min(max(self.i_s_ref, self.i_s_cmd - p.i_slew), self.i_s_cmd + p.i_slew)

@@ -725,6 +725,7 @@ def test_fw_step_random_sequences(seed, chunk):
     the other sets reach RUN with every method)."""
     rng = np.random.default_rng(seed + 100 + chunk)
     visited, trips_from, flips, switches, running, codes = set(), set(), set(), set(), set(), set()
+    load_observed = False                        # the load observer ran in RUN and holds a load
     for q in range(SEQS_PER_CHUNK):
         fixed = q % 8 == 0
         trip_mode = MODE_FIXED if fixed else (None, *TRIP_FROM[:5])[q % 6]       # None: never trips
@@ -750,6 +751,8 @@ def test_fw_step_random_sequences(seed, chunk):
                 switches.add(pair.fw.active)
             if pair.fw.mode == MODE_RUN:
                 running.add((p.low if pair.fw.active == SLOT_LOW else p.high, p.pol_mode))
+                load_observed |= p.lobs.g != 0 and pair.fw.lobs_i != 0
+    assert load_observed
     assert SLOT_HIGH in switches, switches       # hand-overs happen (both ways: test_hand_over_*)
     assert visited == set(range(7)), visited
     assert trips_from == set(TRIP_FROM), trips_from

@@ -311,9 +311,8 @@ def protection_params(sc: Scenario) -> ProtParams:
     SPEED_MAX_MARGIN; ``asc_speed`` the speed whose back-EMF amplitude ``p omega psi_f`` reaches V_dc/sqrt(3),
     above which a coasting motor charges the dc link through the diodes (0, never, without a magnet).
     ``lock_emf_rel`` is a share of the nominal flux (psi_f, or L_q i_max without a magnet). Under the ``fcs_mpc``
-    law the lock and tracking checks are off: the inverter applies the vector the hardware chose, not the law's
-    ``v_d, v_q``, and the law tracks a flux, not a current per axis, so the supervisor knows neither the applied
-    voltage nor a current reference. ``checks = "off"``: every limit 0."""
+    law the tracking check is off (the law tracks a flux, not a current per axis: there is no current reference);
+    the lock check takes the voltage of the states the inverter applied. ``checks = "off"``: every limit 0."""
     pr, ctl, sc_ = sc.protection, sc.control, scales(sc)
     if pr.checks == "off":
         return ProtParams()
@@ -334,8 +333,7 @@ def protection_params(sc: Scenario) -> ProtParams:
         ld=to_fixed(mag["L_d"] * sc_.i_lsb * flux, 16), lq=to_fixed(mag["L_q"] * sc_.i_lsb * flux, 16),
         psi_f=to_fixed(mag["psi_f"] * flux, 0),
         emf_k=shift(pr.lock_time),
-        emf_tol=0 if ctl.law == "fcs_mpc" else sc_.voltage(pr.lock_emf if pr.lock_emf is not None
-                                                           else LOCK_EMF_SHARE * v_dc),
+        emf_tol=sc_.voltage(pr.lock_emf if pr.lock_emf is not None else LOCK_EMF_SHARE * v_dc),
         psi_rel=to_fixed(pr.lock_emf_rel * psi_nom * flux, 0),
         track_k=shift(pr.track_time),
         track_tol=0 if ctl.law == "fcs_mpc" else sc_.current(pr.track_current if pr.track_current is not None

@@ -347,12 +347,13 @@ def test_pll_corners(state, theta_hat, kp, ki, field, value):
 def test_emf_residual_random(seed):
     rng = np.random.default_rng(seed + 40)
     c = ffi.new("struct fw_prot_params *")
+    e_d, e_q = ffi.new("int32_t *"), ffi.new("int32_t *")
     for k in range(N_RANDOM // 10):
         p = random_prot(rng)
         fw_c._fill(c, p)
         v_d, v_q, i_d, i_q, w = draw(rng, 5, S32_MIN, S32_MAX, (0, 1, -1))
-        assert lib.fw_emf_residual(c, v_d, v_q, i_d, i_q, w) == emf_residual(p, v_d, v_q, i_d, i_q, w), \
-            (seed, k, p, v_d, v_q, i_d, i_q, w)
+        lib.fw_emf_residual(c, v_d, v_q, i_d, i_q, w, e_d, e_q)
+        assert (e_d[0], e_q[0]) == emf_residual(p, v_d, v_q, i_d, i_q, w), (seed, k, p, v_d, v_q, i_d, i_q, w)
 
 
 def test_protect_step_random_sequences(seed):
@@ -364,15 +365,15 @@ def test_protect_step_random_sequences(seed):
         p = random_prot(rng)
         fw_c._fill(c, p)
         gold = Firmware(_params())
-        st.emf_f = st.track_f = st.ovl_n = st.ovl_e = st.e0 = 0
+        st.emf_d = st.emf_q = st.track_f = st.ovl_n = st.ovl_e = st.e0 = 0
         at_limit = rng.random() < 0.5
         for k in range(20):
             v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref = draw(rng, 8, S32_MIN >> (q % 20), S32_MAX >> (q % 20))
             limit = int(at_limit or rng.random() < 0.1)
             want = protect_step(gold, p, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, bool(limit))
             got = lib.fw_protect_step(st, c, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, limit)
-            assert (got, st.emf_f, st.track_f, st.ovl_n, st.ovl_e, st.e0) == \
-                (want, gold.emf_f, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0), \
+            assert (got, st.emf_d, st.emf_q, st.track_f, st.ovl_n, st.ovl_e, st.e0) == \
+                (want, gold.emf_d, gold.emf_q, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0), \
                 (seed, q, k, p)
             seen.add(want)
     assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE,

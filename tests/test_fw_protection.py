@@ -27,6 +27,11 @@ P = ProtParams(r=round(R * I_LSB / V_LSB * 2**16), ld=round(L_D * I_LSB * FLUX *
                lq=round(L_Q * I_LSB * FLUX * 2**16), psi_f=round(PSI_F * FLUX))
 
 
+def level(e: tuple[int, int]) -> int:
+    """|e_d| + |e_q| of one period's residual."""
+    return abs(e[0]) + abs(e[1])
+
+
 def steady_voltage(omega: float, i_d: float, i_q: float) -> tuple[int, int]:
     """v_d, v_q [LSB] of the steady-state stator equation at electrical speed omega [rad/s]."""
     v_d = R * i_d - omega * L_Q * i_q
@@ -39,12 +44,12 @@ def test_residual_vanishes_on_the_motor_equation_and_measures_a_speed_error(rpm,
     omega = rpm * math.pi / 30 * 4
     v_d, v_q = steady_voltage(omega, i_d, i_q)
     args = (round(i_d / I_LSB), round(i_q / I_LSB), round(omega / W_LSB))
-    assert emf_residual(P, v_d, v_q, *args) <= 3                     # rounding of the LSB conversions
+    assert level(emf_residual(P, v_d, v_q, *args)) <= 3              # rounding of the LSB conversions
     # a speed estimate 100 r/min low leaves (delta omega) psi_d in e_q and (delta omega) L_q i_q in e_d
     d_omega = 100 * math.pi / 30 * 4
     lagging = (*args[:2], round((omega - d_omega) / W_LSB))
     want = d_omega * ((PSI_F + L_D * i_d) + L_Q * abs(i_q)) / V_LSB
-    assert emf_residual(P, v_d, v_q, *lagging) == pytest.approx(want, abs=4)
+    assert level(emf_residual(P, v_d, v_q, *lagging)) == pytest.approx(want, abs=4)
 
 
 def test_lock_check_fires_when_the_filter_crosses_the_limit_and_the_limit_grows_with_speed():
@@ -61,8 +66,20 @@ def test_lock_check_fires_when_the_filter_crosses_the_limit_and_the_limit_grows_
     p_rel = replace(p, psi_rel=-(-(x - tol + 1) * 2**32 // w))
     v_q = x + ((w * P.psi_f) >> 32)
     st = Firmware(_params())
-    assert emf_residual(p_rel, 0, v_q, 0, 0, w) == x
+    assert emf_residual(p_rel, 0, v_q, 0, 0, w) == (0, x)
     assert FAULT_LOCK_LOSS not in [protect_step(st, p_rel, 0, v_q, 0, 0, 0, 0, w, 0, False) for _ in range(3 * n)]
+
+
+def test_lock_check_filters_the_signed_components():
+    """A residual that alternates in sign (an L di/dt the steady-state model leaves out, a current ripple) averages
+    away in the signed filters and never trips; the same magnitude held in one direction trips."""
+    k, tol, x = 5, 1000, 3000
+    p = replace(P, emf_k=k, emf_tol=tol)
+    st = Firmware(_params())
+    codes = [protect_step(st, p, 0, x if j % 2 else -x, 0, 0, 0, 0, 0, 0, False) for j in range(2000)]
+    assert FAULT_LOCK_LOSS not in codes and abs(st.emf_q) <= x >> (k - 1)
+    st = Firmware(_params())
+    assert FAULT_LOCK_LOSS in [protect_step(st, p, x, 0, 0, 0, 0, 0, 0, 0, False) for _ in range(200)]
 
 
 def test_tracking_overload_and_overspeed():

@@ -1384,16 +1384,15 @@ static void next_mode(struct fw_state *st, int32_t mode)
 
 /* ---- fault checks (golden.firmware.protection) -------------------------------------------------- */
 
-/* protection.emf_residual */
-int32_t fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
-                        int32_t omega)
+/* protection.emf_residual: the two components, each saturated to s32 */
+void fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
+                     int32_t omega, int32_t *e_d, int32_t *e_q)
 {
     int32_t psi_d = sat32((int64_t)p->psi_f + (((int64_t)p->ld * i_d) >> 16));
     int32_t psi_q = sat32(((int64_t)p->lq * i_q) >> 16);
-    int64_t e_d = (int64_t)v_d - (((int64_t)p->r * i_d) >> 16) + (((int64_t)omega * psi_q) >> 32);
-    int64_t e_q = (int64_t)v_q - (((int64_t)p->r * i_q) >> 16) - (((int64_t)omega * psi_d) >> 32);
 
-    return sat32(abs64(e_d) + abs64(e_q));
+    *e_d = sat32((int64_t)v_d - (((int64_t)p->r * i_d) >> 16) + (((int64_t)omega * psi_q) >> 32));
+    *e_q = sat32((int64_t)v_q - (((int64_t)p->r * i_q) >> 16) - (((int64_t)omega * psi_d) >> 32));
 }
 
 #define OVL_CAP (1 << 30) /* protection.OVL_CAP */
@@ -1411,8 +1410,13 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
 {
     int32_t err = sat32(abs64((int64_t)speed_ref - omega_f));
 
-    if (p->emf_tol) /* a check that is off costs nothing; both values >= 0 */
-        st->emf_f += (fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f) - st->emf_f) >> p->emf_k;
+    if (p->emf_tol) { /* a check that is off costs nothing; the signed components filtered (33-bit differences) */
+        int32_t e_d, e_q;
+
+        fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f, &e_d, &e_q);
+        st->emf_d += (int32_t)(((int64_t)e_d - st->emf_d) >> p->emf_k);
+        st->emf_q += (int32_t)(((int64_t)e_q - st->emf_q) >> p->emf_k);
+    }
     if (p->track_tol)
         st->track_f += (sat32(abs64((int64_t)i_d_ref - i_d) + abs64((int64_t)i_q_ref - i_q)) - st->track_f) >> p->track_k;
     st->ovl_n = count_while(st->ovl_n, at_limit);
@@ -1421,13 +1425,28 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
     st->ovl_e = count_while(st->ovl_e, at_limit && (int64_t)err - st->e0 > p->ovl_w);
     if (p->w_max && abs64(omega_f) > p->w_max)
         return FW_FAULT_OVERSPEED;
-    if (p->emf_tol && st->emf_f > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))
+    if (p->emf_tol && sat32(abs64(st->emf_d) + abs64(st->emf_q)) > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))
         return FW_FAULT_LOCK_LOSS;
     if (p->track_tol && st->track_f > p->track_tol)
         return FW_FAULT_TRACKING;
     if ((p->ovl_n && st->ovl_n >= p->ovl_n) || (p->ovl_m && st->ovl_e >= p->ovl_m))
         return FW_FAULT_OVERLOAD;
     return FW_FAULT_NONE;
+}
+
+/* Firmware._applied_dq: under the fcs_mpc law, the window's applied voltage in the frame active in it: VECTOR for
+ * three quarters, the state before for the first (state voltages below 2^15: the sums and products are small) */
+static void applied_dq(const struct fw_state *st, const struct fw_window *win, const struct fw_outputs *now,
+                       int32_t *v_d, int32_t *v_q)
+{
+    int32_t a0, b0, a1, b1;
+    int64_t d, q;
+
+    fw_state_voltage(st->vec_before, &a0, &b0);
+    fw_state_voltage(win->vector, &a1, &b1);
+    park64((a0 + 3 * a1) >> 2, (b0 + 3 * b1) >> 2, now->sin, now->cos, &d, &q);
+    *v_d = (int32_t)d;
+    *v_q = (int32_t)q;
 }
 
 /* protection.FAULT_NAMES */
@@ -1834,7 +1853,11 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
 
             hand_over(st, p);
             run_refs(st, p, speed_ref, &i_d_ref, &i_q_ref);
-            code = fw_protect_step(st, &p->prot, st->act[0].v_d, st->act[0].v_q, i_d, i_q, i_d_prev, i_q_prev,
+            int32_t v_d = st->act[0].v_d, v_q = st->act[0].v_q;
+
+            if (p->law == FW_LAW_FCS_MPC)
+                applied_dq(st, win, &st->act[0], &v_d, &v_q);
+            code = fw_protect_step(st, &p->prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev,
                                    fw_lowpass_out(st->speed_f), speed_ref, abs64(st->i_s_ref) >= p->speed_pi.limit);
             if (code != FW_FAULT_NONE)
                 trip(st, p, code);

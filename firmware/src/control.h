@@ -512,7 +512,8 @@ struct fw_state {
     int32_t vec_before;         /* fcs_mpc: VECTOR of the previous step */
     int32_t fault;              /* enum fw_fault, set with FW_FAULT */
     int32_t asc;                /* 1: the safe state is the active short circuit */
-    int32_t emf_f;              /* protection filters and overload counts */
+    int32_t emf_d;              /* protection filters (the lock check's residual components) and overload counts */
+    int32_t emf_q;
     int32_t track_f;
     int32_t ovl_n;
     int32_t ovl_e;
@@ -674,8 +675,8 @@ void fw_hfo_flux(const struct fw_state *st, struct fw_est_flux *f);
  * Built with FW_NO_IDENT (the RISC-V image, firmware/Makefile) the executor is compiled out: fw_init clears
  * st->ident with the rest (the start-up as with NULL). */
 void fw_init(struct fw_state *st, const struct fw_params *p);
-int32_t fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
-                        int32_t omega);
+void fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
+                     int32_t omega, int32_t *e_d, int32_t *e_q);
 int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d,
                         int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t speed_ref,
                         int32_t at_limit);

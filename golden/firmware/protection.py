@@ -14,9 +14,12 @@ references it gave and the filtered speed of the estimator in charge.
                       ``psi_d = psi_f + L_d i_d``, ``psi_q = L_q i_q`` (steady state, nominal motor)
                       is small while the angle and speed are right; a wrong angle rotates the back-EMF
                       into ``e_d`` and a wrong speed leaves ``(omega - omega_hat) psi_f`` in ``e_q``.
-                      ``|e_d| + |e_q|`` through a first-order filter above ``emf_tol + |omega_f| psi_rel``
-                      (the model's error grows with the back-EMF: 11 % of it at 4500 r/min on the Table I
-                      motor with the estimator locked within 1.5 deg).
+                      ``e_d`` and ``e_q`` each through a first-order filter (signed: what the steady-state
+                      model leaves out and averages to zero, ``L di/dt`` of the ripple, noise, drops out),
+                      ``|f_d| + |f_q|`` above ``emf_tol + |omega_f| psi_rel`` (the model's error grows with
+                      the back-EMF: 11 % of it at 4500 r/min on the Table I motor with the estimator locked
+                      within 1.5 deg). Under the ``fcs_mpc`` law ``v`` is the voltage of the states the
+                      inverter applied (the supervisor's ``_applied_dq``), not the law's.
 ``current_tracking``  ``|i_d* - i_d| + |i_q* - i_q|`` (the references of the previous period) through a
                       first-order filter above ``track_tol``: an open phase, a switch that never turns
                       on, a dc link too low for the current.
@@ -33,8 +36,8 @@ itself (``FAULT_OVERCURRENT``), and so are the hardware's own trips (``FAULT_HAR
 Units: voltage, current and speed LSB of the window formats (docs/spec.md 1); flux in ``v_lsb / (2 pi
 f_sw)`` per LSB, so that ``shr(omega * psi, 32)`` is a voltage in LSB (``omega`` in binary angle per
 period). All products in int64 (C: ``int64_t``), shifts floored (``shr``). The two filters are first-order with a
-power-of-two time constant, ``f += shr(x - f, k)`` on non-negative s32 values (2^k periods; 32-bit
-arithmetic only; the firmware runs them every period in RUN, docs/faults.md).
+power-of-two time constant, ``f += shr(x - f, k)`` on s32 values (2^k periods; ``x - f`` in 33 bits, C
+``int64_t``; the firmware runs them every period in RUN, docs/faults.md).
 """
 
 from __future__ import annotations
@@ -99,13 +102,18 @@ class ProtParams:
     restart_n: int = 0
 
 
-def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> int:
-    """``sat(|e_d| + |e_q|, 32)`` of the module docstring [voltage LSB]."""
+def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> tuple[int, int]:
+    """``(sat(e_d, 32), sat(e_q, 32))`` of the module docstring [voltage LSB]."""
     psi_d = sat(p.psi_f + shr(p.ld * i_d, 16), 32)
     psi_q = sat(shr(p.lq * i_q, 16), 32)
     e_d = v_d - shr(p.r * i_d, 16) + shr(omega * psi_q, 32)
     e_q = v_q - shr(p.r * i_q, 16) - shr(omega * psi_d, 32)
-    return sat(abs(e_d) + abs(e_q), 32)
+    return sat(e_d, 32), sat(e_q, 32)
+
+
+def emf_level(st) -> int:
+    """``sat(|f_d| + |f_q|, 32)``: the filtered residual the lock check compares [voltage LSB]."""
+    return sat(abs(st.emf_d) + abs(st.emf_q), 32)
 
 
 OVL_CAP = 1 << 30
@@ -115,12 +123,14 @@ OVL_CAP = 1 << 30
 def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_ref: int,
                  i_q_ref: int, omega_f: int, speed_ref: int, at_limit: bool) -> int:
     """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload; returns the
-    first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_f``, ``track_f`` (s32, the
-    filtered values themselves; a filter whose check is off stays), the counts ``ovl_n``, ``ovl_e`` and the speed
-    error when the limit was reached, ``e0`` (the supervisor's
+    first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_d``, ``emf_q``, ``track_f``
+    (s32, the filtered values themselves; a filter whose check is off stays), the counts ``ovl_n``, ``ovl_e`` and
+    the speed error when the limit was reached, ``e0`` (the supervisor's
     :class:`~golden.firmware.supervisor.Firmware`); all are stepped every period."""
     if p.emf_tol:                                     # a check that is off costs nothing
-        st.emf_f += shr(emf_residual(p, v_d, v_q, i_d, i_q, omega_f) - st.emf_f, p.emf_k)
+        e_d, e_q = emf_residual(p, v_d, v_q, i_d, i_q, omega_f)
+        st.emf_d += shr(e_d - st.emf_d, p.emf_k)
+        st.emf_q += shr(e_q - st.emf_q, p.emf_k)
     if p.track_tol:
         st.track_f += shr(sat(abs(i_d_ref - i_d) + abs(i_q_ref - i_q), 32) - st.track_f, p.track_k)
     st.ovl_n = min(st.ovl_n + 1, OVL_CAP) if at_limit else 0
@@ -130,7 +140,7 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
     st.ovl_e = min(st.ovl_e + 1, OVL_CAP) if at_limit and err - st.e0 > p.ovl_w else 0
     if p.w_max and abs(omega_f) > p.w_max:
         return FAULT_OVERSPEED
-    if p.emf_tol and st.emf_f > p.emf_tol + shr(abs(omega_f) * p.psi_rel, 32):
+    if p.emf_tol and emf_level(st) > p.emf_tol + shr(abs(omega_f) * p.psi_rel, 32):
         return FAULT_LOCK_LOSS
     if p.track_tol and st.track_f > p.track_tol:
         return FAULT_TRACKING

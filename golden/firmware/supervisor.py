@@ -61,7 +61,7 @@ from golden.firmware.eemf_smo import SmoParams
 from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage
 from golden.firmware.hfo_proj import HfoParams
 from golden.firmware.ident import Ident, IdentParams
-from golden.firmware.estimator import (BY_ID, INJ_NONE, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage,
+from golden.firmware.estimator import (BY_ID, INJ_NONE, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage, park,
                                        window_voltage)
 from golden.firmware.load_observer import I_FRAC, LoadObsParams, load_obs_step
 from golden.firmware.lowpass import lowpass_out, lowpass_step
@@ -77,6 +77,7 @@ from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams
 from golden.fixed import round_shr, sat, shr, uwrap, wrap
 from golden.fpga.cordic import sincos_q15
+from golden.fpga.fcs_mpc import state_voltage
 from golden.fpga.demodulator import WindowResult
 
 MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT, MODE_IDENT, MODE_DONE = range(9)
@@ -256,7 +257,8 @@ class Firmware:
     vec_before: int = 0              # fcs_mpc: VECTOR of the previous step (the state before this one's)
     fault: int = FAULT_NONE          # fault code (golden.firmware.protection), set with MODE_FAULT
     asc: int = 0                     # 1: the safe state is the active short circuit
-    emf_f: int = 0                   # protection filters and overload counts (golden.firmware.protection)
+    emf_d: int = 0                   # protection filters and overload counts (golden.firmware.protection)
+    emf_q: int = 0
     track_f: int = 0
     ovl_n: int = 0
     ovl_e: int = 0
@@ -333,7 +335,8 @@ class Firmware:
             if self.mode == MODE_RUN:
                 self._hand_over()
                 i_d_ref, i_q_ref = self._run_refs(speed_ref)
-                code = protect_step(self, p.prot, now.v_d, now.v_q, i_d, i_q, i_d_prev, i_q_prev, self.omega_f,
+                v_d, v_q = (now.v_d, now.v_q) if p.law != LAW_FCS_MPC else self._applied_dq(win, now)
+                code = protect_step(self, p.prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev, self.omega_f,
                                     speed_ref, abs(self.i_s_ref) >= p.speed_pi.limit)
                 if code != FAULT_NONE:
                     self._trip(code)
@@ -384,6 +387,14 @@ class Firmware:
         self.vec_before = win.vector
         s, c = sincos_q15(self.theta_hat)
         return Outputs(v_d, v_q, 0, s, c, 1, 0, 0, est.fcs_a1, est.fcs_a2, p.fcs.phi_min, est.constrain)
+
+    def _applied_dq(self, win: WindowResult, now: Outputs) -> tuple[int, int]:
+        """Under the ``fcs_mpc`` law, the voltage the inverter applied in the window, in the frame active in it
+        (the lock check's ``v``): the state chosen at the window's carrier top (``VECTOR``) for its last three
+        quarters, the one before (``vec_before``) for its first, at the nominal link (``state_voltage``)."""
+        a0, b0 = state_voltage(self.vec_before)
+        a1, b1 = state_voltage(win.vector)
+        return park(shr(a0 + 3 * a1, 2), shr(b0 + 3 * b1, 2), now.sin, now.cos)
 
     def _dtc_refs(self, i_d_ref: int, i_q_ref: int, v_h: int, s_i: int, c_i: int, s: int, c: int) -> tuple[int, int]:
         """The currents written to I_D_REF / I_Q_REF, which only the dead-time compensation reads: the

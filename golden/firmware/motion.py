@@ -17,7 +17,7 @@ control period, with ``e`` the angle error (s32 binary angle, slope 1) and the w
 
 Without the feed-forward the load's acceleration ``z`` must carry every torque change through the error;
 with it the observer follows a commanded acceleration without lag, and ``z`` only the load's (the 000
-method's 0 -> 100 r/min step under load: docs/methods.md). Host side: ``golden.control_config.motion_params``.
+method's 0 -> 100 r/min step under load: docs/methods.md). Host side: ``golden.control_config.motion_gains``.
 """
 
 from __future__ import annotations

@@ -62,7 +62,8 @@ module hfi_fcs_mpc (
     localparam [6:0] LATENCY = 7'd69;
 
     reg [6:0] cnt;                                   // 0 idle, 1..LATENCY-1 busy
-    assign busy = (cnt != 7'd0);
+    reg       busy_r;                                // cnt != 0, kept as a flip-flop: accept (start, !busy)
+    assign busy = busy_r;                            // resets the schedule, which was the ULX3S seed 3 path
     wire accept = start && !busy;
 
     reg signed [17:0] al_r, be_r;
@@ -212,15 +213,18 @@ module hfi_fcs_mpc (
     always @(posedge clk) begin
         if (rst) begin
             cnt <= 7'd0;
+            busy_r <= 1'b0;
             done <= 1'b0;
             state <= 3'd0;
         end else begin
             done <= 1'b0;
             if (accept) begin
                 cnt <= 7'd1;
+                busy_r <= 1'b1;
             end else if (busy) begin
                 cnt <= (cnt == LATENCY - 7'd1) ? 7'd0 : cnt + 7'd1;
                 if (cnt == LATENCY - 7'd1) begin
+                    busy_r <= 1'b0;
                     done <= 1'b1;
                     state <= (pick == 3'b000) ? zero_s : pick;
                 end

@@ -253,7 +253,11 @@ module hfi_deadtime_comp (
     assign cmp_c = cmp_rc;
 
     // ---------------------------------------------------------------- issue: operands, product
-    wire        [15:0] cmp_i = (u_leg == LA) ? cmp_ra : (u_leg == LB) ? cmp_rb : cmp_rc;
+    // 2 cmp - H per leg, formed when the compares are sampled (timing: the subtraction was on the path from
+    // the micro-program word to the multiplier's operand register). B_DIF is read in slots 5..13 only, before
+    // W_CMP rewrites a compare (slots 29..33), and half is held from the start cycle: the same values.
+    reg  signed [17:0] dif_ra, dif_rb, dif_rc;
+    wire signed [17:0] dif_i = (u_leg == LA) ? dif_ra : (u_leg == LB) ? dif_rb : dif_rc;
     wire signed [31:0] id_i = id_r[u_leg];
     wire signed [31:0] be_i = be_r[u_leg == LC];
     wire signed [24:0] ix_i = ix_r[u_leg];
@@ -275,7 +279,7 @@ module hfi_deadtime_comp (
             B_RH1:   mul_b = {3'b000, recip_h[31:17]};
             B_SIN:   mul_b = {{2{sin_q15[15]}}, sin_q15};
             B_COS:   mul_b = {{2{cos_q15[15]}}, cos_q15};
-            B_DIF:   mul_b = {1'b0, cmp_i, 1'b0} - {2'b00, half};        // in -H..H for cmp in 0..H
+            B_DIF:   mul_b = dif_i;                                      // 2 cmp - H, in -H..H
             B_SQ3:   mul_b = 18'sd28378;
             default: mul_b = {2'b00, gain};                              // B_GN
         endcase
@@ -401,6 +405,9 @@ module hfi_deadtime_comp (
             cmp_ra <= cmp_a_in;
             cmp_rb <= cmp_b_in;
             cmp_rc <= cmp_c_in;
+            dif_ra <= {1'b0, cmp_a_in, 1'b0} - {2'b00, half};
+            dif_rb <= {1'b0, cmp_b_in, 1'b0} - {2'b00, half};
+            dif_rc <= {1'b0, cmp_c_in, 1'b0} - {2'b00, half};
             top_r <= sign_top;
         end else if (s3_v) begin
             case (s3_leg)

@@ -1855,7 +1855,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
             run_refs(st, p, speed_ref, &i_d_ref, &i_q_ref);
             int32_t v_d = st->act[0].v_d, v_q = st->act[0].v_q;
 
-            if (p->law == FW_LAW_FCS_MPC)
+            if (p->law == FW_LAW_FCS_MPC && p->prot.emf_tol != 0) /* only the lock check reads it */
                 applied_dq(st, win, &st->act[0], &v_d, &v_q);
             code = fw_protect_step(st, &p->prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev,
                                    fw_lowpass_out(st->speed_f), speed_ref, abs64(st->i_s_ref) >= p->speed_pi.limit);

@@ -335,7 +335,8 @@ class Firmware:
             if self.mode == MODE_RUN:
                 self._hand_over()
                 i_d_ref, i_q_ref = self._run_refs(speed_ref)
-                v_d, v_q = (now.v_d, now.v_q) if p.law != LAW_FCS_MPC else self._applied_dq(win, now)
+                fcs = p.law == LAW_FCS_MPC and p.prot.emf_tol != 0      # only the lock check reads it
+                v_d, v_q = self._applied_dq(win, now) if fcs else (now.v_d, now.v_q)
                 code = protect_step(self, p.prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev, self.omega_f,
                                     speed_ref, abs(self.i_s_ref) >= p.speed_pi.limit)
                 if code != FAULT_NONE:

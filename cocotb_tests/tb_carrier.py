@@ -5,8 +5,8 @@ Every tick is compared with the golden carrier (``golden.fpga.carrier``: ``effec
 tests/test_hls_carrier.py) and the weight angle of ``golden.fpga.cordic.demod_weight``
 (``a = uwrap(wrap((H - 2c)*STEP, 32), 32)``; the resulting weights are also checked against
 ``demod_weight`` itself, vectorised). The register-application rule of the RTL (docs/rtl.md: a write
-takes effect at the first bottom at least 19 clocks after it) is modelled cycle by cycle and tested
-directly at the boundary (bottom at w + 18 vs w + 19).
+takes effect at the first bottom at least 20 clocks after it) is modelled cycle by cycle and tested
+directly at the boundary (bottom at w + 19 vs w + 20).
 
 Convention: inputs are driven at the falling edge of cycle t ("the value present in cycle t"); at
 that falling edge the outputs show the registered state of tick t.
@@ -28,8 +28,8 @@ from golden.fpga.cordic import cw_angle_step, demod_weight, sincos_q15
 from golden.testvectors.carrier import DIRECTED_HALF_REGS, random_half_reg, random_step
 
 MUL_CYCLES = 17          # load + 16 add cycles of the serial multiplier (rtl/hfi_carrier.v)
-APPLY_DELAY = 19         # a write in cycle w is used from the first bottom at tick >= w + 19
-                         # (the product, then one pipeline stage into the ready triple)
+APPLY_DELAY = 20         # a write in cycle w is used from the first bottom at tick >= w + 20
+                         # (the input registers, the product, one pipeline stage into the ready triple)
 
 
 def golden_angle(c: int, half: int, step: int) -> int:
@@ -40,7 +40,8 @@ def golden_angle(c: int, half: int, step: int) -> int:
 class CarrierModel:
     """Cycle model of hfi_carrier: golden carrier per tick plus the documented register rule.
 
-    The register rule is modelled as the RTL documents it: the serial multiplier restarts whenever
+    The register rule is modelled as the RTL documents it: the inputs are registered first (the pair
+    of the cycle before is what the rest sees), the serial multiplier restarts whenever
     the (effective H, STEP) inputs differ from its operands (or on the rising edge of rst) and
     completes 17 cycles later; one cycle after that the pair is the ready pair (a pipeline stage); a
     bottom takes the ready pair.
@@ -52,7 +53,8 @@ class CarrierModel:
         self.busy = False
         self.ready = None          # the ready (H, STEP): completed one cycle before the last load
         self.loading = None        # completed in the previous cycle: ready at the end of this one
-        self.prev_pair = None      # the register inputs of the previous cycle (the pair taken under rst)
+        self.in_q = None           # the register inputs of the previous cycle (the RTL's x_h, x_s)
+        self.prev_pair = None      # in_q of the previous cycle (the pair taken under rst)
         self.rst_q = 0
         self.phase = None          # carrier state of the current tick (None: unknown)
         self.half = None
@@ -73,7 +75,8 @@ class CarrierModel:
 
     def clock(self, rst: int, pwm_half: int, step: int) -> None:
         """Advance one clock edge with the inputs present in the current cycle."""
-        pair = (effective_half(pwm_half), step)
+        pair = self.in_q           # the inputs of the cycle before (None in the first cycle)
+        self.in_q = (effective_half(pwm_half), step)
         # carrier (uses the ready pair as it was during this cycle)
         if rst:   # the pair of the previous cycle (the RTL's operand registers; unknown in cycle 0)
             if self.prev_pair is None:
@@ -214,7 +217,7 @@ async def random_registers(dut):
             b.rst = int(rng.random() > 1 / 20)    # reset held a random number of cycles (>= 20 here)
         elif b.tick is not None and b.tick > 50 and rng.random() < 1 / 40_000:
             b.rst = 1
-            for _ in range(19):                  # long enough for the product (>= 18 cycles)
+            for _ in range(APPLY_DELAY):         # long enough for the product (>= 19 cycles)
                 await b.cycle()
         await b.cycle()
         exp = b.model.expected()
@@ -229,7 +232,7 @@ async def random_registers(dut):
 
 @cocotb.test()
 async def apply_rule_boundary(dut):
-    """A write in cycle w applies at a bottom at tick w + 19, not at w + 18 (docs/rtl.md rule)."""
+    """A write in cycle w applies at a bottom at tick w + 20, not at w + 19 (docs/rtl.md rule)."""
     cases = ((APPLY_DELAY, True), (APPLY_DELAY - 1, False), (APPLY_DELAY + 5, True), (1, False))
     for i, (delay, applies) in enumerate(cases):
         b = await start(dut, pwm_half=600, first=i == 0)       # H = 600, P = 1200
@@ -252,9 +255,9 @@ async def apply_rule_boundary(dut):
 
 @cocotb.test()
 async def short_reset(dut):
-    """rst of 1..19 cycles: phase/half/strobes right from tick 0, cw_angle from tick max(0, 19 - n)."""
+    """rst of 1..20 cycles: phase/half/strobes right from tick 0, cw_angle from tick max(0, 20 - n)."""
     rng = np.random.default_rng(int(os.environ["HFI_SEED"]))
-    for i, n_rst in enumerate((1, 2, 5, 18, 19)):
+    for i, n_rst in enumerate((1, 2, 5, 19, 20)):
         h_reg = int(rng.integers(512, 2000))
         step = int(rng.integers(0, 1 << 32))
         # run some cycles with other register values first, so the multiplier holds another product

@@ -82,7 +82,7 @@ async def replay_golden_closed_loop(dut):
     for name, value in writes:
         await axi.write(rm.REGISTERS[name]["addr"], value)
     if held:
-        await ClockCycles(dut.clk, 20)      # the carrier's H*STEP product (docs/rtl.md: reset >= 19 clocks)
+        await ClockCycles(dut.clk, 20)      # the carrier's H*STEP product (docs/rtl.md: reset >= 20 clocks)
         assert int(dut.tick.value) == 0, "the timing ran while held"
         dut.hold.value = 0
     else:

@@ -36,27 +36,29 @@
 //   progress the multiplier restarts with the new values (a computation is never finished with stale
 //   operands); when it completes, the triple (H, STEP, H*STEP) is stored as "ready".  At each bottom
 //   the carrier takes H, STEP and H*STEP from the ready triple.
+//   The ports are registered first (x_h, x_s: timing), so the multiplier sees a write one clock later.
 //   Exact rule: if the inputs take a new value in cycle w (present on the ports from cycle w on) and
-//   keep it during cycles w..w+16, the new H and STEP are used from the first bottom at tick
-//   b >= w + 19 (the bottom at b is prepared in cycle b-1 from the ready triple, which holds the new
-//   product from cycle w+18).  A bottom before w + 19 still uses the previous values (consistently:
+//   keep it during cycles w..w+17, the new H and STEP are used from the first bottom at tick
+//   b >= w + 20 (the bottom at b is prepared in cycle b-1 from the ready triple, which holds the new
+//   product from cycle w+19).  A bottom before w + 20 still uses the previous values (consistently:
 //   H, STEP and product always belong together).  A value changed again within 17 cycles is never
-//   applied; the next one follows the same rule from its own write cycle.
+//   applied; the next one follows the same rule from its own write cycle (x_h, x_s count: a value
+//   present for one cycle only still restarts the product).
 //
 // Weight angle: a = H*STEP - m with m = 2c*STEP mod 2^32 kept incrementally (+2*STEP per tick on
 // the rising half, -2*STEP on the falling half, exactly 0 again at every bottom) and hs = H*STEP
 // reloaded at each bottom; exact modulo 2^32, no multiplier.  The serial multiplier runs MSB first
 // (acc = 2*acc + h_bit*STEP), so no shifted copy of STEP is stored.
 //
-// Reset: while rst is high, phase = 0 and H, STEP are loaded from the register inputs of the cycle
-// before (the multiplier's operand registers; tick 0 uses effective_half(pwm_half_reg) and
-// cw_step_reg of the second-last reset cycle: timing, the compare with the ready triple is then a
-// register); the rising edge of
+// Reset: while rst is high, phase = 0 and H, STEP are loaded from the register inputs of two cycles
+// before (the multiplier's operand registers, which take x_h, x_s; tick 0 uses
+// effective_half(pwm_half_reg) and cw_step_reg of the third-last reset cycle: timing, the compare with
+// the ready triple is then a register); the rising edge of
 // rst restarts the serial multiplier with those values.  cw_angle is right from tick 0 if rst is held
-// for at least RESET_CYCLES_MIN = 19 cycles with stable register inputs (the product is then ready
+// for at least RESET_CYCLES_MIN = 20 cycles with stable register inputs (the product is then ready
 // during the last reset cycle).  After a shorter reset, phase/half/strobes are still right from
 // tick 0 and cw_angle becomes right as soon as the product of the H and STEP in use is ready (at the
-// latest 18 cycles after the inputs settle): hs is also refreshed whenever the ready triple matches
+// latest 19 cycles after the inputs settle): hs is also refreshed whenever the ready triple matches
 // the (H, STEP) in use.
 
 module hfi_carrier (
@@ -73,10 +75,18 @@ module hfi_carrier (
     output reg         at_zc,
     output reg  [31:0] cw_angle
 );
+    // The register inputs, one clock late (timing): everything below runs on x_h, x_s, and the
+    // operand compare of the serial multiplier (op_eq: "the inputs equal the operands in progress")
+    // becomes a register, evaluated a clock ahead from the ports and these copies (the compare of a
+    // 32-bit STEP feeding the multiplier's restart was the tick clock's critical path on the ULX3S,
+    // docs/boards.md). The module is the former one with its inputs delayed by one clock: a write
+    // applies one clock later (RESET_CYCLES_MIN and the apply rule 20 instead of 19).
+    reg  [15:0] x_h;
+    reg  [31:0] x_s;
     // effective_half() (golden carrier.effective_half): clear the LSB, raise anything below
     // REGISTER_HALF_MIN = 512 to 512
-    wire [15:0] eff_half_in = (pwm_half_reg[15:9] == 7'd0) ? 16'd512 : {pwm_half_reg[15:1], 1'b0};
-    wire        unused_lsb  = pwm_half_reg[0];   // cleared by effective_half()
+    wire [15:0] eff_half_in = (x_h[15:9] == 7'd0) ? 16'd512 : {x_h[15:1], 1'b0};
+    wire        unused_lsb  = x_h[0];   // cleared by effective_half()
 
     // ---- bit-serial multiplier H*STEP mod 2^32 (1 load cycle + 16 add cycles, MSB first) -----
     reg  [15:0] mul_h;     // operands of the product in progress (or last completed)
@@ -97,8 +107,13 @@ module hfi_carrier (
     // an effective half: even, >= 512, so the raw register's LSB does not matter) and STEP == mul_s.
     // Written as "equal -> keep going, else restart" so that unknown operands (simulation start)
     // restart the product.
-    wire        small_in = pwm_half_reg[15:9] == 7'd0;
-    wire        op_eq    = (small_in ? mul_h512 : (pwm_half_reg[15:1] == mul_h[15:1])) && cw_step_reg == mul_s;
+    wire        small_in = x_h[15:9] == 7'd0;
+    // op_eq of this cycle, (small_in ? mul_h512 : x_h[15:1] == mul_h[15:1]) && x_s == mul_s, from the
+    // cycle before: then x_h, x_s are the ports and mul_h, mul_h512, mul_s take eff(x_h), its flag, x_s
+    reg         op_eq;
+    wire        small_port = pwm_half_reg[15:9] == 7'd0;
+    wire        x_h512     = small_in || x_h[15:1] == 15'd256;
+    wire        op_eq_n    = (small_port ? x_h512 : (pwm_half_reg[15:1] == eff_half_in[15:1])) && cw_step_reg == x_s;
     wire        mul_keep = op_eq && !(rst && !rst_q);
     reg         mul_last;  // mul_busy && mul_cnt == 15 (registered: the add cycle that completes)
     wire        mul_done = mul_keep && mul_last;                       // the product completes
@@ -108,13 +123,16 @@ module hfi_carrier (
     reg         ld_h512, rdy_h512;   // ld_h == 512, rdy_h == 512 (loaded with them)
 
     always @(posedge clk) begin
+        x_h   <= pwm_half_reg;
+        x_s   <= cw_step_reg;
+        op_eq <= op_eq_n;
         rst_q <= rst;
         // The operands take the inputs in every cycle: they change only where the product restarts
         // (op_eq false: loaded from the inputs) and are equal to the inputs where it goes on
         // (timing: no restart enable on them).
         mul_h    <= eff_half_in;
-        mul_h512 <= small_in || pwm_half_reg[15:1] == 15'd256;
-        mul_s    <= cw_step_reg;
+        mul_h512 <= x_h512;
+        mul_s    <= x_s;
         mul_last <= mul_keep && mul_busy && mul_cnt == 4'd14;
         if (mul_keep) begin
             if (mul_busy) begin
@@ -191,8 +209,8 @@ module hfi_carrier (
     // of the compare (timing; as op_eq): X_h is an effective half (even, >= 512, or 0 before the first
     // product, which equals no effective half), so it equals eff_half_in iff X_h == 512 when the
     // register is below 512, else iff its bits 15..1 equal the register's
-    wire        in_eq_ld  = (small_in ? ld_h512 : (pwm_half_reg[15:1] == ld_h[15:1])) && cw_step_reg == ld_s;
-    wire        in_eq_rdy = (small_in ? rdy_h512 : (pwm_half_reg[15:1] == rdy_h[15:1])) && cw_step_reg == rdy_s;
+    wire        in_eq_ld  = (small_in ? ld_h512 : (x_h[15:1] == ld_h[15:1])) && x_s == ld_s;
+    wire        in_eq_rdy = (small_in ? rdy_h512 : (x_h[15:1] == rdy_h[15:1])) && x_s == rdy_s;
     wire        match    = rst ? rdy_in_q : (last | eq_rdy);
     // hs and the angle of the next tick by case (timing: the compare of the ready triple against the
     // register inputs, needed under rst only, is one multiplexer from the registers): under rst both

@@ -67,10 +67,11 @@ CPU_VARIANT = "VexRiscv.v"
 exceptions (docs/soc.md, "Why VexRiscv"). The SoC's core is generated from the package's generator
 sources with this configuration and a larger instruction cache (hfi/vexriscv_gen.py); its ports are
 checked against this file."""
-CPU_ICACHE_BYTES = 32768
-"""Instruction cache of the generated core (``GenCoreDefault --iCacheSize``): the largest control step's
-code, the 003 method's 14 KiB, fits; the 4 KiB of the package's files made refills 30-45 % of every step
-(docs/soc.md, "The instruction cache"). A board may build a smaller one (scripts/bitstream.py)."""
+CPU_ICACHE_BYTES = 16384
+"""Instruction cache of the generated core (``GenCoreDefault --iCacheSize``): each method's control step
+fits it (the 4 KiB of the package's files made refills 30-45 % of every step); 32 KiB measured faster for
+the 000 and 003 steps but does not fit the LFE5U-25F's 56 block RAMs beside the 64 KiB RAM (docs/soc.md,
+"The instruction cache"). A board may build another size (scripts/bitstream.py, ``Board.icache``)."""
 CPU_CLOCK_DIVIDER = 2
 """The CPU clock is the tick clock divided by this (50 MHz at the 100 MHz tick): the board PLL makes
 both; the co-simulation (sim/soc_sim.cpp) toggles cpu_clk with every CPU_CLOCK_DIVIDER-th tick clock."""

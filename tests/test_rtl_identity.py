@@ -47,9 +47,9 @@ IDENTITY_S = 0.6
 
 def tap2023_4khz():
     """The 000 drive (scenarios/tap2023_fullload.toml) at 4 kHz: at its 10 kHz every step fits the period
-    (4650 CPU clocks worst of 5000, 0.5 s, with the 32 KiB instruction cache; docs/soc.md), but the first
+    (4799 CPU clocks worst of 5000, 0.3 s, with the 16 KiB instruction cache; docs/soc.md), but the first
     step's CTRL.ENABLE must land within three quarters of a period (3750 CPU clocks at 10 kHz, 9375 at
-    4 kHz) and the first step takes 4109 (the start-up mode's steps about 3640), so the gates would start
+    4 kHz) and the first step takes 4112 (the start-up mode's steps about 3610), so the gates would start
     a period after golden's. The rtl backend runs it at 4 kHz with the paper's ratios (injection f_sw / 20 = 200 Hz, band-pass
     66 Hz, notch at 200 Hz, 160 Hz wide)."""
     sc = load_scenario(ROOT / "scenarios" / "tap2023_fullload.toml")
@@ -64,8 +64,8 @@ def tap2023_4khz():
 
 def varatharajan2020_2khz():
     """The 003 drive (scenarios/varatharajan2020_torquestep.toml: law fcs_mpc, CTRL.DIRECT, the estimator
-    hfo_proj) at 2 kHz: its firmware step takes 5027 CPU clocks mean, 6402 worst (with the accelerators
-    of hfi_soc_acc and the 32 KiB instruction cache, docs/methods.md) on the soft core, more than the 5000 of
+    hfo_proj) at 2 kHz: its firmware step takes about 6800 CPU clocks mean, 9300 worst (with the accelerators
+    of hfi_soc_acc and the 16 KiB instruction cache, docs/methods.md) on the soft core, more than the 5000 of
     the scenario's 10 kHz period, and the first step's CTRL.ENABLE must land within
     three quarters of a period (18 750 clocks at 2 kHz). So the rtl backend runs it at f_sw / 5 with V_dc / 5
     (the same flux per vector and period, so the same current ripple per period: 3 A on l_d, not 15 A

@@ -109,11 +109,13 @@ module hfi_carrier (
     // restart the product.
     wire        small_in = x_h[15:9] == 7'd0;
     // op_eq of this cycle, (small_in ? mul_h512 : x_h[15:1] == mul_h[15:1]) && x_s == mul_s, from the
-    // cycle before: then x_h, x_s are the ports and mul_h, mul_h512, mul_s take eff(x_h), its flag, x_s
+    // cycle before: then x_h, x_s are the ports and mul_h, mul_h512, mul_s take eff(x_h), its flag, x_s.
+    // eff(x_h)[15:1] is 256 if x_h is small, else x_h[15:1]: compared without the clamp in front (timing)
     reg         op_eq;
     wire        small_port = pwm_half_reg[15:9] == 7'd0;
     wire        x_h512     = small_in || x_h[15:1] == 15'd256;
-    wire        op_eq_n    = (small_port ? x_h512 : (pwm_half_reg[15:1] == eff_half_in[15:1])) && cw_step_reg == x_s;
+    wire        port_eq_x  = small_in ? pwm_half_reg[15:1] == 15'd256 : pwm_half_reg[15:1] == x_h[15:1];
+    wire        op_eq_n    = (small_port ? x_h512 : port_eq_x) && cw_step_reg == x_s;
     wire        mul_keep = op_eq && !(rst && !rst_q);
     reg         mul_last;  // mul_busy && mul_cnt == 15 (registered: the add cycle that completes)
     wire        mul_done = mul_keep && mul_last;                       // the product completes

@@ -65,3 +65,21 @@ def test_verilator_lint_wall_soc(tmp_path, acc):
                            "--timescale", "1ns/1ps", str(waiver),
                            *files, str(cpu_source()), str(picorv32_source())], cwd=ROOT, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_core_falls_back_to_the_package_file(monkeypatch, tmp_path, capsys):
+    """Without the generated core (a machine where hfi/vexriscv_gen.py cannot run) the SoC takes the package's
+    VexRiscv.v, says so once, and the generated core, when there, has exactly the package file's ports."""
+    from hfi import rtl_backend, soc_platform, vexriscv_gen
+
+    generated = vexriscv_gen.core_path()
+    if generated.is_file():
+        assert rtl_backend.cpu_source() == generated
+        package = rtl_backend._package_file(soc_platform.CPU_PACKAGE, soc_platform.CPU_VARIANT)
+        assert vexriscv_gen._ports(generated) == vexriscv_gen._ports(package)
+    monkeypatch.setattr(vexriscv_gen, "core_path", lambda icache_bytes=0: tmp_path / "missing.v")
+    monkeypatch.setattr(rtl_backend, "_warned_fallback", False)
+    assert rtl_backend.cpu_source().name == soc_platform.CPU_VARIANT
+    assert rtl_backend.cpu_source().name == soc_platform.CPU_VARIANT
+    err = capsys.readouterr().err
+    assert err.count("4 KiB instruction cache") == 1, err

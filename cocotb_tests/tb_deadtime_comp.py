@@ -7,7 +7,8 @@ register draws (full ranges and extremes, DTC_GAIN = 0 for half, RECIP_H nominal
 and any u32 sometimes) with a random sign and random compares in 0..H (extremes 0, 1, H/2, H-1, H
 included). The module runs back to back (a start in the done cycle); the registers that are sampled
 (compares, sign) change right after every start, and the held ones change (to the next vector's
-values) in the done cycle, when the module no longer reads them. Directed: extremes, leg a's predicted
+values) in the done cycle, when the module no longer reads them (``chain`` = 0). Directed: the chained
+start (``chain`` = 1: the second set, sign -1, starts by itself in the done cycle, as hfi_modulator uses it), extremes, leg a's predicted
 current placed exactly around the RTL's saturation bound (+-2^23, +-2^24), start while busy, reset in
 mid-operation.
 """
@@ -59,6 +60,7 @@ def check(dut, expected, what: str, r: dict):
 async def clock_and_reset(dut):
     Clock(dut.clk, CLOCK_NS, unit="ns").start()
     dut.start.value = 0
+    dut.chain.value = 0
     for k in HELD + SAMPLED:
         getattr(dut, k).value = 0
     dut.half.value = 1000
@@ -157,3 +159,34 @@ async def reset_mid_operation(dut):
             assert int(dut.done.value) == 0 and int(dut.busy.value) == 0, f"done/busy {cyc} cycles after reset"
             await cycles(1)
         await run_vectors(dut, vecs[1:], f"vector after reset in cycle {k}")
+
+
+@cocotb.test()
+async def chained_start(dut):
+    """chain = 1 with a start: in its done cycle the unit starts again by itself with sign -1 and the compares
+    present in that cycle (the held inputs unchanged), done LATENCY cycles later; then it stays idle. Each
+    result against compensate()."""
+    rng = np.random.default_rng(int(os.environ["HFI_SEED"]) + 6)
+    await clock_and_reset(dut)
+    for i in range(20):
+        first = dict(draw(rng, 1)[0], sign_top=1)
+        second = dict(first, sign_top=0, **{k: int(rng.integers(0, first["half"] + 1))      # in 0..H
+                                            for k in ("cmp_a_in", "cmp_b_in", "cmp_c_in")})
+        apply(dut, first, HELD + SAMPLED)
+        dut.chain.value = 1
+        dut.start.value = 1
+        await cycles(1)
+        dut.start.value = 0
+        dut.chain.value = int(rng.integers(0, 2))             # sampled with the start only
+        dut.sign_top.value = int(rng.integers(0, 2))          # the chained start takes sign -1 whatever this is
+        await cycles(LATENCY - 2)
+        apply(dut, second, ("cmp_a_in", "cmp_b_in", "cmp_c_in"))   # present in the done cycle
+        await cycles(1)
+        assert int(dut.done.value) == 1, f"chain {i}: no done in cycle {LATENCY}"
+        check(dut, golden(first), f"chain {i}, first set", first)
+        await cycles(LATENCY)
+        assert int(dut.done.value) == 1, f"chain {i}: the chained set is not done {LATENCY} cycles later"
+        check(dut, golden(second), f"chain {i}, chained set", second)
+        for _ in range(LATENCY + 2):
+            await cycles(1)
+            assert int(dut.done.value) == 0 and int(dut.busy.value) == 0, f"chain {i}: a third start"

@@ -16,4 +16,4 @@ import hdl_runner
 def test_deadtime_comp(sim, tmp_path):
     hdl_runner.run_cocotb(sim=sim, toplevel="hfi_deadtime_comp",
                           sources=hdl_runner.rtl_sources("hfi_mul18.v", "hfi_deadtime_comp.v"),
-                          tb_module="tb_deadtime_comp", build_dir=tmp_path / "build", expect_tests=5)
+                          tb_module="tb_deadtime_comp", build_dir=tmp_path / "build", expect_tests=6)

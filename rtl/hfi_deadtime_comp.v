@@ -15,6 +15,10 @@
 // Ports:
 //   start              one-cycle request, accepted when not busy (a start while busy is ignored);
 //                      sign_top and cmp_{a,b,c}_in are sampled in the start cycle
+//   chain              sampled with start: 1 makes the unit start again by itself in its done cycle, with
+//                      sign_top 0 and the cmp_{a,b,c}_in of that cycle (hfi_modulator's top set, then its
+//                      bottom set: the done -> start loop then stays inside this module, timing); a start
+//                      in that cycle is the same request
 //   sign_top           1: sign +1 (compares latched at the carrier top, falling half),
 //                      0: sign -1 (carrier bottom, rising half)
 //   cmp_{a,b,c}_in u16 uncompensated compares, each in 0..H (precondition: the widths below rely on it)
@@ -72,6 +76,7 @@ module hfi_deadtime_comp (
     input  wire               clk,
     input  wire               rst,
     input  wire               start,
+    input  wire               chain,
     input  wire               sign_top,
     input  wire        [15:0] cmp_a_in,
     input  wire        [15:0] cmp_b_in,
@@ -145,14 +150,20 @@ module hfi_deadtime_comp (
     // ahead (st_nq): in each branch below it is (busy && st != LAST_STEP) ? st + 1 : 0 of the state
     // being loaded (timing: the micro-program word is then a table lookup of a register)
     reg [5:0] st, st_nq;
+    reg       chain_q;                          // the accepted start asked for the chained one
+    wire      again   = done && chain_q;        // the chained start (this is the done cycle)
+    wire      start_e = start || again;
     always @(posedge clk) begin
         if (rst) begin
             busy <= 1'b0;
             done <= 1'b0;
             st <= 6'd0;
             st_nq <= 6'd0;
+            chain_q <= 1'b0;
         end else begin
             done <= 1'b0;
+            if (start_e && !busy)
+                chain_q <= chain && !again;
             if (busy) begin
                 if (st == LAST_STEP) begin
                     busy <= 1'b0;
@@ -163,7 +174,7 @@ module hfi_deadtime_comp (
                     st <= st + 6'd1;
                     st_nq <= (st == LAST_STEP - 6'd1) ? 6'd0 : st + 6'd2;
                 end
-            end else if (start) begin
+            end else if (start_e) begin
                 busy <= 1'b1;
                 st <= 6'd0;
                 st_nq <= 6'd1;
@@ -172,7 +183,7 @@ module hfi_deadtime_comp (
             end
         end
     end
-    wire accept = start && !busy;
+    wire accept = start_e && !busy;
     wire issue = busy && (st <= LAST_ISSUE);
 
     // ---------------------------------------------------------------- micro-program
@@ -408,7 +419,7 @@ module hfi_deadtime_comp (
             dif_ra <= {1'b0, cmp_a_in, 1'b0} - {2'b00, half};
             dif_rb <= {1'b0, cmp_b_in, 1'b0} - {2'b00, half};
             dif_rc <= {1'b0, cmp_c_in, 1'b0} - {2'b00, half};
-            top_r <= sign_top;
+            top_r <= sign_top && !again;
         end else if (s3_v) begin
             case (s3_leg)
                 LA:      cmp_ra <= cmp_new;

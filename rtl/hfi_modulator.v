@@ -356,14 +356,16 @@ module hfi_modulator (
     reg dtc_bot;                                     // the bottom set is in the DTC
     wire dtc_done;
     reg  top_go;                                     // cnt == T_DTC_TOP, registered the cycle before
-    wire dtc_start = top_go || (dtc_done && !dtc_bot);
+    // the top set starts on top_go with chain = 1: the unit starts the bottom set itself in its done cycle
+    // (sign -1, the bottom compares of that cycle; timing: no done -> start loop through this module)
     wire [15:0] dtc_a, dtc_b, dtc_c;
     reg  [15:0] top_a, top_b, top_c;                 // compensated top set, until done
     hfi_deadtime_comp u_dtc (
         .clk(clk),
         .rst(rst),
-        .start(dtc_start),
-        .sign_top(!dtc_bot && !dtc_done),
+        .start(top_go),
+        .chain(1'b1),
+        .sign_top(1'b1),
         .cmp_a_in(cmp_a),
         .cmp_b_in(cmp_b),
         .cmp_c_in(cmp_c),

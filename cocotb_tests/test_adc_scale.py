@@ -18,7 +18,7 @@ SWEEP_N = 2000
 @pytest.mark.parametrize("sim", hdl_runner.SIMULATORS)
 def test_adc_scale(sim, bits, tmp_path):
     hdl_runner.run_cocotb(sim=sim, toplevel="hfi_adc_scale",
-                          sources=hdl_runner.rtl_sources("hfi_adc_scale.v"),
+                          sources=hdl_runner.rtl_sources("hfi_mul18.v", "hfi_adc_scale.v"),
                           tb_module="tb_adc_scale", build_dir=tmp_path / "build",
                           parameters={"ADC_BITS": bits}, env={"HFI_ADC_BITS": bits}, expect_tests=2,
                           random_n=None if bits == DEFAULT_BITS else SWEEP_N)

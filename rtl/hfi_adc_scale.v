@@ -67,10 +67,29 @@ module hfi_adc_scale #(
     assign done = stage[LATENCY-1];
 
     // The shared multiplier: s17 x s17 (gain zero-extended) -> s34 (|product| < 2^32), between
-    // registered operands (m_d, m_g: loaded in S for product a, in S+1 for product b) and prod.
-    reg  signed [16:0] m_d;
-    reg        [15:0] m_g;
-    reg  signed [33:0] prod;
+    // registered operands (loaded in S for product a, in S+1 for product b) and prod: hfi_mul18's
+    // registers (on ECP5 the product register is the MULT18X18D's own: docs/boards.md "Timing");
+    // m_d_n, m_g_n are the operands' next values (0 under rst and between the products).
+    reg  signed [16:0] m_d_n;
+    reg        [15:0] m_g_n;
+    always @(*) begin
+        m_d_n = 17'sd0;
+        m_g_n = 16'd0;
+        if (!rst) begin
+            if (start) begin
+                m_d_n = {x_a[15], x_a} - {offset_a[15], offset_a};   // product a in S+1
+                m_g_n = gain_a;
+            end else if (s1) begin
+                m_d_n = d_b;                                        // product b in S+2
+                m_g_n = g_b;
+            end
+        end
+    end
+    /* verilator lint_off UNUSEDSIGNAL */  // |product| < 2^32: bits 35..34 are sign copies
+    wire signed [35:0] m_p;
+    /* verilator lint_on UNUSEDSIGNAL */
+    hfi_mul18 u_mul (.clk(clk), .a({m_d_n[16], m_d_n}), .b({2'b00, m_g_n}), .p(m_p));
+    wire signed [33:0] prod = m_p[33:0];
 
     // round_shr(prod, 14) then sat to s16.
     /* verilator lint_off UNUSEDSIGNAL */  // the 14 fraction bits below the rounding point are dropped
@@ -88,22 +107,13 @@ module hfi_adc_scale #(
             i_b <= 16'sd0;
             d_b <= 17'sd0;
             g_b <= 16'd0;
-            m_d <= 17'sd0;
-            m_g <= 16'd0;
-            prod <= 34'sd0;
             res_a <= 16'sd0;
         end else begin
             stage <= {stage[LATENCY-2:0], start};
             if (start) begin
-                m_d <= {x_a[15], x_a} - {offset_a[15], offset_a};   // product a in S+1
-                m_g <= gain_a;
                 d_b <= {x_b[15], x_b} - {offset_b[15], offset_b};
                 g_b <= gain_b;
-            end else if (s1) begin
-                m_d <= d_b;                                        // product b in S+2
-                m_g <= g_b;
             end
-            prod <= m_d * $signed({1'b0, m_g});
             if (s2)
                 res_a <= scaled;
             if (s3) begin

@@ -178,7 +178,11 @@ module hfi_carrier (
     reg         eq_zc;     // c == H/2 - 1 (likewise)
     reg         eq_two;    // c == 2 (valid on the falling half outside a bottom tick)
     reg         done_q;    // ld of the previous tick (the ready triple changed)
-    reg         emp_q;     // {mul_h, mul_s} == {half, step} of this tick, evaluated the tick before
+    reg         emp_q;     // {rdy_h, rdy_s} == {half, step} of this tick if done_q (else not used),
+                           // evaluated the tick before
+    reg         emp_r_q;   // {mul_h, mul_s} == {rdy_h, rdy_s} of the previous tick
+    reg         emp_h_q;   // {mul_h, mul_s} == {half, step} of the previous tick
+    reg         last_q;    // last of the previous tick
     reg         erp_q;     // {rdy_h, rdy_s} of the previous tick == {half, step} of this tick
 
     wire        bottom_n = rst | last;                            // the next tick is a bottom
@@ -221,8 +225,17 @@ module hfi_carrier (
     wire [31:0] hs_n     = rst ? rst_hs : ((last | eq_rdy) ? rdy_p : hs);
     // (the triple loaded at the end of this tick, if ld, is {ld_h, ld_s}; the pair of the next tick is
     // the register inputs under rst, the ready triple at a bottom, else unchanged)
-    wire        emp_n    = rst ? ({ld_h, ld_s} == {mul_h, mul_s})
-                         : last ? ({ld_h, ld_s} == {rdy_h, rdy_s}) : ({ld_h, ld_s} == {half, step});
+    // emp_n is used only where ld (done_q of the next tick). There the three compares are registers
+    // (timing: a 48-bit compare against a multiplexer of three pairs was the tick clock's critical
+    // path, docs/boards.md), because the product completed in the cycle before (mul_done):
+    //   - {ld_h, ld_s} is {mul_h, mul_s} of the previous tick (taken in every cycle), and equals
+    //     {mul_h, mul_s} of this tick (the product went on: the inputs equalled the operands): the
+    //     rst case is true;
+    //   - the ready triple did not change in the previous tick (no two completions in a row): the last
+    //     case is emp_r_q;
+    //   - {half, step} of this tick is the previous tick's pair of the next tick (rst_q: {mul_h,
+    //     mul_s}, equal; last_q: {rdy_h, rdy_s}; else unchanged).
+    wire        emp_n    = rst | (last ? emp_r_q : (rst_q | (last_q ? emp_r_q : emp_h_q)));
     // erp of the next tick: rst: the ready triple against the register inputs; at a bottom the pair
     // becomes the ready triple; else {rdy_h, rdy_s} == {half, step} of this tick: in all cases, match
 
@@ -270,6 +283,9 @@ module hfi_carrier (
         eq_two    <= !bottom_n && !rising && counter == 16'd3;
         done_q    <= ld;
         emp_q     <= emp_n;
+        emp_r_q   <= {mul_h, mul_s} == {rdy_h, rdy_s};
+        emp_h_q   <= {mul_h, mul_s} == {half, step};
+        last_q    <= last;
         erp_q     <= match;
         step      <= step_n;
         hs        <= hs_n;

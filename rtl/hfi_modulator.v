@@ -140,8 +140,11 @@ module hfi_modulator (
 
     // ---------------------------------------------------------------- sequencer, sampled inputs
     reg [6:0] cnt;                                   // 0 idle, 1..LATENCY-1 busy
-    assign busy = (cnt != 7'd0);
-    wire accept = start && !busy;
+    // busy == (cnt != 0), a flip-flop set with cnt (timing: the compare of cnt in front of accept, which
+    // resets the micro-program counter, was the tick clock's critical path on a ULX3S seed, docs/boards.md)
+    reg busy_r;
+    assign busy = busy_r;
+    wire accept = start && !busy_r;
 
     reg signed [15:0] v_q_r, sin_r, cos_r, i_d_ref_r, i_q_ref_r, cr_r, sr_r;
     reg signed [16:0] vd_top, vd_bot;                // vd = V_D + V_H (sign +1), V_D - V_H (sign -1);
@@ -418,6 +421,7 @@ module hfi_modulator (
         // compensation then comes from flip-flops
         top_go <= !rst && cnt == T_DTC_TOP - 7'd1;
         fcs_go <= !rst && cnt == T_FCS - 7'd1;
+        busy_r <= !rst && (accept || (busy_r && cnt != T_LAST));
         if (rst) begin
             cnt <= 7'd0;
             done <= 1'b0;

@@ -60,9 +60,38 @@ module hfi_park (
 
     // Operands of the shared multiplier, registered: the operands used in cycle S+k are selected in
     // cycle S+k-1 (so the multiplier sits between two registers; the product schedule is unchanged).
-    reg signed [17:0] m_x;
-    reg signed [15:0] m_y;
-    reg signed [33:0] prod;                 // registered product (|product| < 2^31)
+    // The operand registers and the product register are hfi_mul18's (on ECP5 the product register is
+    // the MULT18X18D's own: docs/boards.md "Timing"); m_x_n, m_y_n are the operands' next values.
+    reg  signed [17:0] m_x_n;
+    reg  signed [15:0] m_y_n;
+    /* verilator lint_off UNUSEDSIGNAL */  // |product| < 2^31: bits 35..34 are sign copies
+    wire signed [35:0] m_p;
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire signed [33:0] prod = m_p[33:0];    // registered product
+    hfi_mul18 u_mul (.clk(clk), .a(m_x_n), .b({{2{m_y_n[15]}}, m_y_n}), .p(m_p));
+    // operands of the next cycle (0 under rst and between the products: the idle multiplier stays still)
+    always @(*) begin
+        m_x_n = 18'sd0;
+        m_y_n = 16'sd0;
+        if (!rst) begin
+            if (start) begin                // for S+1: Clarke product (i_a + 2*i_b)*18919
+                m_x_n = {{2{i_a[15]}}, i_a} + {i_b[15], i_b, 1'b0};
+                m_y_n = INV_SQRT3_Q15;
+            end else if (stage[0]) begin    // for S+2: i_alpha*COS
+                m_x_n = {{2{al_r[15]}}, al_r};
+                m_y_n = cos_r;
+            end else if (stage[1]) begin    // for S+3: i_alpha*SIN
+                m_x_n = {{2{al_r[15]}}, al_r};
+                m_y_n = sin_r;
+            end else if (stage[2]) begin    // for S+4: i_beta*SIN
+                m_x_n = {{2{be_r[15]}}, be_r};
+                m_y_n = sin_r;
+            end else if (stage[3]) begin    // for S+5: i_beta*COS
+                m_x_n = {{2{be_r[15]}}, be_r};
+                m_y_n = cos_r;
+            end
+        end
+    end
 
     // acc_d = i_alpha*COS + i_beta*SIN + 2^14, acc_q = i_beta*COS - i_alpha*SIN + 2^14 (the rounding
     // constant of round_shr(., 15) is added when an accumulation starts, not after its last term)
@@ -93,9 +122,6 @@ module hfi_park (
             sin_r <= 16'sd0;
             cos_r <= 16'sd0;
             be_r <= 16'sd0;
-            m_x <= 18'sd0;
-            m_y <= 16'sd0;
-            prod <= 34'sd0;
             acc_d <= 34'sd0;
             acc_q <= 34'sd0;
             i_d <= 16'sd0;
@@ -107,24 +133,6 @@ module hfi_park (
                 sin_r <= sin_q15;
                 cos_r <= cos_q15;
             end
-            // operands of the next cycle
-            if (start) begin                // for S+1: Clarke product (i_a + 2*i_b)*18919
-                m_x <= {{2{i_a[15]}}, i_a} + {i_b[15], i_b, 1'b0};
-                m_y <= INV_SQRT3_Q15;
-            end else if (stage[0]) begin    // for S+2: i_alpha*COS
-                m_x <= {{2{al_r[15]}}, al_r};
-                m_y <= cos_r;
-            end else if (stage[1]) begin    // for S+3: i_alpha*SIN
-                m_x <= {{2{al_r[15]}}, al_r};
-                m_y <= sin_r;
-            end else if (stage[2]) begin    // for S+4: i_beta*SIN
-                m_x <= {{2{be_r[15]}}, be_r};
-                m_y <= sin_r;
-            end else if (stage[3]) begin    // for S+5: i_beta*COS
-                m_x <= {{2{be_r[15]}}, be_r};
-                m_y <= cos_r;
-            end
-            prod <= m_x * m_y;
             if (stage[1])                   // prod = (i_a + 2 i_b)*18919
                 be_r <= sat15(be_rnd);
             if (stage[2])                   // prod = i_alpha*COS

@@ -151,8 +151,11 @@ module hfi_deadtime_comp (
     // being loaded (timing: the micro-program word is then a table lookup of a register)
     reg [5:0] st, st_nq;
     reg       chain_q;                          // the accepted start asked for the chained one
-    wire      again   = done && chain_q;        // the chained start (this is the done cycle)
+    // the chained start, done && chain_q, as a register of its own set with done (chain_q does not
+    // change while busy; timing: the start logic then takes flip-flops only, docs/boards.md)
+    reg       again;
     wire      start_e = start || again;
+    wire      accept  = start_e && !busy;
     always @(posedge clk) begin
         if (rst) begin
             busy <= 1'b0;
@@ -160,14 +163,17 @@ module hfi_deadtime_comp (
             st <= 6'd0;
             st_nq <= 6'd0;
             chain_q <= 1'b0;
+            again <= 1'b0;
         end else begin
             done <= 1'b0;
-            if (start_e && !busy)
+            again <= 1'b0;
+            if (accept)
                 chain_q <= chain && !again;
             if (busy) begin
                 if (st == LAST_STEP) begin
                     busy <= 1'b0;
                     done <= 1'b1;
+                    again <= chain_q;
                     st <= 6'd0;
                     st_nq <= 6'd0;
                 end else begin
@@ -183,7 +189,6 @@ module hfi_deadtime_comp (
             end
         end
     end
-    wire accept = start_e && !busy;
     wire issue = busy && (st <= LAST_ISSUE);
 
     // ---------------------------------------------------------------- micro-program

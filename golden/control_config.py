@@ -341,7 +341,8 @@ def protection_params(sc: Scenario) -> ProtParams:
         ovl_n=round(pr.overload_time * sc_.f_sw), ovl_w=min(sc_.speed_mech(pr.overload_speed), 2**31 - 1),
         ovl_m=round(pr.overload_speed_time * sc_.f_sw),
         w_max=min(sc_.speed_mech(speed_max), 2**31 - 1), w_asc=min(sc_.speed_mech(asc), 2**31 - 1),
-        restarts=pr.restarts, restart_n=max(round(pr.restart_delay * sc_.f_sw), 1))
+        restarts=pr.restarts, restart_n=max(round(pr.restart_delay * sc_.f_sw), 1),
+        hf_k=shift(pr.hf_time), hf_tol=to_fixed(pr.hf_response, 16))
 
 
 def flux_lsb(sc: Scenario) -> float:

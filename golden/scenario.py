@@ -354,6 +354,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "asc_speed": _q("speed", _non_negative),
         "restarts": Field("integer", check=_between(0, 1000), default=0),
         "restart_delay": _q("time", _positive, default=0.5),
+        "hf_response": Field("number", check=_between(0, 1), default=0.09),
+        "hf_time": _q("time", _positive, default=3.2e-3),
     },
     # Self-commissioning (`hfi commission`, golden.commission): absent keys are derived from the scenario
     "commission": {
@@ -530,6 +532,8 @@ class ProtectionSettings:
     asc_speed: float | None
     restarts: int
     restart_delay: float
+    hf_response: float
+    hf_time: float
 
 
 @dataclass(frozen=True)

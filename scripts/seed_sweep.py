@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Lock losses over random seeds and initial rotor angles (issue 14): every scenario given, N seeds each,
 on one backend (default hls, the fastest). Prints one line per run (seed, initial angle, locked, estimator
-switches, worst plateau speed error) and the count of lock losses; exit status 1 if any run lost lock.
+switches, the firmware's first fault code, worst plateau speed error) and the count of lock losses and of
+runs with a fault; exit status 1 if any run lost lock or tripped.
 
 Usage: scripts/seed_sweep.py SCENARIO.toml... [--seeds 10] [--backend hls] [--window T0 T1]...
 
@@ -22,6 +23,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
+from golden.firmware.protection import FAULT_NAMES  # noqa: E402
 from golden.scenario import load_scenario  # noqa: E402
 from hfi.backends import run  # noqa: E402
 from hfi.report import metrics_of  # noqa: E402
@@ -34,7 +36,7 @@ def main() -> int:
     ap.add_argument("--backend", default="hls")
     ap.add_argument("--window", nargs=2, type=float, action="append", default=[], metavar=("T0", "T1"))
     args = ap.parse_args()
-    losses = 0
+    losses = trips = 0
     worst = {tuple(w): [0.0, 0.0] for w in args.window}
     for path in args.scenarios:
         base = load_scenario(path)
@@ -47,6 +49,9 @@ def main() -> int:
             m = metrics_of(sc, res)
             speed_err = max((abs(s["speed_mean_rpm"] - s["speed_ref_rpm"]) for s in m["segments"]), default=0.0)
             losses += not m["locked"]
+            codes = res.windows["fault"][res.windows["fault"] != 0]
+            fault = FAULT_NAMES[int(codes[0])] if len(codes) else "none"
+            trips += fault != "none"
             extra = ""
             for (t0, t1), acc in worst.items():
                 sel = (res.t >= t0) & (res.t < t1)
@@ -55,12 +60,12 @@ def main() -> int:
                 acc[0], acc[1] = max(acc[0], peak), max(acc[1], rms)
                 extra += f", [{t0:g}, {t1:g}) s: peak {peak:.2f} RMS {rms:.2f} deg"
             print(f"{base.name} seed {seed} theta_m0 {math.degrees(theta):6.1f} deg: locked {m['locked']}, "
-                  f"switches {m['estimator_switches']}, "
+                  f"switches {m['estimator_switches']}, fault {fault}, "
                   f"worst plateau speed error {speed_err:.1f} rpm{extra}", flush=True)
     for (t0, t1), (peak, rms) in worst.items():
         print(f"[{t0:g}, {t1:g}) s over all runs: worst peak {peak:.2f} deg, worst RMS {rms:.2f} deg")
-    print(f"lock losses: {losses}")
-    return 1 if losses else 0
+    print(f"lock losses: {losses}, runs with a fault: {trips}")
+    return 1 if losses or trips else 0
 
 
 if __name__ == "__main__":

@@ -357,7 +357,8 @@ def test_emf_residual_random(seed):
 
 
 def test_protect_step_random_sequences(seed):
-    """Sequences of checks with one parameter set each; every fault code is reached."""
+    """Sequences of checks with one parameter set each, the sensor check's reference learned over a few periods
+    first (``hf_learn``); every fault code is reached."""
     rng = np.random.default_rng(seed + 41)
     c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")
     seen = set()
@@ -365,15 +366,24 @@ def test_protect_step_random_sequences(seed):
         p = random_prot(rng)
         fw_c._fill(c, p)
         gold = Firmware(_params())
-        st.emf_d = st.emf_q = st.track_f = st.ovl_n = st.ovl_e = st.e0 = 0
+        st.emf_d = st.emf_q = st.track_f = st.ovl_n = st.ovl_e = st.e0 = st.hf_ref = st.hf_f = 0
         at_limit = rng.random() < 0.5
+        level = draw_one(rng, S32_MIN >> (q % 20), S32_MAX >> (q % 20), (1_786_000, 0))   # a GAMMA_D level
+        for k in range(int(rng.integers(0, 6))):
+            g = max(min(level + int(rng.integers(-1000, 1001)), S32_MAX), S32_MIN)
+            protection.hf_learn(gold, p, g)
+            lib.fw_hf_learn(st, c, g)
+            assert st.hf_ref == gold.hf_ref, (seed, q, k, p)
         for k in range(20):
             v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref = draw(rng, 8, S32_MIN >> (q % 20), S32_MAX >> (q % 20))
             limit = int(at_limit or rng.random() < 0.1)
-            want = protect_step(gold, p, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, bool(limit))
-            got = lib.fw_protect_step(st, c, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, limit)
-            assert (got, st.emf_d, st.emf_q, st.track_f, st.ovl_n, st.ovl_e, st.e0) == \
-                (want, gold.emf_d, gold.emf_q, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0), \
+            hf_on = int(rng.random() < 0.8)
+            hf = level + draw_one(rng, S32_MIN >> (q % 20 + 3), S32_MAX >> (q % 20 + 3), (0, 200_000))
+            hf = max(min(hf, S32_MAX), S32_MIN)
+            want = protect_step(gold, p, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, bool(limit), hf if hf_on else None)
+            got = lib.fw_protect_step(st, c, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, limit, hf_on, hf)
+            assert (got, st.emf_d, st.emf_q, st.track_f, st.ovl_n, st.ovl_e, st.e0, st.hf_f) == \
+                (want, gold.emf_d, gold.emf_q, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0, gold.hf_f), \
                 (seed, q, k, p)
             seen.add(want)
     assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE,
@@ -659,7 +669,8 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
                       track_k=track_k, track_tol=track_tol, ovl_n=draw_one(rng, 0, 2000, (0, 1, 2500)),
                       ovl_w=draw_one(rng, 0, S32_MAX, (0, 1_202_591)), ovl_m=draw_one(rng, 0, 300, (0, 1, 250)),
                       w_max=w_max, w_asc=w_asc,
-                      restarts=draw_one(rng, 0, 3, (0,)), restart_n=draw_one(rng, 0, 20, (0, 1)))
+                      restarts=draw_one(rng, 0, 3, (0,)), restart_n=draw_one(rng, 0, 20, (0, 1)),
+                      hf_k=draw_one(rng, 0, 30, (0, 4)), hf_tol=draw_one(rng, 0, 1 << 16, (0, 5898, 1 << 16)))
 
 
 def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:

@@ -11,7 +11,8 @@ import pytest
 from golden.control_config import firmware_params, protection_params, scales
 from golden.firmware.pi import PiParams
 from golden.firmware.protection import (FAULT_LOCK_LOSS, FAULT_NONE, FAULT_OVERLOAD, FAULT_OVERSPEED,
-                                        FAULT_TRACKING, ProtParams, emf_residual, protect_step)
+                                        FAULT_SENSOR, FAULT_TRACKING, ProtParams, emf_residual, hf_learn,
+                                        protect_step)
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.supervisor import MODE_CONVERGE, MODE_FAULT, MODE_RUN, Firmware, FirmwareParams, Outputs
 from golden.fpga.cordic import sincos_q15
@@ -80,6 +81,29 @@ def test_lock_check_filters_the_signed_components():
     assert FAULT_LOCK_LOSS not in codes and abs(st.emf_q) <= x >> (k - 1)
     st = Firmware(_params())
     assert FAULT_LOCK_LOSS in [protect_step(st, p, x, 0, 0, 0, 0, 0, 0, 0, False) for _ in range(200)]
+
+
+def test_sensor_check_learns_the_level_and_trips_on_the_filtered_deviation():
+    """hf_learn: ref += (g - ref) >> k from 0; in RUN |GAMMA_D - ref| through the same filter against
+    floor(ref * tol / 2^16); a window without the whole square wave (None) zeroes the filter."""
+    k, tol, g = 2, 5898, 1_000_000                   # 9 % of the level
+    p = replace(P, hf_k=k, hf_tol=tol)
+    st = Firmware(_params())
+    ref = 0
+    for _ in range(100):
+        hf_learn(st, p, g)
+        ref += (g - ref) >> k
+    assert st.hf_ref == ref and g - 4 <= ref <= g    # the floored filter stops within 2^k of the level
+    limit = (ref * tol) >> 16
+    step = lambda hf: protect_step(st, p, 0, 0, 0, 0, 0, 0, 0, 0, False, hf)   # noqa: E731
+    # a constant deviation of exactly the limit: the filter climbs to within 2^k of it, never above
+    assert [step(ref + limit) for _ in range(60)] == [FAULT_NONE] * 60 and limit - 2**k < st.hf_f <= limit
+    assert step(ref - 8 * limit) == FAULT_SENSOR     # a deviation of either sign: one period crosses it
+    assert step(None) == FAULT_NONE and st.hf_f == 0
+    # off (hf_tol 0) or no level learned: nothing
+    assert protect_step(Firmware(_params()), replace(p, hf_tol=0), 0, 0, 0, 0, 0, 0, 0, 0, False, 0) == FAULT_NONE
+    fresh = Firmware(_params())
+    assert protect_step(fresh, p, 0, 0, 0, 0, 0, 0, 0, 0, False, 10**6) == FAULT_NONE and fresh.hf_f == 0
 
 
 def test_tracking_overload_and_overspeed():

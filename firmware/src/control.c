@@ -1407,7 +1407,7 @@ static int32_t count_while(int32_t n, int cond)
 /* protection.protect_step */
 int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d,
                         int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t speed_ref,
-                        int32_t at_limit)
+                        int32_t at_limit, int32_t hf_on, int32_t hf)
 {
     int32_t err = sat32(abs64((int64_t)speed_ref - omega_f));
 
@@ -1424,6 +1424,12 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
     if (st->ovl_n == 1)
         st->e0 = err;
     st->ovl_e = count_while(st->ovl_e, at_limit && (int64_t)err - st->e0 > p->ovl_w);
+    if (p->hf_tol) {
+        if (!hf_on || st->hf_ref <= 0)
+            st->hf_f = 0;
+        else
+            st->hf_f = sat32(st->hf_f + ((sat32(abs64((int64_t)hf - st->hf_ref)) - (int64_t)st->hf_f) >> p->hf_k));
+    }
     if (p->w_max && abs64(omega_f) > p->w_max)
         return FW_FAULT_OVERSPEED;
     if (p->emf_tol && sat32(abs64(st->emf_d) + abs64(st->emf_q)) > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))
@@ -1432,7 +1438,16 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
         return FW_FAULT_TRACKING;
     if ((p->ovl_n && st->ovl_n >= p->ovl_n) || (p->ovl_m && st->ovl_e >= p->ovl_m))
         return FW_FAULT_OVERLOAD;
+    if (p->hf_tol && st->hf_f > (((int64_t)st->hf_ref * p->hf_tol) >> 16))
+        return FW_FAULT_SENSOR;
     return FW_FAULT_NONE;
+}
+
+/* protection.hf_learn: one CONVERGE period of the sensor check's reference */
+void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d)
+{
+    if (p->hf_tol)
+        st->hf_ref = sat32(st->hf_ref + (((int64_t)gamma_d - st->hf_ref) >> p->hf_k));
 }
 
 /* Firmware._applied_dq: under the fcs_mpc law, the window's applied voltage in the frame active in it: VECTOR for
@@ -1454,7 +1469,7 @@ static void applied_dq(const struct fw_state *st, const struct fw_window *win, c
 const char *fw_fault_name(int32_t code)
 {
     static const char *const names[FW_FAULTS] = {"none", "overcurrent", "overspeed", "lock_loss", "current_tracking",
-                                                 "overload", "hardware", "ident"};
+                                                 "overload", "hardware", "ident", "sensor"};
 
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }
@@ -1654,7 +1669,14 @@ static int injecting(const struct fw_state *st, const struct fw_params *p)
         return 1;
     if (p->pol_mode == FW_POL_PILOT && (st->mode == FW_POL_POS || st->mode == FW_POL_NEG))
         return 0;
-    return fw_method_injects[slot_method(p, st->active)];
+    return fw_method_injects[slot_method(p, st->active)] != FW_INJ_NONE;
+}
+
+/* Firmware._square_wave_on: the square wave on d_hat was on for the whole window (the estimator in charge injects
+ * it, the register sets active in the window and in the one before both with V_H != 0). */
+static int square_wave_on(const struct fw_state *st, const struct fw_params *p)
+{
+    return fw_method_injects[slot_method(p, st->active)] == FW_INJ_SQW_D && st->act[0].v_h != 0 && st->prev.v_h != 0;
 }
 
 /* Firmware._feedback: the window means through the notch (input saturated to FW_NOTCH_BITS), if on. */
@@ -1827,6 +1849,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
 #endif
     if (st->mode != FW_FIXED && st->mode != FW_FAULT) {
         struct fw_meas m;
+        int hf_on;
 
         m.win = win;
         m.i_d = i_d;
@@ -1843,6 +1866,9 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
             m.v_al = sat32((int64_t)m.v_al + a);
             m.v_be = sat32((int64_t)m.v_be + b);
         }
+        hf_on = square_wave_on(st, p);
+        if (st->mode == FW_CONVERGE && hf_on)
+            fw_hf_learn(st, &p->prot, win->gamma_d);
         if (!frozen(st, p))
             estimate(st, p, &m);
         if (st->active == FW_SLOT_HIGH)
@@ -1859,7 +1885,8 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
             if (p->law == FW_LAW_FCS_MPC && p->prot.emf_tol != 0) /* only the lock check reads it */
                 applied_dq(st, win, &st->act[0], &v_d, &v_q);
             code = fw_protect_step(st, &p->prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev,
-                                   fw_lowpass_out(st->speed_f), speed_ref, abs64(st->i_s_ref) >= p->speed_pi.limit);
+                                   fw_lowpass_out(st->speed_f), speed_ref, abs64(st->i_s_ref) >= p->speed_pi.limit,
+                                   hf_on, win->gamma_d);
             if (code != FW_FAULT_NONE)
                 trip(st, p, code);
         }

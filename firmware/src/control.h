@@ -36,7 +36,8 @@ enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1, FW_POL_NONE = 2 };
 
 /* Fault codes (golden.firmware.protection.FAULT_*; names in fw_fault_name). */
 enum fw_fault { FW_FAULT_NONE = 0, FW_FAULT_OVERCURRENT = 1, FW_FAULT_OVERSPEED = 2, FW_FAULT_LOCK_LOSS = 3,
-                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULT_IDENT = 7, FW_FAULTS = 8 };
+                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULT_IDENT = 7, FW_FAULT_SENSOR = 8,
+                FW_FAULTS = 9 };
 
 /* Limits of the fault checks (golden.firmware.protection.ProtParams; 0 turns a check off). */
 struct fw_prot_params {
@@ -56,6 +57,8 @@ struct fw_prot_params {
     int32_t w_asc;           /* speed LSB */
     int32_t restarts;        /* automatic restarts at most (0: none) */
     int32_t restart_n;       /* periods in FAULT before each */
+    int32_t hf_k;            /* sensor check: filter time constant 2^hf_k periods */
+    int32_t hf_tol;          /* sensor check: limit, share of the learned GAMMA_D, Q16 (0: off) */
 };
 
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
@@ -518,6 +521,8 @@ struct fw_state {
     int32_t ovl_n;
     int32_t ovl_e;
     int32_t e0;                 /* |speed error| when the speed PI reached its limit */
+    int32_t hf_ref;             /* sensor check: GAMMA_D learned in CONVERGE, the filtered deviation from it */
+    int32_t hf_f;
     int32_t restarts;           /* automatic restarts done */
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;
@@ -679,7 +684,8 @@ void fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, i
                      int32_t omega, int32_t *e_d, int32_t *e_q);
 int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d,
                         int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t speed_ref,
-                        int32_t at_limit);
+                        int32_t at_limit, int32_t hf_on, int32_t hf);
+void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d);
 const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out);

@@ -3,8 +3,10 @@
 #ifndef HFI_FW_METHODS_H
 #define HFI_FW_METHODS_H
 
-/* golden.firmware.estimator.METHODS[...].injection != INJ_NONE, by method id */
-#define FW_METHOD_INJECTS {[1] = 1, [2] = 0, [3] = 1, [4] = 0, [5] = 1, [6] = 0}
+/* golden.firmware.estimator.METHODS[...].injection (INJ_*), by method id */
+#define FW_METHOD_INJECTS {[1] = 1, [2] = 0, [3] = 2, [4] = 0, [5] = 3, [6] = 0}
+#define FW_INJ_NONE 0  /* golden.firmware.estimator.INJ_NONE */
+#define FW_INJ_SQW_D 1  /* golden.firmware.estimator.INJ_SQW_D */
 #define FW_SQW_SYNC_HOLD 1  /* golden.firmware.sqw_bangbang.SYNC_HOLD */
 #define FW_RFO_FLUX_FRAC 8  /* golden.firmware.rfo.FLUX_FRAC */
 #define FW_RFO_Q_LIMIT 131072  /* golden.firmware.rfo.Q_LIMIT */

@@ -29,6 +29,18 @@ references it gave and the filtered speed of the estimator in charge.
                       blocked rotor, a load above the current limit that turns the motor against it). A
                       reference step saturates the PI too, but its error then shrinks.
 
+``sensor``            the d-axis response of the square-wave injection (``GAMMA_D``, the window's sum of the
+                      current along d_hat times the carrier's sign: INJ_SQW_D methods) against its level
+                      learned at start-up. The current sensors' gains set it: a phase sensor whose gain
+                      changed scales it by a factor that depends on the angle (a gain of 0.7 on phase a:
+                      0.7 with d_hat on phase a, 1.0 across it), while L_d moves it little (its
+                      saturation under rated load: the filtered deviation stays within 6 % on the Table I
+                      motor, docs/faults.md). ``|GAMMA_D - hf_ref|`` through a first-order filter
+                      (``hf_k``) above ``shr(hf_ref * hf_tol, 16)``. The reference learns in every
+                      CONVERGE period (:func:`hf_learn`: injection on, rotor at rest, no current); the
+                      check runs while the square wave was on for the whole window (the registers active
+                      in the window and in the one before both with ``V_H != 0``), else its filter is 0.
+
 The software overcurrent on the window means (``i_trip``) is checked in every mode by the supervisor
 itself (``FAULT_OVERCURRENT``), and so are the hardware's own trips (``FAULT_HARDWARE``: a fault latch of
 ``STATUS`` set, ``WindowResult.status``; the hardware has already turned the gates off).
@@ -47,8 +59,9 @@ from dataclasses import dataclass
 from golden.fixed import sat, shr
 
 (FAULT_NONE, FAULT_OVERCURRENT, FAULT_OVERSPEED, FAULT_LOCK_LOSS, FAULT_TRACKING, FAULT_OVERLOAD,
- FAULT_HARDWARE, FAULT_IDENT) = range(8)
-FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload", "hardware", "ident")
+ FAULT_HARDWARE, FAULT_IDENT, FAULT_SENSOR) = range(9)
+FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload", "hardware", "ident",
+               "sensor")
 """Fault codes of the firmware (``struct fw_state.fault``, the trace column ``fault``; C ``enum fw_fault``)."""
 
 
@@ -82,6 +95,9 @@ class ProtParams:
         below it the gates are off (coast) [speed LSB].
     restarts, restart_n : int
         Automatic restarts: at most ``restarts`` (0: none), each ``restart_n`` periods after the tripping one.
+    hf_k, hf_tol : int
+        The sensor check: filter shift (reference and deviation, 0..30) and the limit as a share of the
+        learned reference [Q16].
     """
 
     r: int = 0
@@ -100,6 +116,8 @@ class ProtParams:
     w_asc: int = 0
     restarts: int = 0
     restart_n: int = 0
+    hf_k: int = 0
+    hf_tol: int = 0
 
 
 def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> tuple[int, int]:
@@ -120,13 +138,20 @@ OVL_CAP = 1 << 30
 """The overload count stops here (s32 in C)."""
 
 
+def hf_learn(st, p: ProtParams, gamma_d: int) -> None:
+    """One CONVERGE period of the sensor check's reference: ``hf_ref += shr(GAMMA_D - hf_ref, hf_k)`` (s32)."""
+    if p.hf_tol:
+        st.hf_ref = sat(st.hf_ref + shr(gamma_d - st.hf_ref, p.hf_k), 32)
+
+
 def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_ref: int,
-                 i_q_ref: int, omega_f: int, speed_ref: int, at_limit: bool) -> int:
-    """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload; returns the
-    first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_d``, ``emf_q``, ``track_f``
-    (s32, the filtered values themselves; a filter whose check is off stays), the counts ``ovl_n``, ``ovl_e`` and
-    the speed error when the limit was reached, ``e0`` (the supervisor's
-    :class:`~golden.firmware.supervisor.Firmware`); all are stepped every period."""
+                 i_q_ref: int, omega_f: int, speed_ref: int, at_limit: bool, hf: int | None = None) -> int:
+    """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload, sensor; returns
+    the first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_d``, ``emf_q``,
+    ``track_f``, ``hf_f`` (s32, the filtered values themselves; a filter whose check is off stays), the counts
+    ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached, ``e0``, and the sensor check's
+    reference ``hf_ref`` (the supervisor's :class:`~golden.firmware.supervisor.Firmware`); all are stepped every
+    period. ``hf``: the window's ``GAMMA_D`` when the square wave was on for all of it, else None."""
     if p.emf_tol:                                     # a check that is off costs nothing
         e_d, e_q = emf_residual(p, v_d, v_q, i_d, i_q, omega_f)
         st.emf_d += shr(e_d - st.emf_d, p.emf_k)
@@ -138,6 +163,11 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
     if st.ovl_n == 1:
         st.e0 = err
     st.ovl_e = min(st.ovl_e + 1, OVL_CAP) if at_limit and err - st.e0 > p.ovl_w else 0
+    if p.hf_tol:
+        if hf is None or st.hf_ref <= 0:
+            st.hf_f = 0
+        else:
+            st.hf_f = sat(st.hf_f + shr(sat(abs(hf - st.hf_ref), 32) - st.hf_f, p.hf_k), 32)
     if p.w_max and abs(omega_f) > p.w_max:
         return FAULT_OVERSPEED
     if p.emf_tol and emf_level(st) > p.emf_tol + shr(abs(omega_f) * p.psi_rel, 32):
@@ -146,4 +176,6 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
         return FAULT_TRACKING
     if (p.ovl_n and st.ovl_n >= p.ovl_n) or (p.ovl_m and st.ovl_e >= p.ovl_m):
         return FAULT_OVERLOAD
+    if p.hf_tol and st.hf_f > shr(st.hf_ref * p.hf_tol, 16):
+        return FAULT_SENSOR
     return FAULT_NONE

@@ -61,8 +61,8 @@ from golden.firmware.eemf_smo import SmoParams
 from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage
 from golden.firmware.hfo_proj import HfoParams
 from golden.firmware.ident import Ident, IdentParams
-from golden.firmware.estimator import (BY_ID, INJ_NONE, SLOT_HIGH, SLOT_LOW, Measurement, injection_voltage, park,
-                                       window_voltage)
+from golden.firmware.estimator import (BY_ID, INJ_NONE, INJ_SQW_D, SLOT_HIGH, SLOT_LOW, Measurement,
+                                       injection_voltage, park, window_voltage)
 from golden.firmware.load_observer import I_FRAC, LoadObsParams, load_obs_step
 from golden.firmware.lowpass import lowpass_out, lowpass_step
 from golden.firmware.means import window_means
@@ -70,7 +70,7 @@ from golden.firmware.methods import CLASSES
 from golden.firmware.mtpa import mtpa_lookup
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.protection import (FAULT_HARDWARE, FAULT_IDENT, FAULT_NONE, FAULT_OVERCURRENT, ProtParams,
-                                       protect_step)
+                                       hf_learn, protect_step)
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -263,6 +263,8 @@ class Firmware:
     ovl_n: int = 0
     ovl_e: int = 0
     e0: int = 0
+    hf_ref: int = 0                  # sensor check: learned GAMMA_D and the filtered deviation from it
+    hf_f: int = 0
     restarts: int = 0                # automatic restarts done
     ident: Ident | None = None       # the identification program's executor (FirmwareParams.ident)
     slots: list = field(init=False)
@@ -326,6 +328,9 @@ class Firmware:
                 a, b = injection_voltage(now.v_h, before.v_h, s_inj, c_inj, p.inj_cd, p.inj_sd)
                 v_al, v_be = sat(v_al + a, 32), sat(v_be + b, 32)
             m = Measurement(win, i_d, i_q, now.sin, now.cos, v_al, v_be, s_inj, c_inj)
+            hf = win.gamma_d if self._square_wave_on(now, before) else None
+            if self.mode == MODE_CONVERGE and hf is not None:
+                hf_learn(self, p.prot, hf)
             if not self._frozen():
                 self._estimate(m)
             if self.active == SLOT_HIGH:
@@ -338,7 +343,7 @@ class Firmware:
                 fcs = p.law == LAW_FCS_MPC and p.prot.emf_tol != 0      # only the lock check reads it
                 v_d, v_q = self._applied_dq(win, now) if fcs else (now.v_d, now.v_q)
                 code = protect_step(self, p.prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev, self.omega_f,
-                                    speed_ref, abs(self.i_s_ref) >= p.speed_pi.limit)
+                                    speed_ref, abs(self.i_s_ref) >= p.speed_pi.limit, hf)
                 if code != FAULT_NONE:
                     self._trip(code)
             self.theta_hat = self._angle()
@@ -426,6 +431,12 @@ class Firmware:
         est = self.slots[slot]
         est.sync(theta, omega)
         self.est_theta[slot], self.est_omega[slot] = est.theta, est.omega
+
+    def _square_wave_on(self, now: Outputs, before: Outputs) -> bool:
+        """The square wave on d_hat (INJ_SQW_D) was on for the whole window: the estimator in charge injects
+        it, and the register sets active in the window and in the one before both have ``V_H != 0``."""
+        return (BY_ID[self.slots[self.active].METHOD].injection == INJ_SQW_D
+                and now.v_h != 0 and before.v_h != 0)
 
     def _injecting(self) -> bool:
         """Whether the outputs of this step carry the injection."""

@@ -17,7 +17,7 @@ LOCK_DETECT_MS = 20.0
 @pytest.mark.parametrize("name, rpm, code", [("phase open (a)", 250.0, "lock_loss"),
                                              ("switch open (a high)", 250.0, "lock_loss"),
                                              ("ADC lane dead (b)", 50.0, "overcurrent"),
-                                             ("sensor gain x0.7 (a)", 50.0, "sensor")])
+                                             ("sensor gain x0.7 (a)", 50.0, "hf_response")])
 def test_a_fault_cell_is_detected_with_its_code(tmp_path, name, rpm, code):
     row = faults.run_one((name, rpm, True, faults.DURATION_SHORT_S, str(tmp_path)))
     assert (row["verdict"], row["code"], row["reaction"]) == ("detected", code, "coast")

@@ -11,7 +11,7 @@ import pytest
 from golden.control_config import firmware_params, protection_params, scales
 from golden.firmware.pi import PiParams
 from golden.firmware.protection import (FAULT_LOCK_LOSS, FAULT_NONE, FAULT_OVERLOAD, FAULT_OVERSPEED,
-                                        FAULT_SENSOR, FAULT_TRACKING, ProtParams, emf_residual, hf_learn,
+                                        FAULT_HF_RESPONSE, FAULT_TRACKING, ProtParams, emf_residual, hf_learn,
                                         protect_step)
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.supervisor import MODE_CONVERGE, MODE_FAULT, MODE_RUN, Firmware, FirmwareParams, Outputs
@@ -98,7 +98,7 @@ def test_sensor_check_learns_the_level_and_trips_on_the_filtered_deviation():
     step = lambda hf: protect_step(st, p, 0, 0, 0, 0, 0, 0, 0, 0, False, hf)   # noqa: E731
     # a constant deviation of exactly the limit: the filter climbs to within 2^k of it, never above
     assert [step(ref + limit) for _ in range(60)] == [FAULT_NONE] * 60 and limit - 2**k < st.hf_f <= limit
-    assert step(ref - 8 * limit) == FAULT_SENSOR     # a deviation of either sign: one period crosses it
+    assert step(ref - 8 * limit) == FAULT_HF_RESPONSE     # a deviation of either sign: one period crosses it
     assert step(None) == FAULT_NONE and st.hf_f == 0
     # off (hf_tol 0) or no level learned: nothing
     assert protect_step(Firmware(_params()), replace(p, hf_tol=0), 0, 0, 0, 0, 0, 0, 0, 0, False, 0) == FAULT_NONE

@@ -1439,7 +1439,7 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
     if ((p->ovl_n && st->ovl_n >= p->ovl_n) || (p->ovl_m && st->ovl_e >= p->ovl_m))
         return FW_FAULT_OVERLOAD;
     if (p->hf_tol && st->hf_f > (((int64_t)st->hf_ref * p->hf_tol) >> 16))
-        return FW_FAULT_SENSOR;
+        return FW_FAULT_HF_RESPONSE;
     return FW_FAULT_NONE;
 }
 
@@ -1469,7 +1469,7 @@ static void applied_dq(const struct fw_state *st, const struct fw_window *win, c
 const char *fw_fault_name(int32_t code)
 {
     static const char *const names[FW_FAULTS] = {"none", "overcurrent", "overspeed", "lock_loss", "current_tracking",
-                                                 "overload", "hardware", "ident", "sensor"};
+                                                 "overload", "hardware", "ident", "hf_response"};
 
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }

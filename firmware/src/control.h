@@ -36,7 +36,7 @@ enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1, FW_POL_NONE = 2 };
 
 /* Fault codes (golden.firmware.protection.FAULT_*; names in fw_fault_name). */
 enum fw_fault { FW_FAULT_NONE = 0, FW_FAULT_OVERCURRENT = 1, FW_FAULT_OVERSPEED = 2, FW_FAULT_LOCK_LOSS = 3,
-                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULT_IDENT = 7, FW_FAULT_SENSOR = 8,
+                FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULT_IDENT = 7, FW_FAULT_HF_RESPONSE = 8,
                 FW_FAULTS = 9 };
 
 /* Limits of the fault checks (golden.firmware.protection.ProtParams; 0 turns a check off). */

@@ -29,7 +29,7 @@ references it gave and the filtered speed of the estimator in charge.
                       blocked rotor, a load above the current limit that turns the motor against it). A
                       reference step saturates the PI too, but its error then shrinks.
 
-``sensor``            the d-axis response of the square-wave injection (``GAMMA_D``, the window's sum of the
+``hf_response``       the d-axis response of the square-wave injection (``GAMMA_D``, the window's sum of the
                       current along d_hat times the carrier's sign: INJ_SQW_D methods) against its level
                       learned at start-up. The current sensors' gains set it: a phase sensor whose gain
                       changed scales it by a factor that depends on the angle (a gain of 0.7 on phase a:
@@ -40,6 +40,9 @@ references it gave and the filtered speed of the estimator in charge.
                       CONVERGE period (:func:`hf_learn`: injection on, rotor at rest, no current); the
                       check runs while the square wave was on for the whole window (the registers active
                       in the window and in the one before both with ``V_H != 0``), else its filter is 0.
+                      What moves the response is named by the check, not guessed: besides a sensor's gain,
+                      a dc link off its nominal voltage scales the injection (the firmware does not
+                      measure the link yet), and a slipping angle turns d_hat towards q (L_q != L_d).
 
 The software overcurrent on the window means (``i_trip``) is checked in every mode by the supervisor
 itself (``FAULT_OVERCURRENT``), and so are the hardware's own trips (``FAULT_HARDWARE``: a fault latch of
@@ -59,9 +62,9 @@ from dataclasses import dataclass
 from golden.fixed import sat, shr
 
 (FAULT_NONE, FAULT_OVERCURRENT, FAULT_OVERSPEED, FAULT_LOCK_LOSS, FAULT_TRACKING, FAULT_OVERLOAD,
- FAULT_HARDWARE, FAULT_IDENT, FAULT_SENSOR) = range(9)
+ FAULT_HARDWARE, FAULT_IDENT, FAULT_HF_RESPONSE) = range(9)
 FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload", "hardware", "ident",
-               "sensor")
+               "hf_response")
 """Fault codes of the firmware (``struct fw_state.fault``, the trace column ``fault``; C ``enum fw_fault``)."""
 
 
@@ -177,5 +180,5 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
     if (p.ovl_n and st.ovl_n >= p.ovl_n) or (p.ovl_m and st.ovl_e >= p.ovl_m):
         return FAULT_OVERLOAD
     if p.hf_tol and st.hf_f > shr(st.hf_ref * p.hf_tol, 16):
-        return FAULT_SENSOR
+        return FAULT_HF_RESPONSE
     return FAULT_NONE

@@ -357,7 +357,7 @@ def test_emf_residual_random(seed):
 
 
 def test_protect_step_random_sequences(seed):
-    """Sequences of checks with one parameter set each, the sensor check's reference learned over a few periods
+    """Sequences of checks with one parameter set each, the HF response check's reference learned over a few periods
     first (``hf_learn``); every fault code is reached."""
     rng = np.random.default_rng(seed + 41)
     c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")

@@ -1443,7 +1443,7 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
     return FW_FAULT_NONE;
 }
 
-/* protection.hf_learn: one CONVERGE period of the sensor check's reference */
+/* protection.hf_learn: one CONVERGE period of the HF response check's reference */
 void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d)
 {
     if (p->hf_tol)

@@ -57,8 +57,8 @@ struct fw_prot_params {
     int32_t w_asc;           /* speed LSB */
     int32_t restarts;        /* automatic restarts at most (0: none) */
     int32_t restart_n;       /* periods in FAULT before each */
-    int32_t hf_k;            /* sensor check: filter time constant 2^hf_k periods */
-    int32_t hf_tol;          /* sensor check: limit, share of the learned GAMMA_D, Q16 (0: off) */
+    int32_t hf_k;            /* HF response check: filter time constant 2^hf_k periods */
+    int32_t hf_tol;          /* HF response check: limit, share of the learned GAMMA_D, Q16 (0: off) */
 };
 
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
@@ -521,7 +521,7 @@ struct fw_state {
     int32_t ovl_n;
     int32_t ovl_e;
     int32_t e0;                 /* |speed error| when the speed PI reached its limit */
-    int32_t hf_ref;             /* sensor check: GAMMA_D learned in CONVERGE, the filtered deviation from it */
+    int32_t hf_ref;             /* HF response check: GAMMA_D learned in CONVERGE, the filtered deviation from it */
     int32_t hf_f;
     int32_t restarts;           /* automatic restarts done */
     struct fw_biquad nd;        /* feedback notch states */

@@ -99,7 +99,7 @@ class ProtParams:
     restarts, restart_n : int
         Automatic restarts: at most ``restarts`` (0: none), each ``restart_n`` periods after the tripping one.
     hf_k, hf_tol : int
-        The sensor check: filter shift (reference and deviation, 0..30) and the limit as a share of the
+        The HF response check: filter shift (reference and deviation, 0..30) and the limit as a share of the
         learned reference [Q16].
     """
 
@@ -142,17 +142,17 @@ OVL_CAP = 1 << 30
 
 
 def hf_learn(st, p: ProtParams, gamma_d: int) -> None:
-    """One CONVERGE period of the sensor check's reference: ``hf_ref += shr(GAMMA_D - hf_ref, hf_k)`` (s32)."""
+    """One CONVERGE period of the HF response check's reference: ``hf_ref += shr(GAMMA_D - hf_ref, hf_k)`` (s32)."""
     if p.hf_tol:
         st.hf_ref = sat(st.hf_ref + shr(gamma_d - st.hf_ref, p.hf_k), 32)
 
 
 def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_ref: int,
                  i_q_ref: int, omega_f: int, speed_ref: int, at_limit: bool, hf: int | None = None) -> int:
-    """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload, sensor; returns
+    """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload, HF response; returns
     the first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_d``, ``emf_q``,
     ``track_f``, ``hf_f`` (s32, the filtered values themselves; a filter whose check is off stays), the counts
-    ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached, ``e0``, and the sensor check's
+    ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached, ``e0``, and the HF response check's
     reference ``hf_ref`` (the supervisor's :class:`~golden.firmware.supervisor.Firmware`); all are stepped every
     period. ``hf``: the window's ``GAMMA_D`` when the square wave was on for all of it, else None."""
     if p.emf_tol:                                     # a check that is off costs nothing

@@ -263,7 +263,7 @@ class Firmware:
     ovl_n: int = 0
     ovl_e: int = 0
     e0: int = 0
-    hf_ref: int = 0                  # sensor check: learned GAMMA_D and the filtered deviation from it
+    hf_ref: int = 0                  # HF response check: learned GAMMA_D and the filtered deviation from it
     hf_f: int = 0
     restarts: int = 0                # automatic restarts done
     ident: Ident | None = None       # the identification program's executor (FirmwareParams.ident)

@@ -185,6 +185,31 @@ def _parse_string(text: str, dimension: str, path: str) -> float:
     return result
 
 
+def split_quantity(text: str, path: str = "value") -> tuple[str, str]:
+    """``"1.2 N*m"`` -> ``("1.2", "N*m")``: the number and the unit symbol as written (``""`` without a
+    unit). UnitError if ``text`` is not ``"<number> <unit>"``."""
+    match = _QUANTITY.fullmatch(text)
+    if match is None:
+        raise UnitError(f"{path}: {text!r} is not a quantity, expected '<number> <unit>'")
+    number, symbol = match.groups()
+    return number, symbol
+
+
+def scale_quantity(value: object, factor: float, path: str = "value") -> int | float | str:
+    """``value`` (a bare number or a ``"<number> <unit>"`` string) times ``factor``, in the same unit:
+    ``scale_quantity("1.2 N*m", 0.5) == "0.6 N*m"``. The number is scaled in decimal, so the result
+    reads as a person would write it. UnitError if ``value`` is neither."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise UnitError(f"{path}: cannot scale {type_name(value)}, expected a number or a '<number> <unit>' string")
+    factor = finite_float(factor, f"{path} (scale factor)")
+    if not isinstance(value, str):
+        return finite_float(value, path) * factor
+    number, symbol = split_quantity(value, path)
+    scaled = Decimal(number) * Decimal(repr(factor))
+    text = format(scaled.normalize(), "f") if scaled != 0 else "0"
+    return f"{text} {symbol}" if symbol else text
+
+
 def type_name(value: object) -> str:
     """The TOML type of a parsed value, with its article, for error messages."""
     names = {bool: "a boolean", int: "an integer", float: "a number", str: "a string",

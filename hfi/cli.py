@@ -6,6 +6,7 @@
     hfi paper [--short] [--only GROUPS] [--jobs N] [--out DIR]
     hfi bench
     hfi faults [--short] [--only ROWS] [--jobs N] [--out DIR]
+    hfi sweep SPEC [--scheduler ADDRESS] [--workers N] [--out DIR] [--quiet]
 
 Every error is one line on stderr and exit status 1 (no traceback).
 """
@@ -122,6 +123,20 @@ def cmd_commission(args) -> int:
     return 0
 
 
+def cmd_sweep(args) -> int:
+    from hfi.sweep import SweepError, load_spec, sweep   # imports Dask only when needed
+    try:
+        spec = load_spec(args.spec)
+    except SweepError as exc:
+        print(f"hfi sweep: {exc}", file=sys.stderr)
+        return 1
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers {args.workers}: expected at least 1")
+    out = Path(args.out) if args.out else ROOT / "out" / "sweep" / spec.name
+    rows = sweep(spec, out, scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
+    return 1 if any(r["error"] for r in rows) else 0
+
+
 def cmd_bench(args) -> int:
     for name in BENCH_SCRIPTS:
         script = ROOT / "scripts" / name
@@ -208,6 +223,19 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="DIR", help="output directory (default out/<FILE stem>_commission)")
     p.add_argument("--quiet", action="store_true", help="no progress output")
     p.set_defaults(func=cmd_commission)
+
+    p = sub.add_parser("sweep", help="run a grid or random design over scenario parameters on Dask (docs/sweep.md)",
+                       description="Expand SPEC (a [sweep] table naming a base scenario, and [params] to vary) "
+                       "into runs, run those not cached yet on a Dask cluster (a local one by default), and "
+                       "write results.parquet: one row per run with its parameters, seed and metrics, or its "
+                       "error. Exit status 1 if any run failed.")
+    p.add_argument("spec", metavar="SPEC", help="sweep spec (TOML, docs/sweep.md)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a local cluster "
+                   "with one single-threaded worker process per core)")
+    p.add_argument("--workers", type=int, metavar="N", help="local cluster's worker processes (default: the cores)")
+    p.add_argument("--out", metavar="DIR", help="output directory (default out/sweep/<name>)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("bench", help="run the plant and closed-loop benchmarks",
                        description=f"Run {', '.join(f'scripts/{s}' for s in BENCH_SCRIPTS)} in turn; stop at "

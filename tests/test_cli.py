@@ -38,7 +38,7 @@ def short_default_scenario(tmp_path: Path, duration: str = "50 ms") -> Path:
 def test_console_script_help_lists_every_command():
     proc = hfi("--help")
     assert proc.returncode == 0, proc.stderr
-    for command in ("run", "check", "methods", "paper", "bench"):
+    for command in ("run", "check", "methods", "paper", "bench", "sweep"):
         assert f"    {command} " in proc.stdout
 
 

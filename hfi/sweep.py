@@ -1,0 +1,455 @@
+"""``hfi sweep SPEC.toml``: a grid or a random design over scenario parameters, run on Dask (docs/sweep.md).
+
+A sweep spec names a base scenario file and the parameters to vary, each by its dotted scenario path
+(``"load.torque"``, ``"injection.V_h"``, ``"estimator.rot_bpf.f_inj"``):
+
+* a list of values: each replaces the base value (grid axis; a random design picks one);
+* ``{ scale = [f1, f2, ...] }``: the base value times each factor, in its own unit; on a profile the
+  value column is scaled (``load.torque`` of a scenario whose load rises to rated: the p.u. load);
+* ``{ uniform = [lo, hi] }`` and ``{ scale_uniform = [lo, hi] }`` (random design only): a value drawn
+  uniformly, or the base value times a factor drawn uniformly (a +-20 % parameter error).
+
+Each point runs ``seeds`` times with seeds ``scenario.seed + 1000 + k`` and an initial rotor angle drawn from
+that seed (as ``scripts/seed_sweep.py``); without ``seeds`` a point runs once with the scenario's own seed
+and angle. Every run is a pure function of its scenario tree, backend, metric windows and the source
+version, and is cached under that hash in ``OUT/runs/``: an interrupted sweep resumes where it stopped.
+A run that fails (invalid scenario, a backend that does not run the method, an exception) is a row with
+its ``error``, never dropped. The rows go to ``OUT/results.parquet`` (one row per run: the point's
+parameters, seed, initial angle, every scalar metric of ``metrics.json`` flattened with dots, and the
+spec's angle-error windows).
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import itertools
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from golden.scenario import SCHEMA, parse_scenario
+from golden.units import UnitError, parse_quantity, scale_quantity, split_quantity, type_name
+
+ROOT = Path(__file__).resolve().parent.parent
+DESIGNS = ("grid", "random")
+SEED_OFFSET = 1000
+"""Seed of a point's k-th run: the base scenario's seed + SEED_OFFSET + k (scripts/seed_sweep.py)."""
+
+
+class SweepError(ValueError):
+    """An invalid sweep spec; the message lists every problem, each with its key."""
+
+    def __init__(self, source: str, problems: list[str]):
+        self.problems = problems
+        super().__init__(f"{source}: invalid sweep spec:\n" + "\n".join(f"  {p}" for p in problems))
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One varied parameter: its dotted scenario ``key`` and how it varies (``kind``: ``values``,
+    ``scale``, ``uniform`` or ``scale_uniform``; ``items``: the values, factors or the two bounds)."""
+
+    key: str
+    kind: str
+    items: tuple
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A validated sweep spec (see the module docstring and docs/sweep.md)."""
+
+    name: str
+    scenario: Path
+    backend: str
+    design: str
+    axes: tuple[Axis, ...]
+    seeds: int | None = None
+    samples: int = 0
+    seed: int = 1
+    windows: tuple[tuple[float, float], ...] = ()
+    base: dict = field(default_factory=dict, compare=False)
+
+
+# ---------------------------------------------------------------------------------------------- the spec
+def _axis(key: str, raw: object, design: str, problems: list[str]) -> Axis | None:
+    path = f"params.{key!r}"
+    section, _, name = key.rpartition(".")
+    if not section or name not in SCHEMA.get(section, {}):
+        problems.append(f"{path}: not a scenario key (docs/scenario.md lists them)")
+        return None
+    if isinstance(raw, list):
+        if not raw:
+            problems.append(f"{path}: the list of values is empty")
+            return None
+        return Axis(key, "values", tuple(raw))
+    if not isinstance(raw, dict) or len(raw) != 1:
+        problems.append(f"{path}: expected a list of values or one of {{ scale = [...] }}, "
+                        f"{{ uniform = [lo, hi] }}, {{ scale_uniform = [lo, hi] }}; got {type_name(raw)}")
+        return None
+    (kind, items), = raw.items()
+    if kind not in ("scale", "uniform", "scale_uniform"):
+        problems.append(f"{path}: unknown form {kind!r} (scale, uniform, scale_uniform)")
+        return None
+    if kind != "scale" and design != "random":
+        problems.append(f"{path}: {kind} draws at random; it needs sweep.design = \"random\"")
+        return None
+    if not isinstance(items, list) or not items or (kind != "scale" and len(items) != 2):
+        problems.append(f"{path}.{kind}: expected {'a non-empty list of factors' if kind == 'scale' else '[lo, hi]'}")
+        return None
+    if kind in ("scale", "scale_uniform"):
+        bad = [x for x in items if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x)]
+        if bad:
+            problems.append(f"{path}.{kind}: factors must be numbers, got {bad[0]!r}")
+            return None
+    if kind == "uniform":
+        dim = SCHEMA[section][name].dimension
+        try:
+            lo, hi = (parse_quantity(x, dim, f"{path}.uniform") for x in items)
+        except UnitError as exc:
+            problems.append(str(exc))
+            return None
+        unit = {split_quantity(x)[1] if isinstance(x, str) else "" for x in items}
+        if len(unit) != 1 or lo > hi:
+            problems.append(f"{path}.uniform: [lo, hi] need one unit and lo <= hi, got {items!r}")
+            return None
+    return Axis(key, kind, tuple(items))
+
+
+def load_spec(path: str | Path) -> Spec:
+    """Read and validate a sweep spec; SweepError listing every problem."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise SweepError(str(path), [f"TOML syntax error: {exc}"]) from None
+    except OSError as exc:
+        raise SweepError(str(path), [f"cannot read it: {exc.strerror}"]) from None
+    problems: list[str] = []
+    sw = data.get("sweep")
+    if not isinstance(sw, dict):
+        raise SweepError(str(path), ["missing the [sweep] table (scenario = \"...\" at least)"])
+    known = {"name", "scenario", "backend", "design", "samples", "seed", "seeds", "windows"}
+    problems += [f"sweep.{k}: unknown key (valid: {', '.join(sorted(known))})" for k in sw if k not in known]
+    problems += [f"{k}: unknown table (valid: sweep, params)" for k in data if k not in ("sweep", "params")]
+    from hfi.backends import NAMES
+    backend = sw.get("backend", "hls")
+    if backend not in NAMES:
+        problems.append(f"sweep.backend: {backend!r} is not a backend ({', '.join(NAMES)})")
+    design = sw.get("design", "grid")
+    if design not in DESIGNS:
+        problems.append(f"sweep.design: {design!r}, expected one of {', '.join(DESIGNS)}")
+
+    def integer(key: str, default: int | None, low: int) -> int | None:
+        v = sw.get(key, default)
+        if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < low):
+            problems.append(f"sweep.{key}: expected an integer >= {low}, got {v!r}")
+            return default
+        return v
+
+    seeds, samples, seed = integer("seeds", None, 1), integer("samples", 0, 0), integer("seed", 1, 0)
+    if design == "random" and not samples:
+        problems.append("sweep.samples: a random design needs samples >= 1")
+    if design == "grid" and samples:
+        problems.append("sweep.samples: only for design = \"random\" (a grid runs every combination)")
+    windows = []
+    for i, w in enumerate(sw.get("windows", [])):
+        try:
+            if not isinstance(w, list) or len(w) != 2:
+                raise UnitError(f"sweep.windows[{i}]: expected [t0, t1], got {w!r}")
+            t0, t1 = (parse_quantity(x, "time", f"sweep.windows[{i}]") for x in w)
+            if not 0 <= t0 < t1:
+                raise UnitError(f"sweep.windows[{i}]: expected 0 <= t0 < t1, got {w!r}")
+            windows.append((t0, t1))
+        except UnitError as exc:
+            problems.append(str(exc))
+    scenario = sw.get("scenario")
+    base: dict = {}
+    if not isinstance(scenario, str):
+        problems.append("sweep.scenario: expected the base scenario's file name (relative to the spec)")
+    else:
+        scenario_path = (path.parent / scenario)
+        try:
+            base = tomllib.loads(scenario_path.read_text(encoding="utf-8"))
+        except (OSError, tomllib.TOMLDecodeError) as exc:
+            problems.append(f"sweep.scenario: cannot read {scenario_path}: {exc}")
+    params = data.get("params", {})
+    if not isinstance(params, dict) or not params:
+        problems.append("params: expected a table with at least one parameter to vary")
+        params = {}
+    axes = [a for a in (_axis(k, v, design, problems) for k, v in params.items()) if a is not None]
+    for a in axes:
+        if a.kind in ("scale", "scale_uniform") and base and _get(base, a.key) is None:
+            problems.append(f"params.{a.key!r}: {a.kind} needs a value in the base scenario, which has none")
+    if problems:
+        raise SweepError(str(path), problems)
+    return Spec(str(sw.get("name", path.stem)), scenario_path, backend, design, tuple(axes), seeds, samples,
+                seed, tuple(windows), base)
+
+
+# ---------------------------------------------------------------------------------------------- the runs
+def _get(tree: dict, key: str) -> object:
+    node: object = tree
+    for part in key.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return None
+        node = node[part]
+    return node
+
+
+def _set(tree: dict, key: str, value: object) -> None:
+    *tables, last = key.split(".")
+    node = tree
+    for part in tables:
+        node = node.setdefault(part, {})
+    node[last] = value
+
+
+def scaled(value: object, factor: float, key: str) -> object:
+    """A scenario value times ``factor``: a quantity, each of a vector's three, or a profile's values."""
+    if isinstance(value, list):
+        if all(isinstance(p, list) and len(p) == 2 for p in value):
+            return [[t, scale_quantity(v, factor, key)] for t, v in value]
+        return [scale_quantity(v, factor, key) for v in value]
+    return scale_quantity(value, factor, key)
+
+
+def points(spec: Spec) -> list[dict]:
+    """The design: one ``{key: setting}`` per point, a setting being ``("value", v)`` or ``("scale", f)``."""
+    def setting(a: Axis, item: object) -> tuple[str, object]:
+        return ("scale", item) if a.kind in ("scale", "scale_uniform") else ("value", item)
+
+    if spec.design == "grid":
+        return [{a.key: setting(a, item) for a, item in zip(spec.axes, combo)}
+                for combo in itertools.product(*(a.items for a in spec.axes))]
+    rng = np.random.default_rng(spec.seed)
+    out = []
+    for _ in range(spec.samples):
+        p = {}
+        for a in spec.axes:
+            if a.kind in ("values", "scale"):
+                p[a.key] = setting(a, a.items[int(rng.integers(len(a.items)))])
+            elif a.kind == "scale_uniform":
+                p[a.key] = ("scale", round(float(rng.uniform(*a.items)), 6))
+            else:
+                (lo, unit), (hi, _) = (split_quantity(x) if isinstance(x, str) else (x, "") for x in a.items)
+                x = float(f"{rng.uniform(float(lo), float(hi)):.6g}")
+                p[a.key] = ("value", f"{x:g} {unit}" if unit else x)
+        out.append(p)
+    return out
+
+
+@dataclass(frozen=True)
+class Job:
+    """One run: the scenario tree, where it came from (point index, its settings, seed) and its hash."""
+
+    point: int
+    settings: dict
+    seed: int | None
+    theta_m0_deg: float | None
+    tree: dict
+    key: str
+    error: str = ""
+
+
+def source_version() -> str:
+    """The project's git commit, with a hash of the uncommitted diff if the tree is dirty ("unversioned"
+    outside git): part of every run's hash, so a changed model never reuses an old result."""
+    try:
+        head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True,
+                              check=True).stdout.strip()
+        diff = subprocess.run(["git", "-C", str(ROOT), "diff", "HEAD", "--", ".", ":!out"], capture_output=True,
+                              check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return "unversioned"
+    return head + ("+" + hashlib.sha256(diff).hexdigest()[:12] if diff else "")
+
+
+def jobs(spec: Spec, version: str) -> list[Job]:
+    """Every run of the sweep, in order: points x seeds."""
+    base_seed = int(_get(spec.base, "scenario.seed") or 0)
+    pole_pairs = None
+    out = []
+    for i, p in enumerate(points(spec)):
+        tree, error = copy.deepcopy(spec.base), ""
+        for key, (how, x) in p.items():
+            try:
+                _set(tree, key, scaled(_get(tree, key), x, key) if how == "scale" else x)
+            except UnitError as exc:
+                error = f"UnitError: {exc}"
+        runs = [(None, None)]
+        if spec.seeds:
+            if pole_pairs is None:
+                pole_pairs = parse_scenario(copy.deepcopy(spec.base), str(spec.scenario)).plant["mech"]["pole_pairs"]
+            runs = []
+            for k in range(spec.seeds):
+                seed = base_seed + SEED_OFFSET + k
+                theta = float(np.random.default_rng(seed).uniform(0, 360.0 / pole_pairs))
+                runs.append((seed, round(theta, 4)))
+        for seed, theta in runs:
+            t = copy.deepcopy(tree)
+            if seed is not None:
+                _set(t, "scenario.seed", seed)
+                _set(t, "load.initial.theta_m", f"{theta} deg")
+            blob = json.dumps({"tree": t, "backend": spec.backend, "windows": spec.windows, "version": version},
+                              sort_keys=True)
+            out.append(Job(i, p, seed, theta, t, hashlib.sha256(blob.encode()).hexdigest()[:24], error))
+    return out
+
+
+def _flat(prefix: str, value: object, row: dict) -> None:
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _flat(f"{prefix}{k}.", v, row)
+    elif value is None or isinstance(value, (bool, int, float, str)):
+        row[prefix[:-1]] = value
+
+
+def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], source: str) -> dict:
+    """Run one job and return its row (on a Dask worker). Never raises: a failure is the row's ``error``."""
+    from hfi.backends import run
+    from hfi.report import metrics_of
+
+    if job.error:
+        return {"error": job.error}
+    row: dict = {"error": ""}
+    t0 = time.perf_counter()
+    try:
+        sc = parse_scenario(copy.deepcopy(job.tree), source)
+        res = run(sc, backend, progress=False)
+        m = metrics_of(sc, res)
+    except Exception as exc:      # a row records it; the sweep goes on (docs/sweep.md)
+        row["error"] = f"{type(exc).__name__}: {exc}"
+        row["run_wall_s"] = round(time.perf_counter() - t0, 3)
+        return row
+    for k, v in m.items():
+        if k == "segments":
+            for i, s in enumerate(v):
+                _flat(f"seg{i}.", {a: b for a, b in s.items() if not isinstance(b, list)}, row)
+        elif not isinstance(v, list):
+            _flat(f"{k}.", v, row)
+    err = res.angle_error_deg(quarters=3)
+    rpm = res.windows["omega_m"] * (60 / (2 * math.pi))
+    for i, (a, b) in enumerate(windows):
+        sel = (res.t >= a) & (res.t < b)
+        if not sel.any():
+            row["error"] = f"window {i} [{a:g}, {b:g}) s holds no control window of this run"
+            continue
+        e = err[sel]
+        row[f"win{i}.err_rms_deg"] = round(float(np.sqrt(np.mean(e ** 2))), 4)
+        row[f"win{i}.err_peak_deg"] = round(float(np.max(np.abs(e))), 4)
+        row[f"win{i}.err_mean_deg"] = round(float(np.mean(e)), 4)
+        row[f"win{i}.speed_mean_rpm"] = round(float(np.mean(rpm[sel])), 3)
+        row[f"win{i}.speed_ripple_rpm"] = round(float(0.5 * (np.max(rpm[sel]) - np.min(rpm[sel]))), 3)
+    row["run_wall_s"] = round(time.perf_counter() - t0, 3)
+    return row
+
+
+def _param_columns(job: Job) -> dict:
+    cols: dict = {"point": job.point, "seed": job.seed, "theta_m0_deg": job.theta_m0_deg}
+    for key, (how, x) in job.settings.items():
+        if how == "scale":
+            cols[f"{key}.scale"] = float(x)
+            continue
+        cols[key] = x if isinstance(x, (int, float, str)) and not isinstance(x, bool) else json.dumps(x)
+        section, _, name = key.rpartition(".")
+        f = SCHEMA[section][name]
+        if f.kind == "quantity":
+            try:
+                cols[f"{key}.si"] = parse_quantity(x, f.dimension, key)
+            except UnitError:
+                pass
+    return cols
+
+
+# ---------------------------------------------------------------------------------------------- Dask
+def _client(scheduler: str | None, workers: int | None, dashboard: bool):
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        return Client(scheduler), None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                           dashboard_address=":8787" if dashboard else None, silence_logs=40)
+    return Client(cluster), cluster
+
+
+def write_table(rows: list[dict], path: Path) -> None:
+    """``rows`` as one Parquet table: the union of their columns (missing cells null); a column whose rows
+    mix text and numbers is written as text."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    names = list(dict.fromkeys(k for r in rows for k in r))
+    cols = {}
+    for n in names:
+        vals = [r.get(n) for r in rows]
+        kinds = {type(v) for v in vals if v is not None}
+        if str in kinds and len(kinds) > 1:
+            vals = [None if v is None else str(v) for v in vals]
+        elif kinds == {bool, int} or kinds == {bool, float}:
+            vals = [None if v is None else float(v) for v in vals]
+        cols[n] = pa.array(vals)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    pq.write_table(pa.table(cols), path)
+
+
+def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | None = None,
+          dashboard: bool = True, progress: bool = True, log=print) -> list[dict]:
+    """Run every job of ``spec`` not yet in ``out/runs`` on Dask, write ``out/results.parquet``; return the
+    rows in job order."""
+    version = source_version()
+    todo_all = jobs(spec, version)
+    cache = out / "runs"
+    cache.mkdir(parents=True, exist_ok=True)
+    rows: dict[str, dict] = {}
+    for j in todo_all:
+        f = cache / f"{j.key}.json"
+        if f.exists():
+            rows[j.key] = json.loads(f.read_text())
+    todo = [j for j in todo_all if j.key not in rows]
+    n_points = len({j.point for j in todo_all})
+    log(f"sweep {spec.name}: {n_points} points x {spec.seeds or 1} seeds = {len(todo_all)} runs on "
+        f"{spec.backend}; {len(todo_all) - len(todo)} cached, {len(todo)} to run")
+    if todo:
+        from distributed import as_completed
+        from tqdm import tqdm
+
+        client, cluster = _client(scheduler, workers, dashboard)
+        try:
+            if dashboard and client.dashboard_link:
+                log(f"dashboard: {client.dashboard_link}")
+            source = f"sweep {spec.name} ({spec.scenario.name})"
+            futures = {client.submit(run_job, j, spec.backend, spec.windows, source, key=f"run-{j.key}", pure=False): j
+                       for j in todo}
+            bar = tqdm(total=len(futures), desc=spec.name, unit="run", disable=not progress, file=sys.stderr)
+            for fut in as_completed(futures):
+                j = futures[fut]
+                try:
+                    row = fut.result()
+                    (cache / f"{j.key}.json").write_text(json.dumps(row))
+                except Exception as exc:        # the worker died or the cluster failed: a row, not cached
+                    row = {"error": f"{type(exc).__name__}: {exc}"}
+                rows[j.key] = row
+                bar.update()
+            bar.close()
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    table = [{**_param_columns(j), "run_key": j.key, **rows[j.key]} for j in todo_all]
+    write_table(table, out / "results.parquet")
+    failed = [r for r in table if r["error"]]
+    log(f"results: {out / 'results.parquet'} ({len(table)} rows, {len(failed)} failed)")
+    for r in failed[:5]:
+        seed = "" if r["seed"] is None else f" seed {r['seed']}"
+        log(f"  point {r['point']}{seed}: {' '.join(r['error'].split())[:300]}")
+    return table

@@ -1,0 +1,158 @@
+"""``hfi sweep`` (hfi/sweep.py, docs/sweep.md): the spec's checks, the design's expansion, the run hash,
+and a small sweep on a local Dask cluster against runs made directly on the backend."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+from pathlib import Path
+
+import pyarrow.parquet as pq
+import pytest
+
+from golden.scenario import parse_scenario
+from golden.units import UnitError, scale_quantity, split_quantity
+from hfi import sweep as sw
+from hfi.backends import run
+from hfi.cli import main
+from hfi.report import metrics_of
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+
+
+def spec_file(tmp_path, params: str, sweep: str = "", duration: str = "30 ms"):
+    text = (ROOT / "scenarios" / "fullload_start.toml").read_text()
+    assert 'duration = "2.4 s"' in text
+    (tmp_path / "base.toml").write_text(text.replace('duration = "2.4 s"', f'duration = "{duration}"'))
+    path = tmp_path / "spec.toml"
+    path.write_text(f'[sweep]\nscenario = "base.toml"\nbackend = "golden"\n{sweep}\n[params]\n{params}\n')
+    return path
+
+
+def test_scale_quantity_keeps_the_unit_and_scales_in_decimal():
+    assert scale_quantity("1.2 N*m", 0.5) == "0.6 N*m"
+    assert scale_quantity("28 V", 1.5) == "42 V"
+    assert scale_quantity("-100 rpm", 2.0) == "-200 rpm"
+    assert scale_quantity("5e-3 H", 1.2) == "0.006 H"
+    assert scale_quantity("2 N*m", 0) == "0 N*m"
+    assert scale_quantity(3, 0.5) == 1.5
+    assert split_quantity("1.2 N*m") == ("1.2", "N*m")
+    with pytest.raises(UnitError, match="not a quantity"):
+        scale_quantity("fast", 2.0)
+    with pytest.raises(UnitError, match="cannot scale a boolean"):
+        scale_quantity(True, 2.0)
+
+
+def test_every_problem_of_a_spec_is_listed(tmp_path):
+    path = spec_file(tmp_path, '"load.torq" = [1]\n"injection.V_h" = { uniform = ["10 V", "20 V"] }\n'
+                     '"pwm.f_sw" = { scale = [] }\n"control.v_max" = { double = [2] }',
+                     sweep='design = "grid"\nsamples = 3\nworkers = 2\nwindows = [["2 s", "1 s"]]')
+    with pytest.raises(sw.SweepError) as exc:
+        sw.load_spec(path)
+    text = str(exc.value)
+    for words in ("params.'load.torq': not a scenario key", "sweep.workers: unknown key",
+                  "uniform draws at random; it needs sweep.design = \"random\"", "samples: only for design",
+                  "pwm.f_sw'.scale: expected a non-empty list", "unknown form 'double'",
+                  "sweep.windows[0]: expected 0 <= t0 < t1"):
+        assert words in text, words
+    path.write_text('[sweep]\nscenario = "missing.toml"\nbackend = "fpga"\n[params]\n"injection.V_h" = ["1 V"]\n')
+    with pytest.raises(sw.SweepError) as exc:
+        sw.load_spec(path)
+    assert "sweep.backend: 'fpga' is not a backend" in str(exc.value)
+    assert "sweep.scenario: cannot read" in str(exc.value)
+
+
+def test_grid_is_the_cartesian_product_and_scale_scales_the_profile(tmp_path):
+    spec = sw.load_spec(spec_file(tmp_path, '"load.torque" = { scale = [0, 0.5, 1.5] }\n'
+                                  '"injection.V_h" = ["20 V", "40 V"]'))
+    assert spec.design == "grid" and spec.name == "spec"
+    jobs = sw.jobs(spec, "v1")
+    assert len(jobs) == 6 and [j.point for j in jobs] == list(range(6))
+    base = spec.base["load"]["torque"]
+    for j in jobs:
+        (_, f), (_, v) = j.settings["load.torque"], j.settings["injection.V_h"]
+        assert j.tree["injection"]["V_h"] == v
+        assert [p[0] for p in j.tree["load"]["torque"]] == [p[0] for p in base]
+        assert [p[1] for p in j.tree["load"]["torque"]] == [scale_quantity(p[1], f) for p in base]
+        assert j.tree["scenario"] == spec.base["scenario"]       # no seeds: the scenario's own seed
+    assert len({j.key for j in jobs}) == 6
+    assert [j.key for j in sw.jobs(spec, "v1")] == [j.key for j in jobs]      # stable
+    assert not {j.key for j in sw.jobs(spec, "v2")} & {j.key for j in jobs}   # the source version is in it
+
+
+def test_seeds_and_initial_angles(tmp_path):
+    spec = sw.load_spec(spec_file(tmp_path, '"injection.V_h" = ["20 V"]', sweep="seeds = 3"))
+    jobs = sw.jobs(spec, "v")
+    base_seed = spec.base["scenario"]["seed"]
+    pole_pairs = parse_scenario(copy.deepcopy(spec.base)).plant["mech"]["pole_pairs"]
+    assert [j.seed for j in jobs] == [base_seed + 1000 + k for k in range(3)]
+    for j in jobs:
+        assert j.tree["scenario"]["seed"] == j.seed
+        assert j.tree["load"]["initial"]["theta_m"] == f"{j.theta_m0_deg} deg"
+        assert 0 <= j.theta_m0_deg < 360 / pole_pairs
+    assert len({j.theta_m0_deg for j in jobs}) == 3
+
+
+def test_random_design_is_reproducible_and_inside_its_bounds(tmp_path):
+    spec = sw.load_spec(spec_file(tmp_path, '"injection.V_h" = { uniform = ["10 V", "30 V"] }\n'
+                                  '"pwm.dead_time" = { scale_uniform = [0.8, 1.2] }\n"control.speed_bw" = ["2 Hz", "4 Hz"]',
+                                  sweep='design = "random"\nsamples = 40\nseed = 7'))
+    pts = sw.points(spec)
+    assert pts == sw.points(spec) and len(pts) == 40
+    assert pts != sw.points(dataclasses.replace(spec, seed=8))
+    for p in pts:
+        how, v = p["injection.V_h"]
+        assert how == "value" and v.endswith(" V") and 10 <= float(v.split()[0]) <= 30
+        how, f = p["pwm.dead_time"]
+        assert how == "scale" and 0.8 <= f <= 1.2
+        assert p["control.speed_bw"] == ("value", "2 Hz") or p["control.speed_bw"] == ("value", "4 Hz")
+    assert {p["control.speed_bw"][1] for p in pts} == {"2 Hz", "4 Hz"}
+
+
+def test_a_sweep_on_dask_equals_direct_runs_resumes_and_keeps_failures(tmp_path, capsys):
+    path = spec_file(tmp_path, '"injection.V_h" = ["20 V", "-5 V"]\n"control.speed_bw" = ["4 Hz", "6 Hz"]',
+                     sweep='name = "t"\nwindows = [["10 ms", "30 ms"]]')
+    spec = sw.load_spec(path)
+    out = tmp_path / "out"
+    rows = sw.sweep(spec, out, workers=1, dashboard=False, progress=False)
+    assert len(rows) == 4
+    table = pq.read_table(out / "results.parquet").to_pylist()
+    assert [r["run_key"] for r in table] == [r["run_key"] for r in rows]
+    good = [r for r in table if not r["error"]]
+    assert len(good) == 2 and all(r["injection.V_h"] == "20 V" and r["injection.V_h.si"] == 20.0 for r in good)
+    bad = [r for r in table if r["error"]]
+    assert len(bad) == 2 and all("ScenarioError" in r["error"] and "injection.V_h" in r["error"] for r in bad)
+    # the reference: the same scenario run directly on the backend
+    for r in good:
+        job = next(j for j in sw.jobs(spec, sw.source_version()) if j.key == r["run_key"])
+        sc = parse_scenario(copy.deepcopy(job.tree))
+        res = run(sc, "golden", progress=False)
+        m = metrics_of(sc, res)
+        assert r["angle_error_after_start.rms_deg"] == m["angle_error_after_start"]["rms_deg"]
+        assert r["locked"] == m["locked"] and r["final_mode"] == m["final_mode"]
+        sel = (res.t >= 0.01) & (res.t < 0.03)
+        err = res.angle_error_deg(quarters=3)[sel]
+        assert r["win0.err_peak_deg"] == round(float(abs(err).max()), 4)
+        assert r["win0.err_rms_deg"] == round(math.sqrt(float((err ** 2).mean())), 4)
+    # resume: nothing runs again, the same table
+    log: list[str] = []
+    again = sw.sweep(spec, out, workers=1, dashboard=False, progress=False, log=log.append)
+    assert "4 cached, 0 to run" in log[0]
+    assert pq.read_table(out / "results.parquet").to_pylist() == table and again == rows
+    # the command: exit status 1 when a run failed, the errors listed
+    capsys.readouterr()
+    assert main(["sweep", str(path), "--out", str(out), "--quiet"]) == 1
+    text = capsys.readouterr().out
+    assert "4 cached, 0 to run" in text and "(4 rows, 2 failed)" in text
+    assert "point 2: ScenarioError: sweep t (base.toml): 1 problem: injection.V_h: must be >= 0, got '-5 V'" in text
+
+
+def test_the_command_reports_a_bad_spec_on_stderr(tmp_path, capsys):
+    path = spec_file(tmp_path, '"injection.V_h" = []')
+    assert main(["sweep", str(path)]) == 1
+    assert "params.'injection.V_h': the list of values is empty" in capsys.readouterr().err
+    assert main(["sweep", str(tmp_path / "nope.toml")]) == 1
+    assert "cannot read it" in capsys.readouterr().err

@@ -285,7 +285,9 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "pll_ki": Field("number", check=_positive, default=10000.0),
     },
     "estimator.rfo": {
-        "flux_bw": _q("frequency", _positive, default=20.0),
+        "flux_bw": _q("frequency", _positive, default=70.0),
+        "flux_bw_min": _q("frequency", _positive, default=5.0),
+        "flux_ratio": Field("number", check=_positive, default=0.5),
         "pll_kp": Field("number", check=_positive, default=1000.0),
         "pll_ki": Field("number", check=_positive, default=250000.0),
         "i_d_min": _q("current", _non_negative, default=1.0),
@@ -1033,6 +1035,10 @@ def _check_estimator(reader: _Reader) -> None:
                      "current and voltage pulses): set control.polarity = \"none\"")
     if law != "fcs_mpc" and flux:
         reader.error("estimator.low", f"{low} runs with the direct-vector control law: set control.law = \"fcs_mpc\"")
+    lo, hi = reader.get("estimator.rfo.flux_bw_min"), reader.get("estimator.rfo.flux_bw")
+    if lo is not None and hi is not None and lo > hi:
+        reader.error("estimator.rfo.flux_bw_min", f"{lo:g} Hz is above estimator.rfo.flux_bw ({hi:g} Hz): "
+                     "the correction rate's floor must not exceed its ceiling")
     up, down = reader.get("estimator.handover_up"), reader.get("estimator.handover_down")
     if up is not None and down is not None and down > up:
         reader.error("estimator.handover_down",

@@ -1,7 +1,8 @@
 """``hfi sweep SPEC.toml``: a grid or a random design over scenario parameters, run on Dask (docs/sweep.md).
 
-A sweep spec names a base scenario file and the parameters to vary, each by its dotted scenario path
-(``"load.torque"``, ``"injection.V_h"``, ``"estimator.rot_bpf.f_inj"``):
+A sweep spec names a base scenario file, values that replace the file's for every run (``[set]``), and the
+parameters to vary (``[params]``), each by its dotted scenario path (``"load.torque"``, ``"injection.V_h"``,
+``"estimator.rot_bpf.f_inj"``):
 
 * a list of values: each replaces the base value (grid axis; a random design picks one);
 * ``{ scale = [f1, f2, ...] }``: the base value times each factor, in its own unit; on a profile the
@@ -41,6 +42,10 @@ from golden.units import UnitError, parse_quantity, scale_quantity, split_quanti
 
 ROOT = Path(__file__).resolve().parent.parent
 DESIGNS = ("grid", "random")
+ANGLE_AT = {"middle": 2, "bottom": 3}
+"""``sweep.angle_at``: where in a window the true angle of the windows' error is taken (quarters of the window,
+``ClosedLoopResult.angle_error_deg``): the middle (``angle_error_after_start``) or the carrier bottom
+(``angle_error_at_bottom``, the instant the 001 and 003 methods' angles refer to; docs/metrics.md)."""
 SEED_OFFSET = 1000
 """Seed of a point's k-th run: the base scenario's seed + SEED_OFFSET + k (scripts/seed_sweep.py)."""
 
@@ -76,6 +81,7 @@ class Spec:
     samples: int = 0
     seed: int = 1
     windows: tuple[tuple[float, float], ...] = ()
+    angle_at: str = "middle"
     base: dict = field(default_factory=dict, compare=False)
 
 
@@ -137,9 +143,9 @@ def load_spec(path: str | Path) -> Spec:
     sw = data.get("sweep")
     if not isinstance(sw, dict):
         raise SweepError(str(path), ["missing the [sweep] table (scenario = \"...\" at least)"])
-    known = {"name", "scenario", "backend", "design", "samples", "seed", "seeds", "windows"}
+    known = {"name", "scenario", "backend", "design", "samples", "seed", "seeds", "windows", "angle_at"}
     problems += [f"sweep.{k}: unknown key (valid: {', '.join(sorted(known))})" for k in sw if k not in known]
-    problems += [f"{k}: unknown table (valid: sweep, params)" for k in data if k not in ("sweep", "params")]
+    problems += [f"{k}: unknown table (valid: sweep, set, params)" for k in data if k not in ("sweep", "set", "params")]
     from hfi.backends import NAMES
     backend = sw.get("backend", "hls")
     if backend not in NAMES:
@@ -156,6 +162,9 @@ def load_spec(path: str | Path) -> Spec:
         return v
 
     seeds, samples, seed = integer("seeds", None, 1), integer("samples", 0, 0), integer("seed", 1, 0)
+    angle_at = sw.get("angle_at", "middle")
+    if angle_at not in ANGLE_AT:
+        problems.append(f"sweep.angle_at: {angle_at!r}, expected one of {', '.join(ANGLE_AT)}")
     if design == "random" and not samples:
         problems.append("sweep.samples: a random design needs samples >= 1")
     if design == "grid" and samples:
@@ -181,6 +190,16 @@ def load_spec(path: str | Path) -> Spec:
             base = tomllib.loads(scenario_path.read_text(encoding="utf-8"))
         except (OSError, tomllib.TOMLDecodeError) as exc:
             problems.append(f"sweep.scenario: cannot read {scenario_path}: {exc}")
+    fixed = data.get("set", {})
+    if not isinstance(fixed, dict):
+        problems.append(f"set: expected a table of dotted scenario keys, got {type_name(fixed)}")
+        fixed = {}
+    for key, value in fixed.items():
+        section, _, name = key.rpartition(".")
+        if not section or name not in SCHEMA.get(section, {}):
+            problems.append(f"set.{key!r}: not a scenario key (docs/scenario.md lists them)")
+        elif base:
+            _set(base, key, value)
     params = data.get("params", {})
     if not isinstance(params, dict) or not params:
         problems.append("params: expected a table with at least one parameter to vary")
@@ -192,7 +211,7 @@ def load_spec(path: str | Path) -> Spec:
     if problems:
         raise SweepError(str(path), problems)
     return Spec(str(sw.get("name", path.stem)), scenario_path, backend, design, tuple(axes), seeds, samples,
-                seed, tuple(windows), base)
+                seed, tuple(windows), angle_at, base)
 
 
 # ---------------------------------------------------------------------------------------------- the runs
@@ -299,8 +318,8 @@ def jobs(spec: Spec, version: str) -> list[Job]:
             if seed is not None:
                 _set(t, "scenario.seed", seed)
                 _set(t, "load.initial.theta_m", f"{theta} deg")
-            blob = json.dumps({"tree": t, "backend": spec.backend, "windows": spec.windows, "version": version},
-                              sort_keys=True)
+            blob = json.dumps({"tree": t, "backend": spec.backend, "windows": spec.windows, "angle_at": spec.angle_at,
+                               "version": version}, sort_keys=True)
             out.append(Job(i, p, seed, theta, t, hashlib.sha256(blob.encode()).hexdigest()[:24], error))
     return out
 
@@ -313,7 +332,8 @@ def _flat(prefix: str, value: object, row: dict) -> None:
         row[prefix[:-1]] = value
 
 
-def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], source: str) -> dict:
+def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], source: str,
+            angle_at: str = "middle") -> dict:
     """Run one job and return its row (on a Dask worker). Never raises: a failure is the row's ``error``."""
     from hfi.backends import run
     from hfi.report import metrics_of
@@ -336,7 +356,7 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
                 _flat(f"seg{i}.", {a: b for a, b in s.items() if not isinstance(b, list)}, row)
         elif not isinstance(v, list):
             _flat(f"{k}.", v, row)
-    err = res.angle_error_deg(quarters=3)
+    err = res.angle_error_deg(quarters=ANGLE_AT[angle_at])
     rpm = res.windows["omega_m"] * (60 / (2 * math.pi))
     for i, (a, b) in enumerate(windows):
         sel = (res.t >= a) & (res.t < b)
@@ -428,8 +448,8 @@ def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | No
             if dashboard and client.dashboard_link:
                 log(f"dashboard: {client.dashboard_link}")
             source = f"sweep {spec.name} ({spec.scenario.name})"
-            futures = {client.submit(run_job, j, spec.backend, spec.windows, source, key=f"run-{j.key}", pure=False): j
-                       for j in todo}
+            futures = {client.submit(run_job, j, spec.backend, spec.windows, source, spec.angle_at, key=f"run-{j.key}",
+                                     pure=False): j for j in todo}
             bar = tqdm(total=len(futures), desc=spec.name, unit="run", disable=not progress, file=sys.stderr)
             for fut in as_completed(futures):
                 j = futures[fut]

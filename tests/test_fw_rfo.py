@@ -19,7 +19,8 @@ from golden.firmware.estimator import Measurement, inv_park, window_voltage
 from golden.firmware.rfo import FLUX_FRAC, RfoParams, RotorFluxObserver
 from golden.firmware.supervisor import Outputs
 from golden.firmware.vector import INPUT_LIMIT, vector_angle
-from golden.fixed import to_fixed
+from golden.firmware.pll import PllState
+from golden.fixed import c_div, shr, to_fixed
 from golden.fpga.demodulator import WindowResult
 
 TURN = 2**32
@@ -62,7 +63,8 @@ def test_observer_on_ideal_pmsm():
     R, L, psi_f, w = 2.0, 6e-3, 0.147, 2 * math.pi * 66.7     # electrical rad/s
     flux_lsb = v_lsb * T / 2**FLUX_FRAC
     p = RfoParams(r_s=to_fixed(R * i_lsb / v_lsb, 16), l_s=to_fixed(L * i_lsb / flux_lsb, 16),
-                  psi_f=to_fixed(psi_f / flux_lsb, 0), k_c=to_fixed(1 - math.exp(-2 * math.pi * 20 * T), 16),
+                  psi_f=to_fixed(psi_f / flux_lsb, 0), k_c=to_fixed(1 - math.exp(-2 * math.pi * 70 * T), 16),
+                  k_min=to_fixed(1 - math.exp(-2 * math.pi * 5 * T), 16), k_r=to_fixed(0.5 * 2 * math.pi, 16),
                   pll_kp=to_fixed(1000 * T, 16), pll_ki=to_fixed(250000 * T * T, 24))
     est = RotorFluxObserver(p)
     iq = 2.0
@@ -92,3 +94,22 @@ def test_observer_on_ideal_pmsm():
     assert abs(err) * 360 / TURN < 0.1, err * 360 / TURN
     assert est.omega == pytest.approx(w * T / (2 * math.pi) * TURN, rel=1e-3)
     assert abs(est.mag - p.psi_f) < 0.002 * p.psi_f
+
+
+@pytest.mark.parametrize("speed, rate", [(0, "k_min"), (1 << 23, "k_r"), (-(1 << 23), "k_r"), (1 << 27, "k_c")])
+def test_correction_rate_follows_the_integrator_speed(speed, rate):
+    """Step 5: the flux correction uses k = clamp(|w_i| k_r >> 32, k_min, k_c), w_i the PLL integrator's speed
+    before the step; checked against the update written out by hand for one step."""
+    p = RfoParams(r_s=3000, l_s=1 << 16, psi_f=1 << 24, k_c=5000, k_min=100, k_r=205887, pll_kp=0, pll_ki=0)
+    est = RotorFluxObserver(p)
+    est.x_al, est.x_be = 3 << 22, 1 << 22                 # |x| below psi_f: a radial correction
+    est.pll = PllState(0, speed << 24, speed)
+    k = {"k_min": 100, "k_c": 5000, "k_r": abs(speed) * 205887 >> 32}[rate]
+    assert rate != "k_r" or 100 < k < 5000                 # the case lies between the floor and the ceiling
+    win = WindowResult(0, 0, 0, 0, 0, 1)
+    est.step(Measurement(win, 0, 0, 0, 32767, 0, 0))
+    eta_al, eta_be = 3 << 22, 1 << 22                     # no voltage, no current: eta = x
+    _, mag = vector_angle(eta_al, eta_be)
+    q = max(min(c_div((p.psi_f - mag) << 16, mag), 1 << 17), -(1 << 17))
+    g = shr(k * q, 16)
+    assert (est.x_al, est.x_be) == (eta_al + shr(eta_al * g, 16), eta_be + shr(eta_be * g, 16))

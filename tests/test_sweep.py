@@ -49,14 +49,14 @@ def test_scale_quantity_keeps_the_unit_and_scales_in_decimal():
 def test_every_problem_of_a_spec_is_listed(tmp_path):
     path = spec_file(tmp_path, '"load.torq" = [1]\n"injection.V_h" = { uniform = ["10 V", "20 V"] }\n'
                      '"pwm.f_sw" = { scale = [] }\n"control.v_max" = { double = [2] }',
-                     sweep='design = "grid"\nsamples = 3\nworkers = 2\nwindows = [["2 s", "1 s"]]')
+                     sweep='design = "grid"\nsamples = 3\nworkers = 2\nwindows = [["2 s", "1 s"]]\nangle_at = "top"')
     with pytest.raises(sw.SweepError) as exc:
         sw.load_spec(path)
     text = str(exc.value)
     for words in ("params.'load.torq': not a scenario key", "sweep.workers: unknown key",
                   "uniform draws at random; it needs sweep.design = \"random\"", "samples: only for design",
                   "pwm.f_sw'.scale: expected a non-empty list", "unknown form 'double'",
-                  "sweep.windows[0]: expected 0 <= t0 < t1"):
+                  "sweep.windows[0]: expected 0 <= t0 < t1", "sweep.angle_at: 'top', expected one of middle, bottom"):
         assert words in text, words
     path.write_text('[sweep]\nscenario = "missing.toml"\nbackend = "fpga"\n[params]\n"injection.V_h" = ["1 V"]\n')
     with pytest.raises(sw.SweepError) as exc:
@@ -81,6 +81,17 @@ def test_grid_is_the_cartesian_product_and_scale_scales_the_profile(tmp_path):
     assert len({j.key for j in jobs}) == 6
     assert [j.key for j in sw.jobs(spec, "v1")] == [j.key for j in jobs]      # stable
     assert not {j.key for j in sw.jobs(spec, "v2")} & {j.key for j in jobs}   # the source version is in it
+
+
+def test_set_replaces_base_values_before_the_axes_scale_them(tmp_path):
+    spec = sw.load_spec(spec_file(tmp_path, '"load.torque" = { scale = [2] }',
+                                  sweep='[set]\n"load.torque" = [["0 s", "0 N*m"], ["1 s", "1.5 N*m"]]\n'
+                                        '"control.i_max" = "4 A"'))
+    (job,) = sw.jobs(spec, "v")
+    assert job.tree["load"]["torque"] == [["0 s", "0 N*m"], ["1 s", "3 N*m"]]
+    assert job.tree["control"]["i_max"] == "4 A"
+    with pytest.raises(sw.SweepError, match="set.'control.i_maximum': not a scenario key"):
+        sw.load_spec(spec_file(tmp_path, '"load.torque" = { scale = [2] }', sweep='[set]\n"control.i_maximum" = 1'))
 
 
 def test_seeds_and_initial_angles(tmp_path):
@@ -134,7 +145,7 @@ def test_a_sweep_on_dask_equals_direct_runs_resumes_and_keeps_failures(tmp_path,
         assert r["angle_error_after_start.rms_deg"] == m["angle_error_after_start"]["rms_deg"]
         assert r["locked"] == m["locked"] and r["final_mode"] == m["final_mode"]
         sel = (res.t >= 0.01) & (res.t < 0.03)
-        err = res.angle_error_deg(quarters=3)[sel]
+        err = res.angle_error_deg()[sel]
         assert r["win0.err_peak_deg"] == round(float(abs(err).max()), 4)
         assert r["win0.err_rms_deg"] == round(math.sqrt(float((err ** 2).mean())), 4)
     # resume: nothing runs again, the same table

@@ -411,12 +411,18 @@ void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     fw_vector_angle(eta_al, eta_be, &ang, &mag);
     e->mag = mag;
     /* Ortega et al. 2011: correction along eta towards |eta| = psi_f (normalised gradient) */
-    int64_t g = ((int64_t)rp->k_c * fw_rfo_correction(rp->psi_f, mag)) >> 16;
+    /* the correction rate follows the speed: k_r |w_i| >> 32 within [k_min, k_c] (w_i: the PLL integrator's
+       speed of the previous period) */
+    int64_t w_i = sat32(e->pll.integ >> 24);
+    int64_t k = ((w_i < 0 ? -w_i : w_i) * rp->k_r) >> 32;
+    k = k < rp->k_min ? rp->k_min : k;
+    k = k > rp->k_c ? rp->k_c : k;                      /* the ceiling wins (golden: min(max(k, k_min), k_c)) */
+    int64_t g = (k * fw_rfo_correction(rp->psi_f, mag)) >> 16;
     e->x_al = (int32_t)sat_bits(e->x_al + dx_al + (((int64_t)eta_al * g) >> 16), 32);
     e->x_be = (int32_t)sat_bits(e->x_be + dx_be + (((int64_t)eta_be * g) >> 16), 32);
     fw_pll_step(&e->pll, ang, rp->pll_kp, rp->pll_ki);
     e->omega = e->pll.omega;
-    e->theta = ang + 2u * (uint32_t)e->omega;
+    e->theta = ang + 2u * (uint32_t)sat32(e->pll.integ >> 24);   /* advanced by the integrator's speed */
     *theta = e->theta;
     *omega = e->omega;
 }

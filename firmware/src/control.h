@@ -110,6 +110,8 @@ struct fw_rfo_params {
     int32_t l_s;
     int32_t psi_f;
     int32_t k_c;
+    int32_t k_min;
+    int32_t k_r;
     int32_t pll_kp;
     int32_t pll_ki;
     int32_t i_d;

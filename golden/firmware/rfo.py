@@ -22,14 +22,23 @@ Fixed point, once per control period, inputs of :class:`~golden.firmware.estimat
 3. ``eta = sat(x + shr(dx, 1) - shr(l_s * i, 16), 29)``: the rotor flux at the middle of the window
    (the window means are the currents there), saturated to +-2^28;
 4. ``(ang, mag) = vector_angle(eta)`` (:mod:`golden.firmware.vector`);
-5. ``q = clamp(c_div((psi_f - mag) << 16, max(mag, 1)), -2^17, 2^17)``, ``g = shr(k_c * q, 16)``,
-   ``x = sat(x + dx + shr(eta * g, 16), 32)`` per component;
+5. ``q = clamp(c_div((psi_f - mag) << 16, max(mag, 1)), -2^17, 2^17)``; the correction rate follows the
+   speed, ``k = clamp((|sat(shr(pll.integ, 24), 32)| * k_r) >> 32, k_min, k_c)`` (the PLL integrator's
+   speed of the previous period: ``k`` is ``flux_ratio`` times the electrical angle per period, between
+   ``flux_bw_min`` and ``flux_bw``); ``g = shr(k * q, 16)``, ``x = sat(x + dx + shr(eta * g, 16), 32)`` per
+   component. A fixed rate was either too slow for low current at 1500-3500 r/min (20 Hz: the observer
+   and the current loop oscillated and tripped, no load) or too fast under load near the hand-over
+   (50 Hz: 9 deg RMS at 355 r/min with +-2 N*m steps against 5 deg); docs/methods.md;
 6. ``pll = pll_step(pll, ang, kp, ki)``; outputs ``omega = pll.omega`` and
-   ``theta = uwrap(ang + 2 * omega, 32)``: the angle in the middle of the window after next, where the
-   outputs of this step are active (docs/spec.md 2.2).
+   ``theta = uwrap(ang + 2 * sat(shr(pll.integ, 24), 32), 32)``: the angle in the middle of the window after
+   next, where the outputs of this step are active (docs/spec.md 2.2), advanced by the PLL *integrator's*
+   speed. Advancing by ``omega``, which holds ``kp * e``, fed the observer's angle back with a lead of
+   ``1 + 2 kp T`` (1.4 at the default 1000 1/s and 5 kHz): at low current (no load at 1500-3500 r/min,
+   4 us dead time) the current loop and the observer oscillated at about 140 Hz and tripped
+   (docs/methods.md, "The rotor flux observer at low current").
 
 Ranges: ``|v| < 2^15``, ``|i| < 2^31``; ``r_s`` (Q16 voltage LSB per current LSB) and ``l_s`` (Q16 flux LSB
-per current LSB) in 0..2^31-1, so the products fit int64; ``psi_f`` in 1..2^27; ``k_c`` Q16 in 0..65536.
+per current LSB) in 0..2^31-1, so the products fit int64; ``psi_f`` in 1..2^27; ``k_c`` and ``k_min`` Q16 in 0..65536; ``k_r`` in 0..2^31-1.
 """
 
 from __future__ import annotations
@@ -52,7 +61,9 @@ class RfoParams:
     """Integers of the observer (host side: :func:`golden.control_config.firmware_params`).
 
     ``r_s`` Q16 [voltage LSB per current LSB]; ``l_s`` Q16 [flux LSB per current LSB] of L_q;
-    ``psi_f`` [flux LSB]; ``k_c`` Q16 correction per period; ``pll_kp`` Q16, ``pll_ki`` Q24; ``i_d``
+    ``psi_f`` [flux LSB]; ``k_c`` and ``k_min`` Q16 correction per period, the largest and the smallest;
+    ``k_r`` the correction per binary angle of speed per period, Q48 (``k = k_r |w| >> 32`` is Q16);
+    ``pll_kp`` Q16, ``pll_ki`` Q24; ``i_d``
     the d-current reference while in charge [current LSB] (<= 0, docs/methods.md).
     """
 
@@ -60,6 +71,8 @@ class RfoParams:
     l_s: int
     psi_f: int
     k_c: int
+    k_min: int
+    k_r: int
     pll_kp: int
     pll_ki: int
     i_d: int = 0
@@ -95,12 +108,13 @@ class RotorFluxObserver(Estimator):
         # Ortega et al. 2011: correction along eta towards |eta| = psi_f (normalised gradient)
         q = c_div((p.psi_f - mag) << 16, mag if mag > 0 else 1)
         q = Q_LIMIT if q > Q_LIMIT else -Q_LIMIT if q < -Q_LIMIT else q
-        g = shr(p.k_c * q, 16)
+        k = min(max((abs(sat(shr(self.pll.integ, 24), 32)) * p.k_r) >> 32, p.k_min), p.k_c)
+        g = shr(k * q, 16)
         self.x_al = sat(self.x_al + dx_al + shr(eta_al * g, 16), 32)
         self.x_be = sat(self.x_be + dx_be + shr(eta_be * g, 16), 32)
         self.pll = pll_step(self.pll, ang, p.pll_kp, p.pll_ki)
         self.omega = self.pll.omega
-        self.theta = uwrap(ang + 2 * self.omega, 32)
+        self.theta = uwrap(ang + 2 * sat(shr(self.pll.integ, 24), 32), 32)
 
     def turn(self, delta: int) -> None:
         s, c = sincos_q15(uwrap(delta, 32))

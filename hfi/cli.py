@@ -7,6 +7,7 @@
     hfi bench
     hfi faults [--short] [--only ROWS] [--jobs N] [--out DIR]
     hfi sweep SPEC [--scheduler ADDRESS] [--workers N] [--out DIR] [--quiet]
+    hfi compare [--seeds N] [--systems IDS] [--scheduler ADDRESS] [--workers N] [--out DIR] [--quiet]
 
 Every error is one line on stderr and exit status 1 (no traceback).
 """
@@ -137,6 +138,19 @@ def cmd_sweep(args) -> int:
     return 1 if any(r["error"] for r in rows) else 0
 
 
+def cmd_compare(args) -> int:
+    from hfi.compare import SYSTEMS, compare   # imports Dask and matplotlib only when needed
+    systems = tuple(s for s in args.systems.split(",") if s) if args.systems else SYSTEMS
+    bad = [s for s in systems if s not in SYSTEMS]
+    if bad:
+        raise ValueError(f"--systems: unknown {', '.join(bad)} (valid: {', '.join(SYSTEMS)})")
+    if args.seeds is not None and args.seeds < 1:
+        raise ValueError(f"--seeds {args.seeds}: expected at least 1")
+    compare(Path(args.out), systems, seeds=args.seeds, scheduler=args.scheduler, workers=args.workers,
+            progress=not args.quiet)
+    return 0
+
+
 def cmd_bench(args) -> int:
     for name in BENCH_SCRIPTS:
         script = ROOT / "scripts" / name
@@ -236,6 +250,19 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="DIR", help="output directory (default out/sweep/<name>)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("compare", help="the four systems side by side: angle error and lock against load and "
+                       "speed (out/compare, docs/compare.md)",
+                       description="Run sweeps/compare_<id>.toml for each system on one Dask cluster (cached: a "
+                       "second call only reports) and write report.md, angle_vs_load.png and results.csv.")
+    p.add_argument("--seeds", type=int, metavar="N", help="seeds per point (default: the specs' 20)")
+    p.add_argument("--systems", metavar="IDS", help="comma-separated systems (default: 002,000,001,003)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a local cluster)")
+    p.add_argument("--workers", type=int, metavar="N", help="local cluster's worker processes (default: the cores)")
+    p.add_argument("--out", default=str(ROOT / "out" / "compare"), metavar="DIR", help="output directory "
+                   "(default out/compare)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=cmd_compare)
 
     p = sub.add_parser("bench", help="run the plant and closed-loop benchmarks",
                        description=f"Run {', '.join(f'scripts/{s}' for s in BENCH_SCRIPTS)} in turn; stop at "

@@ -18,6 +18,9 @@ A run that fails (invalid scenario, a backend that does not run the method, an e
 its ``error``, never dropped. The rows go to ``OUT/results.parquet`` (one row per run: the point's
 parameters, seed, initial angle, every scalar metric of ``metrics.json`` flattened with dots, and the
 spec's angle-error windows).
+
+The local cluster starts worker *processes*: a script that calls :func:`sweep` needs the
+``if __name__ == "__main__":`` guard (Python's spawn start method imports the main module again).
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ import subprocess
 import sys
 import time
 import tomllib
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -369,6 +373,7 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
         row[f"win{i}.err_mean_deg"] = round(float(np.mean(e)), 4)
         row[f"win{i}.speed_mean_rpm"] = round(float(np.mean(rpm[sel])), 3)
         row[f"win{i}.speed_ripple_rpm"] = round(float(0.5 * (np.max(rpm[sel]) - np.min(rpm[sel]))), 3)
+        row[f"win{i}.high_share"] = round(float(np.mean(res.windows["est"][sel] == 1)), 4)
     row["run_wall_s"] = round(time.perf_counter() - t0, 3)
     return row
 
@@ -397,8 +402,10 @@ def _client(scheduler: str | None, workers: int | None, dashboard: bool):
     if scheduler:
         return Client(scheduler), None
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=":8787" if dashboard else None, silence_logs=40)
+    with warnings.catch_warnings():       # port 8787 taken: Dask takes another one, and we print the link
+        warnings.simplefilter("ignore", UserWarning)
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=":8787" if dashboard else ":0", silence_logs=40)
     return Client(cluster), cluster
 
 
@@ -423,9 +430,10 @@ def write_table(rows: list[dict], path: Path) -> None:
 
 
 def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | None = None,
-          dashboard: bool = True, progress: bool = True, log=print) -> list[dict]:
+          dashboard: bool = True, progress: bool = True, log=print, client=None) -> list[dict]:
     """Run every job of ``spec`` not yet in ``out/runs`` on Dask, write ``out/results.parquet``; return the
-    rows in job order."""
+    rows in job order. ``client``: a ``distributed.Client`` to use (and leave open), instead of connecting
+    to ``scheduler`` or starting a local cluster of ``workers`` processes."""
     version = source_version()
     todo_all = jobs(spec, version)
     cache = out / "runs"
@@ -443,9 +451,11 @@ def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | No
         from distributed import as_completed
         from tqdm import tqdm
 
-        client, cluster = _client(scheduler, workers, dashboard)
+        own = client is None
+        if own:
+            client, cluster = _client(scheduler, workers, dashboard)
         try:
-            if dashboard and client.dashboard_link:
+            if own and dashboard and client.dashboard_link:
                 log(f"dashboard: {client.dashboard_link}")
             source = f"sweep {spec.name} ({spec.scenario.name})"
             futures = {client.submit(run_job, j, spec.backend, spec.windows, source, spec.angle_at, key=f"run-{j.key}",
@@ -462,9 +472,10 @@ def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | No
                 bar.update()
             bar.close()
         finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+            if own:
+                client.close()
+                if cluster is not None:
+                    cluster.close()
     table = [{**_param_columns(j), "run_key": j.key, **rows[j.key]} for j in todo_all]
     write_table(table, out / "results.parquet")
     failed = [r for r in table if r["error"]]

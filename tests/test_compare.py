@@ -1,0 +1,72 @@
+"""``hfi compare`` (hfi/compare.py): the specs' p.u. bases are the motors' rated values, and the summary of
+a sweep's rows counts and reduces exactly."""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import pytest
+
+from golden import motors
+from golden.scenario import parse_scenario
+from golden.units import parse_quantity
+from hfi import compare as cmp
+from hfi.sweep import jobs, load_spec
+from hfi.cli import main
+
+
+@pytest.mark.parametrize("system", cmp.SYSTEMS)
+def test_one_pu_is_the_motors_rating_and_the_grid_is_the_issues(system):
+    spec = load_spec(cmp.spec_path(system))
+    rated = motors.preset(spec.base["motor"]["preset"])["rated"]
+    speed = parse_quantity(spec.base["reference"]["speed"][-1][1], "speed") * 30 / math.pi
+    torque = parse_quantity(spec.base["load"]["torque"][-1][1], "torque")
+    assert speed == pytest.approx(rated["speed_rpm"], rel=1e-9)
+    assert torque == pytest.approx(rated["torque"], rel=2e-4)      # 23.87 N*m written for 23.873
+    axes = {a.key: a for a in spec.axes}
+    assert axes["reference.speed"].items == (0, 0.1, 0.5)          # standstill, 10 % and 50 % speed
+    assert axes["load.torque"].items == (0, 0.5, 1.0, 1.5, 2.0)     # 0 to 2 p.u.
+    assert spec.seeds >= 20 and spec.backend == "hls"
+    for job in jobs(spec, "v")[:: len(jobs(spec, "v")) // 3]:
+        parse_scenario(copy.deepcopy(job.tree))                    # every point is a valid scenario
+
+
+def row(speed, load, locked=True, fault="none", rms=1.0, peak=2.0, high=0.0, error=""):
+    r = {"reference.speed.scale": speed, "load.torque.scale": load, "error": error}
+    if not error:
+        r.update({"locked": locked, "faults.code": fault, "win0.err_rms_deg": rms, "win0.err_peak_deg": peak,
+                  "win0.high_share": high})
+    return r
+
+
+def test_summary_counts_lost_and_failed_runs_and_reduces_the_locked_ones():
+    rows = [row(0, 1, rms=1.0, peak=3.0), row(0, 1, rms=3.0, peak=4.0), row(0, 1, rms=2.0, peak=9.0),
+            row(0, 1, locked=False, rms=90.0, peak=180.0), row(0, 1, fault="overcurrent", rms=0.5, peak=0.5),
+            row(0, 1, error="ScenarioError: x"),
+            row(0.5, 0, rms=1.0, high=1.0), row(0.5, 0, rms=1.0, high=0.4)]
+    a, b = cmp.summarize("000", rows)
+    assert (a.speed_pu, a.load_pu, a.n, a.lost, a.failed) == (0, 1, 6, 2, 1)
+    assert (a.rms_median, a.rms_worst, a.peak_worst, a.estimator) == (2.0, 3.0, 9.0, "low")
+    assert (b.n, b.lost, b.estimator) == (2, 0, "both")
+    (c,) = cmp.summarize("000", [row(0, 0, locked=False)])
+    assert c.lost == 1 and math.isnan(c.rms_median) and c.estimator == "-"
+
+
+def test_report_and_figure_from_points(tmp_path):
+    pts = cmp.summarize("002", [row(s, lo, rms=1 + lo, peak=2 + lo) for s in (0, 0.1) for lo in (0, 1)])
+    pts += cmp.summarize("001", [row(0, 0, locked=False), row(0, 0)])
+    labels = {"002": "002: a", "001": "001: b"}
+    text = cmp.report(pts, labels, 2, tmp_path)
+    assert "| 0 % | 1 p.u. | 1 | 0 | 2.00 | 2.00 | 3.00 | low |" in text
+    assert "| 0 % | 0 p.u. | 2 | 1 | 1.00 | 1.00 | 2.00 | low |" in text
+    assert (tmp_path / "results.csv").read_text().count("\n") == 1 + len(pts)
+    cmp.figure(pts, labels, tmp_path / "f.png")
+    assert (tmp_path / "f.png").stat().st_size > 10_000
+
+
+def test_command_refuses_unknown_systems(capsys):
+    assert main(["compare", "--systems", "002,004"]) == 1
+    assert "--systems: unknown 004 (valid: 002, 000, 001, 003)" in capsys.readouterr().err
+    assert main(["compare", "--seeds", "0"]) == 1
+    assert "--seeds 0: expected at least 1" in capsys.readouterr().err

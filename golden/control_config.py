@@ -15,7 +15,7 @@ section 3):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from golden.firmware import biquad
 from golden.firmware.bangbang import k_bb_raw
@@ -135,9 +135,17 @@ def controller_motor(sc: Scenario) -> ControllerMotor:
     p = int(mech["pole_pairs"])
     m = sc.model
     if m is None:
-        return ControllerMotor(R_s=sc.plant["R_s"], mag=sc.plant["mag"], J=mech["J"], pole_pairs=p,
-                               B=mech["B"], T_c=mech["T_c"])
-    return ControllerMotor(R_s=m.R_s, mag=linear_mag(m.L_d, m.L_q, m.psi_f), J=m.J, pole_pairs=p, B=m.B, T_c=m.T_c)
+        cm = ControllerMotor(R_s=sc.plant["R_s"], mag=sc.plant["mag"], J=mech["J"], pole_pairs=p,
+                             B=mech["B"], T_c=mech["T_c"])
+    else:
+        cm = ControllerMotor(R_s=m.R_s, mag=linear_mag(m.L_d, m.L_q, m.psi_f), J=m.J, pole_pairs=p, B=m.B, T_c=m.T_c)
+    e = sc.model_error
+    if e is None:
+        return cm
+    # [model_error]: a deliberately wrong controller (robustness studies). On a flux-map model (the 003 preset)
+    # the L factors change the nominal L_d, L_q only; its tables have estimator.hfo_proj.map_scale_d/q.
+    mag = dict(cm.mag, L_d=cm.mag["L_d"] * e.L_d, L_q=cm.mag["L_q"] * e.L_q, psi_f=cm.mag["psi_f"] * e.psi_f)
+    return replace(cm, R_s=cm.R_s * e.R_s, J=cm.J * e.J, mag=mag)
 
 
 def scales(sc: Scenario) -> Scales:

@@ -147,7 +147,7 @@ _TABLE = Field("table")
 SCHEMA: dict[str, dict[str, Field]] = {
     "": {**{name: _TABLE for name in ("scenario", "motor", "mechanics", "inverter", "pwm", "sensors",
                                       "injection", "load", "reference", "control", "estimator",
-                                      "simulation", "output", "protection", "model", "commission")},
+                                      "simulation", "output", "protection", "model", "model_error", "commission")},
          "faults": Field("faults")},
     "scenario": {
         "name": Field("text", check=_file_name, required=True),
@@ -383,6 +383,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "B": _q("viscous_friction", _non_negative, default=0.0),
         "T_c": _q("torque", _non_negative, default=0.0),
     },
+    "model_error": {name: Field("number", check=_positive, default=1.0) for name in ("R_s", "L_d", "L_q", "psi_f", "J")},
     "simulation": {
         "max_substep": _q("time", _positive),
         "max_substep_commutation": _q("time", _positive),
@@ -569,6 +570,18 @@ class ModelSettings:
     T_c: float
 
 
+@dataclass(frozen=True)
+class ModelError:
+    """The ``[model_error]`` table (docs/scenario.md): factors on the controller's motor data, for robustness
+    studies (1: exact). The plant is unchanged."""
+
+    R_s: float
+    L_d: float
+    L_q: float
+    psi_f: float
+    J: float
+
+
 MODEL_REQUIRED = ("R_s", "L_d", "L_q", "psi_f", "J")
 """The ``[model]`` keys required when the table is given."""
 
@@ -609,6 +622,8 @@ class Scenario:
     model : ModelSettings or None
         The controller's motor model (``[model]``); None when the table is absent (the controller then
         takes the plant's nominal data: golden.control_config.controller_motor).
+    model_error : ModelError or None
+        Factors on that model (``[model_error]``); None when the table is absent.
     """
 
     name: str
@@ -628,6 +643,7 @@ class Scenario:
     protection: ProtectionSettings | None = None
     model: ModelSettings | None = None
     commission: CommissionTable | None = None
+    model_error: ModelError | None = None
 
     def summary(self) -> str:
         """One line: name, duration, motor, load, PWM and injection."""
@@ -801,8 +817,9 @@ def _suggestion(key: str, section: str) -> str:
     """A hint for an unknown key: the same key in another table, or the closest valid key."""
     elsewhere = [_join(other, key) for other, fields in SCHEMA.items()
                  if other != section and key in fields]
-    # [model] repeats motor keys for the controller: a misplaced motor key more likely means the plant's
-    elsewhere = [path for path in elsewhere if not path.startswith("model.")] or elsewhere
+    # [model] and [model_error] repeat motor keys for the controller: a misplaced motor key more likely means
+    # the plant's
+    elsewhere = [path for path in elsewhere if not path.startswith(("model.", "model_error."))] or elsewhere
     if elsewhere:
         return f" (did you mean {' or '.join(map(repr, elsewhere))}?)"
     valid = {name.lower(): name for name in SCHEMA[section]}
@@ -1143,6 +1160,8 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
         commission=CommissionTable(*(get(f"commission.{f.name}") for f in dataclass_fields(CommissionTable))),
         model=(ModelSettings(*(get(f"model.{f.name}") for f in dataclass_fields(ModelSettings)))
                if reader.has_table("model") else None),
+        model_error=(ModelError(*(get(f"model_error.{f.name}") for f in dataclass_fields(ModelError)))
+                     if reader.has_table("model_error") else None),
     )
 
 

@@ -5,9 +5,10 @@ speed ramp to a plateau, a load ramp, 0.6 s of steady state measured. The specs 
 rated speed and torque (``golden.motors``, ``rated``; tests/test_compare.py holds them to it) and scale the
 profiles to 0, 10 % and 50 % speed and 0-2 p.u. load, 20 seeds and initial angles per point.
 
-The sweeps run on one Dask cluster (hfi.sweep, cached: a second call only reports). The report goes to
-``OUT`` (default ``out/compare``): ``report.md`` with the tables, ``angle_vs_load.png`` (the headline
-figure), ``lock_loss.png``, and ``results.csv`` (one row per point and system).
+Then the sensitivity study (:data:`SENSITIVITY`, 10 seeds per change). The sweeps run on one Dask cluster
+(hfi.sweep, cached: a second call only reports). The report goes to ``OUT`` (default ``out/compare``):
+``report.md`` with the tables, ``angle_vs_load.png`` (the headline figure), ``sensitivity.png`` and
+``results.csv`` (one row per point and system).
 """
 
 from __future__ import annotations
@@ -22,12 +23,25 @@ import numpy as np
 
 from golden.firmware.estimator import METHODS
 from golden.scenario import parse_scenario
-from hfi.sweep import Spec, load_spec, sweep
+from hfi.sweep import Axis, Spec, load_spec, scaled, sweep
 
 ROOT = Path(__file__).resolve().parent.parent
 SYSTEMS = ("002", "000", "001", "003")
 """The compared systems: ``sweeps/compare_<id>.toml`` (the seed papers' numbers)."""
-LOCK_LOSS = "lost lock or tripped"
+SENSITIVITY = {
+    "model_error.R_s": ("values", (0.8, 1.2)),
+    "model_error.L_d": ("values", (0.8, 1.2)),
+    "model_error.L_q": ("values", (0.8, 1.2)),
+    "model_error.psi_f": ("values", (0.8, 1.2)),
+    "sensors.noise_rms": ("scale", (3.0,)),
+    "pwm.dead_time": ("scale", (2.0,)),
+    "inverter.V_dc": ("scale", (0.8, 1.1)),
+}
+"""The sensitivity study: each change alone (``one_at_a_time``) at 10 % speed and rated load: the
+controller's motor data +-20 % (``[model_error]``), three times the sensor noise, twice the dead time, the
+DC link at 80 % and 110 %."""
+SENSITIVITY_POINT = (0.1, 1.0)
+"""(speed, load) of the sensitivity study, p.u.: a point every system holds."""
 
 
 def spec_path(system: str) -> Path:
@@ -147,6 +161,65 @@ def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path) -
     return text
 
 
+def sensitivity_spec(spec: Spec) -> Spec:
+    """The sensitivity study on a system's comparison spec: its base and ``[set]``, at SENSITIVITY_POINT,
+    each SENSITIVITY change alone."""
+    base = copy.deepcopy(spec.base)
+    for key, factor in zip(("reference.speed", "load.torque"), SENSITIVITY_POINT):
+        table, _, name = key.partition(".")
+        base[table][name] = scaled(base[table][name], factor, key)
+    axes = tuple(Axis(k, kind, items) for k, (kind, items) in SENSITIVITY.items())
+    return replace(spec, name=spec.name.replace("compare_", "sensitivity_"), design="one_at_a_time", axes=axes,
+                   base=base)
+
+
+def change_of(row: dict) -> str:
+    """The SENSITIVITY change a row ran with (``nominal`` for the base point), e.g. ``L_d x0.8``."""
+    for key, (kind, _) in SENSITIVITY.items():
+        name = key.rpartition(".")[2]
+        if kind == "values" and row.get(key) is not None:
+            return f"{name} x{row[key]:g}"
+        if kind == "scale" and row.get(f"{key}.scale") is not None:
+            return f"{name} x{row[f'{key}.scale']:g}"
+    return "nominal"
+
+
+def sensitivity_figure(rows: dict[str, list[dict]], labels: dict[str, str], path: Path) -> list[tuple]:
+    """Median RMS angle error of each change and system (x where runs were lost); returns the table
+    ``(system, change, runs, lost, rms median, peak worst)``."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    changes = ["nominal"] + [f"{k.rpartition('.')[2]} x{v:g}" for k, (_, vs) in SENSITIVITY.items() for v in vs]
+    table = []
+    fig, ax = plt.subplots(figsize=(11, 4.2))
+    for k, (system, rs) in enumerate(rows.items()):
+        xs, ys = [], []
+        for i, ch in enumerate(changes):
+            mine = [r for r in rs if change_of(r) == ch]
+            good = [r for r in mine if not r["error"] and r["locked"] and r.get("faults.code") == "none"]
+            rms = float(np.median([r["win0.err_rms_deg"] for r in good])) if good else float("nan")
+            peak = max((r["win0.err_peak_deg"] for r in good), default=float("nan"))
+            table.append((system, ch, len(mine), len(mine) - len(good), rms, peak))
+            xs.append(i + (k - 1.5) * 0.15)
+            ys.append(rms)
+            if len(good) < len(mine):
+                ax.plot(i + (k - 1.5) * 0.15, 0.3, "x", color=f"C{k}", markersize=9)
+        ax.plot(xs, ys, "o", color=f"C{k}", label=labels[system])
+    ax.set_xticks(range(len(changes)), changes, rotation=30, ha="right", fontsize=8)
+    ax.set_yscale("log")
+    ax.set_ylabel("median RMS angle error [deg el]\nx: some runs lost lock or tripped")
+    ax.set_title(f"Sensitivity at {100 * SENSITIVITY_POINT[0]:.0f} % speed, {SENSITIVITY_POINT[1]:g} p.u. load: "
+                 "each change alone", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return table
+
+
 def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = None, scheduler: str | None = None,
             workers: int | None = None, progress: bool = True, log=print) -> list[Point]:
     """Run (or read from the cache) every system's sweep and write the report; return its points."""
@@ -160,10 +233,13 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
     try:
         if client.dashboard_link:
             log(f"dashboard: {client.dashboard_link}")
-        points = []
+        points, sens = [], {}
         for s, spec in specs.items():
             rows = sweep(spec, ROOT / "out" / "sweep" / spec.name, progress=progress, log=log, client=client)
             points += summarize(s, rows)
+        for s, spec in specs.items():
+            study = sensitivity_spec(replace(spec, seeds=min(spec.seeds or 1, 10)))
+            sens[s] = sweep(study, ROOT / "out" / "sweep" / study.name, progress=progress, log=log, client=client)
     finally:
         client.close()
         if cluster is not None:
@@ -171,7 +247,14 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
     labels = {s: label(spec) for s, spec in specs.items()}
     out.mkdir(parents=True, exist_ok=True)
     figure(points, labels, out / "angle_vs_load.png")
-    report(points, labels, max(spec.seeds or 1 for spec in specs.values()), out)
-    log(f"wrote {out}/report.md, angle_vs_load.png, results.csv")
+    table = sensitivity_figure(sens, labels, out / "sensitivity.png")
+    text = report(points, labels, max(spec.seeds or 1 for spec in specs.values()), out)
+    lines = ["", "## Sensitivity", "", f"Each change alone at {100 * SENSITIVITY_POINT[0]:.0f} % speed and "
+             f"{SENSITIVITY_POINT[1]:g} p.u. load (`hfi.compare.SENSITIVITY`).", "",
+             "![sensitivity](sensitivity.png)", "",
+             "| system | change | runs | lost | RMS median | peak worst |", "|---|---|---|---|---|---|"]
+    lines += [f"| {s} | {ch} | {n} | {lost} | {_fmt(rms)} | {_fmt(peak)} |" for s, ch, n, lost, rms, peak in table]
+    (out / "report.md").write_text(text + "\n".join(lines) + "\n")
+    log(f"wrote {out}/report.md, angle_vs_load.png, sensitivity.png, results.csv")
     return points
 

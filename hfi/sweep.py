@@ -10,6 +10,9 @@ parameters to vary (``[params]``), each by its dotted scenario path (``"load.tor
 * ``{ uniform = [lo, hi] }`` and ``{ scale_uniform = [lo, hi] }`` (random design only): a value drawn
   uniformly, or the base value times a factor drawn uniformly (a +-20 % parameter error).
 
+Designs: ``grid`` (every combination), ``random`` (``samples`` points drawn), ``one_at_a_time`` (the base
+point, then each value of each axis alone: a sensitivity study; constants go in ``[set]``).
+
 Each point runs ``seeds`` times with seeds ``scenario.seed + 1000 + k`` and an initial rotor angle drawn from
 that seed (as ``scripts/seed_sweep.py``); without ``seeds`` a point runs once with the scenario's own seed
 and angle. Every run is a pure function of its scenario tree, backend, metric windows and the source
@@ -45,7 +48,7 @@ from golden.scenario import SCHEMA, parse_scenario
 from golden.units import UnitError, parse_quantity, scale_quantity, split_quantity, type_name
 
 ROOT = Path(__file__).resolve().parent.parent
-DESIGNS = ("grid", "random")
+DESIGNS = ("grid", "random", "one_at_a_time")
 ANGLE_AT = {"middle": 2, "bottom": 3}
 """``sweep.angle_at``: where in a window the true angle of the windows' error is taken (quarters of the window,
 ``ClosedLoopResult.angle_error_deg``): the middle (``angle_error_after_start``) or the carrier bottom
@@ -171,7 +174,7 @@ def load_spec(path: str | Path) -> Spec:
         problems.append(f"sweep.angle_at: {angle_at!r}, expected one of {', '.join(ANGLE_AT)}")
     if design == "random" and not samples:
         problems.append("sweep.samples: a random design needs samples >= 1")
-    if design == "grid" and samples:
+    if design != "random" and samples:
         problems.append("sweep.samples: only for design = \"random\" (a grid runs every combination)")
     windows = []
     for i, w in enumerate(sw.get("windows", [])):
@@ -253,6 +256,8 @@ def points(spec: Spec) -> list[dict]:
     if spec.design == "grid":
         return [{a.key: setting(a, item) for a, item in zip(spec.axes, combo)}
                 for combo in itertools.product(*(a.items for a in spec.axes))]
+    if spec.design == "one_at_a_time":
+        return [{}] + [{a.key: setting(a, item)} for a in spec.axes for item in a.items]
     rng = np.random.default_rng(spec.seed)
     out = []
     for _ in range(spec.samples):
@@ -283,17 +288,23 @@ class Job:
     error: str = ""
 
 
+CODE = ("golden", "hfi", "firmware", "hls", "sim", "rtl", "requirements.txt")
+"""What a run's result depends on besides its scenario tree: the source version hashes these paths only, so a
+commit of documentation or of another sweep's spec keeps the cache."""
+
+
 def source_version() -> str:
-    """The project's git commit, with a hash of the uncommitted diff if the tree is dirty ("unversioned"
-    outside git): part of every run's hash, so a changed model never reuses an old result."""
+    """The git objects of :data:`CODE` at HEAD, with a hash of their uncommitted diff if there is one
+    ("unversioned" outside git): part of every run's hash, so a changed model never reuses an old result."""
     try:
-        head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True,
-                              check=True).stdout.strip()
-        diff = subprocess.run(["git", "-C", str(ROOT), "diff", "HEAD", "--", ".", ":!out"], capture_output=True,
+        trees = subprocess.run(["git", "-C", str(ROOT), "rev-parse", *(f"HEAD:{c}" for c in CODE)],
+                               capture_output=True, text=True, check=True).stdout.split()
+        diff = subprocess.run(["git", "-C", str(ROOT), "diff", "HEAD", "--", *CODE], capture_output=True,
                               check=True).stdout
     except (OSError, subprocess.CalledProcessError):
         return "unversioned"
-    return head + ("+" + hashlib.sha256(diff).hexdigest()[:12] if diff else "")
+    version = hashlib.sha256(" ".join(trees).encode()).hexdigest()[:16]
+    return version + ("+" + hashlib.sha256(diff).hexdigest()[:12] if diff else "")
 
 
 def jobs(spec: Spec, version: str) -> list[Job]:

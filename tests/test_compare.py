@@ -70,3 +70,27 @@ def test_command_refuses_unknown_systems(capsys):
     assert "--systems: unknown 004 (valid: 002, 000, 001, 003)" in capsys.readouterr().err
     assert main(["compare", "--seeds", "0"]) == 1
     assert "--seeds 0: expected at least 1" in capsys.readouterr().err
+
+
+def test_sensitivity_study_changes_one_thing_at_a_time_at_its_point():
+    from hfi.sweep import points
+    base = load_spec(cmp.spec_path("002"))
+    spec = cmp.sensitivity_spec(base)
+    pts = points(spec)
+    assert pts[0] == {} and len(pts) == 1 + sum(len(v) for _, v in cmp.SENSITIVITY.values())
+    assert all(len(p) == 1 for p in pts[1:])
+    assert spec.base["reference"]["speed"][-1][1] == "500 rpm"          # 0.1 p.u. of the spec's 5000 r/min
+    assert spec.base["load"]["torque"] == base.base["load"]["torque"]    # 1 p.u.
+    assert cmp.change_of({"model_error.L_d": 0.8}) == "L_d x0.8"
+    assert cmp.change_of({"pwm.dead_time.scale": 2.0}) == "dead_time x2"
+    assert cmp.change_of({"reference.speed.scale": 0.1}) == "nominal"
+
+
+def test_sensitivity_figure_table(tmp_path):
+    rows = {"002": [dict(row(0.1, 1, rms=2.0), **{"model_error.L_d": 0.8}), dict(row(0.1, 1, locked=False),
+                                                                              **{"model_error.L_d": 0.8}),
+                    row(0.1, 1, rms=1.0)]}
+    table = cmp.sensitivity_figure(rows, {"002": "002"}, tmp_path / "s.png")
+    assert ("002", "nominal", 1, 0, 1.0, 2.0) in table
+    assert ("002", "L_d x0.8", 2, 1, 2.0, 2.0) in table
+    assert (tmp_path / "s.png").is_file()

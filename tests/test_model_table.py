@@ -161,3 +161,36 @@ def test_reluctance_model_uses_the_mtpa_torque():
     assert abs(got.kp - expected[0]) <= 1 and abs(got.ki - expected[1]) <= 1
     with pytest.raises(ValueError, match="L_q > L_d"):
         firmware_params(scenario({"R_s": 3.0, "L_d": 15e-3, "L_q": 5e-3, "psi_f": 0.0, "J": 4e-3}))
+
+
+def with_error(error: dict | None, model: dict | None = None):
+    data = copy.deepcopy(BASE)
+    if model is not None:
+        data["model"] = model
+    if error is not None:
+        data["model_error"] = error
+    return parse_scenario(data)
+
+
+def test_model_error_scales_the_controllers_data_and_only_them():
+    plain, off = with_error(None), with_error({"R_s": 1.2, "L_d": 0.8, "L_q": 1.1, "psi_f": 0.9, "J": 2.0})
+    a, b = controller_motor(plain), controller_motor(off)
+    assert (b.R_s, b.J) == (a.R_s * 1.2, a.J * 2.0)
+    assert (b.mag["L_d"], b.mag["L_q"], b.mag["psi_f"]) == (a.mag["L_d"] * 0.8, a.mag["L_q"] * 1.1, a.mag["psi_f"] * 0.9)
+    assert {k: v for k, v in b.mag.items() if k not in ("L_d", "L_q", "psi_f")} == \
+           {k: v for k, v in a.mag.items() if k not in ("L_d", "L_q", "psi_f")}
+    assert off.plant == plain.plant                                   # the machine is the same
+    assert firmware_params(with_error({"R_s": 2.0})).id_pi.ki == current_gains(plain, 2 * a.R_s)[1]
+    # on a [model] table too
+    c = controller_motor(with_error({"L_q": 1.5}, own_model()))
+    assert c.mag["L_q"] == own_model()["L_q"] * 1.5
+
+
+def test_model_error_of_ones_is_bit_exact_and_bad_factors_are_refused():
+    assert firmware_params(with_error({})) == firmware_params(with_error(None))
+    assert hardware_config(with_error({"R_s": 1, "L_d": 1.0})) == hardware_config(with_error(None))
+    with pytest.raises(ScenarioError) as exc:
+        with_error({"L_x": 1.2, "psi_f": 0, "J": "x"})
+    text = str(exc.value)
+    assert "model_error.L_x: unknown key (did you mean 'L_d'?)" in text or "model_error.L_x: unknown key" in text
+    assert "model_error.psi_f: must be > 0, got 0" in text and "model_error.J" in text

@@ -167,3 +167,13 @@ def test_the_command_reports_a_bad_spec_on_stderr(tmp_path, capsys):
     assert "params.'injection.V_h': the list of values is empty" in capsys.readouterr().err
     assert main(["sweep", str(tmp_path / "nope.toml")]) == 1
     assert "cannot read it" in capsys.readouterr().err
+
+
+def test_one_at_a_time_varies_each_axis_alone_around_the_base(tmp_path):
+    spec = sw.load_spec(spec_file(tmp_path, '"model_error.L_d" = [0.8, 1.2]\n"model_error.R_s" = [1.5]\n'
+                                  '"load.torque" = { scale = [0.5, 2] }', sweep='design = "one_at_a_time"'))
+    assert sw.points(spec) == [{}, {"model_error.L_d": ("value", 0.8)}, {"model_error.L_d": ("value", 1.2)},
+                               {"model_error.R_s": ("value", 1.5)},
+                               {"load.torque": ("scale", 0.5)}, {"load.torque": ("scale", 2)}]
+    base, first = sw.jobs(spec, "v")[:2]
+    assert base.tree == spec.base and first.tree["model_error"] == {"L_d": 0.8}

@@ -256,7 +256,7 @@ def parser() -> argparse.ArgumentParser:
                        description="Run sweeps/compare_<id>.toml for each system on one Dask cluster (cached: a "
                        "second call only reports) and write report.md, angle_vs_load.png and results.csv.")
     p.add_argument("--seeds", type=int, metavar="N", help="seeds per point (default: the specs' 20)")
-    p.add_argument("--systems", metavar="IDS", help="comma-separated systems (default: 002,000,001,003)")
+    p.add_argument("--systems", metavar="IDS", help="comma-separated systems (default: all, hfi.compare.SYSTEMS)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a local cluster)")
     p.add_argument("--workers", type=int, metavar="N", help="local cluster's worker processes (default: the cores)")
     p.add_argument("--out", default=str(ROOT / "out" / "compare"), metavar="DIR", help="output directory "

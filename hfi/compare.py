@@ -26,8 +26,9 @@ from golden.scenario import parse_scenario
 from hfi.sweep import Axis, Spec, load_spec, scaled, sweep
 
 ROOT = Path(__file__).resolve().parent.parent
-SYSTEMS = ("002", "000", "001", "003")
-"""The compared systems: ``sweeps/compare_<id>.toml`` (the seed papers' numbers)."""
+SYSTEMS = ("002", "000", "001", "001r", "003")
+"""The compared systems: ``sweeps/compare_<id>.toml`` (the seed papers' numbers; ``001r`` is the 001 system
+with the rotor flux observer above 300 r/min, the engineering fix of its speed range)."""
 SENSITIVITY = {
     "model_error.R_s": ("values", (0.8, 1.2)),
     "model_error.L_d": ("values", (0.8, 1.2)),
@@ -107,7 +108,7 @@ def figure(points: list[Point], labels: dict[str, str], path: Path) -> None:
             ps = sorted((p for p in points if p.system == system and p.speed_pu == speed), key=lambda p: p.load_pu)
             if not ps:
                 continue
-            x = np.array([p.load_pu for p in ps]) + (k - 1.5) * 0.03
+            x = np.array([p.load_pu for p in ps]) + (k - (len(labels) - 1) / 2) * 0.03
             med = np.array([p.rms_median for p in ps])
             peak = np.array([p.peak_worst for p in ps])
             line, = ax.plot(x, med, "o-", label=labels[system])
@@ -202,10 +203,10 @@ def sensitivity_figure(rows: dict[str, list[dict]], labels: dict[str, str], path
             rms = float(np.median([r["win0.err_rms_deg"] for r in good])) if good else float("nan")
             peak = max((r["win0.err_peak_deg"] for r in good), default=float("nan"))
             table.append((system, ch, len(mine), len(mine) - len(good), rms, peak))
-            xs.append(i + (k - 1.5) * 0.15)
+            xs.append(i + (k - (len(rows) - 1) / 2) * 0.12)
             ys.append(rms)
             if len(good) < len(mine):
-                ax.plot(i + (k - 1.5) * 0.15, 0.3, "x", color=f"C{k}", markersize=9)
+                ax.plot(xs[-1], 0.3, "x", color=f"C{k}", markersize=9)
         ax.plot(xs, ys, "o", color=f"C{k}", label=labels[system])
     ax.set_xticks(range(len(changes)), changes, rotation=30, ha="right", fontsize=8)
     ax.set_yscale("log")

@@ -44,15 +44,29 @@ from pathlib import Path
 
 import numpy as np
 
+from golden.firmware.estimator import METHODS
 from golden.scenario import SCHEMA, parse_scenario
 from golden.units import UnitError, parse_quantity, scale_quantity, split_quantity, type_name
 
 ROOT = Path(__file__).resolve().parent.parent
 DESIGNS = ("grid", "random", "one_at_a_time")
-ANGLE_AT = {"middle": 2, "bottom": 3}
+ANGLE_AT = {"method": None, "middle": 2, "bottom": 3}
 """``sweep.angle_at``: where in a window the true angle of the windows' error is taken (quarters of the window,
-``ClosedLoopResult.angle_error_deg``): the middle (``angle_error_after_start``) or the carrier bottom
-(``angle_error_at_bottom``, the instant the 001 and 003 methods' angles refer to; docs/metrics.md)."""
+``ClosedLoopResult.angle_error_deg``): ``method`` (default), where the estimator in charge of that window
+says its angle refers to (``MethodInfo.angle_quarters``: the middle, or the carrier bottom for the 001 and
+003 methods); or always the middle (``angle_error_after_start``) or always the bottom
+(``angle_error_at_bottom``; docs/metrics.md)."""
+
+
+def angle_error(res, sc, angle_at: str) -> np.ndarray:
+    """The electrical angle error of every window [deg], referred as ``angle_at`` says (:data:`ANGLE_AT`)."""
+    q = ANGLE_AT[angle_at]
+    if q is not None:
+        return res.angle_error_deg(quarters=q)
+    est = sc.estimator
+    q_low, q_high = (METHODS[n].angle_quarters if n in METHODS else 2 for n in (est.low, est.high))
+    low, high = res.angle_error_deg(quarters=q_low), res.angle_error_deg(quarters=q_high)
+    return np.where(res.windows["est"] == 1, high, low)
 SEED_OFFSET = 1000
 """Seed of a point's k-th run: the base scenario's seed + SEED_OFFSET + k (scripts/seed_sweep.py)."""
 
@@ -88,7 +102,7 @@ class Spec:
     samples: int = 0
     seed: int = 1
     windows: tuple[tuple[float, float], ...] = ()
-    angle_at: str = "middle"
+    angle_at: str = "method"
     base: dict = field(default_factory=dict, compare=False)
 
 
@@ -169,7 +183,7 @@ def load_spec(path: str | Path) -> Spec:
         return v
 
     seeds, samples, seed = integer("seeds", None, 1), integer("samples", 0, 0), integer("seed", 1, 0)
-    angle_at = sw.get("angle_at", "middle")
+    angle_at = sw.get("angle_at", "method")
     if angle_at not in ANGLE_AT:
         problems.append(f"sweep.angle_at: {angle_at!r}, expected one of {', '.join(ANGLE_AT)}")
     if design == "random" and not samples:
@@ -348,7 +362,7 @@ def _flat(prefix: str, value: object, row: dict) -> None:
 
 
 def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], source: str,
-            angle_at: str = "middle") -> dict:
+            angle_at: str = "method") -> dict:
     """Run one job and return its row (on a Dask worker). Never raises: a failure is the row's ``error``."""
     from hfi.backends import run
     from hfi.report import metrics_of
@@ -371,7 +385,7 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
                 _flat(f"seg{i}.", {a: b for a, b in s.items() if not isinstance(b, list)}, row)
         elif not isinstance(v, list):
             _flat(f"{k}.", v, row)
-    err = res.angle_error_deg(quarters=ANGLE_AT[angle_at])
+    err = angle_error(res, sc, angle_at)
     rpm = res.windows["omega_m"] * (60 / (2 * math.pi))
     for i, (a, b) in enumerate(windows):
         sel = (res.t >= a) & (res.t < b)

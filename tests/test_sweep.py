@@ -56,7 +56,7 @@ def test_every_problem_of_a_spec_is_listed(tmp_path):
     for words in ("params.'load.torq': not a scenario key", "sweep.workers: unknown key",
                   "uniform draws at random; it needs sweep.design = \"random\"", "samples: only for design",
                   "pwm.f_sw'.scale: expected a non-empty list", "unknown form 'double'",
-                  "sweep.windows[0]: expected 0 <= t0 < t1", "sweep.angle_at: 'top', expected one of middle, bottom"):
+                  "sweep.windows[0]: expected 0 <= t0 < t1", "sweep.angle_at: 'top', expected one of method, middle, bottom"):
         assert words in text, words
     path.write_text('[sweep]\nscenario = "missing.toml"\nbackend = "fpga"\n[params]\n"injection.V_h" = ["1 V"]\n')
     with pytest.raises(sw.SweepError) as exc:
@@ -177,3 +177,19 @@ def test_one_at_a_time_varies_each_axis_alone_around_the_base(tmp_path):
                                {"load.torque": ("scale", 0.5)}, {"load.torque": ("scale", 2)}]
     base, first = sw.jobs(spec, "v")[:2]
     assert base.tree == spec.base and first.tree["model_error"] == {"L_d": 0.8}
+
+
+def test_the_angle_error_is_referred_where_the_estimator_in_charge_refers_its_angle():
+    """angle_at = "method": per window, the quarters the slot in charge declares (MethodInfo.angle_quarters)."""
+    import types
+
+    import numpy as np
+
+    from golden.firmware.estimator import METHODS
+    res = types.SimpleNamespace(windows={"est": np.array([0, 1, 1, 0])},
+                                angle_error_deg=lambda quarters: np.full(4, 10.0 * quarters))
+    sc = types.SimpleNamespace(estimator=types.SimpleNamespace(low="sqw_cic", high="rfo"))
+    assert (METHODS["sqw_cic"].angle_quarters, METHODS["rfo"].angle_quarters) == (3, 2)
+    assert list(sw.angle_error(res, sc, "method")) == [30.0, 20.0, 20.0, 30.0]
+    assert list(sw.angle_error(res, sc, "middle")) == [20.0] * 4
+    assert list(sw.angle_error(res, sc, "bottom")) == [30.0] * 4

@@ -164,6 +164,10 @@ class MethodInfo:
     """The closed-loop backends that run it (hfi/backends.py refuses the others with a clear error)."""
     flux: bool = False
     """It observes the stator flux for the direct-vector control law ``fcs_mpc`` (and runs only with it)."""
+    angle_quarters: int = 2
+    """Where in a control window its angle refers to, in quarters of the window: 2, the middle (the window
+    means); 3, the carrier bottom (the 001 method's samples, the 003 method's applied state). Reports take the
+    true angle there (``ClosedLoopResult.angle_error_deg``, docs/metrics.md)."""
 
 
 METHODS: dict[str, MethodInfo] = {m.name: m for m in (
@@ -180,10 +184,11 @@ METHODS: dict[str, MethodInfo] = {m.name: m for m in (
                (SLOT_HIGH,), INJ_NONE,
                "extended-EMF sliding-mode observer in the stationary frame, CORDIC angle, PLL speed"),
     MethodInfo("sqw_cic", METHOD_SQW_CIC, "Xue et al., Electronics 2022 (001)", (SLOT_LOW,), INJ_SQW_P,
-               "square wave at f_sw/2 on d_hat, sample differencing, CIC interpolation, Luenberger observer"),
+               "square wave at f_sw/2 on d_hat, sample differencing, CIC interpolation, Luenberger observer",
+               angle_quarters=3),
     MethodInfo("hfo_proj", METHOD_HFO_PROJ, "Varatharajan et al., IEEE Access 2020 (003)", (SLOT_LOW,), INJ_NONE,
                "hybrid flux observer with flux maps, FCS-MPC ripple projection + APP, fusion, PLL",
-               flux=True),
+               flux=True, angle_quarters=3),
 )}
 """Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""
 

@@ -107,10 +107,17 @@ class Spec:
 
 
 # ---------------------------------------------------------------------------------------------- the spec
+def _is_key(key: str) -> bool:
+    """A scenario value's dotted path: ``table.key`` (``"load.torque"``), or a root key that is not a table
+    (``"faults"``, the ``[[faults]]`` list)."""
+    section, _, name = key.rpartition(".")
+    field_ = SCHEMA.get(section, {}).get(name)
+    return field_ is not None and field_.kind != "table"
+
+
 def _axis(key: str, raw: object, design: str, problems: list[str]) -> Axis | None:
     path = f"params.{key!r}"
-    section, _, name = key.rpartition(".")
-    if not section or name not in SCHEMA.get(section, {}):
+    if not _is_key(key):
         problems.append(f"{path}: not a scenario key (docs/scenario.md lists them)")
         return None
     if isinstance(raw, list):
@@ -138,6 +145,7 @@ def _axis(key: str, raw: object, design: str, problems: list[str]) -> Axis | Non
             problems.append(f"{path}.{kind}: factors must be numbers, got {bad[0]!r}")
             return None
     if kind == "uniform":
+        section, _, name = key.rpartition(".")
         dim = SCHEMA[section][name].dimension
         try:
             lo, hi = (parse_quantity(x, dim, f"{path}.uniform") for x in items)
@@ -216,8 +224,7 @@ def load_spec(path: str | Path) -> Spec:
         problems.append(f"set: expected a table of dotted scenario keys, got {type_name(fixed)}")
         fixed = {}
     for key, value in fixed.items():
-        section, _, name = key.rpartition(".")
-        if not section or name not in SCHEMA.get(section, {}):
+        if not _is_key(key):
             problems.append(f"set.{key!r}: not a scenario key (docs/scenario.md lists them)")
         elif base:
             _set(base, key, value)

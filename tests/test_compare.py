@@ -91,6 +91,7 @@ def test_sensitivity_figure_table(tmp_path):
                                                                               **{"model_error.L_d": 0.8}),
                     row(0.1, 1, rms=1.0)]}
     table = cmp.sensitivity_figure(rows, {"002": "002"}, tmp_path / "s.png")
-    assert ("002", "nominal", 1, 0, 1.0, 2.0) in table
-    assert ("002", "L_d x0.8", 2, 1, 2.0, 2.0) in table
+    assert ("002", "nominal", 1, 0, 0, 1.0, 2.0) in table
+    assert ("002", "L_d x0.8", 2, 1, 0, 2.0, 2.0) in table
+    assert cmp.change_of({"faults": '[{"kind": "dc_link", "factor": 0.8, "at": "0 s"}]'}) == "V_dc x0.8 (sag)"
     assert (tmp_path / "s.png").is_file()

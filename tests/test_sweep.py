@@ -193,3 +193,12 @@ def test_the_angle_error_is_referred_where_the_estimator_in_charge_refers_its_an
     assert list(sw.angle_error(res, sc, "method")) == [30.0, 20.0, 20.0, 30.0]
     assert list(sw.angle_error(res, sc, "middle")) == [20.0] * 4
     assert list(sw.angle_error(res, sc, "bottom")) == [30.0] * 4
+
+
+def test_root_keys_that_are_values_can_vary_tables_cannot(tmp_path):
+    spec = sw.load_spec(spec_file(tmp_path, 'faults = [[{ kind = "dc_link", factor = 0.8, at = "0 s" }]]'))
+    (job,) = sw.jobs(spec, "v")
+    assert job.tree["faults"] == [{"kind": "dc_link", "factor": 0.8, "at": "0 s"}]
+    parse_scenario(copy.deepcopy(job.tree))
+    with pytest.raises(sw.SweepError, match="params.'load': not a scenario key"):
+        sw.load_spec(spec_file(tmp_path, 'load = [1]'))

@@ -36,6 +36,12 @@ paper: setup
 faults: setup
 	$(ENV) .venv/bin/hfi faults
 
+# The four systems side by side (docs/compare.md): out/compare/report.md, angle_vs_load.png, sensitivity.png
+# (about 20 min on 2 cores; cached in out/sweep/, so a second call only reports).
+.PHONY: compare
+compare: setup
+	$(ENV) .venv/bin/hfi compare
+
 # Self-commissioning of the four papers' motors (docs/commissioning.md): out/commission/<scenario>/commission.json,
 # commissioned.toml, figures; then the rotor angle and polarity from 20 random standstill angles per PM motor.
 COMMISSION_SCENARIOS = fullload_start bench2_loadsteps xue2022_noload tap2023_step varatharajan2020_speedrange

@@ -238,13 +238,13 @@ def sensitivity_figure(rows: dict[str, list[dict]], labels: dict[str, str], path
 def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = None, scheduler: str | None = None,
             workers: int | None = None, progress: bool = True, log=print) -> list[Point]:
     """Run (or read from the cache) every system's sweep and write the report; return its points."""
-    from hfi.sweep import _client
+    from hfi.sweep import start_client
 
     specs = {}
     for s in systems:
         spec = load_spec(spec_path(s))
         specs[s] = replace(spec, seeds=seeds) if seeds else spec
-    client, cluster = _client(scheduler, workers, dashboard=True)
+    client, cluster = start_client(scheduler, workers, dashboard=True)
     try:
         if client.dashboard_link:
             log(f"dashboard: {client.dashboard_link}")

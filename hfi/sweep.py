@@ -428,7 +428,10 @@ def _param_columns(job: Job) -> dict:
 
 
 # ---------------------------------------------------------------------------------------------- Dask
-def _client(scheduler: str | None, workers: int | None, dashboard: bool):
+def start_client(scheduler: str | None, workers: int | None, dashboard: bool):
+    """A Dask client: connected to ``scheduler``, or on a new local cluster of ``workers`` single-threaded
+    processes (default: the cores; the dashboard on port 8787 or the next free one). Returns (client,
+    cluster or None)."""
     from distributed import Client, LocalCluster
 
     if scheduler:
@@ -485,7 +488,7 @@ def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | No
 
         own = client is None
         if own:
-            client, cluster = _client(scheduler, workers, dashboard)
+            client, cluster = start_client(scheduler, workers, dashboard)
         try:
             if own and dashboard and client.dashboard_link:
                 log(f"dashboard: {client.dashboard_link}")

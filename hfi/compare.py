@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from golden import motors
 from golden.firmware.estimator import METHODS
 from golden.scenario import parse_scenario
 from hfi.sweep import Axis, Spec, load_spec, scaled, sweep
@@ -68,6 +69,10 @@ class Point:
     rms_median: float
     rms_worst: float
     peak_worst: float
+    speed_ripple: float
+    """Median over the locked runs of half the peak-to-peak speed [r/min]."""
+    torque_ripple: float
+    """Median over the locked runs of the torque's standard deviation, p.u. of rated torque."""
     estimator: str
     """The slot in charge in the measured window: ``low``, ``high`` or ``both`` (over the locked runs)."""
 
@@ -80,8 +85,13 @@ def label(spec: Spec) -> str:
     return f"{spec.name.removeprefix('compare_')}: {names}, {spec.base['motor']['preset']}"
 
 
-def summarize(system: str, rows: list[dict]) -> list[Point]:
-    """The rows of one system's sweep, grouped by (speed, load)."""
+def rated_torque(spec: Spec) -> float:
+    """The rated torque [N*m] of a spec's motor (golden.motors: the p.u. base of the comparison)."""
+    return motors.preset(spec.base["motor"]["preset"])["rated"]["torque"]
+
+
+def summarize(system: str, rows: list[dict], rated_nm: float = 1.0) -> list[Point]:
+    """The rows of one system's sweep, grouped by (speed, load); ``rated_nm`` the motor's rated torque."""
     groups: dict[tuple[float, float], list[dict]] = {}
     for r in rows:
         groups.setdefault((r["reference.speed.scale"], r["load.torque.scale"]), []).append(r)
@@ -93,9 +103,14 @@ def summarize(system: str, rows: list[dict]) -> list[Point]:
         shares = [r["win0.high_share"] for r in locked]
         slot = "-" if not shares else "low" if max(shares) == 0 else "high" if min(shares) == 1 else "both"
         nan = float("nan")
+
+        def median(key: str, scale: float = 1.0) -> float:
+            return float(np.median([r[key] for r in locked])) / scale if locked else nan
+
         out.append(Point(system, speed, load, len(rs), len(ok) - len(locked), len(rs) - len(ok),
-                         float(np.median(rms)) if rms else nan, max(rms, default=nan),
-                         max((r["win0.err_peak_deg"] for r in locked), default=nan), slot))
+                         median("win0.err_rms_deg"), max(rms, default=nan),
+                         max((r["win0.err_peak_deg"] for r in locked), default=nan),
+                         median("win0.speed_ripple_rpm"), median("win0.torque_std_nm", rated_nm), slot))
     return out
 
 
@@ -148,22 +163,23 @@ def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path) -
              "(`locked` and no fault); `lost`: runs that lost lock or tripped.", "",
              "![angle error against load](angle_vs_load.png)", ""]
     for system, name in labels.items():
-        lines += [f"## {name}", "", "| speed | load | runs | lost | RMS median | RMS worst | peak worst | estimator |",
-                  "|---|---|---|---|---|---|---|---|"]
+        lines += [f"## {name}", "", "| speed | load | runs | lost | RMS median | RMS worst | peak worst | speed ripple "
+                  "[r/min] | torque ripple [% rated] | estimator |", "|---|---|---|---|---|---|---|---|---|---|"]
         for p in (p for p in points if p.system == system):
             lines.append(f"| {100 * p.speed_pu:.0f} % | {p.load_pu:g} p.u. | {p.n} | {p.lost}"
                          f"{f' (+{p.failed} failed)' if p.failed else ''} | {_fmt(p.rms_median)} | "
-                         f"{_fmt(p.rms_worst)} | {_fmt(p.peak_worst)} | {p.estimator} |")
+                         f"{_fmt(p.rms_worst)} | {_fmt(p.peak_worst)} | {_fmt(p.speed_ripple)} | "
+                         f"{_fmt(100 * p.torque_ripple)} | {p.estimator} |")
         lines.append("")
     text = "\n".join(lines)
     (out / "report.md").write_text(text)
     with open(out / "results.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["system", "speed_pu", "load_pu", "runs", "lost", "failed", "rms_median_deg", "rms_worst_deg",
-                    "peak_worst_deg", "estimator"])
+                    "peak_worst_deg", "speed_ripple_rpm", "torque_ripple_pu", "estimator"])
         for p in points:
             w.writerow([p.system, p.speed_pu, p.load_pu, p.n, p.lost, p.failed, p.rms_median, p.rms_worst,
-                        p.peak_worst, p.estimator])
+                        p.peak_worst, p.speed_ripple, p.torque_ripple, p.estimator])
     return text
 
 
@@ -251,7 +267,7 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
         points, sens = [], {}
         for s, spec in specs.items():
             rows = sweep(spec, ROOT / "out" / "sweep" / spec.name, progress=progress, log=log, client=client)
-            points += summarize(s, rows)
+            points += summarize(s, rows, rated_torque(spec))
         for s, spec in specs.items():
             if s in SENSITIVITY_SKIP:
                 continue

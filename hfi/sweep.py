@@ -406,6 +406,8 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
         row[f"win{i}.speed_mean_rpm"] = round(float(np.mean(rpm[sel])), 3)
         row[f"win{i}.speed_ripple_rpm"] = round(float(0.5 * (np.max(rpm[sel]) - np.min(rpm[sel]))), 3)
         row[f"win{i}.high_share"] = round(float(np.mean(res.windows["est"][sel] == 1)), 4)
+        row[f"win{i}.torque_mean_nm"] = round(float(np.mean(res.windows["torque"][sel])), 4)
+        row[f"win{i}.torque_std_nm"] = round(float(np.std(res.windows["torque"][sel])), 4)
     row["run_wall_s"] = round(time.perf_counter() - t0, 3)
     return row
 

@@ -32,11 +32,11 @@ def test_one_pu_is_the_motors_rating_and_the_grid_is_the_issues(system):
         parse_scenario(copy.deepcopy(job.tree))                    # every point is a valid scenario
 
 
-def row(speed, load, locked=True, fault="none", rms=1.0, peak=2.0, high=0.0, error=""):
+def row(speed, load, locked=True, fault="none", rms=1.0, peak=2.0, high=0.0, error="", ripple=(3.0, 0.5)):
     r = {"reference.speed.scale": speed, "load.torque.scale": load, "error": error}
     if not error:
         r.update({"locked": locked, "faults.code": fault, "win0.err_rms_deg": rms, "win0.err_peak_deg": peak,
-                  "win0.high_share": high})
+                  "win0.high_share": high, "win0.speed_ripple_rpm": ripple[0], "win0.torque_std_nm": ripple[1]})
     return r
 
 
@@ -45,9 +45,11 @@ def test_summary_counts_lost_and_failed_runs_and_reduces_the_locked_ones():
             row(0, 1, locked=False, rms=90.0, peak=180.0), row(0, 1, fault="overcurrent", rms=0.5, peak=0.5),
             row(0, 1, error="ScenarioError: x"),
             row(0.5, 0, rms=1.0, high=1.0), row(0.5, 0, rms=1.0, high=0.4)]
-    a, b = cmp.summarize("000", rows)
+    rows[0]["win0.torque_std_nm"] = 0.1
+    a, b = cmp.summarize("000", rows, rated_nm=2.0)
     assert (a.speed_pu, a.load_pu, a.n, a.lost, a.failed) == (0, 1, 6, 2, 1)
     assert (a.rms_median, a.rms_worst, a.peak_worst, a.estimator) == (2.0, 3.0, 9.0, "low")
+    assert (a.speed_ripple, a.torque_ripple) == (3.0, 0.25)     # medians of the locked runs; 0.5 / 2 N*m
     assert (b.n, b.lost, b.estimator) == (2, 0, "both")
     (c,) = cmp.summarize("000", [row(0, 0, locked=False)])
     assert c.lost == 1 and math.isnan(c.rms_median) and c.estimator == "-"
@@ -58,8 +60,8 @@ def test_report_and_figure_from_points(tmp_path):
     pts += cmp.summarize("001", [row(0, 0, locked=False), row(0, 0)])
     labels = {"002": "002: a", "001": "001: b"}
     text = cmp.report(pts, labels, 2, tmp_path)
-    assert "| 0 % | 1 p.u. | 1 | 0 | 2.00 | 2.00 | 3.00 | low |" in text
-    assert "| 0 % | 0 p.u. | 2 | 1 | 1.00 | 1.00 | 2.00 | low |" in text
+    assert "| 0 % | 1 p.u. | 1 | 0 | 2.00 | 2.00 | 3.00 | 3.00 | 50.00 | low |" in text
+    assert "| 0 % | 0 p.u. | 2 | 1 | 1.00 | 1.00 | 2.00 | 3.00 | 50.00 | low |" in text
     assert (tmp_path / "results.csv").read_text().count("\n") == 1 + len(pts)
     cmp.figure(pts, labels, tmp_path / "f.png")
     assert (tmp_path / "f.png").stat().st_size > 10_000

@@ -148,6 +148,7 @@ def test_a_sweep_on_dask_equals_direct_runs_resumes_and_keeps_failures(tmp_path,
         err = res.angle_error_deg()[sel]
         assert r["win0.err_peak_deg"] == round(float(abs(err).max()), 4)
         assert r["win0.err_rms_deg"] == round(math.sqrt(float((err ** 2).mean())), 4)
+        assert r["win0.torque_std_nm"] == round(float(res.windows["torque"][sel].std()), 4)
     # resume: nothing runs again, the same table
     log: list[str] = []
     again = sw.sweep(spec, out, workers=1, dashboard=False, progress=False, log=log.append)

@@ -90,6 +90,11 @@ def rated_torque(spec: Spec) -> float:
     return motors.preset(spec.base["motor"]["preset"])["rated"]["torque"]
 
 
+def kept(row: dict) -> bool:
+    """A run that ran and was not lost: ``locked`` and no fault trip."""
+    return bool(row["locked"]) and row.get("faults.code") == "none"
+
+
 def summarize(system: str, rows: list[dict], rated_nm: float = 1.0) -> list[Point]:
     """The rows of one system's sweep, grouped by (speed, load); ``rated_nm`` the motor's rated torque."""
     groups: dict[tuple[float, float], list[dict]] = {}
@@ -98,7 +103,7 @@ def summarize(system: str, rows: list[dict], rated_nm: float = 1.0) -> list[Poin
     out = []
     for (speed, load), rs in sorted(groups.items()):
         ok = [r for r in rs if not r["error"]]
-        locked = [r for r in ok if r["locked"] and r.get("faults.code") == "none"]
+        locked = [r for r in ok if kept(r)]
         rms = [r["win0.err_rms_deg"] for r in locked]
         shares = [r["win0.high_share"] for r in locked]
         slot = "-" if not shares else "low" if max(shares) == 0 else "high" if min(shares) == 1 else "both"
@@ -229,7 +234,7 @@ def sensitivity_figure(rows: dict[str, list[dict]], labels: dict[str, str], path
         for i, ch in enumerate(changes):
             mine = [r for r in rs if change_of(r) == ch]
             ran = [r for r in mine if not r["error"]]
-            good = [r for r in ran if r["locked"] and r.get("faults.code") == "none"]
+            good = [r for r in ran if kept(r)]
             rms = float(np.median([r["win0.err_rms_deg"] for r in good])) if good else float("nan")
             peak = max((r["win0.err_peak_deg"] for r in good), default=float("nan"))
             table.append((system, ch, len(mine), len(ran) - len(good), len(mine) - len(ran), rms, peak))

@@ -45,8 +45,11 @@ WINDOW_FIELDS = (
     "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode", "fault",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
     "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase", "cic_qa", "cic_qb", "env_a", "env_b",
-    "vector", "vector_next", "top_ia", "top_ib", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")
-"""Per-window trace columns (integers of the spec, and the plant's truth at the window end). ``est`` is
+    "vector", "vector_next", "top_ia", "top_ib", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true",
+    "e_cu", "q_d", "q_q", "t_int", "t2_int")
+"""Per-window trace columns (integers of the spec, and the plant's truth at the window end; ``e_cu``, ``q_d``,
+``q_q``, ``t_int``, ``t2_int`` are the plant's running integrals of the copper loss, i_d, i_q, the torque and
+its square since t = 0, whose differences give exact window means: hfi.ripple). ``est`` is
 the estimator slot in charge (0 low-speed, 1 high-speed), ``theta_lo/hi`` and ``omega_lo/hi`` each slot's
 outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the window (``INJ_PHASE``),
 ``cic_qa/qb`` and ``env_a/b`` the differencing and CIC block's outputs (``golden.fpga.diff_cic``)."""
@@ -311,13 +314,16 @@ def _direct_next(regs: Outputs, state: int) -> int:
 def truth_columns(truth: np.ndarray, pole_pairs: int) -> dict:
     """Per-window plant-truth columns of the trace from ``struct plant_state`` records (one per window
     end): ``theta_e`` as a u32 binary angle (as the golden loop records it), ``omega_m``, ``torque``,
-    ``load_torque``, ``i_d_true``, ``i_q_true``."""
+    ``load_torque``, ``i_d_true``, ``i_q_true`` and the running integrals ``e_cu`` [J], ``q_d``, ``q_q`` [A*s],
+    ``t_int`` [N*m*s], ``t2_int`` [N^2*m^2*s] (``struct plant_state``)."""
     return {
         "theta_e": np.array([int(th * pole_pairs / (2 * math.pi) * 2**32) % 2**32 for th in truth["theta_m"].tolist()],
                             dtype=np.int64),
         "omega_m": truth["omega_m"].astype(float), "torque": truth["torque"].astype(float),
         "load_torque": truth["load_torque"].astype(float),
         "i_d_true": truth["i_d"].astype(float), "i_q_true": truth["i_q"].astype(float),
+        "e_cu": truth["E_cu"].astype(float), "q_d": truth["Q_d"].astype(float), "q_q": truth["Q_q"].astype(float),
+        "t_int": truth["T_int"].astype(float), "t2_int": truth["T2_int"].astype(float),
     }
 
 

@@ -373,6 +373,7 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
     """Run one job and return its row (on a Dask worker). Never raises: a failure is the row's ``error``."""
     from hfi.backends import run
     from hfi.report import metrics_of
+    from hfi.ripple import audible_torque, copper_loss
 
     if job.error:
         return {"error": job.error}
@@ -408,8 +409,19 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
         row[f"win{i}.high_share"] = round(float(np.mean(res.windows["est"][sel] == 1)), 4)
         row[f"win{i}.torque_mean_nm"] = round(float(np.mean(res.windows["torque"][sel])), 4)
         row[f"win{i}.torque_std_nm"] = round(float(np.std(res.windows["torque"][sel])), 4)
+        try:
+            total, ripple = copper_loss(res.windows, res.t, sel, sc.plant["R_s"])
+            row[f"win{i}.cu_loss_w"], row[f"win{i}.cu_ripple_w"] = _sig(total), _sig(ripple)
+            row[f"win{i}.torque_audible_nm"] = _sig(audible_torque(res.windows, res.t, sel))
+        except ValueError as exc:
+            row["error"] = f"window {i} [{a:g}, {b:g}) s: {exc}"
     row["run_wall_s"] = round(time.perf_counter() - t0, 3)
     return row
+
+
+def _sig(x: float) -> float:
+    """``x`` to six significant digits (a loss or a ripple spans decades)."""
+    return float(f"{x:.6g}")
 
 
 def _param_columns(job: Job) -> dict:

@@ -16,6 +16,7 @@ from golden.plant import Plant, default_params, merge
 TICK = 100e6
 V_H, F_SW = 100.0, 5e3
 L_D, L_Q, R_S, PSI_F = 5.59e-3, 6.26e-3, 3.0, 0.147
+POLE_PAIRS = 4
 
 
 def params(**over) -> dict:
@@ -102,6 +103,21 @@ def test_current_step_response_is_exponential(theta_e, axis):
     other = out["truth"]["i_q" if axis == "d" else "i_d"]
     assert np.max(np.abs(got - expected)) < 1e-9 * v / R_S
     assert np.max(np.abs(other)) < 1e-9 * v / R_S
+    # the running integrals (struct plant_state Q_d, Q_q, E_cu, T_int, T2_int; hfi.ripple), in closed form:
+    # int i dt = I (t - tau (1 - e)), int i^2 dt = I^2 (t - 2 tau (1 - e) + tau/2 (1 - e^2)), e = exp(-t/tau)
+    i_ss, tau = v / R_S, inductance / R_S
+    e = np.exp(-t / tau)
+    charge = i_ss * (t - tau * (1 - e))
+    square = i_ss ** 2 * (t - 2 * tau * (1 - e) + tau / 2 * (1 - e ** 2))
+    truth = out["truth"]
+    assert np.max(np.abs(truth["Q_d" if axis == "d" else "Q_q"] - charge)) < 1e-9 * i_ss * t[-1]
+    assert np.max(np.abs(truth["Q_q" if axis == "d" else "Q_d"])) < 1e-9 * i_ss * t[-1]
+    assert np.max(np.abs(truth["E_cu"] - 1.5 * R_S * square)) < 1e-9 * 1.5 * v * i_ss * t[-1]
+    # torque 1.5 p (psi_d i_q - psi_q i_d): 0 for a d step, 1.5 p psi_f i_q for a q step
+    torque = 1.5 * POLE_PAIRS * PSI_F * charge if axis == "q" else 0 * t
+    assert np.max(np.abs(truth["T_int"] - torque)) < 1e-9 * 1.5 * POLE_PAIRS * PSI_F * i_ss * t[-1]
+    k_t = 1.5 * POLE_PAIRS * PSI_F if axis == "q" else 0.0
+    assert np.max(np.abs(truth["T2_int"] - k_t ** 2 * square)) < 1e-9 * (1.5 * POLE_PAIRS * PSI_F * i_ss) ** 2 * t[-1]
 
 
 def test_load_torque_decelerates_at_TL_over_J():

@@ -88,7 +88,8 @@ def test_hls_window_record_is_the_integer_columns_of_window_fields():
     fields = re.findall(r"int64_t (\w+);", (ROOT / gen.HLS_WINDOW).read_text())
     assert fields == list(gen.window_record_fields())
     assert fields == [f for f in WINDOW_FIELDS if f not in
-                      ("theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true")]
+                      ("theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true",
+                       "e_cu", "q_d", "q_q", "t_int", "t2_int")]
 
 
 def test_linker_and_make_fragments():

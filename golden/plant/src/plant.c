@@ -32,7 +32,7 @@
 #define OPEN_PHASE_TAU 10e-6       /* an open phase's current decays to 0 with this time constant [s] */
 
 /* state vector indices */
-enum { X_PSID, X_PSIQ, X_OMM, X_THM, X_VNA, X_VNB, X_VNC, X_EIN, X_ECU, X_EMECH, NX };
+enum { X_PSID, X_PSIQ, X_OMM, X_THM, X_VNA, X_VNB, X_VNC, X_EIN, X_ECU, X_EMECH, X_QD, X_QQ, X_TQ, X_TQ2, NX };
 
 /* leg switch states */
 enum { LEG_OFF = 0, LEG_HIGH = 1, LEG_LOW = 2, LEG_SHORT = 3 };
@@ -517,6 +517,10 @@ static inline __attribute__((always_inline)) void deriv(struct plant *p, double 
     dx[X_EIN] = 1.5 * (v_d * i_d + v_q * i_q);
     dx[X_ECU] = 1.5 * pp->R_s * (i_d * i_d + i_q * i_q);
     dx[X_EMECH] = torque * omega_m;
+    dx[X_QD] = i_d;
+    dx[X_QQ] = i_q;
+    dx[X_TQ] = torque;
+    dx[X_TQ2] = torque * torque;
 
     if (a) {
         a->i_d = i_d;
@@ -997,6 +1001,10 @@ static void get_state(const struct plant *p, struct plant_state *o)
     o->E_in = p->x[X_EIN];
     o->E_cu = p->x[X_ECU];
     o->E_mech = p->x[X_EMECH];
+    o->Q_d = p->x[X_QD];
+    o->Q_q = p->x[X_QQ];
+    o->T_int = p->x[X_TQ];
+    o->T2_int = p->x[X_TQ2];
     o->gates = p->gates;
     o->voltage_mode = p->voltage_mode;
     o->shoot_through_ticks = p->shoot_through_ticks;

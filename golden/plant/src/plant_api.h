@@ -138,6 +138,8 @@ struct plant_state {
     double E_in;           /* integral of 1.5*(v_d i_d + v_q i_q) [J] */
     double E_cu;           /* integral of 1.5*R_s*(i_d^2 + i_q^2) [J] */
     double E_mech;         /* integral of torque*omega_m [J] */
+    double Q_d, Q_q;       /* integrals of i_d and i_q [A*s]: window means of the current, exact */
+    double T_int, T2_int;  /* integrals of torque [N*m*s] and torque^2 [N^2*m^2*s]: its ripple inside a window */
     int gates;             /* current gate mask (bit 2k: leg k high switch, bit 2k+1: low switch) */
     int voltage_mode;      /* 1 while driven by ideal voltages instead of gates */
     long long shoot_through_ticks; /* ticks with both switches of a leg on (hardware fault) */

@@ -254,7 +254,8 @@ def parser() -> argparse.ArgumentParser:
     p = sub.add_parser("compare", help="the four systems side by side: angle error and lock against load and "
                        "speed (out/compare, docs/compare.md)",
                        description="Run sweeps/compare_<id>.toml for each system on one Dask cluster (cached: a "
-                       "second call only reports) and write report.md, angle_vs_load.png and results.csv.")
+                       "second call only reports) and write report.md, angle_vs_load.png, ripple_vs_load.png, "
+                       "sensitivity.png and results.csv.")
     p.add_argument("--seeds", type=int, metavar="N", help="seeds per point (default: the specs' 20)")
     p.add_argument("--systems", metavar="IDS", help="comma-separated systems (default: all, hfi.compare.SYSTEMS)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a local cluster)")

@@ -73,6 +73,11 @@ class Point:
     """Median over the locked runs of half the peak-to-peak speed [r/min]."""
     torque_ripple: float
     """Median over the locked runs of the torque's standard deviation, p.u. of rated torque."""
+    cu_ripple: float
+    """Median over the locked runs of the copper loss beyond the mean current's (injection, PWM and control
+    ripple: hfi.ripple), p.u. of the rated copper loss ``1.5 R_s I_rated^2``."""
+    audible_db: float
+    """Median over the locked runs of the A-weighted torque variation (hfi.ripple), dB re 1 % of rated torque."""
     estimator: str
     """The slot in charge in the measured window: ``low``, ``high`` or ``both`` (over the locked runs)."""
 
@@ -85,9 +90,15 @@ def label(spec: Spec) -> str:
     return f"{spec.name.removeprefix('compare_')}: {names}, {spec.base['motor']['preset']}"
 
 
-def rated_torque(spec: Spec) -> float:
-    """The rated torque [N*m] of a spec's motor (golden.motors: the p.u. base of the comparison)."""
-    return motors.preset(spec.base["motor"]["preset"])["rated"]["torque"]
+def rated(spec: Spec) -> tuple[float, float]:
+    """The rated torque [N*m] and rated copper loss ``1.5 R_s I_rated^2`` [W] of a spec's motor (golden.motors:
+    the p.u. bases of the comparison)."""
+    m = motors.preset(spec.base["motor"]["preset"])
+    return m["rated"]["torque"], 1.5 * m["R_s"] * m["rated"]["current_peak"] ** 2
+
+
+AUDIBLE_REF = 0.01
+"""Reference of the acoustic proxy's decibels: 1 % of the motor's rated torque."""
 
 
 def kept(row: dict) -> bool:
@@ -95,8 +106,14 @@ def kept(row: dict) -> bool:
     return bool(row["locked"]) and row.get("faults.code") == "none"
 
 
-def summarize(system: str, rows: list[dict], rated_nm: float = 1.0) -> list[Point]:
-    """The rows of one system's sweep, grouped by (speed, load); ``rated_nm`` the motor's rated torque."""
+def _db(x: float) -> float:
+    """``20 log10 x``; -inf for 0, nan for nan."""
+    return 20 * math.log10(x) if x > 0 else -math.inf if x == 0 else math.nan
+
+
+def summarize(system: str, rows: list[dict], rated_nm: float = 1.0, rated_cu_w: float = 1.0) -> list[Point]:
+    """The rows of one system's sweep, grouped by (speed, load); ``rated_nm`` the motor's rated torque,
+    ``rated_cu_w`` its rated copper loss."""
     groups: dict[tuple[float, float], list[dict]] = {}
     for r in rows:
         groups.setdefault((r["reference.speed.scale"], r["load.torque.scale"]), []).append(r)
@@ -115,7 +132,9 @@ def summarize(system: str, rows: list[dict], rated_nm: float = 1.0) -> list[Poin
         out.append(Point(system, speed, load, len(rs), len(ok) - len(locked), len(rs) - len(ok),
                          median("win0.err_rms_deg"), max(rms, default=nan),
                          max((r["win0.err_peak_deg"] for r in locked), default=nan),
-                         median("win0.speed_ripple_rpm"), median("win0.torque_std_nm", rated_nm), slot))
+                         median("win0.speed_ripple_rpm"), median("win0.torque_std_nm", rated_nm),
+                         median("win0.cu_ripple_w", rated_cu_w),
+                         _db(median("win0.torque_audible_nm", AUDIBLE_REF * rated_nm)), slot))
     return out
 
 
@@ -157,34 +176,89 @@ def figure(points: list[Point], labels: dict[str, str], path: Path) -> None:
     plt.close(fig)
 
 
+def ripple_figure(points: list[Point], labels: dict[str, str], path: Path) -> None:
+    """Ripple copper loss (top) and audible torque (bottom) against load, one column per speed, one line per
+    system (medians over the locked runs)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    speeds = sorted({p.speed_pu for p in points})
+    fig, axes = plt.subplots(2, len(speeds), figsize=(4.2 * len(speeds), 6.6), sharey="row", squeeze=False)
+    for col, speed in enumerate(speeds):
+        for k, system in enumerate(labels):
+            ps = sorted((p for p in points if p.system == system and p.speed_pu == speed), key=lambda p: p.load_pu)
+            if ps:
+                x = [p.load_pu for p in ps]
+                axes[0][col].plot(x, [100 * p.cu_ripple for p in ps], "o-", color=f"C{k}", label=labels[system])
+                axes[1][col].plot(x, [p.audible_db for p in ps], "o-", color=f"C{k}")
+        axes[0][col].set_title(f"{100 * speed:.0f} % of rated speed")
+        axes[0][col].set_yscale("log")
+        axes[1][col].set_xlabel("load [p.u. of rated torque]")
+        for ax in axes[:, col]:
+            ax.grid(True, which="both", alpha=0.3)
+    axes[0][0].set_ylabel("ripple copper loss\n[% of rated copper loss]")
+    axes[1][0].set_ylabel("audible torque, A-weighted\n[dB re 1 % of rated torque]")
+    axes[0][-1].legend(fontsize=7)
+    fig.suptitle("What the estimation costs: copper loss beyond the mean current, and the audible torque", fontsize=10)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def _fmt(x: float) -> str:
     return "-" if math.isnan(x) else f"{x:.2f}"
+
+
+def headline(points: list[Point], labels: dict[str, str]) -> list[str]:
+    """The headline table: per system, the angle error and the acoustic proxy at standstill under rated load,
+    the share of runs lost over the whole grid, and the ripple copper loss there."""
+    lines = ["| system | angle error, standstill, 1 p.u. [deg RMS median / peak worst] | runs lost (all points) | "
+             "audible torque, standstill, 1 p.u. [dB re 1 % rated] | ripple copper loss, standstill, 1 p.u. "
+             "[% rated copper loss] |", "|---|---|---|---|---|"]
+    for system, name in labels.items():
+        mine = [p for p in points if p.system == system]
+        at = next((p for p in mine if p.speed_pu == 0 and p.load_pu == 1), None)
+        n, lost = sum(p.n for p in mine), sum(p.lost + p.failed for p in mine)
+        nan = float("nan")
+        lines.append(f"| {name} | {_fmt(at.rms_median if at else nan)} / {_fmt(at.peak_worst if at else nan)} | "
+                     f"{lost} of {n} | {_fmt(at.audible_db if at else nan)} | "
+                     f"{_fmt(100 * at.cu_ripple if at else nan)} |")
+    return lines
 
 
 def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path) -> str:
     lines = ["# Four sensorless systems side by side", "",
              f"`hfi compare` ({seeds} seeds and initial angles per point; docs/compare.md says how). Angle error "
              "in electrical degrees over 0.6-1.3 s after the load ramp ended, on the runs that kept lock "
-             "(`locked` and no fault); `lost`: runs that lost lock or tripped.", "",
-             "![angle error against load](angle_vs_load.png)", ""]
+             "(`locked` and no fault); `lost`: runs that lost lock or tripped. Ripple copper loss: the copper "
+             "loss beyond that of the mean rotor-frame current (injection, PWM and control ripple), in % of the "
+             "motor's rated copper loss; audible torque: the A-weighted RMS of the torque's variation, dB re "
+             "1 % of rated torque (hfi/ripple.py).", "", *headline(points, labels), "",
+             "![angle error against load](angle_vs_load.png)", "",
+             "![ripple copper loss and audible torque against load](ripple_vs_load.png)", ""]
     for system, name in labels.items():
         lines += [f"## {name}", "", "| speed | load | runs | lost | RMS median | RMS worst | peak worst | speed ripple "
-                  "[r/min] | torque ripple [% rated] | estimator |", "|---|---|---|---|---|---|---|---|---|---|"]
+                  "[r/min] | torque ripple [% rated] | ripple Cu loss [% rated] | audible [dB] | estimator |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for p in (p for p in points if p.system == system):
             lines.append(f"| {100 * p.speed_pu:.0f} % | {p.load_pu:g} p.u. | {p.n} | {p.lost}"
                          f"{f' (+{p.failed} failed)' if p.failed else ''} | {_fmt(p.rms_median)} | "
                          f"{_fmt(p.rms_worst)} | {_fmt(p.peak_worst)} | {_fmt(p.speed_ripple)} | "
-                         f"{_fmt(100 * p.torque_ripple)} | {p.estimator} |")
+                         f"{_fmt(100 * p.torque_ripple)} | {_fmt(100 * p.cu_ripple)} | {_fmt(p.audible_db)} | "
+                         f"{p.estimator} |")
         lines.append("")
     text = "\n".join(lines)
     (out / "report.md").write_text(text)
     with open(out / "results.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["system", "speed_pu", "load_pu", "runs", "lost", "failed", "rms_median_deg", "rms_worst_deg",
-                    "peak_worst_deg", "speed_ripple_rpm", "torque_ripple_pu", "estimator"])
+                    "peak_worst_deg", "speed_ripple_rpm", "torque_ripple_pu", "cu_ripple_pu", "audible_db",
+                    "estimator"])
         for p in points:
             w.writerow([p.system, p.speed_pu, p.load_pu, p.n, p.lost, p.failed, p.rms_median, p.rms_worst,
-                        p.peak_worst, p.speed_ripple, p.torque_ripple, p.estimator])
+                        p.peak_worst, p.speed_ripple, p.torque_ripple, p.cu_ripple, p.audible_db, p.estimator])
     return text
 
 
@@ -272,7 +346,7 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
         points, sens = [], {}
         for s, spec in specs.items():
             rows = sweep(spec, ROOT / "out" / "sweep" / spec.name, progress=progress, log=log, client=client)
-            points += summarize(s, rows, rated_torque(spec))
+            points += summarize(s, rows, *rated(spec))
         for s, spec in specs.items():
             if s in SENSITIVITY_SKIP:
                 continue
@@ -285,6 +359,7 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
     labels = {s: label(spec) for s, spec in specs.items()}
     out.mkdir(parents=True, exist_ok=True)
     figure(points, labels, out / "angle_vs_load.png")
+    ripple_figure(points, labels, out / "ripple_vs_load.png")
     table = sensitivity_figure(sens, labels, out / "sensitivity.png")
     text = report(points, labels, max(spec.seeds or 1 for spec in specs.values()), out)
     lines = ["", "## Sensitivity", "", f"Each change alone at {100 * SENSITIVITY_POINT[0]:.0f} % speed and "
@@ -294,6 +369,6 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
     lines += [f"| {s} | {ch} | {n} | {lost}{f' (+{failed} failed)' if failed else ''} | {_fmt(rms)} | {_fmt(peak)} |"
               for s, ch, n, lost, failed, rms, peak in table]
     (out / "report.md").write_text(text + "\n".join(lines) + "\n")
-    log(f"wrote {out}/report.md, angle_vs_load.png, sensitivity.png, results.csv")
+    log(f"wrote {out}/report.md, angle_vs_load.png, ripple_vs_load.png, sensitivity.png, results.csv")
     return points
 

@@ -32,11 +32,13 @@ def test_one_pu_is_the_motors_rating_and_the_grid_is_the_issues(system):
         parse_scenario(copy.deepcopy(job.tree))                    # every point is a valid scenario
 
 
-def row(speed, load, locked=True, fault="none", rms=1.0, peak=2.0, high=0.0, error="", ripple=(3.0, 0.5)):
+def row(speed, load, locked=True, fault="none", rms=1.0, peak=2.0, high=0.0, error="", ripple=(3.0, 0.5),
+        cu=4.0, audible=0.2):
     r = {"reference.speed.scale": speed, "load.torque.scale": load, "error": error}
     if not error:
         r.update({"locked": locked, "faults.code": fault, "win0.err_rms_deg": rms, "win0.err_peak_deg": peak,
-                  "win0.high_share": high, "win0.speed_ripple_rpm": ripple[0], "win0.torque_std_nm": ripple[1]})
+                  "win0.high_share": high, "win0.speed_ripple_rpm": ripple[0], "win0.torque_std_nm": ripple[1],
+                  "win0.cu_ripple_w": cu, "win0.torque_audible_nm": audible})
     return r
 
 
@@ -46,10 +48,14 @@ def test_summary_counts_lost_and_failed_runs_and_reduces_the_locked_ones():
             row(0, 1, error="ScenarioError: x"),
             row(0.5, 0, rms=1.0, high=1.0), row(0.5, 0, rms=1.0, high=0.4)]
     rows[0]["win0.torque_std_nm"] = 0.1
-    a, b = cmp.summarize("000", rows, rated_nm=2.0)
+    rows[1]["win0.cu_ripple_w"], rows[2]["win0.cu_ripple_w"] = 1.0, 9.0
+    rows[1]["win0.torque_audible_nm"] = 2.0
+    a, b = cmp.summarize("000", rows, rated_nm=2.0, rated_cu_w=8.0)
     assert (a.speed_pu, a.load_pu, a.n, a.lost, a.failed) == (0, 1, 6, 2, 1)
     assert (a.rms_median, a.rms_worst, a.peak_worst, a.estimator) == (2.0, 3.0, 9.0, "low")
     assert (a.speed_ripple, a.torque_ripple) == (3.0, 0.25)     # medians of the locked runs; 0.5 / 2 N*m
+    assert a.cu_ripple == 0.5                                    # median 4 W of 8 W rated
+    assert a.audible_db == pytest.approx(20.0)                   # median 0.2 N*m = 10 x 1 % of 2 N*m
     assert (b.n, b.lost, b.estimator) == (2, 0, "both")
     (c,) = cmp.summarize("000", [row(0, 0, locked=False)])
     assert c.lost == 1 and math.isnan(c.rms_median) and c.estimator == "-"
@@ -60,11 +66,15 @@ def test_report_and_figure_from_points(tmp_path):
     pts += cmp.summarize("001", [row(0, 0, locked=False), row(0, 0)])
     labels = {"002": "002: a", "001": "001: b"}
     text = cmp.report(pts, labels, 2, tmp_path)
-    assert "| 0 % | 1 p.u. | 1 | 0 | 2.00 | 2.00 | 3.00 | 3.00 | 50.00 | low |" in text
-    assert "| 0 % | 0 p.u. | 2 | 1 | 1.00 | 1.00 | 2.00 | 3.00 | 50.00 | low |" in text
+    assert "| 0 % | 1 p.u. | 1 | 0 | 2.00 | 2.00 | 3.00 | 3.00 | 50.00 | 400.00 | 26.02 | low |" in text
+    assert "| 0 % | 0 p.u. | 2 | 1 | 1.00 | 1.00 | 2.00 | 3.00 | 50.00 | 400.00 | 26.02 | low |" in text
+    assert "| 002: a | 2.00 / 3.00 | 0 of 4 | 26.02 | 400.00 |" in text     # headline: standstill, 1 p.u.
+    assert "| 001: b | - / - | 1 of 2 | - | - |" in text
     assert (tmp_path / "results.csv").read_text().count("\n") == 1 + len(pts)
     cmp.figure(pts, labels, tmp_path / "f.png")
     assert (tmp_path / "f.png").stat().st_size > 10_000
+    cmp.ripple_figure(pts, labels, tmp_path / "r.png")
+    assert (tmp_path / "r.png").stat().st_size > 10_000
 
 
 def test_command_refuses_unknown_systems(capsys):

@@ -78,6 +78,14 @@ class Point:
     ripple: hfi.ripple), p.u. of the rated copper loss ``1.5 R_s I_rated^2``."""
     audible_db: float
     """Median over the locked runs of the A-weighted torque variation (hfi.ripple), dB re 1 % of rated torque."""
+    crb_deg: float
+    """Median Cramér-Rao standard deviation of one control window's samples (hfi.crb; standstill only)."""
+    err_std_deg: float
+    """Median standard deviation of the angle error (its noise, without the bias)."""
+    tau_c_ms: float
+    """Median correlation time of the angle error."""
+    efficiency: float
+    """Median ``crb^2 T_w / (err_std^2 tau_c)``: 1 uses all the information of the samples."""
     estimator: str
     """The slot in charge in the measured window: ``low``, ``high`` or ``both`` (over the locked runs)."""
 
@@ -127,14 +135,17 @@ def summarize(system: str, rows: list[dict], rated_nm: float = 1.0, rated_cu_w: 
         nan = float("nan")
 
         def median(key: str, scale: float = 1.0) -> float:
-            return float(np.median([r[key] for r in locked])) / scale if locked else nan
+            have = [r[key] for r in locked if r.get(key) is not None and not math.isnan(r[key])]
+            return float(np.median(have)) / scale if have else nan
 
         out.append(Point(system, speed, load, len(rs), len(ok) - len(locked), len(rs) - len(ok),
                          median("win0.err_rms_deg"), max(rms, default=nan),
                          max((r["win0.err_peak_deg"] for r in locked), default=nan),
                          median("win0.speed_ripple_rpm"), median("win0.torque_std_nm", rated_nm),
                          median("win0.cu_ripple_w", rated_cu_w),
-                         _db(median("win0.torque_audible_nm", AUDIBLE_REF * rated_nm)), slot))
+                         _db(median("win0.torque_audible_nm", AUDIBLE_REF * rated_nm)),
+                         *(median(f"win0.{k}") for k in ("crb_window_deg", "err_std_deg", "tau_c_ms", "efficiency")),
+                         slot))
     return out
 
 
@@ -228,6 +239,23 @@ def headline(points: list[Point], labels: dict[str, str]) -> list[str]:
     return lines
 
 
+def bound_table(points: list[Point], labels: dict[str, str]) -> list[str]:
+    """The standstill points' angle noise against the Cramér-Rao bound of their samples (hfi.crb)."""
+    lines = ["## Angle noise against the Cramér-Rao bound (standstill)", "",
+             "The information about the rotor angle in the ADC samples each system takes, given the voltages it "
+             "applied and the sensor noise (hfi/crb.py): `CRB/window` is the smallest standard deviation of an "
+             "unbiased angle estimate from one control window's samples; `noise` the standard deviation of the "
+             "estimator's error (its mean, the bias, is in the RMS above), `tau_c` its correlation time; "
+             "`efficiency` = CRB² T_w / (noise² tau_c): the share of the samples' information the estimator uses "
+             "(medians over the seeds).", "",
+             "| system | load | CRB/window [deg] | noise [deg] | tau_c [ms] | efficiency [%] |", "|---|---|---|---|---|---|"]
+    for system, name in labels.items():
+        for p in (p for p in points if p.system == system and p.speed_pu == 0 and not math.isnan(p.crb_deg)):
+            lines.append(f"| {name} | {p.load_pu:g} p.u. | {p.crb_deg:.3f} | {p.err_std_deg:.3f} | "
+                         f"{_fmt(p.tau_c_ms)} | {100 * p.efficiency:.2g} |")
+    return lines
+
+
 def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path) -> str:
     lines = ["# Four sensorless systems side by side", "",
              f"`hfi compare` ({seeds} seeds and initial angles per point; docs/compare.md says how). Angle error "
@@ -237,7 +265,8 @@ def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path) -
              "motor's rated copper loss; audible torque: the A-weighted RMS of the torque's variation, dB re "
              "1 % of rated torque (hfi/ripple.py).", "", *headline(points, labels), "",
              "![angle error against load](angle_vs_load.png)", "",
-             "![ripple copper loss and audible torque against load](ripple_vs_load.png)", ""]
+             "![ripple copper loss and audible torque against load](ripple_vs_load.png)", "",
+             *bound_table(points, labels), ""]
     for system, name in labels.items():
         lines += [f"## {name}", "", "| speed | load | runs | lost | RMS median | RMS worst | peak worst | speed ripple "
                   "[r/min] | torque ripple [% rated] | ripple Cu loss [% rated] | audible [dB] | estimator |",
@@ -255,10 +284,11 @@ def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path) -
         w = csv.writer(f)
         w.writerow(["system", "speed_pu", "load_pu", "runs", "lost", "failed", "rms_median_deg", "rms_worst_deg",
                     "peak_worst_deg", "speed_ripple_rpm", "torque_ripple_pu", "cu_ripple_pu", "audible_db",
-                    "estimator"])
+                    "crb_window_deg", "err_std_deg", "tau_c_ms", "efficiency", "estimator"])
         for p in points:
             w.writerow([p.system, p.speed_pu, p.load_pu, p.n, p.lost, p.failed, p.rms_median, p.rms_worst,
-                        p.peak_worst, p.speed_ripple, p.torque_ripple, p.cu_ripple, p.audible_db, p.estimator])
+                        p.peak_worst, p.speed_ripple, p.torque_ripple, p.cu_ripple, p.audible_db, p.crb_deg,
+                        p.err_std_deg, p.tau_c_ms, p.efficiency, p.estimator])
     return text
 
 

@@ -103,6 +103,7 @@ class Spec:
     seed: int = 1
     windows: tuple[tuple[float, float], ...] = ()
     angle_at: str = "method"
+    crb: bool = False
     base: dict = field(default_factory=dict, compare=False)
 
 
@@ -172,7 +173,7 @@ def load_spec(path: str | Path) -> Spec:
     sw = data.get("sweep")
     if not isinstance(sw, dict):
         raise SweepError(str(path), ["missing the [sweep] table (scenario = \"...\" at least)"])
-    known = {"name", "scenario", "backend", "design", "samples", "seed", "seeds", "windows", "angle_at"}
+    known = {"name", "scenario", "backend", "design", "samples", "seed", "seeds", "windows", "angle_at", "crb"}
     problems += [f"sweep.{k}: unknown key (valid: {', '.join(sorted(known))})" for k in sw if k not in known]
     problems += [f"{k}: unknown table (valid: sweep, set, params)" for k in data if k not in ("sweep", "set", "params")]
     from hfi.backends import NAMES
@@ -194,6 +195,9 @@ def load_spec(path: str | Path) -> Spec:
     angle_at = sw.get("angle_at", "method")
     if angle_at not in ANGLE_AT:
         problems.append(f"sweep.angle_at: {angle_at!r}, expected one of {', '.join(ANGLE_AT)}")
+    crb = sw.get("crb", False)
+    if not isinstance(crb, bool):
+        problems.append(f"sweep.crb: expected true or false, got {crb!r}")
     if design == "random" and not samples:
         problems.append("sweep.samples: a random design needs samples >= 1")
     if design != "random" and samples:
@@ -239,7 +243,7 @@ def load_spec(path: str | Path) -> Spec:
     if problems:
         raise SweepError(str(path), problems)
     return Spec(str(sw.get("name", path.stem)), scenario_path, backend, design, tuple(axes), seeds, samples,
-                seed, tuple(windows), angle_at, base)
+                seed, tuple(windows), angle_at, crb is True, base)
 
 
 # ---------------------------------------------------------------------------------------------- the runs
@@ -355,7 +359,7 @@ def jobs(spec: Spec, version: str) -> list[Job]:
                 _set(t, "scenario.seed", seed)
                 _set(t, "load.initial.theta_m", f"{theta} deg")
             blob = json.dumps({"tree": t, "backend": spec.backend, "windows": spec.windows, "angle_at": spec.angle_at,
-                               "version": version}, sort_keys=True)
+                               "crb": spec.crb, "version": version}, sort_keys=True)
             out.append(Job(i, p, seed, theta, t, hashlib.sha256(blob.encode()).hexdigest()[:24], error))
     return out
 
@@ -368,11 +372,17 @@ def _flat(prefix: str, value: object, row: dict) -> None:
         row[prefix[:-1]] = value
 
 
+STILL_DEG = 10.0
+"""``sweep.crb``: a window's Cramér-Rao columns are filled where the true electrical angle moved by less than this
+[deg] (the bound is computed on a locked rotor: hfi.crb)."""
+
+
 def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], source: str,
-            angle_at: str = "method") -> dict:
+            angle_at: str = "method", crb: bool = False) -> dict:
     """Run one job and return its row (on a Dask worker). Never raises: a failure is the row's ``error``."""
     from hfi.backends import run
     from hfi.report import metrics_of
+    from hfi.crb import bound
     from hfi.ripple import audible_torque, copper_loss
 
     if job.error:
@@ -415,6 +425,16 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
             row[f"win{i}.torque_audible_nm"] = _sig(audible_torque(res.windows, res.t, sel))
         except ValueError as exc:
             row["error"] = f"window {i} [{a:g}, {b:g}) s: {exc}"
+        if crb:
+            theta = np.unwrap(res.windows["theta_e"][sel].astype(float) * (2 * math.pi / 2 ** 32))
+            if np.degrees(np.ptp(theta)) < STILL_DEG:
+                try:
+                    bd = bound(sc.plant, res.tick_hz, res, err, a, b)
+                except ValueError as exc:
+                    row["error"] = f"window {i} [{a:g}, {b:g}) s: {exc}"
+                    continue
+                for name in ("crb_window_deg", "err_std_deg", "tau_c_ms", "efficiency"):
+                    row[f"win{i}.{name}"] = _sig(getattr(bd, name))
     row["run_wall_s"] = round(time.perf_counter() - t0, 3)
     return row
 
@@ -507,8 +527,8 @@ def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | No
             if own and dashboard and client.dashboard_link:
                 log(f"dashboard: {client.dashboard_link}")
             source = f"sweep {spec.name} ({spec.scenario.name})"
-            futures = {client.submit(run_job, j, spec.backend, spec.windows, source, spec.angle_at, key=f"run-{j.key}",
-                                     pure=False): j for j in todo}
+            futures = {client.submit(run_job, j, spec.backend, spec.windows, source, spec.angle_at, spec.crb,
+                                     key=f"run-{j.key}", pure=False): j for j in todo}
             bar = tqdm(total=len(futures), desc=spec.name, unit="run", disable=not progress, file=sys.stderr)
             for fut in as_completed(futures):
                 j = futures[fut]

@@ -56,9 +56,22 @@ def test_summary_counts_lost_and_failed_runs_and_reduces_the_locked_ones():
     assert (a.speed_ripple, a.torque_ripple) == (3.0, 0.25)     # medians of the locked runs; 0.5 / 2 N*m
     assert a.cu_ripple == 0.5                                    # median 4 W of 8 W rated
     assert a.audible_db == pytest.approx(20.0)                   # median 0.2 N*m = 10 x 1 % of 2 N*m
+    assert math.isnan(a.crb_deg) and math.isnan(a.efficiency)    # no run had the bound's columns
     assert (b.n, b.lost, b.estimator) == (2, 0, "both")
     (c,) = cmp.summarize("000", [row(0, 0, locked=False)])
     assert c.lost == 1 and math.isnan(c.rms_median) and c.estimator == "-"
+
+
+def test_bound_table_takes_the_medians_of_the_runs_that_have_the_bound():
+    rows = [row(0, 1), row(0, 1), row(0, 1), row(0, 0)]
+    for r, (crb, eff) in zip(rows, ((0.3, 0.02), (0.5, 0.04), (0.4, 0.01))):
+        r.update({"win0.crb_window_deg": crb, "win0.err_std_deg": 10 * crb, "win0.tau_c_ms": 2.0,
+                  "win0.efficiency": eff})
+    pts = cmp.summarize("002", rows)
+    assert (pts[1].crb_deg, pts[1].err_std_deg, pts[1].tau_c_ms, pts[1].efficiency) == (0.4, 4.0, 2.0, 0.02)
+    lines = cmp.bound_table(pts, {"002": "002: a"})
+    assert "| 002: a | 1 p.u. | 0.400 | 4.000 | 2.00 | 2 |" in lines
+    assert not any("| 0 p.u. |" in x for x in lines)            # the no-load point has no bound
 
 
 def test_report_and_figure_from_points(tmp_path):

@@ -45,6 +45,12 @@ SENSITIVITY = {
 controller's motor data +-20 % (``[model_error]``), three times the sensor noise, twice the dead time, a DC
 link 10 % higher (the controller set for it) and 20 % lower than the controller assumes (a sag from the
 start, ``[[faults]] dc_link``: the drives measure no DC-link voltage)."""
+SENSITIVITY_OWN = {
+    "003": {"estimator.hfo_proj.map_scale_d": ("values", (0.9, 1.1)),
+            "estimator.hfo_proj.map_scale_q": ("values", (0.9, 1.1))},
+}
+"""Changes of one system only, after the common ones: the 003 method's flux maps (its controller's tables, which
+``[model_error]``'s L and psi_f factors do not reach) +-10 % off, each axis alone."""
 SENSITIVITY_SKIP = ("001r",)
 """Systems the sensitivity study leaves out: 001r is 001 below its hand-over, where the study runs."""
 SENSITIVITY_POINT = (0.1, 1.0)
@@ -292,14 +298,25 @@ def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path) -
     return text
 
 
+def changes(system: str) -> dict:
+    """The sensitivity study's changes of ``system``: SENSITIVITY, then its SENSITIVITY_OWN."""
+    return {**SENSITIVITY, **SENSITIVITY_OWN.get(system, {})}
+
+
+def change_labels(system: str) -> list[str]:
+    """``nominal`` and the label of each change of ``system`` (as :func:`change_of` names a row's)."""
+    return ["nominal"] + [_fault_label(v) if k == "faults" else f"{k.rpartition('.')[2]} x{v:g}"
+                          for k, (_, vs) in changes(system).items() for v in vs]
+
+
 def sensitivity_spec(spec: Spec) -> Spec:
-    """The sensitivity study on a system's comparison spec: its base and ``[set]``, at SENSITIVITY_POINT,
-    each SENSITIVITY change alone."""
+    """The sensitivity study on a system's comparison spec (``compare_<system>``): its base and ``[set]``, at
+    SENSITIVITY_POINT, each of the system's :func:`changes` alone."""
     base = copy.deepcopy(spec.base)
     for key, factor in zip(("reference.speed", "load.torque"), SENSITIVITY_POINT):
         table, _, name = key.partition(".")
         base[table][name] = scaled(base[table][name], factor, key)
-    axes = tuple(Axis(k, kind, items) for k, (kind, items) in SENSITIVITY.items())
+    axes = tuple(Axis(k, kind, items) for k, (kind, items) in changes(spec.name.removeprefix("compare_")).items())
     return replace(spec, name=spec.name.replace("compare_", "sensitivity_"), design="one_at_a_time", axes=axes,
                    base=base)
 
@@ -309,8 +326,9 @@ def _fault_label(faults: list[dict]) -> str:
 
 
 def change_of(row: dict) -> str:
-    """The SENSITIVITY change a row ran with (``nominal`` for the base point), e.g. ``L_d x0.8``."""
-    for key, (kind, _) in SENSITIVITY.items():
+    """The sensitivity change a row ran with (``nominal`` for the base point), e.g. ``L_d x0.8``."""
+    every = {k: v for own in SENSITIVITY_OWN.values() for k, v in own.items()}
+    for key, (kind, _) in {**SENSITIVITY, **every}.items():
         name = key.rpartition(".")[2]
         if key == "faults" and row.get(key) is not None:
             return _fault_label(json.loads(row[key]))
@@ -328,14 +346,16 @@ def sensitivity_figure(rows: dict[str, list[dict]], labels: dict[str, str], path
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    changes = ["nominal"] + [_fault_label(v) if k == "faults" else f"{k.rpartition('.')[2]} x{v:g}"
-                             for k, (_, vs) in SENSITIVITY.items() for v in vs]
+    order = [ch for system in rows for ch in change_labels(system)]
+    changes_all = sorted(set(order), key=order.index)
     table = []
-    fig, ax = plt.subplots(figsize=(11, 4.2))
+    fig, ax = plt.subplots(figsize=(12, 4.2))
     for j, (system, rs) in enumerate(rows.items()):
         k = list(labels).index(system)              # the system's colour in every figure
         xs, ys = [], []
-        for i, ch in enumerate(changes):
+        for i, ch in enumerate(changes_all):
+            if ch not in change_labels(system):
+                continue
             mine = [r for r in rs if change_of(r) == ch]
             ran = [r for r in mine if not r["error"]]
             good = [r for r in ran if kept(r)]
@@ -347,7 +367,7 @@ def sensitivity_figure(rows: dict[str, list[dict]], labels: dict[str, str], path
             if len(good) < len(mine):
                 ax.plot(xs[-1], 0.3, "x", color=f"C{k}", markersize=9)
         ax.plot(xs, ys, "o", color=f"C{k}", label=labels[system])
-    ax.set_xticks(range(len(changes)), changes, rotation=30, ha="right", fontsize=8)
+    ax.set_xticks(range(len(changes_all)), changes_all, rotation=30, ha="right", fontsize=8)
     ax.set_yscale("log")
     ax.set_ylabel("median RMS angle error [deg el]\nx: some runs lost lock or tripped")
     ax.set_title(f"Sensitivity at {100 * SENSITIVITY_POINT[0]:.0f} % speed, {SENSITIVITY_POINT[1]:g} p.u. load: "

@@ -109,14 +109,21 @@ def test_sensitivity_study_changes_one_thing_at_a_time_at_its_point():
     assert cmp.change_of({"model_error.L_d": 0.8}) == "L_d x0.8"
     assert cmp.change_of({"pwm.dead_time.scale": 2.0}) == "dead_time x2"
     assert cmp.change_of({"reference.speed.scale": 0.1}) == "nominal"
+    own = cmp.sensitivity_spec(load_spec(cmp.spec_path("003")))       # the 003 maps' own changes, last
+    assert [a.key for a in own.axes][-2:] == ["estimator.hfo_proj.map_scale_d", "estimator.hfo_proj.map_scale_q"]
+    assert len(points(own)) == len(pts) + 4
+    assert cmp.change_of({"estimator.hfo_proj.map_scale_q": 1.1}) == "map_scale_q x1.1"
 
 
 def test_sensitivity_figure_table(tmp_path):
     rows = {"002": [dict(row(0.1, 1, rms=2.0), **{"model_error.L_d": 0.8}), dict(row(0.1, 1, locked=False),
                                                                               **{"model_error.L_d": 0.8}),
                     row(0.1, 1, rms=1.0)]}
-    table = cmp.sensitivity_figure(rows, {"002": "002"}, tmp_path / "s.png")
+    rows["003"] = [dict(row(0.1, 1, rms=3.0), **{"estimator.hfo_proj.map_scale_d": 0.9})]
+    table = cmp.sensitivity_figure(rows, {"002": "002", "003": "003"}, tmp_path / "s.png")
     assert ("002", "nominal", 1, 0, 0, 1.0, 2.0) in table
     assert ("002", "L_d x0.8", 2, 1, 0, 2.0, 2.0) in table
+    assert ("003", "map_scale_d x0.9", 1, 0, 0, 3.0, 2.0) in table
+    assert not any(t[0] == "002" and t[1].startswith("map_scale") for t in table)
     assert cmp.change_of({"faults": '[{"kind": "dc_link", "factor": 0.8, "at": "0 s"}]'}) == "V_dc x0.8 (sag)"
     assert (tmp_path / "s.png").is_file()

@@ -313,9 +313,12 @@ class Job:
     error: str = ""
 
 
-CODE = ("golden", "hfi", "firmware", "hls", "sim", "rtl", "requirements.txt")
+CODE = ("golden", "firmware", "hls", "sim", "rtl", "requirements.txt", "hfi/__init__.py", "hfi/backends.py",
+        "hfi/hls_backend.py", "hfi/hls_build.py", "hfi/rtl_backend.py", "hfi/soc_platform.py", "hfi/fw_c.py",
+        "hfi/report.py", "hfi/paper.py", "hfi/sweep.py", "hfi/ripple.py", "hfi/crb.py")
 """What a run's result depends on besides its scenario tree: the source version hashes these paths only, so a
-commit of documentation or of another sweep's spec keeps the cache."""
+commit of documentation, of another sweep's spec or of a report (``hfi compare``) keeps the cache. The ``hfi``
+modules are those a run imports (tests/test_sweep.py holds the list to it)."""
 
 
 def source_version() -> str:

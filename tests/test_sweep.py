@@ -203,3 +203,20 @@ def test_root_keys_that_are_values_can_vary_tables_cannot(tmp_path):
     parse_scenario(copy.deepcopy(job.tree))
     with pytest.raises(sw.SweepError, match="params.'load': not a scenario key"):
         sw.load_spec(spec_file(tmp_path, 'load = [1]'))
+
+
+def test_the_source_version_covers_every_module_a_run_imports():
+    """A run imports hfi.sweep's run path and one backend's module: each ``hfi`` module it loads must be in
+    ``CODE``, or a change to it would reuse stale cached runs."""
+    import subprocess
+    import sys
+    from hfi.backends import BACKENDS
+    mods = [b.loop.split(":")[0] for b in BACKENDS.values()]
+    code = ("import sys, importlib; import hfi.sweep, hfi.report, hfi.ripple, hfi.crb\n"
+            f"for m in {mods!r}: importlib.import_module(m)\n"
+            "print(' '.join(sorted(m for m in sys.modules if m == 'hfi' or m.startswith('hfi.'))))")
+    loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                            cwd=sw.ROOT).stdout.split()
+    files = {"hfi/__init__.py" if m == "hfi" else m.replace(".", "/") + ".py" for m in loaded}
+    assert files <= set(sw.CODE), sorted(files - set(sw.CODE))
+    assert "hfi/compare.py" not in sw.CODE                 # a report's change keeps the runs

@@ -37,7 +37,7 @@ from golden.fpga.modulator import compares, direct_compares, direct_state
 from golden.fpga.park import clarke
 from golden.fpga.rot_injection import RotatingInjection
 from golden.fpga.window_dsp import window_dsp
-from golden.plant import Plant
+from golden.plant import STATE_DTYPE, Plant
 from golden.scenario import Scenario
 
 WINDOW_FIELDS = (
@@ -295,7 +295,7 @@ class ClosedLoop:
                 bar.update(k + 1, fw)
         if bar is not None:
             bar.close()
-        rec.update(truth_columns(np.array(truths), self.scales.pole_pairs))
+        rec.update(truth_columns(np.array(truths, dtype=STATE_DTYPE), self.scales.pole_pairs))
         samples = {"tick": np.concatenate(s_ticks), "adc_a": np.concatenate(s_a).astype(np.uint16),
                    "adc_b": np.concatenate(s_b).astype(np.uint16)}
         edges = {"tick": np.concatenate(edge_ticks), "mask": np.concatenate(edge_masks)}

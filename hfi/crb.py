@@ -112,7 +112,7 @@ class Bound:
     """The estimator error's integrated correlation time."""
     window_ms: float
     efficiency: float
-    """``crb_window^2 * window / (err_std^2 * tau_c)``."""
+    """``crb_window^2 * window / (err_std^2 * tau_c)``; nan where the error does not vary."""
 
 
 def bound(plant: dict, tick_hz: float, res, err_deg: np.ndarray, t0: float, t1: float) -> Bound:
@@ -131,4 +131,11 @@ def bound(plant: dict, tick_hz: float, res, err_deg: np.ndarray, t0: float, t1: 
     e = err_deg[sel]
     std = float(np.std(e))
     tau = correlation_time(e) * window_s
-    return Bound(crb, std, float(np.mean(e)), 1e3 * tau, 1e3 * window_s, crb * crb * window_s / (std * std * tau))
+    return Bound(crb, std, float(np.mean(e)), 1e3 * tau, 1e3 * window_s, efficiency(crb, window_s, std, tau))
+
+
+def efficiency(crb_deg: float, window_s: float, std_deg: float, tau_s: float) -> float:
+    """``crb^2 T_w / (std^2 tau_c)`` (module docstring); nan for an error that does not vary (a run whose gates
+    went off) or whose block means all agree."""
+    spread = std_deg * std_deg * tau_s
+    return crb_deg * crb_deg * window_s / spread if spread > 0 else math.nan

@@ -127,7 +127,7 @@ def bound(plant: dict, tick_hz: float, res, err_deg: np.ndarray, t0: float, t1: 
                               theta_e, t0, t1)
     n_win = int(sel.sum())
     window_s = float(np.median(np.diff(res.t[sel])))
-    crb = math.degrees(math.sqrt(n_win / info))
+    crb = math.degrees(math.sqrt(n_win / info)) if info > 0 else math.inf     # no information: gates off
     e = err_deg[sel]
     std = float(np.std(e))
     tau = correlation_time(e) * window_s
@@ -136,6 +136,6 @@ def bound(plant: dict, tick_hz: float, res, err_deg: np.ndarray, t0: float, t1: 
 
 def efficiency(crb_deg: float, window_s: float, std_deg: float, tau_s: float) -> float:
     """``crb^2 T_w / (std^2 tau_c)`` (module docstring); nan for an error that does not vary (a run whose gates
-    went off) or whose block means all agree."""
+    went off) or whose block means all agree, and for samples without information (``crb_deg`` infinite)."""
     spread = std_deg * std_deg * tau_s
-    return crb_deg * crb_deg * window_s / spread if spread > 0 else math.nan
+    return crb_deg * crb_deg * window_s / spread if spread > 0 and math.isfinite(crb_deg) else math.nan

@@ -78,3 +78,4 @@ def test_efficiency_is_the_ratio_of_the_stretch_means_variances():
     assert crb.efficiency(0.5, 2e-4, 1.0, 4e-3) == pytest.approx(0.25 * 2e-4 / 4e-3, rel=1e-12)
     assert math.isnan(crb.efficiency(0.5, 2e-4, 0.0, 4e-3))      # a frozen error: no efficiency
     assert math.isnan(crb.efficiency(0.5, 2e-4, 1.0, 0.0))
+    assert math.isnan(crb.efficiency(math.inf, 2e-4, 1.0, 4e-3))  # no information (the gates are off)

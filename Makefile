@@ -37,7 +37,7 @@ faults: setup
 	$(ENV) .venv/bin/hfi faults
 
 # The four systems side by side (docs/compare.md): out/compare/report.md, angle_vs_load.png, ripple_vs_load.png, sensitivity.png
-# (about 20 min on 2 cores; cached in out/sweep/, so a second call only reports).
+# (30-65 min on 2 cores; cached in out/sweep/, so a second call only reports).
 .PHONY: compare
 compare: setup
 	$(ENV) .venv/bin/hfi compare

@@ -107,10 +107,9 @@ class Bound:
     crb_window_deg: float
     """The Cramér-Rao standard deviation of one control window's samples."""
     err_std_deg: float
-    err_mean_deg: float
+    """The standard deviation of the estimator's angle error (its mean, the bias, is not part of the bound)."""
     tau_c_ms: float
     """The estimator error's integrated correlation time."""
-    window_ms: float
     efficiency: float
     """``crb_window^2 * window / (err_std^2 * tau_c)``; nan where the error does not vary."""
 
@@ -131,7 +130,7 @@ def bound(plant: dict, tick_hz: float, res, err_deg: np.ndarray, t0: float, t1: 
     e = err_deg[sel]
     std = float(np.std(e))
     tau = correlation_time(e) * window_s
-    return Bound(crb, std, float(np.mean(e)), 1e3 * tau, 1e3 * window_s, efficiency(crb, window_s, std, tau))
+    return Bound(crb, std, 1e3 * tau, efficiency(crb, window_s, std, tau))
 
 
 def efficiency(crb_deg: float, window_s: float, std_deg: float, tau_s: float) -> float:

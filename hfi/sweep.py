@@ -377,7 +377,8 @@ def _flat(prefix: str, value: object, row: dict) -> None:
 
 STILL_DEG = 10.0
 """``sweep.crb``: a window's Cramér-Rao columns are filled where the true electrical angle moved by less than this
-[deg] (the bound is computed on a locked rotor: hfi.crb)."""
+[deg] (the bound is computed on a locked rotor: hfi.crb) and the window starts ``hfi.crb.SETTLE_S`` or later
+(its replay starts that long before it)."""
 
 
 def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], source: str,
@@ -385,7 +386,7 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
     """Run one job and return its row (on a Dask worker). Never raises: a failure is the row's ``error``."""
     from hfi.backends import run
     from hfi.report import metrics_of
-    from hfi.crb import bound
+    from hfi.crb import SETTLE_S, bound
     from hfi.ripple import audible_torque, copper_loss
 
     if job.error:
@@ -428,7 +429,7 @@ def run_job(job: Job, backend: str, windows: tuple[tuple[float, float], ...], so
             row[f"win{i}.torque_audible_nm"] = _sig(audible_torque(res.windows, res.t, sel))
         except ValueError as exc:
             row["error"] = f"window {i} [{a:g}, {b:g}) s: {exc}"
-        if crb:
+        if crb and a >= SETTLE_S:
             theta = np.unwrap(res.windows["theta_e"][sel].astype(float) * (2 * math.pi / 2 ** 32))
             if np.degrees(np.ptp(theta)) < STILL_DEG:
                 try:

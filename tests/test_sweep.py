@@ -16,7 +16,9 @@ from golden.units import UnitError, scale_quantity, split_quantity
 from hfi import sweep as sw
 from hfi.backends import run
 from hfi.cli import main
+from hfi.crb import bound
 from hfi.report import metrics_of
+from hfi.ripple import audible_torque, copper_loss
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -125,7 +127,7 @@ def test_random_design_is_reproducible_and_inside_its_bounds(tmp_path):
 
 def test_a_sweep_on_dask_equals_direct_runs_resumes_and_keeps_failures(tmp_path, capsys):
     path = spec_file(tmp_path, '"injection.V_h" = ["20 V", "-5 V"]\n"control.speed_bw" = ["4 Hz", "6 Hz"]',
-                     sweep='name = "t"\nwindows = [["10 ms", "30 ms"]]')
+                     sweep='name = "t"\nwindows = [["10 ms", "30 ms"], ["20 ms", "30 ms"]]\ncrb = true')
     spec = sw.load_spec(path)
     out = tmp_path / "out"
     rows = sw.sweep(spec, out, workers=1, dashboard=False, progress=False)
@@ -149,6 +151,15 @@ def test_a_sweep_on_dask_equals_direct_runs_resumes_and_keeps_failures(tmp_path,
         assert r["win0.err_peak_deg"] == round(float(abs(err).max()), 4)
         assert r["win0.err_rms_deg"] == round(math.sqrt(float((err ** 2).mean())), 4)
         assert r["win0.torque_std_nm"] == round(float(res.windows["torque"][sel].std()), 4)
+        # the second window: copper loss, audible torque and the bound (the rotor stands still in start-up)
+        late = (res.t >= 0.02) & (res.t < 0.03)
+        total, ripple = copper_loss(res.windows, res.t, late, sc.plant["R_s"])
+        assert (r["win1.cu_loss_w"], r["win1.cu_ripple_w"]) == (float(f"{total:.6g}"), float(f"{ripple:.6g}"))
+        assert r["win1.torque_audible_nm"] == float(f"{audible_torque(res.windows, res.t, late):.6g}")
+        b = bound(sc.plant, res.tick_hz, res, sw.angle_error(res, sc, "method"), 0.02, 0.03)
+        assert r["win1.crb_window_deg"] == float(f"{b.crb_window_deg:.6g}") and 0 < b.crb_window_deg < math.inf
+        assert r["win1.efficiency"] == float(f"{b.efficiency:.6g}")
+        assert "win0.crb_window_deg" not in r          # the bound's replay needs 20 ms before its stretch: win0
     # resume: nothing runs again, the same table
     log: list[str] = []
     again = sw.sweep(spec, out, workers=1, dashboard=False, progress=False, log=log.append)

@@ -45,7 +45,7 @@ WINDOW_FIELDS = (
     "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode", "fault",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
     "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase", "cic_qa", "cic_qb", "env_a", "env_b",
-    "vector", "vector_next", "top_ia", "top_ib", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true",
+    "vector", "vector_next", "top_ia", "top_ib", "vdc", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true",
     "e_cu", "q_d", "q_q", "t_int", "t2_int")
 """Per-window trace columns (integers of the spec, and the plant's truth at the window end; ``e_cu``, ``q_d``,
 ``q_q``, ``t_int``, ``t2_int`` are the plant's running integrals of the copper loss, i_d, i_q, the torque and
@@ -85,7 +85,7 @@ class ClosedLoopResult:
     """Traces of a closed-loop run."""
 
     windows: dict            # WINDOW_FIELDS -> array (one entry per window)
-    samples: dict            # "tick", "adc_a", "adc_b" (every ADC sample, as converted)
+    samples: dict            # "tick", "adc_a", "adc_b", "adc_vdc" (every ADC sample, as converted)
     edges: dict              # "tick", "mask": every gate-mask change (mask after the tick)
     writes: dict             # OUTPUT_FIELDS -> array: the firmware's register values after each window
     hw: HardwareConfig
@@ -193,7 +193,7 @@ class ClosedLoop:
         ds_from = (math.inf if sc.control.switch_to_ds_at is None else sc.control.switch_to_ds_at) * tick_hz
         rec = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
         truths = []
-        s_ticks, s_a, s_b = [], [], []
+        s_ticks, s_a, s_b, s_vdc = [], [], [], []
         edge_ticks, edge_masks = [], []
 
         active = RESET_OUTPUTS
@@ -256,14 +256,17 @@ class ClosedLoop:
             # the mode is fixed for a run, and without it plus is never 1, so the block's outputs stay 0
             # (the hardware steps it anyway; skipping it here changes no output)
             q_a = q_b = e_a = e_b = 0
+            j_bot = int(np.searchsorted(rel, P - H // 2))
             if per:
-                j = int(np.searchsorted(rel, P - H // 2))
+                j = j_bot
                 i_al, i_be = clarke(
                     adc_to_current(int(adc[j, 0]), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0]),
                     adc_to_current(int(adc[j, 1]), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1]))
                 q_a, q_b, e_a, e_b = self.diff_cic.step(int(i_al), int(i_be), plus, hw.cic_m)
             if inj_phase or per:
                 win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
+            # VDC (spec 3.12): the dc-link channel's code of the same bottom sample, in every mode
+            win = dataclasses.replace(win, vdc=int(out["vdc"][j_bot]))
             if direct:                                    # VECTOR and TOP_I (spec 3.10, 3.11)
                 top = self._top_sample(rel, adc, keep, top)
                 # the next boundary commits outs[k - 1] (the reset set before k = 1): the next top's state
@@ -274,6 +277,7 @@ class ClosedLoop:
             s_ticks.append(ticks)
             s_a.append(adc[:, 0])
             s_b.append(adc[:, 1])
+            s_vdc.append(out["vdc"])
             r = rec
             r["tick"][k] = zc + P
             r["gamma"][k], r["gamma_d"][k], r["n_samples"][k] = win.gamma, win.gamma_d, win.n_samples
@@ -288,6 +292,7 @@ class ClosedLoop:
             r["cic_qa"][k], r["cic_qb"][k], r["env_a"][k], r["env_b"][k] = q_a, q_b, e_a, e_b
             r["vector"][k], r["vector_next"][k] = win.vector, win.vector_next
             r["top_ia"][k], r["top_ib"][k] = win.top_ia, win.top_ib
+            r["vdc"][k] = win.vdc
             r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
             r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
             truths.append(truth)
@@ -297,7 +302,7 @@ class ClosedLoop:
             bar.close()
         rec.update(truth_columns(np.array(truths, dtype=STATE_DTYPE), self.scales.pole_pairs))
         samples = {"tick": np.concatenate(s_ticks), "adc_a": np.concatenate(s_a).astype(np.uint16),
-                   "adc_b": np.concatenate(s_b).astype(np.uint16)}
+                   "adc_b": np.concatenate(s_b).astype(np.uint16), "adc_vdc": np.concatenate(s_vdc).astype(np.uint16)}
         edges = {"tick": np.concatenate(edge_ticks), "mask": np.concatenate(edge_masks)}
         writes = {f: np.array([getattr(o, f) for o in outs], dtype=np.int64) for f in OUTPUT_FIELDS}
         return ClosedLoopResult(rec, samples, edges, writes, hw, self.scales, tick_hz, fw.flipped,

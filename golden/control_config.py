@@ -350,7 +350,21 @@ def protection_params(sc: Scenario) -> ProtParams:
         ovl_m=round(pr.overload_speed_time * sc_.f_sw),
         w_max=min(sc_.speed_mech(speed_max), 2**31 - 1), w_asc=min(sc_.speed_mech(asc), 2**31 - 1),
         restarts=pr.restarts, restart_n=max(round(pr.restart_delay * sc_.f_sw), 1),
-        hf_k=shift(pr.hf_time), hf_tol=to_fixed(pr.hf_response, 16))
+        hf_k=shift(pr.hf_time), hf_tol=to_fixed(pr.hf_response, 16),
+        **dc_link_limits(sc))
+
+
+def dc_link_limits(sc: Scenario) -> dict:
+    """``vdc_lo``, ``vdc_hi``, ``vdc_n`` of the dc-link check: ``protection.undervoltage`` and ``overvoltage``
+    times the nominal ``inverter.V_dc`` in codes of the dc-link channel (``2^B / sensors.vdc_range`` per volt,
+    an ideal divider: its gain error is the sensor's), for ``dc_link_time`` (at least one period); all 0
+    without a channel (``vdc_range = 0``)."""
+    pr, sens, v_dc = sc.protection, sc.plant["sens"], sc.plant["inv"]["V_dc"]
+    if not sens["vdc_range"]:
+        return {"vdc_lo": 0, "vdc_hi": 0, "vdc_n": 0}
+    codes = 2 ** sens["adc_bits"] / sens["vdc_range"]
+    return {"vdc_lo": round(pr.undervoltage * v_dc * codes), "vdc_hi": round(pr.overvoltage * v_dc * codes),
+            "vdc_n": max(round(pr.dc_link_time * sc.pwm.f_sw), 1)}
 
 
 def flux_lsb(sc: Scenario) -> float:

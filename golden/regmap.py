@@ -427,6 +427,13 @@ TOP_I_I_BETA_WIDTH = 16
 TOP_I_I_BETA_MASK = 0xFFFF0000
 TOP_I_I_BETA_RESET = None
 
+# VDC @ 0xB4: DC-link voltage
+VDC_ADDR = 0xB4
+VDC_CODE_LSB = 0  # ro
+VDC_CODE_WIDTH = 16
+VDC_CODE_MASK = 0x0000FFFF
+VDC_CODE_RESET = None
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -583,6 +590,9 @@ REGISTERS = {
     "TOP_I": {"addr": 0xB0, "reset": 0x00000000, "signed": ("I_ALPHA", "I_BETA",), "fields": {
         "I_ALPHA": (0, 16, None, "ro"),
         "I_BETA": (16, 16, None, "ro"),
+    }},
+    "VDC": {"addr": 0xB4, "reset": 0x00000000, "signed": (), "fields": {
+        "CODE": (0, 16, None, "ro"),
     }},
 }
 

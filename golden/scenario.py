@@ -208,6 +208,10 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "ring_cross": _q("dimensionless", None, ("sens", "ring_cross")),
         "adc_bits": _int(_between(1, 24), ("sens", "adc_bits")),
         "adc_range": _q("current", _positive, ("sens", "adc_range")),
+        # the dc-link channel (docs/scenario.md): absent vdc_range is 2 x inverter.V_dc; 0 V: no channel
+        "vdc_range": _q("voltage", _non_negative, ("sens", "vdc_range")),
+        "vdc_gain": _q("dimensionless", _positive, ("sens", "vdc_gain")),
+        "vdc_noise": _q("voltage", _non_negative, ("sens", "vdc_noise_rms")),
     },
     "injection": {
         "V_h": _q("voltage", _non_negative, default=100.0),
@@ -358,6 +362,10 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "restart_delay": _q("time", _positive, default=0.5),
         "hf_response": Field("number", check=_between(0, 1), default=0.09),
         "hf_time": _q("time", _positive, default=3.2e-3),
+        "undervoltage": Field("number", check=lambda x: None if 0 < x < 1 else "must be between 0 and 1",
+                              default=0.75),
+        "overvoltage": Field("number", check=lambda x: None if x > 1 else "must be > 1", default=1.25),
+        "dc_link_time": _q("time", _positive, default=0.6e-3),
     },
     # Self-commissioning (`hfi commission`, golden.commission): absent keys are derived from the scenario
     "commission": {
@@ -405,7 +413,7 @@ FAULTS: dict[str, tuple[str, dict[str, Field]]] = {
     "adc_lane_dead": ("FAULT_ADC_STUCK", {"phase": _PHASE}),
     "phase_open": ("FAULT_PHASE_OPEN", {"phase": _PHASE}),
     "switch_open": ("FAULT_SWITCH_OPEN", {"switch": Field("choice", choices=GATE_BITS, required=True)}),
-    "dc_link": ("FAULT_DC_LINK", {"factor": Field("number", check=_between(0.0, 1.0), required=True),
+    "dc_link": ("FAULT_DC_LINK", {"factor": Field("number", check=_between(0.0, 2.0), required=True),
                                   "tau": _q("time", _non_negative, default=0.0)}),
     "load_step": ("FAULT_LOAD_STEP", {"torque": Field("quantity", "torque", required=True)}),
     "rotor_blocked": ("FAULT_ROTOR_BLOCKED", {}),
@@ -537,6 +545,9 @@ class ProtectionSettings:
     restart_delay: float
     hf_response: float
     hf_time: float
+    undervoltage: float
+    overvoltage: float
+    dc_link_time: float
 
 
 @dataclass(frozen=True)
@@ -965,6 +976,8 @@ def _build_plant(reader: _Reader, presets: dict | None) -> dict:
         ticks = _to_ticks(reader, path, plant["tick_hz"])
         if ticks is not None:
             plant[plant_key] = ticks
+    if "sensors.vdc_range" not in reader.values:
+        plant["sens"]["vdc_range"] = _plant_defaults.VDC_RANGE_DEFAULT * plant["inv"]["V_dc"]
     plant["faults"] = [_plant_fault(f, plant["tick_hz"]) for f in sorted(reader.get("faults") or [],
                                                                           key=lambda f: f.at)]
     return plant

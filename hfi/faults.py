@@ -11,8 +11,14 @@ rated load, on the golden closed loop. For each run the firmware's reaction is t
               value at the onset;
 ``MISSED``    anything else.
 
-Outputs in ``--out`` (default ``out/faults``): ``matrix.json`` (one object per run), ``matrix.md`` (the
-table of docs/faults.md) and one figure per run in ``fig/``. Progress on stderr, one line per run.
+The restart part (:func:`run_restart`): every fault again, lasting :data:`TRANSIENT_S` only, at
+:data:`RESTART_RPM` with and without load, with ``[protection] restarts = 1`` after :data:`RESTART_DELAY_S`:
+does the drive trip, start again once the fault has cleared (CONVERGE, the polarity test, RUN) and hold its
+reference locked at the end?
+
+Outputs in ``--out`` (default ``out/faults``): ``matrix.json`` (one object per run), ``restart.json``,
+``matrix.md`` (the tables of docs/faults.md) and one figure per run in ``fig/``. Progress on stderr, one line
+per run.
 """
 
 from __future__ import annotations
@@ -43,6 +49,16 @@ RATED_NM = 2.0
 """Rated torque of the Table I motor (the default scenario's full load)."""
 ZOOM_S = 0.15
 """The right-hand panels of a run's figure: this long after the onset (and 20 ms before)."""
+TRANSIENT_S = 0.05
+"""The restart part: each fault lasts this long (``until`` = onset + TRANSIENT_S)."""
+RESTART_RPM = 50.0
+RESTART_DELAY_S = 0.2
+"""``[protection] restart_delay`` of the restart part (the firmware's safe state lasts this long)."""
+RELOCK_DEG = 15.0
+RELOCK_RPM = 10.0
+"""A restart holds when, over the last RELOCK_WINDOW_S of the run, the drive is in RUN, the angle error's RMS is
+within RELOCK_DEG (healthy: about 5 deg) and the mean speed within RELOCK_RPM of the reference."""
+RELOCK_WINDOW_S = 0.1
 HARMLESS_RPM = 100.0
 """An undetected fault is harmless if the speed stays within this of its value at the onset (and no runaway,
 no overcurrent)."""
@@ -58,6 +74,7 @@ FAULTS: dict[str, dict] = {
     "switch open (a high)": {"kind": "switch_open", "switch": "a_hi"},
     "dc-link sag -30 %": {"kind": "dc_link", "factor": 0.7},
     "dc-link loss (20 ms)": {"kind": "dc_link", "factor": 0.0, "tau": "20 ms"},
+    "dc-link surge +40 %": {"kind": "dc_link", "factor": 1.4},
     "load impact +2x rated": {"kind": "load_step", "torque": f"{2 * RATED_NM} N*m"},
     "rotor blocked": {"kind": "rotor_blocked"},
     "load drives at -3x rated": {"kind": "load_step", "torque": f"{-3 * RATED_NM} N*m"},
@@ -65,8 +82,9 @@ FAULTS: dict[str, dict] = {
 """Matrix rows: name -> the ``[[faults]]`` entry without ``at`` (``{}``: the healthy reference)."""
 
 
-def scenario(fault: dict, rpm: float, loaded: bool, duration: float):
-    """The default scenario with the load from 0.2 s, the speed ramp 0.3-0.5 s and ``fault`` at ONSET_S."""
+def scenario(fault: dict, rpm: float, loaded: bool, duration: float, restart: bool = False):
+    """The default scenario with the load from 0.2 s, the speed ramp 0.3-0.5 s and ``fault`` at ONSET_S
+    (``restart``: lasting TRANSIENT_S, one restart RESTART_DELAY_S after a trip)."""
     data = tomllib.loads(BASE.read_text())
     data["scenario"].update(duration=f"{duration} s", name="fault_matrix")
     torque = RATED_NM if loaded else 0.0
@@ -74,6 +92,10 @@ def scenario(fault: dict, rpm: float, loaded: bool, duration: float):
     data["reference"]["speed"] = [["0 s", "0 rpm"], ["0.3 s", "0 rpm"], ["0.5 s", f"{rpm} rpm"]]
     if fault:
         data["faults"] = [dict(copy.deepcopy(fault), at=f"{ONSET_S} s")]
+        if restart:
+            data["faults"][0]["until"] = f"{ONSET_S + TRANSIENT_S} s"
+    if restart:
+        data.setdefault("protection", {}).update(restarts=1, restart_delay=f"{RESTART_DELAY_S} s")
     return parse_scenario(data, source=f"fault matrix ({BASE.name})")
 
 
@@ -104,6 +126,57 @@ def run_one(job: tuple) -> dict:
            "runaway_gates_on": m.get("runaway_gates_on", False), "wall_s": round(time.perf_counter() - t0, 1)}
     row["figure"] = plot_row(res, row, fig_dir)
     return row
+
+
+def run_restart(job: tuple) -> dict:
+    """One cell of the restart part: the fault for TRANSIENT_S, one restart allowed; returns its row of
+    restart.json: the first trip's code and time, the restart's time, a second trip's code, and whether the
+    drive holds its reference locked at the end (RELOCK_*)."""
+    from golden.firmware.protection import FAULT_NAMES
+    from golden.firmware.supervisor import MODE_CONVERGE, MODE_RUN
+    name, loaded, duration = job
+    sc = scenario(FAULTS[name], RESTART_RPM, loaded, duration, restart=True)
+    t0 = time.perf_counter()
+    res = ClosedLoop(sc).run(progress=False)
+    w, t = res.windows, res.t
+    mode = w["mode"]
+    after = t >= ONSET_S
+    trips = np.flatnonzero(after & (mode == MODE_FAULT) & (np.roll(mode, 1) != MODE_FAULT))
+    first = int(trips[0]) if len(trips) else None
+    restart = None
+    if first is not None:
+        back = np.flatnonzero((np.arange(len(t)) > first) & (mode == MODE_CONVERGE))
+        restart = int(back[0]) if len(back) else None
+    second = next((int(k) for k in trips if restart is not None and k > restart), None)
+    end = t >= t[-1] - RELOCK_WINDOW_S
+    err = res.angle_error_deg()[end]
+    speed = float(np.mean(w["omega_m"][end])) / RPM
+    locked = bool((mode[end] == MODE_RUN).all() and np.sqrt(np.mean(err ** 2)) <= RELOCK_DEG
+                  and abs(speed - RESTART_RPM) <= RELOCK_RPM)
+    return {"fault": name, "load": "rated" if loaded else "none",
+            "code": FAULT_NAMES[w["fault"][first]] if first is not None else "none",
+            "trip_s": None if first is None else round(float(t[first]), 4),
+            "restart_s": None if restart is None else round(float(t[restart]), 4),
+            "second_code": FAULT_NAMES[w["fault"][second]] if second is not None else "none",
+            "end_speed_rpm": round(speed, 1), "end_angle_rms_deg": round(float(np.sqrt(np.mean(err ** 2))), 2),
+            "locked_at_end": locked, "wall_s": round(time.perf_counter() - t0, 1)}
+
+
+def restart_table(rows: list[dict]) -> str:
+    """The markdown table of the restart part and its summary line."""
+    lines = [f"| fault ({TRANSIENT_S * 1e3:g} ms) | load | trip | at [s] | restart at [s] | second trip | "
+             f"speed at the end [r/min] | angle error RMS at the end [deg] | locked at the end |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['fault']} | {r['load']} | {r['code']} | {r['trip_s'] or '-'} | {r['restart_s'] or '-'} | "
+                     f"{r['second_code']} | {r['end_speed_rpm']} | {r['end_angle_rms_deg']} | "
+                     f"{'yes' if r['locked_at_end'] else 'NO'} |")
+    tripped = [r for r in rows if r["code"] != "none"]
+    held = sum(r["locked_at_end"] for r in tripped)
+    quiet = sum(r["locked_at_end"] for r in rows if r["code"] == "none")
+    line = (f"{len(rows)} transient faults at {RESTART_RPM:g} r/min: {len(tripped)} tripped, {held} of them locked "
+            f"again at the end after the restart; {quiet} of {len(rows) - len(tripped)} that did not trip locked")
+    return "\n".join(lines) + "\n\n" + line + "\n"
 
 
 def reaction(res) -> str:
@@ -189,8 +262,18 @@ def main(short: bool = False, jobs: int = 2, out: Path = Path("out/faults"), onl
             print(f"[{k + 1}/{len(cells)}] {row['fault']}, {row['speed_rpm']:g} r/min, {row['load']}: "
                   f"{row['verdict']} ({row['code']}, {row['detect_ms']} ms), {row['wall_s']} s", file=sys.stderr,
                   flush=True)
+    jobs_r = [(n, loaded, duration) for n in names if FAULTS[n] for loaded in (False, True)]
+    restart_rows = []
+    with ProcessPoolExecutor(max_workers=max(jobs, 1)) as pool:
+        for k, row in enumerate(pool.map(run_restart, jobs_r)):
+            restart_rows.append(row)
+            print(f"[restart {k + 1}/{len(jobs_r)}] {row['fault']}, {row['load']}: {row['code']} -> restart "
+                  f"{row['restart_s']} s -> {row['second_code']}, locked at the end: {row['locked_at_end']}, "
+                  f"{row['wall_s']} s", file=sys.stderr, flush=True)
     (out / "matrix.json").write_text(json.dumps(rows, indent=1) + "\n")
-    (out / "matrix.md").write_text(table(rows))
+    (out / "restart.json").write_text(json.dumps(restart_rows, indent=1) + "\n")
+    (out / "matrix.md").write_text(table(rows) + "\n" + restart_table(restart_rows))
     print(summary(rows))
+    print(restart_table(restart_rows).splitlines()[-1])
     bad = [r for r in rows if r["verdict"] in ("MISSED", "FALSE TRIP") or r["runaway_gates_on"]]
     return 1 if bad else 0

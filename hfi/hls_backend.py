@@ -131,7 +131,7 @@ class HlsClosedLoop:
                             [(f, "<i4") for f in FW_OUTPUT_FIELDS])
             truth = _records(lib, h, "truth", binding.ffi.sizeof("struct plant_state"), binding.STATE_DTYPE)
             samples = _records(lib, h, "samples", ffi.sizeof("struct adc_sample"),
-                               [("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])
+                               [("tick", "<i8"), ("a", "<i4"), ("b", "<i4"), ("vdc", "<i4"), ("pad", "<i4")])
             edges = _records(lib, h, "edges", ffi.sizeof("struct gate_edge"), [("tick", "<i8"), ("mask", "<i8")])
             flipped = int(lib.hls_loop_flipped(h))
             plant_s = float(lib.hls_loop_plant_seconds(h))
@@ -143,7 +143,7 @@ class HlsClosedLoop:
         windows.update(truth_columns(truth, self.scales.pole_pairs))
         writes = {f: outs[f].astype(np.int64) for f in OUTPUT_FIELDS}
         samples_out = {"tick": samples["tick"].copy(), "adc_a": samples["a"].astype(np.uint16),
-                       "adc_b": samples["b"].astype(np.uint16)}
+                       "adc_b": samples["b"].astype(np.uint16), "adc_vdc": samples["vdc"].astype(np.uint16)}
         edges_out = {"tick": edges["tick"].copy(), "mask": edges["mask"].astype(np.int32)}
         return ClosedLoopResult(windows, samples_out, edges_out, writes, hw, self.scales, tick_hz, flipped, wall,
                                 backend="hls", plant_wall_s=plant_s, ident=ident)

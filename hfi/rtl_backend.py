@@ -269,7 +269,7 @@ def _records(lib, sim, kind: str, dtype) -> np.ndarray:
 
 
 _EDGE = np.dtype([("tick", "<i8"), ("mask", "<i8")])
-_SAMPLE = np.dtype([("tick", "<i8"), ("a", "<i4"), ("b", "<i4")])
+_SAMPLE = np.dtype([("tick", "<i8"), ("a", "<i4"), ("b", "<i4"), ("vdc", "<i4"), ("pad", "<i4")])
 _BUS = np.dtype([("tick", "<i8"), ("addr", "<u4"), ("data", "<u4")])
 _IRQ = np.dtype([("tick", "<i8"), ("commit", "<i8"), ("cmp", "<i4", (6,)), ("late", "<i4"), ("adc_mode", "<i4"),
                  ("env", "<i4", (2,))])
@@ -394,7 +394,7 @@ class RtlClosedLoop:
         w["tick"] = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
         results = [("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),
                    ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False),
-                   ("speed_ref", "SPEED_REF", True), ("inj_phase", "INJ_PHASE", False)]
+                   ("speed_ref", "SPEED_REF", True), ("inj_phase", "INJ_PHASE", False), ("vdc", "VDC", False)]
         if hw.inj_per:      # the firmware reads the CIC outputs only with the period square wave (0 else)
             results += [("cic_qa", "CIC_QA", True), ("cic_qb", "CIC_QB", True)]
         for col, reg, signed in results:
@@ -457,7 +457,7 @@ class RtlClosedLoop:
             "uart_log": bytes(rec["uart"]).decode(errors="replace"),
         }
         samples_out = {"tick": samples["tick"].astype(np.int64), "adc_a": samples["a"].astype(np.uint16),
-                       "adc_b": samples["b"].astype(np.uint16)}
+                       "adc_b": samples["b"].astype(np.uint16), "adc_vdc": samples["vdc"].astype(np.uint16)}
         edges_out = {"tick": edges["tick"].astype(np.int64), "mask": edges["mask"].astype(np.int64)}
         return ClosedLoopResult(w, samples_out, edges_out, writes_out, hw, self.scales, sc.pwm.tick_hz,
                                 int(t["flipped"][-1]), wall, soc=soc, backend="rtl")

@@ -1,12 +1,14 @@
 `default_nettype none
-// hfi_adc_if -- interface to a serial, dual-channel, simultaneous-sampling SAR ADC
+// hfi_adc_if -- interface to a serial, three-channel, simultaneous-sampling SAR ADC
 //
 // The paper oversamples two phase currents (two LEM sensors) every 1 us (Benevieri et al. 2023,
-// Sec. IV; docs/spec.md 2.3 OS mode, 3.1), both at the same instant. This module starts one
-// conversion per `start` tick and reads both channels back over two serial data
-// lanes (SDOA, SDOB) that share one SCLK, MSB first, while CS_N is low. No arithmetic, no multiplier.
+// Sec. IV; docs/spec.md 2.3 OS mode, 3.1), both at the same instant; a third channel converts the
+// dc-link voltage (through a divider) at that instant too (docs/spec.md 3.12). This module starts one
+// conversion per `start` tick and reads the three channels back over three serial data
+// lanes (SDOA, SDOB, SDOC) that share one SCLK, MSB first, while CS_N is low. No arithmetic, no multiplier.
 // Golden counterpart: none (the plant's ADC); the codes are passed through unchanged, `uB` offset
-// binary (docs/spec.md section 3, ADC code format), to hfi_adc_scale (spec 3.1).
+// binary (docs/spec.md section 3, ADC code format), to hfi_adc_scale (spec 3.1); code_c, unipolar
+// (code 0 = 0 V), to the VDC register (spec 3.12).
 //
 // Parameters
 //   ADC_BITS   1..16  bits per channel (B)
@@ -25,11 +27,11 @@
 //                 cycle t+1), stays high for the conversion, CONV_TICKS clocks
 //   adc_cs_n      CS, active low (registered): low for the read-out of both channels
 //   adc_sclk      SCLK (registered), idles low; B pulses per conversion
-//   adc_sdo_a/b   serial data of channel A/B from the ADC (MSB first)
+//   adc_sdo_a/b/c serial data of channel A/B/C from the ADC (MSB first)
 //   busy          1 from the cycle after an accepted start until the cycle before done (a function
 //                 of registers only, no path from start)
-//   done          one-cycle pulse: code_a/code_b hold the new conversion from this cycle on
-//   code_a/b      uB offset binary ADC codes (registered, held until the next done; 0 after reset)
+//   done          one-cycle pulse: code_a/b/c hold the new conversion from this cycle on
+//   code_a/b/c    uB ADC codes (registered, held until the next done; 0 after reset)
 //
 // Protocol and timing (t = cycle of the accepted start, C = CONV_TICKS, H = SCLK_HALF, B = ADC_BITS,
 // c0 = t + 1 + C the cycle in which CS_N is low first; one column per clock, here C = 3, H = 1, B = 3):
@@ -44,8 +46,8 @@
 //   done       ____________________________________________/‾‾‾   one clock
 //   busy       ____/‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾\___   a start in the done cycle is taken
 //                 of registers only, no path from start)
-//   done          one-cycle pulse: code_a/code_b hold the new conversion from this cycle on
-//   code_a/b      uB offset binary ADC codes (registered, held until the next done; 0 after reset)
+//   done          one-cycle pulse: code_a/b/c hold the new conversion from this cycle on
+//   code_a/b/c    uB ADC codes (registered, held until the next done; 0 after reset)
 //
 // Protocol and timing (t = cycle of the accepted start, C = CONV_TICKS, H = SCLK_HALF, B = ADC_BITS,
 // c0 = t + 1 + C the cycle in which CS_N is low first; one column per clock, here C = 3, H = 1, B = 3):
@@ -84,8 +86,8 @@
 //   (B = 16: 46 clocks, so a 16-bit part at these settings needs OS_MIN >= 46; docs/rtl.md:
 //   OS_MIN = max(ITERATIONS + 8, ADC_CYCLE).)
 //
-// Part class: dual simultaneous-sampling 12..16-bit SAR ADCs with two serial data lanes in the
-// 2..5 MSPS range (AD7380/AD7381/LTC2311 class). The defaults suit a 12-bit part of that class with
+// Part class: simultaneous-sampling 12..16-bit SAR ADCs with one serial data lane per channel in the
+// 2..5 MSPS range (AD7380-4/AD7381-4 class: four channels, one left unused). The defaults suit a 12-bit part of that class with
 // t_CONV <= 120 ns, f_SCLK >= 50 MHz, t_EN and t_DSDO small enough for the 20 ns set-up budget
 // above. These numbers are the design target, not taken from one datasheet: for the chosen part,
 // check t_CONV, t_EN, t_DSDO, t_HSDO, t_QUIET and the SCLK limits and set CONV_TICKS / SCLK_HALF
@@ -116,10 +118,12 @@ module hfi_adc_if #(
     output reg                 adc_sclk,
     input  wire                adc_sdo_a,
     input  wire                adc_sdo_b,
+    input  wire                adc_sdo_c,
     output wire                busy,
     output reg                 done,
     output reg  [ADC_BITS-1:0] code_a,
-    output reg  [ADC_BITS-1:0] code_b
+    output reg  [ADC_BITS-1:0] code_b,
+    output reg  [ADC_BITS-1:0] code_c
 );
 
     // ---- fixed timing (see the header) ----
@@ -163,6 +167,7 @@ module hfi_adc_if #(
     /* verilator lint_on UNUSEDSIGNAL */
     reg             sdo_a_q;  // input registers (IOB): the SDO pins, sampled every clock
     reg             sdo_b_q;
+    reg             sdo_c_q;
 
     assign busy = (state != S_IDLE);
 
@@ -178,9 +183,11 @@ module hfi_adc_if #(
             done       <= 1'b0;
             sdo_a_q    <= 1'b0;
             sdo_b_q    <= 1'b0;
+            sdo_c_q    <= 1'b0;
         end else begin
             sdo_a_q <= adc_sdo_a;
             sdo_b_q <= adc_sdo_b;
+            sdo_c_q <= adc_sdo_c;
             done    <= 1'b0;
             cap     <= 1'b0;
             case (state)
@@ -224,30 +231,38 @@ module hfi_adc_if #(
                 if (rst) begin
                     code_a <= 1'b0;
                     code_b <= 1'b0;
+                    code_c <= 1'b0;
                 end else if (state == S_LAST) begin
                     code_a <= sdo_a_q;
                     code_b <= sdo_b_q;
+                    code_c <= sdo_c_q;
                 end
             end
         end else begin : g_shift
             reg  [ADC_BITS-2:0] sh_a;
             reg  [ADC_BITS-2:0] sh_b;
+            reg  [ADC_BITS-2:0] sh_c;
             wire [ADC_BITS-1:0] next_a = {sh_a, sdo_a_q};
             wire [ADC_BITS-1:0] next_b = {sh_b, sdo_b_q};
+            wire [ADC_BITS-1:0] next_c = {sh_c, sdo_c_q};
             always @(posedge clk) begin
                 if (rst) begin
                     sh_a   <= {(ADC_BITS-1){1'b0}};
                     sh_b   <= {(ADC_BITS-1){1'b0}};
+                    sh_c   <= {(ADC_BITS-1){1'b0}};
                     code_a <= {ADC_BITS{1'b0}};
                     code_b <= {ADC_BITS{1'b0}};
+                    code_c <= {ADC_BITS{1'b0}};
                 end else begin
                     if (cap) begin
                         sh_a <= next_a[ADC_BITS-2:0];
                         sh_b <= next_b[ADC_BITS-2:0];
+                        sh_c <= next_c[ADC_BITS-2:0];
                     end
                     if (state == S_LAST) begin
                         code_a <= next_a;
                         code_b <= next_b;
+                        code_c <= next_c;
                     end
                 end
             end

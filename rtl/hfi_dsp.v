@@ -35,6 +35,9 @@
 // is a multiple of OS_TICKS) carries a second tag; when hfi_park is done with it and it is not blanked
 // (OS_BLANK keep flag), its Clarke currents are held (top_ia_h, top_ib_h) and latched at the next window
 // boundary into TOP_I with the other window results (a window without a top sample keeps TOP_I).
+//
+// DC-link voltage (docs/spec.md 3.12): the ADC's third channel converts with every sample; the code of
+// the carrier-bottom sample (the bottom tag) is held and latched at the next window boundary into VDC.
 module hfi_dsp #(
     parameter ADC_BITS = 12,
     parameter ADC_CONV_TICKS = 12,
@@ -73,12 +76,13 @@ module hfi_dsp #(
     output wire        irq,
     // gate signals: bit 2x = high switch of leg x, 2x+1 = low switch (a, b, c = 0, 1, 2)
     output wire [5:0]  gate,
-    // serial simultaneous-sampling ADC (phases a and b)
+    // serial simultaneous-sampling ADC (phases a and b, the dc link)
     output wire        adc_convst,
     output wire        adc_cs_n,
     output wire        adc_sclk,
     input  wire        adc_sdo_a,
     input  wire        adc_sdo_b,
+    input  wire        adc_sdo_c,
     // safety pins (asynchronous, active high; docs/spec.md 3.8, hfi_safety): Safe Torque Off request
     // and gate-driver fault (DESAT); drive_allowed is for the gate driver's enable pin
     input  wire        sto,
@@ -124,6 +128,7 @@ module hfi_dsp #(
     reg  signed [20:0] cic_qa_q, cic_qb_q;   // CIC_QA, CIC_QB, ENV_A, ENV_B: latched at the boundary
     reg  signed [16:0] env_a_q, env_b_q;
     reg  signed [15:0] top_ia_q, top_ib_q;   // TOP_I: latched at the boundary
+    reg  [15:0] vdc_q;                       // VDC: latched at the boundary
     wire signed [15:0] adc_offset_a, adc_offset_b, sh_v_d, sh_v_q, sh_sin, sh_cos, sh_i_d_ref, sh_i_q_ref;
     wire [14:0] sh_v_h, hf_amp;
     wire signed [31:0] gamma, gamma_d, sum_id, sum_iq, wsum;
@@ -153,6 +158,7 @@ module hfi_dsp #(
         .inj_step(inj_step), .inj_phase(inj_phase_q), .cic_m(cic_m_reg),
         .fcs_a1(sh_fcs_a1), .fcs_a2(sh_fcs_a2), .fcs_phi_min(sh_fcs_phi_min), .fcs_constrain(sh_fcs_constrain),
         .vector_state(vector_q), .vector_next(mod_state), .top_i_alpha(top_ia_q), .top_i_beta(top_ib_q),
+        .vdc_code(vdc_q),
         .cic_qa({{11{cic_qa_q[20]}}, cic_qa_q}), .cic_qb({{11{cic_qb_q[20]}}, cic_qb_q}),
         .env_a({{15{env_a_q[16]}}, env_a_q}), .env_b({{15{env_b_q[16]}}, env_b_q}),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
@@ -373,13 +379,13 @@ module hfi_dsp #(
     end
 
     // ---- current path: serial ADC -> offset/gain -> (overcurrent) -> Clarke/Park
-    wire [ADC_BITS-1:0] code_a, code_b;
+    wire [ADC_BITS-1:0] code_a, code_b, code_c;
     wire adc_busy, adc_done;
     hfi_adc_if #(.ADC_BITS(ADC_BITS), .CONV_TICKS(ADC_CONV_TICKS), .SCLK_HALF(ADC_SCLK_HALF),
                  .MAX_CYCLE(OS_MIN)) u_adc (
         .clk(clk), .rst(rst_adc), .start(sample_q), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n),
-        .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
-        .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b)
+        .adc_sclk(adc_sclk), .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c),
+        .busy(adc_busy), .done(adc_done), .code_a(code_a), .code_b(code_b), .code_c(code_c)
     );
     reg tag_adc_keep, tag_adc_par, tag_adc_bot, tag_adc_top;   // tags of the sample in the ADC
     always @(posedge clk)
@@ -469,6 +475,26 @@ module hfi_dsp #(
             if (at_zc) begin
                 top_ia_q <= top_ia_h; top_ib_q <= top_ib_h;
             end
+        end
+    end
+
+    // ---- dc-link voltage (spec 3.12, golden/closedloop.py): VDC
+    // The third channel's code of the carrier-bottom sample, held when the ADC is done with it (a few
+    // tens of clocks after the bottom) and latched at the next window boundary, H/2 >= 256 clocks after
+    // the bottom (the CIC check below covers the longer path of the same sample). Every mode; 0 after reset.
+    /* verilator lint_off UNUSEDSIGNAL */  // the top ADC_BITS bits of the extension are never used
+    wire [ADC_BITS+15:0] code_c_ext = {16'd0, code_c};
+    /* verilator lint_on UNUSEDSIGNAL */
+    reg [15:0] vdc_h;
+    always @(posedge clk) begin
+        if (rst_dp) begin
+            vdc_h <= 16'd0;
+            vdc_q <= 16'd0;
+        end else begin
+            if (adc_done && tag_adc_bot)
+                vdc_h <= code_c_ext[15:0];
+            if (at_zc)
+                vdc_q <= vdc_h;
         end
     end
 

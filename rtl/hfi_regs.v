@@ -109,6 +109,7 @@ module hfi_regs #(
     input  wire [2:0]  vector_next,       // VECTOR.NEXT (the modulator's state for the next top, not latched)
     input  wire [15:0] top_i_alpha,       // TOP_I.I_ALPHA, TOP_I.I_BETA (s16 each)
     input  wire [15:0] top_i_beta,
+    input  wire [15:0] vdc_code,          // VDC.CODE (u16)
     output reg         irq
 );
 /* verilator lint_off UNUSEDPARAM */  // the generated map lists every field; not all are needed here
@@ -236,7 +237,7 @@ module hfi_regs #(
             HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR,
             HFI_SAFETY_LOCK_ADDR, HFI_INJ_STEP_ADDR, HFI_INJ_PHASE_ADDR, HFI_CIC_M_ADDR, HFI_CIC_QA_ADDR,
             HFI_CIC_QB_ADDR, HFI_ENV_A_ADDR, HFI_ENV_B_ADDR, HFI_FCS_A_ADDR, HFI_FCS_CTRL_ADDR,
-            HFI_VECTOR_ADDR, HFI_TOP_I_ADDR:
+            HFI_VECTOR_ADDR, HFI_TOP_I_ADDR, HFI_VDC_ADDR:
                 known_addr = 1'b1;
             default: known_addr = 1'b0;
         endcase
@@ -395,6 +396,7 @@ module hfi_regs #(
                     HFI_VECTOR_ADDR: w = {25'd0, vector_next, 1'b0, vector_state};
                     HFI_TOP_I_ADDR: w = ({16'd0, top_i_alpha} << HFI_TOP_I_I_ALPHA_LSB)
                                       | ({16'd0, top_i_beta} << HFI_TOP_I_I_BETA_LSB);
+                    HFI_VDC_ADDR: w = {16'd0, vdc_code} << HFI_VDC_CODE_LSB;
                     HFI_SAFETY_LOCK_ADDR: w = {31'd0, r_safety_lock} << HFI_SAFETY_LOCK_LOCK_LSB;
                     default: w = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
                 endcase

@@ -53,6 +53,7 @@ module hfi_soc #(
     output wire        adc_sclk,
     input  wire        adc_sdo_a,
     input  wire        adc_sdo_b,
+    input  wire        adc_sdo_c,
     output wire        uart_tx,
     output wire        trace_valid,
     output wire [31:0] trace_data
@@ -225,7 +226,7 @@ module hfi_soc #(
         .s_axil_rdata(rdata), .s_axil_rresp(rresp_unused), .s_axil_rvalid(rvalid), .s_axil_rready(rready),
         .irq(dsp_irq), .gate(gate),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c),
         .sto(sto), .desat(desat), .drive_allowed(drive_allowed)
     );
 

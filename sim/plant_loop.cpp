@@ -32,17 +32,17 @@ bool PlantLoop::refused(const char *what, long long tick, int status)
     return false;
 }
 
-bool PlantLoop::record_sample(long long tick, int a, int b)
+bool PlantLoop::record_sample(long long tick, int a, int b, int vdc)
 {
     const int top = (1 << adc_bits_) - 1;
-    if (a < 0 || a > top || b < 0 || b > top) {
+    if (a < 0 || a > top || b < 0 || b > top || vdc < 0 || vdc > top) {
         char msg[200];
-        std::snprintf(msg, sizeof msg, "window %lld: ADC code (%d, %d) at tick %lld is outside 0..%d (%d bits)",
-                      windows_ended(), a, b, tick, top, adc_bits_);
+        std::snprintf(msg, sizeof msg, "window %lld: ADC code (%d, %d, %d) at tick %lld is outside 0..%d (%d bits)",
+                      windows_ended(), a, b, vdc, tick, top, adc_bits_);
         error_ = msg;
         return false;
     }
-    samples.push_back(adc_sample{tick, a, b});
+    samples.push_back(adc_sample{tick, a, b, vdc, 0});
     return true;
 }
 
@@ -57,10 +57,10 @@ bool PlantLoop::set_gates(long long tick, int mask)
     return true;
 }
 
-bool PlantLoop::sample(long long tick, int *adc_a, int *adc_b)
+bool PlantLoop::sample(long long tick, int *adc_a, int *adc_b, int *adc_vdc)
 {
-    int adc[3];
-    double analog[3];
+    int adc[PLANT_ADC_CHANNELS];
+    double analog[PLANT_ADC_CHANNELS];
     int st = plant_advance(pl_, tick);
     if (st == 0)
         st = plant_sample(pl_, adc, analog);
@@ -68,7 +68,8 @@ bool PlantLoop::sample(long long tick, int *adc_a, int *adc_b)
         return refused("a sample", tick, st);
     *adc_a = adc[0];
     *adc_b = adc[1];
-    return record_sample(tick, adc[0], adc[1]);
+    *adc_vdc = adc[3];
+    return record_sample(tick, adc[0], adc[1], adc[3]);
 }
 
 bool PlantLoop::end_window()
@@ -87,7 +88,7 @@ bool PlantLoop::run_window(const std::vector<long long> &e_ticks, const std::vec
                            const std::vector<long long> &s_ticks, std::vector<int> &adc)
 {
     const int n = int(s_ticks.size());
-    adc.resize(3 * size_t(n > 0 ? n : 1));
+    adc.resize(PLANT_ADC_CHANNELS * size_t(n > 0 ? n : 1));
     auto t0 = std::chrono::steady_clock::now();
     const int st = plant_run(pl_, int(e_ticks.size()), e_ticks.data(), e_masks.data(), nullptr, n, s_ticks.data(),
                              adc.data(), nullptr, nullptr);
@@ -97,7 +98,8 @@ bool PlantLoop::run_window(const std::vector<long long> &e_ticks, const std::vec
     for (size_t i = 0; i < e_ticks.size(); i++)
         edges.push_back(gate_edge{e_ticks[i], e_masks[i]});
     for (int i = 0; i < n; i++)
-        if (!record_sample(s_ticks[i], adc[3 * i], adc[3 * i + 1]))
+        if (!record_sample(s_ticks[i], adc[PLANT_ADC_CHANNELS * i], adc[PLANT_ADC_CHANNELS * i + 1],
+                           adc[PLANT_ADC_CHANNELS * i + 3]))
             return false;
     t0 = std::chrono::steady_clock::now();
     const bool ended = end_window();

@@ -44,10 +44,11 @@ public:
 
     // Per event. false: the plant refused it (error() says which and why).
     bool set_gates(long long tick, int mask);                   // records the edge
-    bool sample(long long tick, int *adc_a, int *adc_b);        // records the sample
+    bool sample(long long tick, int *adc_a, int *adc_b, int *adc_vdc);   // records the sample
     bool end_window();                                          // records the truth
     // The window windows_ended() in one plant call: gate edges (e_ticks, e_masks) and samples (s_ticks,
-    // codes into adc: 3 per sample, channels a, b, c), recorded, then end_window().
+    // codes into adc: PLANT_ADC_CHANNELS per sample, currents a, b, c and the dc link), recorded, then
+    // end_window().
     bool run_window(const std::vector<long long> &e_ticks, const std::vector<int> &e_masks,
                     const std::vector<long long> &s_ticks, std::vector<int> &adc);
 
@@ -61,7 +62,7 @@ public:
 
 private:
     bool refused(const char *what, long long tick, int status);
-    bool record_sample(long long tick, int a, int b);
+    bool record_sample(long long tick, int a, int b, int vdc);
 
     plant *pl_;
     long long half_, n_windows_;

@@ -12,11 +12,13 @@ struct gate_edge {
     int64_t mask;
 };
 
-/* One ADC conversion: the codes of channels a and b. */
+/* One ADC conversion: the codes of channels a and b (phase currents) and of the dc-link channel. */
 struct adc_sample {
     int64_t tick;
     int32_t adc_a;
     int32_t adc_b;
+    int32_t adc_vdc;
+    int32_t pad;    /* explicit: the record is 24 bytes on every ABI */
 };
 
 #endif

@@ -57,7 +57,7 @@ struct soc_sim {
     // pins seen after the previous two rising edges (for the ADC protocol)
     bool convst_q = false, convst_qq = false, cs_q = true, cs_qq = true, sclk_q = false, sclk_qq = false;
     int gate_q = 0;
-    int pair_a = 0, pair_b = 0, bitpos = 0;
+    int pair_a = 0, pair_b = 0, pair_c = 0, bitpos = 0;   // the codes of lanes A, B, C being read out
     bool irq_q = false;
     bool aw_done = false, w_done = false;
     uint32_t aw_addr = 0, w_data = 0, ar_addr = 0;
@@ -125,6 +125,7 @@ extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, str
     sim->top->rst = 1;
     sim->top->adc_sdo_a = 0;
     sim->top->adc_sdo_b = 0;
+    sim->top->adc_sdo_c = 0;
     sim->top->sto = 0;        // safety pins released (the closed loop does not exercise them)
     sim->top->desat = 0;
     for (int i = 0; i < 20 * setup->cpu_div; i++) {   // reset: >= 20 clocks of the slower clock (docs/rtl.md)
@@ -193,10 +194,11 @@ static int clock_once(soc_sim *sim)
             return plant_error(sim);
         if (convst && !sim->convst_q) {          // sampling instant: the plant's sample of this tick
             if (te >= sim->loop.window_start(0)) {
-                if (!sim->loop.sample(te, &sim->pair_a, &sim->pair_b))
+                if (!sim->loop.sample(te, &sim->pair_a, &sim->pair_b, &sim->pair_c))
                     return plant_error(sim);
-            } else {
+            } else {                              // before the first window: 0 A, 0 V (no plant sample)
                 sim->pair_a = sim->pair_b = sim->loop.mid_code();
+                sim->pair_c = 0;
             }
         }
     } else if (gate != 0 || convst) {
@@ -208,10 +210,12 @@ static int clock_once(soc_sim *sim)
         sim->bitpos = sim->s.adc_bits - 1;
         top->adc_sdo_a = (sim->pair_a >> sim->bitpos) & 1;
         top->adc_sdo_b = (sim->pair_b >> sim->bitpos) & 1;
+        top->adc_sdo_c = (sim->pair_c >> sim->bitpos) & 1;
     } else if (!sim->cs_q && !sim->sclk_q && sim->sclk_qq && sim->bitpos > 0) {
         sim->bitpos--;
         top->adc_sdo_a = (sim->pair_a >> sim->bitpos) & 1;
         top->adc_sdo_b = (sim->pair_b >> sim->bitpos) & 1;
+        top->adc_sdo_c = (sim->pair_c >> sim->bitpos) & 1;
     }
     sim->convst_qq = sim->convst_q;
     sim->convst_q = convst;

@@ -64,3 +64,38 @@ def test_a_restart_takes_the_drive_back_once_the_fault_clears():
     assert changes[-1][1] == MODE_RUN and mode[-1] == MODE_RUN
     err = res.angle_error_deg()[t > 1.4]
     assert np.sqrt(np.mean(err ** 2)) < 15.0                 # locked again (healthy: about 5 deg)
+
+
+@pytest.mark.parametrize("name, code", [("dc-link sag -30 %", "undervoltage"), ("dc-link surge +40 %", "overvoltage")])
+def test_a_dc_link_step_trips_after_its_periods(name, code):
+    """A step of the link at the onset (0.8 s = a carrier bottom): the bottom sample of that window reads it, and
+    the check trips in the window ``vdc_n - 1`` later (every VDC reading beyond the limit: 392 V and 784 V against
+    420 V and 700 V); the first FAULT window is that one, with the check's code."""
+    import numpy as np
+
+    from golden.closedloop import ClosedLoop
+    from golden.control_config import hardware_config, protection_params
+    from golden.firmware.protection import FAULT_NAMES
+
+    sc = faults.scenario(faults.FAULTS[name], 50.0, True, faults.DURATION_SHORT_S)
+    P = 2 * hardware_config(sc).pwm_half
+    onset = round(faults.ONSET_S * sc.pwm.tick_hz)
+    prot = protection_params(sc)
+    res = ClosedLoop(sc).run(progress=False)
+    first_low = onset // P - 1                    # window k's bottom sample is at (k + 1) P
+    assert onset % P == 0
+    vdc = res.windows["vdc"]
+    beyond = (vdc < prot.vdc_lo) | (vdc > prot.vdc_hi)
+    assert not beyond[:first_low].any() and beyond[first_low:first_low + prot.vdc_n].all()
+    fault = res.windows["fault"]
+    k = int(np.flatnonzero(fault)[0])
+    assert (k, FAULT_NAMES[fault[k]]) == (first_low + prot.vdc_n - 1, code)
+
+
+def test_the_restart_part_relocks_after_a_transient_sag():
+    """The restart part of the matrix (hfi.faults.run_restart): a 50 ms sag of 30 % without load trips
+    undervoltage, the firmware starts again RESTART_DELAY_S later and holds 50 r/min locked at the end."""
+    row = faults.run_restart(("dc-link sag -30 %", False, faults.DURATION_S))
+    assert (row["code"], row["second_code"], row["locked_at_end"]) == ("undervoltage", "none", True)
+    assert row["restart_s"] == pytest.approx(row["trip_s"] + faults.RESTART_DELAY_S, abs=1e-3)
+    assert row["trip_s"] >= faults.ONSET_S

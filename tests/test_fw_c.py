@@ -387,7 +387,29 @@ def test_protect_step_random_sequences(seed):
                 (seed, q, k, p)
             seen.add(want)
     assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE,
-                                                    protection.FAULT_IDENT}, seen
+                                                    protection.FAULT_IDENT, protection.FAULT_UNDERVOLTAGE,
+                                                    protection.FAULT_OVERVOLTAGE}, seen
+
+
+def test_dc_link_check_random_sequences(seed):
+    """Sequences of VDC codes (u16, around the limits and anywhere) through the dc-link check, golden == C,
+    counts included; both of its codes are reached, and so is no trip."""
+    rng = np.random.default_rng(seed + 42)
+    c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")
+    seen = set()
+    for q in range(N_RANDOM // 50):
+        p = random_prot(rng)
+        fw_c._fill(c, p)
+        gold = Firmware(_params())
+        st.vdc_lo_n = st.vdc_hi_n = 0
+        for k in range(10):
+            vdc = draw_one(rng, 0, 65535, (0, 65535, p.vdc_lo - 1, p.vdc_lo, p.vdc_hi, p.vdc_hi + 1))
+            vdc = min(max(vdc, 0), 65535)
+            want = protection.dc_link_check(gold, p, vdc)
+            got = lib.fw_dc_link_check(st, c, vdc)
+            assert (got, st.vdc_lo_n, st.vdc_hi_n) == (want, gold.vdc_lo_n, gold.vdc_hi_n), (seed, q, k, p, vdc)
+            seen.add(want)
+    assert seen == {protection.FAULT_NONE, protection.FAULT_UNDERVOLTAGE, protection.FAULT_OVERVOLTAGE}, seen
 
 
 # ---- speed filter --------------------------------------------------------------------------------------------
@@ -666,12 +688,15 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
     emf_k, track_k = draw(rng, 2, 0, 30, (0, 5, 7))
     emf_tol, track_tol = draw(rng, 2, 0, S32_MAX, (0, 2011, 1 << 20))
     w_max, w_asc = draw(rng, 2, 0, S32_MAX, (0, 10_021_590, 300_690_740))
+    vdc_lo = draw_one(rng, 0, 65535, (0, 1536, 65535))
     return ProtParams(r=r, ld=ld, lq=lq, psi_f=psi_f, emf_k=emf_k, emf_tol=emf_tol, psi_rel=psi_rel,
                       track_k=track_k, track_tol=track_tol, ovl_n=draw_one(rng, 0, 2000, (0, 1, 2500)),
                       ovl_w=draw_one(rng, 0, S32_MAX, (0, 1_202_591)), ovl_m=draw_one(rng, 0, 300, (0, 1, 250)),
                       w_max=w_max, w_asc=w_asc,
                       restarts=draw_one(rng, 0, 3, (0,)), restart_n=draw_one(rng, 0, 20, (0, 1)),
-                      hf_k=draw_one(rng, 0, 30, (0, 4)), hf_tol=draw_one(rng, 0, 1 << 16, (0, 5898, 1 << 16)))
+                      hf_k=draw_one(rng, 0, 30, (0, 4)), hf_tol=draw_one(rng, 0, 1 << 16, (0, 5898, 1 << 16)),
+                      vdc_lo=vdc_lo, vdc_hi=draw_one(rng, vdc_lo, 65535, (vdc_lo, 65535)),
+                      vdc_n=draw_one(rng, 0, 20, (0, 1, 5)))
 
 
 def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:
@@ -682,10 +707,16 @@ def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:
     return np.where(rng.random(count) < 0.9, s21, s32)
 
 
-def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int) -> list[WindowResult]:
+def healthy_vdc(p) -> int:
+    """A VDC code the dc-link check of ``p`` passes: the middle of its band."""
+    return (p.prot.vdc_lo + p.prot.vdc_hi) // 2
+
+
+def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bias: int,
+                   vdc: int = 0) -> list[WindowResult]:
     """``count`` window results whose means stay within +-i_trip (no trip); gamma_d shifted by the bias;
-    CIC_QA/QB as :func:`random_cic_q`; VECTOR.STATE and NEXT 0..7, TOP_I s16 (mostly within +-4000); STATUS fault
-    latches in one window of 500."""
+    CIC_QA/QB as :func:`random_cic_q`; VECTOR.STATE and NEXT 0..7, TOP_I s16 (mostly within +-4000); VDC ``vdc``
+    (:func:`healthy_vdc`: the dc-link check passes; its trips are tested on their own)."""
     gamma, gamma_d, wsum = (draw_array(rng, count, S32_MIN, S32_MAX) for _ in range(3))
     gamma_d = np.clip(gamma_d // 2 + gamma_d_bias, S32_MIN, S32_MAX)
     n = draw_array(rng, count, 0, U16_MAX, (1, 2, 10, 200))
@@ -701,7 +732,7 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
     top = [np.where(rng.random(count) < 0.8, rng.integers(-4000, 4001, size=count), draw_array(rng, count, S16_MIN, S16_MAX))
            for _ in range(2)]
     cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase, random_cic_q(rng, count), random_cic_q(rng, count),
-            zeros, zeros, vector, vector_next, top[0], top[1])
+            zeros, zeros, vector, vector_next, top[0], top[1], np.full(count, vdc))
     return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
 
 
@@ -746,7 +777,7 @@ def test_fw_step_random_sequences(seed, chunk):
         pair = Pair(p)
         bias = draw_one(rng, -(1 << 20), 1 << 20) if q % 5 else 0
         speed_ref = draw_one(rng, S32_MIN, S32_MAX)
-        windows = random_windows(rng, SEQ_LEN, p.i_trip, bias)
+        windows = random_windows(rng, SEQ_LEN, p.i_trip, bias, healthy_vdc(p))
         for k, w in enumerate(windows):
             before, active = pair.fw.mode, pair.fw.active
             if before == trip_mode and rng.random() < 0.25:
@@ -1467,7 +1498,7 @@ def test_fw_step_fcs_hfo_sequences(seed, chunk):
         p = replace(base, n_converge=int(rng.integers(-1, 6)), n_settle=int(rng.integers(-1, 6)))
         pair = Pair(p)
         speed_ref = draw_one(rng, -(1 << 22), 1 << 22, (0,))
-        for k, w in enumerate(random_windows(rng, SEQ_LEN, p.i_trip, 0)):
+        for k, w in enumerate(random_windows(rng, SEQ_LEN, p.i_trip, 0, healthy_vdc(p))):
             if rng.random() < 0.05:
                 speed_ref = draw_one(rng, -(1 << 22), 1 << 22, (0,))
             out = pair.step(w, speed_ref, (seed, chunk, q, k))
@@ -1539,7 +1570,7 @@ def random_ident(rng: np.random.Generator) -> IdentParams:
                        i_slew=draw_one(rng, 1, 1 << 20, (1, 100, 1 << 20)), vh_max=draw_one(rng, 0, S16_MAX, (S16_MAX, 3000)))
 
 
-def ident_windows(rng: np.random.Generator, count: int, i_trip: int) -> list[WindowResult]:
+def ident_windows(rng: np.random.Generator, count: int, i_trip: int, vdc: int) -> list[WindowResult]:
     """:func:`random_windows` with s16 current means (the hardware's: sums of s16 samples; control.h) and
     GAMMA, GAMMA_D within +-scale (2^20, 2^23: around the noise sum's 24-bit saturation, or all of s32), GAMMA_D
     mostly of one sign (biased positive in two programs of three: the probe and the scan see a response, the
@@ -1549,7 +1580,7 @@ def ident_windows(rng: np.random.Generator, count: int, i_trip: int) -> list[Win
     g = draw(rng, count, max(-scale, S32_MIN), min(scale, S32_MAX))
     gd = draw_array(rng, count, -scale // 2, scale // 2)
     gd = np.clip(np.where(rng.random(count) < 0.8, gd // 8, gd) + bias, S32_MIN, S32_MAX).tolist()
-    windows = random_windows(rng, count, min(i_trip, S16_MAX), 0)
+    windows = random_windows(rng, count, min(i_trip, S16_MAX), 0, vdc)
     return [replace(w, gamma=a, gamma_d=b) for w, a, b in zip(windows, g, gd)]
 
 
@@ -1569,7 +1600,7 @@ def test_ident_random_programs(seed):
         total = sum(ip.s_n) + int(rng.integers(0, 6))
         trip_in = (None, MODE_IDENT, MODE_DONE)[int(rng.integers(0, 3))] if q % 8 == 0 else None
         speed_ref = draw_one(rng, S32_MIN, S32_MAX)
-        for k, w in enumerate(ident_windows(rng, total, p.i_trip)):
+        for k, w in enumerate(ident_windows(rng, total, p.i_trip, healthy_vdc(p))):
             before = pair.fw.mode
             if before == trip_in and rng.random() < 0.2:
                 w = trip_window(rng, p.i_trip)

@@ -133,7 +133,7 @@ def test_faults_do_not_change_a_run_before_their_onset():
     (fault(max(_KIND.values()) + 1, 0.0), "is not a fault"),
     (fault(ADC_STUCK, 0.0, value=70000), "stuck code"),
     (fault(SWITCH_OPEN, 0.0, channel=6), "channel must be in 0..5"),
-    (fault(DC_LINK, 0.0, value=1.5), "dc-link factor"),
+    (fault(DC_LINK, 0.0, value=2.5), "dc-link factor"),
     (fault(SENSOR_GAIN, 0.0, value=-1.0), "gain factor"),
 ])
 def test_bad_faults_are_refused(bad, message):

@@ -78,7 +78,7 @@ def test_ringing_after_each_turn_on():
         y = plant.state()["sensor_y"]
         ring = sum(s * A * math.exp(-(tick - et) / TICK / tau) * math.sin(2 * math.pi * f * (tick - et) / TICK)
                    for et, _, s in edges if et <= tick)
-        analog.append(a - y)
+        analog.append(a[:3] - y)
         expected.append([ring, cross * ring, cross * ring])
     np.testing.assert_allclose(np.array(analog), np.array(expected), rtol=0, atol=1e-12)
     assert np.max(np.abs(expected)) > 0.1
@@ -125,7 +125,7 @@ def test_same_seed_is_bit_identical_and_batch_equals_per_event():
         if kind == 0:
             plant.set_gates(mask)
         else:
-            got.append(plant.sample()[1])
+            got.append(plant.sample()[1][:3])
     assert np.array(got).tobytes() == a["analog"].tobytes()
 
 

@@ -137,7 +137,7 @@ SPEC_ADDRS = {
     "DTC_GAIN": 0x74, "HF_AMP": 0x78, "RECIP_H": 0x7C, "I_REF": 0x80, "SAFETY_LOCK": 0x84,
     "INJ_STEP": 0x88, "INJ_PHASE": 0x8C, "CIC_M": 0x90, "CIC_QA": 0x94, "CIC_QB": 0x98, "ENV_A": 0x9C,
     "ENV_B": 0xA0, "FCS_A": 0xA4, "FCS_CTRL": 0xA8, "VECTOR": 0xAC,
-    "TOP_I": 0xB0,
+    "TOP_I": 0xB0, "VDC": 0xB4,
 }
 
 
@@ -189,6 +189,9 @@ def test_fields_and_resets():
     # the carrier-top sample (docs/spec.md 3.11)
     assert regmap.REGISTERS["TOP_I"]["fields"] == {"I_ALPHA": (0, 16, None, "ro"), "I_BETA": (16, 16, None, "ro")}
     assert regmap.REGISTERS["TOP_I"]["signed"] == ("I_ALPHA", "I_BETA")
+    # the dc-link voltage (docs/spec.md 3.12)
+    assert regmap.REGISTERS["VDC"]["fields"] == {"CODE": (0, 16, None, "ro")}
+    assert regmap.REGISTERS["VDC"]["signed"] == ()
     for name, reg in regmap.REGISTERS.items():  # no overlapping fields, all inside 32 bits
         used = 0
         for lsb, width, _reset, _access in reg["fields"].values():
@@ -213,6 +216,7 @@ def test_pack_negative_signed_field():
     ("VECTOR", {"STATE": 7, "NEXT": 0}),
     ("VECTOR", {"STATE": 0, "NEXT": 6}),
     ("TOP_I", {"I_ALPHA": -32768, "I_BETA": 32767}),
+    ("VDC", {"CODE": 65535}),
     ("CIC_M", {"VALUE": 255}),
     ("CIC_QA", {"VALUE": -(2**20)}),
     ("ENV_B", {"VALUE": 2**16 - 1}),

@@ -164,7 +164,8 @@ def test_plant_fields_from_every_section():
         "pwm": {"tick_hz": "50 MHz"},
         "sensors": {"gain": 1.02, "offset": ["10 mA", 0, "-5 mA"], "noise_rms": "3 mA",
                     "bandwidth": "200 kHz", "ring_amp": "0.5 A", "ring_freq": "20 MHz",
-                    "ring_tau": "100 ns", "ring_cross": "20 %", "adc_bits": 12, "adc_range": "8 A"},
+                    "ring_tau": "100 ns", "ring_cross": "20 %", "adc_bits": 12, "adc_range": "8 A",
+                        "vdc_range": "1 kV", "vdc_gain": 0.98, "vdc_noise": "0.5 V"},
         "load": {"initial": {"theta_m": "90 deg", "omega_m": "-60 rpm"}},
         "simulation": {"max_substep": "1 us"},
     })
@@ -178,7 +179,7 @@ def test_plant_fields_from_every_section():
     assert p["sens"] == {"gain": [1.02, 1.02, 1.02], "offset": [0.01, 0.0, -0.005],
                          "noise_rms": 0.003, "bandwidth_hz": 2e5, "ring_amp": 0.5,
                          "ring_freq": 2e7, "ring_tau": 1e-7, "ring_cross": 0.2, "adc_bits": 12,
-                         "adc_range": 8.0}
+                         "adc_range": 8.0, "vdc_range": 1000.0, "vdc_gain": 0.98, "vdc_noise_rms": 0.5}
     assert p["theta_m0"] == 90 * (math.pi / 180)
     assert p["omega_m0"] == -60 * (2 * math.pi / 60)
     assert p["max_substep_ticks"] == 50

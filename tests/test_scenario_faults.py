@@ -58,7 +58,7 @@ def test_no_faults_is_an_empty_list():
     ({"kind": "phase_open", "at": "0.1 s"}, "faults[0].phase: missing"),
     ({"kind": "phase_open", "at": "0.1 s", "phase": "d"}, "'d' is not one of 'a', 'b', 'c'"),
     ({"kind": "phase_open", "at": "0.1 s", "phase": "a", "gain": 2}, "faults[0].gain: not a key of fault kind"),
-    ({"kind": "dc_link", "at": "0.1 s", "factor": 1.5}, "faults[0].factor: must be between"),
+    ({"kind": "dc_link", "at": "0.1 s", "factor": 2.5}, "faults[0].factor: must be between"),
     ({"kind": "adc_stuck", "at": "0.1 s", "phase": "a", "code": 4096}, "not a code of a 12-bit ADC"),
     ({"kind": "rotor_blocked", "at": "1 s"}, "not before the end of the run"),
     ({"kind": "load_step", "at": "0.1 s", "torque": "2 V"}, "faults[0].torque"),

@@ -249,3 +249,34 @@ def test_handover_speed_in_the_speed_format():
     limit_rpm = F_SW / 2 / 4 * 60
     msg = problem({"estimator": {"high": "rfo", "handover_up": "40000 rpm"}}, "estimator.handover_up")
     assert f"{limit_rpm:g} rpm" in msg
+
+
+# ---- the dc-link channel (docs/scenario.md, sensors.vdc_range, protection.undervoltage/overvoltage) ----------
+def test_dc_link_channel_defaults_to_twice_the_link_and_its_limits_follow():
+    """Absent vdc_range: 2 x V_dc (560 V here); the check's codes are the limits times V_dc in codes of the
+    channel (2^12 / 1120 V per volt at the SoC's 12 bits), for 0.6 ms = 3 periods at 5 kHz."""
+    from golden.control_config import protection_params
+    sc = accepted({"sensors": {"adc_bits": 12}})
+    assert sc.plant["sens"]["vdc_range"] == 2 * 560.0
+    p = protection_params(sc)
+    assert (p.vdc_lo, p.vdc_hi, p.vdc_n) == (round(0.75 * 560 * 4096 / 1120), round(1.25 * 560 * 4096 / 1120), 3)
+    assert (p.vdc_lo, p.vdc_hi) == (1536, 2560)
+    off = protection_params(accepted({"sensors": {"adc_bits": 12, "vdc_range": "0 V"}}))
+    assert (off.vdc_lo, off.vdc_hi, off.vdc_n) == (0, 0, 0)
+
+
+def test_dc_link_channel_must_hold_the_overvoltage_limit():
+    msg = problem({"sensors": {"vdc_range": "600 V"}}, "sensors.vdc_range")
+    assert f"is not above protection.overvoltage x inverter.V_dc = {fq(1.25 * 560, 'V')}" in msg
+    assert "would read full scale" in msg
+    msg = problem({"sensors": {"vdc_range": "650 V"}, "protection": {"overvoltage": 1.2}}, "sensors.vdc_range")
+    assert f"protection.overvoltage x inverter.V_dc = {fq(1.2 * 560, 'V')}" in msg
+
+
+def test_dc_link_limits_are_checked():
+    assert "must be between 0 and 1" in problem({"protection": {"undervoltage": 1.0}}, "protection.undervoltage")
+    assert "must be > 1" in problem({"protection": {"overvoltage": 1.0}}, "protection.overvoltage")
+    # a band of 2 codes at 12 bits over 1120 V (4 LSB = 1.09 V): refused
+    msg = problem({"sensors": {"adc_bits": 12}, "protection": {"undervoltage": 0.999, "overvoltage": 1.0005}},
+                  "protection.overvoltage")
+    assert f"below 4 LSB of the dc-link channel ({fq(4 * 1120 / 4096, 'V')})" in msg

@@ -27,7 +27,8 @@ module tangnano20k_top #(
     output wire       adc_cs_n,
     output wire       adc_sclk,
     input  wire       adc_sdo_a,
-    input  wire       adc_sdo_b
+    input  wire       adc_sdo_b,
+    input  wire       adc_sdo_c
 );
     wire clk, cpu_clk, tick_locked, cpu_locked;
     tick_pll u_tick_pll (.clock_in(clk_27mhz), .clock_out(clk), .locked(tick_locked));
@@ -54,7 +55,7 @@ module tangnano20k_top #(
         .clk(clk), .cpu_clk(cpu_clk), .rst(rst),
         .gate(soc_gate), .sto(!sto_n), .desat(!fault_n), .drive_allowed(drive_allowed),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .uart_tx(uart_tx),
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c), .uart_tx(uart_tx),
         .trace_valid(trace_valid), .trace_data(trace_data)
     );
 

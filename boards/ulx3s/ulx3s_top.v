@@ -32,7 +32,8 @@ module ulx3s_top #(
     output wire       adc_cs_n,
     output wire       adc_sclk,
     input  wire       adc_sdo_a,
-    input  wire       adc_sdo_b
+    input  wire       adc_sdo_b,
+    input  wire       adc_sdo_c
 );
     wire clk, cpu_clk, locked;
     board_pll u_pll (.clkin(clk_25mhz), .clkout0(clk), .clkout1(cpu_clk), .locked(locked));
@@ -59,7 +60,7 @@ module ulx3s_top #(
         .clk(clk), .cpu_clk(cpu_clk), .rst(rst),
         .gate(soc_gate), .sto(!sto_n), .desat(!fault_n), .drive_allowed(drive_allowed),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .uart_tx(ftdi_rxd),
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c), .uart_tx(ftdi_rxd),
         .trace_valid(trace_valid), .trace_data(trace_data)
     );
 

@@ -649,6 +649,18 @@ typedef union {
     uint32_t w;
 } hfi_regs__TOP_I_t;
 
+// reg - hfi_regs.VDC
+#define HFI_REGS__VDC__CODE_bm 0xffff
+#define HFI_REGS__VDC__CODE_bp 0
+#define HFI_REGS__VDC__CODE_bw 16
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t CODE :16;
+        uint32_t :16;
+    } f;
+    uint32_t w;
+} hfi_regs__VDC_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -696,6 +708,7 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__FCS_CTRL_t FCS_CTRL;
     hfi_regs__VECTOR_t VECTOR;
     hfi_regs__TOP_I_t TOP_I;
+    hfi_regs__VDC_t VDC;
 } hfi_regs_t;
 
 
@@ -745,11 +758,12 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__FCS_CTRL_offset 0xa8
 #define HFI_REGS__VECTOR_offset 0xac
 #define HFI_REGS__TOP_I_offset 0xb0
+#define HFI_REGS__VDC_offset 0xb4
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0xb4, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0xb8, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -794,6 +808,7 @@ _Static_assert(offsetof(hfi_regs_t, FCS_A) == HFI_REGS__FCS_A_offset, "hfi_regs_
 _Static_assert(offsetof(hfi_regs_t, FCS_CTRL) == HFI_REGS__FCS_CTRL_offset, "hfi_regs_t: FCS_CTRL offset");
 _Static_assert(offsetof(hfi_regs_t, VECTOR) == HFI_REGS__VECTOR_offset, "hfi_regs_t: VECTOR offset");
 _Static_assert(offsetof(hfi_regs_t, TOP_I) == HFI_REGS__TOP_I_offset, "hfi_regs_t: TOP_I offset");
+_Static_assert(offsetof(hfi_regs_t, VDC) == HFI_REGS__VDC_offset, "hfi_regs_t: VDC offset");
 #endif
 
 #ifdef __cplusplus

@@ -1449,6 +1449,20 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
     return FW_FAULT_NONE;
 }
 
+/* protection.dc_link_check: one period of the dc-link check (every mode but FAULT) */
+int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t vdc)
+{
+    if (!p->vdc_n)
+        return FW_FAULT_NONE;
+    st->vdc_lo_n = count_while(st->vdc_lo_n, (int64_t)vdc < p->vdc_lo);
+    st->vdc_hi_n = count_while(st->vdc_hi_n, (int64_t)vdc > p->vdc_hi);
+    if (st->vdc_lo_n >= p->vdc_n)
+        return FW_FAULT_UNDERVOLTAGE;
+    if (st->vdc_hi_n >= p->vdc_n)
+        return FW_FAULT_OVERVOLTAGE;
+    return FW_FAULT_NONE;
+}
+
 /* protection.hf_learn: one CONVERGE period of the HF response check's reference */
 void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d)
 {
@@ -1475,7 +1489,8 @@ static void applied_dq(const struct fw_state *st, const struct fw_window *win, c
 const char *fw_fault_name(int32_t code)
 {
     static const char *const names[FW_FAULTS] = {"none", "overcurrent", "overspeed", "lock_loss", "current_tracking",
-                                                 "overload", "hardware", "ident", "hf_response"};
+                                                 "overload", "hardware", "ident", "hf_response",
+                                                 "undervoltage", "overvoltage"};
 
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }
@@ -1841,6 +1856,12 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         trip(st, p, FW_FAULT_HARDWARE);
     else if (st->mode != FW_FAULT && (over_trip(i_d, p->i_trip) || over_trip(i_q, p->i_trip)))
         trip(st, p, FW_FAULT_OVERCURRENT);
+    if (st->mode != FW_FAULT) {
+        int32_t dc = fw_dc_link_check(st, &p->prot, win->vdc);
+
+        if (dc != FW_FAULT_NONE)
+            trip(st, p, dc);
+    }
 #ifndef FW_NO_IDENT
     if (st->mode == FW_IDENT || st->mode == FW_DONE) { /* self-commissioning, before everything else */
         if (st->mode == FW_IDENT)

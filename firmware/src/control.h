@@ -37,7 +37,7 @@ enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1, FW_POL_NONE = 2 };
 /* Fault codes (golden.firmware.protection.FAULT_*; names in fw_fault_name). */
 enum fw_fault { FW_FAULT_NONE = 0, FW_FAULT_OVERCURRENT = 1, FW_FAULT_OVERSPEED = 2, FW_FAULT_LOCK_LOSS = 3,
                 FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULT_IDENT = 7, FW_FAULT_HF_RESPONSE = 8,
-                FW_FAULTS = 9 };
+                FW_FAULT_UNDERVOLTAGE = 9, FW_FAULT_OVERVOLTAGE = 10, FW_FAULTS = 11 };
 
 /* Limits of the fault checks (golden.firmware.protection.ProtParams; 0 turns a check off). */
 struct fw_prot_params {
@@ -59,6 +59,9 @@ struct fw_prot_params {
     int32_t restart_n;       /* periods in FAULT before each */
     int32_t hf_k;            /* HF response check: filter time constant 2^hf_k periods */
     int32_t hf_tol;          /* HF response check: limit, share of the learned GAMMA_D, Q16 (0: off) */
+    int32_t vdc_lo;          /* dc-link check: under- and overvoltage limits, VDC codes */
+    int32_t vdc_hi;
+    int32_t vdc_n;           /* periods in a row beyond a limit before the trip (0: off) */
 };
 
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
@@ -525,6 +528,8 @@ struct fw_state {
     int32_t e0;                 /* |speed error| when the speed PI reached its limit */
     int32_t hf_ref;             /* HF response check: GAMMA_D learned in CONVERGE, the filtered deviation from it */
     int32_t hf_f;
+    int32_t vdc_lo_n;           /* dc-link check: periods in a row below / above its limits */
+    int32_t vdc_hi_n;
     int32_t restarts;           /* automatic restarts done */
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;
@@ -556,6 +561,7 @@ struct fw_window {
     int32_t vector_next;    /* VECTOR.NEXT, u3 (golden WindowResult.vector_next) */
     int32_t top_ia;         /* TOP_I: s16 each, the Clarke currents of the carrier-top sample */
     int32_t top_ib;
+    uint32_t vdc;           /* VDC.CODE, uB: the dc-link channel's code of the carrier-bottom sample (spec 3.12) */
     uint32_t status;        /* STATUS's fault latches (FAULT_OC, WDT, STO, DESAT), other bits 0 */
 };
 
@@ -688,6 +694,7 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
                         int32_t i_q, int32_t i_d_ref, int32_t i_q_ref, int32_t omega_f, int32_t speed_ref,
                         int32_t at_limit, int32_t hf_on, int32_t hf);
 void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d);
+int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t vdc);
 const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out);

@@ -5,7 +5,10 @@
  * trap_entry: saves the caller-saved registers on the current stack; an interrupt (mcause < 0) calls
  *       irq_handler(pending), pending = the external interrupt lines that are enabled and asserted (the
  *       core's CSR 0xFC0); an exception calls exception_handler(mcause, mepc), which does not return.
- *       The core clears mstatus.MIE on entry and restores it with mret, so the handler is not nested. */
+ *       The core clears mstatus.MIE on entry and restores it with mret, so the handler is not nested.
+ *       It runs every control period, so it has a section of its own (.text.trap_entry) that firmware/link.ld
+ *       places with the step's shared code: in the direct-mapped instruction cache it then shares no line
+ *       with the step's functions (at the RAM's start it did, with whichever lay 16 KiB on). */
 
 #define CSR_IRQ_PENDING 0xFC0
 
@@ -16,7 +19,8 @@
 _start:
     j reset
 
-    .balign 4
+    .section .text.trap_entry, "ax"
+    .balign 64
 trap_entry:
     addi sp, sp, -64
     sw ra, 0(sp)
@@ -60,6 +64,7 @@ trap_entry:
     addi sp, sp, 64
     mret
 
+    .section .vectors, "ax"
 reset:
     la sp, _stack_top
     la t0, _bss_start

@@ -137,6 +137,7 @@ static void control_step(void)
         win.top_ia = 0;
         win.top_ib = 0;
     }
+    win.vdc = (DSP(VDC) & HFI_REGS__VDC__CODE_bm) >> HFI_REGS__VDC__CODE_bp;
     win.status = DSP(STATUS) & (HFI_REGS__STATUS__FAULT_OC_bm | HFI_REGS__STATUS__FAULT_WDT_bm |
                                 HFI_REGS__STATUS__FAULT_STO_bm | HFI_REGS__STATUS__FAULT_DESAT_bm);
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);

@@ -41,12 +41,15 @@ references it gave and the filtered speed of the estimator in charge.
                       check runs while the square wave was on for the whole window (the registers active
                       in the window and in the one before both with ``V_H != 0``), else its filter is 0.
                       What moves the response is named by the check, not guessed: besides a sensor's gain,
-                      a dc link off its nominal voltage scales the injection (the firmware does not
-                      measure the link yet), and a slipping angle turns d_hat towards q (L_q != L_d).
+                      a dc link off its nominal voltage scales the injection (the modulator normalises
+                      to the nominal link; :func:`dc_link_check` names a link beyond its limits), and a
+                      slipping angle turns d_hat towards q (L_q != L_d).
 
 The software overcurrent on the window means (``i_trip``) is checked in every mode by the supervisor
 itself (``FAULT_OVERCURRENT``), and so are the hardware's own trips (``FAULT_HARDWARE``: a fault latch of
-``STATUS`` set, ``WindowResult.status``; the hardware has already turned the gates off).
+``STATUS`` set, ``WindowResult.status``; the hardware has already turned the gates off) and the dc link
+(:func:`dc_link_check`: ``undervoltage``, ``overvoltage``, the code of the ADC's dc-link channel, ``VDC``,
+below ``vdc_lo`` or above ``vdc_hi`` for ``vdc_n`` periods in a row).
 
 Units: voltage, current and speed LSB of the window formats (docs/spec.md 1); flux in ``v_lsb / (2 pi
 f_sw)`` per LSB, so that ``shr(omega * psi, 32)`` is a voltage in LSB (``omega`` in binary angle per
@@ -62,9 +65,9 @@ from dataclasses import dataclass
 from golden.fixed import sat, shr
 
 (FAULT_NONE, FAULT_OVERCURRENT, FAULT_OVERSPEED, FAULT_LOCK_LOSS, FAULT_TRACKING, FAULT_OVERLOAD,
- FAULT_HARDWARE, FAULT_IDENT, FAULT_HF_RESPONSE) = range(9)
+ FAULT_HARDWARE, FAULT_IDENT, FAULT_HF_RESPONSE, FAULT_UNDERVOLTAGE, FAULT_OVERVOLTAGE) = range(11)
 FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload", "hardware", "ident",
-               "hf_response")
+               "hf_response", "undervoltage", "overvoltage")
 """Fault codes of the firmware (``struct fw_state.fault``, the trace column ``fault``; C ``enum fw_fault``)."""
 
 
@@ -101,6 +104,9 @@ class ProtParams:
     hf_k, hf_tol : int
         The HF response check: filter shift (reference and deviation, 0..30) and the limit as a share of the
         learned reference [Q16].
+    vdc_lo, vdc_hi, vdc_n : int
+        The dc-link check: under- and overvoltage limits [codes of ``VDC``] and the periods in a row beyond
+        one before it trips (``vdc_n = 0``: off, as without a dc-link channel).
     """
 
     r: int = 0
@@ -121,6 +127,9 @@ class ProtParams:
     restart_n: int = 0
     hf_k: int = 0
     hf_tol: int = 0
+    vdc_lo: int = 0
+    vdc_hi: int = 0
+    vdc_n: int = 0
 
 
 def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> tuple[int, int]:
@@ -145,6 +154,21 @@ def hf_learn(st, p: ProtParams, gamma_d: int) -> None:
     """One CONVERGE period of the HF response check's reference: ``hf_ref += shr(GAMMA_D - hf_ref, hf_k)`` (s32)."""
     if p.hf_tol:
         st.hf_ref = sat(st.hf_ref + shr(gamma_d - st.hf_ref, p.hf_k), 32)
+
+
+def dc_link_check(st, p: ProtParams, vdc: int) -> int:
+    """One period of the dc-link check (every mode; ``st.vdc_lo_n``, ``st.vdc_hi_n`` count the periods in a
+    row below ``vdc_lo`` / above ``vdc_hi``, capped); returns ``FAULT_UNDERVOLTAGE``, ``FAULT_OVERVOLTAGE``
+    once a count reaches ``vdc_n``, else ``FAULT_NONE``."""
+    if not p.vdc_n:
+        return FAULT_NONE
+    st.vdc_lo_n = min(st.vdc_lo_n + 1, OVL_CAP) if vdc < p.vdc_lo else 0
+    st.vdc_hi_n = min(st.vdc_hi_n + 1, OVL_CAP) if vdc > p.vdc_hi else 0
+    if st.vdc_lo_n >= p.vdc_n:
+        return FAULT_UNDERVOLTAGE
+    if st.vdc_hi_n >= p.vdc_n:
+        return FAULT_OVERVOLTAGE
+    return FAULT_NONE
 
 
 def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_ref: int,

@@ -70,7 +70,7 @@ from golden.firmware.methods import CLASSES
 from golden.firmware.mtpa import mtpa_lookup
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.protection import (FAULT_HARDWARE, FAULT_IDENT, FAULT_NONE, FAULT_OVERCURRENT, ProtParams,
-                                       hf_learn, protect_step)
+                                       dc_link_check, hf_learn, protect_step)
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -265,6 +265,8 @@ class Firmware:
     e0: int = 0
     hf_ref: int = 0                  # HF response check: learned GAMMA_D and the filtered deviation from it
     hf_f: int = 0
+    vdc_lo_n: int = 0                # dc-link check: periods in a row below / above its limits
+    vdc_hi_n: int = 0
     restarts: int = 0                # automatic restarts done
     ident: Ident | None = None       # the identification program's executor (FirmwareParams.ident)
     slots: list = field(init=False)
@@ -312,6 +314,8 @@ class Firmware:
             self._trip(FAULT_HARDWARE)
         elif self.mode != MODE_FAULT and (abs(i_d) > p.i_trip or abs(i_q) > p.i_trip):
             self._trip(FAULT_OVERCURRENT)
+        if self.mode != MODE_FAULT and (dc := dc_link_check(self, p.prot, win.vdc)) != FAULT_NONE:
+            self._trip(dc)
         if self.mode in (MODE_IDENT, MODE_DONE):
             out = self._ident_outputs(win, i_d, i_q) if self.mode == MODE_IDENT else RESET_OUTPUTS
             self.prev = self.act[0]

@@ -77,6 +77,9 @@ class WindowResult:
     top_ia, top_ib : int
         ``TOP_I``, s16 each: the Clarke currents of the window's carrier-top sample (spec 3.11; the
         previous window's while a window has none).
+    vdc : int
+        ``VDC.CODE``, uB: the code of the ADC's dc-link channel of the window's carrier-bottom sample
+        (spec 3.12; unipolar, 0 V at code 0).
     status : int
         The fault latches of ``STATUS`` when the firmware reads the window (``FAULT_OC``, ``FAULT_WDT``,
         ``FAULT_STO``, ``FAULT_DESAT`` at their register positions, the other bits 0): nonzero once the
@@ -99,6 +102,7 @@ class WindowResult:
     vector_next: int = 0
     top_ia: int = 0
     top_ib: int = 0
+    vdc: int = 0
     status: int = 0
 
 

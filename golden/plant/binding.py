@@ -7,6 +7,7 @@ place they are written. Parameters are nested dicts keyed by the C field names
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import cffi
@@ -19,6 +20,8 @@ LIBRARY = _HERE / "libhfiplant.so"
 ffi = cffi.FFI()
 ffi.cdef(HEADER.read_text())
 _lib = None
+ADC_CHANNELS = int(re.search(r"#define PLANT_ADC_CHANNELS (\d+)", HEADER.read_text())[1])
+"""ADC channels per sample (``PLANT_ADC_CHANNELS`` of the header): currents a, b, c and the dc link."""
 
 MAG_KINDS = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3}
 GATE_BITS = {"a_hi": 0, "a_lo": 1, "b_hi": 2, "b_lo": 3, "c_hi": 4, "c_lo": 5}
@@ -160,9 +163,10 @@ class Plant:
         self._lib.plant_set_voltage(self._p, v)
 
     def sample(self):
-        """Sample the three sensor channels now: (ADC codes, analog values [A])."""
-        adc = ffi.new("int[3]")
-        analog = ffi.new("double[3]")
+        """Sample the ``ADC_CHANNELS`` channels now: (ADC codes, analog values): the phase currents a, b,
+        c [A], then the dc link [V]."""
+        adc = ffi.new("int[]", ADC_CHANNELS)
+        analog = ffi.new("double[]", ADC_CHANNELS)
         self._lib.plant_sample(self._p, adc, analog)
         return np.array(list(adc), dtype=np.int32), np.array(list(analog))
 
@@ -191,7 +195,9 @@ class Plant:
 
         Returns
         -------
-        dict with ``adc`` (n, 3) int32, and ``analog`` (n, 3), ``truth`` (n,) ``STATE_DTYPE`` if asked.
+        dict with ``adc`` (n, 3) int32 (the phase currents' codes) and ``vdc`` (n,) int32 (the dc-link
+        channel's codes), and ``analog`` (n, 3) [A] with ``vdc_analog`` (n,) [V], ``truth`` (n,)
+        ``STATE_DTYPE`` if asked.
         """
         # Called once per PWM window by the closed loop: kept lean (the C call checks the tick order
         # and the gate masks, so no numpy pass over the inputs is needed here).
@@ -211,11 +217,12 @@ class Plant:
             volts = np.ascontiguousarray(volts, dtype=np.float64).reshape(n_e, 3)
             if n_e:
                 p_volts = ffi.from_buffer("double[]", volts)
-        adc = np.zeros((n_s, 3), dtype=np.int32)
-        out = {"adc": adc}
+        adc = np.zeros((n_s, ADC_CHANNELS), dtype=np.int32)
+        out = {"adc": adc[:, :3], "vdc": adc[:, 3]}
         p_analog = p_truth = ffi.NULL
         if analog:
-            out["analog"] = a = np.zeros((n_s, 3))
+            a = np.zeros((n_s, ADC_CHANNELS))
+            out["analog"], out["vdc_analog"] = a[:, :3], a[:, 3]
             if n_s:
                 p_analog = ffi.from_buffer("double[]", a)
         if truth:

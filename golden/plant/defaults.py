@@ -12,6 +12,11 @@ import copy
 TICK_HZ = 100e6
 """FPGA clock: every plant time is an integer number of these ticks."""
 
+VDC_RANGE_DEFAULT = 2.0
+"""The dc-link channel's full scale (``sens.vdc_range``) as a multiple of ``inv.V_dc``, here and for a scenario
+without ``sensors.vdc_range``: the nominal link at mid-scale, room for the overvoltage trip and for a
+regenerating link (docs/scenario.md)."""
+
 _DEFAULTS: dict = {
     "tick_hz": TICK_HZ,
     "max_substep_ticks": 100,  # RK4 step <= 1 us (accuracy study: docs/plant.md, scripts/bench_plant.py)
@@ -59,6 +64,9 @@ _DEFAULTS: dict = {
         "ring_cross": 0.0,
         "adc_bits": 16,
         "adc_range": 10.0,
+        "vdc_range": VDC_RANGE_DEFAULT * 560.0,   # the inverter's V_dc above; 0 = no dc-link channel
+        "vdc_gain": 1.0,
+        "vdc_noise_rms": 0.0,
     },
     "load": {"t": [], "v": [], "puls_freq": 0.0, "puls_depth": 0.0},
     "speed": {"t": [], "v": [], "puls_freq": 0.0, "puls_depth": 0.0},

@@ -281,8 +281,8 @@ bool hls_loop::step() {
 
     size_t sw_i = 0;
     for (int i = 0; i < n; i++) {
-        adc_a[i] = adc[3 * i];
-        adc_b[i] = adc[3 * i + 1];
+        adc_a[i] = adc[PLANT_ADC_CHANNELS * i];
+        adc_b[i] = adc[PLANT_ADC_CHANNELS * i + 1];
         w[i] = pat.w[i];
         keep[i] = true;
         if (adc_mode == HFI_MODE_OS_BLANK) {
@@ -331,6 +331,7 @@ bool hls_loop::step() {
     win.inj_phase = inj_phase.to_uint();                  // INJ_PHASE, latched with the window results
     win.cic_qa = int32_t(cic_qa);                         // CIC_QA, CIC_QB (latched with them too)
     win.cic_qb = int32_t(cic_qb);
+    win.vdc = uint32_t(adc[PLANT_ADC_CHANNELS * j + 3]);  // VDC (spec 3.12): the dc-link code of the bottom sample
     if (direct) {                                         // VECTOR, TOP_I (latched with the window results)
         // VECTOR.NEXT: the modulator's choice from the set the next boundary commits (the outputs of the
         // previous step; the reset set before k = 1) and the state applied now, held until that top
@@ -364,6 +365,7 @@ bool hls_loop::step() {
     r.vector_next = win.vector_next;
     r.top_ia = win.top_ia;
     r.top_ib = win.top_ib;
+    r.vdc = win.vdc;
 #define HLS_WINDOW_COLUMN(column, value) r.column = int64_t(value)
     FW_TRACE_COLUMNS(HLS_WINDOW_COLUMN, fw);
 #undef HLS_WINDOW_COLUMN

@@ -48,6 +48,7 @@ struct hls_window {
     int64_t vector_next;
     int64_t top_ia;
     int64_t top_ib;
+    int64_t vdc;
 };
 
 #endif

@@ -336,6 +336,12 @@ localparam integer HFI_TOP_I_I_BETA_LSB = 16;  // ro, signed
 localparam integer HFI_TOP_I_I_BETA_WIDTH = 16;
 localparam [15:0] HFI_TOP_I_I_BETA_RESET = 16'h0;
 
+// VDC @ 0xB4: DC-link voltage
+localparam [7:0] HFI_VDC_ADDR = 8'hB4;
+localparam integer HFI_VDC_CODE_LSB = 0;  // ro
+localparam integer HFI_VDC_CODE_WIDTH = 16;
+localparam [15:0] HFI_VDC_CODE_RESET = 16'h0;
+
 // Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
 function hfi_locked_by_safety_lock_lock(input [7:0] a);
     case (a)

@@ -62,6 +62,7 @@ struct plant {
     double v_ideal[3];
     double v_hold[3];         /* last node voltage per leg (ideal commutation at zero current) */
     uint64_t rng[4];
+    uint64_t rng_vdc[4];      /* the dc-link channel's noise: a stream of its own (sens.vdc_noise_rms) */
     double gauss_buf[GAUSS_BLOCK];
     int gauss_next;
     double ring_re[3], ring_im[3]; /* ringing phasor per leg: sum of sign*exp(lambda*(t - t_edge)) */
@@ -73,6 +74,7 @@ struct plant {
     double y[3];              /* sensor outputs (first-order filter of the phase currents) */
     double inv_J;             /* 1/J */
     double adc_full, adc_inv_lsb; /* 2^adc_bits, codes per ampere */
+    double vdc_codes;         /* dc-link channel: codes per volt (0: no channel) */
     double filt_h, filt_decay; /* sensor filter: last step length [s] and exp(-h/tau) */
     double filt_tau;          /* sensor filter time constant [s] */
     /* One-entry memos of pure functions, keyed by their exact arguments (NaN = empty): a hit returns
@@ -441,6 +443,16 @@ static double open_terminal_voltage(struct plant *p, const double *x, double i_d
     return num / ((2.0 / 3.0) * (jg_d * g_d + jg_q * g_q));
 }
 
+/* Current drawn from the dc link: the phases whose node sits on the positive rail (switch or diode). */
+static inline double dc_current(const struct plant *p, const double i_abc[3])
+{
+    double i_dc = 0.0;
+    for (int k = 0; k < 3; k++)
+        if (p->legs[k] == LEG_HIGH || (p->legs[k] == LEG_OFF && i_abc[k] < 0.0 && p->p.inv.C_node == 0.0))
+            i_dc += i_abc[k];
+    return i_dc;
+}
+
 /* Derivative of the state at time t (s). i_d, i_q: the currents of its flux linkages (mag_currents);
  * c, s: cos/sin of the electrical angle of this state. v_ab: the machine's alpha-beta voltage when it
  * is known not to depend on the state (NULL if not). Inlined, so that each call site is specialised
@@ -471,14 +483,8 @@ static inline __attribute__((always_inline)) void deriv(struct plant *p, double 
     } else {
         v_dc = p->v_bus_step;
         double v_bus = v_dc;
-        if (pp->inv.R_dc != 0.0) {
-            /* dc current: phases whose node sits on the positive rail (switch or diode) */
-            double i_dc = 0.0;
-            for (int k = 0; k < 3; k++)
-                if (p->legs[k] == LEG_HIGH || (p->legs[k] == LEG_OFF && i_abc[k] < 0.0 && pp->inv.C_node == 0.0))
-                    i_dc += i_abc[k];
-            v_dc -= pp->inv.R_dc * i_dc;
-        }
+        if (pp->inv.R_dc != 0.0)
+            v_dc -= pp->inv.R_dc * dc_current(p, i_abc);
         for (int k = 0; k < 3; k++)
             v[k] = leg_voltage(p, k, i_abc[k], v_dc, v_bus, x[X_VNA + k], &dvn[k]);
     }
@@ -944,7 +950,33 @@ static double ringing(const struct plant *p, int ch)
     return sp->ring_amp * (p->ring_im[ch] + sp->ring_cross * others);
 }
 
-static int sample(struct plant *p, int adc[3], double analog[3])
+/* One standard normal number of the dc-link channel's own stream (Marsaglia's polar method, the
+ * second number of each pair unused). */
+static double gauss_vdc(struct plant *p)
+{
+    for (;;) {
+        double u = 2.0 * uniform_open(p->rng_vdc) - 1.0, v = 2.0 * uniform_open(p->rng_vdc) - 1.0;
+        double r = u * u + v * v;
+        if (r < 1.0 && r > 0.0)
+            return u * sqrt(-2.0 * log(r) / r);
+    }
+}
+
+/* The dc-link voltage at the present tick, as its sensor sees it: the source (ripple, FAULT_DC_LINK)
+ * less the drop R_dc * i_dc of the current the legs on the positive rail draw now. */
+static double link_voltage(struct plant *p)
+{
+    double v = bus_voltage(p, tick_time(p, p->tick));
+    if (p->p.inv.R_dc != 0.0 && !p->voltage_mode) {
+        double c, s, th, i_abc[3];
+        state_trig(p, &c, &s, &th);
+        phase_currents(p, p->x, c, s, i_abc);
+        v -= p->p.inv.R_dc * dc_current(p, i_abc);
+    }
+    return v;
+}
+
+static int sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PLANT_ADC_CHANNELS])
 {
     const struct sensor_params *sp = &p->p.sens;
     double full = p->adc_full, inv_lsb = p->adc_inv_lsb;
@@ -964,6 +996,20 @@ static int sample(struct plant *p, int adc[3], double analog[3])
             adc[k] = p->f_stuck[k];
         if (analog)
             analog[k] = y;
+    }
+    /* the dc-link channel: unipolar, code = clip(floor(v * codes_per_volt + 1/2), 0, full - 1) */
+    if (p->vdc_codes > 0.0) {
+        double v = sp->vdc_gain * link_voltage(p);
+        if (sp->vdc_noise_rms > 0.0)
+            v += sp->vdc_noise_rms * gauss_vdc(p);
+        double z = v * p->vdc_codes + 0.5;
+        adc[3] = z < 0.0 ? 0 : (z >= full ? (int)(full - 1.0) : (int)z);
+        if (analog)
+            analog[3] = v;
+    } else {
+        adc[3] = 0;
+        if (analog)
+            analog[3] = 0.0;
     }
     return 0;
 }
@@ -1014,7 +1060,10 @@ static void get_state(const struct plant *p, struct plant_state *o)
 int plant_advance(struct plant *p, long long tick) { return advance(p, tick); }
 int plant_set_gates(struct plant *p, int gates) { return set_gates(p, gates); }
 int plant_set_voltage(struct plant *p, const double v_abc[3]) { return set_voltage(p, v_abc); }
-int plant_sample(struct plant *p, int adc[3], double analog[3]) { return sample(p, adc, analog); }
+int plant_sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PLANT_ADC_CHANNELS])
+{
+    return sample(p, adc, analog);
+}
 void plant_get_state(const struct plant *p, struct plant_state *out) { get_state(p, out); }
 
 int plant_run(struct plant *p, int n_edges, const long long *edge_ticks, const int *gates, const double *volts,
@@ -1037,7 +1086,7 @@ int plant_run(struct plant *p, int n_edges, const long long *edge_ticks, const i
         } else {
             if (advance(p, sample_ticks[j]) != 0)
                 return -1;
-            sample(p, adc_out + 3 * j, analog_out ? analog_out + 3 * j : NULL);
+            sample(p, adc_out + PLANT_ADC_CHANNELS * j, analog_out ? analog_out + PLANT_ADC_CHANNELS * j : NULL);
             if (truth_out)
                 get_state(p, truth_out + j);
             j++;
@@ -1122,6 +1171,9 @@ static int params_ok(const struct plant_params *pp, char *err, int err_len)
     REQUIRE(sp->ring_amp == 0.0 || sp->ring_tau > 0.0, "sens.ring_tau must be > 0 when ring_amp > 0");
     REQUIRE(sp->adc_bits >= 1 && sp->adc_bits <= 24, "sens.adc_bits must be in 1..24");
     REQUIRE(sp->adc_range > 0.0 && isfinite(sp->adc_range), "sens.adc_range must be > 0");
+    REQUIRE(sp->vdc_range >= 0.0 && isfinite(sp->vdc_range), "sens.vdc_range must be >= 0 (0: no dc-link channel)");
+    REQUIRE(sp->vdc_gain > 0.0 && isfinite(sp->vdc_gain), "sens.vdc_gain must be > 0");
+    REQUIRE(sp->vdc_noise_rms >= 0.0 && isfinite(sp->vdc_noise_rms), "sens.vdc_noise_rms must be >= 0");
     if (!profile_ok(&pp->load, "load", err, err_len) || !profile_ok(&pp->speed, "speed", err, err_len))
         return 0;
     REQUIRE(pp->n_faults >= 0 && (pp->n_faults == 0 || pp->faults), "faults: missing array");
@@ -1140,8 +1192,8 @@ static int params_ok(const struct plant_params *pp, char *err, int err_len)
         REQUIRE(f->kind != FAULT_ADC_STUCK || (f->value >= 0.0 && f->value < ldexp(1.0, sp->adc_bits) &&
                                                f->value == floor(f->value)),
                 "faults[%d]: a stuck code must be an integer in 0..2^adc_bits-1", k);
-        REQUIRE(f->kind != FAULT_DC_LINK || (f->value >= 0.0 && f->value <= 1.0 && f->rate >= 0.0),
-                "faults[%d]: a dc-link factor must be in 0..1 and its time constant >= 0", k);
+        REQUIRE(f->kind != FAULT_DC_LINK || (f->value >= 0.0 && f->value <= 2.0 && f->rate >= 0.0),
+                "faults[%d]: a dc-link factor must be in 0..2 and its time constant >= 0", k);
         REQUIRE(f->kind != FAULT_PHASE_OPEN || !open++, "faults[%d]: at most one phase can be open", k);
     }
     return 1;
@@ -1192,6 +1244,8 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     uint64_t s = params->seed;
     for (int k = 0; k < 4; k++)
         p->rng[k] = splitmix64(&s);
+    for (int k = 0; k < 4; k++) /* after the current channels' words: their stream is unchanged */
+        p->rng_vdc[k] = splitmix64(&s);
 
     for (int k = 0; k < RING_CACHE; k++)
         p->ring_dt[k] = -1;
@@ -1200,6 +1254,7 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     p->gauss_next = GAUSS_BLOCK;
     p->adc_full = ldexp(1.0, params->sens.adc_bits);
     p->adc_inv_lsb = p->adc_full / (2.0 * params->sens.adc_range);
+    p->vdc_codes = params->sens.vdc_range > 0.0 ? p->adc_full / params->sens.vdc_range : 0.0;
     p->x[X_PSID] = params->mag.psi_f; /* i = 0 */
     p->x[X_PSIQ] = 0.0;
     p->x[X_THM] = params->theta_m0;

@@ -78,7 +78,16 @@ struct sensor_params {
     double ring_cross;     /* ringing on the two other phases, relative to ring_amp */
     int adc_bits;          /* ADC resolution (1..24) */
     double adc_range;      /* +-adc_range [A] spans codes 0 .. 2^adc_bits-1; mid-scale = 0 A */
+    /* the dc-link voltage channel (ADC channel 3, same resolution, sampled with the currents): the link *
+     * voltage through a divider of gain vdc_gain, plus white noise of its own random stream, so that    *
+     * the current channels' samples do not depend on it; 0 .. vdc_range [V] spans codes 0 .. 2^adc_bits-1 */
+    double vdc_range;      /* full scale [V]; 0 = no channel (code 0) */
+    double vdc_gain;       /* divider gain error (1 = ideal) */
+    double vdc_noise_rms;  /* white Gaussian noise per sample [V rms] */
 };
+
+/* ADC channels per sample: the phase currents a, b, c (codes of sens.adc_range) and the dc link */
+#define PLANT_ADC_CHANNELS 4
 
 /* ---- faults (docs/faults.md): each acts from its tick on, until its end tick or the end of the run -- */
 enum fault_kind {
@@ -88,7 +97,7 @@ enum fault_kind {
     FAULT_PHASE_OPEN = 4,    /* phase `channel` disconnected between inverter and motor: i_k = 0       */
     FAULT_SWITCH_OPEN = 5,   /* switch `channel` (gate mask bit 0..5) never turns on                   */
     FAULT_DC_LINK = 6,       /* dc-link source: V_dc * (value + (1 - value)*exp(-(t - t_fault)/rate)),  *
-                              * rate = time constant [s] (0: a step)                                    */
+                              * value 0..2, rate = time constant [s] (0: a step)                        */
     FAULT_LOAD_STEP = 7,     /* load torque += value [N*m] (negative: the load drives the motor)        */
     FAULT_ROTOR_BLOCKED = 8  /* the rotor is held at its angle: speed 0 from the fault on              */
 };
@@ -156,13 +165,14 @@ void plant_free(struct plant *p);
 int plant_set_gates(struct plant *p, int gates);
 int plant_set_voltage(struct plant *p, const double v_abc[3]); /* ideal voltages, zero sequence ignored */
 int plant_advance(struct plant *p, long long tick);
-/* Samples the three sensor channels at the current tick: adc codes and the analog value [A]. */
-int plant_sample(struct plant *p, int adc[3], double analog[3]);
+/* Samples the PLANT_ADC_CHANNELS channels at the current tick: adc codes and the analog values
+ * ([A] for the currents, [V] for the dc link). */
+int plant_sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PLANT_ADC_CHANNELS]);
 void plant_get_state(const struct plant *p, struct plant_state *out);
 
 /* Batch API: applies gate edges (or ideal voltage steps, when volts != NULL; then gates may be NULL)
  * and takes samples, merged by tick; at equal ticks, the input change comes before the sample.
- * adc_out: [n_samples*3]; analog_out and truth_out may be NULL. Returns 0; -1 on a bad tick order
+ * adc_out: [n_samples*PLANT_ADC_CHANNELS]; analog_out (same layout) and truth_out may be NULL. Returns 0; -1 on a bad tick order
  * (events up to it are applied); -2 when a gate mask turned on both switches of a leg (the run goes
  * on); -3 when a gate mask is outside 0..63 (checked first: nothing is applied). */
 int plant_run(struct plant *p,

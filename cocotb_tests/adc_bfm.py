@@ -1,15 +1,17 @@
-"""Bus-functional model of a serial, dual-channel, simultaneous-sampling SAR ADC (cocotb).
+"""Bus-functional model of a serial, three-channel, simultaneous-sampling SAR ADC (cocotb).
 
-The ADC class of ``rtl/hfi_adc_if.v`` (AD7380/AD7381/LTC2311 class): a CONVST rising edge samples both
-channels and starts the conversion (``t_CONV``); then, while CS is low, both results are shifted out
-MSB first on two data lanes (SDOA, SDOB) with one common SCLK that idles low. The ADC drives a new bit
-after every SCLK falling edge.
+The ADC class of ``rtl/hfi_adc_if.v`` (AD7380-4/AD7381-4 class): a CONVST rising edge samples the three
+channels (phase currents A and B, the dc-link voltage C) and starts the conversion (``t_CONV``); then,
+while CS is low, the three results are shifted out MSB first on three data lanes (SDOA, SDOB, SDOC) with
+one common SCLK that idles low. The ADC drives a new bit after every SCLK falling edge, on every lane at
+once: the lanes differ only in their data.
 
-Data timing (worst case of the part class): bit ``k`` (``k = 0`` is the MSB) is driven *valid* only from
-SCLK rising edge ``k`` until just after SCLK falling edge ``k``; at every other time (CS high, between
-CS falling and the first rising edge, in each SCLK low phase) the lanes carry random garbage. A host
-that samples a lane anywhere but in the SCLK high phase or at the falling edge itself reads garbage, so
-the BFM checks the sampling instant of the interface, not only its bit order.
+Data timing (worst case of the part class, the same on every lane): bit ``k`` (``k = 0`` is the MSB) is
+driven *valid* only from SCLK rising edge ``k`` until just after SCLK falling edge ``k``; at every other
+time (CS high, between CS falling and the first rising edge, in each SCLK low phase) each lane carries
+its own random garbage (independent bits per lane). A host that samples a lane anywhere but in the SCLK
+high phase or at the falling edge itself reads garbage, so the BFM checks the sampling instant of the
+interface, not only its bit order.
 
 Protocol checks (each one is an error; with ``raise_on_error`` the BFM raises :class:`AdcProtocolError`
 from its monitor task, which fails the running cocotb test with the message):
@@ -23,14 +25,18 @@ from its monitor task, which fails the running cocotb test with the message):
 * CS rising before all ``bits`` bits were clocked out (an aborted read), unless :attr:`abort_allowed`
   is set: the test sets it while it resets the host (see the RTL header), and then an SCLK falling
   edge in the same time step as the CS rising edge is accepted too;
-* a conversion without a code to convert (empty queue), codes out of ``0 .. 2**bits - 1``.
+* a conversion without a code to convert (empty queue).
 
-Codes come from a queue (``codes=[(a, b), ...]``, :meth:`push`) or from a callback
-``codes_at(convst_cycle) -> (code_a, code_b)`` called at each CONVST rising edge (the replay test of the
-whole IP returns the golden ADC codes of the sampling tick ``convst_cycle - 1``, docs/rtl.md). Cycle
+A conversion's codes are a triple ``(code_a, code_b, code_c)``, one unsigned ``bits``-bit code per lane
+(A, B: the phase currents, offset binary; C: the dc-link voltage, unipolar; the BFM does not interpret
+them). They come from a queue (``codes=[(a, b, c), ...]``, :meth:`push`) or from a callback
+``codes_at(convst_cycle) -> (code_a, code_b, code_c)`` called at each CONVST rising edge (the replay test
+of the whole IP returns the golden ADC codes of the sampling tick ``convst_cycle - 1``, docs/rtl.md).
+Anything but three integers in ``0 .. 2**bits - 1`` raises ``ValueError`` (from :meth:`push` or the
+constructor for the queue, from the monitor task for ``codes_at``): a test error, not a protocol error. Cycle
 numbers are counted in clock periods from :attr:`origin` (simulation steps, set by
 :meth:`set_cycle_origin` at the rising clock edge that starts cycle 0, i.e. tick 0); every CONVST rising
-edge is recorded in :attr:`convst_cycles`.
+edge is recorded in :attr:`convst_cycles`, every conversion with its codes in :attr:`converted`.
 
 The BFM only reacts to edges of CONVST, CS and SCLK (no per-clock wake-ups): about ``2*bits + 3``
 Python wake-ups per conversion. Start it (:meth:`start`) once the host's outputs are out of reset.
@@ -39,7 +45,7 @@ the host's input registers sample them at the next edge.
 
 Example (the whole-IP replay test)::
 
-    bfm = AdcBfm(dut.adc_convst, dut.adc_cs_n, dut.adc_sclk, dut.adc_sdo_a, dut.adc_sdo_b,
+    bfm = AdcBfm(dut.adc_convst, dut.adc_cs_n, dut.adc_sclk, dut.adc_sdo_a, dut.adc_sdo_b, dut.adc_sdo_c,
                  bits=12, conv_ticks=12, sclk_half=1, codes_at=lambda cyc: golden_codes[cyc - 1])
     bfm.set_cycle_origin()      # at the rising clock edge that begins tick 0
     bfm.start()
@@ -59,6 +65,11 @@ from cocotb.utils import get_sim_steps
 
 _now = cocotb.simulator.get_sim_time
 _LEVEL = (Logic(0), Logic(1))
+LANES = ("a", "b", "c")
+"""The data lanes, in the order of a conversion's code triple (SDOA, SDOB, SDOC)."""
+
+Codes = tuple[int, int, int]
+"""One conversion: ``(code_a, code_b, code_c)``."""
 
 
 def now_steps() -> int:
@@ -72,20 +83,20 @@ class AdcProtocolError(Exception):
 
 
 class AdcBfm:
-    """Serial dual-lane simultaneous-sampling SAR ADC.
+    """Serial three-lane simultaneous-sampling SAR ADC.
 
     Parameters
     ----------
     convst, cs_n, sclk :
         Handles of the host's outputs (watched).
-    sdo_a, sdo_b :
-        Handles of the host's data inputs (driven).
+    sdo_a, sdo_b, sdo_c :
+        Handles of the host's data inputs (driven): lanes A, B (phase currents) and C (dc link).
     bits, conv_ticks, sclk_half :
         Resolution, minimum conversion time and minimum SCLK half period, the latter two in periods
         of the host clock (``clk_period_ns``).
     codes, codes_at :
-        A queue of ``(code_a, code_b)`` pairs, or a callback from the CONVST cycle to the pair
-        (exactly one of them; the queue can also be filled later with :meth:`push`).
+        A queue of ``(code_a, code_b, code_c)`` triples, or a callback from the CONVST cycle to the
+        triple (at most one of them; the queue can also be filled later with :meth:`push`).
     quiet_ticks :
         Minimum time from CS rising to the next CONVST rising edge (``t_QUIET``), in clocks.
     raise_on_error :
@@ -95,9 +106,9 @@ class AdcBfm:
         Seed of the garbage on the data lanes.
     """
 
-    def __init__(self, convst, cs_n, sclk, sdo_a, sdo_b, *, bits: int, conv_ticks: int, sclk_half: int,
-                 codes: Iterable[tuple[int, int]] | None = None,
-                 codes_at: Callable[[int], tuple[int, int]] | None = None,
+    def __init__(self, convst, cs_n, sclk, sdo_a, sdo_b, sdo_c, *, bits: int, conv_ticks: int, sclk_half: int,
+                 codes: Iterable[Codes] | None = None,
+                 codes_at: Callable[[int], Codes] | None = None,
                  clk_period_ns: float = 10, quiet_ticks: int = 1, raise_on_error: bool = True,
                  seed: int = 0, name: str = "adc"):
         if not 1 <= bits <= 16 or conv_ticks < 1 or sclk_half < 1 or quiet_ticks < 0:
@@ -105,12 +116,14 @@ class AdcBfm:
                              f"sclk_half={sclk_half} quiet_ticks={quiet_ticks}")
         if codes is not None and codes_at is not None:
             raise ValueError("give a code queue or a codes_at callback, not both")
-        self.convst, self.cs_n, self.sclk, self.sdo_a, self.sdo_b = convst, cs_n, sclk, sdo_a, sdo_b
+        self.convst, self.cs_n, self.sclk = convst, cs_n, sclk
+        self.sdo_a, self.sdo_b, self.sdo_c = sdo_a, sdo_b, sdo_c
+        self._lanes = (sdo_a, sdo_b, sdo_c)
         self.bits, self.conv_ticks, self.sclk_half = bits, conv_ticks, sclk_half
         self.name = name
         self.raise_on_error = raise_on_error
         self.codes_at = codes_at
-        self.queue: deque[tuple[int, int]] = deque(codes or ())
+        self.queue: deque[Codes] = deque(self._checked(c, "queued") for c in (codes or ()))
         self.period = get_sim_steps(clk_period_ns, "ns")
         self.t_conv = conv_ticks * self.period
         self.t_half = sclk_half * self.period
@@ -120,26 +133,26 @@ class AdcBfm:
         self._rng = random.Random(seed)
         # records
         self.convst_cycles: list[int] = []     # cycle of every CONVST rising edge
-        self.converted: list[tuple[int, int, int]] = []   # (cycle, code_a, code_b) per conversion
+        self.converted: list[tuple[int, int, int, int]] = []   # (cycle, code_a, code_b, code_c) per conversion
         self.reads = 0                         # complete reads (all bits clocked out, CS rose)
         self.aborts = 0                        # reads ended early by CS (allowed)
         self.errors: list[str] = []
         # state
         self._conv_start: int | None = None    # time of the last CONVST rising edge
-        self._result: tuple[int, int] | None = None   # converted, not yet read
+        self._result: Codes | None = None      # converted, not yet read
         self._frame = False                    # CS low
         self._cs_rise = None                   # time CS last rose
         self._last_edge = 0                    # time of the last SCLK edge or CS falling edge
         self._rises = 0                        # SCLK rising edges in this frame
         self._falls = 0                        # SCLK falling edges in this frame
-        self._word_a = self._word_b = 0
-        self._sdo = (-1, -1)                   # levels driven on the lanes
+        self._words: Codes = (0, 0, 0)         # the codes being read out (A, B, C)
+        self._sdo = (-1, -1, -1)               # levels driven on the lanes (A, B, C)
         self._tasks = []
 
     # ---------------------------------------------------------------- control
     def start(self) -> "AdcBfm":
         """Start the monitors (and drive garbage on the data lanes)."""
-        self._sdo = (-1, -1)
+        self._sdo = (-1, -1, -1)
         self._garbage()
         self._tasks = [cocotb.start_soon(self._convst_monitor()), cocotb.start_soon(self._cs_monitor()),
                        cocotb.start_soon(self._sclk_monitor())]
@@ -159,9 +172,9 @@ class AdcBfm:
         t = now_steps() if steps is None else steps
         return (t - self.origin) // self.period
 
-    def push(self, code_a: int, code_b: int) -> None:
-        """Queue one pair of codes for a future conversion."""
-        self.queue.append((code_a, code_b))
+    def push(self, code_a: int, code_b: int, code_c: int) -> None:
+        """Queue the codes of one future conversion (lanes A, B, C)."""
+        self.queue.append(self._checked((code_a, code_b, code_c), "pushed"))
 
     def check_clean(self) -> None:
         """Raise :class:`AdcProtocolError` listing the recorded errors, if any."""
@@ -176,19 +189,33 @@ class AdcBfm:
         if self.raise_on_error:
             raise AdcProtocolError(text)
 
-    def _drive(self, a: int, b: int) -> None:
-        """Drive the data lanes: only what changes, as immediate deposits (no ReadWrite phase per
-        edge). Safe: the BFM writes right after a host clock edge, whose flip-flops have sampled."""
-        if a != self._sdo[0]:
-            self.sdo_a.set(Immediate(_LEVEL[a]))
-        if b != self._sdo[1]:
-            self.sdo_b.set(Immediate(_LEVEL[b]))
-        self._sdo = (a, b)
+    def _checked(self, codes, what: str, cycle: int | None = None) -> Codes:
+        """``codes`` as a triple of ints in 0 .. 2**bits - 1, else ValueError."""
+        where = "" if cycle is None else f" for CONVST cycle {cycle}"
+        try:
+            triple = tuple(int(v) for v in codes)
+        except (TypeError, ValueError):
+            raise ValueError(f"{self.name}: {what} codes {codes!r}{where} are not integers") from None
+        if len(triple) != len(LANES):
+            raise ValueError(f"{self.name}: {what} codes {triple}{where}: expected {len(LANES)} "
+                             f"(code_a, code_b, code_c)")
+        top = (1 << self.bits) - 1
+        if not all(0 <= v <= top for v in triple):
+            raise ValueError(f"{self.name}: {what} codes {triple}{where} outside 0..{top}")
+        return triple
+
+    def _drive(self, levels: tuple[int, int, int]) -> None:
+        """Drive the data lanes (A, B, C): only what changes, as immediate deposits (no ReadWrite
+        phase per edge). Safe: the BFM writes right after a host clock edge, whose flip-flops have sampled."""
+        for lane, new, old in zip(self._lanes, levels, self._sdo):
+            if new != old:
+                lane.set(Immediate(_LEVEL[new]))
+        self._sdo = levels
 
     def _garbage(self) -> None:
-        """Random levels on both lanes (the bits are not valid now)."""
-        bits = self._rng.getrandbits(2)
-        self._drive(bits & 1, bits >> 1)
+        """Random levels on every lane, independent per lane (the bits are not valid now)."""
+        bits = self._rng.getrandbits(len(LANES))
+        self._drive(tuple((bits >> i) & 1 for i in range(len(LANES))))
 
     async def _convst_monitor(self) -> None:
         edge = RisingEdge(self.convst)
@@ -205,23 +232,17 @@ class AdcBfm:
                 self._error(f"CONVST rose {now - self._cs_rise} steps after CS rose (t_QUIET "
                             f"{self.t_quiet} steps)")
             if self.codes_at is not None:
-                pair = self.codes_at(cyc)
+                codes = self._checked(self.codes_at(cyc), "codes_at", cyc)
             elif self.queue:
-                pair = self.queue.popleft()
+                codes = self.queue.popleft()
             else:
-                pair = None
+                codes = None
                 self._error("CONVST with no codes queued")
             self.convst_cycles.append(cyc)
             self._conv_start = now
-            if pair is None:
-                self._result = None
-                continue
-            a, b = (int(v) for v in pair)
-            top = (1 << self.bits) - 1
-            if not (0 <= a <= top and 0 <= b <= top):
-                raise ValueError(f"{self.name}: codes ({a}, {b}) outside 0..{top} for CONVST cycle {cyc}")
-            self._result = (a, b)
-            self.converted.append((cyc, a, b))
+            self._result = codes
+            if codes is not None:
+                self.converted.append((cyc, *codes))
 
     async def _cs_monitor(self) -> None:
         edge = ValueChange(self.cs_n)
@@ -239,7 +260,7 @@ class AdcBfm:
                 self._frame = True
                 self._rises = self._falls = 0
                 self._last_edge = now
-                self._word_a, self._word_b = self._result if self._result is not None else (0, 0)
+                self._words = self._result if self._result is not None else (0, 0, 0)
                 self._result = None
                 self._garbage()
             else:                                         # CS rising: end of the frame
@@ -287,8 +308,8 @@ class AdcBfm:
                 if k > top:
                     self._error(f"SCLK pulse {k + 1} in a frame of {self.bits} bits")
                     continue
-                # bit k valid from this rising edge until just after the next falling edge
-                self._drive((self._word_a >> (top - k)) & 1, (self._word_b >> (top - k)) & 1)
+                # bit k valid from this rising edge until just after the next falling edge (every lane)
+                self._drive(tuple((w >> (top - k)) & 1 for w in self._words))
             else:
                 self._falls += 1
                 self._garbage()

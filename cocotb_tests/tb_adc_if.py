@@ -15,7 +15,10 @@ reference is the documented timing of the RTL header, evaluated by :class:`LaneM
 ``a``, CS_N low in ``a+C+1 .. a+LATENCY-1``, SCLK high in the odd half periods of that window,
 ``done`` in ``a+LATENCY``; a start is accepted iff ``rst = 0`` and no conversion is running
 (``busy = 0``); a reset in cycle ``r`` kills everything from cycle ``r+1`` on. The codes are the ones
-the BFM (cocotb_tests/adc_bfm.py) converted at the CONVST edge, which also checks the ADC protocol.
+the BFM (cocotb_tests/adc_bfm.py) converted at the CONVST edge, which also checks the ADC protocol:
+three independent codes per conversion (lanes A, B and the dc-link lane C, each with 0 and full scale
+among them), so ``code_c`` is checked wherever ``code_a`` and ``code_b`` are, and a swapped or stuck lane
+shows.
 """
 
 from __future__ import annotations
@@ -35,11 +38,12 @@ PERIOD_NS = 10
 TOP = os.environ.get("HFI_ADC_TOP", "single")
 POINTS = [tuple(int(v) for v in p.split(",")) for p in os.environ.get("HFI_ADC_POINTS", "12,12,1").split(";")]
 
-OUT_PORTS = ("busy", "adc_convst", "adc_cs_n", "adc_sclk", "done", "code_a", "code_b")
-START_PORTS = ("busy", "code_a", "code_b")            # sampled in every start cycle
-DONE_PORTS = ("done", "busy", "adc_cs_n", "code_a", "code_b")   # sampled in every done cycle
-PORTS = ("rst", "start", "adc_convst", "adc_cs_n", "adc_sclk", "adc_sdo_a", "adc_sdo_b", "busy", "done",
-         "code_a", "code_b")
+CODE_PORTS = ("code_a", "code_b", "code_c")           # the held codes of lanes A, B, C
+OUT_PORTS = ("busy", "adc_convst", "adc_cs_n", "adc_sclk", "done", *CODE_PORTS)
+START_PORTS = ("busy", *CODE_PORTS)                   # sampled in every start cycle
+DONE_PORTS = ("done", "busy", "adc_cs_n", *CODE_PORTS)   # sampled in every done cycle
+PORTS = ("rst", "start", "adc_convst", "adc_cs_n", "adc_sclk", "adc_sdo_a", "adc_sdo_b", "adc_sdo_c", "busy",
+         "done", *CODE_PORTS)
 
 
 # ----------------------------------------------------------------------------------------- reference
@@ -52,11 +56,11 @@ class LaneModel:
         self.cycle = self.latency
         self.starts: set[int] = set()       # cycles with start = 1
         self.resets: list[int] = [-1]       # cycles with rst = 1 (sorted; the initial reset ends at -1)
-        self.codes: dict[int, tuple[int, int]] = {}   # CONVST cycle -> codes of that conversion
+        self.codes: dict[int, tuple[int, int, int]] = {}   # CONVST cycle -> codes (A, B, C) of that conversion
         # results of solve()
         self.accepted: list[int] = []
         self.dones: list[int] = []
-        self.done_codes: list[tuple[int, int]] = []
+        self.done_codes: list[tuple[int, int, int]] = []
 
     def next_reset(self, c: int) -> int | None:
         """First reset cycle >= c."""
@@ -92,8 +96,8 @@ class LaneModel:
                 self.done_codes.append(self.codes[s + 1])
 
     def outputs(self, c: int) -> dict[str, int]:
-        """Expected busy, adc_convst, adc_cs_n, adc_sclk, done, code_a, code_b in cycle c."""
-        out = dict(busy=0, adc_convst=0, adc_cs_n=1, adc_sclk=0, done=0, code_a=0, code_b=0)
+        """Expected busy, adc_convst, adc_cs_n, adc_sclk, done, code_a, code_b, code_c in cycle c."""
+        out = dict(busy=0, adc_convst=0, adc_cs_n=1, adc_sclk=0, done=0, code_a=0, code_b=0, code_c=0)
         i = bisect.bisect_left(self.accepted, c) - 1
         if i >= 0:
             a = self.accepted[i]
@@ -115,7 +119,7 @@ class LaneModel:
             d = self.dones[j]
             r = self.next_reset(d)
             if r is None or r >= c:
-                out["code_a"], out["code_b"] = self.done_codes[j]
+                out["code_a"], out["code_b"], out["code_c"] = self.done_codes[j]
         return out
 
 
@@ -127,8 +131,9 @@ class Lane:
         self.h = {p: getattr(dut, prefix + p) for p in PORTS}
         self.bits, self.conv, self.half = point
         self.name = f"lane{index}(B={self.bits},C={self.conv},H={self.half})"
-        width = len(self.h["code_a"])
-        assert width == self.bits, f"{self.name}: code_a has {width} bits, the test expects {self.bits}"
+        for port in CODE_PORTS:
+            width = len(self.h[port])
+            assert width == self.bits, f"{self.name}: {port} has {width} bits, the test expects {self.bits}"
         self.rng = np.random.default_rng([seed, index])
         self.model = LaneModel(*point)
         self.events: list[tuple] = [(0, 0, "rst", 0)]   # (cycle, order, kind, arg); rst ends at 0
@@ -137,11 +142,11 @@ class Lane:
         self.planned_resets = 0
         self.done_cycles: list[int] = []
         self.bfm = AdcBfm(self.h["adc_convst"], self.h["adc_cs_n"], self.h["adc_sclk"], self.h["adc_sdo_a"],
-                          self.h["adc_sdo_b"], bits=self.bits, conv_ticks=self.conv, sclk_half=self.half,
-                          clk_period_ns=PERIOD_NS, codes_at=self.codes_at,
+                          self.h["adc_sdo_b"], self.h["adc_sdo_c"], bits=self.bits, conv_ticks=self.conv,
+                          sclk_half=self.half, clk_period_ns=PERIOD_NS, codes_at=self.codes_at,
                           seed=int(self.rng.integers(1 << 31)), name=self.name)
 
-    def codes_at(self, cycle: int) -> tuple[int, int]:
+    def codes_at(self, cycle: int) -> tuple[int, int, int]:
         try:
             return self.model.codes[cycle]
         except KeyError:
@@ -168,8 +173,8 @@ class Lane:
         """start = 1 in cycles first..last; samples busy and the held codes in the first cycle."""
         self.model.starts.update(range(first, last + 1))
         for c in range(first, last + 2):      # a code for every cycle in which CONVST might rise
-            if c not in self.model.codes:
-                self.model.codes[c] = (self.random_code(), self.random_code())
+            if c not in self.model.codes:   # three independent codes (lanes A, B, C)
+                self.model.codes[c] = (self.random_code(), self.random_code(), self.random_code())
         self.sample(first, START_PORTS)
 
     def reset(self, first: int, length: int) -> None:
@@ -244,6 +249,11 @@ class Lane:
                                  f"{_first_diff(self.bfm.convst_cycles, exp_convst)}")
         if self.done_cycles != m.dones:
             raise AssertionError(f"{self.name}: done cycles differ, first: {_first_diff(self.done_cycles, m.dones)}")
+        # the BFM converted the model's codes (all three lanes) at every accepted start
+        exp_conv = [(a + 1, *m.codes[a + 1]) for a in m.accepted]
+        if self.bfm.converted != exp_conv:
+            raise AssertionError(f"{self.name}: the BFM's conversions (cycle, A, B, C) differ from the model's, "
+                                 f"first: {_first_diff(self.bfm.converted, exp_conv)}")
         # complete reads: no reset before the last SCLK falling edge (a reset sampled at that edge,
         # rst = 1 in cycle a + LATENCY - 2, makes CS rise with it: complete or aborted, in either order)
         lo = sum(1 for a in m.accepted if _none_or_ge(m.next_reset(a + 1), a + m.latency - 1))
@@ -366,13 +376,18 @@ async def random_conversions(dut):
         assert n >= len(lane.planned) - lane.planned_resets, f"{lane.name}: only {n} conversions completed"
 
 
-def pattern_codes(bits: int) -> list[tuple[int, int]]:
-    """Directed code pairs: zero, full scale, mixed, alternating bits, walking ones."""
+def pattern_codes(bits: int) -> list[tuple[int, int, int]]:
+    """Directed code triples (A, B, C): zero, full scale, every mix of 0 and full scale over the three
+    lanes, alternating bits, walking ones and walking zeros (C's one/zero at yet another position than
+    A's and B's, so no two lanes carry the same word unless bits <= 2)."""
     top = (1 << bits) - 1
-    pairs = [(0, 0), (top, top), (0, top), (top, 0), (0x5555 & top, 0xAAAA & top), (0xAAAA & top, 0x5555 & top)]
-    pairs += [(1 << k, 1 << (bits - 1 - k)) for k in range(bits)]
-    pairs += [(top ^ (1 << k), top ^ (1 << (bits - 1 - k))) for k in range(bits)]
-    return pairs
+    h5, ha = 0x5555 & top, 0xAAAA & top
+    triples = [(0, 0, 0), (top, top, top), (0, top, 0), (top, 0, top), (0, 0, top), (top, top, 0),
+               (0, top, top), (top, 0, 0), (h5, ha, h5), (ha, h5, ha), (h5, h5, ha), (ha, ha, h5)]
+    walk = [(k, bits - 1 - k, (k + bits // 2) % bits) for k in range(bits)]
+    triples += [(1 << ka, 1 << kb, 1 << kc) for ka, kb, kc in walk]
+    triples += [(top ^ (1 << ka), top ^ (1 << kb), top ^ (1 << kc)) for ka, kb, kc in walk]
+    return triples
 
 
 def reset_offsets(lane: Lane) -> list[int]:
@@ -398,11 +413,11 @@ async def directed(dut):
     last = 0
     for lane in lanes:
         cyc, lat, conv = lane.model.cycle, lane.model.latency, lane.conv
-        pairs = pattern_codes(lane.bits)
+        triples = pattern_codes(lane.bits)
         c = 2
-        for pair in pairs:                                  # back to back, exactly CYCLE apart
+        for triple in triples:                              # back to back, exactly CYCLE apart
             lane.start_run(c, c)
-            lane.model.codes[c + 1] = pair
+            lane.model.codes[c + 1] = triple
             lane.sample(c + 1 + int(lane.rng.integers(0, lat)))
             c += cyc
         lane.start_run(c + cyc - 1, c + cyc - 1)            # busy in its last cycle: ignored
@@ -446,15 +461,15 @@ async def directed(dut):
 # ----------------------------------------------------------------------------------------- BFM self-check
 class _FrameWriter:
     """Drives the spare pins x_convst/x_cs_n/x_sclk of the sweep wrapper (the BFM under test watches
-    them) from a list of (cycle, pin, level) writes, and reads the BFM's lanes at given cycles before
-    the writes of that cycle (the value just before an edge)."""
+    them) from a list of (cycle, pin, level) writes, and reads the BFM's lanes x_sdo_a/b/c at given
+    cycles before the writes of that cycle (the value just before an edge)."""
 
     def __init__(self, dut, origin: int, period: int):
         self.dut, self.origin, self.period = dut, origin, period
         self.writes: list[tuple[int, str, int]] = []
-        self.reads: list[tuple[int, tuple[int, int], str]] = []
+        self.reads: list[tuple[int, tuple[int, int, int], str]] = []
 
-    def frame(self, t0: int, codes: tuple[int, int], *, bits=4, conv=3, cs_at=None, high=2, low=2,
+    def frame(self, t0: int, codes: tuple[int, int, int], *, bits=4, conv=3, cs_at=None, high=2, low=2,
               pulses=None, convst_len=None) -> int:
         """A conversion at t0 and a read (CS falls at t0 + cs_at); returns the cycle after CS rose."""
         cs_at = conv if cs_at is None else cs_at
@@ -466,9 +481,8 @@ class _FrameWriter:
             t += low
             self.writes.append((t, "x_sclk", 1))
             t += high
-            if k < bits:   # bit k is on the lanes just before this falling edge
-                self.reads.append((t, ((codes[0] >> (bits - 1 - k)) & 1, (codes[1] >> (bits - 1 - k)) & 1),
-                                   f"bit {k}"))
+            if k < bits:   # bit k of every lane's code is on the lanes just before this falling edge
+                self.reads.append((t, tuple((code >> (bits - 1 - k)) & 1 for code in codes), f"bit {k}"))
             self.writes.append((t, "x_sclk", 0))
         self.writes.append((t + 1, "x_cs_n", 1))
         return t + 2
@@ -481,8 +495,8 @@ class _FrameWriter:
             if dt > 0:
                 await Timer(dt, unit="step")
             if kind < 0:
-                got = (int(self.dut.x_sdo_a.value), int(self.dut.x_sdo_b.value))
-                assert got == arg, f"BFM self-check cycle {c}: {name} on the lanes {got}, expected {arg}"
+                got = (int(self.dut.x_sdo_a.value), int(self.dut.x_sdo_b.value), int(self.dut.x_sdo_c.value))
+                assert got == arg, f"BFM self-check cycle {c}: {name} on the lanes (A, B, C) {got}, expected {arg}"
             else:
                 getattr(self.dut, name).value = arg
         self.writes, self.reads = [], []
@@ -493,7 +507,8 @@ if TOP == "sweep":
     @cocotb.test()
     async def bfm_self_check(dut):
         """The BFM's protocol checks fire (each violation once, with its message), a correct frame
-        gives the queued codes bit by bit and no error, an allowed abort is counted, not an error."""
+        gives the queued codes bit by bit on all three lanes and no error, an allowed abort is counted,
+        not an error; codes that are not three in-range integers are refused."""
         from adc_bfm import AdcProtocolError
         seed, _ = _seed_and_count()
         clock = Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi")
@@ -501,9 +516,9 @@ if TOP == "sweep":
         dut.x_convst.value, dut.x_cs_n.value, dut.x_sclk.value = 0, 1, 0
         await RisingEdge(dut.clk)
         await RisingEdge(dut.clk)
-        bfm = AdcBfm(dut.x_convst, dut.x_cs_n, dut.x_sclk, dut.x_sdo_a, dut.x_sdo_b, bits=4, conv_ticks=3,
-                     sclk_half=2, clk_period_ns=PERIOD_NS, quiet_ticks=2, raise_on_error=False, seed=seed,
-                     name="selfcheck")
+        bfm = AdcBfm(dut.x_convst, dut.x_cs_n, dut.x_sclk, dut.x_sdo_a, dut.x_sdo_b, dut.x_sdo_c, bits=4,
+                     conv_ticks=3, sclk_half=2, clk_period_ns=PERIOD_NS, quiet_ticks=2, raise_on_error=False,
+                     seed=seed, name="selfcheck")
         bfm.set_cycle_origin()
         bfm.start()
         fw = _FrameWriter(dut, bfm.origin, bfm.period)
@@ -521,19 +536,31 @@ if TOP == "sweep":
 
         t = 2
 
-        def codes() -> tuple[int, int]:
-            pair = (int(rng.integers(16)), int(rng.integers(16)))
-            bfm.push(*pair)
-            return pair
+        def codes(fixed: tuple[int, int, int] | None = None) -> tuple[int, int, int]:
+            triple = tuple(int(v) for v in rng.integers(16, size=3)) if fixed is None else fixed
+            bfm.push(*triple)
+            return triple
 
-        def good():
+        def good(fixed=None):
             nonlocal t
-            t = fw.frame(t, codes()) + 2
+            t = fw.frame(t, codes(fixed)) + 2
 
-        reads0 = bfm.reads
+        reads0, conv0 = bfm.reads, len(bfm.converted)
         await case("correct frame", [], good)
         await case("correct frames back to back", [], lambda: [good() for _ in range(4)])
-        assert bfm.reads == reads0 + 5, f"BFM self-check: {bfm.reads - reads0} complete reads, expected 5"
+        corners = [(0, 15, 0), (15, 0, 15), (0, 0, 15), (15, 15, 0), (0x5, 0xA, 0x9)]
+        await case("corner codes, lane C apart from A and B", [], lambda: [good(c) for c in corners])
+        assert bfm.reads == reads0 + 10, f"BFM self-check: {bfm.reads - reads0} complete reads, expected 10"
+        assert [c[1:] for c in bfm.converted[conv0 + 5:]] == corners, \
+            f"BFM self-check: converted {bfm.converted[conv0 + 5:]}, queued {corners}"
+        for bad_codes in ((16, 0, 0), (0, 16, 0), (0, 0, 16), (0, 0, -1)):   # out of range, any lane
+            try:
+                bfm.push(*bad_codes)
+            except ValueError:
+                pass
+            else:
+                raise AssertionError(f"BFM self-check: codes {bad_codes} accepted")
+        assert not bfm.queue, f"BFM self-check: refused codes left in the queue {list(bfm.queue)}"
 
         def cs_early():
             nonlocal t
@@ -615,8 +642,8 @@ if TOP == "sweep":
         clock.stop()
 
         # the raising mode and the summary check
-        strict = AdcBfm(dut.x_convst, dut.x_cs_n, dut.x_sclk, dut.x_sdo_a, dut.x_sdo_b, bits=4, conv_ticks=3,
-                        sclk_half=2, name="strict")
+        strict = AdcBfm(dut.x_convst, dut.x_cs_n, dut.x_sclk, dut.x_sdo_a, dut.x_sdo_b, dut.x_sdo_c, bits=4,
+                        conv_ticks=3, sclk_half=2, name="strict")
         try:
             strict._error("test violation")
         except AdcProtocolError as e:
@@ -630,9 +657,12 @@ if TOP == "sweep":
         else:
             raise AssertionError("check_clean() did not raise with recorded errors")
         for bad in (dict(bits=0, conv_ticks=1, sclk_half=1), dict(bits=17, conv_ticks=1, sclk_half=1),
-                    dict(bits=4, conv_ticks=0, sclk_half=1), dict(bits=4, conv_ticks=1, sclk_half=0)):
+                    dict(bits=4, conv_ticks=0, sclk_half=1), dict(bits=4, conv_ticks=1, sclk_half=0),
+                    dict(bits=4, conv_ticks=1, sclk_half=1, codes=[(1, 2)]),          # a pair: no lane C
+                    dict(bits=4, conv_ticks=1, sclk_half=1, codes=[(1, 2, 3, 4)]),
+                    dict(bits=4, conv_ticks=1, sclk_half=1, codes=[(1, 2, 16)])):
             try:
-                AdcBfm(dut.x_convst, dut.x_cs_n, dut.x_sclk, dut.x_sdo_a, dut.x_sdo_b, **bad)
+                AdcBfm(dut.x_convst, dut.x_cs_n, dut.x_sclk, dut.x_sdo_a, dut.x_sdo_b, dut.x_sdo_c, **bad)
             except ValueError:
                 pass
             else:

@@ -2,10 +2,13 @@
 
 The ADC model of tb_hfi_dsp.v returns the golden ADC codes (codes.hex, written by the pytest side);
 this coroutine plays the firmware: after every window interrupt it reads the window results over
-AXI4-Lite (with INJ_PHASE, the differencing/CIC block's CIC_QA, CIC_QB, ENV_A, ENV_B and the carrier-top
-sample TOP_I), compares them with the golden window (TOP_I with the trace's top_exp_* columns, computed
-by test_dsp_replay.top_i_expected from the golden ADC codes), writes the golden firmware's registers and commits. The gate edges and sampling
-instants recorded by the Verilog are compared at the end.
+AXI4-Lite (with INJ_PHASE, the differencing/CIC block's CIC_QA, CIC_QB, ENV_A, ENV_B, the dc-link code VDC
+and the carrier-top sample TOP_I), compares them with the golden window (VDC, the whole 32-bit word, with
+the golden column ``vdc``; TOP_I with the trace's top_exp_* columns, computed by
+test_dsp_replay.top_i_expected from the golden ADC codes), writes the golden firmware's registers and
+commits. VDC must read 0 after reset until the first window boundary, and after window -1 the dc-link code
+of its carrier-bottom sample (the trace's ``vdc_pre``, test_dsp_replay.adc_words). The gate edges and
+sampling instants recorded by the Verilog are compared at the end.
 
 Start-up: by default the carrier runs from reset (its registers must equal the reset values) and the
 configuration is written before the first window boundary. A trace with ``cfg_start_held`` = 1 (a
@@ -35,7 +38,7 @@ of the sample taken at tick t rises in cycle t + CONVST_LATENCY (hfi/soc_platfor
 RESULTS = (("GAMMA", "gamma", True), ("GAMMA_D", "gamma_d", True), ("SUM_ID", "sum_id", True),
            ("SUM_IQ", "sum_iq", True), ("WSUM", "wsum", True), ("N_SAMPLES", "n_samples", False),
            ("INJ_PHASE", "inj_phase", False), ("CIC_QA", "cic_qa", True), ("CIC_QB", "cic_qb", True),
-           ("ENV_A", "env_a", True), ("ENV_B", "env_b", True))
+           ("ENV_A", "env_a", True), ("ENV_B", "env_b", True), ("VDC", "vdc", False))
 
 
 def s32(v: int) -> int:
@@ -81,6 +84,11 @@ async def replay_golden_closed_loop(dut):
               ("CTRL", rm.pack("CTRL", **ctrl_bits))]
     for name, value in writes:
         await axi.write(rm.REGISTERS[name]["addr"], value)
+    # VDC after reset: 0 (held: the timing is in reset; else tick 0's bottom sample is converted or being
+    # converted, but VDC only takes it at the first window boundary, checked below to be still ahead)
+    value, resp = await axi.read(rm.VDC_ADDR)
+    assert (value, resp) == (rm.REGISTERS["VDC"]["reset"], 0), \
+        f"VDC before the first window boundary: 0x{value:08X} (resp {resp}), expected the reset 0"
     if held:
         await ClockCycles(dut.clk, 20)      # the carrier's H*STEP product (docs/rtl.md: reset >= 20 clocks)
         assert int(dut.tick.value) == 0, "the timing ran while held"
@@ -105,6 +113,8 @@ async def replay_golden_closed_loop(dut):
         got_top = (top["I_ALPHA"], top["I_BETA"])
         if j == 0:
             assert got_top == (0, 0), f"TOP_I after window -1 (no top sample) is {got_top}, expected the reset 0"
+            assert got["VDC"] == int(tr["vdc_pre"]), \
+                f"VDC after window -1 is {got['VDC']}, expected {int(tr['vdc_pre'])} (its bottom sample's dc-link code)"
         if j >= 1:
             k = j - 1
             for reg, col, _ in RESULTS:

@@ -5,7 +5,10 @@ the golden closed loop for REPLAY_S seconds; its ADC codes feed the ADC model of
 same sampling ticks and its firmware's register writes are replayed after every window interrupt.
 Every window result (GAMMA, GAMMA_D, SUM_ID, SUM_IQ, WSUM, N_SAMPLES, INJ_PHASE, and the differencing/CIC
 block's CIC_QA, CIC_QB, ENV_A, ENV_B), every gate edge tick and mask and every sampling instant must
-equal the golden trace. Verilator only (20 M clock cycles). Two shorter replays cover the rotating
+equal the golden trace; VDC (the ADC's third lane, the dc-link code of the window's carrier-bottom sample,
+docs/spec.md 3.12) must equal the golden column ``vdc`` in every window of every replay, read 0 after
+reset and, after window -1, the dc-link code fed to its samples (write_inputs). Verilator only (20 M
+clock cycles). Two shorter replays cover the rotating
 injection (CTRL.INJ_ROT) and the 001 method's period square wave with its differencing and CIC
 (CTRL.INJ_PER, CIC_M; scenarios/xue2022_noload.toml). TOP_I (the carrier-top sample, docs/spec.md
 3.11) is checked in every window against the Clarke currents of the golden ADC codes of the sample at
@@ -71,16 +74,31 @@ def top_i_expected(res) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return ia, ib, chk
 
 
+def adc_words(res) -> tuple[np.ndarray, int]:
+    """The ADC model's codes.hex words (cocotb_tests/hdl/adc_model.v: "ccccaaaabbbb", C = the dc-link lane),
+    one per conversion in order, and the dc-link code of window -1. Window -1 (the samples before tick
+    H/2, which the golden loop does not run) converts mid-scale (0 A) currents and the dc-link code of the
+    golden loop's first sample (the dc link is charged before tick 0); then every golden sample's codes."""
+    hw, H = res.hw, res.hw.pwm_half
+    pre = int(np.count_nonzero(sample_phases(hw.adc_mode, H, hw.os_ticks) < H // 2))  # window -1
+    mid = 1 << (hw.adc_bits - 1)
+    a, b, c = (res.samples[k].astype(np.int64) for k in ("adc_a", "adc_b", "adc_vdc"))
+    assert len(a) == len(b) == len(c), "golden samples: adc_a, adc_b, adc_vdc differ in length"
+    top = (1 << hw.adc_bits) - 1
+    assert ((0 <= c) & (c <= top)).all(), f"golden adc_vdc outside 0..{top}"
+    vdc_pre = int(c[0])
+    words = np.concatenate([np.full(pre, (vdc_pre << 32) | (mid << 16) | mid, dtype=np.int64),
+                            (c << 32) | (a << 16) | b])
+    return words, vdc_pre
+
+
 def write_inputs(res, build_dir) -> None:
     """codes.hex for the ADC model and trace.npz for the cocotb side."""
     hw, H = res.hw, res.hw.pwm_half
     first = H // 2
-    pre = int(np.count_nonzero(sample_phases(hw.adc_mode, H, hw.os_ticks) < first))  # window -1
-    mid = 1 << (hw.adc_bits - 1)
-    words = np.concatenate([np.full(pre, (mid << 16) | mid, dtype=np.int64),
-                            (res.samples["adc_a"].astype(np.int64) << 16) | res.samples["adc_b"]])
+    words, vdc_pre = adc_words(res)
     build_dir.mkdir(parents=True, exist_ok=True)
-    (build_dir / "codes.hex").write_text("".join(f"{v:08x}\n" for v in words))
+    (build_dir / "codes.hex").write_text("".join(f"{v:012x}\n" for v in words))
     cfg = {"pwm_half": hw.pwm_half, "dead_ticks": hw.dead_ticks, "os_ticks": hw.os_ticks,
            "blank_ticks": hw.blank_ticks, "cw_angle_step": hw.cw_angle_step, "adc_mode": hw.adc_mode,
            "dtc_gain": hw.dtc_gain, "hf_amp": hw.hf_amp, "recip_h": hw.recip_h,
@@ -95,6 +113,7 @@ def write_inputs(res, build_dir) -> None:
     n_win = len(res.windows["gamma"])
     top_ia, top_ib, top_chk = top_i_expected(res)
     np.savez(build_dir / "trace.npz", top_exp_ia=top_ia, top_exp_ib=top_ib, top_exp_chk=top_chk,
+             vdc_pre=np.int64(vdc_pre),
              **{f"win_{k}": v for k, v in res.windows.items() if v.dtype.kind == "i"},
              **{f"write_{k}": v for k, v in res.writes.items()},
              edge_tick=res.edges["tick"], edge_mask=res.edges["mask"], sample_tick=res.samples["tick"],

@@ -25,26 +25,10 @@
 //   adc_convst    CONVST (registered): rises in the cycle after an accepted start (docs/rtl.md: the
 //                 sampling instant of the sample taken at tick t is the CONVST rising edge in
 //                 cycle t+1), stays high for the conversion, CONV_TICKS clocks
-//   adc_cs_n      CS, active low (registered): low for the read-out of both channels
+//   adc_cs_n      CS, active low (registered): low for the read-out of the three channels
 //   adc_sclk      SCLK (registered), idles low; B pulses per conversion
 //   adc_sdo_a/b/c serial data of channel A/B/C from the ADC (MSB first)
 //   busy          1 from the cycle after an accepted start until the cycle before done (a function
-//                 of registers only, no path from start)
-//   done          one-cycle pulse: code_a/b/c hold the new conversion from this cycle on
-//   code_a/b/c    uB ADC codes (registered, held until the next done; 0 after reset)
-//
-// Protocol and timing (t = cycle of the accepted start, C = CONV_TICKS, H = SCLK_HALF, B = ADC_BITS,
-// c0 = t + 1 + C the cycle in which CS_N is low first; one column per clock, here C = 3, H = 1, B = 3):
-//
-//   cycle      t   t+1 t+2 t+3 c0  +1  +2  +3  +4  +5  +6  +7  (+7 = t+LATENCY)
-//   start      ‾‾‾‾\___________________________________________
-//   adc_convst ____/‾‾‾‾‾‾‾‾‾‾‾\_______________________________   high C clocks = t_CONV
-//   adc_cs_n   ‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾\___________________________/‾‾‾   low 2*B*H + 1 clocks
-//   adc_sclk   ____________________/‾‾‾\___/‾‾‾\___/‾‾‾\_______   rising edge k in cycle c0+(2k+1)H
-//   adc_sdo_*  xxxxxxxxxxxxxxxx<MSB    ><B-2    ><LSB    >xxxxxxxx   next bit after each SCLK fall
-//   captured                           ^       ^       ^          pin sampled as c0+(2k+2)H begins
-//   done       ____________________________________________/‾‾‾   one clock
-//   busy       ____/‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾\___   a start in the done cycle is taken
 //                 of registers only, no path from start)
 //   done          one-cycle pulse: code_a/b/c hold the new conversion from this cycle on
 //   code_a/b/c    uB ADC codes (registered, held until the next done; 0 after reset)
@@ -62,7 +46,7 @@
 //   done      ___________________________________________/‾‾‾\_   one clock
 //   busy      _____/‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾‾\_____   a start in the done cycle is taken
 //
-//   * The CONVST rising edge is the sampling instant (track-to-hold of both channels). CONVST stays
+//   * The CONVST rising edge is the sampling instant (track-to-hold of every channel). CONVST stays
 //     high for C clocks (t_CONV, also a generous CONVST pulse width); CS_N falls when it falls.
 //   * The ADC drives the MSB after CS_N falls (t_EN) and each next bit after an SCLK falling edge
 //     (t_DSDO); it keeps a bit at least t_HSDO after the next falling edge.
@@ -82,7 +66,7 @@
 //   LATENCY = C + 2*B*H + 2 clocks from the start cycle to the done cycle;
 //   CYCLE   = LATENCY: the next start is accepted in the done cycle (busy = 0 there).
 //   Defaults (B = 12, C = 12, H = 1, 100 MHz): t_CONV = 120 ns, f_SCLK = 50 MHz,
-//   LATENCY = CYCLE = 38 clocks (380 ns) <= OS_MIN = 40, i.e. up to 2.6 MSPS per channel pair.
+//   LATENCY = CYCLE = 38 clocks (380 ns) <= OS_MIN = 40, i.e. up to 2.6 MSPS per channel.
 //   (B = 16: 46 clocks, so a 16-bit part at these settings needs OS_MIN >= 46; docs/rtl.md:
 //   OS_MIN = max(ITERATIONS + 8, ADC_CYCLE).)
 //

@@ -41,7 +41,7 @@ module tb_hfi_dsp #(
     input  wire        hold,     // 1: hfi_dsp's run = 0 (configuration before tick 0); undriven: runs
     input  wire        flush     // 1: flush the record files (the test sets it before reading them)
 );
-    wire adc_convst, adc_cs_n, adc_sclk, adc_sdo_a, adc_sdo_b;
+    wire adc_convst, adc_cs_n, adc_sclk, adc_sdo_a, adc_sdo_b, adc_sdo_c;
 
     hfi_dsp #(.ADC_BITS(ADC_BITS)) dut (
         .clk(clk), .rst(rst), .run(hold !== 1'b1),
@@ -52,13 +52,13 @@ module tb_hfi_dsp #(
         .s_axil_arready(s_axil_arready), .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
         .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready), .irq(irq), .gate(gate),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c),
         .sto(sto), .desat(desat), .drive_allowed(drive_allowed)
     );
 
     adc_model #(.ADC_BITS(ADC_BITS), .CODES_FILE(CODES_FILE)) adc (
         .clk(clk), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b)
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c)
     );
 
     integer fd_gates, fd_convst;

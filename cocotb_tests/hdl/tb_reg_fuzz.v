@@ -76,7 +76,7 @@ module tb_reg_fuzz #(
     output reg  [31:0] cov_desat
 );
     localparam [7:0] BUS_LIMIT = BUS_BOUND[7:0] + 8'd1;   // the first wait that is a violation
-    wire adc_convst, adc_cs_n, adc_sclk, adc_sdo_a, adc_sdo_b;
+    wire adc_convst, adc_cs_n, adc_sclk, adc_sdo_a, adc_sdo_b, adc_sdo_c;
 
     // The bus master (cocotbext-axi) samples and drives at the rising edge of clk_m, BUS_SKEW before
     // the DUT's edge: it reads the slave's outputs of the cycle that the DUT's edge ends (a RisingEdge
@@ -108,13 +108,13 @@ module tb_reg_fuzz #(
         .s_axil_arready(s_axil_arready), .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
         .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready), .irq(irq), .gate(gate),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b),
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c),
         .sto(sto), .desat(desat), .drive_allowed(drive_allowed)
     );
 
     adc_model #(.ADC_BITS(ADC_BITS), .CODES_FILE(CODES_FILE)) adc (
         .clk(clk), .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
-        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b)
+        .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c)
     );
 
     initial begin

@@ -131,6 +131,17 @@ def fault_metrics(sc: Scenario, res: ClosedLoopResult) -> dict:
     return out
 
 
+def dc_link_metrics(sc: Scenario, res: ClosedLoopResult) -> dict | None:
+    """The dc link as the drive measured it (``VDC``, docs/spec.md 3.12, read with an ideal divider as the
+    firmware does): its smallest, mean and largest value over the run [V]; None without a dc-link channel."""
+    sens = sc.plant["sens"]
+    if not sens["vdc_range"]:
+        return None
+    volts = res.windows["vdc"] * (sens["vdc_range"] / 2 ** sens["adc_bits"])
+    return {"min_v": round(float(volts.min()), 2), "mean_v": round(float(volts.mean()), 2),
+            "max_v": round(float(volts.max()), 2)}
+
+
 def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
     """Angle error, speed, estimator and timing numbers of a closed-loop run (docs/metrics.md)."""
     w = res.windows
@@ -160,6 +171,7 @@ def metrics_of(sc: Scenario, res: ClosedLoopResult) -> dict:
         "estimator_switches": len(switches),
         "estimator_switch_events": switches,
         "faults": fault_metrics(sc, res),
+        "dc_link": dc_link_metrics(sc, res),
         "late_commits": 0 if res.soc is None else res.soc["late_commits"],
         "wall_s": round(res.wall_s, 2),
         "realtime_factor": round(float(res.t[-1]) / res.wall_s, 3),

@@ -46,7 +46,10 @@ def synthetic() -> tuple[SimpleNamespace, ClosedLoopResult]:
     res = ClosedLoopResult(windows=windows, samples={"tick": np.arange(10)}, edges={}, writes={}, hw=None,
                            scales=Scales(i_lsb=1.0, v_lsb=1.0, w_lsb=RPM, f_sw=1000.0, pole_pairs=1),
                            tick_hz=100e6, flipped=0, wall_s=4.0)
+    w["vdc"][:] = np.where(ms < 1000, 2048, 1536)                   # 560 V, then 420 V (1120 V over 12 bits)
+    windows["vdc"] = w["vdc"]
     sc = SimpleNamespace(name="synthetic", faults=(), plant={"mech": {"imposed_speed": 0},
+                                                             "sens": {"vdc_range": 1120.0, "adc_bits": 12},
                                                   "load": {"t": [p[0] for p in LOAD], "v": [p[1] for p in LOAD]}})
     return sc, res
 
@@ -106,3 +109,12 @@ def test_locked_and_angle_error_after_start():
 def test_angle_deg_wraps():
     a = np.array([0, TURN - 2**30, 2**31, TURN + 2**30], dtype=np.int64)
     assert report.angle_deg(a).tolist() == [0.0, 270.0, 180.0, 90.0]
+
+
+def test_dc_link_as_measured():
+    """VDC codes in volts of the channel (1120 V / 2^12 per code): 999 windows at 560 V, 1001 at 420 V."""
+    sc, res = synthetic()
+    assert report.metrics_of(sc, res)["dc_link"] == {"min_v": 420.0, "mean_v": round((999 * 560 + 1001 * 420) / 2000, 2),
+                                                     "max_v": 560.0}
+    sc.plant["sens"]["vdc_range"] = 0.0
+    assert report.metrics_of(sc, res)["dc_link"] is None

@@ -134,7 +134,7 @@ def run_restart(job: tuple) -> dict:
     drive holds its reference locked at the end (RELOCK_*)."""
     from golden.firmware.protection import FAULT_NAMES
     from golden.firmware.supervisor import MODE_CONVERGE, MODE_RUN
-    name, loaded, duration = job
+    name, loaded, duration, fig_dir = job
     sc = scenario(FAULTS[name], RESTART_RPM, loaded, duration, restart=True)
     t0 = time.perf_counter()
     res = ClosedLoop(sc).run(progress=False)
@@ -153,13 +153,42 @@ def run_restart(job: tuple) -> dict:
     speed = float(np.mean(w["omega_m"][end])) / RPM
     locked = bool((mode[end] == MODE_RUN).all() and np.sqrt(np.mean(err ** 2)) <= RELOCK_DEG
                   and abs(speed - RESTART_RPM) <= RELOCK_RPM)
-    return {"fault": name, "load": "rated" if loaded else "none",
-            "code": FAULT_NAMES[w["fault"][first]] if first is not None else "none",
-            "trip_s": None if first is None else round(float(t[first]), 4),
-            "restart_s": None if restart is None else round(float(t[restart]), 4),
-            "second_code": FAULT_NAMES[w["fault"][second]] if second is not None else "none",
-            "end_speed_rpm": round(speed, 1), "end_angle_rms_deg": round(float(np.sqrt(np.mean(err ** 2))), 2),
-            "locked_at_end": locked, "wall_s": round(time.perf_counter() - t0, 1)}
+    row = {"fault": name, "load": "rated" if loaded else "none",
+           "code": FAULT_NAMES[w["fault"][first]] if first is not None else "none",
+           "trip_s": None if first is None else round(float(t[first]), 4),
+           "restart_s": None if restart is None else round(float(t[restart]), 4),
+           "second_code": FAULT_NAMES[w["fault"][second]] if second is not None else "none",
+           "end_speed_rpm": round(speed, 1), "end_angle_rms_deg": round(float(np.sqrt(np.mean(err ** 2))), 2),
+           "locked_at_end": locked, "wall_s": round(time.perf_counter() - t0, 1)}
+    row["figure"] = plot_restart(res, row, fig_dir)
+    return row
+
+
+def plot_restart(res, row: dict, fig_dir: str) -> str:
+    """Speed (true, reference, estimated), angle error and current amplitude of one run of the restart part,
+    with the fault's span, the trip and the restart marked."""
+    from hfi.report import plt, save_figure
+    w, t = res.windows, res.t
+    fig, axes = plt.subplots(3, 1, figsize=(10, 7), sharex=True)
+    axes[0].plot(t, w["speed_ref"] / res.scales.speed_mech(RPM), label="reference")
+    axes[0].plot(t, w["omega_m"] / RPM, lw=0.8, label="true (plant)")
+    axes[0].plot(t, w["omega_f"] / res.scales.speed_mech(RPM), lw=0.6, label="estimated")
+    axes[0].set_ylabel("speed [r/min]")
+    axes[1].plot(t, res.angle_error_deg(), lw=0.6)
+    axes[1].set_ylabel("angle error [deg el.]")
+    axes[2].plot(t, np.hypot(w["i_d_true"], w["i_q_true"]), lw=0.6, label="|i| (plant)")
+    axes[2].set(ylabel="[A]", xlabel="t [s]")
+    for ax in axes:
+        ax.axvspan(ONSET_S, ONSET_S + TRANSIENT_S, color="r", alpha=0.15, label="fault")
+        for key, style, what in (("trip_s", "--", f"trip: {row['code']}"), ("restart_s", ":", "restart")):
+            if row[key] is not None:
+                ax.axvline(row[key], color="k", ls=style, lw=0.8, label=what)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7, loc="upper left")
+    fig.suptitle(f"restart: {row['fault']} for {TRANSIENT_S * 1e3:g} ms, {RESTART_RPM:g} r/min, load {row['load']}: "
+                 f"{'locked' if row['locked_at_end'] else 'NOT locked'} at the end")
+    slug = "".join(c if c.isalnum() else "_" for c in f"restart_{row['fault']}_{row['load']}")
+    return save_figure(fig, fig_dir, f"{slug}.png")
 
 
 def restart_table(rows: list[dict]) -> str:
@@ -262,7 +291,7 @@ def main(short: bool = False, jobs: int = 2, out: Path = Path("out/faults"), onl
             print(f"[{k + 1}/{len(cells)}] {row['fault']}, {row['speed_rpm']:g} r/min, {row['load']}: "
                   f"{row['verdict']} ({row['code']}, {row['detect_ms']} ms), {row['wall_s']} s", file=sys.stderr,
                   flush=True)
-    jobs_r = [(n, loaded, duration) for n in names if FAULTS[n] for loaded in (False, True)]
+    jobs_r = [(n, loaded, duration, fig_dir) for n in names if FAULTS[n] for loaded in (False, True)]
     restart_rows = []
     with ProcessPoolExecutor(max_workers=max(jobs, 1)) as pool:
         for k, row in enumerate(pool.map(run_restart, jobs_r)):

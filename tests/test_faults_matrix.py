@@ -92,10 +92,10 @@ def test_a_dc_link_step_trips_after_its_periods(name, code):
     assert (k, FAULT_NAMES[fault[k]]) == (first_low + prot.vdc_n - 1, code)
 
 
-def test_the_restart_part_relocks_after_a_transient_sag():
+def test_the_restart_part_relocks_after_a_transient_sag(tmp_path):
     """The restart part of the matrix (hfi.faults.run_restart): a 50 ms sag of 30 % without load trips
     undervoltage, the firmware starts again RESTART_DELAY_S later and holds 50 r/min locked at the end."""
-    row = faults.run_restart(("dc-link sag -30 %", False, faults.DURATION_S))
+    row = faults.run_restart(("dc-link sag -30 %", False, faults.DURATION_S, str(tmp_path)))
     assert (row["code"], row["second_code"], row["locked_at_end"]) == ("undervoltage", "none", True)
     assert row["restart_s"] == pytest.approx(row["trip_s"] + faults.RESTART_DELAY_S, abs=1e-3)
-    assert row["trip_s"] >= faults.ONSET_S
+    assert row["trip_s"] >= faults.ONSET_S and Path(row["figure"]).is_file()

@@ -403,14 +403,16 @@ SCHEMA: dict[str, dict[str, Field]] = {
 """Dotted table path (``""`` is the top level) -> key -> :class:`Field`."""
 
 _PHASE = Field("choice", choices={"a": 0, "b": 1, "c": 2}, required=True)
+_ADC_CHANNEL = Field("choice", choices={"a": 0, "b": 1, "c": 2, "dc": 3}, required=True)
+"""An ADC fault's channel: the current of phase a, b, c, or the dc link (``dc``: plant channel 3, lane C)."""
 FAULTS: dict[str, tuple[str, dict[str, Field]]] = {
     "sensor_offset": ("FAULT_SENSOR_OFFSET", {"phase": _PHASE, "offset": _q("current", None, default=0.0),
                                               "drift": _q("current_rate", None, default=0.0)}),
     "sensor_gain": ("FAULT_SENSOR_GAIN", {"phase": _PHASE,
                                           "gain": Field("number", check=_non_negative, required=True)}),
-    "adc_stuck": ("FAULT_ADC_STUCK", {"phase": _PHASE, "code": Field("integer", check=_non_negative,
-                                                                     required=True)}),
-    "adc_lane_dead": ("FAULT_ADC_STUCK", {"phase": _PHASE}),
+    "adc_stuck": ("FAULT_ADC_STUCK", {"phase": _ADC_CHANNEL, "code": Field("integer", check=_non_negative,
+                                                                           required=True)}),
+    "adc_lane_dead": ("FAULT_ADC_STUCK", {"phase": _ADC_CHANNEL}),
     "phase_open": ("FAULT_PHASE_OPEN", {"phase": _PHASE}),
     "switch_open": ("FAULT_SWITCH_OPEN", {"switch": Field("choice", choices=GATE_BITS, required=True)}),
     "dc_link": ("FAULT_DC_LINK", {"factor": Field("number", check=_between(0.0, 2.0), required=True),
@@ -986,7 +988,8 @@ def _build_plant(reader: _Reader, presets: dict | None) -> dict:
 def _plant_fault(f: FaultSpec, tick_hz: float) -> dict:
     """A ``struct fault`` of the plant (plant_api.h) from a scenario fault."""
     v = f.values
-    channel = (_PHASE.choices[v["phase"]] if "phase" in v else GATE_BITS[v["switch"]] if "switch" in v else 0)
+    channel = (FAULTS[f.kind][1]["phase"].choices[v["phase"]] if "phase" in v
+               else GATE_BITS[v["switch"]] if "switch" in v else 0)
     value, rate = {
         "sensor_offset": (v.get("offset"), v.get("drift")), "sensor_gain": (v.get("gain"), 0.0),
         "adc_stuck": (v.get("code"), 0.0), "dc_link": (v.get("factor"), v.get("tau")),

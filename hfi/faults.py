@@ -70,6 +70,7 @@ FAULTS: dict[str, dict] = {
     "sensor gain x0.7 (a)": {"kind": "sensor_gain", "phase": "a", "gain": 0.7},
     "ADC stuck at +1.3 A (a)": {"kind": "adc_stuck", "phase": "a", "code": 2475},
     "ADC lane dead (b)": {"kind": "adc_lane_dead", "phase": "b"},
+    "ADC lane dead (dc link)": {"kind": "adc_lane_dead", "phase": "dc"},
     "phase open (a)": {"kind": "phase_open", "phase": "a"},
     "switch open (a high)": {"kind": "switch_open", "switch": "a_hi"},
     "dc-link sag -30 %": {"kind": "dc_link", "factor": 0.7},

@@ -83,3 +83,17 @@ def test_noise_has_its_own_stream():
 def test_bad_channel_parameters_are_refused(bad, message):
     with pytest.raises(PlantError, match=message):
         Plant(params(**bad))
+
+
+def test_a_dead_dc_link_lane_reads_zero_and_the_currents_are_untouched():
+    """FAULT_ADC_STUCK on channel 3 (the dc link) from 1 ms: its code is 0 from there on, the current channels'
+    codes are the healthy plant's."""
+    stuck = {"kind": ffi.typeof("enum fault_kind").relements["FAULT_ADC_STUCK"], "channel": 3,
+             "tick": round(1e-3 * TICK), "until": 0, "value": 0.0, "rate": 0.0}
+    ticks = [round(0.5e-3 * TICK), round(2e-3 * TICK)]
+    healthy = Plant(params(noise_rms=0.05)).run([0], ticks, gates=[0b101010])
+    p = params(noise_rms=0.05)
+    p["faults"] = [stuck]
+    dead = Plant(p).run([0], ticks, gates=[0b101010])
+    assert dead["vdc"].tolist() == [vdc_code(560.0, 12, 1000.0), 0]
+    np.testing.assert_array_equal(dead["adc"], healthy["adc"])

@@ -89,7 +89,7 @@ struct plant {
     int sens_fault;           /* 1 once a sensor or ADC fault acts: sample() takes the slow path */
     double f_gain[3];         /* sensor gain factors */
     double f_off[3], f_rate[3]; /* sensor offset added: f_off + f_rate * t [A] */
-    int f_stuck[3];           /* ADC code forced (-1: none) */
+    int f_stuck[PLANT_ADC_CHANNELS]; /* ADC code forced (-1: none) */
     int open_phase;           /* phase disconnected (-1: none) */
     int dead_switches;        /* gate bits whose switch never turns on */
     int dc_fault;             /* dc link: V * (dc_value + (1 - dc_value) exp(-(t - dc_t0)/dc_tau)) */
@@ -852,8 +852,9 @@ static void fault_effects(struct plant *p)
     for (int k = 0; k < 3; k++) {
         p->f_gain[k] = 1.0;
         p->f_off[k] = p->f_rate[k] = 0.0;
-        p->f_stuck[k] = -1;
     }
+    for (int k = 0; k < PLANT_ADC_CHANNELS; k++)
+        p->f_stuck[k] = -1;
     p->sens_fault = p->dc_fault = p->blocked = p->dead_switches = 0;
     p->open_phase = -1;
     p->load_add = 0.0;
@@ -1011,6 +1012,8 @@ static int sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PL
         if (analog)
             analog[3] = 0.0;
     }
+    if (p->sens_fault && p->f_stuck[3] >= 0)
+        adc[3] = p->f_stuck[3];
     return 0;
 }
 
@@ -1186,7 +1189,7 @@ static int params_ok(const struct plant_params *pp, char *err, int err_len)
                 "faults[%d]: tick must be >= 0 and not before the previous fault's", k);
         REQUIRE(f->until == 0 || f->until > f->tick, "faults[%d]: until must be 0 (never) or after tick", k);
         REQUIRE(isfinite(f->value) && isfinite(f->rate), "faults[%d]: value and rate must be finite", k);
-        int nch = f->kind == FAULT_SWITCH_OPEN ? 6 : 3;
+        int nch = f->kind == FAULT_SWITCH_OPEN ? 6 : (f->kind == FAULT_ADC_STUCK ? PLANT_ADC_CHANNELS : 3);
         REQUIRE(f->channel >= 0 && f->channel < nch, "faults[%d]: channel must be in 0..%d", k, nch - 1);
         REQUIRE(f->kind != FAULT_SENSOR_GAIN || f->value >= 0.0, "faults[%d]: a gain factor must be >= 0", k);
         REQUIRE(f->kind != FAULT_ADC_STUCK || (f->value >= 0.0 && f->value < ldexp(1.0, sp->adc_bits) &&

@@ -93,7 +93,7 @@ struct sensor_params {
 enum fault_kind {
     FAULT_SENSOR_OFFSET = 1, /* sensor channel: offset += value [A] + rate*(t - t_fault) [A/s]         */
     FAULT_SENSOR_GAIN = 2,   /* sensor channel: gain *= value                                          */
-    FAULT_ADC_STUCK = 3,     /* ADC channel reads code (int)value whatever the current                 */
+    FAULT_ADC_STUCK = 3,     /* ADC channel (0..3, 3 = the dc link) reads code (int)value whatever it measures */
     FAULT_PHASE_OPEN = 4,    /* phase `channel` disconnected between inverter and motor: i_k = 0       */
     FAULT_SWITCH_OPEN = 5,   /* switch `channel` (gate mask bit 0..5) never turns on                   */
     FAULT_DC_LINK = 6,       /* dc-link source: V_dc * (value + (1 - value)*exp(-(t - t_fault)/rate)),  *
@@ -104,7 +104,7 @@ enum fault_kind {
 
 struct fault {
     int kind;              /* enum fault_kind */
-    int channel;           /* phase / ADC channel 0..2, or switch 0..5 (FAULT_SWITCH_OPEN); else 0 */
+    int channel;           /* phase 0..2, ADC channel 0..3 (FAULT_ADC_STUCK), or switch 0..5 (FAULT_SWITCH_OPEN); else 0 */
     long long tick;        /* onset [ticks]; faults are listed in non-decreasing tick order */
     long long until;       /* the fault clears at this tick (0: never; else > tick) */
     double value;          /* see enum fault_kind */

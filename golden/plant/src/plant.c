@@ -65,6 +65,10 @@ struct plant {
     uint64_t rng_vdc[4];      /* the dc-link channel's noise: a stream of its own (sens.vdc_noise_rms) */
     double gauss_buf[GAUSS_BLOCK];
     int gauss_next;
+    double gauss_vdc_buf[GAUSS_BLOCK];
+    int gauss_vdc_next;
+    double i_end[3];          /* phase currents at the end of the last integration step (the present state) */
+    int i_end_ok;             /* 1 once a step has set i_end */
     double ring_re[3], ring_im[3]; /* ringing phasor per leg: sum of sign*exp(lambda*(t - t_edge)) */
     long long ring_tick;           /* time of the phasors */
     long long ring_dt[RING_CACHE]; /* phasor rotation over ring_dt[slot] ticks (-1: empty), */
@@ -138,29 +142,40 @@ static double uniform_open(uint64_t s[4]) /* in (0, 1) */
  * accepted points of the unit disc (a rejected candidate is overwritten, so there is no unpredictable
  * branch), then the independent log/sqrt computations, which overlap. The sequence is that of drawing
  * pairs one by one, and does not depend on when blocks are made. */
-static void gauss_refill(struct plant *p)
+static void gauss_refill(uint64_t rng[4], double buf[GAUSS_BLOCK])
 {
     double u[GAUSS_BLOCK / 2], v[GAUSS_BLOCK / 2], r2[GAUSS_BLOCK / 2];
     int n = 0;
     while (n < GAUSS_BLOCK / 2) {
-        u[n] = 2.0 * uniform_open(p->rng) - 1.0;
-        v[n] = 2.0 * uniform_open(p->rng) - 1.0;
+        u[n] = 2.0 * uniform_open(rng) - 1.0;
+        v[n] = 2.0 * uniform_open(rng) - 1.0;
         r2[n] = u[n] * u[n] + v[n] * v[n];
         n += r2[n] < 1.0 && r2[n] != 0.0; /* in the disc, 0 excluded */
     }
     for (int k = 0; k < GAUSS_BLOCK / 2; k++) {
         double m = sqrt(-2.0 * log(r2[k]) / r2[k]);
-        p->gauss_buf[2 * k] = u[k] * m;
-        p->gauss_buf[2 * k + 1] = v[k] * m;
+        buf[2 * k] = u[k] * m;
+        buf[2 * k + 1] = v[k] * m;
     }
-    p->gauss_next = 0;
 }
 
+/* The current channels' stream and the dc-link channel's, each with its own generator and block. */
 static inline double gauss(struct plant *p)
 {
-    if (p->gauss_next == GAUSS_BLOCK)
-        gauss_refill(p);
+    if (p->gauss_next == GAUSS_BLOCK) {
+        gauss_refill(p->rng, p->gauss_buf);
+        p->gauss_next = 0;
+    }
     return p->gauss_buf[p->gauss_next++];
+}
+
+static inline double gauss_vdc(struct plant *p)
+{
+    if (p->gauss_vdc_next == GAUSS_BLOCK) {
+        gauss_refill(p->rng_vdc, p->gauss_vdc_buf);
+        p->gauss_vdc_next = 0;
+    }
+    return p->gauss_vdc_buf[p->gauss_vdc_next++];
 }
 
 /* ------------------------------------------------------------------------------------------------ */
@@ -705,6 +720,8 @@ static void rk4_step(struct plant *p, double nticks)
     p->sub += nticks;
 
     sensor_step(p, h, a0.i_abc, i1);
+    memcpy(p->i_end, i1, sizeof p->i_end);
+    p->i_end_ok = 1;
 
     if (nstage > X_THM + 1) {
         const struct inverter_params *inv = &p->p.inv;
@@ -951,27 +968,20 @@ static double ringing(const struct plant *p, int ch)
     return sp->ring_amp * (p->ring_im[ch] + sp->ring_cross * others);
 }
 
-/* One standard normal number of the dc-link channel's own stream (Marsaglia's polar method, the
- * second number of each pair unused). */
-static double gauss_vdc(struct plant *p)
-{
-    for (;;) {
-        double u = 2.0 * uniform_open(p->rng_vdc) - 1.0, v = 2.0 * uniform_open(p->rng_vdc) - 1.0;
-        double r = u * u + v * v;
-        if (r < 1.0 && r > 0.0)
-            return u * sqrt(-2.0 * log(r) / r);
-    }
-}
-
 /* The dc-link voltage at the present tick, as its sensor sees it: the source (ripple, FAULT_DC_LINK)
- * less the drop R_dc * i_dc of the current the legs on the positive rail draw now. */
+ * less the drop R_dc * i_dc of the current the legs on the positive rail draw now (the phase currents of
+ * the last step's end, which is the present state; computed before the first step). */
 static double link_voltage(struct plant *p)
 {
     double v = bus_voltage(p, tick_time(p, p->tick));
     if (p->p.inv.R_dc != 0.0 && !p->voltage_mode) {
         double c, s, th, i_abc[3];
-        state_trig(p, &c, &s, &th);
-        phase_currents(p, p->x, c, s, i_abc);
+        if (p->i_end_ok) {
+            memcpy(i_abc, p->i_end, sizeof i_abc);
+        } else {
+            state_trig(p, &c, &s, &th);
+            phase_currents(p, p->x, c, s, i_abc);
+        }
         v -= p->p.inv.R_dc * dc_current(p, i_abc);
     }
     return v;
@@ -1254,7 +1264,7 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
         p->ring_dt[k] = -1;
     p->filt_tau = params->sens.bandwidth_hz > 0.0 ? 1.0 / (TWO_PI * params->sens.bandwidth_hz) : 0.0;
     p->trig_th = p->bus_t = p->cur_psid = p->cur_psiq = p->load_t = p->load_lo = p->load_hi = NAN;
-    p->gauss_next = GAUSS_BLOCK;
+    p->gauss_next = p->gauss_vdc_next = GAUSS_BLOCK;
     p->adc_full = ldexp(1.0, params->sens.adc_bits);
     p->adc_inv_lsb = p->adc_full / (2.0 * params->sens.adc_range);
     p->vdc_codes = params->sens.vdc_range > 0.0 ? p->adc_full / params->sens.vdc_range : 0.0;

@@ -212,8 +212,9 @@ def parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("faults", help="the fault matrix of the 002 drive (out/faults, docs/faults.md)",
                        description="Inject each fault of hfi.faults.FAULTS at 0.8 s into the default scenario at "
-                       "0, 50 and 250 r/min, without load and at rated load, on the golden closed loop; write "
-                       "matrix.json, matrix.md and a figure per run; exit status 1 if a fault was missed, a run "
+                       "0, 50 and 250 r/min, without load and at rated load, on the golden closed loop; then each "
+                       "fault for 50 ms with one restart allowed (the restart part); write matrix.json, "
+                       "restart.json, matrix.md and a figure per run; exit status 1 if a fault was missed, a run "
                        "ran away with the gates on or a healthy run tripped.")
     p.add_argument("--short", action="store_true", help="1 s runs instead of 1.6 s (the overload check needs 0.5 s "
                    "at the current limit: a blocked rotor may then go undetected)")

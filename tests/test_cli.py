@@ -17,7 +17,7 @@ BAD_SCENARIO = '[scenario]\nname = "x"\nduration = "1 ms"\n[pwm]\ndead_time = "1
 
 METRICS_KEYS = {"scenario", "backend", "duration_s", "windows", "samples", "final_mode", "run_from_s",
                 "polarity_flipped", "angle_error_after_start", "angle_error_at_bottom", "locked", "segments",
-                "estimator_switches", "estimator_switch_events", "faults", "late_commits", "wall_s",
+                "estimator_switches", "estimator_switch_events", "faults", "dc_link", "late_commits", "wall_s",
                 "realtime_factor"}
 """The keys of a golden-backend metrics.json, as docs/metrics.md lists them."""
 

@@ -195,7 +195,9 @@ def plot(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> list[str]:
     w = res.windows
     t = res.t
     files = []
-    fig, axes = plt.subplots(4, 1, figsize=(10, 9), sharex=True)
+    sens = sc.plant["sens"]
+    fig, axes = plt.subplots(5 if sens["vdc_range"] else 4, 1, figsize=(10, 11 if sens["vdc_range"] else 9),
+                             sharex=True)
     axes[0].plot(t, w["speed_ref"] / res.scales.speed_mech(RPM), label="reference")
     axes[0].plot(t, w["omega_m"] / RPM, lw=0.8, label="measured (plant)")
     axes[0].plot(t, w["omega_f"] / res.scales.speed_mech(RPM), lw=0.6, alpha=0.7, label="estimated (PLL, filtered)")
@@ -209,7 +211,11 @@ def plot(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> list[str]:
     axes[3].plot(t, w["i_d"] * i_lsb, lw=0.6, label="i_d̂ (window mean)")
     axes[3].plot(t, w["load_torque"], lw=0.8, label="load torque [N·m]")
     axes[3].set_ylabel("[A], [N·m]")
-    axes[3].set_xlabel("t [s]")
+    if sens["vdc_range"]:                     # the dc link as the drive measured it (VDC, docs/spec.md 3.12)
+        axes[4].plot(t, w["vdc"] * (sens["vdc_range"] / 2 ** sens["adc_bits"]), lw=0.6, label="VDC (measured)")
+        axes[4].axhline(sc.plant["inv"]["V_dc"], color="k", lw=0.6, ls=":", label="nominal")
+        axes[4].set_ylabel("dc link [V]")
+    axes[-1].set_xlabel("t [s]")
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper left") if ax.get_legend_handles_labels()[0] else None

@@ -26,6 +26,7 @@ from __future__ import annotations
 import fcntl
 import hashlib
 import importlib
+import os
 import shutil
 import subprocess
 import sys
@@ -323,7 +324,9 @@ class RtlClosedLoop:
         lib = _sim_ffi.dlopen(str(lib_path))
         workdir = Path(workdir or OUT_SIM / "runs")
         workdir.mkdir(parents=True, exist_ok=True)
-        ram = ram_image(sc, hw, elf, workdir / f"{sc.name}_ram.hex")
+        # one image per process: two runs of the same scenario name at once (pytest -n, a sweep) would
+        # otherwise write one file while the other's simulation reads it
+        ram = ram_image(sc, hw, elf, workdir / f"{sc.name}_{os.getpid()}_ram.hex")
 
         plant = Plant(sc.plant)
         keep = []

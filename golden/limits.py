@@ -339,18 +339,16 @@ def _check_dc_link(reader, plant: dict, v_dc: float) -> None:
     """The dc-link channel reads the nominal link and the overvoltage limit below its full scale, and its
     LSB resolves the under- and overvoltage limits (the check would otherwise never or always fire)."""
     full = _plant_value(reader, "sensors.vdc_range", plant["sens"]["vdc_range"])
-    if not full:                                   # no channel (0 V): the check is off
+    under, over = reader.get("protection.undervoltage"), reader.get("protection.overvoltage")
+    if not full or under is None or over is None:  # no channel (0 V: the check is off), or an invalid limit
         return
-    gain, over = plant["sens"]["vdc_gain"], reader.get("protection.overvoltage")
-    top = over if over is not None else 1.0
-    if top * v_dc * gain >= full:
-        what = (f"protection.overvoltage x inverter.V_dc = {_q(top * v_dc, 'V')}" if over is not None
-                else f"inverter.V_dc = {_q(v_dc, 'V')}")
-        reader.error("sensors.vdc_range", f"{_q(full, 'V')} is not above {what} (times sensors.vdc_gain = "
-                                          f"{gain:g}): the dc-link channel would read full scale there")
+    gain = plant["sens"]["vdc_gain"]
+    if over * v_dc * gain >= full:
+        reader.error("sensors.vdc_range", f"{_q(full, 'V')} is not above protection.overvoltage x inverter.V_dc = "
+                                          f"{_q(over * v_dc, 'V')} (times sensors.vdc_gain = {gain:g}): the "
+                                          f"dc-link channel would read full scale there")
     bits = plant["sens"]["adc_bits"]
-    under = reader.get("protection.undervoltage")
-    if under is not None and over is not None and (over - under) * v_dc < 4 * full / 2**bits:
+    if (over - under) * v_dc < 4 * full / 2**bits:
         reader.error("protection.overvoltage", f"the band from protection.undervoltage to overvoltage is below "
                                                f"4 LSB of the dc-link channel ({_q(4 * full / 2**bits, 'V')})")
 

@@ -131,13 +131,18 @@ def fault_metrics(sc: Scenario, res: ClosedLoopResult) -> dict:
     return out
 
 
-def dc_link_metrics(sc: Scenario, res: ClosedLoopResult) -> dict | None:
-    """The dc link as the drive measured it (``VDC``, docs/spec.md 3.12, read with an ideal divider as the
-    firmware does): its smallest, mean and largest value over the run [V]; None without a dc-link channel."""
+def vdc_volts(sc: Scenario, res: ClosedLoopResult) -> np.ndarray | None:
+    """The dc link as the drive measured it per window (``VDC``, docs/spec.md 3.12, read with an ideal divider
+    as the firmware does) [V]; None without a dc-link channel."""
     sens = sc.plant["sens"]
-    if not sens["vdc_range"]:
+    return res.windows["vdc"] * (sens["vdc_range"] / 2 ** sens["adc_bits"]) if sens["vdc_range"] else None
+
+
+def dc_link_metrics(sc: Scenario, res: ClosedLoopResult) -> dict | None:
+    """:func:`vdc_volts`' smallest, mean and largest value over the run [V]; None without a dc-link channel."""
+    volts = vdc_volts(sc, res)
+    if volts is None:
         return None
-    volts = res.windows["vdc"] * (sens["vdc_range"] / 2 ** sens["adc_bits"])
     return {"min_v": round(float(volts.min()), 2), "mean_v": round(float(volts.mean()), 2),
             "max_v": round(float(volts.max()), 2)}
 
@@ -195,9 +200,8 @@ def plot(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> list[str]:
     w = res.windows
     t = res.t
     files = []
-    sens = sc.plant["sens"]
-    fig, axes = plt.subplots(5 if sens["vdc_range"] else 4, 1, figsize=(10, 11 if sens["vdc_range"] else 9),
-                             sharex=True)
+    vdc = vdc_volts(sc, res)
+    fig, axes = plt.subplots(4 if vdc is None else 5, 1, figsize=(10, 9 if vdc is None else 11), sharex=True)
     axes[0].plot(t, w["speed_ref"] / res.scales.speed_mech(RPM), label="reference")
     axes[0].plot(t, w["omega_m"] / RPM, lw=0.8, label="measured (plant)")
     axes[0].plot(t, w["omega_f"] / res.scales.speed_mech(RPM), lw=0.6, alpha=0.7, label="estimated (PLL, filtered)")
@@ -211,8 +215,8 @@ def plot(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> list[str]:
     axes[3].plot(t, w["i_d"] * i_lsb, lw=0.6, label="i_d̂ (window mean)")
     axes[3].plot(t, w["load_torque"], lw=0.8, label="load torque [N·m]")
     axes[3].set_ylabel("[A], [N·m]")
-    if sens["vdc_range"]:                     # the dc link as the drive measured it (VDC, docs/spec.md 3.12)
-        axes[4].plot(t, w["vdc"] * (sens["vdc_range"] / 2 ** sens["adc_bits"]), lw=0.6, label="VDC (measured)")
+    if vdc is not None:
+        axes[4].plot(t, vdc, lw=0.6, label="VDC (measured)")
         axes[4].axhline(sc.plant["inv"]["V_dc"], color="k", lw=0.6, ls=":", label="nominal")
         axes[4].set_ylabel("dc link [V]")
     axes[-1].set_xlabel("t [s]")

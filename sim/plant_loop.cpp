@@ -68,8 +68,8 @@ bool PlantLoop::sample(long long tick, int *adc_a, int *adc_b, int *adc_vdc)
         return refused("a sample", tick, st);
     *adc_a = adc[0];
     *adc_b = adc[1];
-    *adc_vdc = adc[3];
-    return record_sample(tick, adc[0], adc[1], adc[3]);
+    *adc_vdc = adc[PLANT_ADC_VDC];
+    return record_sample(tick, adc[0], adc[1], adc[PLANT_ADC_VDC]);
 }
 
 bool PlantLoop::end_window()
@@ -99,7 +99,7 @@ bool PlantLoop::run_window(const std::vector<long long> &e_ticks, const std::vec
         edges.push_back(gate_edge{e_ticks[i], e_masks[i]});
     for (int i = 0; i < n; i++)
         if (!record_sample(s_ticks[i], adc[PLANT_ADC_CHANNELS * i], adc[PLANT_ADC_CHANNELS * i + 1],
-                           adc[PLANT_ADC_CHANNELS * i + 3]))
+                           adc[PLANT_ADC_CHANNELS * i + PLANT_ADC_VDC]))
             return false;
     t0 = std::chrono::steady_clock::now();
     const bool ended = end_window();

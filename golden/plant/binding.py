@@ -20,8 +20,10 @@ LIBRARY = _HERE / "libhfiplant.so"
 ffi = cffi.FFI()
 ffi.cdef(HEADER.read_text())
 _lib = None
-ADC_CHANNELS = int(re.search(r"#define PLANT_ADC_CHANNELS (\d+)", HEADER.read_text())[1])
-"""ADC channels per sample (``PLANT_ADC_CHANNELS`` of the header): currents a, b, c and the dc link."""
+ADC_CHANNELS, ADC_VDC = (int(re.search(rf"#define {name} (\d+)", HEADER.read_text())[1])
+                         for name in ("PLANT_ADC_CHANNELS", "PLANT_ADC_VDC"))
+"""ADC channels per sample and the dc link's among them (``PLANT_ADC_CHANNELS``, ``PLANT_ADC_VDC`` of the
+header): the currents a, b, c, then the dc link."""
 
 MAG_KINDS = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3}
 GATE_BITS = {"a_hi": 0, "a_lo": 1, "b_hi": 2, "b_lo": 3, "c_hi": 4, "c_lo": 5}
@@ -218,11 +220,11 @@ class Plant:
             if n_e:
                 p_volts = ffi.from_buffer("double[]", volts)
         adc = np.zeros((n_s, ADC_CHANNELS), dtype=np.int32)
-        out = {"adc": adc[:, :3], "vdc": adc[:, 3]}
+        out = {"adc": adc[:, :3], "vdc": adc[:, ADC_VDC]}
         p_analog = p_truth = ffi.NULL
         if analog:
             a = np.zeros((n_s, ADC_CHANNELS))
-            out["analog"], out["vdc_analog"] = a[:, :3], a[:, 3]
+            out["analog"], out["vdc_analog"] = a[:, :3], a[:, ADC_VDC]
             if n_s:
                 p_analog = ffi.from_buffer("double[]", a)
         if truth:

@@ -331,7 +331,7 @@ bool hls_loop::step() {
     win.inj_phase = inj_phase.to_uint();                  // INJ_PHASE, latched with the window results
     win.cic_qa = int32_t(cic_qa);                         // CIC_QA, CIC_QB (latched with them too)
     win.cic_qb = int32_t(cic_qb);
-    win.vdc = uint32_t(adc[PLANT_ADC_CHANNELS * j + 3]);  // VDC (spec 3.12): the dc-link code of the bottom sample
+    win.vdc = uint32_t(adc[PLANT_ADC_CHANNELS * j + PLANT_ADC_VDC]);  // VDC (spec 3.12): the dc-link code of the bottom sample
     if (direct) {                                         // VECTOR, TOP_I (latched with the window results)
         // VECTOR.NEXT: the modulator's choice from the set the next boundary commits (the outputs of the
         // previous step; the reset set before k = 1) and the state applied now, held until that top

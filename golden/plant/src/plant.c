@@ -67,8 +67,7 @@ struct plant {
     int gauss_next;
     double gauss_vdc_buf[GAUSS_BLOCK];
     int gauss_vdc_next;
-    double i_end[3];          /* phase currents at the end of the last integration step (the present state) */
-    int i_end_ok;             /* 1 once a step has set i_end */
+    double i_end[3];          /* phase currents of the present state: the last integration step's end */
     double ring_re[3], ring_im[3]; /* ringing phasor per leg: sum of sign*exp(lambda*(t - t_edge)) */
     long long ring_tick;           /* time of the phasors */
     long long ring_dt[RING_CACHE]; /* phasor rotation over ring_dt[slot] ticks (-1: empty), */
@@ -721,7 +720,6 @@ static void rk4_step(struct plant *p, double nticks)
 
     sensor_step(p, h, a0.i_abc, i1);
     memcpy(p->i_end, i1, sizeof p->i_end);
-    p->i_end_ok = 1;
 
     if (nstage > X_THM + 1) {
         const struct inverter_params *inv = &p->p.inv;
@@ -969,21 +967,12 @@ static double ringing(const struct plant *p, int ch)
 }
 
 /* The dc-link voltage at the present tick, as its sensor sees it: the source (ripple, FAULT_DC_LINK)
- * less the drop R_dc * i_dc of the current the legs on the positive rail draw now (the phase currents of
- * the last step's end, which is the present state; computed before the first step). */
+ * less the drop R_dc * i_dc of the current the legs on the positive rail draw now. */
 static double link_voltage(struct plant *p)
 {
     double v = bus_voltage(p, tick_time(p, p->tick));
-    if (p->p.inv.R_dc != 0.0 && !p->voltage_mode) {
-        double c, s, th, i_abc[3];
-        if (p->i_end_ok) {
-            memcpy(i_abc, p->i_end, sizeof i_abc);
-        } else {
-            state_trig(p, &c, &s, &th);
-            phase_currents(p, p->x, c, s, i_abc);
-        }
-        v -= p->p.inv.R_dc * dc_current(p, i_abc);
-    }
+    if (p->p.inv.R_dc != 0.0 && !p->voltage_mode)
+        v -= p->p.inv.R_dc * dc_current(p, p->i_end);
     return v;
 }
 
@@ -1014,16 +1003,16 @@ static int sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PL
         if (sp->vdc_noise_rms > 0.0)
             v += sp->vdc_noise_rms * gauss_vdc(p);
         double z = v * p->vdc_codes + 0.5;
-        adc[3] = z < 0.0 ? 0 : (z >= full ? (int)(full - 1.0) : (int)z);
+        adc[PLANT_ADC_VDC] = z < 0.0 ? 0 : (z >= full ? (int)(full - 1.0) : (int)z);
         if (analog)
-            analog[3] = v;
+            analog[PLANT_ADC_VDC] = v;
     } else {
-        adc[3] = 0;
+        adc[PLANT_ADC_VDC] = 0;
         if (analog)
-            analog[3] = 0.0;
+            analog[PLANT_ADC_VDC] = 0.0;
     }
-    if (p->sens_fault && p->f_stuck[3] >= 0)
-        adc[3] = p->f_stuck[3];
+    if (p->sens_fault && p->f_stuck[PLANT_ADC_VDC] >= 0)
+        adc[PLANT_ADC_VDC] = p->f_stuck[PLANT_ADC_VDC];
     return 0;
 }
 
@@ -1272,6 +1261,9 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     p->x[X_PSIQ] = 0.0;
     p->x[X_THM] = params->theta_m0;
     p->x[X_OMM] = params->omega_m0;
+    double cos_th, sin_th, th;
+    state_trig(p, &cos_th, &sin_th, &th);
+    phase_currents(p, p->x, cos_th, sin_th, p->i_end); /* the steps keep it from here on */
     p->fault_tick = -1;
     fault_effects(p); /* neutral */
     advance(p, 0);    /* faults at tick 0 */

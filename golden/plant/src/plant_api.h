@@ -86,8 +86,9 @@ struct sensor_params {
     double vdc_noise_rms;  /* white Gaussian noise per sample [V rms] */
 };
 
-/* ADC channels per sample: the phase currents a, b, c (codes of sens.adc_range) and the dc link */
+/* ADC channels per sample: the phase currents a, b, c (codes of sens.adc_range), then the dc link */
 #define PLANT_ADC_CHANNELS 4
+#define PLANT_ADC_VDC 3
 
 /* ---- faults (docs/faults.md): each acts from its tick on, until its end tick or the end of the run -- */
 enum fault_kind {

@@ -18,14 +18,16 @@ golden/accmap.py) and the RTL's documented behaviour:
   wrapper counts it independently), CYCLE_HI the high word latched by the last CYCLE_LO read;
   UART_STATUS reads 0 or 1;
 - SINCOS reads golden.fpga.cordic.sincos_q15 of the last SIN_ANGLE write (0 after reset), also when read
-  while the CORDIC computes; the look-up result registers read 0 after a reset and, after a look-up, one
+  while the CORDIC computes; VEC_ANGLE and VEC_MAG read golden.firmware.vector.vector_angle of the last
+  VEC_X write and the last VEC_Y write (each saturated to +-2^28; 0 after reset), likewise; the look-up result registers read 0 after a reset and, after a look-up, one
   value each until the next look-up (the look-up itself is checked against golden in test_soc_acc.py;
   here the tables are random RAM words and the grid random, outside the unit's exact range);
 - write-only registers, unmapped words and unaligned byte addresses read 0 (the slaves' default read
   branch; hfi_soc.v: an unmapped page reads 0 likewise; test_soc_acc.py's contract);
 - waits (clocks with sel and no ready): 1 on the ctl page ("answered one clock later"); on the acc page 1,
-  except a LUT_IQ write (LUT_WAIT = 60: the look-up's 59 clocks, then ready) and a SIN_ANGLE write or
-  SINCOS read while the CORDIC runs (at most SIN_WAIT_MAX).
+  except a LUT_IQ write (LUT_WAIT = 60: the look-up's 59 clocks, then ready), a SIN_ANGLE write or
+  SINCOS read while the CORDIC runs and an access to VEC_* while the vectoring CORDIC runs (at most
+  SIN_WAIT_MAX: both have a LATENCY of 18).
 
 Reproducible: ``random.Random(FUZZ_SEED)``; FUZZ_TRANSACTIONS accesses (resets not counted).
 """
@@ -41,6 +43,7 @@ from cocotb.triggers import ClockCycles, FallingEdge, ValueChange
 
 from golden import accmap as am
 from golden import socmap as sm
+from golden.firmware.vector import INPUT_LIMIT, vector_angle
 from golden.fpga.cordic import sincos_q15
 
 ACC = 0x100
@@ -60,7 +63,7 @@ plus a margin of 4."""
 PROGRESS = 100_000
 VIOLATIONS = ("viol_ready", "viol_bound", "viol_mem", "viol_trace")
 COVERAGE = ("cov_lut", "cov_lut_abort", "cov_b2b", "cov_trace", "cov_mem")
-PY_COVERAGE = ("sin_waited", "resets", "unaligned_writes", "lut_learned")
+PY_COVERAGE = ("sin_waited", "vec_waited", "resets", "unaligned_writes", "lut_learned")
 COVERAGE_CAP = 3
 """The run goes on past FUZZ_TRANSACTIONS until every coverage counter is non-zero, up to this many times."""
 
@@ -78,6 +81,7 @@ ACC_RW = {r["addr"]: ((4 << RAM_AW) - 1 if r["addr"] in BASES else field_mask(r)
 ACC_RESET = {r["addr"]: r["reset"] for r in am.REGISTERS.values() if r["addr"] in ACC_RW}
 RESULTS = tuple(r["addr"] for n, r in am.REGISTERS.items() if am.LAM_D_LO_ADDR <= r["addr"] <= am.DL_DQ_HI_ADDR)
 SIN_ADDRS = (am.SIN_ANGLE_ADDR, am.SINCOS_ADDR)
+VEC_ADDRS = (am.VEC_X_ADDR, am.VEC_Y_ADDR, am.VEC_ANGLE_ADDR, am.VEC_MAG_ADDR)
 CTL_MAPPED = sorted(r["addr"] for r in sm.REGISTERS.values())
 ACC_MAPPED = sorted(r["addr"] for r in am.REGISTERS.values())
 
@@ -168,6 +172,12 @@ async def pulse(dut, name: str) -> None:
     getattr(dut, name).value = 0
 
 
+def _sat28(v: int) -> int:
+    """The s32 word v saturated to +-2^28, as hfi_vector saturates its inputs."""
+    v = v - (1 << 32) if v >> 31 else v
+    return max(-INPUT_LIMIT, min(INPUT_LIMIT, v))
+
+
 class Model:
     """The registers as the maps and the RTL say (module docstring)."""
 
@@ -179,6 +189,8 @@ class Model:
         self.acc = dict(ACC_RESET)
         self.cycle_hi = 0
         self.sincos = 0
+        self.vec_x = 0
+        self.vec = {am.VEC_ANGLE_ADDR: 0, am.VEC_MAG_ADDR: 0}
         self.results = {a: 0 for a in RESULTS}   # None: a look-up ran, value not read yet
 
     def write(self, addr: int, data: int) -> None:
@@ -187,6 +199,11 @@ class Model:
             if a == am.SIN_ANGLE_ADDR:
                 s, c = sincos_q15(data)
                 self.sincos = ((int(c) & 0xFFFF) << 16) | (int(s) & 0xFFFF)
+            elif a == am.VEC_X_ADDR:
+                self.vec_x = data
+            elif a == am.VEC_Y_ADDR:
+                angle, mag = vector_angle(_sat28(self.vec_x), _sat28(data))
+                self.vec = {am.VEC_ANGLE_ADDR: angle, am.VEC_MAG_ADDR: mag & WORD}
             elif a in ACC_RW:
                 self.acc[a] = data & ACC_RW[a]
             if a == am.LUT_IQ_ADDR:
@@ -200,6 +217,8 @@ class Model:
         if addr & ACC:
             if a == am.SINCOS_ADDR:
                 return self.sincos, None
+            if a in self.vec:
+                return self.vec[a], None
             if a in ACC_RW:
                 return self.acc[a], None
             if a in self.results:
@@ -227,7 +246,7 @@ def expected_wait(c: Cmd) -> tuple[int, int]:
         return 1, 1
     if a == am.LUT_IQ_ADDR and c.wstrb:
         return LUT_WAIT, LUT_WAIT
-    if a in SIN_ADDRS:
+    if a in SIN_ADDRS or a in VEC_ADDRS:
         return 1, SIN_WAIT_MAX
     return 1, 1
 
@@ -277,6 +296,11 @@ class Fuzzer:
             abort = rng.randint(1, SIN_WAIT_MAX) if rng.random() < 0.03 else 0   # sometimes cut by a reset
             return Cmd(ACC | am.SINCOS_ADDR, 0, self.data(), rng.choice((0, 0, 0, rng.randint(1, 20))),
                        rst_len=rng.randint(1, 20), abort=abort)
+        if u < 0.34:                                            # a vector, its results often straight after
+            if rng.random() < 0.5:
+                return Cmd(ACC | rng.choice((am.VEC_X_ADDR, am.VEC_Y_ADDR)), wstrb if wstrb else 0xF, self.data(), gap)
+            return Cmd(ACC | rng.choice((am.VEC_ANGLE_ADDR, am.VEC_MAG_ADDR)), 0, self.data(),
+                       rng.choice((0, 0, 0, rng.randint(1, 20))))
         if u < 0.50:
             return Cmd(ACC | rng.choice(ACC_MAPPED), 0, self.data(), gap)
         if u < 0.80:
@@ -313,6 +337,8 @@ class Fuzzer:
             if c.addr & ACC and (c.addr & 0xFF) in SIN_ADDRS:
                 self.max_sin_wait = max(self.max_sin_wait, r.wait)
                 self.cov["sin_waited"] += r.wait > 1
+            if c.addr & ACC and (c.addr & 0xFF) in VEC_ADDRS:
+                self.cov["vec_waited"] += r.wait > 1
         if int(self.dut.dsp_run.value) != self.model.ctl[sm.CTRL_ADDR]:
             self.mismatch(f"dsp_run {self.dut.dsp_run.value} after {where}, CTRL.DSP_RUN written "
                           f"{self.model.ctl[sm.CTRL_ADDR]}")

@@ -13,7 +13,7 @@ from tb_soc_acc import RAM_AW, ram_image
 
 N_TESTS = 3  # cocotb tests in tb_soc_acc.py
 RANDOM_N = {"verilator": 2000, "icarus": 500}
-RTL_FILES = ("hfi_soc_acc.v", "hfi_cordic.v", "hfi_flux_lut.v", "hfi_ram.v")
+RTL_FILES = ("hfi_soc_acc.v", "hfi_cordic.v", "hfi_vector.v", "hfi_flux_lut.v", "hfi_ram.v")
 
 
 @pytest.mark.parametrize("sim", hdl_runner.SIMULATORS)

@@ -21,7 +21,7 @@ from tb_soc_bus_fuzz import ACC_BOUND, CTL_BOUND, RAM_AW
 
 FUZZ_TRANSACTIONS_SHORT = 30_000
 """Accesses of the short run in make test."""
-RTL_FILES = ("hfi_soc_ctl.v", "hfi_uart_tx.v", "hfi_soc_acc.v", "hfi_cordic.v", "hfi_flux_lut.v", "hfi_ram.v")
+RTL_FILES = ("hfi_soc_ctl.v", "hfi_uart_tx.v", "hfi_soc_acc.v", "hfi_cordic.v", "hfi_vector.v", "hfi_flux_lut.v", "hfi_ram.v")
 
 
 def test_soc_bus_fuzz(tmp_path):

@@ -215,6 +215,34 @@ DL_DQ_HI_VALUE_WIDTH = 32
 DL_DQ_HI_VALUE_MASK = 0xFFFFFFFF
 DL_DQ_HI_VALUE_RESET = None
 
+# VEC_X @ 0x60: Vector x
+VEC_X_ADDR = 0x60
+VEC_X_VALUE_LSB = 0  # wo
+VEC_X_VALUE_WIDTH = 32
+VEC_X_VALUE_MASK = 0xFFFFFFFF
+VEC_X_VALUE_RESET = 0
+
+# VEC_Y @ 0x64: Vector y
+VEC_Y_ADDR = 0x64
+VEC_Y_VALUE_LSB = 0  # wo
+VEC_Y_VALUE_WIDTH = 32
+VEC_Y_VALUE_MASK = 0xFFFFFFFF
+VEC_Y_VALUE_RESET = 0
+
+# VEC_ANGLE @ 0x68: Vector angle
+VEC_ANGLE_ADDR = 0x68
+VEC_ANGLE_VALUE_LSB = 0  # ro
+VEC_ANGLE_VALUE_WIDTH = 32
+VEC_ANGLE_VALUE_MASK = 0xFFFFFFFF
+VEC_ANGLE_VALUE_RESET = None
+
+# VEC_MAG @ 0x6C: Vector magnitude
+VEC_MAG_ADDR = 0x6C
+VEC_MAG_VALUE_LSB = 0  # ro
+VEC_MAG_VALUE_WIDTH = 32
+VEC_MAG_VALUE_MASK = 0xFFFFFFFF
+VEC_MAG_VALUE_RESET = None
+
 
 REGISTERS = {
     "SIN_ANGLE": {"addr": 0x00, "reset": 0x00000000, "signed": (), "fields": {
@@ -292,6 +320,18 @@ REGISTERS = {
         "VALUE": (0, 32, None, "ro"),
     }},
     "DL_DQ_HI": {"addr": 0x5C, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, None, "ro"),
+    }},
+    "VEC_X": {"addr": 0x60, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, 0, "wo"),
+    }},
+    "VEC_Y": {"addr": 0x64, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, 0, "wo"),
+    }},
+    "VEC_ANGLE": {"addr": 0x68, "reset": 0x00000000, "signed": (), "fields": {
+        "VALUE": (0, 32, None, "ro"),
+    }},
+    "VEC_MAG": {"addr": 0x6C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
     }},
 }

@@ -392,7 +392,9 @@ class RtlClosedLoop:
              for i, word in enumerate(soc_platform.TRACE)}
         if not np.array_equal(t["window"], np.arange(n_win)):
             raise RtlBackendError("firmware trace records are not one per window in order")
-        reads, writes = rec["reads"], rec["writes"]
+        # window -1's interrupt reads the registers too (a step on a copy of the state, firmware/src/main.c): its
+        # reads come before window 0's end
+        reads, writes = rec["reads"][rec["reads"]["tick"] >= P + H // 2], rec["writes"]
         w = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
         w["tick"] = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
         results = [("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),

@@ -5,13 +5,16 @@
 // calls the software (firmware/src/fw_acc.c):
 //   - sine/cosine: hfi_cordic with WIDTH 32 and 16 iterations = golden.fpga.cordic.sincos_q15(angle) =
 //     fw_sincos_q15 (18 CPU clocks from the SIN_ANGLE write to the result);
+//   - angle and magnitude of a vector: hfi_vector = golden.firmware.vector.vector_angle(x, y) =
+//     fw_vector_angle (18 CPU clocks from the VEC_Y write to the result; VEC_X holds x);
 //   - flux-map look-up: hfi_flux_lut = golden.firmware.flux_lut.lut_point = fw_lut_point; it reads the
 //     tables from the SoC RAM, where the firmware's configuration block holds them (LUT_BASE_*), through
 //     the RAM's data port (mem_*): the LUT_IQ write that starts a look-up is answered only when the
 //     look-up is done, so the CPU waits on its data bus and the port is free (mem_en is high only then).
 // Native PicoRV32-style bus as hfi_soc_ctl: `sel` for one access, answered with `ready`. An access that
 // must wait for a unit is answered when the unit is done, so the firmware never polls: a SIN_ANGLE write
-// or a SINCOS read waits while the CORDIC computes; the LUT_IQ write waits for its look-up (above).
+// or a SINCOS read waits while the CORDIC computes, an access to VEC_* while the vectoring CORDIC does; the
+// LUT_IQ write waits for its look-up (above).
 // Writes store the whole word.
 module hfi_soc_acc #(
     parameter RAM_AW = 14                       // word-address width of the SoC RAM
@@ -35,15 +38,19 @@ module hfi_soc_acc #(
 
     // ---------------------------------------------------------------- bus
     wire is_sin = addr == ACC_SIN_ANGLE_ADDR || addr == ACC_SINCOS_ADDR;
+    wire is_vec = addr == ACC_VEC_X_ADDR || addr == ACC_VEC_Y_ADDR || addr == ACC_VEC_ANGLE_ADDR
+                  || addr == ACC_VEC_MAG_ADDR;
     reg sc_run;                                   // sine/cosine: from the start to the done cycle (exclusive)
+    reg vec_run;                                  // vector: likewise
     reg lut_run;                                  // look-up: likewise
     // An access is taken (`take`: its write stored, its read data registered) when its unit is free;
     // it is answered (`go`: ready in the next clock) then, except the LUT_IQ write, answered at lut_done.
     wire is_iq = addr == ACC_LUT_IQ_ADDR && wstrb != 4'd0;
-    wire take = sel && !ready && !lut_run && (is_sin ? !sc_run : 1'b1);
+    wire take = sel && !ready && !lut_run && !(is_sin && sc_run) && !(is_vec && vec_run);
     wire write = take && wstrb != 4'd0;
     wire read = take && wstrb == 4'd0;
     wire sc_start = write && addr == ACC_SIN_ANGLE_ADDR;
+    wire vec_start = write && addr == ACC_VEC_Y_ADDR;
     wire lut_start = write && is_iq;
     wire lut_done;
     wire go = (take && !is_iq) || lut_done;
@@ -55,6 +62,18 @@ module hfi_soc_acc #(
     hfi_cordic #(.WIDTH(32), .ITERATIONS(16)) u_sincos (
         .clk(clk), .rst(rst), .start(sc_start), .angle(wdata), .busy(), .done(sc_done),
         .sin_q15(sc_sin), .cos_q15(sc_cos)
+    );
+    /* verilator lint_on PINCONNECTEMPTY */
+
+    // ---------------------------------------------------------------- angle and magnitude of a vector
+    reg [31:0] vec_x;
+    wire vec_done;
+    wire [31:0] vec_angle;
+    wire signed [31:0] vec_mag;
+    /* verilator lint_off PINCONNECTEMPTY */
+    hfi_vector u_vector (
+        .clk(clk), .rst(rst), .start(vec_start), .x(vec_x), .y(wdata), .busy(), .done(vec_done),
+        .angle(vec_angle), .mag(vec_mag)
     );
     /* verilator lint_on PINCONNECTEMPTY */
 
@@ -87,6 +106,8 @@ module hfi_soc_acc #(
             ready <= 1'b0;
             rdata <= 32'd0;
             sc_run <= 1'b0;
+            vec_run <= 1'b0;
+            vec_x <= 32'd0;
             lut_run <= 1'b0;
             n_d <= ACC_LUT_CFG_N_D_RESET;
             n_q <= ACC_LUT_CFG_N_Q_RESET;
@@ -103,6 +124,7 @@ module hfi_soc_acc #(
         end else begin
             ready <= go;
             sc_run <= sc_start || (sc_run && !sc_done);
+            vec_run <= vec_start || (vec_run && !vec_done);
             lut_run <= lut_start || (lut_run && !lut_done);
             if (write) begin
                 case (addr)
@@ -113,6 +135,7 @@ module hfi_soc_acc #(
                         coarse <= wdata[ACC_LUT_CFG_COARSE_LSB +: ACC_LUT_CFG_COARSE_WIDTH];
                         f_shift <= wdata[ACC_LUT_CFG_F_SHIFT_LSB +: ACC_LUT_CFG_F_SHIFT_WIDTH];
                     end
+                    ACC_VEC_X_ADDR:       vec_x <= wdata;
                     ACC_LUT_KNEE_ADDR:    knee <= wdata;
                     ACC_LUT_ID_ADDR:      id <= wdata;
                     ACC_LUT_BASE_D_ADDR:   base_d <= wdata[RAM_AW+1:0];
@@ -126,6 +149,8 @@ module hfi_soc_acc #(
             if (read) begin
                 case (addr)
                     ACC_SINCOS_ADDR:      rdata <= {sc_cos, sc_sin};
+                    ACC_VEC_ANGLE_ADDR:   rdata <= vec_angle;
+                    ACC_VEC_MAG_ADDR:     rdata <= vec_mag;
                     ACC_LUT_CFG_ADDR:     rdata <= {3'd0, f_shift, 1'b0, coarse, shift, 1'b0, n_q, 1'b0, n_d};
                     ACC_LUT_KNEE_ADDR:    rdata <= knee;
                     ACC_LUT_BASE_D_ADDR:   rdata <= {{(30-RAM_AW){1'b0}}, base_d};

@@ -4,8 +4,8 @@ The hand-over scenario (``scenarios/handover_short.toml``: start-up and polarity
 standstill, the hand-over to the rotor flux observer at 350 r/min and back below 300 r/min) runs on the
 ``golden`` backend (Python bit-true model) and on the ``rtl`` backend (the C firmware on the VexRiscv of
 the Verilated hfi_soc, the same C plant) with the same seed for ``IDENTITY_S`` seconds, both estimator
-methods in charge in turn; so do the 000 drive at 4 kHz (``tap2023_4khz``: pilot polarity, rotating
-injection, the EEMF observer in parallel) and the 001 drive (``scenarios/xue2022_noload.toml``, 1 kHz:
+methods in charge in turn; so do the 000 drive at its own 10 kHz (``scenarios/tap2023_fullload.toml``: pilot
+polarity, rotating injection, the EEMF observer in parallel, the fault checks on) and the 001 drive (``scenarios/xue2022_noload.toml``, 1 kHz:
 the period square wave of CTRL.INJ_PER, the differencing and CIC block, whose CIC_QA/QB the firmware
 reads and whose ENV_A/B the harness samples, the sqw_cic observer). (The default scenario, full length,
 is compared on the hls backend.)
@@ -45,23 +45,6 @@ IDENTITY_S = 0.6
 (60 M clocks each; 1199 at 2 kHz)."""
 
 
-def tap2023_4khz():
-    """The 000 drive (scenarios/tap2023_fullload.toml) at 4 kHz: at its 10 kHz every step fits the period
-    (4799 CPU clocks worst of 5000, 0.3 s, with the 16 KiB instruction cache; docs/soc.md), but the first
-    step's CTRL.ENABLE must land within three quarters of a period (3750 CPU clocks at 10 kHz, 9375 at
-    4 kHz) and the first step takes 4112 (the start-up mode's steps about 3610), so the gates would start
-    a period after golden's. The rtl backend runs it at 4 kHz with the paper's ratios (injection f_sw / 20 = 200 Hz, band-pass
-    66 Hz, notch at 200 Hz, 160 Hz wide)."""
-    sc = load_scenario(ROOT / "scenarios" / "tap2023_fullload.toml")
-    params = dict(sc.estimator.params, rot_bpf=dict(sc.estimator.params["rot_bpf"], f_inj=200.0, bpf_width=66.0))
-    # the fault checks off: at 4 kHz the current loop (the 10 kHz design's gains) rings for 2 ms after the pilot
-    # pulses, +-95 V on v_d, which the lock check takes for a lost angle (the fault path is compared on the 001 run)
-    return dataclasses.replace(sc, pwm=dataclasses.replace(sc.pwm, f_sw=4e3),
-                               control=dataclasses.replace(sc.control, notch_freq=200.0, notch_width=160.0),
-                               estimator=dataclasses.replace(sc.estimator, params=params),
-                               protection=dataclasses.replace(sc.protection, checks="off"))
-
-
 def varatharajan2020_2khz():
     """The 003 drive (scenarios/varatharajan2020_torquestep.toml: law fcs_mpc, CTRL.DIRECT, the estimator
     hfo_proj) at 2 kHz: its firmware step takes about 6800 CPU clocks mean, 9300 worst (with the accelerators
@@ -92,7 +75,7 @@ def xue2022_phase_open():
 
 
 SCENARIOS = {"handover_short": lambda: load_scenario(ROOT / "scenarios" / "handover_short.toml"),
-             "tap2023_4khz": tap2023_4khz,
+             "tap2023_fullload": lambda: load_scenario(ROOT / "scenarios" / "tap2023_fullload.toml"),
              "xue2022_noload": xue2022_phase_open,
              "varatharajan2020_2khz": varatharajan2020_2khz}
 """The compared runs: the 002 method with its hand-over, the 000 method (pilot polarity, rotating

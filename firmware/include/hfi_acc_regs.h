@@ -311,6 +311,52 @@ typedef union {
     uint32_t w;
 } hfi_acc__DL_DQ_HI_t;
 
+// reg - hfi_acc.VEC_X
+#define HFI_ACC__VEC_X__VALUE_bm 0xffffffff
+#define HFI_ACC__VEC_X__VALUE_bp 0
+#define HFI_ACC__VEC_X__VALUE_bw 32
+#define HFI_ACC__VEC_X__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_acc__VEC_X_t;
+
+// reg - hfi_acc.VEC_Y
+#define HFI_ACC__VEC_Y__VALUE_bm 0xffffffff
+#define HFI_ACC__VEC_Y__VALUE_bp 0
+#define HFI_ACC__VEC_Y__VALUE_bw 32
+#define HFI_ACC__VEC_Y__VALUE_reset 0x0
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_acc__VEC_Y_t;
+
+// reg - hfi_acc.VEC_ANGLE
+#define HFI_ACC__VEC_ANGLE__VALUE_bm 0xffffffff
+#define HFI_ACC__VEC_ANGLE__VALUE_bp 0
+#define HFI_ACC__VEC_ANGLE__VALUE_bw 32
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_acc__VEC_ANGLE_t;
+
+// reg - hfi_acc.VEC_MAG
+#define HFI_ACC__VEC_MAG__VALUE_bm 0xffffffff
+#define HFI_ACC__VEC_MAG__VALUE_bp 0
+#define HFI_ACC__VEC_MAG__VALUE_bw 32
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t VALUE :32;
+    } f;
+    uint32_t w;
+} hfi_acc__VEC_MAG_t;
+
 // addrmap - hfi_acc
 typedef struct __attribute__ ((__packed__)) {
     hfi_acc__SIN_ANGLE_t SIN_ANGLE;
@@ -337,6 +383,10 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_acc__DL_Q_HI_t DL_Q_HI;
     hfi_acc__DL_DQ_LO_t DL_DQ_LO;
     hfi_acc__DL_DQ_HI_t DL_DQ_HI;
+    hfi_acc__VEC_X_t VEC_X;
+    hfi_acc__VEC_Y_t VEC_Y;
+    hfi_acc__VEC_ANGLE_t VEC_ANGLE;
+    hfi_acc__VEC_MAG_t VEC_MAG;
 } hfi_acc_t;
 
 
@@ -366,11 +416,15 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_ACC__DL_Q_HI_offset 0x54
 #define HFI_ACC__DL_DQ_LO_offset 0x58
 #define HFI_ACC__DL_DQ_HI_offset 0x5c
+#define HFI_ACC__VEC_X_offset 0x60
+#define HFI_ACC__VEC_Y_offset 0x64
+#define HFI_ACC__VEC_ANGLE_offset 0x68
+#define HFI_ACC__VEC_MAG_offset 0x6c
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_acc_t) == 0x60, "hfi_acc_t: size");
+_Static_assert(sizeof(hfi_acc_t) == 0x70, "hfi_acc_t: size");
 _Static_assert(offsetof(hfi_acc_t, SIN_ANGLE) == HFI_ACC__SIN_ANGLE_offset, "hfi_acc_t: SIN_ANGLE offset");
 _Static_assert(offsetof(hfi_acc_t, SINCOS) == HFI_ACC__SINCOS_offset, "hfi_acc_t: SINCOS offset");
 _Static_assert(offsetof(hfi_acc_t, LUT_CFG) == HFI_ACC__LUT_CFG_offset, "hfi_acc_t: LUT_CFG offset");
@@ -395,6 +449,10 @@ _Static_assert(offsetof(hfi_acc_t, DL_Q_LO) == HFI_ACC__DL_Q_LO_offset, "hfi_acc
 _Static_assert(offsetof(hfi_acc_t, DL_Q_HI) == HFI_ACC__DL_Q_HI_offset, "hfi_acc_t: DL_Q_HI offset");
 _Static_assert(offsetof(hfi_acc_t, DL_DQ_LO) == HFI_ACC__DL_DQ_LO_offset, "hfi_acc_t: DL_DQ_LO offset");
 _Static_assert(offsetof(hfi_acc_t, DL_DQ_HI) == HFI_ACC__DL_DQ_HI_offset, "hfi_acc_t: DL_DQ_HI offset");
+_Static_assert(offsetof(hfi_acc_t, VEC_X) == HFI_ACC__VEC_X_offset, "hfi_acc_t: VEC_X offset");
+_Static_assert(offsetof(hfi_acc_t, VEC_Y) == HFI_ACC__VEC_Y_offset, "hfi_acc_t: VEC_Y offset");
+_Static_assert(offsetof(hfi_acc_t, VEC_ANGLE) == HFI_ACC__VEC_ANGLE_offset, "hfi_acc_t: VEC_ANGLE offset");
+_Static_assert(offsetof(hfi_acc_t, VEC_MAG) == HFI_ACC__VEC_MAG_offset, "hfi_acc_t: VEC_MAG offset");
 #endif
 
 #ifdef __cplusplus

@@ -153,7 +153,7 @@ int32_t fw_pi_step(int64_t *integ, int32_t ref, int32_t meas, const struct fw_pi
     return pi_step(integ, ref, meas, p);
 }
 
-#ifndef FW_ACC /* the SoC build takes sin/cos and the flux-map look-up from hfi_soc_acc (fw_acc.c): same results */
+#ifndef FW_ACC /* the SoC build takes sin/cos, the vector angle and the flux-map look-up from hfi_soc_acc (fw_acc.c): same results */
 /* Q2.30 CORDIC output -> Q1.15: golden.fpga.cordic.to_q15(v, 32) = sat(round_shr(v, 15), 16).
  * |v| < 2^31 - 2^14, so the rounding add cannot overflow. */
 static int32_t cordic_to_q15(int32_t v)
@@ -225,6 +225,7 @@ void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *be
     *v_be = (int32_t)round_shr64(3 * (int64_t)b1 + b0, 2);
 }
 
+#ifndef FW_ACC /* the SoC build takes it from hfi_soc_acc (fw_acc.c): same results */
 /* golden.firmware.vector.vector_angle: the vectoring CORDIC with the table of fw_sincos_q15. */
 void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
 {
@@ -251,6 +252,7 @@ void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
     *angle = z;
     *mag = (int32_t)(((int64_t)x * FW_CORDIC_X0) >> 30);
 }
+#endif
 
 /* golden.fixed.sat(x, bits) of an int32 for 1 <= bits <= 31 */
 static int32_t sat_s32(int32_t x, int bits)
@@ -1463,16 +1465,18 @@ int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, ui
     return FW_FAULT_NONE;
 }
 
-/* protection.hf_learn: one CONVERGE period of the HF response check's reference */
-void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d)
+/* protection.hf_learn: one CONVERGE period of the HF response check's reference. Not inlined: start-up code,
+ * outside the steps' working set in the instruction cache (firmware/link.ld). */
+__attribute__((noinline)) void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d)
 {
     if (p->hf_tol)
         st->hf_ref = sat32(st->hf_ref + (((int64_t)gamma_d - st->hf_ref) >> p->hf_k));
 }
 
 /* Firmware._applied_dq: under the fcs_mpc law, the window's applied voltage in the frame active in it: VECTOR for
- * three quarters, the state before for the first (state voltages below 2^15: the sums and products are small) */
-static void applied_dq(const struct fw_state *st, const struct fw_window *win, const struct fw_outputs *now,
+ * three quarters, the state before for the first (state voltages below 2^15: the sums and products are small).
+ * Not inlined, like fcs_outputs: the 003 method's code lies with its own (firmware/link.ld). */
+static __attribute__((noinline)) void applied_dq(const struct fw_state *st, const struct fw_window *win, const struct fw_outputs *now,
                        int32_t *v_d, int32_t *v_q)
 {
     int32_t a0, b0, a1, b1;
@@ -1495,8 +1499,9 @@ const char *fw_fault_name(int32_t code)
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }
 
-/* Firmware._restart: fw_init but the fault code, the restart count and the output history. */
-static void restart(struct fw_state *st, const struct fw_params *p)
+/* Firmware._restart: fw_init but the fault code, the restart count and the output history. Not inlined: it runs
+ * only after a fault, and fw_step's code stays within the instruction cache's working set (firmware/link.ld). */
+static __attribute__((noinline)) void restart(struct fw_state *st, const struct fw_params *p)
 {
     int32_t fault = st->fault, restarts = st->restarts + 1;
     struct fw_outputs act0 = st->act[0], act1 = st->act[1], prev = st->prev;
@@ -1581,8 +1586,8 @@ static void hand_over(struct fw_state *st, const struct fw_params *p)
     }
 }
 
-/* Firmware._decide_polarity */
-static void decide_polarity(struct fw_state *st, const struct fw_params *p)
+/* Firmware._decide_polarity; once per start (not inlined, like fw_hf_learn) */
+static __attribute__((noinline)) void decide_polarity(struct fw_state *st, const struct fw_params *p)
 {
     if (st->pol_neg > st->pol_pos) { /* the -d direction saturates: theta_hat is off by pi */
         fw_methods[p->low].turn(st, HALF_TURN);
@@ -1713,8 +1718,9 @@ static void feedback(struct fw_state *st, const struct fw_params *p, int32_t *i_
 
 /* golden.firmware.load_observer.load_obs_step: the speed loop's load-torque observer, the same operations in
  * the same order. |g sat(.)| < 2^62 and |shr(l1 e, 8)| < 2^55: their sum is exact in int64; the sums with w and
- * i_l saturate (sat_add64), and i_l is then clamped to +-(limit << 32) <= 2^63 - 2^32 as golden's exact sum. */
-static void fw_lobs_step(struct fw_state *st, const struct fw_lobs_params *lp, int32_t omega, int32_t limit)
+ * i_l saturate (sat_add64), and i_l is then clamped to +-(limit << 32) <= 2^63 - 2^32 as golden's exact sum. Not
+ * inlined: only the 003 scenarios turn it on, and its code lies with the 003 method's (firmware/link.ld). */
+static __attribute__((noinline)) void fw_lobs_step(struct fw_state *st, const struct fw_lobs_params *lp, int32_t omega, int32_t limit)
 {
     int32_t e = sat32((int64_t)omega - (st->lobs_w >> FW_LOBS_W_FRAC));
     int32_t di = sat32((int64_t)st->i_s_cmd - (st->lobs_i >> FW_LOBS_I_FRAC));
@@ -1778,8 +1784,9 @@ static void dtc_refs(const struct fw_params *p, int32_t i_d_ref, int32_t i_q_ref
 }
 
 /* Firmware._fcs_outputs: the fcs_mpc law (golden.firmware.fcs_law): the deadbeat voltage for the angle in use
- * from the flux of the estimator in charge, its constraint coefficients; i_s the current command. */
-static void fcs_outputs(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t i_s,
+ * from the flux of the estimator in charge, its constraint coefficients; i_s the current command. Not
+ * inlined: the 003 method's code lies with its own, outside the other methods' steps (firmware/link.ld). */
+static __attribute__((noinline)) void fcs_outputs(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t i_s,
                         struct fw_outputs *out)
 {
     struct fw_est_flux f = {0, 0, 0, 0, 0};

@@ -1,7 +1,8 @@
-/* fw_acc.c - the SoC build's sine/cosine and flux-map look-up: the arithmetic accelerators of hfi_soc_acc
- * (rtl/hfi_soc_acc.v, docs/acc_registers.md, docs/soc.md "Accelerators"). Each computes the same function
- * as control.c's software version (golden.fpga.cordic.sincos_q15 with 32 bits and 16 iterations,
- * golden.firmware.flux_lut.lut_point), bit for bit (cocotb_tests/test_soc_acc.py, test_flux_lut.py); the
+/* fw_acc.c - the SoC build's sine/cosine, vector angle and flux-map look-up: the arithmetic accelerators of
+ * hfi_soc_acc (rtl/hfi_soc_acc.v, docs/acc_registers.md, docs/soc.md "Accelerators"). Each computes the same
+ * function as control.c's software version (golden.fpga.cordic.sincos_q15 with 32 bits and 16 iterations,
+ * golden.firmware.vector.vector_angle, golden.firmware.flux_lut.lut_point), bit for bit
+ * (cocotb_tests/test_soc_acc.py, test_vector.py, test_flux_lut.py); the
  * host build (tests/test_fw_c.py) keeps the software, the SoC build (-DFW_ACC) links this file instead.
  * An access that needs a result is answered when it is ready (a SINCOS read, the LUT_IQ write): no polling. */
 
@@ -22,6 +23,15 @@ void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15)
 
     *sin_q15 = (int16_t)((v & HFI_ACC__SINCOS__SIN_bm) >> HFI_ACC__SINCOS__SIN_bp);
     *cos_q15 = (int16_t)((v & HFI_ACC__SINCOS__COS_bm) >> HFI_ACC__SINCOS__COS_bp);
+}
+
+/* golden.firmware.vector.vector_angle(x, y); the callers keep |x|, |y| <= 2^28 (the unit saturates to it) */
+void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
+{
+    ACC(VEC_X) = (uint32_t)x;
+    ACC(VEC_Y) = (uint32_t)y;                          /* starts the vectoring CORDIC */
+    *angle = ACC(VEC_ANGLE);                           /* waits for it */
+    *mag = (int32_t)ACC(VEC_MAG);
 }
 
 /* The unit reads the tables from the RAM, where the configuration block holds them: the grid and the

@@ -1,9 +1,9 @@
 /* main.c - the hfi_soc firmware: start-up, the control interrupt and the supervisor glue.
  *
- * Start-up: check the configuration block (fw_config.h), write the hfi_dsp configuration registers,
- * wait 32 CPU cycles (at least the carrier's H*STEP product of tick clocks, docs/rtl.md), enable the
- * window interrupt, set SOC CTRL.DSP_RUN (tick 0). Then main() only reports mode changes: a log line on
- * the UART (with the fault's name in FAULT) and SOC FW_STATUS (mode and fault code).
+ * Start-up: check the configuration block (fw_config.h), write the hfi_dsp configuration registers, log
+ * "running", run a warm-up step in RUN (below), wait 32 CPU cycles (at least the carrier's H*STEP product of tick
+ * clocks, docs/rtl.md), enable the window interrupt, set SOC CTRL.DSP_RUN (tick 0). Then run() only reports
+ * mode changes: a log line on the UART (with the fault's name in FAULT) and SOC FW_STATUS (mode and fault code).
  *
  * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results (with
  * CIC_QA and CIC_QB only when the configuration runs the period square wave, CTRL.INJ_PER: two bus
@@ -13,7 +13,8 @@
  * direct-vector mode), CTRL (with CTRL.DIRECT from the configuration) and COMMIT (before the deadline: the
  * commit takes effect at the next window boundary; a missed one counts in LATE_COUNT and the watchdog
  * trips after WDT_PERIODS), acknowledge, and send one trace record on the SoC trace port (fw_trace.h, docs/soc.md). The first interrupt
- * reports window -1 (the half period before the first boundary): acknowledged, no control step.
+ * reports window -1 (the half period before the first boundary): the registers read, a step on a copy of the
+ * state (it warms the caches), acknowledged; no register written, no trace record.
  * Core exceptions (illegal instruction, misaligned or faulting access, ebreak; crt0.S) turn the gates
  * off, log mcause and mepc, and stop the firmware; without commits the hardware watchdog would do so too.
  * Cycle counts come from the SoC's CYCLE_LO register (CPU clocks), so no core counter CSR is needed.
@@ -48,6 +49,7 @@ __attribute__((section(".config"), used)) struct fw_config fw_config;
  * FW_NO_IDENT by firmware/Makefile). A commissioning image would point it at a struct fw_ident before fw_init
  * (and not run the warm-up step below on a copy that shares the block). */
 static struct fw_state st;
+static struct fw_state warm;              /* the warm-up steps' copy of st (static: 1 KB off the stacks) */
 static volatile int32_t shown_mode = -1;
 static volatile uint32_t shown_window;
 static volatile int32_t halted;
@@ -105,10 +107,6 @@ static void control_step(void)
 {
     uint32_t t0 = rdcycle();
     uint32_t count = DSP(WINDOW_COUNT);
-    if (count < 2u) {                     /* window -1: no control step */
-        DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
-        return;
-    }
     struct fw_window win;
     win.gamma = (int32_t)DSP(GAMMA);
     win.gamma_d = (int32_t)DSP(GAMMA_D);
@@ -143,6 +141,16 @@ static void control_step(void)
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
     struct fw_outputs o;
+    if (count < 2u) {
+        /* window -1: no control step, but one on a copy of the state, from the registers as in every window and
+         * with no write: the caches then hold this path's code and data, so the first control step (whose
+         * CTRL.ENABLE must land before the carrier bottom three quarters into its period, docs/soc.md) does not
+         * take a cold-cache time. Window 0's interrupt comes a period later. */
+        warm = st;
+        fw_step(&warm, &cfg.fw, &win, speed_ref, &o);
+        DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
+        return;
+    }
     fw_step(&st, &cfg.fw, &win, speed_ref, &o);
 
     DSP(V_DQ) = FIELD(V_DQ, V_D, o.v_d) | FIELD(V_DQ, V_Q, o.v_q);
@@ -190,6 +198,36 @@ static int config_ok(void)
     return cfg.hw.magic == FW_CONFIG_MAGIC && cfg.hw.version == FW_CONFIG_VERSION;
 }
 
+/* Start the DSP, then report mode changes forever (the idle loop). Not inlined, and placed by firmware/link.ld
+ * right after the steps' code: its lines share the instruction cache with the 000 step's least used ones (the
+ * gap after it and fw_mtpa_lookup), so the idle loop does not evict the control step between interrupts. */
+static __attribute__((noinline, noreturn)) void run(void)
+{
+    uint32_t t0 = rdcycle();
+    while (rdcycle() - t0 < 32u)          /* the carrier's H*STEP product (docs/rtl.md) */
+        ;
+    irq_enable(IRQ_WINDOW);
+    SOC(CTRL) = SOC_FIELD(CTRL, DSP_RUN, 1);
+
+    for (;;) {
+        int32_t mode = *(volatile int32_t *)&st.mode;   /* written by the interrupt */
+        if (mode != shown_mode && !halted) {
+            shown_mode = mode;
+            SOC(FW_STATUS) = SOC_FIELD(FW_STATUS, MODE, mode) |
+                             SOC_FIELD(FW_STATUS, FAULT, *(volatile int32_t *)&st.fault);
+            uart_puts("hfi_fw: window ");
+            uart_putu(*(volatile uint32_t *)&shown_window);
+            uart_puts(" mode ");
+            uart_puts(mode >= 0 && mode <= FW_DONE ? mode_names[mode] : "?");
+            if (mode == FW_FAULT) {
+                uart_puts(" ");
+                uart_puts(fw_fault_name(*(volatile int32_t *)&st.fault));
+            }
+            uart_puts("\n");
+        }
+    }
+}
+
 int main(void)
 {
     gates_off();
@@ -222,40 +260,17 @@ int main(void)
                 FIELD(CTRL, INJ_PER, cfg.hw.inj_per) | FIELD(CTRL, DIRECT, cfg.hw.direct) |
                 FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     fw_init(&st, &cfg.fw);
-    /* Two steps on copies of the state, one in the start-up mode and one in RUN: the caches then hold
-     * the code of both paths (the 16 KiB instruction cache holds a method's whole step), so neither the
-     * first window interrupt nor the first one in RUN takes a cold-cache time (docs/soc.md, "Firmware
-     * budget"). The copies are dropped; no register is touched. */
-    for (int run = 0; run <= 1; run++) {
-        struct fw_state warm = st;
-        struct fw_window none = {0};
-        struct fw_outputs unused;
-        if (run)
-            warm.mode = FW_RUN;
-        fw_step(&warm, &cfg.fw, &none, 0, &unused);
-    }
-    uint32_t t0 = rdcycle();
-    while (rdcycle() - t0 < 32u)          /* the carrier's H*STEP product (docs/rtl.md) */
-        ;
-    irq_enable(IRQ_WINDOW);
-    SOC(CTRL) = SOC_FIELD(CTRL, DSP_RUN, 1);
+    /* the log line before the warm-up: the UART code then does not evict the step's code from the cache */
     uart_puts("hfi_fw: running\n");
+    /* One step in RUN on a copy of the state: the instruction cache then holds the RUN path's code too (the
+     * 16 KiB cache holds a method's whole step), so the first step in RUN does not take a cold-cache time
+     * (docs/soc.md, "Firmware budget"; the start-up path is warmed at window -1, control_step). The copy is
+     * dropped; no register is touched. */
+    struct fw_window none = {0};
+    struct fw_outputs unused;
 
-    for (;;) {
-        int32_t mode = *(volatile int32_t *)&st.mode;   /* written by the interrupt */
-        if (mode != shown_mode && !halted) {
-            shown_mode = mode;
-            SOC(FW_STATUS) = SOC_FIELD(FW_STATUS, MODE, mode) |
-                             SOC_FIELD(FW_STATUS, FAULT, *(volatile int32_t *)&st.fault);
-            uart_puts("hfi_fw: window ");
-            uart_putu(*(volatile uint32_t *)&shown_window);
-            uart_puts(" mode ");
-            uart_puts(mode >= 0 && mode <= FW_DONE ? mode_names[mode] : "?");
-            if (mode == FW_FAULT) {
-                uart_puts(" ");
-                uart_puts(fw_fault_name(*(volatile int32_t *)&st.fault));
-            }
-            uart_puts("\n");
-        }
-    }
+    warm = st;
+    warm.mode = FW_RUN;
+    fw_step(&warm, &cfg.fw, &none, 0, &unused);
+    run();
 }

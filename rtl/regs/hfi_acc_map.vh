@@ -161,3 +161,27 @@ localparam [7:0] ACC_DL_DQ_HI_ADDR = 8'h5C;
 localparam integer ACC_DL_DQ_HI_VALUE_LSB = 0;  // ro
 localparam integer ACC_DL_DQ_HI_VALUE_WIDTH = 32;
 localparam [31:0] ACC_DL_DQ_HI_VALUE_RESET = 32'h0;
+
+// VEC_X @ 0x60: Vector x
+localparam [7:0] ACC_VEC_X_ADDR = 8'h60;
+localparam integer ACC_VEC_X_VALUE_LSB = 0;  // wo
+localparam integer ACC_VEC_X_VALUE_WIDTH = 32;
+localparam [31:0] ACC_VEC_X_VALUE_RESET = 32'h0;
+
+// VEC_Y @ 0x64: Vector y
+localparam [7:0] ACC_VEC_Y_ADDR = 8'h64;
+localparam integer ACC_VEC_Y_VALUE_LSB = 0;  // wo
+localparam integer ACC_VEC_Y_VALUE_WIDTH = 32;
+localparam [31:0] ACC_VEC_Y_VALUE_RESET = 32'h0;
+
+// VEC_ANGLE @ 0x68: Vector angle
+localparam [7:0] ACC_VEC_ANGLE_ADDR = 8'h68;
+localparam integer ACC_VEC_ANGLE_VALUE_LSB = 0;  // ro
+localparam integer ACC_VEC_ANGLE_VALUE_WIDTH = 32;
+localparam [31:0] ACC_VEC_ANGLE_VALUE_RESET = 32'h0;
+
+// VEC_MAG @ 0x6C: Vector magnitude
+localparam [7:0] ACC_VEC_MAG_ADDR = 8'h6C;
+localparam integer ACC_VEC_MAG_VALUE_LSB = 0;  // ro
+localparam integer ACC_VEC_MAG_VALUE_WIDTH = 32;
+localparam [31:0] ACC_VEC_MAG_VALUE_RESET = 32'h0;

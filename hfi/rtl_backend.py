@@ -256,7 +256,7 @@ _sim_ffi.cdef(cdef_text(SIM_DIR / "plant_records.h", SIM_DIR / "soc_sim.h",
 _KINDS = {"edges": (0, "struct gate_edge"), "samples": (1, "struct adc_sample"), "truth": (2, "struct plant_state"),
           "trace": (3, "uint32_t"), "writes": (4, "struct soc_bus"), "reads": (5, "struct soc_bus"),
           "irqs": (6, "struct soc_irq"), "uart": (7, "uint8_t"), "prof_cycles": (8, "uint64_t"),
-          "prof_fetch": (9, "uint64_t")}
+          "prof_fetch": (9, "uint64_t"), "prof_dfetch": (10, "uint64_t")}
 
 
 def _records(lib, sim, kind: str, dtype) -> np.ndarray:
@@ -378,7 +378,8 @@ class RtlClosedLoop:
                 ("writes", _BUS), ("reads", _BUS), ("irqs", _IRQ), ("uart", np.uint8))}
             if profile:
                 self.profile = {"cycles": _records(lib, sim, "prof_cycles", "<u8"),
-                                "fetch": _records(lib, sim, "prof_fetch", "<u8")}
+                                "fetch": _records(lib, sim, "prof_fetch", "<u8"),
+                                "dfetch": _records(lib, sim, "prof_dfetch", "<u8")}
         finally:
             lib.soc_sim_free(sim)
         return self._result(rec, n_win, wall, cycles)
@@ -416,7 +417,13 @@ class RtlClosedLoop:
         sincos = _per_window(writes, rm.SINCOS_ADDR, n_win, "SINCOS")
         iref = _per_window(writes, rm.I_REF_ADDR, n_win, "I_REF")
         vh = _per_window(writes, rm.V_H_ADDR, n_win, "V_H")
-        ctrl = writes["data"][(writes["addr"] == rm.CTRL_ADDR) & (writes["tick"] >= 0)].astype(np.int64)[:n_win]
+        ctrl_w = writes[(writes["addr"] == rm.CTRL_ADDR) & (writes["tick"] >= 0)]
+        ctrl = ctrl_w["data"].astype(np.int64)[:n_win]
+        # the first CTRL write that enables the outputs takes effect at the carrier bottom three quarters of a
+        # period after the window boundary before it (docs/spec.md 2.2): ticks to spare before that bottom
+        # (negative: the gates started a period late, and the run differs from golden's from then on)
+        on = np.flatnonzero((ctrl_w["data"] >> rm.CTRL_ENABLE_LSB) & 1)
+        enable_margin = (int((P - H // 2) - (int(ctrl_w["tick"][on[0]]) - H // 2) % P) if len(on) else None)
         w["v_d"], w["v_q"] = _s16(vdq), _s16(vdq >> 16)
         w["sin"], w["cos"] = _s16(sincos), _s16(sincos >> 16)
         for name in WINDOW_FIELDS:
@@ -455,6 +462,7 @@ class RtlClosedLoop:
             "fw_cycles_target": int(fw_budget_share(P / sc.pwm.tick_hz) * P / soc_platform.CPU_CLOCK_DIVIDER),
             "irq_to_commit_cycles_max": int(commit_lat.max()) if (commit_lat >= 0).all() else None,
             "deadline_cycles": int(P - soc_platform.IRQ_LATENCY),
+            "enable_margin_ticks": enable_margin,
             "late_commits": late,
             "sim_cycles": int(cycles),
             "wall_s": round(wall, 2),

@@ -72,6 +72,9 @@ CPU_ICACHE_BYTES = 16384
 fits it (the 4 KiB of the package's files made refills 30-45 % of every step); 32 KiB measured faster for
 the 000 and 003 steps but does not fit the LFE5U-25F's 56 block RAMs beside the 64 KiB RAM (docs/soc.md,
 "The instruction cache"). A board may build another size (scripts/bitstream.py, ``Board.icache``)."""
+CPU_DCACHE_BYTES = 4096
+"""Data cache of the core (the package's configuration, which the generator keeps): direct-mapped, so data
+this far apart shares a line (scripts/fw_profile.py reports its refills per object)."""
 CPU_CLOCK_DIVIDER = 2
 """The CPU clock is the tick clock divided by this (50 MHz at the 100 MHz tick): the board PLL makes
 both; the co-simulation (sim/soc_sim.cpp) toggles cpu_clk with every CPU_CLOCK_DIVIDER-th tick clock."""

@@ -6,9 +6,13 @@ CPU clock counts to the instruction in the core's last pipeline stage (a stall c
 that retired before it), every instruction-bus beat to the word it refills. Maps the counts to the
 firmware's functions (``nm`` of out/firmware/hfi_fw.elf) and prints, per function, CPU clocks per control
 period, their share of the handler's clocks, and instruction-cache lines refilled per period (8 beats
-each), largest first. The idle loop (``main``) is shown apart.
+each), largest first; then the data cache's refills per period by data object. The start-up, the idle loop and
+the UART log (``IDLE``: firmware/src/main.c) are shown apart.
 
-    python scripts/fw_profile.py [--scenario FILE] [--duration 0.1] [--top 25]
+    python scripts/fw_profile.py [--scenario FILE] [--duration 0.1] [--top 25] [--f-sw HZ]
+
+``--f-sw`` runs the scenario at another switching frequency (everything else as written): a slower copy
+measures a step that overruns the scenario's own period (the co-simulation stops then).
 """
 
 from __future__ import annotations
@@ -20,7 +24,6 @@ import shutil
 import subprocess
 import sys
 
-import numpy as np
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -32,6 +35,8 @@ from hfi.rtl_backend import FW_OUT, RtlBackendError, RtlClosedLoop  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 LINE_WORDS = 8
 """Words per instruction-cache line (32 bytes; docs/soc.md)."""
+IDLE = ("main", "run", "show_mode", "uart_puts", "uart_putu")
+"""The firmware's start-up, idle loop and log (firmware/src/main.c): outside the control step."""
 
 
 def functions(elf: str) -> list[tuple[int, int, str]]:
@@ -52,20 +57,45 @@ def functions(elf: str) -> list[tuple[int, int, str]]:
             for i, (a, b, n) in enumerate(syms)]
 
 
+def data_objects(elf: str, chunk: int = 512) -> list[tuple[int, int, str]]:
+    """(start, end, name) of the data the step reads through the data cache: the data symbols of ``elf``
+    (``nm`` types d, b, r and their globals), the large ones (the configuration block) cut into ``chunk``-byte
+    pieces named ``name+0xOFFSET``, and ``stack`` from the end of .bss to the end of the RAM."""
+    nm = shutil.which("riscv64-unknown-elf-nm") or "riscv64-unknown-elf-nm"
+    out = subprocess.run([nm, "-S", "-n", elf], capture_output=True, text=True, check=True).stdout
+    objs, bss_end = [], None
+    for line in out.splitlines():
+        parts = line.split()
+        if len(parts) == 4 and parts[2] in "dDbBrR":
+            start, size = int(parts[0], 16), int(parts[1], 16)
+            for off in range(0, size, chunk) if size > chunk else [0]:
+                name = f"{parts[3]}+0x{off:x}" if size > chunk else parts[3]
+                objs.append((start + off, start + min(size, off + chunk), name))
+        elif parts[-1] == "_bss_end":
+            bss_end = int(parts[0], 16)
+    if bss_end is not None:
+        objs.append((bss_end, soc_platform.RAM_BASE + soc_platform.RAM_BYTES, "stack"))
+    return sorted(objs)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenario", default=os.path.join(HERE, "..", "scenarios", "fullload_start.toml"))
     ap.add_argument("--duration", type=float, default=0.1, help="simulated seconds (default 0.1)")
     ap.add_argument("--top", type=int, default=25, help="functions listed (default 25)")
+    ap.add_argument("--f-sw", type=float, default=None,
+                    help="switching frequency in Hz instead of the scenario's (a slower copy of a step that overruns)")
     args = ap.parse_args(argv)
-    if not args.duration > 0 or args.top < 1:
-        print("fw_profile: --duration must be > 0 and --top >= 1", file=sys.stderr)
+    if not args.duration > 0 or args.top < 1 or (args.f_sw is not None and not args.f_sw > 0):
+        print("fw_profile: --duration and --f-sw must be > 0 and --top >= 1", file=sys.stderr)
         return 1
     try:
         sc = dataclasses.replace(load_scenario(args.scenario), duration=args.duration)
+        if args.f_sw is not None:
+            sc = dataclasses.replace(sc, pwm=dataclasses.replace(sc.pwm, f_sw=args.f_sw))
         loop = RtlClosedLoop(sc)
         res = loop.run(progress=False, profile=True)
-    except (ScenarioError, RtlBackendError, ValueError) as exc:
+    except (ScenarioError, RtlBackendError, ValueError, OSError) as exc:
         print(f"fw_profile: {exc}", file=sys.stderr)
         return 1
     cycles, fetch = loop.profile["cycles"], loop.profile["fetch"]
@@ -77,17 +107,29 @@ def main(argv=None) -> int:
         c, f = int(cycles[a:b].sum()), int(fetch[a:b].sum())
         if c or f:
             rows.append((name, c / n_win, f / LINE_WORDS / n_win, end - start))
-    idle = sum(r[1] for r in rows if r[0] == "main")
+    idle = sum(r[1] for r in rows if r[0] in IDLE)
     busy = sum(r[1] for r in rows) - idle
     soc = res.soc
     print(f"scenario {sc.name}: {n_win} periods; firmware step (handler) {soc['fw_cycles_mean']} CPU clocks mean, "
           f"{soc['fw_cycles_max']} worst; profiled outside the idle loop: {busy:.0f} per period")
     print(f"{'function':28s} {'clocks/period':>13s} {'share':>7s} {'lines/period':>12s} {'bytes':>6s}")
-    for name, c, f, size in sorted((r for r in rows if r[0] != "main"), key=lambda r: -r[1])[:args.top]:
+    for name, c, f, size in sorted((r for r in rows if r[0] not in IDLE), key=lambda r: -r[1])[:args.top]:
         print(f"{name:28s} {c:13.1f} {100 * c / busy:6.1f}% {f:12.1f} {size:6d}")
-    lines = sum(r[2] for r in rows if r[0] != "main")
-    print(f"{'(all but main)':28s} {busy:13.1f} {100.0:6.1f}% {lines:12.1f}")
-    print(f"{'main (idle loop)':28s} {idle:13.1f}")
+    lines = sum(r[2] for r in rows if r[0] not in IDLE)
+    print(f"{'(the step)':28s} {busy:13.1f} {100.0:6.1f}% {lines:12.1f}")
+    print(f"{'start-up, idle loop, log':28s} {idle:13.1f}")
+    dfetch = loop.profile["dfetch"]
+    drows = []
+    for start, end, name in data_objects(str(FW_OUT / "hfi_fw.elf")):
+        a, b = (start - base) // 4, max((end - base) // 4, (start - base) // 4 + 1)
+        f = int(dfetch[a:b].sum())
+        if f:
+            drows.append((name, f / LINE_WORDS / n_win, start - base, end - start))
+    print(f"data cache ({soc_platform.CPU_DCACHE_BYTES} bytes, direct-mapped): lines refilled per period, by object")
+    print(f"{'object':28s} {'lines/period':>12s} {'cache offset':>12s} {'bytes':>6s}")
+    for name, f, at, size in sorted(drows, key=lambda r: -r[1])[:args.top]:
+        print(f"{name:28s} {f:12.1f} {f'0x{at % soc_platform.CPU_DCACHE_BYTES:03x}':>12s} {size:6d}")
+    print(f"{'(all)':28s} {sum(r[1] for r in drows):12.1f}")
     return 0
 
 

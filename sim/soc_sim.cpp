@@ -73,7 +73,7 @@ struct soc_sim {
     std::vector<soc_bus> writes, reads;
     std::vector<soc_irq> irq_log;
     std::vector<uint8_t> uart;
-    std::vector<uint64_t> prof_cycles, prof_fetch;   // SOC_PROF_*: empty unless HFI_PROFILE
+    std::vector<uint64_t> prof_cycles, prof_fetch, prof_dfetch;   // SOC_PROF_*: empty unless HFI_PROFILE
     bool prof_line = false;                          // a whole I$ line refill seen since the profile started
 };
 
@@ -112,6 +112,7 @@ extern "C" struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, str
 #ifdef HFI_PROFILE
     sim->prof_cycles.assign(HFI_SOC_RAM_BYTES / 4, 0);
     sim->prof_fetch.assign(HFI_SOC_RAM_BYTES / 4, 0);
+    sim->prof_dfetch.assign(HFI_SOC_RAM_BYTES / 4, 0);
 #endif
 #ifdef HFI_FST
     if (setup->fst_path) {
@@ -286,6 +287,11 @@ static int clock_once(soc_sim *sim)
             if (sim->prof_line && w < words)
                 sim->prof_fetch[w]++;
         }
+        if (r->hfi_soc__DOT__d_ack_ram && !r->hfi_soc__DOT__d_we) {   // a data read beat from the RAM (a refill)
+            uint32_t w = r->hfi_soc__DOT__d_adr - HFI_SOC_RAM_BASE / 4;
+            if (w < words)
+                sim->prof_dfetch[w]++;
+        }
     }
 #endif
     bool tx = top->uart_tx;
@@ -374,6 +380,7 @@ extern "C" long long soc_sim_count(const struct soc_sim *sim, int kind)
     case SOC_UART: return (long long)sim->uart.size();
     case SOC_PROF_CYCLES: return (long long)sim->prof_cycles.size();
     case SOC_PROF_FETCH: return (long long)sim->prof_fetch.size();
+    case SOC_PROF_DFETCH: return (long long)sim->prof_dfetch.size();
     default: return -1;
     }
 }
@@ -391,6 +398,7 @@ extern "C" int soc_sim_copy(const struct soc_sim *sim, int kind, long long from,
     case SOC_UART: return copy_records(sim->uart, from, n, dst);
     case SOC_PROF_CYCLES: return copy_records(sim->prof_cycles, from, n, dst);
     case SOC_PROF_FETCH: return copy_records(sim->prof_fetch, from, n, dst);
+    case SOC_PROF_DFETCH: return copy_records(sim->prof_dfetch, from, n, dst);
     default: return -1;
     }
 }

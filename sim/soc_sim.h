@@ -64,7 +64,8 @@ enum soc_record {
      * the CPU clocks from tick 0 on: */
     SOC_PROF_CYCLES = 8,  /* CPU clocks whose last pipeline stage holds the instruction at that word (a stall
                            * counts to the instruction that retired last before it) */
-    SOC_PROF_FETCH = 9    /* instruction-bus beats (cache line refills) that read that word */
+    SOC_PROF_FETCH = 9,   /* instruction-bus beats (cache line refills) that read that word */
+    SOC_PROF_DFETCH = 10  /* data-bus read beats from the RAM (data cache line refills) that read that word */
 };
 
 /* Returns NULL and a message in err on a bad setup. */

@@ -69,13 +69,21 @@ def test_script_prints_the_table(profiled, capsys):
     assert _script().main(["--duration", "0.004", "--top", "2"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith(f"scenario fullload_start: {len(res.t)} periods;")
-    assert len(out) == 2 + 2 + 2 and {out[2].split()[0], out[3].split()[0]} <= {"uart_puts", "fw_step"}
-    assert out[-2].startswith("(all but main)") and "100.0%" in out[-2]
+    code, data = out[:6], out[6:]
+    assert {code[2].split()[0], code[3].split()[0]} <= {"fw_step", "irq_handler", "fw_window_voltage"}
+    assert code[4].startswith("(the step)") and "100.0%" in code[4]
+    assert code[5].startswith("start-up, idle loop, log")
+    # the data cache's refills by object: at most --top rows between the header lines and the total
+    assert data[0].startswith(f"data cache ({soc_platform.CPU_DCACHE_BYTES} bytes") and data[-1].startswith("(all)") and len(data) <= 2 + 2 + 1
 
 
 def test_bad_arguments_are_refused(capsys):
     assert _script().main(["--duration", "0"]) == 1
-    assert "--duration must be > 0" in capsys.readouterr().err
+    assert "--duration and --f-sw must be > 0" in capsys.readouterr().err
+    assert _script().main(["--f-sw=-5e3"]) == 1
+    assert "--duration and --f-sw must be > 0" in capsys.readouterr().err
+    assert _script().main(["--scenario", "no_such_scenario.toml"]) == 1
+    assert "no_such_scenario.toml" in capsys.readouterr().err
 
 
 def test_waveform_and_profile_together_are_refused():

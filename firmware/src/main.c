@@ -9,8 +9,9 @@
  * CIC_QA and CIC_QB only when the configuration runs the period square wave, CTRL.INJ_PER: two bus
  * reads saved otherwise, where they read 0 as golden's WindowResult has them; VECTOR and TOP_I likewise
  * only in the direct-vector mode, CTRL.DIRECT) and the speed reference (SPEED_REF mailbox), run fw_step()
- * (control.c, the golden firmware's arithmetic), write the shadow registers (FCS_A and FCS_CTRL only in the
- * direct-vector mode), CTRL (with CTRL.DIRECT from the configuration) and COMMIT (before the deadline: the
+ * (control.c, the golden firmware's arithmetic), write CTRL (with CTRL.DIRECT from the configuration; first,
+ * as its ENABLE has the earliest deadline), the shadow registers (FCS_A and FCS_CTRL only in the
+ * direct-vector mode) and COMMIT (before the deadline: the
  * commit takes effect at the next window boundary; a missed one counts in LATE_COUNT and the watchdog
  * trips after WDT_PERIODS), acknowledge, and send one trace record on the SoC trace port (fw_trace.h, docs/soc.md). The first interrupt
  * reports window -1 (the half period before the first boundary): the registers read, a step on a copy of the
@@ -76,7 +77,9 @@ static void uart_putc(char c)
     SOC(UART_DATA) = SOC_FIELD(UART_DATA, DATA, (uint8_t)c);
 }
 
-static void uart_puts(const char *s)
+/* Not inlined: the idle loop waits in here while a log line goes out, and firmware/link.ld places it with run() on
+ * lines the control steps barely use (a copy inlined into the log code would evict the step's code each period). */
+static __attribute__((noinline)) void uart_puts(const char *s)
 {
     while (*s)
         uart_putc(*s++);
@@ -101,6 +104,18 @@ static const char *const mode_names[] = {"CONVERGE", "POL_POS", "POL_NEG", "RELA
 static void gates_off(void)
 {
     DSP(CTRL) = 0;
+}
+
+/* Window -1: a step on a copy of the state, from the registers as read in every window, writing nothing: the
+ * caches then hold this path's code and data, so the first control step (whose CTRL.ENABLE must land before the
+ * carrier bottom three quarters into its period, docs/soc.md) does not take a cold-cache time. Window 0's
+ * interrupt comes a period later. Not inlined: it runs once, and irq_handler stays within the step's lines. */
+static __attribute__((noinline)) void warm_up(const struct fw_window *win, int32_t speed_ref)
+{
+    struct fw_outputs unused;
+
+    warm = st;
+    fw_step(&warm, &cfg.fw, win, speed_ref, &unused);
 }
 
 static void control_step(void)
@@ -140,19 +155,19 @@ static void control_step(void)
                                 HFI_REGS__STATUS__FAULT_STO_bm | HFI_REGS__STATUS__FAULT_DESAT_bm);
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
-    struct fw_outputs o;
-    if (count < 2u) {
-        /* window -1: no control step, but one on a copy of the state, from the registers as in every window and
-         * with no write: the caches then hold this path's code and data, so the first control step (whose
-         * CTRL.ENABLE must land before the carrier bottom three quarters into its period, docs/soc.md) does not
-         * take a cold-cache time. Window 0's interrupt comes a period later. */
-        warm = st;
-        fw_step(&warm, &cfg.fw, &win, speed_ref, &o);
+    if (count < 2u) {                     /* window -1: no control step, a warm-up */
+        warm_up(&win, speed_ref);
         DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
         return;
     }
+    struct fw_outputs o;
     fw_step(&st, &cfg.fw, &win, speed_ref, &o);
 
+    /* CTRL first: its ENABLE takes effect at the next carrier bottom, three quarters of a period after the window
+     * boundary (docs/spec.md 2.2), the others at the commit; the first step's ENABLE must make that bottom */
+    DSP(CTRL) = FIELD(CTRL, ENABLE, o.enable) | FIELD(CTRL, INJ_EN, cfg.hw.inj_en) |
+                FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) | FIELD(CTRL, INJ_PER, cfg.hw.inj_per) |
+                FIELD(CTRL, DIRECT, cfg.hw.direct) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     DSP(V_DQ) = FIELD(V_DQ, V_D, o.v_d) | FIELD(V_DQ, V_Q, o.v_q);
     DSP(V_H) = FIELD(V_H, VALUE, o.v_h);
     DSP(SINCOS) = FIELD(SINCOS, SIN, o.sin) | FIELD(SINCOS, COS, o.cos);
@@ -161,9 +176,6 @@ static void control_step(void)
         DSP(FCS_A) = FIELD(FCS_A, A1, o.fcs_a1) | FIELD(FCS_A, A2, o.fcs_a2);
         DSP(FCS_CTRL) = FIELD(FCS_CTRL, PHI_MIN, o.fcs_phi_min) | FIELD(FCS_CTRL, CONSTRAIN, o.fcs_constrain);
     }
-    DSP(CTRL) = FIELD(CTRL, ENABLE, o.enable) | FIELD(CTRL, INJ_EN, cfg.hw.inj_en) |
-                FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) | FIELD(CTRL, INJ_PER, cfg.hw.inj_per) |
-                FIELD(CTRL, DIRECT, cfg.hw.direct) | FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     DSP(COMMIT) = FIELD(COMMIT, GO, 1);
     DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
     uint32_t cycles = rdcycle() - t0;
@@ -198,9 +210,25 @@ static int config_ok(void)
     return cfg.hw.magic == FW_CONFIG_MAGIC && cfg.hw.version == FW_CONFIG_VERSION;
 }
 
+/* A log line and SOC FW_STATUS for a mode change. Not inlined: it runs once per change, apart from run(). */
+static __attribute__((noinline)) void show_mode(int32_t mode)
+{
+    SOC(FW_STATUS) = SOC_FIELD(FW_STATUS, MODE, mode) | SOC_FIELD(FW_STATUS, FAULT, *(volatile int32_t *)&st.fault);
+    uart_puts("hfi_fw: window ");
+    uart_putu(*(volatile uint32_t *)&shown_window);
+    uart_puts(" mode ");
+    uart_puts(mode >= 0 && mode <= FW_DONE ? mode_names[mode] : "?");
+    if (mode == FW_FAULT) {
+        uart_puts(" ");
+        uart_puts(fw_fault_name(*(volatile int32_t *)&st.fault));
+    }
+    uart_puts("\n");
+}
+
 /* Start the DSP, then report mode changes forever (the idle loop). Not inlined, and placed by firmware/link.ld
- * right after the steps' code: its lines share the instruction cache with the 000 step's least used ones (the
- * gap after it and fw_mtpa_lookup), so the idle loop does not evict the control step between interrupts. */
+ * right after the steps' code with uart_puts: their lines share the instruction cache with the 000 step's least
+ * used ones (fw_mtpa_lookup, run once per speed-loop period), so the idle loop, also while a log line goes out,
+ * does not evict the control step's code between interrupts. */
 static __attribute__((noinline, noreturn)) void run(void)
 {
     uint32_t t0 = rdcycle();
@@ -213,17 +241,7 @@ static __attribute__((noinline, noreturn)) void run(void)
         int32_t mode = *(volatile int32_t *)&st.mode;   /* written by the interrupt */
         if (mode != shown_mode && !halted) {
             shown_mode = mode;
-            SOC(FW_STATUS) = SOC_FIELD(FW_STATUS, MODE, mode) |
-                             SOC_FIELD(FW_STATUS, FAULT, *(volatile int32_t *)&st.fault);
-            uart_puts("hfi_fw: window ");
-            uart_putu(*(volatile uint32_t *)&shown_window);
-            uart_puts(" mode ");
-            uart_puts(mode >= 0 && mode <= FW_DONE ? mode_names[mode] : "?");
-            if (mode == FW_FAULT) {
-                uart_puts(" ");
-                uart_puts(fw_fault_name(*(volatile int32_t *)&st.fault));
-            }
-            uart_puts("\n");
+            show_mode(mode);
         }
     }
 }
@@ -260,8 +278,11 @@ int main(void)
                 FIELD(CTRL, INJ_PER, cfg.hw.inj_per) | FIELD(CTRL, DIRECT, cfg.hw.direct) |
                 FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
     fw_init(&st, &cfg.fw);
-    /* the log line before the warm-up: the UART code then does not evict the step's code from the cache */
+    /* the log lines before the warm-up and the start: the UART code then does not evict the first steps' code
+     * from the instruction cache (a log line takes about 20 periods at 10 kHz) */
     uart_puts("hfi_fw: running\n");
+    shown_mode = st.mode;
+    show_mode(st.mode);
     /* One step in RUN on a copy of the state: the instruction cache then holds the RUN path's code too (the
      * 16 KiB cache holds a method's whole step), so the first step in RUN does not take a cold-cache time
      * (docs/soc.md, "Firmware budget"; the start-up path is warmed at window -1, control_step). The copy is

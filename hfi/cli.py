@@ -7,7 +7,7 @@
     hfi bench
     hfi faults [--short] [--only ROWS] [--jobs N] [--out DIR]
     hfi sweep SPEC [--scheduler ADDRESS] [--workers N] [--out DIR] [--quiet]
-    hfi compare [--seeds N] [--systems IDS] [--scheduler ADDRESS] [--workers N] [--out DIR] [--quiet]
+    hfi compare [--seeds N] [--systems IDS] [--scheduler ADDRESS] [--workers N] [--out DIR] [--no-cost] [--quiet]
 
 Every error is one line on stderr and exit status 1 (no traceback).
 """
@@ -147,7 +147,7 @@ def cmd_compare(args) -> int:
     if args.seeds is not None and args.seeds < 1:
         raise ValueError(f"--seeds {args.seeds}: expected at least 1")
     compare(Path(args.out), systems, seeds=args.seeds, scheduler=args.scheduler, workers=args.workers,
-            progress=not args.quiet)
+            progress=not args.quiet, firmware_cost=not args.no_cost)
     return 0
 
 
@@ -255,14 +255,17 @@ def parser() -> argparse.ArgumentParser:
     p = sub.add_parser("compare", help="the four systems side by side: angle error and lock against load and "
                        "speed (out/compare, docs/compare.md)",
                        description="Run sweeps/compare_<id>.toml for each system on one Dask cluster (cached: a "
-                       "second call only reports) and write report.md, angle_vs_load.png, ripple_vs_load.png, "
-                       "sensitivity.png and results.csv.")
+                       "second call only reports), measure each system's firmware clocks per step on the rtl "
+                       "backend (cached likewise), and write report.md, angle_vs_load.png, ripple_vs_load.png, "
+                       "sensitivity.png, results.csv and costs.json.")
     p.add_argument("--seeds", type=int, metavar="N", help="seeds per point (default: the specs' 20)")
     p.add_argument("--systems", metavar="IDS", help="comma-separated systems (default: all, hfi.compare.SYSTEMS)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a local cluster)")
     p.add_argument("--workers", type=int, metavar="N", help="local cluster's worker processes (default: the cores)")
     p.add_argument("--out", default=str(ROOT / "out" / "compare"), metavar="DIR", help="output directory "
                    "(default out/compare)")
+    p.add_argument("--no-cost", action="store_true", help="leave out the firmware cost (the rtl co-simulations, "
+                   "about half a minute per system the first time)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=cmd_compare)
 

@@ -7,8 +7,9 @@ profiles to 0, 10 % and 50 % speed and 0-2 p.u. load, 20 seeds and initial angle
 
 Then the sensitivity study (:data:`SENSITIVITY`, 10 seeds per change). The sweeps run on one Dask cluster
 (hfi.sweep, cached: a second call only reports). The report goes to ``OUT`` (default ``out/compare``):
-``report.md`` with the tables, ``angle_vs_load.png`` (the headline figure), ``sensitivity.png`` and
-``results.csv`` (one row per point and system).
+``report.md`` with the tables, ``angle_vs_load.png`` (the headline figure), ``sensitivity.png``,
+``results.csv`` (one row per point and system) and ``costs.json`` (each system's firmware clocks per step on
+the rtl backend, hfi.costs).
 """
 
 from __future__ import annotations
@@ -381,8 +382,9 @@ def sensitivity_figure(rows: dict[str, list[dict]], labels: dict[str, str], path
 
 
 def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = None, scheduler: str | None = None,
-            workers: int | None = None, progress: bool = True, log=print) -> list[Point]:
-    """Run (or read from the cache) every system's sweep and write the report; return its points."""
+            workers: int | None = None, progress: bool = True, log=print, firmware_cost: bool = True) -> list[Point]:
+    """Run (or read from the cache) every system's sweep and write the report; return its points. With
+    ``firmware_cost``, also the firmware's clocks per step on the rtl backend (hfi.costs)."""
     from hfi.sweep import start_client
 
     specs = {}
@@ -418,7 +420,13 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
              "| system | change | runs | lost | RMS median | peak worst |", "|---|---|---|---|---|---|"]
     lines += [f"| {s} | {ch} | {n} | {lost}{f' (+{failed} failed)' if failed else ''} | {_fmt(rms)} | {_fmt(peak)} |"
               for s, ch, n, lost, failed, rms, peak in table]
+    if firmware_cost:
+        from hfi import costs
+
+        bases = {s: spec.base for s, spec in specs.items()}
+        lines += ["", *costs.table(costs.costs(bases, out / "costs.json", log=log), labels)]
     (out / "report.md").write_text(text + "\n".join(lines) + "\n")
-    log(f"wrote {out}/report.md, angle_vs_load.png, ripple_vs_load.png, sensitivity.png, results.csv")
+    log(f"wrote {out}/report.md, angle_vs_load.png, ripple_vs_load.png, sensitivity.png, results.csv"
+        + (", costs.json" if firmware_cost else ""))
     return points
 

@@ -41,6 +41,7 @@ from golden import socmap
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, speed_references, truth_columns
 from golden.control_config import HardwareConfig, firmware_params, hardware_config, scales
 from golden.fixed import wrap
+from golden.firmware.supervisor import MODE_RUN
 from golden.plant import Plant, binding
 from golden.scenario import Scenario
 from hfi import soc_platform
@@ -453,6 +454,7 @@ class RtlClosedLoop:
 
         # interrupts 1..n_win report windows 0..n_win-1; their COMMIT latency and the core's cycles
         rep = irqs[1:n_win + 1]
+        in_run = t["mode"] == MODE_RUN
         commit_lat = rep["commit"] - rep["tick"]
         late = int(irqs["late"][n_win]) - 2
         soc = {
@@ -460,6 +462,8 @@ class RtlClosedLoop:
             "fw_cycles_max": int(t["cycles"].max()),
             "fw_cycles_mean": round(float(t["cycles"].mean()), 1),
             "fw_cycles_target": int(fw_budget_share(P / sc.pwm.tick_hz) * P / soc_platform.CPU_CLOCK_DIVIDER),
+            "fw_cycles_run_mean": round(float(t["cycles"][in_run].mean()), 1) if in_run.any() else None,
+            "fw_cycles_run_max": int(t["cycles"][in_run].max()) if in_run.any() else None,
             "irq_to_commit_cycles_max": int(commit_lat.max()) if (commit_lat >= 0).all() else None,
             "deadline_cycles": int(P - soc_platform.IRQ_LATENCY),
             "enable_margin_ticks": enable_margin,

@@ -269,7 +269,22 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         law=LAW_FCS_MPC if ctl.law == "fcs_mpc" else LAW_FOC_PWM,
         fcs=fcs_params(sc) if ctl.law == "fcs_mpc" else None,
         hfo=hfo_proj_params(sc) if METHOD_HFO_PROJ in methods else None,
-        prot=protection_params(sc), lobs=lobs, ident=ident_params(sc))
+        prot=protection_params(sc), lobs=lobs, **dc_feedforward_params(sc), ident=ident_params(sc))
+
+
+def dc_feedforward_params(sc: Scenario) -> dict:
+    """``ff_nom``, ``ff_lo``, ``ff_hi`` of the dc-link voltage feed-forward (golden.firmware.dc_feedforward):
+    the nominal ``inverter.V_dc`` and ``protection.undervoltage`` / ``overvoltage`` times it, in codes of the
+    dc-link channel (as :func:`dc_link_limits`, whether or not the dc-link check is on); all 0 unless
+    ``control.dc_feedforward = "on"`` under the ``foc_pwm`` law. Raises ValueError without a dc-link channel."""
+    if sc.control.dc_feedforward != "on" or sc.control.law != "foc_pwm":
+        return {"ff_nom": 0, "ff_lo": 0, "ff_hi": 0}
+    pr, sens, v_dc = sc.protection, sc.plant["sens"], sc.plant["inv"]["V_dc"]
+    if not sens["vdc_range"]:
+        raise ValueError("control.dc_feedforward = \"on\" needs the dc-link measurement (sensors.vdc_range > 0)")
+    codes = 2 ** sens["adc_bits"] / sens["vdc_range"]
+    return {"ff_nom": round(v_dc * codes), "ff_lo": max(round(pr.undervoltage * v_dc * codes), 1),
+            "ff_hi": round(pr.overvoltage * v_dc * codes)}
 
 
 def load_observer_params(sc: Scenario, k_t: float, speed_div: int) -> LoadObsParams:

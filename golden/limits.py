@@ -340,6 +340,9 @@ def _check_dc_link(reader, plant: dict, v_dc: float) -> None:
     LSB resolves the under- and overvoltage limits (the check would otherwise never or always fire)."""
     full = _plant_value(reader, "sensors.vdc_range", plant["sens"]["vdc_range"])
     under, over = reader.get("protection.undervoltage"), reader.get("protection.overvoltage")
+    if reader.get("control.dc_feedforward") == "on" and full == 0:
+        reader.error("control.dc_feedforward", "\"on\" needs the dc-link measurement, and sensors.vdc_range is "
+                                               "0 V (no channel): give the channel's full scale or turn it off")
     if not full or under is None or over is None:  # no channel (0 V: the check is off), or an invalid limit
         return
     gain = plant["sens"]["vdc_gain"]

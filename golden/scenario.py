@@ -268,6 +268,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "flux_min": _q("flux", _non_negative, default=0.06),
         "inv_v_drop": _q("voltage", _non_negative, default=0.0),
         "inv_r_drop": _q("resistance", _non_negative, default=0.0),
+        "dc_feedforward": Field("choice", choices={"off": 0, "on": 1}, default="off"),
     },
     "estimator": {
         "low": Field("choice", choices=LOW_ESTIMATORS, default="sqw_bangbang"),
@@ -511,6 +512,7 @@ class ControlSettings:
     flux_min: float
     inv_v_drop: float
     inv_r_drop: float
+    dc_feedforward: str
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,7 @@ import pytest
 from golden.firmware import mtpa, rot_bpf
 from golden.firmware.bangbang import bangbang_step
 from golden.firmware.biquad import BiquadCoef, BiquadState, biquad_step
+from golden.firmware.dc_feedforward import dc_feedforward
 from golden.firmware.eemf_smo import SmoParams
 from golden.control_config import firmware_params
 from golden.firmware.estimator import (METHOD_EEMF_SMO, METHOD_HFO_PROJ, METHOD_RFO, METHOD_ROT_BPF,
@@ -412,6 +413,39 @@ def test_dc_link_check_random_sequences(seed):
     assert seen == {protection.FAULT_NONE, protection.FAULT_UNDERVOLTAGE, protection.FAULT_OVERVOLTAGE}, seen
 
 
+def test_dc_feedforward_random(seed):
+    """fw_dc_feedforward == golden dc_feedforward: random register voltages (s16, V_H over s32: the step's random
+    parameters write any V_H, the hardware takes 15 bits) and VDC codes
+    (u16, inside and beyond the clamp) for random feed-forward integers; the saturations are reached."""
+    rng = np.random.default_rng(seed + 43)
+    out = ffi.new("struct fw_outputs *")
+    saturated = 0
+    for k in range(N_RANDOM):
+        ff = random_ff(rng)
+        vdc = draw_one(rng, 0, 65535, (0, ff["ff_lo"] - 1, ff["ff_lo"], ff["ff_nom"], ff["ff_hi"], ff["ff_hi"] + 1, 65535))
+        vdc = min(max(vdc, 0), 65535)
+        v_d, v_q = draw(rng, 2, -(1 << 15), (1 << 15) - 1, (-(1 << 15), (1 << 15) - 1, 0, -1))
+        o = Outputs(v_d, v_q, draw_one(rng, -S32_MAX, S32_MAX, (0, (1 << 15) - 1, -1)), *draw(rng, 2, -32768, 32767), 1,
+                    *draw(rng, 2, S32_MIN, S32_MAX))
+        want = dc_feedforward(o, vdc, ff["ff_nom"], ff["ff_lo"], ff["ff_hi"])
+        for f in dataclass_fields(Outputs):
+            setattr(out, f.name, getattr(o, f.name))
+        lib.fw_dc_feedforward(out, vdc, ff["ff_nom"], ff["ff_lo"], ff["ff_hi"])
+        assert fw_c.outputs_from_c(out) == want, (seed, k, o, vdc, ff)
+        saturated += want.v_h == 0x7FFF or abs(want.v_d) >= (1 << 15) - 1
+    assert saturated > 100, saturated
+
+
+@pytest.mark.parametrize("vdc, want", [(2048, (1000, -1000, 300)), (1843, (1111, -1111, 333)),   # 10 % low
+                                       (0, (1333, -1333, 400)), (65535, (800, -800, 240))])       # clamped
+def test_dc_feedforward_corners(vdc, want):
+    """The 002 drive's codes (nominal 2048, limits 1536 and 2560): the gain is nominal over the clamped sample,
+    k = (2048 * 2^14 + v // 2) // v, and each voltage round_shr(v k, 14) (worked out by hand)."""
+    o = Outputs(1000, -1000, 300, 0, 32767, 1)
+    got = dc_feedforward(o, vdc, 2048, 1536, 2560)
+    assert (got.v_d, got.v_q, got.v_h) == want and (got.sin, got.cos, got.enable) == (0, 32767, 1)
+
+
 # ---- speed filter --------------------------------------------------------------------------------------------
 def test_lowpass_random(seed):
     rng = np.random.default_rng(seed + 4)
@@ -668,7 +702,16 @@ def random_params(rng: np.random.Generator, fixed: bool, prot: bool = False) -> 
         mtpa_shift=shift, mtpa_id=t_d, mtpa_iq=t_q, notch=random_coef(rng) if rng.random() < 0.5 else None,
         speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)),
         prot=random_prot(rng) if prot else ProtParams(),
-        lobs=random_lobs(rng) if rng.random() < 0.5 else LoadObsParams())
+        lobs=random_lobs(rng) if rng.random() < 0.5 else LoadObsParams(),
+        **(random_ff(rng) if rng.random() < 0.5 else {}))
+
+
+def random_ff(rng: np.random.Generator) -> dict:
+    """The dc-link feed-forward's integers over control_config's ranges (1 <= ff_lo <= ff_nom <= ff_hi <= 2^16 - 1,
+    the 002 drive's codes frequent; golden.firmware.dc_feedforward)."""
+    nom = draw_one(rng, 1, 65535, (2048, 1, 65535))
+    lo = draw_one(rng, 1, nom, (1536, 1, nom))
+    return {"ff_nom": nom, "ff_lo": lo, "ff_hi": draw_one(rng, nom, 65535, (2560, nom, 65535))}
 
 
 LOBS_HOST = LoadObsParams(g=31302, l1=63249, l2g=8179263)

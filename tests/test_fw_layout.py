@@ -30,7 +30,7 @@ def link_groups() -> dict[str, list[str]]:
             name = m.group(1)
             groups[name] = []
             continue
-        m = re.match(r"\s*\*\(\.text\.(\w+)\*?\)", line)
+        m = re.match(r"\s*\*\(\.text\.(\w+)", line)
         if m and name:
             groups[name].append(m.group(1))
         if line.strip().startswith("*libgcc") or line.strip() == "*(.text .text.*)":

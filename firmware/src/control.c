@@ -1465,6 +1465,19 @@ int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, ui
     return FW_FAULT_NONE;
 }
 
+/* dc_feedforward.dc_feedforward: the voltages times ff_nom / vdc (Q14, vdc clamped to [ff_lo, ff_hi], ff_lo >= 1,
+ * ff_nom < 2^16: the quotient's operands below 2^31, k <= 2^30; the products in int64) */
+void fw_dc_feedforward(struct fw_outputs *out, uint32_t vdc, int32_t ff_nom, int32_t ff_lo, int32_t ff_hi)
+{
+    int32_t v = (int64_t)vdc < ff_lo ? ff_lo : (int64_t)vdc > ff_hi ? ff_hi : (int32_t)vdc;
+    int64_t k = (int64_t)((((uint32_t)ff_nom << 14) + (uint32_t)(v / 2)) / (uint32_t)v);
+    int64_t v_h = (out->v_h * k + (1 << 13)) >> 14;
+
+    out->v_d = (int32_t)sat_bits((out->v_d * k + (1 << 13)) >> 14, 16);
+    out->v_q = (int32_t)sat_bits((out->v_q * k + (1 << 13)) >> 14, 16);
+    out->v_h = (int32_t)(v_h < 0 ? 0 : v_h < 0x7FFF ? v_h : 0x7FFF); /* V_H: 15 unsigned bits */
+}
+
 /* protection.hf_learn: one CONVERGE period of the HF response check's reference. Not inlined: start-up code,
  * outside the steps' working set in the instruction cache (firmware/link.ld). */
 __attribute__((noinline)) void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d)
@@ -1640,18 +1653,11 @@ static int32_t supervise_pilot(struct fw_state *st, const struct fw_params *p, i
     }
 }
 
-/* Firmware._supervise: the start-up state machine; returns i_d* (its i_q* is always 0). */
-static int32_t supervise(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t *pilot,
-                         int32_t *v_pilot)
+/* Firmware._supervise with current-pulse polarity detection (pol_mode current, the 002 method's start-up). Not
+ * inlined: its code lies with the 002 method's (firmware/link.ld), outside the other methods' steps. */
+static __attribute__((noinline)) int32_t supervise_pulses(struct fw_state *st, const struct fw_params *p,
+                                                          const struct fw_window *win)
 {
-    if (p->pol_mode == FW_POL_PILOT)
-        return supervise_pilot(st, p, pilot, v_pilot);
-    if (p->pol_mode == FW_POL_NONE) { /* a reluctance machine: CONVERGE goes straight to RELAX */
-        if (st->mode == FW_CONVERGE && st->n >= p->n_converge)
-            next_mode(st, FW_RELAX);
-        relax(st, p);
-        return 0;
-    }
     switch (st->mode) {
     case FW_CONVERGE:
         if (st->n >= p->n_converge) {
@@ -1680,6 +1686,21 @@ static int32_t supervise(struct fw_state *st, const struct fw_params *p, const s
         relax(st, p);
         return 0;
     }
+}
+
+/* Firmware._supervise: the start-up state machine; returns i_d* (its i_q* is always 0). */
+static int32_t supervise(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t *pilot,
+                         int32_t *v_pilot)
+{
+    if (p->pol_mode == FW_POL_PILOT)
+        return supervise_pilot(st, p, pilot, v_pilot);
+    if (p->pol_mode == FW_POL_NONE) { /* a reluctance machine: CONVERGE goes straight to RELAX */
+        if (st->mode == FW_CONVERGE && st->n >= p->n_converge)
+            next_mode(st, FW_RELAX);
+        relax(st, p);
+        return 0;
+    }
+    return supervise_pulses(st, p, win);
 }
 
 /* Firmware._frozen: pilot polarity detection steps no estimator in POL_POS, POL_NEG and RELAX. */
@@ -1957,5 +1978,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
     }
     st->prev = st->act[0];
     st->act[0] = st->act[1];
-    st->act[1] = *out;
+    st->act[1] = *out; /* the voltages applied: the estimators' and checks' */
+    if (p->ff_nom && p->law == FW_LAW_FOC_PWM)
+        fw_dc_feedforward(out, win->vdc, p->ff_nom, p->ff_lo, p->ff_hi);
 }

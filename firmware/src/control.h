@@ -472,6 +472,9 @@ struct fw_params {
     struct fw_fcs_params fcs;
     struct fw_prot_params prot;
     struct fw_lobs_params lobs;
+    int32_t ff_nom;          /* dc-link voltage feed-forward (golden.firmware.dc_feedforward): 0 = off */
+    int32_t ff_lo;
+    int32_t ff_hi;
 };
 
 /* Register values written by one control step (golden.firmware.supervisor.Outputs). */
@@ -695,6 +698,7 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
                         int32_t at_limit, int32_t hf_on, int32_t hf);
 void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d);
 int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t vdc);
+void fw_dc_feedforward(struct fw_outputs *out, uint32_t vdc, int32_t ff_nom, int32_t ff_lo, int32_t ff_hi);
 const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out);

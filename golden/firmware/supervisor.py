@@ -57,6 +57,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from golden.firmware.biquad import Y_FRAC, BiquadCoef, BiquadState, biquad_step
+from golden.firmware.dc_feedforward import dc_feedforward
 from golden.firmware.eemf_smo import SmoParams
 from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage
 from golden.firmware.hfo_proj import HfoParams
@@ -152,6 +153,9 @@ class FirmwareParams:
         The ``hfo_proj`` estimator's parameters.
     prot : ProtParams
         Limits of the fault checks (:mod:`golden.firmware.protection`; all zero: every check off).
+    ff_nom, ff_lo, ff_hi : int
+        The dc-link voltage feed-forward (:mod:`golden.firmware.dc_feedforward`): the nominal link and the
+        limits its measurement is clamped to, in codes of the dc-link channel; ``ff_nom = 0``: off.
     ident : IdentParams or None
         The self-commissioning program (:mod:`golden.firmware.ident`): the firmware runs it from power-up
         (``MODE_IDENT``) instead of the start-up; None: normal operation.
@@ -197,6 +201,9 @@ class FirmwareParams:
     hfo: HfoParams | None = None
     prot: ProtParams = ProtParams()
     lobs: LoadObsParams = LoadObsParams()
+    ff_nom: int = 0
+    ff_lo: int = 0
+    ff_hi: int = 0
     ident: IdentParams | None = None
 
 
@@ -369,7 +376,9 @@ class Firmware:
             r_d, r_q = self._dtc_refs(i_d_ref, i_q_ref, v_h, s_inj, c_inj, s, c)
             out = Outputs(v_d, v_q, v_h, s, c, 1, r_d, r_q)
         self.prev = self.act[0]
-        self.act = [self.act[1], out]
+        self.act = [self.act[1], out]                          # the voltages applied: the estimators' and checks'
+        if p.ff_nom and p.law == LAW_FOC_PWM:
+            out = dc_feedforward(out, win.vdc, p.ff_nom, p.ff_lo, p.ff_hi)
         return out
 
     def _ident_outputs(self, win: WindowResult, i_d: int, i_q: int) -> Outputs:

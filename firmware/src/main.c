@@ -49,7 +49,9 @@ __attribute__((section(".config"), used)) struct fw_config fw_config;
 /* st.ident stays NULL: this image has no identification program (self-commissioning; control.h, built with
  * FW_NO_IDENT by firmware/Makefile). A commissioning image would point it at a struct fw_ident before fw_init
  * (and not run the warm-up step below on a copy that shares the block). */
-static struct fw_state st;
+/* The state sits right after the configuration block (firmware/link.ld, .state): on data-cache lines of its own, apart
+ * from the stack's and the hot parameters', wherever the code's size puts .bss (docs/soc.md, "The data cache"). */
+static struct fw_state st __attribute__((section(".state")));
 static struct fw_state warm;              /* the warm-up steps' copy of st (static: 1 KB off the stacks) */
 static volatile int32_t shown_mode = -1;
 static volatile uint32_t shown_window;

@@ -25,35 +25,23 @@ from cocotb.triggers import FallingEdge, Timer
 from golden.fpga.cordic import cw_angle_step, demod_weight, sincos_q15
 from golden.testvectors import cordic as testvectors
 from golden.testvectors.cordic import U32, Q
+from unit_bench import UnitBench
 
 PERIOD_NS = 10
 
 
-class Bench:
+class Bench(UnitBench):
     """Clock, reset and the start/done protocol of one hfi_cordic instance."""
 
     def __init__(self, dut):
-        self.dut = dut  # the toplevel: clk, rst, start, angle
         name = os.environ.get("HFI_CORDIC_INSTANCE")
         self.inst = getattr(dut, name) if name else dut  # the hfi_cordic under test: outputs
         self.width = int(os.environ["HFI_CORDIC_WIDTH"])
         self.iterations = int(os.environ["HFI_CORDIC_ITERATIONS"])
         self.latency = self.iterations + 2
-        self.seed = int(os.environ["HFI_SEED"])
-        self.random_n = int(os.environ["HFI_RANDOM_N"])
-        self.rng = np.random.default_rng(self.seed)
-        self.cycle = 0  # sample points since the bench started
-        self._timers: dict[int, Timer] = {}
-        cocotb.log.info(f"HFI_SEED={self.seed} HFI_RANDOM_N={self.random_n} "
-                        f"WIDTH={self.width} ITERATIONS={self.iterations} LATENCY={self.latency}")
-
-    async def cycles(self, n: int) -> None:
-        """Advance ``n`` >= 1 clock cycles (from one sample point to another)."""
-        t = self._timers.get(n)
-        if t is None:
-            t = self._timers[n] = Timer(n * PERIOD_NS, unit="ns")
-        await t
-        self.cycle += n
+        # dut: the toplevel (clk, rst, start, angle)
+        super().__init__(dut, PERIOD_NS, self.inst,
+                         f"WIDTH={self.width} ITERATIONS={self.iterations} LATENCY={self.latency}")
 
     async def setup(self) -> None:
         dut = self.dut
@@ -71,19 +59,8 @@ class Bench:
         self.expect_outputs(0, 0, "after reset (reset value of sin_q15, cos_q15)")
 
     # ---- observations --------------------------------------------------------------------------------
-    def flags(self) -> tuple[int, int]:
-        return int(self.inst.busy.value), int(self.inst.done.value)
-
     def outputs(self) -> tuple[int, int]:
         return self.inst.sin_q15.value.to_signed(), self.inst.cos_q15.value.to_signed()
-
-    def expect_flags(self, busy: int, done: int, what: str) -> None:
-        got = self.flags()
-        assert got == (busy, done), (f"cycle {self.cycle}, {what}: (busy, done) = {got}, "
-                                     f"expected {(busy, done)}")
-
-    def expect_idle(self, what: str) -> None:
-        self.expect_flags(0, 0, what)
 
     def expect_outputs(self, sin: int, cos: int, what: str) -> None:
         got = self.outputs()

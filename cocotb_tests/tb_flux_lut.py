@@ -33,7 +33,6 @@ run in seconds under Verilator.
 
 from __future__ import annotations
 
-import os
 from functools import lru_cache
 from pathlib import Path
 
@@ -43,6 +42,7 @@ from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, Timer
 
 from golden.firmware.flux_lut import LUT_MAX_AXIS, LUT_MAX_POINTS, FluxLut, lut_flux, lut_point, unwarp, warp
+from unit_bench import UnitBench
 
 PERIOD_NS = 10
 LATENCY = 59            # rtl/hfi_flux_lut.v localparam LATENCY
@@ -169,30 +169,16 @@ def currents(rng: np.random.Generator, lut: FluxLut, n: int) -> list[tuple[int, 
     return list(zip(i_d.tolist(), i_q.tolist()))
 
 
-class Bench:
+class Bench(UnitBench):
     """Clock, reset, table loading and the start/done protocol of hfi_flux_lut."""
 
     def __init__(self, dut):
-        self.dut = dut
-        self.seed = int(os.environ["HFI_SEED"])
-        self.random_n = int(os.environ["HFI_RANDOM_N"])
-        self.rng = np.random.default_rng(self.seed)
-        self.cycle = 0
+        super().__init__(dut, PERIOD_NS, info=f"LATENCY={LATENCY}")
         self.lut: FluxLut | None = None
         self.ram_aw = len(dut.ram_addr)
         self.ram_bytes = 4 << self.ram_aw
         self.bases: tuple[int, ...] = ()
-        self._timers: dict[int, Timer] = {}
         self.outs = [getattr(dut, f) for f in OUTPUTS]
-        cocotb.log.info(f"HFI_SEED={self.seed} HFI_RANDOM_N={self.random_n} LATENCY={LATENCY}")
-
-    async def cycles(self, n: int) -> None:
-        """Advance ``n`` >= 1 clock cycles (from one sample point to another)."""
-        t = self._timers.get(n)
-        if t is None:
-            t = self._timers[n] = Timer(n * PERIOD_NS, unit="ns")
-        await t
-        self.cycle += n
 
     async def setup(self) -> None:
         dut = self.dut
@@ -265,18 +251,11 @@ class Bench:
         cocotb.log.info(f"loaded {describe(lut)} at byte bases {bases} ({len(words)} words)")
 
     # ---- observations --------------------------------------------------------------------------------
-    def flags(self) -> tuple[int, int]:
-        return int(self.dut.busy.value), int(self.dut.done.value)
-
     def outputs(self) -> tuple[int, ...]:
         return tuple(o.value.to_signed() for o in self.outs)
 
-    def expect_flags(self, busy: int, done: int, what: str) -> None:
-        got = self.flags()
-        assert got == (busy, done), f"cycle {self.cycle}, {what}: (busy, done) = {got}, expected {(busy, done)}"
-
     def expect_idle(self, what: str) -> None:
-        self.expect_flags(0, 0, what)
+        super().expect_idle(what)
         assert int(self.dut.mem_en.value) == 0, f"cycle {self.cycle}, {what}: mem_en high while idle"
 
     def reads(self) -> int:

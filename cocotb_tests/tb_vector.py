@@ -22,7 +22,6 @@ late or stretched pulses). :meth:`Bench.one_checked` checks every cycle at its s
 from __future__ import annotations
 
 import math
-import os
 
 import cocotb
 import numpy as np
@@ -32,6 +31,7 @@ from cocotb.utils import get_sim_time
 
 from golden.firmware.vector import INPUT_LIMIT, vector_angle
 from pulse_monitor import HighMonitor
+from unit_bench import UnitBench
 
 PERIOD_NS = 10
 LATENCY = 18            # rtl/hfi_vector.v localparam LATENCY = ITERATIONS + 2: start cycle -> done cycle
@@ -105,25 +105,11 @@ def random_components(rng: np.random.Generator, n: int) -> list[int]:
 
 
 # ---- bench -------------------------------------------------------------------------------------------
-class Bench:
+class Bench(UnitBench):
     """Clock, reset and the start/done protocol of hfi_vector."""
 
     def __init__(self, dut):
-        self.dut = dut
-        self.seed = int(os.environ["HFI_SEED"])
-        self.random_n = int(os.environ["HFI_RANDOM_N"])
-        self.rng = np.random.default_rng(self.seed)
-        self.cycle = 0  # sample points since the bench started
-        self._timers: dict[int, Timer] = {}
-        cocotb.log.info(f"HFI_SEED={self.seed} HFI_RANDOM_N={self.random_n} LATENCY={LATENCY}")
-
-    async def cycles(self, n: int) -> None:
-        """Advance ``n`` >= 1 clock cycles (from one sample point to another)."""
-        t = self._timers.get(n)
-        if t is None:
-            t = self._timers[n] = Timer(n * PERIOD_NS, unit="ns")
-        await t
-        self.cycle += n
+        super().__init__(dut, PERIOD_NS, info=f"LATENCY={LATENCY}")
 
     def drive(self, start: int, x: int, y: int) -> None:
         self.dut.start.value = start
@@ -145,19 +131,8 @@ class Bench:
         self.expect_outputs((0, 0), "after reset (reset value of angle, mag)")
 
     # ---- observations --------------------------------------------------------------------------------
-    def flags(self) -> tuple[int, int]:
-        return int(self.dut.busy.value), int(self.dut.done.value)
-
     def outputs(self) -> tuple[int, int]:
         return self.dut.angle.value.to_unsigned(), self.dut.mag.value.to_signed()
-
-    def expect_flags(self, busy: int, done: int, what: str) -> None:
-        got = self.flags()
-        assert got == (busy, done), (f"cycle {self.cycle}, {what}: (busy, done) = {got}, "
-                                     f"expected {(busy, done)}")
-
-    def expect_idle(self, what: str) -> None:
-        self.expect_flags(0, 0, what)
 
     def expect_outputs(self, want: tuple[int, int], what: str) -> None:
         got = self.outputs()

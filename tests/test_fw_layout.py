@@ -60,8 +60,15 @@ def test_link_script_has_the_groups():
     assert "fw_step" in groups["shared"] and "fw_rot_step" in groups["000"] and "fw_sqw_step" in groups["002"]
 
 
-@pytest.mark.parametrize("method", ["000", "002", "001"])
+OUTSIDE = {"shared": "every step's code", "idle": "the idle loop and the log, between the steps"}
+TOO_LARGE = {"003": "its step is about 23 KiB with the shared code (docs/soc.md, 'The instruction cache')"}
+"""Groups of link.ld that are not a method's step, and the method whose step cannot fit (and why)."""
+
+
+@pytest.mark.parametrize("method", [g for g in link_groups() if g not in OUTSIDE])
 def test_a_step_fits_the_instruction_cache(symbols, method):
+    if method in TOO_LARGE:
+        pytest.skip(TOO_LARGE[method])
     groups = link_groups()
     names = groups[method] + groups["shared"]
     assert span(symbols, names) <= soc_platform.CPU_ICACHE_BYTES, (

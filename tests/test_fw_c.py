@@ -418,20 +418,30 @@ def test_dc_feedforward_random(seed):
     parameters write any V_H, the hardware takes 15 bits) and VDC codes
     (u16, inside and beyond the clamp) for random feed-forward integers; the saturations are reached."""
     rng = np.random.default_rng(seed + 43)
+    n = N_RANDOM
+    nom = draw_array(rng, n, 1, 65535, (2048,))
+    lo = np.maximum(1, (nom * rng.random(n)).astype(np.int64))
+    lo = np.where(rng.random(n) < 0.2, np.where(rng.random(n) < 0.5, 1, nom), lo)
+    hi = nom + ((65535 - nom) * rng.random(n)).astype(np.int64)
+    hi = np.where(rng.random(n) < 0.2, np.where(rng.random(n) < 0.5, nom, 65535), hi)
+    edges = np.stack([np.zeros(n, np.int64), lo - 1, lo, nom, hi, hi + 1, np.full(n, 65535)])
+    vdc = np.where(rng.random(n) < 0.5, draw_array(rng, n, 0, 65535), edges[rng.integers(0, 7, size=n), np.arange(n)])
+    vdc = np.clip(vdc, 0, 65535)
+    v_dq = draw_array(rng, 2 * n, -(1 << 15), (1 << 15) - 1).reshape(2, n)
+    v_h = draw_array(rng, n, -S32_MAX, S32_MAX, ((1 << 15) - 1,))
+    rest = [draw_array(rng, n, -32768, 32767), draw_array(rng, n, -32768, 32767),
+            draw_array(rng, n, S32_MIN, S32_MAX), draw_array(rng, n, S32_MIN, S32_MAX)]
+    cols = [c.tolist() for c in (nom, lo, hi, vdc, v_dq[0], v_dq[1], v_h, *rest)]
     out = ffi.new("struct fw_outputs *")
+    names = [f.name for f in dataclass_fields(Outputs)]
     saturated = 0
-    for k in range(N_RANDOM):
-        ff = random_ff(rng)
-        vdc = draw_one(rng, 0, 65535, (0, ff["ff_lo"] - 1, ff["ff_lo"], ff["ff_nom"], ff["ff_hi"], ff["ff_hi"] + 1, 65535))
-        vdc = min(max(vdc, 0), 65535)
-        v_d, v_q = draw(rng, 2, -(1 << 15), (1 << 15) - 1, (-(1 << 15), (1 << 15) - 1, 0, -1))
-        o = Outputs(v_d, v_q, draw_one(rng, -S32_MAX, S32_MAX, (0, (1 << 15) - 1, -1)), *draw(rng, 2, -32768, 32767), 1,
-                    *draw(rng, 2, S32_MIN, S32_MAX))
-        want = dc_feedforward(o, vdc, ff["ff_nom"], ff["ff_lo"], ff["ff_hi"])
-        for f in dataclass_fields(Outputs):
-            setattr(out, f.name, getattr(o, f.name))
-        lib.fw_dc_feedforward(out, vdc, ff["ff_nom"], ff["ff_lo"], ff["ff_hi"])
-        assert fw_c.outputs_from_c(out) == want, (seed, k, o, vdc, ff)
+    for k, (f_nom, f_lo, f_hi, v, d, q, h, s_, c_, r_d, r_q) in enumerate(zip(*cols)):
+        o = Outputs(d, q, h, s_, c_, 1, r_d, r_q)
+        want = dc_feedforward(o, v, f_nom, f_lo, f_hi)
+        for name in names:
+            setattr(out, name, getattr(o, name))
+        lib.fw_dc_feedforward(out, v, f_nom, f_lo, f_hi)
+        assert fw_c.outputs_from_c(out) == want, (seed, k, o, v, f_nom, f_lo, f_hi)
         saturated += want.v_h == 0x7FFF or abs(want.v_d) >= (1 << 15) - 1
     assert saturated > 100, saturated
 

@@ -14,8 +14,8 @@
  * direct-vector mode) and COMMIT (before the deadline: the
  * commit takes effect at the next window boundary; a missed one counts in LATE_COUNT and the watchdog
  * trips after WDT_PERIODS), acknowledge, and send one trace record on the SoC trace port (fw_trace.h, docs/soc.md). The first interrupt
- * reports window -1 (the half period before the first boundary): the registers read, a step on a copy of the
- * state (it warms the caches), acknowledged; no register written, no trace record.
+ * reports window -1 (the half period before the first boundary): the registers read, a warm-up step on a copy
+ * of the state (it warms the caches), acknowledged; no register written, no trace record.
  * Core exceptions (illegal instruction, misaligned or faulting access, ebreak; crt0.S) turn the gates
  * off, log mcause and mepc, and stop the firmware; without commits the hardware watchdog would do so too.
  * Cycle counts come from the SoC's CYCLE_LO register (CPU clocks), so no core counter CSR is needed.
@@ -48,11 +48,10 @@ __attribute__((section(".config"), used)) struct fw_config fw_config;
 #define cfg fw_config
 /* st.ident stays NULL: this image has no identification program (self-commissioning; control.h, built with
  * FW_NO_IDENT by firmware/Makefile). A commissioning image would point it at a struct fw_ident before fw_init
- * (and not run the warm-up step below on a copy that shares the block). */
+ * (the warm-up steps' copies would then share its program). */
 /* The state sits right after the configuration block (firmware/link.ld, .state): on data-cache lines of its own, apart
  * from the stack's and the hot parameters', wherever the code's size puts .bss (docs/soc.md, "The data cache"). */
 static struct fw_state st __attribute__((section(".state")));
-static struct fw_state warm;              /* the warm-up steps' copy of st (static: 1 KB off the stacks) */
 static volatile int32_t shown_mode = -1;
 static volatile uint32_t shown_window;
 static volatile int32_t halted;
@@ -108,16 +107,20 @@ static void gates_off(void)
     DSP(CTRL) = 0;
 }
 
-/* Window -1: a step on a copy of the state, from the registers as read in every window, writing nothing: the
- * caches then hold this path's code and data, so the first control step (whose CTRL.ENABLE must land before the
- * carrier bottom three quarters into its period, docs/soc.md) does not take a cold-cache time. Window 0's
- * interrupt comes a period later. Not inlined: it runs once, and irq_handler stays within the step's lines. */
-static __attribute__((noinline)) void warm_up(const struct fw_window *win, int32_t speed_ref)
+/* A step in `mode` on a copy of the state, writing nothing: the caches then hold that path's code and data. The
+ * copy lives on this function's stack frame, only while it runs (a static copy took 1 KB of RAM the build without
+ * the accelerators does not have; in control_step's frame it shifted every interrupt's stack by 1 KB, onto the
+ * data cache's other lines: docs/soc.md). Window -1 runs it in the start-up mode from the registers as read in every
+ * window, so the first control step (whose CTRL.ENABLE must land before the carrier bottom three quarters into its
+ * period, docs/soc.md) does not take a cold-cache time; window 0's interrupt comes a period later. main runs it
+ * in RUN, so the first step in RUN does not either. Not inlined: irq_handler stays within the step's lines. */
+static __attribute__((noinline)) void warm_up(int32_t mode, const struct fw_window *win, int32_t speed_ref)
 {
+    struct fw_state copy = st;
     struct fw_outputs unused;
 
-    warm = st;
-    fw_step(&warm, &cfg.fw, win, speed_ref, &unused);
+    copy.mode = mode;
+    fw_step(&copy, &cfg.fw, win, speed_ref, &unused);
 }
 
 static void control_step(void)
@@ -158,7 +161,7 @@ static void control_step(void)
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
     if (count < 2u) {                     /* window -1: no control step, a warm-up */
-        warm_up(&win, speed_ref);
+        warm_up(st.mode, &win, speed_ref);
         DSP(IRQ_STATUS) = FIELD(IRQ_STATUS, WINDOW, 1);
         return;
     }
@@ -285,15 +288,10 @@ int main(void)
     uart_puts("hfi_fw: running\n");
     shown_mode = st.mode;
     show_mode(st.mode);
-    /* One step in RUN on a copy of the state: the instruction cache then holds the RUN path's code too (the
-     * 16 KiB cache holds a method's whole step), so the first step in RUN does not take a cold-cache time
-     * (docs/soc.md, "Firmware budget"; the start-up path is warmed at window -1, control_step). The copy is
-     * dropped; no register is touched. */
+    /* the RUN path in the instruction cache too (the 16 KiB cache holds a method's whole step; docs/soc.md,
+     * "Firmware budget"; the start-up path is warmed at window -1, control_step) */
     struct fw_window none = {0};
-    struct fw_outputs unused;
 
-    warm = st;
-    warm.mode = FW_RUN;
-    fw_step(&warm, &cfg.fw, &none, 0, &unused);
+    warm_up(FW_RUN, &none, 0);
     run();
 }

@@ -74,3 +74,10 @@ def test_a_step_fits_the_instruction_cache(symbols, method):
     assert span(symbols, names) <= soc_platform.CPU_ICACHE_BYTES, (
         f"the {method} step's functions span {span(symbols, names)} bytes, more than the "
         f"{soc_platform.CPU_ICACHE_BYTES}-byte instruction cache (docs/soc.md, 'The instruction cache')")
+
+
+def test_the_build_without_accelerators_links():
+    """The ACC=0 image (the Tang Nano 20K's: software sin/cos and flux-map look-up) fits the RAM with the stack
+    link.ld asks for (its ASSERT fails the link otherwise; 2026-11-29 it did, with 64-byte alignment)."""
+    elf = build_firmware(acc=False)
+    assert elf.exists() and elf.parent.name == "noacc"

@@ -217,20 +217,14 @@ async def reset_mid_operation(dut):
     angles[0] = Q // 2  # 45 deg: nonzero outputs, so the reset value is visible
     await tb.stream_golden(angles[:1], "before reset")
     for k in range(tb.latency):  # reset asserted k cycles after the start cycle (k = 0: together)
-        tb.dut.angle.value = angles[k + 1]
-        tb.dut.start.value = 1
-        if k == 0:
-            tb.dut.rst.value = 1
-        await tb.cycles(1)
-        tb.dut.start.value = 0
-        if k:
-            if k > 1:
-                await tb.cycles(k - 1)
-            tb.expect_flags(1, 0, f"reset test k={k}: busy before the reset")
-            tb.dut.rst.value = 1
-            await tb.cycles(1)
-        tb.dut.rst.value = 0
-        tb.expect_idle(f"reset {k} cycles after the start: right after the reset")
+        def start(a=angles[k + 1]):
+            tb.dut.angle.value = a
+            tb.dut.start.value = 1
+
+        def release():
+            tb.dut.start.value = 0
+
+        await tb.start_then_reset(k, start, release, f"reset {k} cycles after the start")
         tb.expect_outputs(0, 0, f"reset {k} cycles after the start: reset outputs")
         for j in range(tb.latency + 2):
             await tb.cycles(1)

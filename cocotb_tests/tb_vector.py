@@ -355,19 +355,8 @@ async def reset_mid_operation(dut):
         got = await tb.one_checked(LIMIT, LIMIT, f"reset k={k}: before")  # a nonzero previous result
         assert got == golden(LIMIT, LIMIT) and got[1] != 0
         x, y = vecs[k]
-        tb.drive(1, x, y)
-        if k == 0:
-            tb.dut.rst.value = 1
-        await tb.cycles(1)
-        tb.drive(0, 0, 0)
-        if k:
-            if k > 1:
-                await tb.cycles(k - 1)
-            tb.expect_flags(1, 0, f"reset k={k}: busy before the reset")
-            tb.dut.rst.value = 1
-            await tb.cycles(1)
-        tb.dut.rst.value = 0
-        tb.expect_idle(f"reset {k} cycles after the start: right after the reset")
+        await tb.start_then_reset(k, lambda: tb.drive(1, x, y), lambda: tb.drive(0, 0, 0),
+                                  f"reset {k} cycles after the start")
         tb.expect_outputs((0, 0), f"reset {k} cycles after the start: reset outputs")
         for j in range(LATENCY + 2):
             await tb.cycles(1)

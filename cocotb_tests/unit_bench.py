@@ -45,3 +45,21 @@ class UnitBench:
 
     def expect_idle(self, what: str) -> None:
         self.expect_flags(0, 0, what)
+
+    async def start_then_reset(self, k: int, start, release, what: str) -> None:
+        """A start (``start()`` drives its inputs), then a reset ``k`` cycles after the start cycle (``k = 0``: in
+        it; ``release()`` drops the start after its cycle), the unit busy up to the reset; then idle right after
+        the reset is released."""
+        start()
+        if k == 0:
+            self.dut.rst.value = 1
+        await self.cycles(1)
+        release()
+        if k:
+            if k > 1:
+                await self.cycles(k - 1)
+            self.expect_flags(1, 0, f"{what}: busy before the reset")
+            self.dut.rst.value = 1
+            await self.cycles(1)
+        self.dut.rst.value = 0
+        self.expect_idle(f"{what}: right after the reset")

@@ -19,8 +19,6 @@ import os
 
 import cocotb
 import numpy as np
-from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, Timer
 
 from golden.fpga.cordic import cw_angle_step, demod_weight, sincos_q15
 from golden.testvectors import cordic as testvectors
@@ -46,16 +44,11 @@ class Bench(UnitBench):
     async def setup(self) -> None:
         dut = self.dut
         assert len(self.inst.sin_q15) == 16 and len(self.inst.cos_q15) == 16 and len(dut.angle) == 32
-        Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi").start()
-        dut.rst.value = 1
-        dut.start.value = 0
-        dut.angle.value = 0
-        await FallingEdge(dut.clk)
-        await Timer(1, unit="ns")  # the first sample point
-        await self.cycles(2)
-        dut.rst.value = 0
-        await self.cycles(1)
-        self.expect_idle("after reset")
+        def idle():
+            dut.start.value = 0
+            dut.angle.value = 0
+
+        await self.power_up(idle)
         self.expect_outputs(0, 0, "after reset (reset value of sin_q15, cos_q15)")
 
     # ---- observations --------------------------------------------------------------------------------

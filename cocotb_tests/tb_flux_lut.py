@@ -38,8 +38,7 @@ from pathlib import Path
 
 import cocotb
 import numpy as np
-from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, Timer
+from cocotb.triggers import Timer
 
 from golden.firmware.flux_lut import LUT_MAX_AXIS, LUT_MAX_POINTS, FluxLut, lut_flux, lut_point, unwarp, warp
 from unit_bench import UnitBench
@@ -183,24 +182,20 @@ class Bench(UnitBench):
     async def setup(self) -> None:
         dut = self.dut
         assert all(len(o) == 64 for o in self.outs)
-        Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi").start()
-        dut.rst.value = 1
-        dut.start.value = 0
-        dut.i_d.value = 0
-        dut.i_q.value = 0
-        dut.ram_wstrb.value = 0
-        dut.ram_addr.value = 0
-        dut.ram_wdata.value = 0
-        for name in BASES:
-            getattr(dut, name).value = 0
-        for name in ("n_d", "n_q", "shift", "knee", "coarse", "f_shift"):
-            getattr(dut, name).value = 2 if name in ("n_d", "n_q") else 0
-        await FallingEdge(dut.clk)
-        await Timer(1, unit="ns")
-        await self.cycles(2)
-        dut.rst.value = 0
-        await self.cycles(1)
-        self.expect_idle("after reset")
+
+        def idle():
+            dut.start.value = 0
+            dut.i_d.value = 0
+            dut.i_q.value = 0
+            dut.ram_wstrb.value = 0
+            dut.ram_addr.value = 0
+            dut.ram_wdata.value = 0
+            for name in BASES:
+                getattr(dut, name).value = 0
+            for name in ("n_d", "n_q", "shift", "knee", "coarse", "f_shift"):
+                getattr(dut, name).value = 2 if name in ("n_d", "n_q") else 0
+
+        await self.power_up(idle)
         self.expect_outputs((0,) * 8, "after reset")
 
     async def load(self, lut: FluxLut) -> None:

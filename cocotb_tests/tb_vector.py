@@ -25,8 +25,6 @@ import math
 
 import cocotb
 import numpy as np
-from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, Timer
 from cocotb.utils import get_sim_time
 
 from golden.firmware.vector import INPUT_LIMIT, vector_angle
@@ -119,15 +117,7 @@ class Bench(UnitBench):
     async def setup(self) -> None:
         dut = self.dut
         assert len(dut.x) == 32 and len(dut.y) == 32 and len(dut.angle) == 32 and len(dut.mag) == 32
-        Clock(dut.clk, PERIOD_NS, unit="ns", impl="gpi").start()
-        dut.rst.value = 1
-        self.drive(0, 0, 0)
-        await FallingEdge(dut.clk)
-        await Timer(1, unit="ns")  # the first sample point
-        await self.cycles(2)
-        dut.rst.value = 0
-        await self.cycles(1)
-        self.expect_idle("after reset")
+        await self.power_up(lambda: self.drive(0, 0, 0))
         self.expect_outputs((0, 0), "after reset (reset value of angle, mag)")
 
     # ---- observations --------------------------------------------------------------------------------

@@ -9,7 +9,8 @@ import os
 
 import cocotb
 import numpy as np
-from cocotb.triggers import Timer
+from cocotb.clock import Clock
+from cocotb.triggers import FallingEdge, Timer
 
 
 class UnitBench:
@@ -27,6 +28,21 @@ class UnitBench:
         self.cycle = 0  # sample points since the bench started
         self._timers: dict[int, Timer] = {}
         cocotb.log.info(f"HFI_SEED={self.seed} HFI_RANDOM_N={self.random_n} {info}".rstrip())
+
+    async def power_up(self, idle) -> None:
+        """Start the clock, hold the reset while ``idle()`` drives the inputs to rest, then move to the first
+        sample point (1 ns after a falling edge: never at an edge), release the reset after two cycles, and
+        check the unit idle one cycle later."""
+        dut = self.dut
+        Clock(dut.clk, self.period_ns, unit="ns", impl="gpi").start()
+        dut.rst.value = 1
+        idle()
+        await FallingEdge(dut.clk)
+        await Timer(1, unit="ns")  # the first sample point
+        await self.cycles(2)
+        dut.rst.value = 0
+        await self.cycles(1)
+        self.expect_idle("after reset")
 
     async def cycles(self, n: int) -> None:
         """Advance ``n`` >= 1 clock cycles (from one sample point to another)."""

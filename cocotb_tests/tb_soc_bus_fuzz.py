@@ -219,6 +219,8 @@ class Model:
                 return self.sincos, None
             if a in self.vec:
                 return self.vec[a], None
+            if a == am.CAPS_ADDR:                 # the default build: every option
+                return am.REGISTERS["CAPS"]["reset"], None
             if a in ACC_RW:
                 return self.acc[a], None
             if a in self.results:

@@ -243,6 +243,13 @@ VEC_MAG_VALUE_WIDTH = 32
 VEC_MAG_VALUE_MASK = 0xFFFFFFFF
 VEC_MAG_VALUE_RESET = None
 
+# CAPS @ 0x70: Capabilities
+CAPS_ADDR = 0x70
+CAPS_FLUX_LUT_LSB = 0  # ro
+CAPS_FLUX_LUT_WIDTH = 1
+CAPS_FLUX_LUT_MASK = 0x00000001
+CAPS_FLUX_LUT_RESET = 1
+
 
 REGISTERS = {
     "SIN_ANGLE": {"addr": 0x00, "reset": 0x00000000, "signed": (), "fields": {
@@ -333,6 +340,9 @@ REGISTERS = {
     }},
     "VEC_MAG": {"addr": 0x6C, "reset": 0x00000000, "signed": (), "fields": {
         "VALUE": (0, 32, None, "ro"),
+    }},
+    "CAPS": {"addr": 0x70, "reset": 0x00000001, "signed": (), "fields": {
+        "FLUX_LUT": (0, 1, 1, "ro"),
     }},
 }
 

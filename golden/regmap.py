@@ -434,6 +434,21 @@ VDC_CODE_WIDTH = 16
 VDC_CODE_MASK = 0x0000FFFF
 VDC_CODE_RESET = None
 
+# CAPS @ 0xB8: Capabilities
+CAPS_ADDR = 0xB8
+CAPS_ROT_INJ_LSB = 0  # ro
+CAPS_ROT_INJ_WIDTH = 1
+CAPS_ROT_INJ_MASK = 0x00000001
+CAPS_ROT_INJ_RESET = 1
+CAPS_DIFF_CIC_LSB = 1  # ro
+CAPS_DIFF_CIC_WIDTH = 1
+CAPS_DIFF_CIC_MASK = 0x00000002
+CAPS_DIFF_CIC_RESET = 1
+CAPS_FCS_MPC_LSB = 2  # ro
+CAPS_FCS_MPC_WIDTH = 1
+CAPS_FCS_MPC_MASK = 0x00000004
+CAPS_FCS_MPC_RESET = 1
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -593,6 +608,11 @@ REGISTERS = {
     }},
     "VDC": {"addr": 0xB4, "reset": 0x00000000, "signed": (), "fields": {
         "CODE": (0, 16, None, "ro"),
+    }},
+    "CAPS": {"addr": 0xB8, "reset": 0x00000007, "signed": (), "fields": {
+        "ROT_INJ": (0, 1, 1, "ro"),
+        "DIFF_CIC": (1, 1, 1, "ro"),
+        "FCS_MPC": (2, 1, 1, "ro"),
     }},
 }
 

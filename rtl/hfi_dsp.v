@@ -17,6 +17,11 @@
 //                                            max(CORDIC_ITERATIONS + 8, ADC cycle): checked below and
 //                                            in hfi_adc_if (MAX_CYCLE); a 16-bit ADC at the default
 //                                            timing needs OS_MIN >= 46
+//   ROT_INJ, DIFF_CIC, FCS_MPC               build options (docs/rtl.md "Build options"), 1 = the block
+//                                            is built: the rotating injection's sin/cos CORDIC, the
+//                                            differencing/CIC block, the FCS-MPC vector choice. 0 leaves
+//                                            it out: its results are 0 (no rotating voltage; CIC_QA/QB,
+//                                            ENV_A/B read 0; the direct mode applies state 0). CAPS reads them.
 //
 // Window bookkeeping (docs/rtl.md): every sample carries the parity of the window of its sampling
 // tick and its OS_BLANK keep flag through the pipeline. The Park unit rotates it with the SIN/COS
@@ -46,7 +51,10 @@ module hfi_dsp #(
     parameter CORDIC_ITERATIONS = 32,
     parameter DEAD_MIN = 50,
     parameter IRQ_LATENCY = 400,
-    parameter OS_MIN = 40
+    parameter OS_MIN = 40,
+    parameter ROT_INJ = 1,
+    parameter DIFF_CIC = 1,
+    parameter FCS_MPC = 1
 ) (
     input  wire        clk,
     input  wire        rst,
@@ -139,7 +147,7 @@ module hfi_dsp #(
     reg         commit_pending, irq_window_set;
     wire        outputs_on;
 
-    hfi_regs u_regs (
+    hfi_regs #(.ROT_INJ(ROT_INJ), .DIFF_CIC(DIFF_CIC), .FCS_MPC(FCS_MPC)) u_regs (
         .clk(clk), .rst(rst),
         .s_axil_awaddr(s_axil_awaddr), .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),
         .s_axil_wdata(s_axil_wdata), .s_axil_wstrb(s_axil_wstrb), .s_axil_wvalid(s_axil_wvalid),
@@ -273,13 +281,21 @@ module hfi_dsp #(
             end
         end
     end
-    hfi_cordic #(.WIDTH(32), .ITERATIONS(16)) u_inj_cordic (
-        .clk(clk), .rst(rst_dp), .start(zc_d1 | inj_init), .angle(inj_acc),
-        /* verilator lint_off PINCONNECTEMPTY */
-        .busy(), .done(),
-        /* verilator lint_on PINCONNECTEMPTY */
-        .sin_q15(inj_sin), .cos_q15(inj_cos)
-    );
+    generate
+        if (ROT_INJ != 0) begin : g_rot_inj
+            hfi_cordic #(.WIDTH(32), .ITERATIONS(16)) u_inj_cordic (
+                .clk(clk), .rst(rst_dp), .start(zc_d1 | inj_init), .angle(inj_acc),
+                /* verilator lint_off PINCONNECTEMPTY */
+                .busy(), .done(),
+                /* verilator lint_on PINCONNECTEMPTY */
+                .sin_q15(inj_sin), .cos_q15(inj_cos)
+            );
+        end else begin : g_no_rot_inj          // build option: the rotating vector is 0
+            assign inj_sin = 16'sd0;
+            assign inj_cos = 16'sd0;
+            wire unused_rot = inj_init;
+        end
+    endgenerate
 
     // ---------------------------------------------------------------- period square wave (spec 3.5)
     // golden/closedloop.py inj_sign. The mode (CTRL.INJ_PER and not INJ_ROT) is latched at every window
@@ -318,7 +334,7 @@ module hfi_dsp #(
     wire [15:0] dead_eff = (dead_ticks < DEAD_MIN) ? DEAD_MIN[15:0] : dead_ticks;
     wire [15:0] cmp_top_a, cmp_top_b, cmp_top_c, cmp_bot_a, cmp_bot_b, cmp_bot_c;
     wire        mod_busy, mod_done;
-    hfi_modulator u_modulator (
+    hfi_modulator #(.FCS_MPC(FCS_MPC)) u_modulator (
         .clk(clk), .rst(rst_mod), .start(zc_d1),
         .v_d(act_v_d), .v_q(act_v_q), .v_h(act_inj_en ? {1'b0, act_v_h} : 16'sd0),
         .rot(act_inj_rot), .inj_neg(per_act & ~inj_s), .inj_sin(inj_sin), .inj_cos(inj_cos),
@@ -443,11 +459,22 @@ module hfi_dsp #(
     wire signed [20:0] cic_q_a, cic_q_b;
     wire signed [16:0] cic_e_a, cic_e_b;
     wire cic_done;
-    hfi_diff_cic u_diff_cic (
-        .clk(clk), .rst(rst_park), .in_valid(park_done & tag_park_bot), .i_alpha(i_alpha), .i_beta(i_beta),
-        .plus(plus_bot), .cic_m(cic_m_bot), .q_a(cic_q_a), .q_b(cic_q_b), .e_a(cic_e_a), .e_b(cic_e_b),
-        .out_valid(cic_done)
-    );
+    generate
+        if (DIFF_CIC != 0) begin : g_diff_cic
+            hfi_diff_cic u_diff_cic (
+                .clk(clk), .rst(rst_park), .in_valid(park_done & tag_park_bot), .i_alpha(i_alpha),
+                .i_beta(i_beta), .plus(plus_bot), .cic_m(cic_m_bot), .q_a(cic_q_a), .q_b(cic_q_b),
+                .e_a(cic_e_a), .e_b(cic_e_b), .out_valid(cic_done)
+            );
+        end else begin : g_no_diff_cic          // build option: CIC_QA/QB, ENV_A/B read 0
+            assign cic_q_a = 21'sd0;
+            assign cic_q_b = 21'sd0;
+            assign cic_e_a = 17'sd0;
+            assign cic_e_b = 17'sd0;
+            assign cic_done = park_done & tag_park_bot;   // no step to wait for
+            wire unused_cic = &{1'b0, plus_bot, cic_m_bot};
+        end
+    endgenerate
     always @(posedge clk) begin
         if (rst_dp) begin
             cic_qa_q <= 21'sd0; cic_qb_q <= 21'sd0;

@@ -83,7 +83,9 @@
 
 `default_nettype none
 
-module hfi_modulator (
+module hfi_modulator #(
+    parameter FCS_MPC = 1       // 0: no vector choice (build option, hfi_dsp): the direct mode applies state 0
+) (
     input  wire               clk,
     input  wire               rst,
     input  wire               start,
@@ -397,14 +399,21 @@ module hfi_modulator (
     localparam [6:0] T_FCS = 7'd12;
     reg  fcs_go;
     wire [2:0] fcs_state;
-    hfi_fcs_mpc u_fcs (
-        .clk(clk), .rst(rst), .start(fcs_go), .v_al(va), .v_be(be), .sin_q15(sin_r), .cos_q15(cos_r),
-        .a1(a1_r), .a2(a2_r), .phi_min(phi_min_r), .constrain(constrain_r), .state_now(state),
-        .state(fcs_state),
-        /* verilator lint_off PINCONNECTEMPTY */
-        .busy(), .done()
-        /* verilator lint_on PINCONNECTEMPTY */
-    );
+    generate
+        if (FCS_MPC != 0) begin : g_fcs
+            hfi_fcs_mpc u_fcs (
+                .clk(clk), .rst(rst), .start(fcs_go), .v_al(va), .v_be(be), .sin_q15(sin_r),
+                .cos_q15(cos_r), .a1(a1_r), .a2(a2_r), .phi_min(phi_min_r), .constrain(constrain_r),
+                .state_now(state), .state(fcs_state),
+                /* verilator lint_off PINCONNECTEMPTY */
+                .busy(), .done()
+                /* verilator lint_on PINCONNECTEMPTY */
+            );
+        end else begin : g_no_fcs
+            assign fcs_state = 3'd0;
+            wire unused_fcs = &{1'b0, fcs_go, a1_r, a2_r, phi_min_r, constrain_r};
+        end
+    endgenerate
     wire [15:0] dir_a = fcs_state[0] ? half_r : 16'd0;
     wire [15:0] dir_b = fcs_state[1] ? half_r : 16'd0;
     wire [15:0] dir_c = fcs_state[2] ? half_r : 16'd0;

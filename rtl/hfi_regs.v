@@ -24,7 +24,11 @@
 // w1s (SAFETY_LOCK.LOCK).
 // The interrupt line irq = |(IRQ_STATUS & IRQ_ENABLE), registered.
 module hfi_regs #(
-    parameter ADDR_BITS = 8
+    parameter ADDR_BITS = 8,
+    // the optional blocks of the build (hfi_dsp's parameters of the same names), read in CAPS
+    parameter ROT_INJ = 1,
+    parameter DIFF_CIC = 1,
+    parameter FCS_MPC = 1
 ) (
     input  wire        clk,
     input  wire        rst,
@@ -237,7 +241,7 @@ module hfi_regs #(
             HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR,
             HFI_SAFETY_LOCK_ADDR, HFI_INJ_STEP_ADDR, HFI_INJ_PHASE_ADDR, HFI_CIC_M_ADDR, HFI_CIC_QA_ADDR,
             HFI_CIC_QB_ADDR, HFI_ENV_A_ADDR, HFI_ENV_B_ADDR, HFI_FCS_A_ADDR, HFI_FCS_CTRL_ADDR,
-            HFI_VECTOR_ADDR, HFI_TOP_I_ADDR, HFI_VDC_ADDR:
+            HFI_VECTOR_ADDR, HFI_TOP_I_ADDR, HFI_VDC_ADDR, HFI_CAPS_ADDR:
                 known_addr = 1'b1;
             default: known_addr = 1'b0;
         endcase
@@ -397,6 +401,9 @@ module hfi_regs #(
                     HFI_TOP_I_ADDR: w = ({16'd0, top_i_alpha} << HFI_TOP_I_I_ALPHA_LSB)
                                       | ({16'd0, top_i_beta} << HFI_TOP_I_I_BETA_LSB);
                     HFI_VDC_ADDR: w = {16'd0, vdc_code} << HFI_VDC_CODE_LSB;
+                    HFI_CAPS_ADDR: w = ({31'd0, ROT_INJ != 0} << HFI_CAPS_ROT_INJ_LSB)
+                                     | ({31'd0, DIFF_CIC != 0} << HFI_CAPS_DIFF_CIC_LSB)
+                                     | ({31'd0, FCS_MPC != 0} << HFI_CAPS_FCS_MPC_LSB);
                     HFI_SAFETY_LOCK_ADDR: w = {31'd0, r_safety_lock} << HFI_SAFETY_LOCK_LOCK_LSB;
                     default: w = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
                 endcase

@@ -37,7 +37,13 @@ module hfi_soc #(
     parameter CORDIC_ITERATIONS = 32,
     parameter DEAD_MIN = `HFI_SOC_DEAD_MIN,
     parameter IRQ_LATENCY = `HFI_SOC_IRQ_LATENCY,
-    parameter OS_MIN = `HFI_SOC_OS_MIN
+    parameter OS_MIN = `HFI_SOC_OS_MIN,
+    // build options (docs/rtl.md "Build options"): hfi_dsp's optional blocks and the flux-map look-up unit
+    // of hfi_soc_acc; 0 leaves the block out (CAPS of each register map says which are in)
+    parameter ROT_INJ = 1,
+    parameter DIFF_CIC = 1,
+    parameter FCS_MPC = 1,
+    parameter FLUX_LUT = 1
 ) (
     input  wire        clk,
     input  wire        cpu_clk,
@@ -163,7 +169,7 @@ module hfi_soc #(
     wire [31:0] acc_rdata;
     generate
         if (ACC != 0) begin : g_acc
-            hfi_soc_acc #(.RAM_AW(RAM_AW)) u_acc (
+            hfi_soc_acc #(.RAM_AW(RAM_AW), .FLUX_LUT(FLUX_LUT)) u_acc (
                 .clk(cpu_clk), .rst(rst_cpu), .sel(sel_acc), .addr(d_byte[7:0]), .wstrb(d_wstrb),
                 .wdata(d_wdat), .rdata(acc_rdata), .ready(acc_ready),
                 .mem_en(acc_mem_en), .mem_addr(acc_mem_addr), .mem_rdata(ram_ddat)
@@ -216,7 +222,7 @@ module hfi_soc #(
     hfi_dsp #(
         .ADC_BITS(ADC_BITS), .ADC_CONV_TICKS(ADC_CONV_TICKS), .ADC_SCLK_HALF(ADC_SCLK_HALF),
         .CORDIC_WIDTH(CORDIC_WIDTH), .CORDIC_ITERATIONS(CORDIC_ITERATIONS), .DEAD_MIN(DEAD_MIN),
-        .IRQ_LATENCY(IRQ_LATENCY), .OS_MIN(OS_MIN)
+        .IRQ_LATENCY(IRQ_LATENCY), .OS_MIN(OS_MIN), .ROT_INJ(ROT_INJ), .DIFF_CIC(DIFF_CIC), .FCS_MPC(FCS_MPC)
     ) u_dsp (
         .clk(clk), .rst(rst_dsp), .run(dsp_run),
         .s_axil_awaddr(awaddr[7:0]), .s_axil_awvalid(awvalid), .s_axil_awready(awready),

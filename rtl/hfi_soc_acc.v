@@ -17,7 +17,10 @@
 // LUT_IQ write waits for its look-up (above).
 // Writes store the whole word.
 module hfi_soc_acc #(
-    parameter RAM_AW = 14                       // word-address width of the SoC RAM
+    parameter RAM_AW = 14,                      // word-address width of the SoC RAM
+    // build option (docs/rtl.md "Build options"): 0 leaves the flux-map look-up unit out; a LUT_IQ write
+    // is then answered in the next clock, the results read 0, the RAM port stays idle; CAPS reads it
+    parameter FLUX_LUT = 1
 ) (
     input  wire              clk,
     input  wire              rst,
@@ -90,16 +93,28 @@ module hfi_soc_acc #(
     /* verilator lint_off UNUSEDSIGNAL */
     wire signed [63:0] l_d, l_q, l_dq;
     /* verilator lint_on UNUSEDSIGNAL */
-    /* verilator lint_off PINCONNECTEMPTY */
-    hfi_flux_lut #(.RAM_AW(RAM_AW)) u_lut (
-        .clk(clk), .rst(rst),
-        .base_d(base_d), .base_q(base_q), .base_ld(base_ld), .base_lq(base_lq), .base_ldq(base_ldq),
-        .mem_en(mem_en), .mem_addr(mem_addr), .mem_rdata(mem_rdata),
-        .n_d(n_d), .n_q(n_q), .shift(shift), .knee(knee), .coarse(coarse), .f_shift(f_shift),
-        .start(lut_start), .i_d(id), .i_q(wdata), .busy(), .done(lut_done),
-        .lam_d(lam_d), .lam_q(lam_q), .l_d(l_d), .l_q(l_q), .l_dq(l_dq), .dl_d(dl_d), .dl_q(dl_q), .dl_dq(dl_dq)
-    );
-    /* verilator lint_on PINCONNECTEMPTY */
+    generate
+        if (FLUX_LUT != 0) begin : g_lut
+            /* verilator lint_off PINCONNECTEMPTY */
+            hfi_flux_lut #(.RAM_AW(RAM_AW)) u_lut (
+                .clk(clk), .rst(rst),
+                .base_d(base_d), .base_q(base_q), .base_ld(base_ld), .base_lq(base_lq), .base_ldq(base_ldq),
+                .mem_en(mem_en), .mem_addr(mem_addr), .mem_rdata(mem_rdata),
+                .n_d(n_d), .n_q(n_q), .shift(shift), .knee(knee), .coarse(coarse), .f_shift(f_shift),
+                .start(lut_start), .i_d(id), .i_q(wdata), .busy(), .done(lut_done),
+                .lam_d(lam_d), .lam_q(lam_q), .l_d(l_d), .l_q(l_q), .l_dq(l_dq), .dl_d(dl_d), .dl_q(dl_q),
+                .dl_dq(dl_dq)
+            );
+            /* verilator lint_on PINCONNECTEMPTY */
+        end else begin : g_no_lut               // build option: answered the clock after the start
+            assign lut_done = lut_run;
+            assign mem_en = 1'b0;
+            assign mem_addr = {RAM_AW{1'b0}};
+            assign {lam_d, lam_q, l_d, l_q, l_dq, dl_d, dl_q, dl_dq} = {8{64'sd0}};
+            wire unused_lut = &{1'b0, mem_rdata, n_d, n_q, shift, coarse, f_shift, knee, id, base_d, base_q,
+                                base_ld, base_lq, base_ldq};
+        end
+    endgenerate
 
     always @(posedge clk) begin
         if (rst) begin
@@ -151,6 +166,7 @@ module hfi_soc_acc #(
                     ACC_SINCOS_ADDR:      rdata <= {sc_cos, sc_sin};
                     ACC_VEC_ANGLE_ADDR:   rdata <= vec_angle;
                     ACC_VEC_MAG_ADDR:     rdata <= vec_mag;
+                    ACC_CAPS_ADDR:        rdata <= {31'd0, FLUX_LUT != 0} << ACC_CAPS_FLUX_LUT_LSB;
                     ACC_LUT_CFG_ADDR:     rdata <= {3'd0, f_shift, 1'b0, coarse, shift, 1'b0, n_q, 1'b0, n_d};
                     ACC_LUT_KNEE_ADDR:    rdata <= knee;
                     ACC_LUT_BASE_D_ADDR:   rdata <= {{(30-RAM_AW){1'b0}}, base_d};

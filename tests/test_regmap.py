@@ -137,7 +137,7 @@ SPEC_ADDRS = {
     "DTC_GAIN": 0x74, "HF_AMP": 0x78, "RECIP_H": 0x7C, "I_REF": 0x80, "SAFETY_LOCK": 0x84,
     "INJ_STEP": 0x88, "INJ_PHASE": 0x8C, "CIC_M": 0x90, "CIC_QA": 0x94, "CIC_QB": 0x98, "ENV_A": 0x9C,
     "ENV_B": 0xA0, "FCS_A": 0xA4, "FCS_CTRL": 0xA8, "VECTOR": 0xAC,
-    "TOP_I": 0xB0, "VDC": 0xB4,
+    "TOP_I": 0xB0, "VDC": 0xB4, "CAPS": 0xB8,
 }
 
 
@@ -153,6 +153,7 @@ def test_addresses_match_spec():
 def test_fields_and_resets():
     assert regmap.REGISTERS["ID"]["reset"] == 0x48464931
     assert regmap.REGISTERS["VERSION"]["reset"] == 0x00010000
+    assert regmap.REGISTERS["CAPS"]["reset"] == 0b111       # the default build has every option
     assert regmap.PWM_HALF_VALUE_RESET == 10000
     assert regmap.DEAD_TICKS_VALUE_RESET == 400
     assert regmap.OS_TICKS_VALUE_RESET == 100

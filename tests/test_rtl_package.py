@@ -44,24 +44,30 @@ def test_core_parameters_match_the_top():
     assert params == core, f"hfi_dsp parameters {params} != hfi_dsp.core {core}"
 
 
-def test_verilator_lint_wall_whole_ip():
+OPTIONS_OFF = ["-GROT_INJ=0", "-GDIFF_CIC=0", "-GFCS_MPC=0"]
+"""hfi_dsp's build options (docs/rtl.md "Build options"), all left out."""
+
+
+@pytest.mark.parametrize("options", [[], OPTIONS_OFF], ids=["default", "options_off"])
+def test_verilator_lint_wall_whole_ip(options):
     verilator = Path(sys.executable).parent / "verilator"
     proc = subprocess.run([str(verilator), "--lint-only", "-Wall", "-Irtl", "--top-module", "hfi_dsp",
-                           *ip_sources()], cwd=ROOT, capture_output=True, text=True)
+                           *options, *ip_sources()], cwd=ROOT, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
-@pytest.mark.parametrize("acc", [1, 0])
-def test_verilator_lint_wall_soc(tmp_path, acc):
-    """The SoC (our files) passes -Wall too, with and without its accelerators (parameter ACC); the core and
-    the AXI4-Lite adapter's file (dependencies, not our source) are waived."""
+@pytest.mark.parametrize("acc,options", [(1, []), (0, []), (1, OPTIONS_OFF + ["-GFLUX_LUT=0"])],
+                         ids=["acc", "no_acc", "acc_options_off"])
+def test_verilator_lint_wall_soc(tmp_path, acc, options):
+    """The SoC (our files) passes -Wall too, with and without its accelerators (parameter ACC) and with every
+    build option left out; the core and the AXI4-Lite adapter's file (dependencies, not our source) are waived."""
     from hfi.rtl_backend import cpu_source, picorv32_source
 
     verilator = Path(sys.executable).parent / "verilator"
     waiver = tmp_path / "waive_dependencies.vlt"
     waiver.write_text(f'`verilator_config\nlint_off -file "*/picorv32.v"\nlint_off -file "*/{cpu_source().name}"\n')
     files = sorted({p.relative_to(ROOT).as_posix() for p in (ROOT / "rtl").glob("hfi_*.v")})
-    proc = subprocess.run([str(verilator), "--lint-only", "-Wall", "-Irtl", "--top-module", "hfi_soc", f"-GACC={acc}",
+    proc = subprocess.run([str(verilator), "--lint-only", "-Wall", "-Irtl", "--top-module", "hfi_soc", f"-GACC={acc}", *options,
                            "--timescale", "1ns/1ps", str(waiver),
                            *files, str(cpu_source()), str(picorv32_source())], cwd=ROOT, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr

@@ -357,6 +357,19 @@ typedef union {
     uint32_t w;
 } hfi_acc__VEC_MAG_t;
 
+// reg - hfi_acc.CAPS
+#define HFI_ACC__CAPS__FLUX_LUT_bm 0x1
+#define HFI_ACC__CAPS__FLUX_LUT_bp 0
+#define HFI_ACC__CAPS__FLUX_LUT_bw 1
+#define HFI_ACC__CAPS__FLUX_LUT_reset 0x1
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t FLUX_LUT :1;
+        uint32_t :31;
+    } f;
+    uint32_t w;
+} hfi_acc__CAPS_t;
+
 // addrmap - hfi_acc
 typedef struct __attribute__ ((__packed__)) {
     hfi_acc__SIN_ANGLE_t SIN_ANGLE;
@@ -387,6 +400,7 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_acc__VEC_Y_t VEC_Y;
     hfi_acc__VEC_ANGLE_t VEC_ANGLE;
     hfi_acc__VEC_MAG_t VEC_MAG;
+    hfi_acc__CAPS_t CAPS;
 } hfi_acc_t;
 
 
@@ -420,11 +434,12 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_ACC__VEC_Y_offset 0x64
 #define HFI_ACC__VEC_ANGLE_offset 0x68
 #define HFI_ACC__VEC_MAG_offset 0x6c
+#define HFI_ACC__CAPS_offset 0x70
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_acc_t) == 0x70, "hfi_acc_t: size");
+_Static_assert(sizeof(hfi_acc_t) == 0x74, "hfi_acc_t: size");
 _Static_assert(offsetof(hfi_acc_t, SIN_ANGLE) == HFI_ACC__SIN_ANGLE_offset, "hfi_acc_t: SIN_ANGLE offset");
 _Static_assert(offsetof(hfi_acc_t, SINCOS) == HFI_ACC__SINCOS_offset, "hfi_acc_t: SINCOS offset");
 _Static_assert(offsetof(hfi_acc_t, LUT_CFG) == HFI_ACC__LUT_CFG_offset, "hfi_acc_t: LUT_CFG offset");
@@ -453,6 +468,7 @@ _Static_assert(offsetof(hfi_acc_t, VEC_X) == HFI_ACC__VEC_X_offset, "hfi_acc_t: 
 _Static_assert(offsetof(hfi_acc_t, VEC_Y) == HFI_ACC__VEC_Y_offset, "hfi_acc_t: VEC_Y offset");
 _Static_assert(offsetof(hfi_acc_t, VEC_ANGLE) == HFI_ACC__VEC_ANGLE_offset, "hfi_acc_t: VEC_ANGLE offset");
 _Static_assert(offsetof(hfi_acc_t, VEC_MAG) == HFI_ACC__VEC_MAG_offset, "hfi_acc_t: VEC_MAG offset");
+_Static_assert(offsetof(hfi_acc_t, CAPS) == HFI_ACC__CAPS_offset, "hfi_acc_t: CAPS offset");
 #endif
 
 #ifdef __cplusplus

@@ -661,6 +661,29 @@ typedef union {
     uint32_t w;
 } hfi_regs__VDC_t;
 
+// reg - hfi_regs.CAPS
+#define HFI_REGS__CAPS__ROT_INJ_bm 0x1
+#define HFI_REGS__CAPS__ROT_INJ_bp 0
+#define HFI_REGS__CAPS__ROT_INJ_bw 1
+#define HFI_REGS__CAPS__ROT_INJ_reset 0x1
+#define HFI_REGS__CAPS__DIFF_CIC_bm 0x2
+#define HFI_REGS__CAPS__DIFF_CIC_bp 1
+#define HFI_REGS__CAPS__DIFF_CIC_bw 1
+#define HFI_REGS__CAPS__DIFF_CIC_reset 0x1
+#define HFI_REGS__CAPS__FCS_MPC_bm 0x4
+#define HFI_REGS__CAPS__FCS_MPC_bp 2
+#define HFI_REGS__CAPS__FCS_MPC_bw 1
+#define HFI_REGS__CAPS__FCS_MPC_reset 0x1
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t ROT_INJ :1;
+        uint32_t DIFF_CIC :1;
+        uint32_t FCS_MPC :1;
+        uint32_t :29;
+    } f;
+    uint32_t w;
+} hfi_regs__CAPS_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -709,6 +732,7 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__VECTOR_t VECTOR;
     hfi_regs__TOP_I_t TOP_I;
     hfi_regs__VDC_t VDC;
+    hfi_regs__CAPS_t CAPS;
 } hfi_regs_t;
 
 
@@ -759,11 +783,12 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__VECTOR_offset 0xac
 #define HFI_REGS__TOP_I_offset 0xb0
 #define HFI_REGS__VDC_offset 0xb4
+#define HFI_REGS__CAPS_offset 0xb8
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0xb8, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0xbc, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -809,6 +834,7 @@ _Static_assert(offsetof(hfi_regs_t, FCS_CTRL) == HFI_REGS__FCS_CTRL_offset, "hfi
 _Static_assert(offsetof(hfi_regs_t, VECTOR) == HFI_REGS__VECTOR_offset, "hfi_regs_t: VECTOR offset");
 _Static_assert(offsetof(hfi_regs_t, TOP_I) == HFI_REGS__TOP_I_offset, "hfi_regs_t: TOP_I offset");
 _Static_assert(offsetof(hfi_regs_t, VDC) == HFI_REGS__VDC_offset, "hfi_regs_t: VDC offset");
+_Static_assert(offsetof(hfi_regs_t, CAPS) == HFI_REGS__CAPS_offset, "hfi_regs_t: CAPS offset");
 #endif
 
 #ifdef __cplusplus

@@ -594,6 +594,8 @@ int32_t fw_lowpass_out(int64_t f);
 int32_t fw_pi_step(int64_t *integ, int32_t ref, int32_t meas, const struct fw_pi_params *p);
 /* golden.fpga.cordic.sincos_q15(angle, 32, 16): the firmware's sin/cos of theta_hat, Q1.15 */
 void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15);
+/* the accelerators' CAPS register (the SoC build with them only: fw_acc.c) */
+uint32_t fw_acc_caps(void);
 /* golden.firmware.vector.vector_angle: |x|, |y| <= 2^28 */
 void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag);
 /* golden.firmware.biquad.biquad_step (updates *s; the output is s->y1) */

@@ -15,6 +15,12 @@
 #define ACC(reg) (*(volatile uint32_t *)(HFI_SOC_ACC_BASE + HFI_ACC__##reg##_offset))
 #define ACC_FIELD(reg, fld, v) (((uint32_t)(v) << HFI_ACC__##reg##__##fld##_bp) & HFI_ACC__##reg##__##fld##_bm)
 
+/* CAPS of the accelerators: the optional units of this build (golden.build_options) */
+uint32_t fw_acc_caps(void)
+{
+    return ACC(CAPS);
+}
+
 /* golden.fpga.cordic.sincos_q15(angle, 32, 16) */
 void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15)
 {

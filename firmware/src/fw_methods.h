@@ -5,6 +5,10 @@
 
 /* golden.firmware.estimator.METHODS[...].injection (INJ_*), by method id */
 #define FW_METHOD_INJECTS {[1] = 1, [2] = 0, [3] = 2, [4] = 0, [5] = 3, [6] = 0}
+/* golden.firmware.estimator.METHODS[...].hardware (golden.build_options): the CAPS bits of hfi_regs and
+ * of hfi_acc (the accelerators' own units) that a method needs, by method id (0: none) */
+#define FW_METHOD_DSP_CAPS {[3] = 0x1u, [5] = 0x2u, [6] = 0x4u}
+#define FW_METHOD_ACC_CAPS {[6] = 0x1u}
 #define FW_INJ_NONE 0  /* golden.firmware.estimator.INJ_NONE */
 #define FW_INJ_SQW_D 1  /* golden.firmware.estimator.INJ_SQW_D */
 #define FW_SQW_SYNC_HOLD 1  /* golden.firmware.sqw_bangbang.SYNC_HOLD */

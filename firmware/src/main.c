@@ -27,6 +27,7 @@
 
 #include "control.h"
 #include "fw_config.h"
+#include "fw_methods.h"
 #include "fw_trace.h"
 #include "hfi_regs.h"
 #include "hfi_soc_platform.h"
@@ -215,6 +216,26 @@ static int config_ok(void)
     return cfg.hw.magic == FW_CONFIG_MAGIC && cfg.hw.version == FW_CONFIG_VERSION;
 }
 
+/* The optional FPGA blocks (build options, docs/rtl.md) that the configured methods need and this build lacks:
+ * the missing CAPS bits of hfi_dsp in *dsp and of the accelerators in *acc (golden.build_options; the build
+ * without accelerators computes in software and needs none of theirs). 0 when nothing is missing. */
+static uint32_t missing_blocks(uint32_t *dsp, uint32_t *acc)
+{
+    static const uint32_t dsp_caps[FW_METHODS] = FW_METHOD_DSP_CAPS;
+    static const uint32_t acc_caps[FW_METHODS] = FW_METHOD_ACC_CAPS;
+    uint32_t lo = (uint32_t)cfg.fw.low < FW_METHODS ? (uint32_t)cfg.fw.low : 0;
+    uint32_t hi = (uint32_t)cfg.fw.high < FW_METHODS ? (uint32_t)cfg.fw.high : 0;
+
+    *dsp = (dsp_caps[lo] | dsp_caps[hi]) & ~DSP(CAPS);
+#ifdef FW_ACC
+    *acc = (acc_caps[lo] | acc_caps[hi]) & ~fw_acc_caps();
+#else
+    (void)acc_caps;
+    *acc = 0;
+#endif
+    return *dsp | *acc;
+}
+
 /* A log line and SOC FW_STATUS for a mode change. Not inlined: it runs once per change, apart from run(). */
 static __attribute__((noinline)) void show_mode(int32_t mode)
 {
@@ -257,6 +278,16 @@ int main(void)
     uart_puts("hfi_fw: start\n");
     if (!config_ok()) {
         uart_puts("hfi_fw: no valid configuration block (magic/version), gates stay off\n");
+        for (;;)
+            ;
+    }
+    uint32_t lack_dsp, lack_acc;
+    if (missing_blocks(&lack_dsp, &lack_acc)) {
+        uart_puts("hfi_fw: the FPGA build lacks blocks the configured method needs (hfi_dsp CAPS bits ");
+        uart_putu(lack_dsp);
+        uart_puts(", accelerator CAPS bits ");
+        uart_putu(lack_acc);
+        uart_puts("; docs/rtl.md \"Build options\"), gates stay off\n");
         for (;;)
             ;
     }

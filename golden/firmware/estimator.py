@@ -168,6 +168,9 @@ class MethodInfo:
     """Where in a control window its angle refers to, in quarters of the window: 2, the middle (the window
     means); 3, the carrier bottom (the 001 method's samples, the 003 method's applied state). Reports take the
     true angle there (``ClosedLoopResult.angle_error_deg``, docs/metrics.md)."""
+    hardware: tuple[str, ...] = ()
+    """The optional FPGA blocks it needs (golden.build_options: ROT_INJ, DIFF_CIC, FCS_MPC, FLUX_LUT); the firmware
+    refuses to start on a build without them (CAPS), ``hfi compare`` counts their resources as the method's."""
 
 
 METHODS: dict[str, MethodInfo] = {m.name: m for m in (
@@ -179,16 +182,17 @@ METHODS: dict[str, MethodInfo] = {m.name: m for m in (
                (SLOT_HIGH,), INJ_NONE,
                "rotor (active) flux observer in the stationary frame, CORDIC angle, PLL speed"),
     MethodInfo("rot_bpf", METHOD_ROT_BPF, "Tap et al., IEEE Access 2023 (000)", (SLOT_LOW,), INJ_ROT,
-               "rotating injection, one band-pass at 2 f_h, N-sample average, normalised PLL"),
+               "rotating injection, one band-pass at 2 f_h, N-sample average, normalised PLL",
+               hardware=("ROT_INJ",)),
     MethodInfo("eemf_smo", METHOD_EEMF_SMO, "Tap et al., IEEE Access 2023 (000), eqs. (20)-(22)",
                (SLOT_HIGH,), INJ_NONE,
                "extended-EMF sliding-mode observer in the stationary frame, CORDIC angle, PLL speed"),
     MethodInfo("sqw_cic", METHOD_SQW_CIC, "Xue et al., Electronics 2022 (001)", (SLOT_LOW,), INJ_SQW_P,
                "square wave at f_sw/2 on d_hat, sample differencing, CIC interpolation, Luenberger observer",
-               angle_quarters=3),
+               angle_quarters=3, hardware=("DIFF_CIC",)),
     MethodInfo("hfo_proj", METHOD_HFO_PROJ, "Varatharajan et al., IEEE Access 2020 (003)", (SLOT_LOW,), INJ_NONE,
                "hybrid flux observer with flux maps, FCS-MPC ripple projection + APP, fusion, PLL",
-               flux=True, angle_quarters=3),
+               flux=True, angle_quarters=3, hardware=("FCS_MPC", "FLUX_LUT")),
 )}
 """Every estimator, by scenario name (``estimator.low`` / ``estimator.high``)."""
 

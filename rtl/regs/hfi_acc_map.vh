@@ -185,3 +185,9 @@ localparam [7:0] ACC_VEC_MAG_ADDR = 8'h6C;
 localparam integer ACC_VEC_MAG_VALUE_LSB = 0;  // ro
 localparam integer ACC_VEC_MAG_VALUE_WIDTH = 32;
 localparam [31:0] ACC_VEC_MAG_VALUE_RESET = 32'h0;
+
+// CAPS @ 0x70: Capabilities
+localparam [7:0] ACC_CAPS_ADDR = 8'h70;
+localparam integer ACC_CAPS_FLUX_LUT_LSB = 0;  // ro
+localparam integer ACC_CAPS_FLUX_LUT_WIDTH = 1;
+localparam [0:0] ACC_CAPS_FLUX_LUT_RESET = 1'h1;

@@ -342,6 +342,18 @@ localparam integer HFI_VDC_CODE_LSB = 0;  // ro
 localparam integer HFI_VDC_CODE_WIDTH = 16;
 localparam [15:0] HFI_VDC_CODE_RESET = 16'h0;
 
+// CAPS @ 0xB8: Capabilities
+localparam [7:0] HFI_CAPS_ADDR = 8'hB8;
+localparam integer HFI_CAPS_ROT_INJ_LSB = 0;  // ro
+localparam integer HFI_CAPS_ROT_INJ_WIDTH = 1;
+localparam [0:0] HFI_CAPS_ROT_INJ_RESET = 1'h1;
+localparam integer HFI_CAPS_DIFF_CIC_LSB = 1;  // ro
+localparam integer HFI_CAPS_DIFF_CIC_WIDTH = 1;
+localparam [0:0] HFI_CAPS_DIFF_CIC_RESET = 1'h1;
+localparam integer HFI_CAPS_FCS_MPC_LSB = 2;  // ro
+localparam integer HFI_CAPS_FCS_MPC_WIDTH = 1;
+localparam [0:0] HFI_CAPS_FCS_MPC_RESET = 1'h1;
+
 // Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
 function hfi_locked_by_safety_lock_lock(input [7:0] a);
     case (a)

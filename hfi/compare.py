@@ -8,8 +8,8 @@ profiles to 0, 10 % and 50 % speed and 0-2 p.u. load, 20 seeds and initial angle
 Then the sensitivity study (:data:`SENSITIVITY`, 10 seeds per change). The sweeps run on one Dask cluster
 (hfi.sweep, cached: a second call only reports). The report goes to ``OUT`` (default ``out/compare``):
 ``report.md`` with the tables, ``angle_vs_load.png`` (the headline figure), ``sensitivity.png``,
-``results.csv`` (one row per point and system) and ``costs.json`` (each system's firmware clocks per step on
-the rtl backend, hfi.costs).
+``results.csv`` (one row per point and system), ``costs.json`` (each system's firmware clocks per step on
+the rtl backend, hfi.costs) and ``resources.json`` (the FPGA resources its own blocks add, hfi.resources).
 """
 
 from __future__ import annotations
@@ -421,12 +421,14 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
     lines += [f"| {s} | {ch} | {n} | {lost}{f' (+{failed} failed)' if failed else ''} | {_fmt(rms)} | {_fmt(peak)} |"
               for s, ch, n, lost, failed, rms, peak in table]
     if firmware_cost:
-        from hfi import costs
+        from hfi import costs, resources
 
         bases = {s: spec.base for s, spec in specs.items()}
         lines += ["", *costs.table(costs.costs(bases, out / "costs.json", log=log), labels)]
+        scenarios = {s: parse_scenario(copy.deepcopy(b), f"{s} base scenario") for s, b in bases.items()}
+        lines += ["", *resources.table(*resources.resources(scenarios, out / "resources.json", log=log), labels)]
     (out / "report.md").write_text(text + "\n".join(lines) + "\n")
     log(f"wrote {out}/report.md, angle_vs_load.png, ripple_vs_load.png, sensitivity.png, results.csv"
-        + (", costs.json" if firmware_cost else ""))
+        + (", costs.json, resources.json" if firmware_cost else ""))
     return points
 

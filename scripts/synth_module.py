@@ -7,9 +7,10 @@ LUT / FF / DSP counts, ``synth_ecp5`` + ``nextpnr-ecp5`` (LFE5U-25F, CABGA256, s
 it instantiates (recursively) are read, so modules being edited elsewhere do not disturb the run.
 Outputs go to ``out/synth_module/<module>[_<params>]/`` (separate directories: runs can go in parallel).
 
-Usage: ``python scripts/synth_module.py carrier [-P NAME=VALUE ...] [--seed 1] [--skip-pnr] [--json]``
+Usage: ``python scripts/synth_module.py carrier [-P NAME=VALUE ...] [--seed 1] [--skip-pnr] [--xc7-only] [--json]``
 (module name with or without the ``hfi_`` prefix). Prints one table row:
-``module  xc7 LUT  xc7 FF  xc7 DSP  ecp5 LUT4  ecp5 FF  ecp5 DSP  Fmax MHz``.
+``module  xc7 LUT  xc7 FF  xc7 DSP  ecp5 LUT4  ecp5 FF  ecp5 DSP  Fmax MHz`` (``--xc7-only``: the ECP5 flow is
+skipped, its columns are ``-``; ``hfi compare`` measures the methods' build options so, hfi/resources.py).
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="override a parameter of the module (repeatable)")
     ap.add_argument("--seed", type=int, default=1, help="nextpnr placement seed")
     ap.add_argument("--skip-pnr", action="store_true", help="synthesis counts only (no Fmax)")
+    ap.add_argument("--xc7-only", action="store_true", help="the Xilinx 7-series counts only (no ECP5 flow)")
     ap.add_argument("--rtl-dir", default="rtl",
                     help="source directory relative to the repo root (e.g. a snapshot for a baseline)")
     ap.add_argument("--tag", default="", help="suffix of the output directory")
@@ -74,16 +76,18 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{top}: {' '.join(files)}", flush=True)
     t0 = time.perf_counter()
     x = sr.xc7(top, files, params)
-    try:
-        e = sr.ecp5(top, files, params, args.seed, args.skip_pnr)
-    except SystemExit as exc:                   # a purely combinational module has no clock to time
-        if "no clock" not in str(exc):
-            raise
-        print("  (no clocked path: Fmax not applicable)")
-        e = sr.ecp5(top, files, params, args.seed, True)
+    e = {"lut4": "-", "ff": "-", "dsp": "-", "lutram": "-", "fmax_mhz": None}
+    if not args.xc7_only:
+        try:
+            e = sr.ecp5(top, files, params, args.seed, args.skip_pnr)
+        except SystemExit as exc:                   # a purely combinational module has no clock to time
+            if "no clock" not in str(exc):
+                raise
+            print("  (no clocked path: Fmax not applicable)")
+            e = sr.ecp5(top, files, params, args.seed, True)
     res = {"module": top, "parameters": params, "files": files,
-           "xc7": {k: x[k] for k in ("lut", "ff", "dsp", "srl", "lutram")},
-           "ecp5": {k: e[k] for k in ("lut4", "ff", "dsp", "lutram", "fmax_mhz")}}
+           "xc7": {k: x[k] for k in ("lut", "ff", "dsp", "bram", "srl", "lutram")},
+           "ecp5": None if args.xc7_only else {k: e[k] for k in ("lut4", "ff", "dsp", "lutram", "fmax_mhz")}}
     (sr.ROOT / sr.OUT / "module_report.json").write_text(json.dumps(res, indent=2) + "\n")
     fmax = "-" if e["fmax_mhz"] is None else f"{e['fmax_mhz']:.1f}"
     print(f"\n{top}: {time.perf_counter() - t0:.0f} s, {sr.OUT}/module_report.json")

@@ -151,15 +151,22 @@ def build_firmware(acc: bool = True) -> Path:
     return (FW_OUT if acc else FW_OUT / "noacc") / "hfi_fw.elf"
 
 
-def build_sim(fst: bool = False, profile: bool = False) -> Path:
+def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] | None = None) -> Path:
     """Verilate hfi_soc with the harness into ``out/sim/<variant>/libhfisoc.so`` (rebuilt when a source
     changed; a file lock serialises concurrent builds). ``fst``: the variant with FST waveforms;
-    ``profile``: the variant that records the firmware profile (``SOC_PROF_*`` of sim/soc_sim.h)."""
+    ``profile``: the variant that records the firmware profile (``SOC_PROF_*`` of sim/soc_sim.h);
+    ``options``: build options (golden.build_options, docs/rtl.md) other than the default 1, a variant of its own."""
+    from golden.build_options import OPTIONS
     from golden.plant.binding import LIBRARY as PLANT_LIB
 
     if fst and profile:
         raise RtlBackendError("the FST waveform and the firmware profile are separate builds: ask for one")
-    variant = "fst" if fst else "prof" if profile else "fast"
+    options = dict(options or {})
+    for name, value in options.items():
+        if name not in OPTIONS or value not in (0, 1):
+            raise RtlBackendError(f"build option {name}={value!r}: expected one of {', '.join(OPTIONS)} = 0 or 1")
+    variant = ("fst" if fst else "prof" if profile else "fast") + "".join(
+        f"_{k}{v}" for k, v in sorted(options.items()))
     build = OUT_SIM / variant
     lib = build / "libhfisoc.so"
     srcs = soc_sources() + [SIM_DIR / n for n in SIM_SOURCES + SIM_HEADERS] + [
@@ -187,6 +194,7 @@ def build_sim(fst: bool = False, profile: bool = False) -> Path:
                "-CFLAGS", cflags, "-LDFLAGS", ldflags, "-o", str(lib)]
         if fst:
             cmd.append("--trace-fst")
+        cmd += [f"-G{k}={v}" for k, v in sorted(options.items())]
         cmd += [str(SIM_DIR / "soc_sim.vlt")] + [str(p) for p in soc_sources()]
         cmd += [str(SIM_DIR / n) for n in SIM_SOURCES]
         _run(cmd, "Verilator build of hfi_soc")
@@ -311,10 +319,13 @@ class RtlClosedLoop:
                              f"be 100 MHz (got {sc.pwm.tick_hz})")
 
     def run(self, progress: bool = True, fst: str | None = None, fst_window: tuple[float, float] | None = None,
-            workdir: Path | None = None, profile: bool = False) -> ClosedLoopResult:
+            workdir: Path | None = None, profile: bool = False,
+            options: dict[str, int] | None = None) -> ClosedLoopResult:
         """Run the co-simulation. ``fst``: FST waveform file; ``fst_window``: its time span [s]
         (default: the first 2 ms). ``profile``: record the firmware profile into ``self.profile``
-        (``cycles`` and ``fetch``: one count per RAM word, sim/soc_sim.h; scripts/fw_profile.py)."""
+        (``cycles`` and ``fetch``: one count per RAM word, sim/soc_sim.h; scripts/fw_profile.py).
+        ``options``: an FPGA build with these build options (build_sim; the firmware refuses to start when the
+        scenario's methods need a block the build lacks: RtlBackendError with the UART log)."""
         sc, hw = self.sc, self.hw
         H = hw.pwm_half
         tick_hz = sc.pwm.tick_hz
@@ -322,7 +333,7 @@ class RtlClosedLoop:
         n_win = len(speed_ref)
 
         elf = build_firmware()
-        lib_path = build_sim(fst=fst is not None, profile=profile)
+        lib_path = build_sim(fst=fst is not None, profile=profile, options=options)
         lib = _sim_ffi.dlopen(str(lib_path))
         workdir = Path(workdir or OUT_SIM / "runs")
         workdir.mkdir(parents=True, exist_ok=True)

@@ -283,11 +283,12 @@ int main(void)
     }
     uint32_t lack_dsp, lack_acc;
     if (missing_blocks(&lack_dsp, &lack_acc)) {
-        uart_puts("hfi_fw: the FPGA build lacks blocks the configured method needs (hfi_dsp CAPS bits ");
+        /* short: the line must leave the UART before anyone gives up waiting (docs/rtl.md "Build options") */
+        uart_puts("hfi_fw: build lacks the method's blocks: CAPS ");
         uart_putu(lack_dsp);
-        uart_puts(", accelerator CAPS bits ");
+        uart_puts(", ACC CAPS ");
         uart_putu(lack_acc);
-        uart_puts("; docs/rtl.md \"Build options\"), gates stay off\n");
+        uart_puts("; gates stay off\n");
         for (;;)
             ;
     }

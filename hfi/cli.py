@@ -264,8 +264,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, metavar="N", help="local cluster's worker processes (default: the cores)")
     p.add_argument("--out", default=str(ROOT / "out" / "compare"), metavar="DIR", help="output directory "
                    "(default out/compare)")
-    p.add_argument("--no-cost", action="store_true", help="leave out the firmware cost (the rtl co-simulations, "
-                   "about half a minute per system the first time)")
+    p.add_argument("--no-cost", action="store_true", help="leave out the firmware and FPGA cost (the rtl "
+                   "co-simulations and the syntheses, about 5 minutes the first time; cached)")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=cmd_compare)
 

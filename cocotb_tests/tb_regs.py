@@ -471,7 +471,7 @@ async def unmapped_addresses(dut):
     await b.pulse_set()  # status 1: a write aliasing IRQ_STATUS would clear it
     mapped = sorted(b.model.by_addr)
     addrs = [a for a in range(0, 256, 4) if a not in b.model.by_addr]
-    assert {0x3C, 0xB8, 0xFC} <= set(addrs)   # 0xB8: the first word after the last register (VDC @ 0xB4)
+    assert {0x3C, 0xBC, 0xFC} <= set(addrs)   # 0xBC: the first word after the last register (CAPS @ 0xB8)
     addrs += [a | off for a in mapped for off in (1, 2, 3)]
     if b.addr_bits > 8:
         addrs += [(1 << k) | a for k in range(8, b.addr_bits) for a in mapped]

@@ -11,7 +11,10 @@
 //   convst.txt  "<tick>" of every CONVST rising edge (sampling tick t rises in cycle t + PIN_LATENCY)
 module tb_hfi_dsp #(
     parameter ADC_BITS = 12,
-    parameter CODES_FILE = "codes.hex"
+    parameter CODES_FILE = "codes.hex",
+    parameter ROT_INJ = 1,               // hfi_dsp's build options (docs/rtl.md; test_dsp_options.py)
+    parameter DIFF_CIC = 1,
+    parameter FCS_MPC = 1
 ) (
     output reg         clk,
     input  wire        rst,
@@ -43,7 +46,7 @@ module tb_hfi_dsp #(
 );
     wire adc_convst, adc_cs_n, adc_sclk, adc_sdo_a, adc_sdo_b, adc_sdo_c;
 
-    hfi_dsp #(.ADC_BITS(ADC_BITS)) dut (
+    hfi_dsp #(.ADC_BITS(ADC_BITS), .ROT_INJ(ROT_INJ), .DIFF_CIC(DIFF_CIC), .FCS_MPC(FCS_MPC)) dut (
         .clk(clk), .rst(rst), .run(hold !== 1'b1),
         .s_axil_awaddr(s_axil_awaddr), .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),
         .s_axil_wdata(s_axil_wdata), .s_axil_wstrb(s_axil_wstrb), .s_axil_wvalid(s_axil_wvalid),

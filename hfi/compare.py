@@ -229,20 +229,23 @@ def _fmt(x: float) -> str:
     return "-" if math.isnan(x) else f"{x:.2f}"
 
 
-def headline(points: list[Point], labels: dict[str, str]) -> list[str]:
+def headline(points: list[Point], labels: dict[str, str], cost: dict[str, tuple[str, str]] | None = None) -> list[str]:
     """The headline table: per system, the angle error and the acoustic proxy at standstill under rated load,
-    the share of runs lost over the whole grid, and the ripple copper loss there."""
+    the share of runs lost over the whole grid, and the ripple copper loss there; with ``cost`` (system ->
+    (firmware, FPGA) texts, measured by hfi.costs and hfi.resources) two more columns."""
+    extra = (" firmware in RUN [CPU clocks worst / period] | own FPGA blocks [xc7] |", "---|---|") if cost else ("", "")
     lines = ["| system | angle error, standstill, 1 p.u. [deg RMS median / peak worst] | runs lost (all points) | "
              "audible torque, standstill, 1 p.u. [dB re 1 % rated] | ripple copper loss, standstill, 1 p.u. "
-             "[% rated copper loss] |", "|---|---|---|---|---|"]
+             "[% rated copper loss] |" + extra[0], "|---|---|---|---|---|" + extra[1]]
     for system, name in labels.items():
         mine = [p for p in points if p.system == system]
         at = next((p for p in mine if p.speed_pu == 0 and p.load_pu == 1), None)
         n, lost = sum(p.n for p in mine), sum(p.lost + p.failed for p in mine)
         nan = float("nan")
+        more = " {} | {} |".format(*cost.get(system, ("-", "-"))) if cost else ""
         lines.append(f"| {name} | {_fmt(at.rms_median if at else nan)} / {_fmt(at.peak_worst if at else nan)} | "
                      f"{lost} of {n} | {_fmt(at.audible_db if at else nan)} | "
-                     f"{_fmt(100 * at.cu_ripple if at else nan)} |")
+                     f"{_fmt(100 * at.cu_ripple if at else nan)} |" + more)
     return lines
 
 
@@ -263,14 +266,15 @@ def bound_table(points: list[Point], labels: dict[str, str]) -> list[str]:
     return lines
 
 
-def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path) -> str:
+def report(points: list[Point], labels: dict[str, str], seeds: int, out: Path,
+           cost: dict[str, tuple[str, str]] | None = None) -> str:
     lines = ["# Four sensorless systems side by side", "",
              f"`hfi compare` ({seeds} seeds and initial angles per point; docs/compare.md says how). Angle error "
              "in electrical degrees over 0.6-1.3 s after the load ramp ended, on the runs that kept lock "
              "(`locked` and no fault); `lost`: runs that lost lock or tripped. Ripple copper loss: the copper "
              "loss beyond that of the mean rotor-frame current (injection, PWM and control ripple), in % of the "
              "motor's rated copper loss; audible torque: the A-weighted RMS of the torque's variation, dB re "
-             "1 % of rated torque (hfi/ripple.py).", "", *headline(points, labels), "",
+             "1 % of rated torque (hfi/ripple.py).", "", *headline(points, labels, cost), "",
              "![angle error against load](angle_vs_load.png)", "",
              "![ripple copper loss and audible torque against load](ripple_vs_load.png)", "",
              *bound_table(points, labels), ""]
@@ -413,20 +417,24 @@ def compare(out: Path, systems: tuple[str, ...] = SYSTEMS, seeds: int | None = N
     figure(points, labels, out / "angle_vs_load.png")
     ripple_figure(points, labels, out / "ripple_vs_load.png")
     table = sensitivity_figure(sens, labels, out / "sensitivity.png")
-    text = report(points, labels, max(spec.seeds or 1 for spec in specs.values()), out)
+    cost_lines, cost = [], None
+    if firmware_cost:
+        from hfi import costs, resources
+
+        bases = {s: spec.base for s, spec in specs.items()}
+        fw = costs.costs(bases, out / "costs.json", log=log)
+        scenarios = {s: parse_scenario(copy.deepcopy(b), f"{s} base scenario") for s, b in bases.items()}
+        base, hw = resources.resources(scenarios, out / "resources.json", log=log)
+        cost_lines = ["", *costs.table(fw, labels), "", *resources.table(base, hw, labels)]
+        cost = {c.system: (costs.worst_of_period(c), resources.summary(r)) for c, r in zip(fw, hw)}
+    text = report(points, labels, max(spec.seeds or 1 for spec in specs.values()), out, cost)
     lines = ["", "## Sensitivity", "", f"Each change alone at {100 * SENSITIVITY_POINT[0]:.0f} % speed and "
              f"{SENSITIVITY_POINT[1]:g} p.u. load (`hfi.compare.SENSITIVITY`).", "",
              "![sensitivity](sensitivity.png)", "",
              "| system | change | runs | lost | RMS median | peak worst |", "|---|---|---|---|---|---|"]
     lines += [f"| {s} | {ch} | {n} | {lost}{f' (+{failed} failed)' if failed else ''} | {_fmt(rms)} | {_fmt(peak)} |"
               for s, ch, n, lost, failed, rms, peak in table]
-    if firmware_cost:
-        from hfi import costs, resources
-
-        bases = {s: spec.base for s, spec in specs.items()}
-        lines += ["", *costs.table(costs.costs(bases, out / "costs.json", log=log), labels)]
-        scenarios = {s: parse_scenario(copy.deepcopy(b), f"{s} base scenario") for s, b in bases.items()}
-        lines += ["", *resources.table(*resources.resources(scenarios, out / "resources.json", log=log), labels)]
+    lines += cost_lines
     (out / "report.md").write_text(text + "\n".join(lines) + "\n")
     log(f"wrote {out}/report.md, angle_vs_load.png, ripple_vs_load.png, sensitivity.png, results.csv"
         + (", costs.json, resources.json" if firmware_cost else ""))

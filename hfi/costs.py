@@ -117,6 +117,14 @@ def _share(c: Cost, mean: float | None, worst: int | None) -> str:
     return "-" if mean is None else f"{100 * c.share(mean):.0f} % / {100 * c.share(worst):.0f} %"
 
 
+def worst_of_period(c: Cost) -> str:
+    """The headline's cell: the worst step in RUN against the system's own period (where it was measured)."""
+    if c.error or c.run_max is None:
+        return "not measured"
+    at = "" if c.measured_f_sw == c.f_sw else f" (at {c.measured_f_sw / 1e3:g} kHz)"
+    return f"{c.run_max} / {c.period_clocks}{at}"
+
+
 def table(items: list[Cost], labels: dict[str, str]) -> list[str]:
     """The report's section: per system, CPU clocks per step in RUN against its own period."""
     lines = ["## Firmware cost", "",

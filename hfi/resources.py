@@ -97,6 +97,14 @@ def resources(systems: dict[str, Scenario], cache: Path, log=print, synth: Synth
     return base, out
 
 
+def summary(r: Resources) -> str:
+    """The headline's cell: what the system's own blocks add, over both modules."""
+    if not r.added:
+        return "none (the shared base)"
+    total = {k: sum(a[k] for a in r.added.values()) for k in COUNTS}
+    return f"{', '.join(r.options)}: {_added(total)}"
+
+
 def _counts(c: dict) -> str:
     return f"{c['lut']} LUT, {c['ff']} FF, {c['dsp']} DSP, {c['bram']} BRAM"
 

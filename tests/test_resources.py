@@ -94,3 +94,21 @@ def test_options_are_the_caps_fields_and_the_verilog_parameters():
     text = (ROOT / "firmware" / "src" / "fw_methods.h").read_text()
     assert "#define FW_METHOD_DSP_CAPS {[3] = 0x1u, [5] = 0x2u, [6] = 0x4u}" in text
     assert "#define FW_METHOD_ACC_CAPS {[6] = 0x1u}" in text
+
+
+def test_headline_cells(tmp_path):
+    """The headline's columns for the firmware and the FPGA blocks (hfi.compare.headline)."""
+    from hfi import costs
+
+    _, items = resources.resources(systems(), tmp_path / "r.json", log=lambda _: None, synth=Synth(), key=lambda: "k")
+    by = {r.system: resources.summary(r) for r in items}
+    assert by["002"] == "none (the shared base)"
+    assert by["000"] == "ROT_INJ: +482 LUT, +175 FF"
+    assert by["003"] == "FCS_MPC, FLUX_LUT: +5461 LUT, +3707 FF, +5 DSP, +1 BRAM"
+    c = costs.Cost("003", 10e3, 5e3, 5000, 8715.0, 9108, 8000.0, 9200)
+    assert costs.worst_of_period(c) == "9108 / 5000 (at 5 kHz)"
+    assert costs.worst_of_period(costs.Cost("003", 10e3, float("nan"), 5000, error="x")) == "not measured"
+    lines = compare.headline([], {"002": "002", "003": "003"}, {"003": ("9108 / 5000 (at 5 kHz)", by["003"])})
+    assert lines[0].endswith("| firmware in RUN [CPU clocks worst / period] | own FPGA blocks [xc7] |")
+    assert lines[2].endswith("| - | - |") and lines[3].endswith(f"| 9108 / 5000 (at 5 kHz) | {by['003']} |")
+    assert compare.headline([], {"002": "002"})[0].endswith("[% rated copper loss] |")

@@ -46,7 +46,7 @@ from golden.plant import Plant, binding
 from golden.scenario import Scenario
 from hfi import soc_platform
 from hfi.backends import BackendError
-from hfi.fw_c import cdef_text, params_to_c
+from hfi.fw_c import cdef_text, ident_from_c, ident_to_c, params_to_c
 
 ROOT = Path(__file__).resolve().parents[1]
 SIM_DIR = ROOT / "sim"
@@ -144,18 +144,23 @@ def digest(paths: list[Path], extra: str) -> str:
     return h.hexdigest()
 
 
-def build_firmware(acc: bool = True) -> Path:
+def build_firmware(acc: bool = True, ident: bool = False) -> Path:
     """``make -C firmware``: the RAM image ``out/firmware/hfi_fw.bin`` (and .elf, .hex, .lst); ``acc=False``:
-    the build for a SoC without the accelerators (``ACC=0``, into ``out/firmware/noacc``)."""
-    _run(["make", "-C", str(ROOT / "firmware"), f"PYTHON={sys.executable}", f"ACC={int(acc)}"], "firmware build")
-    return (FW_OUT if acc else FW_OUT / "noacc") / "hfi_fw.elf"
+    the build for a SoC without the accelerators (``ACC=0``, into ``out/firmware/noacc``); ``ident``: the
+    commissioning image (``IDENT=1``, into ``.../ident``: the identification executor, for a SoC with
+    ``soc_platform.IDENT_RAM_BYTES`` of RAM)."""
+    _run(["make", "-C", str(ROOT / "firmware"), f"PYTHON={sys.executable}", f"ACC={int(acc)}", f"IDENT={int(ident)}"],
+         "firmware build")
+    return (FW_OUT if acc else FW_OUT / "noacc") / ("ident" if ident else "") / "hfi_fw.elf"
 
 
-def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] | None = None) -> Path:
+def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] | None = None,
+              ram_bytes: int | None = None) -> Path:
     """Verilate hfi_soc with the harness into ``out/sim/<variant>/libhfisoc.so`` (rebuilt when a source
     changed; a file lock serialises concurrent builds). ``fst``: the variant with FST waveforms;
     ``profile``: the variant that records the firmware profile (``SOC_PROF_*`` of sim/soc_sim.h);
-    ``options``: build options (golden.build_options, docs/rtl.md) other than the default 1, a variant of its own."""
+    ``options``: build options (golden.build_options, docs/rtl.md) other than the default 1, a variant of its own;
+    ``ram_bytes``: a RAM other than ``soc_platform.RAM_BYTES`` (the commissioning image's), likewise."""
     from golden.build_options import OPTIONS
     from golden.plant.binding import LIBRARY as PLANT_LIB
 
@@ -165,6 +170,10 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     for name, value in options.items():
         if name not in OPTIONS or value not in (0, 1):
             raise RtlBackendError(f"build option {name}={value!r}: expected one of {', '.join(OPTIONS)} = 0 or 1")
+    if ram_bytes is not None and ram_bytes != soc_platform.RAM_BYTES:
+        if profile:
+            raise RtlBackendError("the firmware profile counts the words of the default RAM: no other RAM size")
+        options["RAM_BYTES"] = ram_bytes
     variant = ("fst" if fst else "prof" if profile else "fast") + "".join(
         f"_{k}{v}" for k, v in sorted(options.items()))
     build = OUT_SIM / variant
@@ -223,39 +232,69 @@ def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     h.adc_mode, h.inj_en, h.inj_rot, h.inj_step = hw.adc_mode, 1, hw.inj_rot, hw.inj_step
     h.inj_per, h.cic_m, h.direct = hw.inj_per, hw.cic_m, hw.direct
     fp = firmware_params(sc)
-    if fp.ident is not None:        # params_to_c leaves the program out (it goes with the state, control.h)
-        raise RtlBackendError(f"scenario {sc.name}: control.mode = \"commission\" runs on the golden and hls backends "
-                              "only: the firmware image has no identification executor (firmware/Makefile, FW_NO_IDENT: "
-                              "no room for the identification block in the 64 KiB RAM)")
-    p = params_to_c(_cfg_ffi, fp)
+    p = params_to_c(_cfg_ffi, fp)   # without the identification program (ram_image puts it at fw_ident)
     cfg.fw = p[0]
     return bytes(_cfg_ffi.buffer(cfg))
 
 
-def _symbol(elf: Path, name: str) -> int:
+def symbols(elf: Path) -> dict[str, tuple[int, int]]:
+    """The ELF's data and code symbols that have a size: name -> (address, size in bytes)."""
     nm = shutil.which("riscv64-unknown-elf-nm") or "riscv64-unknown-elf-nm"
-    proc = subprocess.run([nm, str(elf)], capture_output=True, text=True)
+    proc = subprocess.run([nm, "-S", str(elf)], capture_output=True, text=True)
+    out = {}
     for line in proc.stdout.splitlines():
         parts = line.split()
-        if len(parts) == 3 and parts[2] == name:
-            return int(parts[0], 16)
-    raise RtlBackendError(f"symbol {name} not found in {elf}")
+        if len(parts) == 4:
+            out[parts[3]] = (int(parts[0], 16), int(parts[1], 16))
+    return out
 
 
-def ram_image(sc: Scenario, hw: HardwareConfig, elf: Path, out: Path) -> Path:
-    """Firmware image with the scenario's configuration block at ``fw_config``, as $readmemh text."""
+def _placed(elf: Path, name: str, size: int) -> int:
+    """The address of the RAM block ``name``, whose size in the image must be ``size`` (the host's struct)."""
+    found = symbols(elf).get(name)
+    if found is None:
+        raise RtlBackendError(f"symbol {name} not found in {elf}")
+    if found[1] != size:
+        raise RtlBackendError(f"{name} in {elf} has {found[1]} bytes, the host's struct {size}: rebuild the firmware")
+    return found[0]
+
+
+def ram_image(sc: Scenario, hw: HardwareConfig, elf: Path, out: Path, ram_bytes: int = soc_platform.RAM_BYTES) -> Path:
+    """Firmware image with the scenario's configuration block at ``fw_config`` and, for ``control.mode =
+    "commission"`` (the commissioning image, ``elf`` built with ``ident``), the identification program at
+    ``fw_ident``, as $readmemh text."""
     image = bytearray((elf.with_suffix(".bin")).read_bytes())
-    block = config_block(sc, hw)
-    at = _symbol(elf, "fw_config")
-    if at + len(block) > len(image):
-        raise RtlBackendError(f"fw_config at 0x{at:x} lies outside the image ({len(image)} bytes)")
-    image[at:at + len(block)] = block
+    blocks = [("fw_config", config_block(sc, hw))]
+    program = firmware_params(sc).ident
+    if program is not None:
+        if "fw_ident" not in symbols(elf):
+            raise RtlBackendError(f"scenario {sc.name}: control.mode = \"commission\" needs the commissioning image "
+                                  "(build_firmware(ident=True)); this one has no identification executor")
+        blocks.append(("fw_ident", bytes(_cfg_ffi.buffer(ident_to_c(_cfg_ffi, program)))))
+    for name, block in blocks:
+        at = _placed(elf, name, len(block))
+        if at + len(block) > len(image):
+            raise RtlBackendError(f"{name} at 0x{at:x} lies outside the image ({len(image)} bytes)")
+        image[at:at + len(block)] = block
     image += bytes(-len(image) % 4)
-    if len(image) > soc_platform.RAM_BYTES:
-        raise RtlBackendError(f"firmware image {len(image)} bytes > RAM {soc_platform.RAM_BYTES}")
+    if len(image) > ram_bytes:
+        raise RtlBackendError(f"firmware image {len(image)} bytes > RAM {ram_bytes}")
     words = np.frombuffer(bytes(image), dtype="<u4")
     out.write_text("".join(f"{w:08x}\n" for w in words), encoding="ascii")
     return out
+
+
+def _read_ident(lib, sim, elf: Path, program):
+    """The identification executor's state at the end of a run: ``fw_ident`` read from the SoC RAM, as a golden
+    :class:`~golden.firmware.ident.Ident` (hfi.fw_c.ident_from_c, the hls backend's converter)."""
+    size = _cfg_ffi.sizeof("struct fw_ident")
+    at = _placed(elf, "fw_ident", size)
+    words = _sim_ffi.new("unsigned[]", size // 4)
+    if lib.soc_sim_read_ram(sim, at, size // 4, words) != 0:
+        raise RtlBackendError(f"fw_ident at 0x{at:x} lies outside the SoC RAM")
+    block = _cfg_ffi.new("struct fw_ident *")
+    _cfg_ffi.memmove(block, _sim_ffi.buffer(words), size)
+    return ident_from_c(block, program)
 
 
 # ---------------------------------------------------------------- the co-simulation
@@ -332,14 +371,17 @@ class RtlClosedLoop:
         speed_ref = speed_references(sc, hw, self.scales)
         n_win = len(speed_ref)
 
-        elf = build_firmware()
-        lib_path = build_sim(fst=fst is not None, profile=profile, options=options)
+        # control.mode = "commission": the commissioning image on a SoC with its larger RAM (soc_platform)
+        program = firmware_params(sc).ident
+        ram_bytes = soc_platform.RAM_BYTES if program is None else soc_platform.IDENT_RAM_BYTES
+        elf = build_firmware(ident=program is not None)
+        lib_path = build_sim(fst=fst is not None, profile=profile, options=options, ram_bytes=ram_bytes)
         lib = _sim_ffi.dlopen(str(lib_path))
         workdir = Path(workdir or OUT_SIM / "runs")
         workdir.mkdir(parents=True, exist_ok=True)
         # one image per process: two runs of the same scenario name at once (pytest -n, a sweep) would
         # otherwise write one file while the other's simulation reads it
-        ram = ram_image(sc, hw, elf, workdir / f"{sc.name}_{os.getpid()}_ram.hex")
+        ram = ram_image(sc, hw, elf, workdir / f"{sc.name}_{os.getpid()}_ram.hex", ram_bytes)
 
         plant = Plant(sc.plant)
         keep = []
@@ -393,11 +435,12 @@ class RtlClosedLoop:
                 self.profile = {"cycles": _records(lib, sim, "prof_cycles", "<u8"),
                                 "fetch": _records(lib, sim, "prof_fetch", "<u8"),
                                 "dfetch": _records(lib, sim, "prof_dfetch", "<u8")}
+            ident = None if program is None else _read_ident(lib, sim, elf, program)
         finally:
             lib.soc_sim_free(sim)
-        return self._result(rec, n_win, wall, cycles)
+        return self._result(rec, n_win, wall, cycles, ident)
 
-    def _result(self, rec: dict, n_win: int, wall: float, cycles: int) -> ClosedLoopResult:
+    def _result(self, rec: dict, n_win: int, wall: float, cycles: int, ident=None) -> ClosedLoopResult:
         hw, sc = self.hw, self.sc
         H, P = hw.pwm_half, 2 * hw.pwm_half
         end = n_win * P + H // 2
@@ -489,4 +532,4 @@ class RtlClosedLoop:
                        "adc_b": samples["b"].astype(np.uint16), "adc_vdc": samples["vdc"].astype(np.uint16)}
         edges_out = {"tick": edges["tick"].astype(np.int64), "mask": edges["mask"].astype(np.int64)}
         return ClosedLoopResult(w, samples_out, edges_out, writes_out, hw, self.scales, sc.pwm.tick_hz,
-                                int(t["flipped"][-1]), wall, soc=soc, backend="rtl")
+                                int(t["flipped"][-1]), wall, soc=soc, backend="rtl", ident=ident)

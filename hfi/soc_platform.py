@@ -40,6 +40,10 @@ IO_BIT = 31
 """Address bit that makes an access I/O (uncached) for the VexRiscv data cache (CPU_VARIANT)."""
 RAM_BYTES = 65536
 """On-chip RAM of hfi_soc (parameter RAM_BYTES), the firmware's link region and its RAM image."""
+IDENT_RAM_BYTES = 131072
+"""RAM of the commissioning build (hfi_soc RAM_BYTES, the image ``make -C firmware IDENT=1``): the control firmware
+with the identification executor and its program and sums (struct fw_ident, about 16 KiB) do not fit RAM_BYTES.
+128 KiB take 64 DP16KD: the ULX3S's LFE5U-85F has 208, the LFE5U-25F 56 (docs/commissioning.md)."""
 
 # ---------------------------------------------------------------- hfi_dsp parameters of the SoC
 ADC_BITS = 12

@@ -83,8 +83,10 @@ def _check_source() -> None:
                             "(the core's data cache treats that bit as I/O)")
     if sp.CPU_CLOCK_DIVIDER < 1:
         raise PlatformError(f"CPU_CLOCK_DIVIDER = {sp.CPU_CLOCK_DIVIDER} must be >= 1")
-    if sp.RAM_BYTES < 1024 or sp.RAM_BYTES & (sp.RAM_BYTES - 1) or sp.RAM_BYTES > 1 << (32 - sp.PAGE_BITS):
-        raise PlatformError(f"RAM_BYTES = {sp.RAM_BYTES} must be a power of two, 1 KiB .. one page")
+    for name in ("RAM_BYTES", "IDENT_RAM_BYTES"):
+        v = getattr(sp, name)
+        if v < 1024 or v & (v - 1) or v > 1 << (32 - sp.PAGE_BITS):
+            raise PlatformError(f"{name} = {v} must be a power of two, 1 KiB .. one page")
     names = [w.name for w in sp.TRACE]
     if len(set(names)) != len(names):
         raise PlatformError(f"TRACE has duplicate words: {names}")
@@ -192,14 +194,16 @@ def render_linker() -> str:
     return "\n".join([
         f"/* {GENERATED} */",
         "/* The on-chip RAM of hfi_soc; included by firmware/link.ld. */",
-        f"MEMORY {{ RAM (rwx) : ORIGIN = 0x{sp.RAM_BASE:08X}, LENGTH = {sp.RAM_BYTES} }}",
+        "/* LENGTH: RAM_BYTES, or the commissioning image's IDENT_RAM_BYTES given as --defsym=hfi_ram_bytes=N */",
+        f"MEMORY {{ RAM (rwx) : ORIGIN = 0x{sp.RAM_BASE:08X}, LENGTH = DEFINED(hfi_ram_bytes) ? hfi_ram_bytes : "
+        f"{sp.RAM_BYTES} }}",
         ""])
 
 
 def render_make() -> str:
     _check_source()
     return "\n".join([f"# {GENERATED}", "# The on-chip RAM of hfi_soc (the RAM image's size); included by firmware/Makefile.",
-                      f"RAM_BYTES := {sp.RAM_BYTES}", ""])
+                      f"RAM_BYTES := {sp.RAM_BYTES}", f"IDENT_RAM_BYTES := {sp.IDENT_RAM_BYTES}", ""])
 
 
 def render_verilog() -> str:

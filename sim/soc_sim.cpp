@@ -367,6 +367,17 @@ extern "C" int soc_sim_run(struct soc_sim *sim, long long max_cycles)
 extern "C" const char *soc_sim_error(const struct soc_sim *sim) { return sim->error.c_str(); }
 extern "C" long long soc_sim_cycles(const struct soc_sim *sim) { return sim->cycle; }
 
+extern "C" int soc_sim_read_ram(const struct soc_sim *sim, unsigned addr, unsigned n, unsigned *dst)
+{
+    const auto &mem = sim->top->rootp->hfi_soc__DOT__u_ram__DOT__mem;
+    const unsigned long long words = mem.size();
+    if (addr % 4 || addr / 4 + (unsigned long long)n > words)
+        return -1;
+    for (unsigned i = 0; i < n; i++)
+        dst[i] = mem[addr / 4 + i];
+    return 0;
+}
+
 extern "C" long long soc_sim_count(const struct soc_sim *sim, int kind)
 {
     switch (kind) {

@@ -78,6 +78,9 @@ void soc_sim_free(struct soc_sim *sim);
 int soc_sim_run(struct soc_sim *sim, long long max_cycles);
 const char *soc_sim_error(const struct soc_sim *sim);
 long long soc_sim_cycles(const struct soc_sim *sim);  /* tick clocks since reset */
+/* Copies n words of the SoC RAM from byte address `addr` (word aligned) into dst, as they are now (the firmware's
+ * data after a run: the commissioning image's sums). Returns 0, or -1 for a range outside the RAM. */
+int soc_sim_read_ram(const struct soc_sim *sim, unsigned addr, unsigned n, unsigned *dst);
 /* Number of records of a kind, and a copy of records [from, from + n) into dst. */
 long long soc_sim_count(const struct soc_sim *sim, int kind);
 int soc_sim_copy(const struct soc_sim *sim, int kind, long long from, long long n, void *dst);

@@ -229,6 +229,33 @@ def test_commission_hls_identical_to_golden():
         assert getattr(hls.ident, f.name) == getattr(gold.ident, f.name), f.name
 
 
+def test_commission_rtl_identical_to_golden(tmp_path):
+    """The commissioning image on the soft core (rtl backend: make -C firmware IDENT=1, the SoC with
+    soc_platform.IDENT_RAM_BYTES of RAM; the program patched into the RAM image at fw_ident and the executor's state
+    read back from the RAM at the end), cut to 0.4 s of the default motor's run (the probe and the first scan
+    steps): every window column and every field of the executor's state as on the golden backend, no late commit."""
+    import dataclasses
+
+    from golden.closedloop import WINDOW_FIELDS
+    from golden.scenario import parse_scenario
+    from hfi.backends import run
+    from hfi.commission import run_scenario_dict
+    from hfi.rtl_backend import RtlClosedLoop
+    path = "scenarios/fullload_start.toml"
+    d = run_scenario_dict(path)
+    d["scenario"]["duration"] = "0.4 s"
+    d.pop("faults")                                          # the shaft lock, from 1.5 s: after the cut
+    sc = parse_scenario(d, path)
+    gold = run(sc, "golden", progress=False)
+    rtl = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path)
+    for name in WINDOW_FIELDS:
+        np.testing.assert_array_equal(rtl.windows[name], gold.windows[name], err_msg=name)
+    assert gold.ident.k >= 3 and any(gold.ident.r_gd)       # past the probe, into the scan
+    for f in dataclasses.fields(Ident):
+        assert getattr(rtl.ident, f.name) == getattr(gold.ident, f.name), f.name
+    assert rtl.soc["late_commits"] == 0
+
+
 def _weak_scenario(tmp_path, v_max: str):
     import tomllib
 

@@ -47,9 +47,13 @@
 /* The run's configuration, patched into the RAM image (zero here: the firmware then refuses to run). */
 __attribute__((section(".config"), used)) struct fw_config fw_config;
 #define cfg fw_config
-/* st.ident stays NULL: this image has no identification program (self-commissioning; control.h, built with
- * FW_NO_IDENT by firmware/Makefile). A commissioning image would point it at a struct fw_ident before fw_init
- * (the warm-up steps' copies would then share its program). */
+#ifndef FW_NO_IDENT
+/* The commissioning image (make IDENT=1, firmware/Makefile): the identification program, patched into the RAM image
+ * by the host like fw_config (control.mode = "commission"; n_steps = 0: none, the drive starts as usual), and the
+ * executor's sums, which the host reads back from the RAM at the end (hfi/rtl_backend.py). */
+__attribute__((section(".ident"), used)) struct fw_ident fw_ident;
+#endif
+/* st.ident: NULL but in a commissioning image with a program (control.h). */
 /* The state sits right after the configuration block (firmware/link.ld, .state): on data-cache lines of its own, apart
  * from the stack's and the hot parameters', wherever the code's size puts .bss (docs/soc.md, "The data cache"). */
 static struct fw_state st __attribute__((section(".state")));
@@ -117,6 +121,8 @@ static void gates_off(void)
  * in RUN, so the first step in RUN does not either. Not inlined: irq_handler stays within the step's lines. */
 static __attribute__((noinline)) void warm_up(int32_t mode, const struct fw_window *win, int32_t speed_ref)
 {
+    if (st.ident)         /* commissioning: a step on a copy would still write the program's sums (through the pointer) */
+        return;
     struct fw_state copy = st;
     struct fw_outputs unused;
 
@@ -314,6 +320,9 @@ int main(void)
     DSP(CTRL) = FIELD(CTRL, INJ_EN, cfg.hw.inj_en) | FIELD(CTRL, INJ_ROT, cfg.hw.inj_rot) |
                 FIELD(CTRL, INJ_PER, cfg.hw.inj_per) | FIELD(CTRL, DIRECT, cfg.hw.direct) |
                 FIELD(CTRL, ADC_MODE, cfg.hw.adc_mode);
+#ifndef FW_NO_IDENT
+    st.ident = fw_ident.p.n_steps > 0 ? &fw_ident : 0;
+#endif
     fw_init(&st, &cfg.fw);
     /* the log lines before the warm-up and the start: the UART code then does not evict the first steps' code
      * from the instruction cache (a log line takes about 20 periods at 10 kHz) */

@@ -17,6 +17,11 @@ firmware leaves into the motor's data; :func:`tuning` into the controller's sett
    then on q (the frame turned by a quarter turn, the current references turned with it), each at ``v/2`` and
    ``v``. Points with ``i_q != 0`` make torque: the map needs the shaft held (``lock = "on"``, as a brake or a
    locking pin on a bench does); without it only the ``i_q = 0`` line is measured.
+4b. ``lf`` (magnets only): along d, then q, the current stepped up from ``hf_current / 2`` to ``hf_current`` and
+   back under current control, every window of the transitions summed: ``L = (T sum(v) - T sum(f(i))) / (I2 -
+   I1)``, ``f`` (resistance and the inverter's error) the line through the holds before and after. Its ``L_d``,
+   ``L_q`` replace the scan's when the up and the down transition agree (:data:`LF_AGREE`): a large inductance,
+   whose HF current at ``f_sw`` is too small for the scan (the 000 motor's).
 5. ``resistance``: the current turned from the rotor's axis to the nearest phase axis (``F_SNAP``), three
    levels; ``V = R i + V0 + b / i`` removes the drops that do not depend on the current level (the dead
    time's residual, the switches' knee voltages) and the node capacitances' share at small currents.
@@ -65,6 +70,18 @@ current (the 003 SyRM: 1.03 H at zero, 0.02 H at 2 A, 0.01 H at 6 A along d): sl
 the largest."""
 SPIN_SPEED_MIN = 500 * math.pi / 30
 """The default spin speed is half the largest reference speed, at least this [rad/s mechanical]."""
+LF_LEVELS = (0.5, 1.0)
+"""The low-frequency inductance steps (stage ``lf``): the two current levels, shares of ``hf_current``."""
+LF_SETTLE = 30.0
+"""A transition step of stage ``lf`` lasts this many times 1 / (2 pi current_bw): the current loop's step,
+its slow integral tail included, is over within it. Measured on the 000 motor (golden): 12 left the tail in the
+hold after it (L_q 4 % high), 30 gave L_d, L_q within 0.3 % and 0.6 %, 60 within 0.3 % and 1.1 % (more windows
+summed, more noise)."""
+LF_AGREE = 0.05
+"""The low-frequency inductances replace the scan's when the up and the down transition agree within this share on
+both axes: the signal ``L (I2 - I1)`` must stand out of the inverter's error over the transition, which a small
+inductance does not (the 002 motors' 5.6-13 mH: the two differ by a factor of 3 and more; the 001 motor's: by 20 %),
+and a large one does, where the HF scan's current is smallest (the 000 motor: 1.3 % and 3 %)."""
 R_LEVELS = (0.5, 0.75, 1.0)
 """Current levels of the resistance steps (shares of ``current``)."""
 SPIN_MEASURED = ("hold_low", "accel", "hold_high", "coast_a", "coast_b", "decel", "hold_low2")
@@ -227,6 +244,18 @@ def build_program(sc, cs: CommissionSettings) -> Program:
             for twice in (0, 1):
                 add(StepInfo("map", i_d, i_q, math.pi / 2, "q"), n_set + n_meas, n_meas, F_SET, i_d=i_q, i_q=-i_d,
                     vh=(v_probe << twice) >> 1, phi=QUARTER)
+    # 4b. lf (magnets only; a reluctance machine's inductance at the two levels is not the scan's, at its bias):
+    # the inductance along d and q from a current step between two levels of the same sign (no zero crossing: the
+    # inverter's error is a smooth function of the current, taken from the two holds), every window of the
+    # transition summed: T sum(v) = L (I2 - I1) + T sum(f(i)), f through the holds' means
+    n_tr = win(LF_SETTLE / (2 * math.pi * sc.control.current_bw))
+    lo, hi = (f * cs.hf_current for f in LF_LEVELS)
+    for axis, phi in ((("d", 0), ("q", QUARTER)) if cs.magnets else ()):
+        add(StepInfo("lf_lo", lo, 0.0, phi * 2 * math.pi / 2**32, axis), n_set + n_meas, n_meas, F_SET, i_d=lo, phi=phi)
+        add(StepInfo("lf_up", hi, 0.0, phi * 2 * math.pi / 2**32, axis), n_tr, n_tr, 0, i_d=hi)
+        add(StepInfo("lf_hi", hi, 0.0, phi * 2 * math.pi / 2**32, axis), n_meas, n_meas, 0, i_d=hi)
+        add(StepInfo("lf_down", lo, 0.0, phi * 2 * math.pi / 2**32, axis), n_tr, n_tr, 0, i_d=lo)
+        add(StepInfo("lf_lo2", lo, 0.0, phi * 2 * math.pi / 2**32, axis), n_meas, n_meas, 0, i_d=lo)
     # 5. resistance: the current on the nearest phase axis (the other phases carry half of it, outside the
     # dead-time compensation's zone when current / 4 > dtc_zone): it starts on the rotor's own axis (d with
     # magnets, q without: a free rotor is pulled into alignment, not away) and turns there in 1 s (F_SNAP);
@@ -317,6 +346,23 @@ class Results:
     map: list = field(default_factory=list)         # (i_d, i_q, L 2x2) per grid point
     spin: dict = field(default_factory=dict)
     snr: float = 0.0
+    lf: dict = field(default_factory=dict)          # "d", "q": (up, down) [H]; "used": they replaced the scan's
+
+
+def _lf_inductance(prog: Program, st, means: list, axis: str, i_lsb: float, v_lsb: float,
+                   period: float) -> tuple[float, float]:
+    """The inductance along ``axis`` [H] from the up and the down transition of stage ``lf``: ``T sum(v) - T
+    sum(f(i))`` over ``I2 - I1``, ``f`` the line through the two holds' means (voltage and current; the
+    resistance and the inverter's error, static functions of the current)."""
+    ks = {s.stage: k for k, s in enumerate(prog.steps) if s.stage.startswith("lf") and s.axis == axis}
+    out = []
+    for tr, a, b in (("lf_up", "lf_lo", "lf_hi"), ("lf_down", "lf_hi", "lf_lo2")):
+        i1, v1 = means[ks[a]]["id"] * i_lsb, means[ks[a]]["vd"] * v_lsb
+        i2, v2 = means[ks[b]]["id"] * i_lsb, means[ks[b]]["vd"] * v_lsb
+        k, n = ks[tr], prog.params.s_m[ks[tr]]
+        sum_f = n * v1 + (v2 - v1) / (i2 - i1) * (st.r_id[k] * i_lsb - n * i1)
+        out.append(period * (st.r_vd[k] * v_lsb - sum_f) / (i2 - i1))
+    return out[0], out[1]
 
 
 def _step_means(st, k: int, m: int) -> dict:
@@ -392,6 +438,12 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | No
         G = np.array([[zd.real, zq.imag], [-zd.imag, zq.real]])
         G = 0.5 * (G + G.T)
         res.map.append((prog.steps[kd].i_d, prog.steps[kd].i_q, np.linalg.inv(G)))
+    # lf: per axis, the up and the down transition; their mean replaces the scan's inductance when they agree
+    if any(s.stage == "lf_up" for s in prog.steps):
+        res.lf = {axis: _lf_inductance(prog, st, means, axis, i_lsb, v_lsb, 1.0 / f_sw) for axis in ("d", "q")}
+        res.lf["used"] = all(abs(a - b) <= LF_AGREE * 0.5 * (a + b) for a, b in (res.lf["d"], res.lf["q"]))
+        if res.lf["used"]:
+            res.values["L_d"], res.values["L_q"] = (float(np.mean(res.lf[axis])) for axis in ("d", "q"))
     # resistance: V = R i + V0 + b / i through the three levels (b: the dead time's share that the node
     # capacitances take back at small currents, their charge time ~ C V_dc / i)
     rk = [k for k, s in enumerate(prog.steps) if s.stage == "resistance"]

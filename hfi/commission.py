@@ -190,6 +190,9 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
     summary = {"scenario": str(path), "duration_s": prog.duration, "steps": prog.params.n_steps,
                "wall_s": run.wall_s, "values": rows, "angle_error_deg": math.degrees(err),
                "snr_scan": res.snr, "map": map_rows,
+               # where L_d, L_q come from: the low-frequency steps (their up and down transitions [H]) or the HF scan
+               "inductance_from": "lf" if res.lf.get("used") else "scan",
+               "lf": {axis: list(res.lf[axis]) for axis in ("d", "q") if axis in res.lf},
                "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
                "tuning": tune}
     (out / "commission.json").write_text(json.dumps(summary, indent=1, default=float))

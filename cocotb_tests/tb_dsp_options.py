@@ -7,7 +7,7 @@ import os
 import cocotb
 from cocotb.triggers import ClockCycles
 
-from axil_driver import AxiLiteMaster
+from dsp_bench import start
 from golden import regmap as rm
 
 ON = int(os.environ["HFI_OPTIONS_ON"])
@@ -19,17 +19,6 @@ WINDOWS = 4
 
 def s(name: str) -> int:
     return rm.REGISTERS[name]["addr"]
-
-
-async def start(dut) -> AxiLiteMaster:
-    axi = AxiLiteMaster(dut, "s_axil", dut.clk)
-    dut.flush.value = 0
-    dut.sto.value = 0
-    dut.desat.value = 0
-    dut.rst.value = 1
-    await ClockCycles(dut.clk, 20)
-    dut.rst.value = 0
-    return axi
 
 
 async def run_windows(dut, axi, **v_dq) -> None:

@@ -17,7 +17,7 @@ import cocotb
 import numpy as np
 from cocotb.triggers import ClockCycles, FallingEdge, ReadOnly, RisingEdge, current_gpi_trigger, with_timeout
 
-from axil_driver import AxiLiteMaster
+from dsp_bench import start
 from golden import regmap as rm
 from tb_dsp_replay import CONVST_LATENCY, GATE_LATENCY
 
@@ -34,17 +34,6 @@ latency less the gate generator's and the output register."""
 
 def s(addr_name: str) -> int:
     return rm.REGISTERS[addr_name]["addr"]
-
-
-async def start(dut):
-    axi = AxiLiteMaster(dut, "s_axil", dut.clk)
-    dut.flush.value = 0
-    dut.sto.value = 0
-    dut.desat.value = 0
-    dut.rst.value = 1
-    await ClockCycles(dut.clk, 20)
-    dut.rst.value = 0
-    return axi
 
 
 async def status(axi) -> dict:

@@ -93,8 +93,10 @@ def test_hls_window_record_is_the_integer_columns_of_window_fields():
 
 
 def test_linker_and_make_fragments():
-    assert f"LENGTH = {sp.RAM_BYTES} }}" in (ROOT / gen.LINKER).read_text()
-    assert f"RAM_BYTES := {sp.RAM_BYTES}\n" in (ROOT / gen.MAKE).read_text()
+    # the commissioning image links for IDENT_RAM_BYTES: firmware/Makefile's IDENT=1 defines hfi_ram_bytes
+    assert f"LENGTH = DEFINED(hfi_ram_bytes) ? hfi_ram_bytes : {sp.RAM_BYTES} }}" in (ROOT / gen.LINKER).read_text()
+    assert f"RAM_BYTES := {sp.RAM_BYTES}\nIDENT_RAM_BYTES := {sp.IDENT_RAM_BYTES}\n" in (ROOT / gen.MAKE).read_text()
+    assert "--defsym=hfi_ram_bytes=$(IDENT_RAM_BYTES)" in (ROOT / "firmware/Makefile").read_text()
     assert "INCLUDE hfi_soc_memory.ld" in (ROOT / "firmware/link.ld").read_text()
 
 

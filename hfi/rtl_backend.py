@@ -55,12 +55,12 @@ OUT_SIM = ROOT / "out" / "sim"
 FW_OUT = ROOT / "out" / "firmware"
 FW_HEADERS = ("firmware/src/control.h", "firmware/src/fw_config.h")
 SIM_SOURCES = ("soc_sim.cpp", "plant_loop.cpp")
-PGO_TRAIN = ("scenarios/fullload_start.toml", 0.02)
-"""The training run of the profile-guided build (build_sim): the default scenario's start, 2 M clocks (the 002
-firmware's start-up on the soft core and the DSP path in every clock). Measured 2026-11-29: 2.37 -> 2.91 M clocks
-per second (scripts/bench_rtl.py)."""
 """C++ sources of the co-simulation library in sim/ (the harness and the plant loop it shares with hls)."""
 SIM_HEADERS = ("soc_sim.h", "soc_sim.vlt", "plant_loop.h", "plant_records.h")
+PGO_TRAIN = ("scenarios/fullload_start.toml", 0.02)
+"""The training run of the profile-guided build (build_sim): the default scenario's start, 2 M clocks (the 002
+firmware's start-up on the soft core and the DSP path in every clock). Measured 2026-11-29: 2.37 -> 2.85 M clocks
+per second (scripts/bench_rtl.py; docs/soc.md)."""
 
 FW_BUDGET = 0.25
 """Performance target of the firmware at PWM periods of at least FW_BUDGET_LONG_PERIOD: its control step

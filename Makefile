@@ -44,10 +44,13 @@ compare: setup
 
 # Self-commissioning of the four papers' motors (docs/commissioning.md): out/commission/<scenario>/commission.json,
 # commissioned.toml, figures; then the rotor angle and polarity from 20 random standstill angles per PM motor.
+# COMMISSION_BACKEND=rtl runs the identification on the soft core (about 11 minutes per motor; docs/commissioning.md).
 COMMISSION_SCENARIOS = fullload_start bench2_loadsteps xue2022_noload tap2023_step varatharajan2020_speedrange
+COMMISSION_BACKEND ?= golden
 .PHONY: commission
 commission: setup
 	@for s in $(COMMISSION_SCENARIOS); do $(ENV) .venv/bin/hfi commission scenarios/$$s.toml --out out/commission/$$s \
+		--backend $(COMMISSION_BACKEND) \
 		|| echo "commission: $$s FAILED (docs/commissioning.md)"; done
 	$(ENV) .venv/bin/python scripts/commission_polarity.py --n 20
 

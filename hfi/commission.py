@@ -10,7 +10,7 @@ the plant's truth and writes:
 * ``commission.json``: for each quantity ``measured``, ``truth``, ``rel_error``, plus the tuning;
 * ``commissioned.toml``: the scenario with the measured ``[model]``, the tuned ``injection.V_h`` and the
   hand-over speeds, which every other command takes;
-* ``commission_scan.png``, ``commission_map.png``, ``commission_spin.png``.
+* ``commission_scan.png``, ``commission_map.png``, ``commission_lf.png`` (magnets only), ``commission_spin.png``.
 """
 
 from __future__ import annotations
@@ -253,6 +253,38 @@ def _print(s: dict) -> None:
              if "handover_up" in t else "") + ("" if t["hf_possible"] else "; HF methods REFUSED: saliency too small"))
 
 
+def _lf_figure(out: Path, prog, res, run, sc, plt) -> None:
+    """commission_lf.png: the current and the voltage written along each axis through the stage lf (holds, the up
+    and the down transition shaded), with the inductances found and the plant's."""
+    from golden.plant.fluxmap import incremental_inductance as l_inc
+    sc_ = scales(sc)
+    L0 = l_inc(sc.plant["mag"], *psi_from_current(sc.plant["mag"], 0, 0))
+    starts = np.concatenate([[0], np.cumsum(prog.params.s_n)])
+    fig, axs = plt.subplots(2, 2, figsize=(10, 5), sharex="col")
+    for col, (axis, truth_l) in enumerate((("d", L0[0, 0]), ("q", L0[1, 1]))):
+        ks = [k for k, s in enumerate(prog.steps) if s.stage.startswith("lf") and s.axis == axis]
+        j0, j1 = starts[ks[0]], starts[ks[-1] + 1]
+        t_ms = np.arange(j1 - j0) / sc_.f_sw * 1e3
+        axs[0, col].plot(t_ms, run.windows["i_d"][j0:j1] * sc_.i_lsb, lw=1)
+        axs[1, col].plot(t_ms, run.windows["v_d"][j0:j1] * sc_.v_lsb, lw=1)
+        for k in ks:
+            if prog.steps[k].stage in ("lf_up", "lf_down"):
+                for ax in axs[:, col]:
+                    ax.axvspan((starts[k] - j0) / sc_.f_sw * 1e3, (starts[k + 1] - j0) / sc_.f_sw * 1e3,
+                               color="C1", alpha=0.2)
+        up, down = res.lf[axis]
+        axs[0, col].set_title(f"along {axis}: L {1e3 * up:.2f} / {1e3 * down:.2f} mH (up / down), plant "
+                              f"{1e3 * truth_l:.2f} mH", fontsize=8)
+        axs[0, col].set_ylabel(f"i_{axis} window mean [A]")
+        axs[1, col].set_ylabel(f"v_{axis} written [V]")
+        axs[1, col].set_xlabel("time in the stage [ms] (shaded: the summed transitions)")
+    verdict = "used" if res.lf["used"] else "not used: up and down disagree, the HF scan is taken"
+    fig.suptitle(f"{sc.name}: low-frequency inductance steps ({verdict})", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out / "commission_lf.png", dpi=110)
+    plt.close(fig)
+
+
 def _figures(out: Path, prog, res, run, sc, map_rows) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -296,6 +328,8 @@ def _figures(out: Path, prog, res, run, sc, map_rows) -> None:
     fig.tight_layout()
     fig.savefig(out / "commission_map.png", dpi=110)
     plt.close(fig)
+    if res.lf:
+        _lf_figure(out, prog, res, run, sc, plt)
     # spin
     fig, ax = plt.subplots(figsize=(8, 4))
     t = run.t

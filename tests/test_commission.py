@@ -325,7 +325,7 @@ def test_commission_000_motor_low_frequency_inductances(tmp_path):
     L_q within 3 % of the plant's; R within 3 %, J within 10 % (psi_f is 3.8-4.1 % high: docs/commissioning.md)."""
     from hfi.commission import commission
     s = commission("scenarios/tap2023_step.toml", tmp_path, progress=False)
-    assert s["inductance_from"] == "lf"
+    assert s["inductance_from"] == "lf" and (tmp_path / "commission_lf.png").is_file()
     for name in ("R_s", "L_d", "L_q"):
         assert abs(s["values"][name]["rel_error"]) < 0.03, (name, s["values"][name])
     assert abs(s["values"]["J"]["rel_error"]) < 0.10

@@ -189,7 +189,9 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     verilator = shutil.which("verilator")
     if verilator is None:
         raise RtlBackendError("verilator is not on PATH: run `make setup` and `source scripts/env.sh`")
-    pgo = not (fst or profile)
+    # profile-guided for the runs that last: not for the waveform and profile variants, nor for a build with options
+    # left out (a check that the firmware refuses it, seconds long)
+    pgo = not (fst or profile or any(k != "RAM_BYTES" for k in options))
     key = digest(srcs, f"{variant} {verilator} pgo={pgo}")
     OUT_SIM.mkdir(parents=True, exist_ok=True)
     with open(OUT_SIM / ".lock", "w") as lock:

@@ -42,7 +42,7 @@ from golden import socmap
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, speed_references, truth_columns
 from golden.control_config import HardwareConfig, firmware_params, hardware_config, scales
 from golden.fixed import wrap
-from golden.firmware.supervisor import MODE_RUN
+from golden.firmware.supervisor import MODE_RUN, FirmwareParams
 from golden.plant import Plant, binding
 from golden.scenario import Scenario, load_scenario
 from hfi import soc_platform
@@ -175,12 +175,13 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     for name, value in options.items():
         if name not in OPTIONS or value not in (0, 1):
             raise RtlBackendError(f"build option {name}={value!r}: expected one of {', '.join(OPTIONS)} = 0 or 1")
+    # hfi_soc's parameters other than their defaults: the build options and the RAM size
+    params = dict(options)
     if ram_bytes is not None and ram_bytes != soc_platform.RAM_BYTES:
         if profile:
             raise RtlBackendError("the firmware profile counts the words of the default RAM: no other RAM size")
-        options["RAM_BYTES"] = ram_bytes
-    variant = ("fst" if fst else "prof" if profile else "fast") + "".join(
-        f"_{k}{v}" for k, v in sorted(options.items()))
+        params["RAM_BYTES"] = ram_bytes
+    variant = ("fst" if fst else "prof" if profile else "fast") + "".join(f"_{k}{v}" for k, v in sorted(params.items()))
     build = OUT_SIM / variant
     lib = build / "libhfisoc.so"
     srcs = soc_sources() + [SIM_DIR / n for n in SIM_SOURCES + SIM_HEADERS] + [
@@ -191,7 +192,7 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
         raise RtlBackendError("verilator is not on PATH: run `make setup` and `source scripts/env.sh`")
     # profile-guided for the runs that last: not for the waveform and profile variants, nor for a build with options
     # left out (a check that the firmware refuses it, seconds long)
-    pgo = not (fst or profile or any(k != "RAM_BYTES" for k in options))
+    pgo = not (fst or profile or options)
     key = digest(srcs, f"{variant} {verilator} pgo={pgo}")
     OUT_SIM.mkdir(parents=True, exist_ok=True)
     with open(OUT_SIM / ".lock", "w") as lock:
@@ -213,7 +214,7 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
                    "-CFLAGS", cflags + extra_cflags, "-LDFLAGS", ldflags + extra_ldflags, "-o", str(lib)]
             if fst:
                 cmd.append("--trace-fst")
-            cmd += [f"-G{k}={v}" for k, v in sorted(options.items())]
+            cmd += [f"-G{k}={v}" for k, v in sorted(params.items())]
             cmd += [str(SIM_DIR / "soc_sim.vlt")] + [str(p) for p in soc_sources()]
             cmd += [str(SIM_DIR / n) for n in SIM_SOURCES]
             _run(cmd, "Verilator build of hfi_soc")
@@ -252,8 +253,9 @@ _cfg_ffi.cdef(cdef_text(*(ROOT / h for h in FW_HEADERS)))
 _cfg_consts = _cfg_ffi.dlopen(None)      # the header's enum constants (no library functions used)
 
 
-def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
-    """``struct fw_config`` of the scenario (firmware/src/fw_config.h), as the RV32 little-endian bytes."""
+def config_block(sc: Scenario, hw: HardwareConfig, fp: FirmwareParams) -> bytes:
+    """``struct fw_config`` of the scenario (firmware/src/fw_config.h) with its firmware parameters ``fp``
+    (golden.control_config.firmware_params), as the RV32 little-endian bytes."""
     cfg = _cfg_ffi.new("struct fw_config *")
     h = cfg.hw
     h.magic = _cfg_consts.FW_CONFIG_MAGIC
@@ -266,13 +268,12 @@ def config_block(sc: Scenario, hw: HardwareConfig) -> bytes:
     h.wdt_periods = rm.WDT_PERIODS_VALUE_RESET
     h.adc_mode, h.inj_en, h.inj_rot, h.inj_step = hw.adc_mode, 1, hw.inj_rot, hw.inj_step
     h.inj_per, h.cic_m, h.direct = hw.inj_per, hw.cic_m, hw.direct
-    fp = firmware_params(sc)
     p = params_to_c(_cfg_ffi, fp)   # without the identification program (ram_image puts it at fw_ident)
     cfg.fw = p[0]
     return bytes(_cfg_ffi.buffer(cfg))
 
 
-def symbols(elf: Path) -> dict[str, tuple[int, int]]:
+def _symbols(elf: Path) -> dict[str, tuple[int, int]]:
     """The ELF's data and code symbols that have a size: name -> (address, size in bytes)."""
     nm = shutil.which("riscv64-unknown-elf-nm") or "riscv64-unknown-elf-nm"
     proc = subprocess.run([nm, "-S", str(elf)], capture_output=True, text=True)
@@ -286,7 +287,7 @@ def symbols(elf: Path) -> dict[str, tuple[int, int]]:
 
 def _placed(elf: Path, name: str, size: int) -> int:
     """The address of the RAM block ``name``, whose size in the image must be ``size`` (the host's struct)."""
-    found = symbols(elf).get(name)
+    found = _symbols(elf).get(name)
     if found is None:
         raise RtlBackendError(f"symbol {name} not found in {elf}")
     if found[1] != size:
@@ -294,15 +295,18 @@ def _placed(elf: Path, name: str, size: int) -> int:
     return found[0]
 
 
-def ram_image(sc: Scenario, hw: HardwareConfig, elf: Path, out: Path, ram_bytes: int = soc_platform.RAM_BYTES) -> Path:
+def ram_image(sc: Scenario, hw: HardwareConfig, elf: Path, out: Path, ram_bytes: int = soc_platform.RAM_BYTES,
+              fp: FirmwareParams | None = None) -> Path:
     """Firmware image with the scenario's configuration block at ``fw_config`` and, for ``control.mode =
     "commission"`` (the commissioning image, ``elf`` built with ``ident``), the identification program at
-    ``fw_ident``, as $readmemh text."""
+    ``fw_ident``, as $readmemh text. ``fp``: the scenario's firmware parameters if the caller has them (for the
+    003 drive with its flux maps they take about a second to compute)."""
     image = bytearray((elf.with_suffix(".bin")).read_bytes())
-    blocks = [("fw_config", config_block(sc, hw))]
-    program = firmware_params(sc).ident
+    fp = firmware_params(sc) if fp is None else fp
+    blocks = [("fw_config", config_block(sc, hw, fp))]
+    program = fp.ident
     if program is not None:
-        if "fw_ident" not in symbols(elf):
+        if "fw_ident" not in _symbols(elf):
             raise RtlBackendError(f"scenario {sc.name}: control.mode = \"commission\" needs the commissioning image "
                                   "(build_firmware(ident=True)); this one has no identification executor")
         blocks.append(("fw_ident", bytes(_cfg_ffi.buffer(ident_to_c(_cfg_ffi, program)))))
@@ -408,7 +412,8 @@ class RtlClosedLoop:
         n_win = len(speed_ref)
 
         # control.mode = "commission": the commissioning image on a SoC with its larger RAM (soc_platform)
-        program = firmware_params(sc).ident
+        fp = firmware_params(sc)
+        program = fp.ident
         ram_bytes = soc_platform.RAM_BYTES if program is None else soc_platform.IDENT_RAM_BYTES
         elf = build_firmware(ident=program is not None)
         lib_path = sim_lib or build_sim(fst=fst is not None, profile=profile, options=options, ram_bytes=ram_bytes)
@@ -417,7 +422,7 @@ class RtlClosedLoop:
         workdir.mkdir(parents=True, exist_ok=True)
         # one image per process: two runs of the same scenario name at once (pytest -n, a sweep) would
         # otherwise write one file while the other's simulation reads it
-        ram = ram_image(sc, hw, elf, workdir / f"{sc.name}_{os.getpid()}_ram.hex", ram_bytes)
+        ram = ram_image(sc, hw, elf, workdir / f"{sc.name}_{os.getpid()}_ram.hex", ram_bytes, fp)
 
         plant = Plant(sc.plant)
         keep = []

@@ -214,7 +214,7 @@ def test_missing_configuration_keeps_the_gates_off(tmp_path, monkeypatch):
 
     sc = load_scenario(ROOT / "scenarios" / "fullload_start.toml")
     sc = dataclasses.replace(sc, duration=0.002)
-    monkeypatch.setattr(rb, "config_block", lambda s, hw: bytes(len(config_block(s, hw))))
+    monkeypatch.setattr(rb, "config_block", lambda s, hw, fp: bytes(len(config_block(s, hw, fp))))
     with pytest.raises(RtlBackendError) as e:
         RtlClosedLoop(sc).run(progress=False, workdir=tmp_path)
     assert "tick 0" in str(e.value) and "no valid configuration block" in str(e.value)

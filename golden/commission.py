@@ -252,10 +252,8 @@ def build_program(sc, cs: CommissionSettings) -> Program:
     lo, hi = (f * cs.hf_current for f in LF_LEVELS)
     for axis, phi in ((("d", 0), ("q", QUARTER)) if cs.magnets else ()):
         add(StepInfo("lf_lo", lo, 0.0, phi * 2 * math.pi / 2**32, axis), n_set + n_meas, n_meas, F_SET, i_d=lo, phi=phi)
-        add(StepInfo("lf_up", hi, 0.0, phi * 2 * math.pi / 2**32, axis), n_tr, n_tr, 0, i_d=hi)
-        add(StepInfo("lf_hi", hi, 0.0, phi * 2 * math.pi / 2**32, axis), n_meas, n_meas, 0, i_d=hi)
-        add(StepInfo("lf_down", lo, 0.0, phi * 2 * math.pi / 2**32, axis), n_tr, n_tr, 0, i_d=lo)
-        add(StepInfo("lf_lo2", lo, 0.0, phi * 2 * math.pi / 2**32, axis), n_meas, n_meas, 0, i_d=lo)
+        for stage, i, n in (("lf_up", hi, n_tr), ("lf_hi", hi, n_meas), ("lf_down", lo, n_tr), ("lf_lo2", lo, n_meas)):
+            add(StepInfo(stage, i, 0.0, phi * 2 * math.pi / 2**32, axis), n, n, 0, i_d=i)
     # 5. resistance: the current on the nearest phase axis (the other phases carry half of it, outside the
     # dead-time compensation's zone when current / 4 > dtc_zone): it starts on the rotor's own axis (d with
     # magnets, q without: a free rotor is pulled into alignment, not away) and turns there in 1 s (F_SNAP);

@@ -319,8 +319,8 @@ async def random_vectors(dut):
         assert n_neg > count // 10, "too few inj_neg vectors"
 
     cocotb.log.info(f"{count} vectors, {drv.busy_starts} starts while busy, {drv.gaps} idle gaps")
-    if count >= 2000:
-        cov.require(Coverage.NAMES)
+    if count >= 2000:           # an exact half-LSB tie of the injection's rotation: about one in 1500 vectors
+        cov.require(Coverage.NAMES if count >= COVERAGE_N else [k for k in Coverage.NAMES if k != "round_half_rot"])
 
 
 @cocotb.test()

@@ -1,7 +1,7 @@
 """cocotb tests of rtl/hfi_modulator.v (with its hfi_deadtime_comp) against the golden compare chain.
 
 The testbench is cocotb_tests/tb_modulator.py; it draws HFI_RANDOM_N random start vectors (100 000
-under Verilator, 10 000 under Icarus by default) and runs the directed cases (register extremes,
+under Verilator, 2 000 under Icarus by default) and runs the directed cases (register extremes,
 over-modulation, min-max ties, reset values, reset in mid-operation, start while busy / held high).
 """
 

@@ -335,10 +335,12 @@ def protection_params(sc: Scenario) -> ProtParams:
     above which a coasting motor charges the dc link through the diodes (0, never, without a magnet).
     ``lock_emf_rel`` is a share of the nominal flux (psi_f, or L_q i_max without a magnet). Under the ``fcs_mpc``
     law the tracking check is off (the law tracks a flux, not a current per axis: there is no current reference);
-    the lock check takes the voltage of the states the inverter applied. ``checks = "off"``: every limit 0."""
+    the lock check takes the voltage of the states the inverter applied. ``checks = "off"``: every limit 0 (the
+    flying start, ``catch_time``, is no check: it stays)."""
     pr, ctl, sc_ = sc.protection, sc.control, scales(sc)
+    catch_n = round(pr.catch_time * sc_.f_sw)
     if pr.checks == "off":
-        return ProtParams()
+        return ProtParams(catch_n=catch_n)
     cm = controller_motor(sc)
     mag = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * ctl.i_max)
     v_dc = sc.plant["inv"]["V_dc"]
@@ -365,6 +367,7 @@ def protection_params(sc: Scenario) -> ProtParams:
         ovl_m=round(pr.overload_speed_time * sc_.f_sw),
         w_max=min(sc_.speed_mech(speed_max), 2**31 - 1), w_asc=min(sc_.speed_mech(asc), 2**31 - 1),
         restarts=pr.restarts, restart_n=max(round(pr.restart_delay * sc_.f_sw), 1),
+        catch_n=catch_n,
         hf_k=shift(pr.hf_time), hf_tol=to_fixed(pr.hf_response, 16),
         **dc_link_limits(sc))
 

@@ -361,6 +361,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "asc_speed": _q("speed", _non_negative),
         "restarts": Field("integer", check=_between(0, 1000), default=0),
         "restart_delay": _q("time", _positive, default=0.5),
+        "catch_time": _q("time", _non_negative, default=0.0),
         "hf_response": Field("number", check=_between(0, 1), default=0.09),
         "hf_time": _q("time", _positive, default=3.2e-3),
         "undervoltage": Field("number", check=lambda x: None if 0 < x < 1 else "must be between 0 and 1",
@@ -547,6 +548,7 @@ class ProtectionSettings:
     asc_speed: float | None
     restarts: int
     restart_delay: float
+    catch_time: float
     hf_response: float
     hf_time: float
     undervoltage: float
@@ -1074,6 +1076,13 @@ def _check_estimator(reader: _Reader) -> None:
     if lo is not None and hi is not None and lo > hi:
         reader.error("estimator.rfo.flux_bw_min", f"{lo:g} Hz is above estimator.rfo.flux_bw ({hi:g} Hz): "
                      "the correction rate's floor must not exceed its ceiling")
+    if reader.get("protection.catch_time"):
+        if high == "none":
+            reader.error("protection.catch_time", "the flying start needs a high-speed estimator (estimator.high) "
+                         "to find a spinning rotor's angle and speed")
+        if law != "foc_pwm":
+            reader.error("protection.catch_time", "the flying start holds the currents at zero with the current "
+                         "PIs: it needs control.law = \"foc_pwm\"")
     up, down = reader.get("estimator.handover_up"), reader.get("estimator.handover_down")
     if up is not None and down is not None and down > up:
         reader.error("estimator.handover_down",

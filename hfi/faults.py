@@ -14,7 +14,9 @@ rated load, on the golden closed loop. For each run the firmware's reaction is t
 The restart part (:func:`run_restart`): every fault again, lasting :data:`TRANSIENT_S` only, at
 :data:`RESTART_RPM` with and without load, with ``[protection] restarts = 1`` after :data:`RESTART_DELAY_S`:
 does the drive trip, start again once the fault has cleared (CONVERGE, the polarity test, RUN) and hold its
-reference locked at the end?
+reference locked at the end? Each cell twice: the paper's drive (the restart is a standstill start) and with the
+flying start (the rotor flux observer as the high-speed estimator and ``[protection] catch_time`` =
+:data:`CATCH_S`: the restart first catches a rotor the load has spun up while the drive coasted).
 
 Outputs in ``--out`` (default ``out/faults``): ``matrix.json`` (one object per run), ``restart.json``,
 ``matrix.md`` (the tables of docs/faults.md) and one figure per run in ``fig/``. Progress on stderr, one line
@@ -54,6 +56,12 @@ TRANSIENT_S = 0.05
 RESTART_RPM = 50.0
 RESTART_DELAY_S = 0.2
 """``[protection] restart_delay`` of the restart part (the firmware's safe state lasts this long)."""
+RESTART_EXTRA_S = 1.0
+"""The restart part's runs last this much longer than the matrix's: a flying start brakes a rotor the rated
+(active) load has spun to about -1000 r/min with 0.65 N*m to spare (0.6 s), then hands over to the HF estimator."""
+CATCH_S = 0.04
+"""``[protection] catch_time`` of the flying start (30 ms is the least that works on the Table I motor: the speed
+filter has not settled after 20 ms, and the overload check then sees the speed error grow)."""
 RELOCK_DEG = 15.0
 RELOCK_RPM = 10.0
 """A restart holds when, over the last RELOCK_WINDOW_S of the run, the drive is in RUN, the angle error's RMS is
@@ -83,9 +91,10 @@ FAULTS: dict[str, dict] = {
 """Matrix rows: name -> the ``[[faults]]`` entry without ``at`` (``{}``: the healthy reference)."""
 
 
-def scenario(fault: dict, rpm: float, loaded: bool, duration: float, restart: bool = False):
+def scenario(fault: dict, rpm: float, loaded: bool, duration: float, restart: bool = False, flying: bool = False):
     """The default scenario with the load from 0.2 s, the speed ramp 0.3-0.5 s and ``fault`` at ONSET_S
-    (``restart``: lasting TRANSIENT_S, one restart RESTART_DELAY_S after a trip)."""
+    (``restart``: lasting TRANSIENT_S, one restart RESTART_DELAY_S after a trip; ``flying``: with the flying
+    start, the rotor flux observer as the high-speed estimator and ``catch_time`` CATCH_S)."""
     data = tomllib.loads(BASE.read_text())
     data["scenario"].update(duration=f"{duration} s", name="fault_matrix")
     torque = RATED_NM if loaded else 0.0
@@ -97,6 +106,9 @@ def scenario(fault: dict, rpm: float, loaded: bool, duration: float, restart: bo
             data["faults"][0]["until"] = f"{ONSET_S + TRANSIENT_S} s"
     if restart:
         data.setdefault("protection", {}).update(restarts=1, restart_delay=f"{RESTART_DELAY_S} s")
+    if flying:
+        data.setdefault("estimator", {}).update(high="rfo")
+        data.setdefault("protection", {}).update(catch_time=f"{CATCH_S} s")
     return parse_scenario(data, source=f"fault matrix ({BASE.name})")
 
 
@@ -131,12 +143,12 @@ def run_one(job: tuple) -> dict:
 
 def run_restart(job: tuple) -> dict:
     """One cell of the restart part: the fault for TRANSIENT_S, one restart allowed; returns its row of
-    restart.json: the first trip's code and time, the restart's time, a second trip's code, and whether the
-    drive holds its reference locked at the end (RELOCK_*)."""
+    restart.json: the first trip's code and time, the restart's time (the first window out of FAULT), a second
+    trip's code, and whether the drive holds its reference locked at the end (RELOCK_*)."""
     from golden.firmware.protection import FAULT_NAMES
-    from golden.firmware.supervisor import MODE_CONVERGE, MODE_RUN
-    name, loaded, duration, fig_dir = job
-    sc = scenario(FAULTS[name], RESTART_RPM, loaded, duration, restart=True)
+    from golden.firmware.supervisor import MODE_RUN
+    name, loaded, flying, duration, fig_dir = job
+    sc = scenario(FAULTS[name], RESTART_RPM, loaded, duration, restart=True, flying=flying)
     t0 = time.perf_counter()
     res = ClosedLoop(sc).run(progress=False)
     w, t = res.windows, res.t
@@ -146,7 +158,7 @@ def run_restart(job: tuple) -> dict:
     first = int(trips[0]) if len(trips) else None
     restart = None
     if first is not None:
-        back = np.flatnonzero((np.arange(len(t)) > first) & (mode == MODE_CONVERGE))
+        back = np.flatnonzero((np.arange(len(t)) > first) & (mode != MODE_FAULT))
         restart = int(back[0]) if len(back) else None
     second = next((int(k) for k in trips if restart is not None and k > restart), None)
     end = t >= t[-1] - RELOCK_WINDOW_S
@@ -154,12 +166,14 @@ def run_restart(job: tuple) -> dict:
     speed = float(np.mean(w["omega_m"][end])) / RPM
     locked = bool((mode[end] == MODE_RUN).all() and np.sqrt(np.mean(err ** 2)) <= RELOCK_DEG
                   and abs(speed - RESTART_RPM) <= RELOCK_RPM)
-    row = {"fault": name, "load": "rated" if loaded else "none",
+    row = {"fault": name, "load": "rated" if loaded else "none", "start": "flying" if flying else "standstill",
            "code": FAULT_NAMES[w["fault"][first]] if first is not None else "none",
            "trip_s": None if first is None else round(float(t[first]), 4),
            "restart_s": None if restart is None else round(float(t[restart]), 4),
            "second_code": FAULT_NAMES[w["fault"][second]] if second is not None else "none",
            "end_speed_rpm": round(speed, 1), "end_angle_rms_deg": round(float(np.sqrt(np.mean(err ** 2))), 2),
+           "extreme_speed_rpm": round(float(w["omega_m"][after][np.argmax(np.abs(w["omega_m"][after]))]) / RPM, 1),
+           "peak_current_a": round(float(np.max(np.hypot(w["i_d_true"], w["i_q_true"])[after])), 2),
            "locked_at_end": locked, "wall_s": round(time.perf_counter() - t0, 1)}
     row["figure"] = plot_restart(res, row, fig_dir)
     return row
@@ -186,27 +200,33 @@ def plot_restart(res, row: dict, fig_dir: str) -> str:
                 ax.axvline(row[key], color="k", ls=style, lw=0.8, label=what)
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=7, loc="upper left")
-    fig.suptitle(f"restart: {row['fault']} for {TRANSIENT_S * 1e3:g} ms, {RESTART_RPM:g} r/min, load {row['load']}: "
-                 f"{'locked' if row['locked_at_end'] else 'NOT locked'} at the end")
-    slug = "".join(c if c.isalnum() else "_" for c in f"restart_{row['fault']}_{row['load']}")
+    fig.suptitle(f"restart ({row['start']} start): {row['fault']} for {TRANSIENT_S * 1e3:g} ms, {RESTART_RPM:g} r/min, "
+                 f"load {row['load']}: {'locked' if row['locked_at_end'] else 'NOT locked'} at the end")
+    slug = "".join(c if c.isalnum() else "_" for c in f"restart_{row['fault']}_{row['load']}_{row['start']}")
     return save_figure(fig, fig_dir, f"{slug}.png")
 
 
 def restart_table(rows: list[dict]) -> str:
     """The markdown table of the restart part and its summary line."""
-    lines = [f"| fault ({TRANSIENT_S * 1e3:g} ms) | load | trip | at [s] | restart at [s] | second trip | "
-             f"speed at the end [r/min] | angle error RMS at the end [deg] | locked at the end |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = [f"| fault ({TRANSIENT_S * 1e3:g} ms) | load | start | trip | at [s] | restart at [s] | second trip | "
+             f"extreme speed [r/min] | peak current [A] | speed at the end [r/min] | angle error RMS at the end [deg] | "
+             f"locked at the end |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['fault']} | {r['load']} | {r['code']} | {r['trip_s'] or '-'} | {r['restart_s'] or '-'} | "
-                     f"{r['second_code']} | {r['end_speed_rpm']} | {r['end_angle_rms_deg']} | "
-                     f"{'yes' if r['locked_at_end'] else 'NO'} |")
-    tripped = [r for r in rows if r["code"] != "none"]
-    held = sum(r["locked_at_end"] for r in tripped)
-    quiet = sum(r["locked_at_end"] for r in rows if r["code"] == "none")
-    line = (f"{len(rows)} transient faults at {RESTART_RPM:g} r/min: {len(tripped)} tripped, {held} of them locked "
-            f"again at the end after the restart; {quiet} of {len(rows) - len(tripped)} that did not trip locked")
-    return "\n".join(lines) + "\n\n" + line + "\n"
+        lines.append(f"| {r['fault']} | {r['load']} | {r['start']} | {r['code']} | {r['trip_s'] or '-'} | "
+                     f"{r['restart_s'] or '-'} | {r['second_code']} | {r['extreme_speed_rpm']} | {r['peak_current_a']} | "
+                     f"{r['end_speed_rpm']} | {r['end_angle_rms_deg']} | {'yes' if r['locked_at_end'] else 'NO'} |")
+    parts = []
+    for start in ("standstill", "flying"):
+        sel = [r for r in rows if r["start"] == start]
+        tripped = [r for r in sel if r["code"] != "none"]
+        held = sum(r["locked_at_end"] for r in tripped)
+        quiet = sum(r["locked_at_end"] for r in sel if r["code"] == "none")
+        if sel:
+            parts.append(f"{start} start: {len(sel)} transient faults at {RESTART_RPM:g} r/min, {len(tripped)} tripped, "
+                         f"{held} of them locked again at the end after the restart; {quiet} of {len(sel) - len(tripped)} "
+                         f"that did not trip locked")
+    return "\n".join(lines) + "\n\n" + "; ".join(parts) + "\n"
 
 
 def reaction(res) -> str:
@@ -292,12 +312,13 @@ def main(short: bool = False, jobs: int = 2, out: Path = Path("out/faults"), onl
             print(f"[{k + 1}/{len(cells)}] {row['fault']}, {row['speed_rpm']:g} r/min, {row['load']}: "
                   f"{row['verdict']} ({row['code']}, {row['detect_ms']} ms), {row['wall_s']} s", file=sys.stderr,
                   flush=True)
-    jobs_r = [(n, loaded, duration, fig_dir) for n in names if FAULTS[n] for loaded in (False, True)]
+    jobs_r = [(n, loaded, flying, duration + RESTART_EXTRA_S, fig_dir) for n in names if FAULTS[n]
+              for loaded in (False, True) for flying in (False, True)]
     restart_rows = []
     with ProcessPoolExecutor(max_workers=max(jobs, 1)) as pool:
         for k, row in enumerate(pool.map(run_restart, jobs_r)):
             restart_rows.append(row)
-            print(f"[restart {k + 1}/{len(jobs_r)}] {row['fault']}, {row['load']}: {row['code']} -> restart "
+            print(f"[restart {k + 1}/{len(jobs_r)}] {row['fault']}, {row['load']}, {row['start']} start: {row['code']} -> restart "
                   f"{row['restart_s']} s -> {row['second_code']}, locked at the end: {row['locked_at_end']}, "
                   f"{row['wall_s']} s", file=sys.stderr, flush=True)
     (out / "matrix.json").write_text(json.dumps(rows, indent=1) + "\n")

@@ -40,7 +40,8 @@ def test_a_restart_takes_the_drive_back_once_the_fault_clears():
     """[protection] restarts = 1: a dead ADC lane from 0.8 to 0.85 s trips the overcurrent check; 0.2 s later the
     firmware starts again (CONVERGE, the polarity test, RUN) and the drive is locked at 50 r/min again. Without
     load: the default scenario's load is an active torque, which turns the coasting motor backwards, and the HF
-    estimator cannot catch a motor spinning at hundreds of r/min (the restart then trips again and stays)."""
+    estimator cannot catch a motor spinning at hundreds of r/min (the restart then trips again and stays; the
+    flying start can: test_a_flying_start_brakes_the_rotor_the_rated_load_spun_up)."""
     import tomllib
 
     import numpy as np
@@ -95,7 +96,28 @@ def test_a_dc_link_step_trips_after_its_periods(name, code):
 def test_the_restart_part_relocks_after_a_transient_sag(tmp_path):
     """The restart part of the matrix (hfi.faults.run_restart): a 50 ms sag of 30 % without load trips
     undervoltage, the firmware starts again RESTART_DELAY_S later and holds 50 r/min locked at the end."""
-    row = faults.run_restart(("dc-link sag -30 %", False, faults.DURATION_S, str(tmp_path)))
+    row = faults.run_restart(("dc-link sag -30 %", False, False, faults.DURATION_S, str(tmp_path)))
     assert (row["code"], row["second_code"], row["locked_at_end"]) == ("undervoltage", "none", True)
     assert row["restart_s"] == pytest.approx(row["trip_s"] + faults.RESTART_DELAY_S, abs=1e-3)
     assert row["trip_s"] >= faults.ONSET_S and Path(row["figure"]).is_file()
+
+
+@pytest.mark.parametrize("flying", [False, True])
+def test_a_flying_start_brakes_the_rotor_the_rated_load_spun_up(tmp_path, flying):
+    """The same sag under the rated load, an active torque: in the 0.2 s the drive coasts, the load spins the motor
+    to about -900 r/min. The standstill restart (the paper's drive) cannot start a spinning motor: it trips on
+    overcurrent and the load takes the motor to thousands of r/min. The flying start (CATCH, the rotor flux
+    observer) catches it, brakes it at the current limit through the hand-over down to the HF estimator, and holds
+    50 r/min locked at the end, the current within the trip limit throughout."""
+    row = faults.run_restart(("dc-link sag -30 %", True, flying, faults.DURATION_S + faults.RESTART_EXTRA_S,
+                              str(tmp_path)))
+    assert row["code"] == "undervoltage"
+    assert row["restart_s"] == pytest.approx(row["trip_s"] + faults.RESTART_DELAY_S, abs=1e-3)
+    assert row["extreme_speed_rpm"] < -800.0                 # the load had spun the coasting motor backwards
+    from golden.scenario import load_scenario
+    if flying:
+        assert (row["second_code"], row["locked_at_end"]) == ("none", True)
+        assert row["peak_current_a"] < load_scenario(faults.BASE).control.i_trip
+        assert row["extreme_speed_rpm"] > -1500.0
+    else:
+        assert (row["second_code"], row["locked_at_end"]) == ("overcurrent", False)

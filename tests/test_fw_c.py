@@ -52,7 +52,7 @@ from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams, SquareWaveCic
 from golden.firmware.load_observer import LoadObsParams
 from golden.firmware.vector import vector_angle
-from golden.firmware.supervisor import (MODE_CONVERGE, MODE_DONE, MODE_FAULT, MODE_FIXED, MODE_IDENT, MODE_NAMES,
+from golden.firmware.supervisor import (MODE_CATCH, MODE_CONVERGE, MODE_DONE, MODE_FAULT, MODE_FIXED, MODE_IDENT, MODE_NAMES,
                                         MODE_POL_NEG, MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_NONE, POL_PILOT, Firmware,
                                         FirmwareParams, Outputs)
 from golden.fixed import c_div, uwrap
@@ -112,9 +112,9 @@ def random_pi(rng: np.random.Generator) -> PiParams:
 def test_header_parsed_and_modes_match_golden():
     """cffi parsed control.h: the enum equals the golden MODE_* constants."""
     c_modes = [lib.FW_CONVERGE, lib.FW_POL_POS, lib.FW_POL_NEG, lib.FW_RELAX, lib.FW_RUN, lib.FW_FIXED,
-               lib.FW_FAULT, lib.FW_IDENT, lib.FW_DONE]
+               lib.FW_FAULT, lib.FW_IDENT, lib.FW_DONE, lib.FW_CATCH]
     assert c_modes == [MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT,
-                       MODE_IDENT, MODE_DONE]
+                       MODE_IDENT, MODE_DONE, MODE_CATCH]
     assert len(MODE_NAMES) == len(c_modes)
     assert "#" not in fw_c.header_cdef()
 
@@ -747,6 +747,7 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
                       ovl_w=draw_one(rng, 0, S32_MAX, (0, 1_202_591)), ovl_m=draw_one(rng, 0, 300, (0, 1, 250)),
                       w_max=w_max, w_asc=w_asc,
                       restarts=draw_one(rng, 0, 3, (0,)), restart_n=draw_one(rng, 0, 20, (0, 1)),
+                      catch_n=draw_one(rng, 0, 20, (0, 0, 1)),
                       hf_k=draw_one(rng, 0, 30, (0, 4)), hf_tol=draw_one(rng, 0, 1 << 16, (0, 5898, 1 << 16)),
                       vdc_lo=vdc_lo, vdc_hi=draw_one(rng, vdc_lo, 65535, (vdc_lo, 65535)),
                       vdc_n=draw_one(rng, 0, 20, (0, 1, 5)))
@@ -851,8 +852,8 @@ def test_fw_step_random_sequences(seed, chunk):
                 load_observed |= p.lobs.g != 0 and pair.fw.lobs_i != 0
     assert load_observed
     assert SLOT_HIGH in switches, switches       # hand-overs happen (both ways: test_hand_over_*)
-    assert visited == set(range(7)), visited
-    assert trips_from == set(TRIP_FROM), trips_from
+    assert visited == set(range(7)) | {MODE_CATCH}, visited      # CATCH: the flying start of random_prot's sets
+    assert set(TRIP_FROM) <= trips_from <= set(TRIP_FROM) | {MODE_CATCH}, trips_from
     assert {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE} <= codes, codes
     assert flips == {0, 1}, flips
     assert {m for m, _ in running} == set(METHODS_BY_ID) and \

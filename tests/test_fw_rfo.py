@@ -96,16 +96,21 @@ def test_observer_on_ideal_pmsm():
     assert abs(est.mag - p.psi_f) < 0.002 * p.psi_f
 
 
-@pytest.mark.parametrize("speed, rate", [(0, "k_min"), (1 << 23, "k_r"), (-(1 << 23), "k_r"), (1 << 27, "k_c")])
-def test_correction_rate_follows_the_integrator_speed(speed, rate):
+@pytest.mark.parametrize("speed, rate, synced", [(0, "k_min", 1), (1 << 23, "k_r", 1), (-(1 << 23), "k_r", 1),
+                                                  (1 << 27, "k_c", 1), (0, "k_c", 0), (1 << 23, "k_c", 0)])
+def test_correction_rate_follows_the_integrator_speed(speed, rate, synced):
     """Step 5: the flux correction uses k = clamp(|w_i| k_r >> 32, k_min, k_c), w_i the PLL integrator's speed
-    before the step; checked against the update written out by hand for one step."""
+    before the step, once synced; before the first sync (the flux unknown: a flying start) k = k_c at any speed;
+    checked against the update written out by hand for one step."""
     p = RfoParams(r_s=3000, l_s=1 << 16, psi_f=1 << 24, k_c=5000, k_min=100, k_r=205887, pll_kp=0, pll_ki=0)
     est = RotorFluxObserver(p)
+    assert est.synced == 0
+    est.synced = synced
     est.x_al, est.x_be = 3 << 22, 1 << 22                 # |x| below psi_f: a radial correction
     est.pll = PllState(0, speed << 24, speed)
     k = {"k_min": 100, "k_c": 5000, "k_r": abs(speed) * 205887 >> 32}[rate]
     assert rate != "k_r" or 100 < k < 5000                 # the case lies between the floor and the ceiling
+    assert synced or speed == 0 or abs(speed) * 205887 >> 32 < 5000   # unsynced: k_c where the speed would not give it
     win = WindowResult(0, 0, 0, 0, 0, 1)
     est.step(Measurement(win, 0, 0, 0, 32767, 0, 0))
     eta_al, eta_be = 3 << 22, 1 << 22                     # no voltage, no current: eta = x

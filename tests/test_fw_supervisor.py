@@ -23,7 +23,7 @@ from golden.firmware.pi import PiParams
 from golden.firmware.estimator import METHOD_SQW_BANGBANG
 from golden.firmware.pll import PllState
 from golden.firmware.sqw_bangbang import SqwParams
-from golden.firmware.supervisor import (MODE_CONVERGE, MODE_DONE, MODE_FAULT, MODE_FIXED, MODE_IDENT, MODE_NAMES,
+from golden.firmware.supervisor import (MODE_CATCH, MODE_CONVERGE, MODE_DONE, MODE_FAULT, MODE_FIXED, MODE_IDENT, MODE_NAMES,
                                         MODE_POL_NEG, MODE_POL_POS, MODE_RELAX, MODE_RUN, Firmware, FirmwareParams,
                                         Outputs)
 from golden.fpga.cordic import sincos_q15
@@ -60,8 +60,8 @@ def win(gamma=0, gamma_d=0, sum_id=0, sum_iq=0, n=10, wsum=0) -> WindowResult:
 
 def test_mode_constants():
     assert (MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT, MODE_IDENT,
-            MODE_DONE) == tuple(range(9))
-    assert MODE_NAMES == ("CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT", "IDENT", "DONE")
+            MODE_DONE, MODE_CATCH) == tuple(range(10))
+    assert MODE_NAMES == ("CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT", "IDENT", "DONE", "CATCH")
 
 
 # ---- start-up sequence -------------------------------------------------------------------------------

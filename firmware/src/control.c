@@ -4,7 +4,7 @@
  * integer operations its docstring prescribes for C, in the same order: int32_t/uint32_t/int64_t only,
  * arithmetic right shifts of signed values (GCC), wrapping unsigned adds for binary angles, casts to
  * int32_t for angle differences (golden.fixed.wrap), `/` for golden.fixed.c_div. No floating point,
- * no libc but memset (firmware/src/mem.c on the core), no global mutable state (the only static data is the
+ * no libc but memset and memcpy (firmware/src/mem.c on the core), no global mutable state (the only static data is the
  * generated CORDIC table).
  * For the cycle budget on PicoRV32 a few steps take a cheaper form with the same value for every legal
  * input (each says so where it is): the PI error as an overflow-checked 32-bit subtraction, 64-bit
@@ -24,6 +24,7 @@
 #include "fw_methods.h"
 
 void *memset(void *dst, int c, size_t n); /* firmware/src/mem.c (the host build: the C library's) */
+void *memcpy(void *dst, const void *src, size_t n);
 
 #define HALF_TURN 0x80000000u /* golden.firmware.supervisor.HALF_TURN: half an electrical turn */
 
@@ -432,6 +433,8 @@ void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     int64_t k = ((w_i < 0 ? -w_i : w_i) * rp->k_r) >> 32;
     k = k < rp->k_min ? rp->k_min : k;
     k = k > rp->k_c ? rp->k_c : k;                      /* the ceiling wins (golden: min(max(k, k_min), k_c)) */
+    if (!e->synced)                                     /* acquiring: the fastest correction */
+        k = rp->k_c;
     int64_t g = (k * fw_rfo_correction(rp->psi_f, mag)) >> 16;
     e->x_al = (int32_t)sat_bits(e->x_al + dx_al + (((int64_t)eta_al * g) >> 16), 32);
     e->x_be = (int32_t)sat_bits(e->x_be + dx_be + (((int64_t)eta_be * g) >> 16), 32);
@@ -470,6 +473,7 @@ void fw_rfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
     e->pll.omega = omega;
     e->theta = theta;
     e->omega = omega;
+    e->synced = 1;
 }
 
 int32_t fw_rfo_i_d(const struct fw_params *p)
@@ -1374,8 +1378,9 @@ static void ident_refs(struct fw_state *st, const struct fw_ident_params *p, int
 static const struct fw_outputs reset_outputs = {0, 0, 0, 0, 32767, 0, 0, 0, 0, 0, 0, 0}; /* RESET_OUTPUTS */
 
 /* Firmware.__init__ / __post_init__: everything 0 (the EEMF observer's direction forwards), CONVERGE; FIXED at
- * fixed_angle if enabled; IDENT with the executor at its step 0 if st->ident is set (before FIXED). */
-void fw_init(struct fw_state *st, const struct fw_params *p)
+ * fixed_angle if enabled; else CATCH with the high slot in charge if the flying start is on; IDENT with the
+ * executor at its step 0 if st->ident is set (before FIXED). */
+__attribute__((noinline)) void fw_init(struct fw_state *st, const struct fw_params *p)
 {
 #ifndef FW_NO_IDENT
     struct fw_ident *ident = st->ident; /* the caller's (control.h): kept */
@@ -1385,12 +1390,17 @@ void fw_init(struct fw_state *st, const struct fw_params *p)
     memset(st, 0, sizeof *st);
     st->mode = p->fixed_enable ? FW_FIXED : FW_CONVERGE;
     st->theta_hat = p->fixed_enable ? p->fixed_angle : 0u;
+    if (!p->fixed_enable && p->prot.catch_n > 0 && p->high != FW_METHOD_NONE) {
+        st->mode = FW_CATCH;
+        st->active = FW_SLOT_HIGH;
+    }
     st->act[0] = st->act[1] = st->prev = reset_outputs;
     st->smo.dir = 1; /* EemfSmo.__init__: forwards */
 #ifndef FW_NO_IDENT
     st->ident = ident;
-    if (ident) { /* the identification program instead of the start-up (and of FIXED) */
+    if (ident) { /* the identification program instead of the start-up (and of FIXED, CATCH) */
         st->mode = FW_IDENT;
+        st->active = FW_SLOT_LOW;
         st->theta_hat = 0u;
         ident_init(&ident->s, &ident->p);
     }
@@ -1431,6 +1441,7 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
                         int32_t at_limit, int32_t hf_on, int32_t hf)
 {
     int32_t err = sat32(abs64((int64_t)speed_ref - omega_f));
+    uint32_t w_abs = omega_f < 0 ? 0u - (uint32_t)omega_f : (uint32_t)omega_f; /* |omega_f| for every s32 */
 
     if (p->emf_tol) { /* a check that is off costs nothing; the signed components filtered (33-bit differences) */
         int32_t e_d, e_q;
@@ -1442,8 +1453,10 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
     if (p->track_tol)
         st->track_f += (sat32(abs64((int64_t)i_d_ref - i_d) + abs64((int64_t)i_q_ref - i_q)) - st->track_f) >> p->track_k;
     st->ovl_n = count_while(st->ovl_n, at_limit);
-    if (st->ovl_n == 1)
+    if (st->ovl_n == 1 || (at_limit && p->ovl_w && st->e0 - err > p->ovl_w)) { /* at the limit, or progress (e0, err >= 0) */
+        st->ovl_n = 1;
         st->e0 = err;
+    }
     st->ovl_e = count_while(st->ovl_e, at_limit && (int64_t)err - st->e0 > p->ovl_w);
     if (p->hf_tol) {
         if (!hf_on || st->hf_ref <= 0)
@@ -1451,9 +1464,11 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
         else
             st->hf_f = sat32(st->hf_f + ((sat32(abs64((int64_t)hf - st->hf_ref)) - (int64_t)st->hf_f) >> p->hf_k));
     }
-    if (p->w_max && abs64(omega_f) > p->w_max)
+    if (st->w_catch && w_abs <= (uint32_t)p->w_max)
+        st->w_catch = 0;
+    if (p->w_max && w_abs > (uint32_t)p->w_max + (uint32_t)st->w_catch) /* both below 2^31 */
         return FW_FAULT_OVERSPEED;
-    if (p->emf_tol && sat32(abs64(st->emf_d) + abs64(st->emf_q)) > p->emf_tol + ((abs64(omega_f) * p->psi_rel) >> 32))
+    if (p->emf_tol && sat32(abs64(st->emf_d) + abs64(st->emf_q)) > p->emf_tol + (((int64_t)w_abs * p->psi_rel) >> 32))
         return FW_FAULT_LOCK_LOSS;
     if (p->track_tol && st->track_f > p->track_tol)
         return FW_FAULT_TRACKING;
@@ -1514,17 +1529,19 @@ const char *fw_fault_name(int32_t code)
 
 /* Firmware._restart: fw_init but the fault code, the restart count and the output history. Not inlined: it runs
  * only after a fault, and fw_step's code stays within the instruction cache's working set (firmware/link.ld). */
+_Static_assert(offsetof(struct fw_state, prev) == offsetof(struct fw_state, act) + 2 * sizeof(struct fw_outputs),
+               "restart copies act[0], act[1] and prev as one block");
+
 static __attribute__((noinline)) void restart(struct fw_state *st, const struct fw_params *p)
 {
     int32_t fault = st->fault, restarts = st->restarts + 1;
-    struct fw_outputs act0 = st->act[0], act1 = st->act[1], prev = st->prev;
+    struct fw_outputs history[3]; /* act[0], act[1], prev: one copy each way (the smaller code) */
 
+    memcpy(history, st->act, sizeof history);
     fw_init(st, p);
+    memcpy(st->act, history, sizeof history);
     st->fault = fault;
     st->restarts = restarts;
-    st->act[0] = act0;
-    st->act[1] = act1;
-    st->prev = prev;
 }
 
 /* Firmware._trip: FAULT with the code; the active short circuit above w_asc under the FOC law. */
@@ -1688,10 +1705,32 @@ static __attribute__((noinline)) int32_t supervise_pulses(struct fw_state *st, c
     }
 }
 
+/* Firmware._catch: after catch_n windows of CATCH, RUN on the high slot, or the standstill start. */
+static __attribute__((noinline)) void catch_end(struct fw_state *st, const struct fw_params *p)
+{
+    if (st->n < p->prot.catch_n)
+        return;
+    int64_t w = abs64(fw_lowpass_out(st->speed_f));
+
+    if (w >= p->w_down) {
+        st->w_catch = (int32_t)(w < INT32_MAX ? w : INT32_MAX);
+        next_mode(st, FW_RUN);
+        sync_slot(st, p, FW_SLOT_HIGH, st->est_theta[FW_SLOT_HIGH], st->est_omega[FW_SLOT_HIGH]);
+    } else {
+        st->active = FW_SLOT_LOW;
+        st->speed_f = 0;
+        next_mode(st, FW_CONVERGE);
+    }
+}
+
 /* Firmware._supervise: the start-up state machine; returns i_d* (its i_q* is always 0). */
 static int32_t supervise(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t *pilot,
                          int32_t *v_pilot)
 {
+    if (st->mode == FW_CATCH) {
+        catch_end(st, p);
+        return 0;
+    }
     if (p->pol_mode == FW_POL_PILOT)
         return supervise_pilot(st, p, pilot, v_pilot);
     if (p->pol_mode == FW_POL_NONE) { /* a reluctance machine: CONVERGE goes straight to RELAX */

@@ -16,7 +16,7 @@
 
 /* Supervisor states (golden.firmware.supervisor.MODE_*). */
 enum fw_mode { FW_CONVERGE = 0, FW_POL_POS = 1, FW_POL_NEG = 2, FW_RELAX = 3, FW_RUN = 4, FW_FIXED = 5, FW_FAULT = 6,
-               FW_IDENT = 7, FW_DONE = 8 };
+               FW_IDENT = 7, FW_DONE = 8, FW_CATCH = 9 };
 
 /* PI parameters (golden.firmware.pi.PiParams): kp in Q(sp), ki in Q(si), |u| <= limit. */
 struct fw_pi_params {
@@ -57,6 +57,7 @@ struct fw_prot_params {
     int32_t w_asc;           /* speed LSB */
     int32_t restarts;        /* automatic restarts at most (0: none) */
     int32_t restart_n;       /* periods in FAULT before each */
+    int32_t catch_n;         /* the flying start: periods in CATCH at every start (0: off) */
     int32_t hf_k;            /* HF response check: filter time constant 2^hf_k periods */
     int32_t hf_tol;          /* HF response check: limit, share of the learned GAMMA_D, Q16 (0: off) */
     int32_t vdc_lo;          /* dc-link check: under- and overvoltage limits, VDC codes */
@@ -129,6 +130,7 @@ struct fw_rfo_state {
     int32_t i_al;
     int32_t i_be;
     int32_t mag;
+    int32_t synced;          /* 0 from fw_init to the first sync: the flux is unknown, the correction at k_c */
 };
 
 /* ---- the speed loop's load-torque observer (golden.firmware.load_observer; g = 0: off) ----
@@ -529,6 +531,7 @@ struct fw_state {
     int32_t ovl_n;
     int32_t ovl_e;
     int32_t e0;                 /* |speed error| when the speed PI reached its limit */
+    int32_t w_catch;            /* the speed a flying start caught, 0..2^31-1 (overspeed counts from it) */
     int32_t hf_ref;             /* HF response check: GAMMA_D learned in CONVERGE, the filtered deviation from it */
     int32_t hf_f;
     int32_t vdc_lo_n;           /* dc-link check: periods in a row below / above its limits */

@@ -6,7 +6,10 @@ that fires names the fault, and the supervisor answers with its safe state (``MO
 estimator's internals: they use the window means, the voltages the firmware applied, the current
 references it gave and the filtered speed of the estimator in charge.
 
-``overspeed``         ``|omega_f| > w_max``.
+``overspeed``         ``|omega_f| > w_max``; after a flying start (the supervisor's CATCH) ``|omega_f| > w_max +
+                      w_catch``, ``w_catch`` the speed caught, until ``|omega_f| <= w_max`` (a rotor an active
+                      load spun beyond ``w_max`` while the drive coasted is braked, not tripped again; a
+                      speed that keeps growing from there still trips).
 ``lock_loss``         the stator-voltage equation does not hold for the angle and speed in use: with the
                       voltage ``v`` active in the window and its current means ``i`` (both in the frame
                       of the angle in use), the residual
@@ -27,7 +30,10 @@ references it gave and the filtered speed of the estimator in charge.
                       with the speed error ``|speed_ref - omega_f|`` grown by more than ``ovl_w`` since the
                       limit was reached, for ``ovl_m`` periods in a row: the drive cannot hold the speed (a
                       blocked rotor, a load above the current limit that turns the motor against it). A
-                      reference step saturates the PI too, but its error then shrinks.
+                      reference step saturates the PI too, but its error then shrinks: whenever it has shrunk
+                      by more than ``ovl_w`` since the count started, the count starts again (the drive is
+                      making progress: a long acceleration, or a flying start braking a rotor an active load
+                      has spun up, at the current limit for longer than ``ovl_n``; ``ovl_w = 0``: never).
 
 ``hf_response``       the d-axis response of the square-wave injection (``GAMMA_D``, the window's sum of the
                       current along d_hat times the carrier's sign: INJ_SQW_D methods) against its level
@@ -101,6 +107,9 @@ class ProtParams:
         below it the gates are off (coast) [speed LSB].
     restarts, restart_n : int
         Automatic restarts: at most ``restarts`` (0: none), each ``restart_n`` periods after the tripping one.
+    catch_n : int
+        The flying start: every start (power-up and restart) first spends ``catch_n`` periods in CATCH (0: off;
+        only with a high-speed estimator, golden.firmware.supervisor).
     hf_k, hf_tol : int
         The HF response check: filter shift (reference and deviation, 0..30) and the limit as a share of the
         learned reference [Q16].
@@ -125,6 +134,7 @@ class ProtParams:
     w_asc: int = 0
     restarts: int = 0
     restart_n: int = 0
+    catch_n: int = 0
     hf_k: int = 0
     hf_tol: int = 0
     vdc_lo: int = 0
@@ -176,7 +186,8 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
     """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload, HF response; returns
     the first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_d``, ``emf_q``,
     ``track_f``, ``hf_f`` (s32, the filtered values themselves; a filter whose check is off stays), the counts
-    ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached, ``e0``, and the HF response check's
+    ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached, ``e0``, the caught speed ``w_catch``
+    (cleared here once the speed is within ``w_max``), and the HF response check's
     reference ``hf_ref`` (the supervisor's :class:`~golden.firmware.supervisor.Firmware`); all are stepped every
     period. ``hf``: the window's ``GAMMA_D`` when the square wave was on for all of it, else None."""
     if p.emf_tol:                                     # a check that is off costs nothing
@@ -187,15 +198,17 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
         st.track_f += shr(sat(abs(i_d_ref - i_d) + abs(i_q_ref - i_q), 32) - st.track_f, p.track_k)
     st.ovl_n = min(st.ovl_n + 1, OVL_CAP) if at_limit else 0
     err = sat(abs(speed_ref - omega_f), 32)
-    if st.ovl_n == 1:
-        st.e0 = err
+    if st.ovl_n == 1 or (at_limit and p.ovl_w and st.e0 - err > p.ovl_w):   # at the limit from here, or progress
+        st.ovl_n, st.e0 = 1, err
     st.ovl_e = min(st.ovl_e + 1, OVL_CAP) if at_limit and err - st.e0 > p.ovl_w else 0
     if p.hf_tol:
         if hf is None or st.hf_ref <= 0:
             st.hf_f = 0
         else:
             st.hf_f = sat(st.hf_f + shr(sat(abs(hf - st.hf_ref), 32) - st.hf_f, p.hf_k), 32)
-    if p.w_max and abs(omega_f) > p.w_max:
+    if st.w_catch and abs(omega_f) <= p.w_max:
+        st.w_catch = 0
+    if p.w_max and abs(omega_f) > p.w_max + st.w_catch:
         return FAULT_OVERSPEED
     if p.emf_tol and emf_level(st) > p.emf_tol + shr(abs(omega_f) * p.psi_rel, 32):
         return FAULT_LOCK_LOSS

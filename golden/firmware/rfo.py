@@ -25,7 +25,9 @@ Fixed point, once per control period, inputs of :class:`~golden.firmware.estimat
 5. ``q = clamp(c_div((psi_f - mag) << 16, max(mag, 1)), -2^17, 2^17)``; the correction rate follows the
    speed, ``k = clamp((|sat(shr(pll.integ, 24), 32)| * k_r) >> 32, k_min, k_c)`` (the PLL integrator's
    speed of the previous period: ``k`` is ``flux_ratio`` times the electrical angle per period, between
-   ``flux_bw_min`` and ``flux_bw``); ``g = shr(k * q, 16)``, ``x = sat(x + dx + shr(eta * g, 16), 32)`` per
+   ``flux_bw_min`` and ``flux_bw``), and ``k = k_c`` until the first ``sync`` (``synced = 0``: the flux
+   is unknown, as in a flying start, where the observer acquires a spinning rotor from zero flux and zero speed:
+   at ``k_min`` its PLL ran off the wrong way on the Table I motor at 900 r/min, docs/faults.md); ``g = shr(k * q, 16)``, ``x = sat(x + dx + shr(eta * g, 16), 32)`` per
    component. A fixed rate was either too slow for low current at 1500-3500 r/min (20 Hz: the observer
    and the current loop oscillated and tripped, no load) or too fast under load near the hand-over
    (50 Hz: 9 deg RMS at 355 r/min with +-2 N*m steps against 5 deg); docs/methods.md;
@@ -93,6 +95,7 @@ class RotorFluxObserver(Estimator):
         self.theta = 0
         self.omega = 0
         self.i_d = p.i_d
+        self.synced = 0
 
     def step(self, m: Measurement) -> None:
         p = self.p
@@ -108,7 +111,7 @@ class RotorFluxObserver(Estimator):
         # Ortega et al. 2011: correction along eta towards |eta| = psi_f (normalised gradient)
         q = c_div((p.psi_f - mag) << 16, mag if mag > 0 else 1)
         q = Q_LIMIT if q > Q_LIMIT else -Q_LIMIT if q < -Q_LIMIT else q
-        k = min(max((abs(sat(shr(self.pll.integ, 24), 32)) * p.k_r) >> 32, p.k_min), p.k_c)
+        k = min(max((abs(sat(shr(self.pll.integ, 24), 32)) * p.k_r) >> 32, p.k_min), p.k_c) if self.synced else p.k_c
         g = shr(k * q, 16)
         self.x_al = sat(self.x_al + dx_al + shr(eta_al * g, 16), 32)
         self.x_be = sat(self.x_be + dx_be + shr(eta_be * g, 16), 32)
@@ -133,3 +136,4 @@ class RotorFluxObserver(Estimator):
         self.x_be = sat(round_shr(p.psi_f * s, 15) + shr(p.l_s * self.i_be, 16), 32)
         self.pll = PllState(uwrap(mid + omega, 32), omega << 24, omega)
         self.theta, self.omega = theta, omega
+        self.synced = 1

@@ -13,6 +13,15 @@ one; the C firmware performs the same calls in the same order.
 
 States (``MODE_*``):
 
+``CATCH``     the flying start (``prot.catch_n`` > 0, a high-speed estimator in the high slot): every start, at
+              power-up and after each automatic restart, begins here. The high-speed estimator is in charge and
+              steps, no injection, current references 0 under current control in its frame: the current PIs'
+              voltage is then the back-EMF of a spinning rotor, from which the estimator takes angle and speed.
+              After ``catch_n`` windows: ``|omega_f| >= w_down`` -> RUN with the high-speed estimator in charge
+              (the speed PI from zero torque; the overspeed check's limit raised by the caught speed until
+              the speed is back within ``w_max``, golden.firmware.protection); slower -> CONVERGE, the standstill start (the speed filter
+              cleared, the low slot in charge). A rotor an active load has spun up while the drive coasted is
+              thus braked back under control instead of tripping the standstill start (docs/faults.md).
 ``CONVERGE``  low-speed estimator in charge, current references 0: theta_hat settles on the +-d axis.
               Its last window already asks for +I_p, so both polarity pulses last ``n_pulse`` windows.
 ``POL_POS``   i_d* = +I_p; after ``n_settle`` windows gamma_d is summed (HF d-current response).
@@ -81,14 +90,16 @@ from golden.fpga.cordic import sincos_q15
 from golden.fpga.fcs_mpc import state_voltage
 from golden.fpga.demodulator import WindowResult
 
-MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT, MODE_IDENT, MODE_DONE = range(9)
-MODE_NAMES = ("CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT", "IDENT", "DONE")
+(MODE_CONVERGE, MODE_POL_POS, MODE_POL_NEG, MODE_RELAX, MODE_RUN, MODE_FIXED, MODE_FAULT, MODE_IDENT, MODE_DONE,
+ MODE_CATCH) = range(10)
+MODE_NAMES = ("CONVERGE", "POL_POS", "POL_NEG", "RELAX", "RUN", "FIXED", "FAULT", "IDENT", "DONE", "CATCH")
 
 POL_CURRENT, POL_PILOT, POL_NONE = 0, 1, 2
 """Polarity detection: d-current pulses with the HF response (002), pilot voltages (000, Sec. II-D), or
 none (a reluctance machine is pi-periodic: CONVERGE goes straight to RELAX)."""
 
 HALF_TURN = 1 << 31
+S32_MAX = (1 << 31) - 1
 NOTCH_BITS = 21
 """Input width of the feedback notch (golden.firmware.biquad's input range)."""
 
@@ -270,6 +281,7 @@ class Firmware:
     ovl_n: int = 0
     ovl_e: int = 0
     e0: int = 0
+    w_catch: int = 0                 # the speed a flying start caught (overspeed counts from it until below w_max)
     hf_ref: int = 0                  # HF response check: learned GAMMA_D and the filtered deviation from it
     hf_f: int = 0
     vdc_lo_n: int = 0                # dc-link check: periods in a row below / above its limits
@@ -286,6 +298,8 @@ class Firmware:
         elif p.fixed_angle is not None:
             self.mode = MODE_FIXED
             self.theta_hat = uwrap(p.fixed_angle, 32)
+        elif p.prot.catch_n > 0 and self.slots[SLOT_HIGH] is not None:
+            self.mode, self.active = MODE_CATCH, SLOT_HIGH
 
     @property
     def omega_f(self) -> int:
@@ -520,6 +534,9 @@ class Firmware:
 
     def _supervise(self, win: WindowResult) -> tuple[int, int, int | None]:
         """Start-up state machine; returns (i_d*, i_q*, pilot voltage or None) before the speed loop."""
+        if self.mode == MODE_CATCH:
+            self._catch()
+            return 0, 0, None
         if self.p.pol_mode == POL_PILOT:
             return self._supervise_pilot()
         p = self.p
@@ -574,6 +591,19 @@ class Firmware:
             self._decide_polarity()
         self._relax()
         return 0, 0, None
+
+    def _catch(self) -> None:
+        """CATCH (the module docstring): after ``catch_n`` windows, RUN on the high slot or the standstill start."""
+        p = self.p
+        if self.n < p.prot.catch_n:
+            return
+        if abs(self.omega_f) >= p.w_down:
+            self.w_catch = min(abs(self.omega_f), S32_MAX)
+            self._next(MODE_RUN)
+            self._sync(SLOT_HIGH, self.est_theta[SLOT_HIGH], self.est_omega[SLOT_HIGH])
+        else:
+            self.active, self.speed_f = SLOT_LOW, 0
+            self._next(MODE_CONVERGE)
 
     def _decide_polarity(self) -> None:
         """The larger response is the magnet's north: if it is the -d_hat one, turn the low slot."""

@@ -107,6 +107,15 @@ def test_hand_over_scenario_identical():
     assert np.diff(hls.windows["est"]).tolist().count(1) == 1 and np.diff(hls.windows["est"]).tolist().count(-1) == 1
 
 
+def test_flying_start_identical():
+    """scenarios/flying_start.toml, full length: switched on with the motor coasting at 800 r/min, CATCH on the rotor
+    flux observer, RUN on it, the hand-back to the HF estimator; identical."""
+    sc = load_scenario(ROOT / "scenarios" / "flying_start.toml")
+    gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
+    _assert_identical(gold, hls)
+    assert hls.windows["est"][0] == 1 and np.diff(hls.windows["est"]).tolist().count(-1) == 1
+
+
 def test_tap2023_identical():
     """The 000 drive (scenarios/tap2023_fullload.toml) at its 10 kHz for 0.3 s: pilot polarity, the
     rotating injection, the notch, MTPA and the EEMF observer in parallel, identical to golden."""

@@ -190,8 +190,10 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
     summary = {"scenario": str(path), "duration_s": prog.duration, "steps": prog.params.n_steps,
                "wall_s": run.wall_s, "values": rows, "angle_error_deg": math.degrees(err),
                "snr_scan": res.snr, "map": map_rows,
-               # where L_d, L_q come from: the low-frequency steps (their up and down transitions [H]) or the HF scan
-               "inductance_from": "lf" if res.lf.get("used") else "scan",
+               # where L_d, L_q come from: the low-frequency steps (their up and down transitions [H]), the HF scan, or
+               # (a reluctance machine) L_d from the pair on the d axis and L_q from the scan ("fit_L_d": the scan's)
+               "inductance_from": "lf" if res.lf.get("used") else "axis" if "fit_L_d" in res.scan else "scan",
+               **({"fit_L_d": res.scan["fit_L_d"]} if "fit_L_d" in res.scan else {}),
                "lf": {axis: list(res.lf[axis]) for axis in ("d", "q") if axis in res.lf},
                "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
                "tuning": tune}

@@ -184,13 +184,28 @@ def test_commission_default_motor(default_commission):
 def test_commission_other_pm_motors(path, tmp_path):
     """The 002 Table III motor and the 001 IPMSM, each with its scenario's sensors, offsets and dead time: R, L_d,
     L_q, psi_f within 3 % and J within 10 % of the plant's, the standstill angle within 10 deg (the 000 motor: the
-    test below; the 003 SyRM misses the inductance targets: docs/commissioning.md)."""
+    test below; the 003 SyRM misses the inductance targets: test_commission_reluctance_motor, docs/commissioning.md)."""
     from hfi.commission import commission
     s = commission(path, tmp_path, progress=False)
     for name in ("R_s", "L_d", "L_q", "psi_f"):
         assert abs(s["values"][name]["rel_error"]) < 0.03, (name, s["values"][name])
     assert abs(s["values"]["J"]["rel_error"]) < 0.10
     assert abs(s["angle_error_deg"]) < 10.0
+
+
+def test_commission_reluctance_motor(tmp_path):
+    """The 003 SyRM (no magnets: a biased scan under current control, no polarity test, no coast): R within 3 % and
+    J within 10 %; its L_d at the scan's bias from the pair on the fitted d axis (stage axis), nearer the plant's
+    incremental inductance there than the scan's first-harmonic fit, and within 10 % (docs/commissioning.md: the
+    targets at zero current are out of reach of the injection)."""
+    from hfi.commission import commission
+    s = commission("scenarios/varatharajan2020_speedrange.toml", tmp_path, progress=False)
+    v = s["values"]
+    assert "psi_f" not in v and s["inductance_from"] == "axis"
+    assert abs(v["R_s"]["rel_error"]) < 0.03 and abs(v["J"]["rel_error"]) < 0.10
+    truth = v["L_d"]["truth"]
+    assert abs(v["L_d"]["measured"] - truth) < abs(s["fit_L_d"] - truth)
+    assert abs(v["L_d"]["rel_error"]) < 0.10
 
 
 def test_self_tuned_drive_no_worse_than_hand_tuned(default_commission, tmp_path):

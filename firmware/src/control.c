@@ -1380,7 +1380,7 @@ static const struct fw_outputs reset_outputs = {0, 0, 0, 0, 32767, 0, 0, 0, 0, 0
 /* Firmware.__init__ / __post_init__: everything 0 (the EEMF observer's direction forwards), CONVERGE; FIXED at
  * fixed_angle if enabled; else CATCH with the high slot in charge if the flying start is on; IDENT with the
  * executor at its step 0 if st->ident is set (before FIXED). */
-__attribute__((noinline)) void fw_init(struct fw_state *st, const struct fw_params *p)
+void fw_init(struct fw_state *st, const struct fw_params *p)
 {
 #ifndef FW_NO_IDENT
     struct fw_ident *ident = st->ident; /* the caller's (control.h): kept */
@@ -1527,11 +1527,11 @@ const char *fw_fault_name(int32_t code)
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }
 
-/* Firmware._restart: fw_init but the fault code, the restart count and the output history. Not inlined: it runs
- * only after a fault, and fw_step's code stays within the instruction cache's working set (firmware/link.ld). */
 _Static_assert(offsetof(struct fw_state, prev) == offsetof(struct fw_state, act) + 2 * sizeof(struct fw_outputs),
                "restart copies act[0], act[1] and prev as one block");
 
+/* Firmware._restart: fw_init but the fault code, the restart count and the output history. Not inlined: it runs
+ * only after a fault, and fw_step's code stays within the instruction cache's working set (firmware/link.ld). */
 static __attribute__((noinline)) void restart(struct fw_state *st, const struct fw_params *p)
 {
     int32_t fault = st->fault, restarts = st->restarts + 1;

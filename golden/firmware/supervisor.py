@@ -17,11 +17,14 @@ States (``MODE_*``):
               power-up and after each automatic restart, begins here. The high-speed estimator is in charge and
               steps, no injection, current references 0 under current control in its frame: the current PIs'
               voltage is then the back-EMF of a spinning rotor, from which the estimator takes angle and speed.
-              After ``catch_n`` windows: ``|omega_f| >= w_down`` -> RUN with the high-speed estimator in charge
-              (the speed PI from zero torque; the overspeed check's limit raised by the caught speed until
-              the speed is back within ``w_max``, golden.firmware.protection); slower -> CONVERGE, the standstill start (the speed filter
-              cleared, the low slot in charge). A rotor an active load has spun up while the drive coasted is
-              thus braked back under control instead of tripping the standstill start (docs/faults.md).
+              The high-speed estimator acquires from its power-up state (the rotor flux observer at its
+              fastest flux correction until its first ``sync``). After ``catch_n`` windows: ``|omega_f| >=
+              w_down`` -> RUN with the high-speed estimator in charge, ``sync``ed to its own angle and speed
+              (the speed PI from zero torque; the overspeed check's limit raised by the caught speed until the
+              speed is back within ``w_max``, golden.firmware.protection); slower -> CONVERGE, the standstill
+              start (the speed filter cleared, the low slot in charge). A rotor an active load has spun up
+              while the drive coasted is thus braked back under control instead of tripping the standstill
+              start (docs/faults.md).
 ``CONVERGE``  low-speed estimator in charge, current references 0: theta_hat settles on the +-d axis.
               Its last window already asks for +I_p, so both polarity pulses last ``n_pulse`` windows.
 ``POL_POS``   i_d* = +I_p; after ``n_settle`` windows gamma_d is summed (HF d-current response).

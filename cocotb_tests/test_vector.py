@@ -1,7 +1,7 @@
 """rtl/hfi_vector.v against golden/firmware/vector.py (spec 5.3): cocotb on Verilator and Icarus, and lint.
 
 The cocotb coroutines are in tb_vector.py. Random pairs: 100 000 under Verilator (the project rule for a
-bit-true block, hdl_runner.RANDOM_N), 2 000 under Icarus (hdl_runner.RANDOM_N_ICARUS); ``HFI_RANDOM_N``
+bit-true block, hdl_runner.RANDOM_N), 10 000 under Icarus (hdl_runner.RANDOM_N_ICARUS); ``HFI_RANDOM_N``
 overrides both. The include file rtl/hfi_cordic_tables.vh is found through hdl_runner's include path
 (``rtl/``), as for hfi_cordic.v.
 """

@@ -52,8 +52,6 @@ TB_DIR = ROOT / "cocotb_tests"
 for _p in (ROOT, ROOT / "scripts", TB_DIR):
     if str(_p) not in sys.path:
         sys.path.insert(0, str(_p))
-os.environ.setdefault("YOWASP_CACHE_DIR", str(ROOT / "out" / "yowasp_cache"))   # the cache of make synth
-
 import synth_module  # noqa: E402  (read-only: module_files; synth_report: the ECP5 script, the tool runner)
 import synth_report as sr  # noqa: E402
 

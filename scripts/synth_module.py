@@ -17,16 +17,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import re
 import sys
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-os.environ.setdefault("YOWASP_CACHE_DIR", "/tmp/yowasp_cache")
 
-import synth_report as sr  # noqa: E402  (after the path/env set-up)
+import synth_report as sr  # noqa: E402  (after the path set-up)
 
 INST_RE = re.compile(r"^\s*(hfi_\w+)\s*(?:#\s*\(|\w+\s*\()", re.M)
 

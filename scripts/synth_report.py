@@ -44,8 +44,8 @@ and ``critical_path`` are those of the first part and the first seed given, ``fm
 every seed of the first part (the keys earlier reports had). Intermediate files go to
 ``out/synth/<design>/`` (nextpnr's: ``ecp5_pnr_seed<N>.json`` / ``ecp5_nextpnr_seed<N>.log`` for the first part,
 ``ecp5_pnr_85f_seed<N>.json`` / ``ecp5_nextpnr_85f_seed<N>.log`` for the 85F). The first yowasp
-run compiles the WebAssembly tools (about a minute; cached in ``YOWASP_CACHE_DIR``, default
-``out/yowasp_cache``). Designs run in parallel (``--jobs``). Every tool run has a time limit
+run compiles the WebAssembly tools (about a minute; cached in ``YOWASP_CACHE_DIR``, by default yowasp's own
+cache in the user's cache directory, ``~/.cache/YoWASP``: one compile for every yowasp tool, script and checkout). Designs run in parallel (``--jobs``). Every tool run has a time limit
 (``--timeout``, default 45 min): a place and route that exceeds it is killed and reported as such (the
 counts remain). Exit status 0 even if a target is missed (the report says so); 1 if a tool fails or
 times out.
@@ -181,7 +181,6 @@ def run(cmd: list[str], log: Path, timeout: float | None = TOOL_TIMEOUT_S) -> st
     """Run a tool in ROOT, tee its output to ``log``; ToolError with the log's tail on failure, or after
     ``timeout`` seconds (the tool's process group is killed)."""
     env = dict(os.environ)
-    env.setdefault("YOWASP_CACHE_DIR", str(ROOT / "out" / "yowasp_cache"))
     name = Path(cmd[0]).name
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,

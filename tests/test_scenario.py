@@ -487,3 +487,20 @@ def test_the_fcs_mpc_law_and_its_estimator_go_together():
     assert any(p.startswith("control.adc_mode: fcs_mpc needs the carrier-top samples") for p in got)
     sc = scenario({"control": {"law": "fcs_mpc", "polarity": "none", "adc_mode": "DS"}, "estimator": {"low": "hfo_proj"}})
     assert sc.control.law == "fcs_mpc" and sc.estimator.low == "hfo_proj"
+
+
+def test_the_flying_start_needs_a_high_speed_estimator_and_the_foc_law():
+    """protection.catch_time > 0 is refused without estimator.high (nothing could catch the rotor) and under the
+    fcs_mpc law (the catch holds the currents at zero with the current PIs); with both it becomes catch_n periods."""
+    got = problems({"control": {}, "protection": {"catch_time": "40 ms"}})
+    assert any(p.startswith("protection.catch_time: the flying start needs a high-speed estimator") for p in got)
+    got = problems({"control": {"law": "fcs_mpc", "polarity": "none", "adc_mode": "DS"},
+                    "estimator": {"low": "hfo_proj"}, "protection": {"catch_time": "40 ms"}})
+    assert any(p.startswith("protection.catch_time: the flying start holds the currents at zero") for p in got)
+    got = problems({"control": {}, "protection": {"catch_time": "-1 ms"}})
+    assert any(p.startswith("protection.catch_time") for p in got)
+    from golden.control_config import protection_params
+    sc = scenario({"control": {}, "estimator": {"high": "rfo"}, "protection": {"catch_time": "40 ms"}})
+    assert protection_params(sc).catch_n == round(0.04 * sc.pwm.f_sw)
+    off = scenario({"control": {}, "estimator": {"high": "rfo"}, "protection": {"catch_time": "40 ms", "checks": "off"}})
+    assert protection_params(off).catch_n == round(0.04 * off.pwm.f_sw)      # no check: it stays with the checks off

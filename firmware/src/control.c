@@ -1464,8 +1464,6 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
         else
             st->hf_f = sat32(st->hf_f + ((sat32(abs64((int64_t)hf - st->hf_ref)) - (int64_t)st->hf_f) >> p->hf_k));
     }
-    if (st->w_catch && w_abs <= (uint32_t)p->w_max)
-        st->w_catch = 0;
     if (p->w_max && w_abs > (uint32_t)p->w_max + (uint32_t)st->w_catch) /* both below 2^31 */
         return FW_FAULT_OVERSPEED;
     if (p->emf_tol && sat32(abs64(st->emf_d) + abs64(st->emf_q)) > p->emf_tol + (((int64_t)w_abs * p->psi_rel) >> 32))
@@ -1612,6 +1610,7 @@ static void hand_over(struct fw_state *st, const struct fw_params *p)
         uint32_t theta = angle_in_use(st);
 
         st->active = FW_SLOT_LOW;
+        st->w_catch = 0; /* a flying start's raised speed limit ends here */
         sync_slot(st, p, FW_SLOT_LOW, theta, st->est_omega[FW_SLOT_HIGH]);
     }
 }
@@ -1727,9 +1726,10 @@ static __attribute__((noinline)) void catch_end(struct fw_state *st, const struc
 static int32_t supervise(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t *pilot,
                          int32_t *v_pilot)
 {
-    if (st->mode == FW_CATCH) {
+    if (st->mode == FW_CATCH) { /* i_d* 0; in the second half, spinning, the estimator's (golden: after _catch) */
         catch_end(st, p);
-        return 0;
+        return 2 * (int64_t)st->n > p->prot.catch_n && abs64(fw_lowpass_out(st->speed_f)) >= p->w_down
+                   ? fw_methods[slot_method(p, st->active)].i_d(p) : 0;
     }
     if (p->pol_mode == FW_POL_PILOT)
         return supervise_pilot(st, p, pilot, v_pilot);

@@ -531,7 +531,8 @@ struct fw_state {
     int32_t ovl_n;
     int32_t ovl_e;
     int32_t e0;                 /* |speed error| when the speed PI reached its limit */
-    int32_t w_catch;            /* the speed a flying start caught, 0..2^31-1 (overspeed counts from it) */
+    int32_t w_catch;            /* the speed a flying start caught, 0..2^31-1 (overspeed counts from it until the
+                                 * hand-over down) */
     int32_t hf_ref;             /* HF response check: GAMMA_D learned in CONVERGE, the filtered deviation from it */
     int32_t hf_f;
     int32_t vdc_lo_n;           /* dc-link check: periods in a row below / above its limits */

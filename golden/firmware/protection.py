@@ -6,10 +6,11 @@ that fires names the fault, and the supervisor answers with its safe state (``MO
 estimator's internals: they use the window means, the voltages the firmware applied, the current
 references it gave and the filtered speed of the estimator in charge.
 
-``overspeed``         ``|omega_f| > w_max``; after a flying start (the supervisor's CATCH) ``|omega_f| > w_max +
-                      w_catch``, ``w_catch`` the speed caught, until ``|omega_f| <= w_max`` (a rotor an active
-                      load spun beyond ``w_max`` while the drive coasted is braked, not tripped again; a
-                      speed that keeps growing from there still trips).
+``overspeed``         ``|omega_f| > w_max + w_catch``: ``w_catch`` is 0, or after a flying start (the supervisor's
+                      CATCH) the speed caught, until the hand-over down to the low-speed estimator (a rotor
+                      an active load spun beyond ``w_max`` while the drive coasted is braked, not tripped
+                      again, even when the speed estimate dips on the way; a speed that keeps growing from
+                      there still trips).
 ``lock_loss``         the stator-voltage equation does not hold for the angle and speed in use: with the
                       voltage ``v`` active in the window and its current means ``i`` (both in the frame
                       of the angle in use), the residual
@@ -187,7 +188,7 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
     the first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_d``, ``emf_q``,
     ``track_f``, ``hf_f`` (s32, the filtered values themselves; a filter whose check is off stays), the counts
     ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached, ``e0``, the caught speed ``w_catch``
-    (cleared here once the speed is within ``w_max``), and the HF response check's
+    (the supervisor's), and the HF response check's
     reference ``hf_ref`` (the supervisor's :class:`~golden.firmware.supervisor.Firmware`); all are stepped every
     period. ``hf``: the window's ``GAMMA_D`` when the square wave was on for all of it, else None."""
     if p.emf_tol:                                     # a check that is off costs nothing
@@ -206,8 +207,6 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
             st.hf_f = 0
         else:
             st.hf_f = sat(st.hf_f + shr(sat(abs(hf - st.hf_ref), 32) - st.hf_f, p.hf_k), 32)
-    if st.w_catch and abs(omega_f) <= p.w_max:
-        st.w_catch = 0
     if p.w_max and abs(omega_f) > p.w_max + st.w_catch:
         return FAULT_OVERSPEED
     if p.emf_tol and emf_level(st) > p.emf_tol + shr(abs(omega_f) * p.psi_rel, 32):

@@ -15,13 +15,16 @@ States (``MODE_*``):
 
 ``CATCH``     the flying start (``prot.catch_n`` > 0, a high-speed estimator in the high slot): every start, at
               power-up and after each automatic restart, begins here. The high-speed estimator is in charge and
-              steps, no injection, current references 0 under current control in its frame: the current PIs'
-              voltage is then the back-EMF of a spinning rotor, from which the estimator takes angle and speed.
+              steps, no injection, i_q* = 0 and i_d* = 0; in the second half of the catch, when the speed is
+              then at or above ``w_down``, i_d* is the estimator's (``Estimator.i_d``, as in RUN: its step at
+              the start of RUN disturbed the 000 drive's EEMF observer; at rest it would be a torque pulse in
+              a direction the estimator does not know), under current control in its frame: the current PIs' voltage is then the back-EMF of
+              a spinning rotor, from which the estimator takes angle and speed.
               The high-speed estimator acquires from its power-up state (the rotor flux observer at its
               fastest flux correction until its first ``sync``). After ``catch_n`` windows: ``|omega_f| >=
               w_down`` -> RUN with the high-speed estimator in charge, ``sync``ed to its own angle and speed
               (the speed PI from zero torque; the overspeed check's limit raised by the caught speed until the
-              speed is back within ``w_max``, golden.firmware.protection); slower -> CONVERGE, the standstill
+              hand-over down, golden.firmware.protection); slower -> CONVERGE, the standstill
               start (the speed filter cleared, the low slot in charge). A rotor an active load has spun up
               while the drive coasted is thus braked back under control instead of tripping the standstill
               start (docs/faults.md).
@@ -284,7 +287,7 @@ class Firmware:
     ovl_n: int = 0
     ovl_e: int = 0
     e0: int = 0
-    w_catch: int = 0                 # the speed a flying start caught (overspeed counts from it until below w_max)
+    w_catch: int = 0                 # the speed a flying start caught (overspeed counts from it until the hand-over down)
     hf_ref: int = 0                  # HF response check: learned GAMMA_D and the filtered deviation from it
     hf_f: int = 0
     vdc_lo_n: int = 0                # dc-link check: periods in a row below / above its limits
@@ -532,14 +535,15 @@ class Firmware:
             self.offset = wrap(self.est_theta[SLOT_LOW] - self.est_theta[SLOT_HIGH], 32)
         elif self.active == SLOT_HIGH and w < p.w_down:
             theta = self._angle()
-            self.active = SLOT_LOW
+            self.active, self.w_catch = SLOT_LOW, 0           # a flying start's raised speed limit ends here
             self._sync(SLOT_LOW, theta, self.est_omega[SLOT_HIGH])
 
     def _supervise(self, win: WindowResult) -> tuple[int, int, int | None]:
         """Start-up state machine; returns (i_d*, i_q*, pilot voltage or None) before the speed loop."""
         if self.mode == MODE_CATCH:
             self._catch()
-            return 0, 0, None
+            spinning = 2 * self.n > self.p.prot.catch_n and abs(self.omega_f) >= self.p.w_down
+            return (self.slots[self.active].i_d if spinning else 0), 0, None
         if self.p.pol_mode == POL_PILOT:
             return self._supervise_pilot()
         p = self.p

@@ -209,13 +209,13 @@ def plot_restart(res, row: dict, fig_dir: str) -> str:
 def restart_table(rows: list[dict]) -> str:
     """The markdown table of the restart part and its summary line."""
     lines = [f"| fault ({TRANSIENT_S * 1e3:g} ms) | load | start | trip | at [s] | restart at [s] | second trip | "
-             f"extreme speed [r/min] | peak current [A] | speed at the end [r/min] | angle error RMS at the end [deg] | "
-             f"locked at the end |",
+             "extreme speed [r/min] | peak current [A] | speed at the end [r/min] | "
+             "angle error RMS at the end [deg] | locked at the end |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['fault']} | {r['load']} | {r['start']} | {r['code']} | {r['trip_s'] or '-'} | "
-                     f"{r['restart_s'] or '-'} | {r['second_code']} | {r['extreme_speed_rpm']} | {r['peak_current_a']} | "
-                     f"{r['end_speed_rpm']} | {r['end_angle_rms_deg']} | {'yes' if r['locked_at_end'] else 'NO'} |")
+                     f"{r['restart_s'] or '-'} | {r['second_code']} | {r['extreme_speed_rpm']} | "
+                     f"{r['peak_current_a']} | {r['end_speed_rpm']} | {r['end_angle_rms_deg']} | {'yes' if r['locked_at_end'] else 'NO'} |")
     parts = []
     for start in ("standstill", "flying"):
         sel = [r for r in rows if r["start"] == start]
@@ -223,9 +223,9 @@ def restart_table(rows: list[dict]) -> str:
         held = sum(r["locked_at_end"] for r in tripped)
         quiet = sum(r["locked_at_end"] for r in sel if r["code"] == "none")
         if sel:
-            parts.append(f"{start} start: {len(sel)} transient faults at {RESTART_RPM:g} r/min, {len(tripped)} tripped, "
-                         f"{held} of them locked again at the end after the restart; {quiet} of {len(sel) - len(tripped)} "
-                         f"that did not trip locked")
+            parts.append(f"{start} start: {len(sel)} transient faults at {RESTART_RPM:g} r/min, "
+                         f"{len(tripped)} tripped, {held} of them locked again at the end after the restart; "
+                         f"{quiet} of {len(sel) - len(tripped)} that did not trip locked")
     return "\n".join(lines) + "\n\n" + "; ".join(parts) + "\n"
 
 
@@ -318,8 +318,8 @@ def main(short: bool = False, jobs: int = 2, out: Path = Path("out/faults"), onl
     with ProcessPoolExecutor(max_workers=max(jobs, 1)) as pool:
         for k, row in enumerate(pool.map(run_restart, jobs_r)):
             restart_rows.append(row)
-            print(f"[restart {k + 1}/{len(jobs_r)}] {row['fault']}, {row['load']}, {row['start']} start: {row['code']} -> restart "
-                  f"{row['restart_s']} s -> {row['second_code']}, locked at the end: {row['locked_at_end']}, "
+            print(f"[restart {k + 1}/{len(jobs_r)}] {row['fault']}, {row['load']}, {row['start']} start: "
+                  f"{row['code']} -> restart {row['restart_s']} s -> {row['second_code']}, locked at the end: {row['locked_at_end']}, "
                   f"{row['wall_s']} s", file=sys.stderr, flush=True)
     (out / "matrix.json").write_text(json.dumps(rows, indent=1) + "\n")
     (out / "restart.json").write_text(json.dumps(restart_rows, indent=1) + "\n")

@@ -86,8 +86,9 @@ def main(argv=None) -> int:
         w, t = res.windows, res.t
         end = t >= t[-1] - 0.1
         err = res.angle_error_deg()[end]
+        peak = np.hypot(w["i_d_true"], w["i_q_true"]).max()
         print(f"{label}: end speed {np.mean(w['omega_m'][end]) / RPM:.1f} r/min, angle error RMS "
-              f"{np.sqrt(np.mean(err ** 2)):.2f} deg, peak current {np.hypot(w['i_d_true'], w['i_q_true']).max():.2f} A, "
+              f"{np.sqrt(np.mean(err ** 2)):.2f} deg, peak current {peak:.2f} A, "
               f"modes {' '.join(MODE_NAMES[m] for m in np.unique(w['mode']))}")
     print(f"wrote {args.out}")
     return 0

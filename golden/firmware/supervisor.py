@@ -18,8 +18,8 @@ States (``MODE_*``):
               steps, no injection, i_q* = 0 and i_d* = 0; in the second half of the catch, when the speed is
               then at or above ``w_down``, i_d* is the estimator's (``Estimator.i_d``, as in RUN: its step at
               the start of RUN disturbed the 000 drive's EEMF observer; at rest it would be a torque pulse in
-              a direction the estimator does not know), under current control in its frame: the current PIs' voltage is then the back-EMF of
-              a spinning rotor, from which the estimator takes angle and speed.
+              a direction the estimator does not know), under current control in its frame: the current PIs'
+              voltage is then the back-EMF of a spinning rotor, from which the estimator takes angle and speed.
               The high-speed estimator acquires from its power-up state (the rotor flux observer at its
               fastest flux correction until its first ``sync``). After ``catch_n`` windows: ``|omega_f| >=
               w_down`` -> RUN with the high-speed estimator in charge, ``sync``ed to its own angle and speed
@@ -287,7 +287,7 @@ class Firmware:
     ovl_n: int = 0
     ovl_e: int = 0
     e0: int = 0
-    w_catch: int = 0                 # the speed a flying start caught (overspeed counts from it until the hand-over down)
+    w_catch: int = 0                 # a flying start's caught speed (overspeed counts from it to the hand-over down)
     hf_ref: int = 0                  # HF response check: learned GAMMA_D and the filtered deviation from it
     hf_f: int = 0
     vdc_lo_n: int = 0                # dc-link check: periods in a row below / above its limits

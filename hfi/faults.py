@@ -147,6 +147,7 @@ def run_restart(job: tuple) -> dict:
     trip's code, and whether the drive holds its reference locked at the end (RELOCK_*)."""
     from golden.firmware.protection import FAULT_NAMES
     from golden.firmware.supervisor import MODE_RUN
+    from hfi.report import fault_metrics
     name, loaded, flying, duration, fig_dir = job
     sc = scenario(FAULTS[name], RESTART_RPM, loaded, duration, restart=True, flying=flying)
     t0 = time.perf_counter()
@@ -173,7 +174,7 @@ def run_restart(job: tuple) -> dict:
            "second_code": FAULT_NAMES[w["fault"][second]] if second is not None else "none",
            "end_speed_rpm": round(speed, 1), "end_angle_rms_deg": round(float(np.sqrt(np.mean(err ** 2))), 2),
            "extreme_speed_rpm": round(float(w["omega_m"][after][np.argmax(np.abs(w["omega_m"][after]))]) / RPM, 1),
-           "peak_current_a": round(float(np.max(np.hypot(w["i_d_true"], w["i_q_true"])[after])), 2),
+           "peak_current_a": round(fault_metrics(sc, res)["peak_current_a"], 2),
            "locked_at_end": locked, "wall_s": round(time.perf_counter() - t0, 1)}
     row["figure"] = plot_restart(res, row, fig_dir)
     return row

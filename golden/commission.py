@@ -28,10 +28,12 @@ firmware leaves into the motor's data; :func:`tuning` into the controller's sett
    levels; ``V = R i + V0 + b / i`` removes the drops that do not depend on the current level (the dead
    time's residual, the switches' knee voltages) and the node capacitances' share at small currents.
 6. ``spin``: the shaft released, the current vector (half the test current) turns at a prescribed speed
-   profile (I/f), the rotor follows it: up to ``speed / 2``, hold, accelerate to ``speed``, hold, coast,
-   decelerate to ``speed / 2``, hold, down to 0. Flux in the frame from the voltage model at constant frame
-   speed, ``psi = (v - V0 - R i) / (j w)``; torque ``1.5 p (psi x i)``; ``psi_f = abs(v) / w_r`` in the coast
-   with the current held at zero (``w_r`` the frame's speed plus the turn of the back-EMF in the frame); ``J``
+   profile (I/f), the rotor follows it: up to ``speed / 2``, hold, accelerate to ``speed``, hold, decelerate
+   to ``speed / 2``, hold; then down to 0, or with magnets up to ``speed`` again and the coast, which ends the
+   program with the rotor coasting. Flux in the frame from the voltage model at constant frame speed,
+   ``psi = (v - V0 - R i) / (j w)``; torque ``1.5 p (psi x i)``; ``psi_f = abs(v) / w_r`` in the coast with the
+   current held at zero, over whole turns (``w_r`` the frame's speed plus the turn of the back-EMF in the frame
+   from the first turn to the second); ``J``
    from the torques accelerating and decelerating through the same speeds, ``(T_acc - T_dec) / (2 a)``
    (friction and every constant bias cancel); the friction ``B``, ``T_c`` from the holds.
 """
@@ -299,12 +301,6 @@ def build_program(sc, cs: CommissionSettings) -> Program:
             add(StepInfo(stage + "_out", i_spin), win(t_j / n_j), 0, 0, i_d=i_spin,
                 dw=to_dw(sign * a * (n_j - j - 0.5) / n_j))
 
-    def back(stage: str) -> None:
-        """The current back after a coast, in four steps over 0.2 s (the rotor, slipped back a little, is
-        caught without a current surge)."""
-        for j in range(4):
-            add(StepInfo(stage, (j + 1) / 4 * i_spin), win(0.05), 0, 0, i_d=(j + 1) / 4 * i_spin)
-
     # speed gained by a ramp: a t_j (jerk phases) + a t_const; the half speed takes t_const = w/2a - t_j
     t_half = max(0.5 * w_top / a - t_j, 0.05)
     hold = win(max(0.5, 0.5 * cs.spin_time))
@@ -312,20 +308,27 @@ def build_program(sc, cs: CommissionSettings) -> Program:
     add(StepInfo("hold_low", i_spin), hold, hold // 2, 0, i_d=i_spin)
     ramp("accel", 1, t_half, True)
     add(StepInfo("hold_high", i_spin), hold, hold // 2, 0, i_d=i_spin)
-    if cs.magnets:
-        # coast: no current for 60 ms, the voltage is the back-EMF alone (the rotor slows by its friction only;
-        # at zero current the dead time shifts the edges but not the pulse widths: no voltage error)
-        # two measured halves of three sixths of an electrical turn each (the inverter's error with the PWM
-        # ripple crossing zero repeats every sixth), after the current has decayed
-        m_c = max(round(math.pi / w_top * f_sw), 1)
-        add(StepInfo("coast"), n_set, 0, 0)
-        add(StepInfo("coast_a"), m_c, m_c, 0)
-        add(StepInfo("coast_b"), m_c, m_c, 0)
-        back("hold_high_back")
     ramp("decel", -1, t_half, True)
     add(StepInfo("hold_low2", i_spin), hold, hold // 2, 0, i_d=i_spin)
-    ramp("spin_down", -1, t_half, False)
-    add(StepInfo("stop", i_spin), win(0.2), 0, 0, i_d=i_spin)
+    if cs.magnets:
+        # back to the top speed, then the coast, last (decision 2026-11-29, docs/commissioning.md): the current
+        # held at zero for a turn (the current loop's tail), then two measured halves of a whole electrical turn
+        # each. At zero current the voltage is the back-EMF plus the inverter's error: with the PWM ripple
+        # crossing zero it repeats every sixth, and the sensors' offsets leave a dc current in the phases whose
+        # dead-time error is a fixed vector in the stator (volts on the 000 motor), turning once per turn in
+        # this frame: a whole turn's mean removes it, a half turn's kept it (psi_f 3.8 % high). The rotor, slowed
+        # by its friction, has slipped from the frame by the end: the program ends there, the gates off, the
+        # rotor coasting down (a current brought back catches it with a swing, which spoiled J when the decel
+        # came after it)
+        ramp("spin_up2", 1, t_half, False)
+        add(StepInfo("hold_top", i_spin), win(0.2), 0, 0, i_d=i_spin)
+        m_c = max(round(2 * math.pi / w_top * f_sw), 1)
+        add(StepInfo("coast"), max(n_set, m_c), 0, 0)
+        add(StepInfo("coast_a"), m_c, m_c, 0)
+        add(StepInfo("coast_b"), m_c, m_c, 0)
+    else:
+        ramp("spin_down", -1, t_half, False)
+        add(StepInfo("stop", i_spin), win(0.2), 0, 0, i_d=i_spin)
 
     cols = list(zip(*rows))
     vh_max = min(sc_.voltage(cs.hf_voltage_max), 32767)

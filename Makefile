@@ -3,7 +3,8 @@ SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
 ENV := source scripts/env.sh &&
 PYTEST_ARGS ?=
-# Parallel pytest workers (pytest-xdist); the cocotb builds and simulations are independent.
+# Parallel pytest workers (pytest-xdist); the cocotb builds and simulations are independent. `--dist loadgroup`
+# keeps the tests of one xdist_group (those sharing an expensive module fixture) on one worker.
 PYTEST_JOBS ?= auto
 
 .PHONY: setup run test bench clean distclean
@@ -19,7 +20,7 @@ run: setup
 
 # pytest exit code 5 ("no tests collected") counts as a failure.
 test: setup
-	rc=0; $(ENV) .venv/bin/python -m pytest -q -p no:cacheprovider -n $(PYTEST_JOBS) $(PYTEST_ARGS) || rc=$$?; \
+	rc=0; $(ENV) .venv/bin/python -m pytest -q -p no:cacheprovider -n $(PYTEST_JOBS) --dist loadgroup $(PYTEST_ARGS) || rc=$$?; \
 	if [[ $$rc -eq 5 ]]; then echo "make test: pytest collected no tests" >&2; exit 1; fi; exit $$rc
 
 # The plant and closed-loop benchmarks (scripts/bench_plant.py, bench_golden.py, bench_rtl.py, bench_hls.py).

@@ -25,6 +25,7 @@ def short_run():
     return sc, cl, cl.run(progress=False)
 
 
+@pytest.mark.xdist_group("closedloop_short_run")
 def test_commit_takes_effect_two_windows_later(short_run):
     """The compares latched in window k come from the register writes of the firmware run on window
     k-2 (docs/spec.md 2.2): recompute them from the recorded outputs with the modulator."""
@@ -42,6 +43,7 @@ def test_commit_takes_effect_two_windows_later(short_run):
             assert tuple(int(w[f"{prefix}_{x}"][k]) for x in "abc") == cmps, f"window {k}"
 
 
+@pytest.mark.xdist_group("closedloop_short_run")
 def test_window_holds_200_os_samples_and_first_windows_use_reset_registers(short_run):
     sc, cl, res = short_run
     assert np.all(res.windows["n_samples"] == 200)

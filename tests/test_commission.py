@@ -160,6 +160,11 @@ def test_standstill_angle_and_polarity(path, theta_m):
     assert abs((found - true + 180.0) % 360.0 - 180.0) < 10.0
 
 
+FAST = "hls"
+"""The backend of the tests of accuracy and of the error paths: the hls loop, bit-identical to the golden backend over
+the default motor's whole program (test_commission_hls_identical_to_golden_whole_program) and 5-7 times faster."""
+
+
 @pytest.fixture(scope="module")
 def default_commission(tmp_path_factory):
     from hfi.commission import commission
@@ -167,6 +172,7 @@ def default_commission(tmp_path_factory):
     return commission(DEFAULT, out, progress=False), out
 
 
+@pytest.mark.xdist_group("default_commission")
 def test_commission_default_motor(default_commission):
     """The whole sequence on the Table I motor with the scenario's sensors, offsets and 4 us dead time: R (the
     current path: motor plus the inverter's conduction slope), L_d, L_q at zero current and psi_f within 3 %,
@@ -186,7 +192,7 @@ def test_commission_other_pm_motors(path, tmp_path):
     L_q, psi_f within 3 % and J within 10 % of the plant's, the standstill angle within 10 deg (the 000 motor: the
     test below; the 003 SyRM misses the inductance targets: test_commission_reluctance_motor, docs/commissioning.md)."""
     from hfi.commission import commission
-    s = commission(path, tmp_path, progress=False)
+    s = commission(path, tmp_path, progress=False, backend=FAST)
     for name in ("R_s", "L_d", "L_q", "psi_f"):
         assert abs(s["values"][name]["rel_error"]) < 0.03, (name, s["values"][name])
     assert abs(s["values"]["J"]["rel_error"]) < 0.10
@@ -199,7 +205,7 @@ def test_commission_reluctance_motor(tmp_path):
     incremental inductance there than the scan's first-harmonic fit, and within 10 % (docs/commissioning.md: the
     targets at zero current are out of reach of the injection)."""
     from hfi.commission import commission
-    s = commission("scenarios/varatharajan2020_speedrange.toml", tmp_path, progress=False)
+    s = commission("scenarios/varatharajan2020_speedrange.toml", tmp_path, progress=False, backend=FAST)
     v = s["values"]
     assert "psi_f" not in v and s["inductance_from"] == "axis"
     assert abs(v["R_s"]["rel_error"]) < 0.03 and abs(v["J"]["rel_error"]) < 0.10
@@ -208,12 +214,25 @@ def test_commission_reluctance_motor(tmp_path):
     assert abs(v["L_d"]["rel_error"]) < 0.10
 
 
+@pytest.mark.xdist_group("default_commission")
+def test_commission_hls_identical_to_golden_whole_program(default_commission, tmp_path):
+    """The default motor's whole program (every stage, the coast last) on the hls backend: every measured value, the
+    map, the standstill angle, the scan's SNR and the tuning equal to the golden backend's (default_commission) to the
+    last bit."""
+    from hfi.commission import commission
+    s = commission(DEFAULT, tmp_path, progress=False, backend="hls")
+    gold = default_commission[0]
+    for key in ("values", "map", "angle_error_deg", "snr_scan", "tuning", "lf", "inductance_from", "steps"):
+        assert s[key] == gold[key], key
+
+
+@pytest.mark.xdist_group("default_commission")
 def test_self_tuned_drive_no_worse_than_hand_tuned(default_commission, tmp_path):
     """The default scenario with the commissioned [model], V_h and hand-over speeds (commissioned.toml) on the
-    golden loop: no fault, and the angle error RMS of every speed plateau no worse than the hand-tuned run's."""
+    hls loop (FAST): no fault, and the angle error RMS of every speed plateau no worse than the hand-tuned run's."""
     from hfi.run import run_file
-    tuned = run_file(str(default_commission[1] / "commissioned.toml"), "golden", str(tmp_path / "tuned"), progress=False)
-    hand = run_file(DEFAULT, "golden", str(tmp_path / "hand"), progress=False)
+    tuned = run_file(str(default_commission[1] / "commissioned.toml"), FAST, str(tmp_path / "tuned"), progress=False)
+    hand = run_file(DEFAULT, FAST, str(tmp_path / "hand"), progress=False)
     assert tuned.metrics["faults"]["code"] == "none"
     for a, b in zip(tuned.metrics["segments"], hand.metrics["segments"]):
         assert a["speed_ref_rpm"] == b["speed_ref_rpm"]
@@ -289,7 +308,7 @@ def test_too_small_hf_amplitude_stops_with_its_reason(tmp_path):
     names the stage, the fault, what the scan saw and what to raise."""
     from hfi.commission import CommissionError, commission
     with pytest.raises(CommissionError, match=r"stage 'polarity'.*fault overcurrent.*scan saw L_d.*hf_voltage_max"):
-        commission(_weak_scenario(tmp_path, "0.3 V"), tmp_path / "out", progress=False)
+        commission(_weak_scenario(tmp_path, "0.3 V"), tmp_path / "out", progress=False, backend=FAST)
 
 
 def test_hf_method_refused_writes_no_configuration(tmp_path, monkeypatch):
@@ -299,7 +318,7 @@ def test_hf_method_refused_writes_no_configuration(tmp_path, monkeypatch):
     real = hc.tuning
     monkeypatch.setattr(hc, "tuning", lambda sc, res: {**real(sc, res), "hf_possible": False})
     with pytest.raises(hc.CommissionError, match="'sqw_cic' is refused"):
-        hc.commission("scenarios/xue2022_noload.toml", tmp_path / "out", progress=False)
+        hc.commission("scenarios/xue2022_noload.toml", tmp_path / "out", progress=False, backend=FAST)
     assert (tmp_path / "out" / "commission.json").is_file()
     assert not (tmp_path / "out" / "commissioned.toml").exists()
 
@@ -340,7 +359,7 @@ def test_commission_000_motor_low_frequency_inductances(tmp_path):
     L_q within 3 % of the plant's; R and psi_f within 3 %, J within 10 % (psi_f was 3.8 % high while the coast's two
     halves were half turns each: the sensors' offsets leave a dead-time error fixed in the stationary frame)."""
     from hfi.commission import commission
-    s = commission("scenarios/tap2023_step.toml", tmp_path, progress=False)
+    s = commission("scenarios/tap2023_step.toml", tmp_path, progress=False, backend=FAST)
     assert s["inductance_from"] == "lf" and (tmp_path / "commission_lf.png").is_file()
     for name in ("R_s", "L_d", "L_q", "psi_f"):
         assert abs(s["values"][name]["rel_error"]) < 0.03, (name, s["values"][name])

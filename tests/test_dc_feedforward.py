@@ -21,6 +21,9 @@ from golden.firmware.supervisor import MODE_FAULT, MODE_RUN
 from golden.fixed import round_shr
 from golden.scenario import ScenarioError, parse_scenario
 
+pytestmark = pytest.mark.xdist_group("dc_feedforward")
+"""The module's tests share a module fixture: one worker runs them all (make test: --dist loadgroup)."""
+
 ROOT = Path(__file__).resolve().parents[1]
 BASE = tomllib.loads((ROOT / "scenarios" / "fullload_start.toml").read_text())
 SAG_AT = 0.6

@@ -19,6 +19,9 @@ from golden.scenario import load_scenario
 from hfi import soc_platform
 from hfi.rtl_backend import FW_OUT, RtlBackendError, RtlClosedLoop, build_sim
 
+pytestmark = pytest.mark.xdist_group("fw_profile")
+"""The module's tests share a module fixture: one worker runs them all (make test: --dist loadgroup)."""
+
 ROOT = Path(__file__).resolve().parents[1]
 LINE_WORDS = 8
 

@@ -70,6 +70,7 @@ def default_runs():
     return sc, ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
 
 
+@pytest.mark.xdist_group("hls_default_runs")
 def test_default_scenario_identical(default_runs):
     sc, gold, hls = default_runs
     assert len(hls.t) == int((round(sc.duration * sc.pwm.tick_hz) - 5000) // 20000) == 11999
@@ -77,6 +78,7 @@ def test_default_scenario_identical(default_runs):
     assert hls.backend == "hls"
 
 
+@pytest.mark.xdist_group("hls_default_runs")
 def test_default_scenario_covers_start_up_and_speed_control(default_runs):
     """The compared run visits CONVERGE, both polarity pulses, RELAX and RUN, and has millions of samples."""
     _, _, hls = default_runs

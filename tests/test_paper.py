@@ -12,6 +12,9 @@ import pytest
 
 from hfi.paper_groups import GROUPS, LOCK_DEG
 
+pytestmark = pytest.mark.xdist_group("paper_groups")
+"""The module's tests share a module fixture: one worker runs them all (make test: --dist loadgroup)."""
+
 
 @pytest.fixture(scope="module")
 def groups():

@@ -196,6 +196,9 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
                **({"fit_L_d": res.scan["fit_L_d"]} if "fit_L_d" in res.scan else {}),
                "lf": {axis: list(res.lf[axis]) for axis in ("d", "q") if axis in res.lf},
                "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
+               # a magnet machine's program ends with its coast: the gates off, the rotor turning (r/min)
+               "coasting_at_end_rpm": (res.spin["w_coast"] / sc.plant["mech"]["pole_pairs"] * 30 / math.pi
+                                       if "w_coast" in res.spin else None),
                "tuning": tune}
     (out / "commission.json").write_text(json.dumps(summary, indent=1, default=float))
     _figures(out, prog, res, run, sc, map_rows)
@@ -249,6 +252,9 @@ def _print(s: dict) -> None:
         print(f"{name:8s} {r['measured']:12.5g} {r['truth']:12.5g} {e:>8s}")
     print(f"rotor angle error at standstill {s['angle_error_deg']:+.2f} deg; scan SNR {s['snr_scan']:.1f}; "
           f"map: largest error {100 * s['map_max_rel_error']:.1f}% over {len(s['map'])} points")
+    if s["coasting_at_end_rpm"] is not None:
+        print(f"the program ended with the gates off and the rotor coasting at {s['coasting_at_end_rpm']:.0f} r/min "
+              "(it stops by its friction; a drive started before then needs the flying start, [protection] catch_time)")
     t = s["tuning"]
     print(f"tuning: V_h {t['V_h']:.1f} V (SNR {t['snr_at_V_h']:.1f})"
           + (f", hand-over {t['handover_up'] * 30 / math.pi:.0f}/{t['handover_down'] * 30 / math.pi:.0f} r/min"

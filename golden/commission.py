@@ -12,7 +12,8 @@ firmware leaves into the motor's data; :func:`tuning` into the controller's sett
    the responses. A reluctance machine, whose saliency appears only with current: a bias along the injection,
    current control with gains from the probe (``F_GAIN``), the shaft held; then ``axis``: a pair on the fitted d
    axis with the bias along it, whose response replaces the fit's ``L_d`` (the fit's first harmonic misses the
-   sharp maximum of the biased admittance).
+   sharp maximum of the biased admittance); and its ``L_q`` from the current steps of stage ``lf`` on q around
+   the bias (4b), with current gains set for q's inductance by an ``F_GAIN`` step on q, the probe's set back after.
 3. ``polarity`` (magnets only): ``+I_p`` then ``-I_p`` on d with the injection; the firmware turns the
    angle by half a turn when the second response is the larger (``F_POL``). The shaft is held from here.
 4. ``map``: the incremental inductance matrix on a grid of (i_d, i_q): at each point the injection on d,
@@ -86,6 +87,8 @@ LF_AGREE = 0.05
 both axes: the signal ``L (I2 - I1)`` must stand out of the inverter's error over the transition, which a small
 inductance does not (the 002 motors' 5.6-13 mH: the two differ by a factor of 3 and more; the 001 motor's: by 20 %),
 and a large one does, where the HF scan's current is smallest (the 000 motor: 1.3 % and 3 %)."""
+LF_Q_LEVELS = (0.8, 1.2)
+"""A reluctance machine's stage lf on q (2c): the two levels, shares of the scan's bias (the chord around it)."""
 R_LEVELS = (0.5, 0.75, 1.0)
 """Current levels of the resistance steps (shares of ``current``)."""
 SPIN_MEASURED = ("hold_low", "accel", "hold_high", "coast_a", "coast_b", "decel", "hold_low2")
@@ -232,12 +235,34 @@ def build_program(sc, cs: CommissionSettings) -> Program:
                 | (0 if twice else F_NEG), i_d=bias, vh=v_probe << twice, phi=phi)
     # 2b. axis (a reluctance machine): the scan's fit is a first harmonic, and the biased admittance over the angle
     # is not one (a sharp maximum on d, a broad minimum around q: on the 003 SyRM the fit put L_d 18 % high), so L_d
-    # comes from a pair on the fitted d axis, the bias along it as in the scan (7 % high). The same on q is
-    # not kept: its 1 H draws a response 18 times smaller, and its bias settles through a current loop 47 times
-    # slower than designed (SATURATION_RATIO): -1 % to +20 % with the settle times tried, the fit's +16 % is steadier
+    # comes from a pair on the fitted d axis, the bias along it as in the scan (7 % high). The same on q was not
+    # kept: its 1 H draws a response 18 times smaller, and its bias settles through a current loop 47 times
+    # slower than designed (SATURATION_RATIO): -1 % to +20 % with the settle times tried; q: 2c below
+    n_tr = win(LF_SETTLE / (2 * math.pi * sc.control.current_bw))
+
+    def lf(axis: str, phi: int, lo: float, hi: float) -> None:
+        """Stage lf along ``axis`` (the frame at ``theta_r + phi``): holds at ``lo`` and ``hi``, the up and the
+        down transition between them summed window by window (4b below)."""
+        add(StepInfo("lf_lo", lo, 0.0, phi * 2 * math.pi / 2**32, axis), n_set + n_meas, n_meas, F_SET, i_d=lo, phi=phi)
+        for stage, i, n in (("lf_up", hi, n_tr), ("lf_hi", hi, n_meas), ("lf_down", lo, n_tr), ("lf_lo2", lo, n_meas)):
+            add(StepInfo(stage, i, 0.0, phi * 2 * math.pi / 2**32, axis), n, n, 0, i_d=i)
+
     if not cs.magnets:
         for twice in (0, 1):
             add(StepInfo("axis", bias, 0.0, 0.0, "d"), n_set + n_meas, n_meas, F_SET, i_d=bias, vh=v_probe << twice)
+        # 2c. lf on q (a reluctance machine, decision 2026-11-29): q's HF current at the bias is a few mA, where the
+        # inverter's error at small currents reads its admittance 13 % low (the scan's samples near q; with an
+        # ideal inverter within 6 %), so L_q comes from current steps around the bias, as a magnet machine's
+        # (4b). They need the current loop designed for q's inductance, not SATURATION_RATIO times less: an
+        # F_GAIN step on q summed over SATURATION_RATIO times fewer windows sets kp that many times higher (kp =
+        # c_gain v_h / sum G); the current back to zero, a step as the probe (open, at rest) sets the probe's gains back
+        lo_q, hi_q = (f * bias for f in LF_Q_LEVELS)
+        m_g = max(round(n_meas / SATURATION_RATIO), 1)
+        add(StepInfo("gain_q", lo_q, 0.0, math.pi / 2, "q"), n_set + m_g, m_g, F_SET | F_GAIN, i_d=lo_q, vh=v_probe,
+            phi=QUARTER)
+        lf("q", QUARTER, lo_q, hi_q)
+        add(StepInfo("q_zero", axis="q"), n_set, 0, 0)
+        add(StepInfo("gain_back", axis="d"), n_set + n_meas, n_meas, F_SET | F_OPEN | F_GAIN, vh=v_probe)
     # 3. polarity: twice the standstill time (the current loop settles first); the shaft is held from here
     lock_from = len(rows) if lock_from is None else lock_from
     if cs.magnets:
@@ -260,12 +285,9 @@ def build_program(sc, cs: CommissionSettings) -> Program:
     # the inductance along d and q from a current step between two levels of the same sign (no zero crossing: the
     # inverter's error is a smooth function of the current, taken from the two holds), every window of the
     # transition summed: T sum(v) = L (I2 - I1) + T sum(f(i)), f through the holds' means
-    n_tr = win(LF_SETTLE / (2 * math.pi * sc.control.current_bw))
     lo, hi = (f * cs.hf_current for f in LF_LEVELS)
     for axis, phi in ((("d", 0), ("q", QUARTER)) if cs.magnets else ()):
-        add(StepInfo("lf_lo", lo, 0.0, phi * 2 * math.pi / 2**32, axis), n_set + n_meas, n_meas, F_SET, i_d=lo, phi=phi)
-        for stage, i, n in (("lf_up", hi, n_tr), ("lf_hi", hi, n_meas), ("lf_down", lo, n_tr), ("lf_lo2", lo, n_meas)):
-            add(StepInfo(stage, i, 0.0, phi * 2 * math.pi / 2**32, axis), n, n, 0, i_d=i)
+        lf(axis, phi, lo, hi)
     # 5. resistance: the current on the nearest phase axis (the other phases carry half of it, outside the
     # dead-time compensation's zone when current / 4 > dtc_zone): it starts on the rotor's own axis (d with
     # magnets, q without: a free rotor is pulled into alignment, not away) and turns there in 1 s (F_SNAP);
@@ -455,11 +477,13 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | No
         G = 0.5 * (G + G.T)
         res.map.append((prog.steps[kd].i_d, prog.steps[kd].i_q, np.linalg.inv(G)))
     # lf: per axis, the up and the down transition; their mean replaces the scan's inductance when they agree
-    if any(s.stage == "lf_up" for s in prog.steps):
-        res.lf = {axis: _lf_inductance(prog, st, means, axis, i_lsb, v_lsb, 1.0 / f_sw) for axis in ("d", "q")}
-        res.lf["used"] = all(abs(a - b) <= LF_AGREE * 0.5 * (a + b) for a, b in (res.lf["d"], res.lf["q"]))
+    axes = sorted({s.axis for s in prog.steps if s.stage == "lf_up"})
+    if axes:
+        res.lf = {axis: _lf_inductance(prog, st, means, axis, i_lsb, v_lsb, 1.0 / f_sw) for axis in axes}
+        res.lf["used"] = all(abs(a - b) <= LF_AGREE * 0.5 * (a + b) for a, b in (res.lf[axis] for axis in axes))
         if res.lf["used"]:
-            res.values["L_d"], res.values["L_q"] = (float(np.mean(res.lf[axis])) for axis in ("d", "q"))
+            for axis in axes:
+                res.values["L_" + axis] = float(np.mean(res.lf[axis]))
     # resistance: V = R i + V0 + b / i through the three levels (b: the dead time's share that the node
     # capacitances take back at small currents, their charge time ~ C V_dc / i)
     rk = [k for k, s in enumerate(prog.steps) if s.stage == "resistance"]

@@ -191,8 +191,10 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
                "wall_s": run.wall_s, "values": rows, "angle_error_deg": math.degrees(err),
                "snr_scan": res.snr, "map": map_rows,
                # where L_d, L_q come from: the low-frequency steps (their up and down transitions [H]), the HF scan, or
-               # (a reluctance machine) L_d from the pair on the d axis and L_q from the scan ("fit_L_d": the scan's)
-               "inductance_from": "lf" if res.lf.get("used") else "axis" if "fit_L_d" in res.scan else "scan",
+               # (a reluctance machine) L_d from the pair on the d axis ("fit_L_d": the scan's) and L_q from the steps
+               # on q ("axis+lf") or, when their two transitions disagree, from the scan ("axis")
+               "inductance_from": ("axis" if "fit_L_d" in res.scan else "scan") if not res.lf.get("used") else
+               "axis+lf" if "fit_L_d" in res.scan else "lf",
                **({"fit_L_d": res.scan["fit_L_d"]} if "fit_L_d" in res.scan else {}),
                "lf": {axis: list(res.lf[axis]) for axis in ("d", "q") if axis in res.lf},
                "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
@@ -201,7 +203,7 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
                                        if "w_coast" in res.spin else None),
                "tuning": tune}
     (out / "commission.json").write_text(json.dumps(summary, indent=1, default=float))
-    _figures(out, prog, res, run, sc, map_rows)
+    _figures(out, prog, res, run, sc, map_rows, tr)
     if progress:
         _print(summary)
     method = load_scenario(path).estimator.low                     # the application's own method
@@ -261,15 +263,15 @@ def _print(s: dict) -> None:
              if "handover_up" in t else "") + ("" if t["hf_possible"] else "; HF methods REFUSED: saliency too small"))
 
 
-def _lf_figure(out: Path, prog, res, run, sc, plt) -> None:
-    """commission_lf.png: the current and the voltage written along each axis through the stage lf (holds, the up
-    and the down transition shaded), with the inductances found and the plant's."""
-    from golden.plant.fluxmap import incremental_inductance as l_inc
+def _lf_figure(out: Path, prog, res, run, sc, plt, tr: dict) -> None:
+    """commission_lf.png: the current and the voltage written along each axis of the stage lf (holds, the up
+    and the down transition shaded), with the inductances found and the plant's (``tr``: hfi.commission.truth)."""
     sc_ = scales(sc)
-    L0 = l_inc(sc.plant["mag"], *psi_from_current(sc.plant["mag"], 0, 0))
     starts = np.concatenate([[0], np.cumsum(prog.params.s_n)])
-    fig, axs = plt.subplots(2, 2, figsize=(10, 5), sharex="col")
-    for col, (axis, truth_l) in enumerate((("d", L0[0, 0]), ("q", L0[1, 1]))):
+    axes = [a for a in ("d", "q") if a in res.lf]
+    fig, axs = plt.subplots(2, len(axes), figsize=(5 * len(axes), 5), sharex="col", squeeze=False)
+    for col, axis in enumerate(axes):
+        truth_l = tr["L_" + axis]
         ks = [k for k, s in enumerate(prog.steps) if s.stage.startswith("lf") and s.axis == axis]
         j0, j1 = starts[ks[0]], starts[ks[-1] + 1]
         t_ms = np.arange(j1 - j0) / sc_.f_sw * 1e3
@@ -293,7 +295,7 @@ def _lf_figure(out: Path, prog, res, run, sc, plt) -> None:
     plt.close(fig)
 
 
-def _figures(out: Path, prog, res, run, sc, map_rows) -> None:
+def _figures(out: Path, prog, res, run, sc, map_rows, tr: dict) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -337,7 +339,7 @@ def _figures(out: Path, prog, res, run, sc, map_rows) -> None:
     fig.savefig(out / "commission_map.png", dpi=110)
     plt.close(fig)
     if res.lf:
-        _lf_figure(out, prog, res, run, sc, plt)
+        _lf_figure(out, prog, res, run, sc, plt, tr)
     # spin
     fig, ax = plt.subplots(figsize=(8, 4))
     t = run.t

@@ -87,6 +87,10 @@ LF_AGREE = 0.05
 both axes: the signal ``L (I2 - I1)`` must stand out of the inverter's error over the transition, which a small
 inductance does not (the 002 motors' 5.6-13 mH: the two differ by a factor of 3 and more; the 001 motor's: by 20 %),
 and a large one does, where the HF scan's current is smallest (the 000 motor: 1.3 % and 3 %)."""
+LF_D_LEVELS = (0.95, 1.05)
+"""A reluctance machine's stage lf on d (2c): the two levels, shares of the scan's bias. Its d inductance falls
+steeply there (1.03 H at zero current, 0.053 H at 0.5 A on the 003 SyRM): the chord between 0.9 and 1.1 of the
+bias gave L_d 4.3 % high, between 0.95 and 1.05 3.4 % (the pair on the axis: 7 %)."""
 LF_Q_LEVELS = (0.8, 1.2)
 """A reluctance machine's stage lf on q (2c): the two levels, shares of the scan's bias (the chord around it)."""
 R_LEVELS = (0.5, 0.75, 1.0)
@@ -250,12 +254,14 @@ def build_program(sc, cs: CommissionSettings) -> Program:
     if not cs.magnets:
         for twice in (0, 1):
             add(StepInfo("axis", bias, 0.0, 0.0, "d"), n_set + n_meas, n_meas, F_SET, i_d=bias, vh=v_probe << twice)
-        # 2c. lf on q (a reluctance machine, decision 2026-11-29): q's HF current at the bias is a few mA, where the
+        # 2c. lf (a reluctance machine, decision 2026-11-29): q's HF current at the bias is a few mA, where the
         # inverter's error at small currents reads its admittance 13 % low (the scan's samples near q; with an
-        # ideal inverter within 6 %), so L_q comes from current steps around the bias, as a magnet machine's
-        # (4b). They need the current loop designed for q's inductance, not SATURATION_RATIO times less: an
+        # ideal inverter within 6 %), so L_q, and L_d with it, come from current steps around the bias, as a magnet
+        # machine's (4b); d first, with the probe's gains. On q they need the current loop designed for q's
+        # inductance, not SATURATION_RATIO times less: an
         # F_GAIN step on q summed over SATURATION_RATIO times fewer windows sets kp that many times higher (kp =
         # c_gain v_h / sum G); the current back to zero, a step as the probe (open, at rest) sets the probe's gains back
+        lf("d", 0, *(f * bias for f in LF_D_LEVELS))
         lo_q, hi_q = (f * bias for f in LF_Q_LEVELS)
         m_g = max(round(n_meas / SATURATION_RATIO), 1)
         add(StepInfo("gain_q", lo_q, 0.0, math.pi / 2, "q"), n_set + m_g, m_g, F_SET | F_GAIN, i_d=lo_q, vh=v_probe,
@@ -467,7 +473,7 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | No
     ax = [k for k, s in enumerate(prog.steps) if s.stage == "axis"][1::2]
     if ax:
         res.scan["fit_L_d"] = res.values["L_d"]
-        res.values["L_d"] = 1.0 / pair(ax[0]).real
+        res.values["L_d"] = res.scan["axis_L_d"] = 1.0 / pair(ax[0]).real
     # map: the columns of the inverse incremental inductance from the d and q injections (pairs of steps)
     mp = [k for k, s in enumerate(prog.steps) if s.stage == "map"][1::2]
     for kd, kq in zip(mp[::2], mp[1::2]):

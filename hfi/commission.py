@@ -191,11 +191,10 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
                "wall_s": run.wall_s, "values": rows, "angle_error_deg": math.degrees(err),
                "snr_scan": res.snr, "map": map_rows,
                # where L_d, L_q come from: the low-frequency steps (their up and down transitions [H]), the HF scan, or
-               # (a reluctance machine) L_d from the pair on the d axis ("fit_L_d": the scan's) and L_q from the steps
-               # on q ("axis+lf") or, when their two transitions disagree, from the scan ("axis")
-               "inductance_from": ("axis" if "fit_L_d" in res.scan else "scan") if not res.lf.get("used") else
-               "axis+lf" if "fit_L_d" in res.scan else "lf",
-               **({"fit_L_d": res.scan["fit_L_d"]} if "fit_L_d" in res.scan else {}),
+               # (a reluctance machine whose steps disagree) L_d from the pair on the d axis and L_q from the scan
+               # ("axis"; "fit_L_d", "axis_L_d": the scan's and the pair's L_d, kept for a reluctance machine)
+               "inductance_from": "lf" if res.lf.get("used") else "axis" if "fit_L_d" in res.scan else "scan",
+               **{k: res.scan[k] for k in ("fit_L_d", "axis_L_d") if k in res.scan},
                "lf": {axis: list(res.lf[axis]) for axis in ("d", "q") if axis in res.lf},
                "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
                # a magnet machine's program ends with its coast: the gates off, the rotor turning (r/min)

@@ -201,21 +201,22 @@ def test_commission_other_pm_motors(path, tmp_path):
 
 def test_commission_reluctance_motor(tmp_path):
     """The 003 SyRM (no magnets: a biased scan under current control, no polarity test, no coast): R within 3 % and
-    J within 10 %; its L_d at the scan's bias from the pair on the fitted d axis (stage axis), nearer the plant's
-    incremental inductance there than the scan's first-harmonic fit, and within 10 %; its L_q at the bias from the
-    current steps on q (stage lf with the gains set for q), the up and the down transition agreeing, within 3 %
-    (docs/commissioning.md: the targets at zero current are out of reach of the injection)."""
+    J within 10 %; its inductances at the scan's bias from the current steps of stage lf (on q with the gains set
+    for q), the up and the down transition agreeing: L_q within 3 %, L_d nearer the plant's incremental inductance
+    there than the pair on the fitted axis (stage axis) and than the scan's first-harmonic fit, within 5 %
+    (docs/commissioning.md: 3.4 % measured; the targets at zero current are out of reach of the injection)."""
     from hfi.commission import commission
     s = commission("scenarios/varatharajan2020_speedrange.toml", tmp_path, progress=False, backend=FAST)
     v = s["values"]
-    assert "psi_f" not in v and s["inductance_from"] == "axis+lf" and set(s["lf"]) == {"q"}
+    assert "psi_f" not in v and s["inductance_from"] == "lf" and set(s["lf"]) == {"d", "q"}
     assert abs(v["R_s"]["rel_error"]) < 0.03 and abs(v["J"]["rel_error"]) < 0.10
     truth = v["L_d"]["truth"]
-    assert abs(v["L_d"]["measured"] - truth) < abs(s["fit_L_d"] - truth)
-    assert abs(v["L_d"]["rel_error"]) < 0.10
+    assert abs(v["L_d"]["measured"] - truth) < abs(s["axis_L_d"] - truth) < abs(s["fit_L_d"] - truth)
+    assert abs(v["L_d"]["rel_error"]) < 0.05, v["L_d"]
     assert abs(v["L_q"]["rel_error"]) < 0.03, v["L_q"]
-    up, down = s["lf"]["q"]
-    assert v["L_q"]["measured"] == pytest.approx(0.5 * (up + down), rel=1e-12)
+    for axis in ("d", "q"):
+        up, down = s["lf"][axis]
+        assert v["L_" + axis]["measured"] == pytest.approx(0.5 * (up + down), rel=1e-12)
 
 
 @pytest.mark.xdist_group("default_commission")

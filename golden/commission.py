@@ -12,8 +12,9 @@ firmware leaves into the motor's data; :func:`tuning` into the controller's sett
    the responses. A reluctance machine, whose saliency appears only with current: a bias along the injection,
    current control with gains from the probe (``F_GAIN``), the shaft held; then ``axis``: a pair on the fitted d
    axis with the bias along it, whose response replaces the fit's ``L_d`` (the fit's first harmonic misses the
-   sharp maximum of the biased admittance); and its ``L_q`` from the current steps of stage ``lf`` on q around
-   the bias (4b), with current gains set for q's inductance by an ``F_GAIN`` step on q, the probe's set back after.
+   sharp maximum of the biased admittance); then the current steps of stage ``lf`` (4b) around the bias on d and
+   on q (current gains set for q's inductance by an ``F_GAIN`` step on q, the probe's set back after), whose
+   ``L_d``, ``L_q`` replace those when their transitions agree.
 3. ``polarity`` (magnets only): ``+I_p`` then ``-I_p`` on d with the injection; the firmware turns the
    angle by half a turn when the second response is the larger (``F_POL``). The shaft is held from here.
 4. ``map``: the incremental inductance matrix on a grid of (i_d, i_q): at each point the injection on d,
@@ -258,9 +259,9 @@ def build_program(sc, cs: CommissionSettings) -> Program:
         # inverter's error at small currents reads its admittance 13 % low (the scan's samples near q; with an
         # ideal inverter within 6 %), so L_q, and L_d with it, come from current steps around the bias, as a magnet
         # machine's (4b); d first, with the probe's gains. On q they need the current loop designed for q's
-        # inductance, not SATURATION_RATIO times less: an
-        # F_GAIN step on q summed over SATURATION_RATIO times fewer windows sets kp that many times higher (kp =
-        # c_gain v_h / sum G); the current back to zero, a step as the probe (open, at rest) sets the probe's gains back
+        # inductance, not SATURATION_RATIO times less: an F_GAIN step on q summed over SATURATION_RATIO times fewer
+        # windows sets kp that many times higher (kp = c_gain v_h / sum G); after the steps, the current back to
+        # zero, a step as the probe (open, at rest) sets the probe's gains back for the map
         lf("d", 0, *(f * bias for f in LF_D_LEVELS))
         lo_q, hi_q = (f * bias for f in LF_Q_LEVELS)
         m_g = max(round(n_meas / SATURATION_RATIO), 1)

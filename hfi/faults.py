@@ -216,7 +216,8 @@ def restart_table(rows: list[dict]) -> str:
     for r in rows:
         lines.append(f"| {r['fault']} | {r['load']} | {r['start']} | {r['code']} | {r['trip_s'] or '-'} | "
                      f"{r['restart_s'] or '-'} | {r['second_code']} | {r['extreme_speed_rpm']} | "
-                     f"{r['peak_current_a']} | {r['end_speed_rpm']} | {r['end_angle_rms_deg']} | {'yes' if r['locked_at_end'] else 'NO'} |")
+                     f"{r['peak_current_a']} | {r['end_speed_rpm']} | {r['end_angle_rms_deg']} | "
+                     f"{'yes' if r['locked_at_end'] else 'NO'} |")
     parts = []
     for start in ("standstill", "flying"):
         sel = [r for r in rows if r["start"] == start]
@@ -320,8 +321,8 @@ def main(short: bool = False, jobs: int = 2, out: Path = Path("out/faults"), onl
         for k, row in enumerate(pool.map(run_restart, jobs_r)):
             restart_rows.append(row)
             print(f"[restart {k + 1}/{len(jobs_r)}] {row['fault']}, {row['load']}, {row['start']} start: "
-                  f"{row['code']} -> restart {row['restart_s']} s -> {row['second_code']}, locked at the end: {row['locked_at_end']}, "
-                  f"{row['wall_s']} s", file=sys.stderr, flush=True)
+                  f"{row['code']} -> restart {row['restart_s']} s -> {row['second_code']}, "
+                  f"locked at the end: {row['locked_at_end']}, {row['wall_s']} s", file=sys.stderr, flush=True)
     (out / "matrix.json").write_text(json.dumps(rows, indent=1) + "\n")
     (out / "restart.json").write_text(json.dumps(restart_rows, indent=1) + "\n")
     (out / "matrix.md").write_text(table(rows) + "\n" + restart_table(restart_rows))

@@ -86,7 +86,8 @@ FCS_A and FCS_CTRL and reads VECTOR and TOP_I; the hybrid flux observer with the
 detection; converge, relax, the speed loop at standstill and the 2 p.u. load step)."""
 
 
-@pytest.fixture(scope="module", params=[pytest.param(n, marks=pytest.mark.xdist_group(f"rtl_{n}")) for n in sorted(SCENARIOS)])
+@pytest.fixture(scope="module", params=[pytest.param(n, marks=pytest.mark.xdist_group(f"rtl_{n}"))
+                                        for n in sorted(SCENARIOS)])
 def both(request):
     sc = dataclasses.replace(SCENARIOS[request.param](), duration=IDENTITY_S)
     return sc, ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)

@@ -28,9 +28,10 @@ Fixed point, once per control period, inputs of :class:`~golden.firmware.estimat
    ``flux_bw_min`` and ``flux_bw``), and ``k = k_c`` until the first ``sync`` (``synced = 0``: the flux
    is unknown, as in a flying start, where the observer acquires a spinning rotor from zero flux and zero
    speed: at ``k_min`` its PLL ran off the wrong way on the Table I motor at 900 r/min, docs/faults.md);
-   ``g = shr(k * q, 16)``, ``x = sat(x + dx + shr(eta * g, 16), 32)`` per component. A fixed rate was either too slow for low current at 1500-3500 r/min (20 Hz: the observer
-   and the current loop oscillated and tripped, no load) or too fast under load near the hand-over
-   (50 Hz: 9 deg RMS at 355 r/min with +-2 N*m steps against 5 deg); docs/methods.md;
+   ``g = shr(k * q, 16)``, ``x = sat(x + dx + shr(eta * g, 16), 32)`` per component. A fixed rate was
+   either too slow for low current at 1500-3500 r/min (20 Hz: the observer and the current loop oscillated
+   and tripped, no load) or too fast under load near the hand-over (50 Hz: 9 deg RMS at 355 r/min with
+   +-2 N*m steps against 5 deg); docs/methods.md;
 6. ``pll = pll_step(pll, ang, kp, ki)``; outputs ``omega = pll.omega`` and
    ``theta = uwrap(ang + 2 * sat(shr(pll.integ, 24), 32), 32)``: the angle in the middle of the window after
    next, where the outputs of this step are active (docs/spec.md 2.2), advanced by the PLL *integrator's*

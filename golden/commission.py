@@ -88,12 +88,16 @@ LF_AGREE = 0.05
 both axes: the signal ``L (I2 - I1)`` must stand out of the inverter's error over the transition, which a small
 inductance does not (the 002 motors' 5.6-13 mH: the two differ by a factor of 3 and more; the 001 motor's: by 20 %),
 and a large one does, where the HF scan's current is smallest (the 000 motor: 1.3 % and 3 %)."""
-LF_D_LEVELS = (0.95, 1.05)
-"""A reluctance machine's stage lf on d (2c): the two levels, shares of the scan's bias. Its d inductance falls
-steeply there (1.03 H at zero current, 0.053 H at 0.5 A on the 003 SyRM): the chord between 0.9 and 1.1 of the
-bias gave L_d 4.3 % high, between 0.95 and 1.05 3.4 % (the pair on the axis: 7 %)."""
-LF_Q_LEVELS = (0.8, 1.2)
-"""A reluctance machine's stage lf on q (2c): the two levels, shares of the scan's bias (the chord around it)."""
+LF_D_LEVELS = (0.8, 1.2)
+"""A reluctance machine's stage lf on d (2c): the two levels, shares of the scan's bias. The step's size is the
+signal against the noise of the transition's sum: between 0.95 and 1.05 of the bias L_d scattered from -5.7 to
++6.2 % over five noise seeds (the up and the down transition 13 % apart in one: the fallback), between 0.8 and 1.2
+from -0.3 to +1.3 %. The chord's own error on the 003 SyRM's map (d's inductance falls from 0.062 H at 0.4 A to
+0.047 H at 0.6 A): +0.8 % (+0.05 % between 0.95 and 1.05, +1.9 % between 0.7 and 1.3); measured 2026-11-29."""
+LF_Q_LEVELS = (0.9, 1.1)
+"""A reluctance machine's stage lf on q (2c): the two levels, shares of the scan's bias. q's inductance is large,
+so the step's signal is large and the chord's error rules: -1.3 % between 0.8 and 1.2 (L_q -2.1 to -2.4 % over five
+seeds), -0.3 % between 0.9 and 1.1 (L_q -0.9 to -1.4 %); measured 2026-11-29."""
 R_LEVELS = (0.5, 0.75, 1.0)
 """Current levels of the resistance steps (shares of ``current``)."""
 SPIN_MEASURED = ("hold_low", "accel", "hold_high", "coast_a", "coast_b", "decel", "hold_low2")

@@ -190,7 +190,7 @@ def test_commission_default_motor(default_commission):
 def test_commission_other_pm_motors(path, tmp_path):
     """The 002 Table III motor and the 001 IPMSM, each with its scenario's sensors, offsets and dead time: R, L_d,
     L_q, psi_f within 3 % and J within 10 % of the plant's, the standstill angle within 10 deg (the 000 motor: the
-    test below; the 003 SyRM misses the inductance targets: test_commission_reluctance_motor, docs/commissioning.md)."""
+    test below; the 003 SyRM, its inductances at the scan's bias: test_commission_reluctance_motor)."""
     from hfi.commission import commission
     s = commission(path, tmp_path, progress=False, backend=FAST)
     for name in ("R_s", "L_d", "L_q", "psi_f"):
@@ -202,9 +202,10 @@ def test_commission_other_pm_motors(path, tmp_path):
 def test_commission_reluctance_motor(tmp_path):
     """The 003 SyRM (no magnets: a biased scan under current control, no polarity test, no coast): R within 3 % and
     J within 10 %; its inductances at the scan's bias from the current steps of stage lf (on q with the gains set
-    for q), the up and the down transition agreeing: L_q within 3 %, L_d nearer the plant's incremental inductance
-    there than the pair on the fitted axis (stage axis) and than the scan's first-harmonic fit, within 5 %
-    (docs/commissioning.md: 3.4 % measured; the targets at zero current are out of reach of the injection)."""
+    for q), the up and the down transition agreeing: L_d and L_q within 3 %, L_d nearer the plant's incremental
+    inductance there than the pair on the fitted axis (stage axis) and than the scan's first-harmonic fit
+    (docs/commissioning.md: -0.3 % and -1.3 % measured; the targets at zero current are out of reach of the
+    injection)."""
     from hfi.commission import commission
     s = commission("scenarios/varatharajan2020_speedrange.toml", tmp_path, progress=False, backend=FAST)
     v = s["values"]
@@ -212,7 +213,7 @@ def test_commission_reluctance_motor(tmp_path):
     assert abs(v["R_s"]["rel_error"]) < 0.03 and abs(v["J"]["rel_error"]) < 0.10
     truth = v["L_d"]["truth"]
     assert abs(v["L_d"]["measured"] - truth) < abs(s["axis_L_d"] - truth) < abs(s["fit_L_d"] - truth)
-    assert abs(v["L_d"]["rel_error"]) < 0.05, v["L_d"]
+    assert abs(v["L_d"]["rel_error"]) < 0.03, v["L_d"]
     assert abs(v["L_q"]["rel_error"]) < 0.03, v["L_q"]
     for axis in ("d", "q"):
         up, down = s["lf"][axis]

@@ -8,15 +8,23 @@ random_seed()``: ``HFI_SEED`` from the environment if set, else a fresh seed; th
 recorded in the test log) so a failure can be replayed with ``HFI_SEED=<seed> make test``.
 ``HFI_RANDOM_N`` overrides the number of random vectors (default :data:`RANDOM_N` under Verilator,
 :data:`RANDOM_N_ICARUS` under Icarus, which runs about ten times slower).
+
+Verilator builds are shared (:func:`shared_build`): tests that build the same top from the same sources with the
+same parameters and arguments (the five safety cases and the four replays of ``tb_hfi_dsp``, ...) compile it once
+into ``out/cocotb_builds/`` and each runs it in its own directory.
 """
 
 from __future__ import annotations
 
+import fcntl
+import hashlib
 import os
 import re
 import secrets
 import shutil
 import sys
+import time
+from importlib import metadata
 from pathlib import Path
 
 from cocotb_tools.runner import get_results, get_runner
@@ -31,6 +39,10 @@ RANDOM_N = 100_000
 RANDOM_N_ICARUS = 10_000
 """Random vectors per datapath module under Icarus (the second simulator; about 10x slower)."""
 SIMULATORS = ("verilator", "icarus")
+BUILD_CACHE = ROOT / "out" / "cocotb_builds"
+"""Where the shared Verilator builds live (:func:`shared_build`), one directory per build key."""
+STALE_S = 86400.0
+"""A shared build not used for this long [s] is removed when its top is built anew."""
 
 
 def _env_int(name: str) -> int | None:
@@ -109,13 +121,53 @@ def run_cocotb(*, sim: str, toplevel: str, sources: list[Path], tb_module: str, 
           f"parameters={parameters or {}}")
     build_args = (["--threads", "1"] if sim == "verilator" else []) + list(build_args or [])
     runner = get_runner(sim)
-    runner.build(sources=[str(s) for s in sources], hdl_toplevel=toplevel, parameters=parameters or {},
-                 build_dir=build_dir, timescale=("1ns", "1ps"), build_args=build_args,
-                 includes=[str(RTL)], waves=waves, always=True)
-    results = runner.test(test_module=tb_module, hdl_toplevel=toplevel, build_dir=build_dir,
+    build = dict(sources=[str(s) for s in sources], hdl_toplevel=toplevel, parameters=parameters or {},
+                 timescale=("1ns", "1ps"), build_args=build_args, includes=[str(RTL)], waves=waves, always=True)
+    sim_dir = shared_build(runner, build) if sim == "verilator" else None
+    if sim_dir is None:
+        runner.build(build_dir=build_dir, **build)
+        sim_dir = build_dir
+    build_dir.mkdir(parents=True, exist_ok=True)
+    # the language given: a runner whose build was shared never saw the sources it would guess it from
+    results = runner.test(test_module=tb_module, hdl_toplevel=toplevel, hdl_toplevel_lang="verilog", build_dir=sim_dir,
                           test_dir=build_dir, results_xml=str(build_dir / "results.xml"),
                           extra_env=extra_env, waves=waves)
     total, failed = get_results(results)
     assert failed == 0, f"{failed} of {total} cocotb tests of {tb_module} failed on {sim} (HFI_SEED={seed})"
     if expect_tests is not None:
         assert total == expect_tests, f"{total} cocotb tests ran, expected {expect_tests}"
+
+
+def shared_build(runner, build: dict) -> Path | None:
+    """The directory of a Verilator build of ``build`` (``runner.build``'s arguments but ``build_dir``) in
+    :data:`BUILD_CACHE`, built there unless a build of the same key is (a file lock serialises the pytest
+    workers). The key: the top, every source's and include file's name and bytes, the parameters, the arguments and the
+    Verilator and cocotb versions. None (build in the test's own directory) when a parameter names a file (an
+    image the test wrote: its path is the test's own)."""
+    params = build["parameters"]
+    if any(os.sep in str(v) for v in params.values()):
+        return None
+    h = hashlib.sha256()
+    for item in (build["hdl_toplevel"], sorted((k, str(v)) for k, v in params.items()), build["build_args"],
+                 build["waves"], build["timescale"], metadata.version("verilator"), metadata.version("cocotb")):
+        h.update(repr(item).encode())
+    for f in [Path(s) for s in build["sources"]] + sorted(RTL.rglob("*.vh")):
+        h.update(f.name.encode() + b"\0" + f.read_bytes())
+    key = h.hexdigest()
+    path = BUILD_CACHE / f"{build['hdl_toplevel']}-{key[:16]}"
+    BUILD_CACHE.mkdir(parents=True, exist_ok=True)
+    with open(BUILD_CACHE / f"{path.name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        stamp = path / "build.sha256"
+        if stamp.is_file() and stamp.read_text() == key:
+            stamp.touch()
+            return path
+        # a new build of this top: its builds unused for a day go (sources changed since)
+        for old in BUILD_CACHE.glob(f"{build['hdl_toplevel']}-*/build.sha256"):
+            if time.time() - old.stat().st_mtime > STALE_S:
+                shutil.rmtree(old.parent, ignore_errors=True)
+                old.parent.with_name(old.parent.name + ".lock").unlink(missing_ok=True)
+        shutil.rmtree(path, ignore_errors=True)
+        runner.build(build_dir=path, **build)
+        stamp.write_text(key)
+    return path

@@ -19,12 +19,30 @@ from cocotb.triggers import ClockCycles, FallingEdge, ReadOnly, RisingEdge, curr
 
 from dsp_bench import start
 from golden import regmap as rm
+from golden.fpga.overcurrent import fault_delay, gate_off_delay
 from tb_dsp_replay import CONVST_LATENCY, GATE_LATENCY
 
 H = rm.PWM_HALF_VALUE_RESET
 P = 2 * H
 TRIP_BUDGET = 200
 """Issue 4: all gates off within 2 us (200 clocks at 100 MHz) of the sampling instant."""
+ADC_BITS = int(os.environ["HFI_ADC_BITS"])
+"""The ADC resolution test_dsp_safety.py builds tb_hfi_dsp with (its ADC_BITS parameter; 12 there)."""
+IRQ_LATENCY = 400
+"""hfi_dsp's default IRQ_LATENCY: WINDOW_COUNT and WIN_FAULT take window k's values this many ticks after its
+boundary (hfi/soc_platform.py has the same)."""
+READ_MARGIN = 20
+"""Ticks after that copy at which the testbench reads a window's WIN_FAULT (the bus read takes a few clocks)."""
+
+
+D_FAULT = fault_delay(ADC_BITS)
+"""Ticks from a tripping sample's sampling instant t_s to the first tick STATUS.FAULT_OC reads 1: WIN_FAULT.OC of
+window k (boundary tick B = (k+1)*P + H/2) is 1 iff t_s + D_FAULT <= B (golden.fpga.overcurrent, where the pipeline
+is counted: the sample strobe, hfi_adc_if, hfi_adc_scale, hfi_overcurrent's register, hfi_safety's latch)."""
+D_GATE = gate_off_delay(ADC_BITS)
+"""Ticks from t_s to the first tick the plant sees all gates off (golden ticks: the pins' clock minus GATE_LATENCY, as
+tb_dsp_replay aligns the gate edges; the kill clears the gate output register directly, bypassing the gate
+generator's register that GATE_LATENCY counts: D_FAULT - 1)."""
 FAULT_TO_GATES_OFF = 1
 """Clocks from a latched fault (kill) to all gate pins 0: the gate output register (hfi_safety)."""
 TICK_TO_CYCLE = GATE_LATENCY - 2
@@ -59,8 +77,39 @@ async def wait_tick(dut, tick: int) -> None:
     await ClockCycles(dut.clk, tick - now)
 
 
+def boundary(k: int, half: int = H) -> int:
+    """The boundary tick that ends window k (spec 2.1: window k = [k*P + H/2, (k+1)*P + H/2))."""
+    return (k + 1) * 2 * half + half // 2
+
+
+async def window_fault(dut, axi, k: int, half: int = H) -> int:
+    """WIN_FAULT as the firmware reads it for window k: after its copy (IRQ_LATENCY after the boundary, with
+    WINDOW_COUNT = k + 2: window -1 is the first) and before the next boundary."""
+    await wait_tick(dut, boundary(k, half) + IRQ_LATENCY + READ_MARGIN)
+    count, resp = await axi.read(s("WINDOW_COUNT"))
+    assert resp == 0 and count == k + 2, f"window {k}: WINDOW_COUNT {count}"
+    value, resp = await axi.read(s("WIN_FAULT"))
+    assert resp == 0 and int(dut.tick.value) < boundary(k + 1, half), f"window {k}: read of WIN_FAULT too late"
+    return value
+
+
+def expect_window_faults(reads: dict[int, int], t_trip: int, clear: int | None = None, half: int = H) -> None:
+    """The rule of spec 3.7 on the WIN_FAULT reads {window: value}: OC is 1 in window k iff t_trip + D_FAULT <= the
+    boundary tick of k (and the clear, STATUS.FAULT_OC 0 from about tick ``clear``, came after that boundary);
+    the other bits 0 (no watchdog, STO or DESAT fault)."""
+    for k, value in sorted(reads.items()):
+        b = boundary(k, half)
+        oc = int(t_trip + D_FAULT <= b and (clear is None or b < clear))
+        assert value == rm.pack("WIN_FAULT", OC=oc), \
+            f"window {k} (boundary {b}, trip sample {t_trip} + D_FAULT {D_FAULT}): WIN_FAULT {value:#x}, OC {oc}"
+
+
 @cocotb.test()
 async def overcurrent_trip_latch_and_clear(dut):
+    """The sample of conversion HFI_TRIP_INDEX (tick 77 700, window 3) trips: all gates off exactly D_GATE ticks
+    after its sampling instant, STATUS.FAULT_OC latched; WIN_FAULT.OC is 0 in windows 0 to 2, 1 from window 3 (the
+    boundary rule, spec 3.7) while the fault is latched, and 0 again from the first window whose boundary follows
+    the FAULT_CLEAR; WIN_FAULT changes IRQ_LATENCY after a boundary, not at it."""
     trip_index = int(os.environ["HFI_TRIP_INDEX"])
     axi = await start(dut)
     await axi.write(s("OC_LIMIT"), rm.pack("OC_LIMIT", VALUE=int(os.environ["HFI_OC_LIMIT"])))
@@ -69,21 +118,35 @@ async def overcurrent_trip_latch_and_clear(dut):
     await commit(axi, 3000)
     await with_timeout(RisingEdge(dut.irq), 2 * P * 10, "ns")    # window -1 ends
     await axi.write(s("IRQ_STATUS"), rm.pack("IRQ_STATUS", WINDOW=1))
+    assert await axi.read(s("WIN_FAULT")) == (0, 0), "WIN_FAULT of window -1"
     await wait_tick(dut, P + 100)                   # ENABLE applies at the bottom of period 1
     st = await status(axi)
     assert st["OUTPUTS_ON"] == 1 and st["FAULT_OC"] == 0, st
+    trip_window = (trip_index * 100 - H // 2) // P  # the window of the trip sample (about trip_index * OS_TICKS)
+    assert trip_window == 3 and boundary(trip_window - 1) + IRQ_LATENCY + 300 < trip_index * 100, trip_window
+    reads = {k: await window_fault(dut, axi, k) for k in range(trip_window)}
     # run past the trip sample (index trip_index, about trip_index * OS_TICKS ticks after reset)
     await wait_tick(dut, trip_index * 100 + 2000)
     st = await status(axi)
     assert st["FAULT_OC"] == 1 and st["OUTPUTS_ON"] == 0, f"no overcurrent fault latched: {st}"
     assert int(dut.gate.value) == 0, "gates on after the trip"
-    # stays latched across windows; a FAULT_CLEAR releases it at the next bottom
-    await ClockCycles(dut.clk, 3 * P)
+    # after the boundary that ends the trip window, before the copy: WIN_FAULT still shows the window before
+    await wait_tick(dut, boundary(trip_window) + IRQ_LATENCY // 2)
+    assert (await status(axi))["FAULT_OC"] == 1
+    assert await axi.read(s("WIN_FAULT")) == (0, 0), "WIN_FAULT changed before IRQ_LATENCY after the boundary"
+    # stays latched across windows (STATUS and every window's WIN_FAULT)
+    for k in range(trip_window, trip_window + 3):
+        reads[k] = await window_fault(dut, axi, k)
     assert (await status(axi))["FAULT_OC"] == 1 and int(dut.gate.value) == 0
+    # FAULT_CLEAR in mid-window: STATUS clears at once, WIN_FAULT keeps the last window's 1 until its next copy
+    clear_window = trip_window + 3
+    await wait_tick(dut, boundary(clear_window - 1) + P // 2)
     await axi.write(s("CTRL"), rm.pack("CTRL", ENABLE=1, INJ_EN=1, FAULT_CLEAR=1))
     clear_tick = int(dut.tick.value)
     assert (await status(axi))["FAULT_OC"] == 0
-    await ClockCycles(dut.clk, 2 * P)
+    assert await axi.read(s("WIN_FAULT")) == (rm.pack("WIN_FAULT", OC=1), 0), "WIN_FAULT before the next copy"
+    for k in range(clear_window, clear_window + 2):
+        reads[k] = await window_fault(dut, axi, k)
     assert (await status(axi))["OUTPUTS_ON"] == 1
     dut.flush.value = 1
     await ClockCycles(dut.clk, 2)
@@ -94,13 +157,18 @@ async def overcurrent_trip_latch_and_clear(dut):
     assert on_before.size and on_before[-1, 1] != 0, "gates were not switching before the trip sample"
     off = gates[(gates[:, 0] > t_trip) & (gates[:, 1] == 0)]
     assert off.size, "gates never went off after the trip sample"
-    t_off = int(off[0, 0])                          # first cycle with all gates off
+    t_off = int(off[0, 0]) - GATE_LATENCY           # golden tick of the first tick with all gates off
     latency = t_off - t_trip
-    cocotb.log.info(f"overcurrent: sample at tick {t_trip}, all gates off in cycle {t_off}: "
-                    f"{latency} clocks = {latency * 10} ns after the sampling instant")
-    assert latency <= TRIP_BUDGET, f"trip took {latency} clocks > {TRIP_BUDGET}"
+    cocotb.log.info(f"overcurrent: sample at tick {t_trip}, all gates off from tick {t_off}: {latency} ticks = "
+                    f"{latency * 10} ns after the sampling instant (D_GATE {D_GATE}, D_FAULT {D_FAULT})")
+    assert latency == D_GATE, f"trip took {latency} ticks, D_GATE = {D_GATE}"
+    assert D_GATE <= TRIP_BUDGET, f"D_GATE {D_GATE} ticks > the 2 us budget ({TRIP_BUDGET} ticks)"
+    # the gates were on (some mask) up to the tick before: the trip cut them, not a switching edge
+    assert gates[gates[:, 0] - GATE_LATENCY < t_off][-1, 1] != 0
+    expect_window_faults(reads, t_trip, clear_tick)
+    assert [reads[k] >> rm.WIN_FAULT_OC_LSB & 1 for k in sorted(reads)] == [0, 0, 0, 1, 1, 1, 0, 0], reads
     # no gate turned on between the trip and the clear
-    between = gates[(gates[:, 0] > t_off) & (gates[:, 0] <= clear_tick)]
+    between = gates[(gates[:, 0] > off[0, 0]) & (gates[:, 0] <= clear_tick)]
     assert not between.size, f"gate activity while the fault was latched: {between[:5]}"
     # after the clear the gates resume at a carrier bottom (plus the dead time)
     resumed = gates[gates[:, 0] > clear_tick]
@@ -108,6 +176,48 @@ async def overcurrent_trip_latch_and_clear(dut):
     dead = rm.DEAD_TICKS_VALUE_RESET
     first_on = int(resumed[0, 0]) - GATE_LATENCY    # golden tick of the first turn-on
     assert (first_on - dead) % P == 0, f"gates resumed at tick {first_on}, not a bottom + dead time"
+
+
+@cocotb.test()
+async def overcurrent_window_boundary(dut):
+    """The boundary rule of WIN_FAULT (spec 3.7) on both sides: PWM_HALF (HFI_HALF, set while the timing is held)
+    puts the boundary tick B that ends window 3 at phase H/2 = 5000 + D_FAULT - HFI_BOUNDARY_OFFSET, and the
+    over-limit conversion HFI_TRIP_INDEX is the OS sample at phase 5000 of period 4, so t_s + D_FAULT = B +
+    HFI_BOUNDARY_OFFSET: offset 0, STATUS.FAULT_OC reads 1 from the boundary tick itself and window 3's
+    WIN_FAULT.OC is 1; offset 1, one tick later, and the fault first shows in window 4. Gates off D_GATE ticks
+    after t_s in both."""
+    trip_index = int(os.environ["HFI_TRIP_INDEX"])
+    half = int(os.environ["HFI_HALF"])
+    offset = int(os.environ["HFI_BOUNDARY_OFFSET"])
+    dut.hold.value = 1                              # configure before tick 0 (hfi_dsp's run = 0)
+    axi = await start(dut)
+    for name, value in (("PWM_HALF", half), ("CW_ANGLE_STEP", round(2**30 / half)),
+                        ("RECIP_H", round(2**32 / half)), ("OC_LIMIT", int(os.environ["HFI_OC_LIMIT"]))):
+        await axi.write(s(name), rm.pack(name, VALUE=value))
+    await axi.write(s("CTRL"), rm.pack("CTRL", ENABLE=1, INJ_EN=1))
+    await commit(axi, 3000)                         # committed at the first boundary
+    await ClockCycles(dut.clk, 20)                  # the carrier's H*STEP product (docs/rtl.md)
+    assert int(dut.tick.value) == 0, "the timing ran while held"
+    dut.hold.value = 0
+    k = 3                                           # the window whose end the trip straddles
+    reads = {j: await window_fault(dut, axi, j, half) for j in range(k - 1, k + 2)}
+    st = await status(axi)
+    assert st["FAULT_OC"] == 1 and st["OUTPUTS_ON"] == 0, f"no overcurrent fault latched: {st}"
+    dut.flush.value = 1
+    await ClockCycles(dut.clk, 2)
+
+    gates, convst = records()
+    t_trip = int(convst[trip_index])
+    assert t_trip + D_FAULT - boundary(k, half) == offset, \
+        f"trip sample at tick {t_trip}: t_s + D_FAULT - B = {t_trip + D_FAULT - boundary(k, half)}, not {offset}"
+    off = gates[(gates[:, 0] > t_trip) & (gates[:, 1] == 0)]
+    assert off.size, "gates never went off after the trip sample"
+    assert gates[gates[:, 0] <= t_trip][-1, 1] != 0, "gates were not switching before the trip sample"
+    assert int(off[0, 0]) - GATE_LATENCY - t_trip == D_GATE, f"gates off in cycle {off[0, 0]}, trip sample {t_trip}"
+    expect_window_faults(reads, t_trip, half=half)
+    assert [reads[j] for j in sorted(reads)] == [0, int(offset <= 0), 1], reads
+    cocotb.log.info(f"window boundary: H {half}, trip sample at tick {t_trip}, t_s + D_FAULT = B(window {k}) + "
+                    f"{offset}: WIN_FAULT of windows {k - 1}..{k + 1} = {[reads[j] for j in sorted(reads)]}")
 
 
 @cocotb.test()

@@ -73,6 +73,8 @@ HW_PORTS = {
     ("VECTOR", "STATE"): "vector_state", ("VECTOR", "NEXT"): "vector_next",
     ("TOP_I", "I_ALPHA"): "top_i_alpha", ("TOP_I", "I_BETA"): "top_i_beta",
     ("VDC", "CODE"): "vdc_code",
+    ("WIN_FAULT", "OC"): "win_fault_oc", ("WIN_FAULT", "WDT"): "win_fault_wdt",
+    ("WIN_FAULT", "STO"): "win_fault_sto", ("WIN_FAULT", "DESAT"): "win_fault_desat",
 }
 PULSE_PORTS = {("CTRL", "FAULT_CLEAR"): "fault_clear", ("COMMIT", "GO"): "commit_go"}
 SET_PORTS = {("IRQ_STATUS", "WINDOW"): "irq_window_set"}
@@ -471,7 +473,7 @@ async def unmapped_addresses(dut):
     await b.pulse_set()  # status 1: a write aliasing IRQ_STATUS would clear it
     mapped = sorted(b.model.by_addr)
     addrs = [a for a in range(0, 256, 4) if a not in b.model.by_addr]
-    assert {0x3C, 0xBC, 0xFC} <= set(addrs)   # 0xBC: the first word after the last register (CAPS @ 0xB8)
+    assert {0x3C, 0xC0, 0xFC} <= set(addrs)   # 0xC0: the first word after the last register (WIN_FAULT @ 0xBC)
     addrs += [a | off for a in mapped for off in (1, 2, 3)]
     if b.addr_bits > 8:
         addrs += [(1 << k) | a for k in range(8, b.addr_bits) for a in mapped]

@@ -33,6 +33,7 @@ from golden.fpga.cordic import demod_weight
 from golden.fpga.deadtime_comp import compensate
 from golden.fpga.diff_cic import DiffCic
 from golden.fpga.gate_generator import GateGenerator
+from golden.fpga.overcurrent import OvercurrentLatch, cut_edges
 from golden.fpga.modulator import compares, direct_compares, direct_state
 from golden.fpga.park import clarke
 from golden.fpga.rot_injection import RotatingInjection
@@ -211,6 +212,10 @@ class ClosedLoop:
         top = (0, 0)                                      # TOP_I after reset
         gen.add_half(0, H, True, self._compares(active, -1, None, inj_sign))
         prev_switch = np.zeros(0, dtype=np.int64)
+        # the hardware overcurrent comparator (spec 3.7): a trip turns the gates off mid-window, so a window
+        # with a tripping sample runs again from its start with the edges cut (the plant's checkpoint)
+        oc = OvercurrentLatch(hw.adc_bits, hw.adc_offset, hw.adc_gain, hw.oc_limit)
+        mask_now = 0                                      # the gate mask the plant holds (the last edge applied)
         t0 = time.perf_counter()
         bar = _Progress(n_win, sc.name) if progress else None
         for k in range(n_win):
@@ -234,12 +239,23 @@ class ClosedLoop:
                 inj_sign = -inj_sign
             cmp_bot = cmp_top if direct else self._compares(active, -1, rot, inj_sign)
             gen.add_half((k + 1) * P, H, True, cmp_bot)
-            e_ticks, e_masks = gen.take_edges(zc + P)
-            edge_ticks.append(e_ticks)
-            edge_masks.append(e_masks)
+            e_ticks, e_masks = cut_edges(*gen.take_edges(zc + P), oc.kill_tick, mask_now, zc + P)
             rel, w = self._window_pattern(adc_mode)
             ticks = rel + zc
+            armed = oc.trip_tick is None
+            if armed:
+                plant.checkpoint()
             out = plant.run(e_ticks, ticks, gates=e_masks)
+            if armed and (t_s := oc.first_trip(ticks, out["adc"])) is not None:
+                oc.latch(t_s)
+                if oc.kill_tick < zc + P:                 # the gates go off in this window: run it again
+                    plant.rollback()
+                    e_ticks, e_masks = cut_edges(e_ticks, e_masks, oc.kill_tick, mask_now, zc + P)
+                    out = plant.run(e_ticks, ticks, gates=e_masks)
+            if len(e_masks):
+                mask_now = int(e_masks[-1])
+            edge_ticks.append(e_ticks)
+            edge_masks.append(e_masks)
             plant.advance(zc + P)
             truth = plant.state()
             adc = out["adc"]
@@ -265,8 +281,9 @@ class ClosedLoop:
                 q_a, q_b, e_a, e_b = self.diff_cic.step(int(i_al), int(i_be), plus, hw.cic_m)
             if inj_phase or per:
                 win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
-            # VDC (spec 3.12): the dc-link channel's code of the same bottom sample, in every mode
-            win = dataclasses.replace(win, vdc=int(out["vdc"][j_bot]))
+            # VDC (spec 3.12): the dc-link channel's code of the same bottom sample, in every mode; WIN_FAULT
+            # (spec 3.7): the overcurrent latch at the boundary that ends the window
+            win = dataclasses.replace(win, vdc=int(out["vdc"][j_bot]), status=oc.status(zc + P))
             if direct:                                    # VECTOR and TOP_I (spec 3.10, 3.11)
                 top = self._top_sample(rel, adc, keep, top)
                 # the next boundary commits outs[k - 1] (the reset set before k = 1): the next top's state

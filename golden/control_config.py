@@ -45,6 +45,7 @@ from golden.fpga.deadtime_comp import recip_half
 from golden.fpga.rot_injection import inj_step
 from golden.plant import defaults as plant_defaults
 from golden.plant.binding import MAG_KINDS
+from golden.regmap import OC_LIMIT_VALUE_RESET
 from golden.scenario import Scenario
 
 ADC_MODE = {"OS": MODE_OS, "DS": MODE_DS, "OS_BLANK": MODE_OS_BLANK}
@@ -95,6 +96,7 @@ class HardwareConfig:
     inj_per: int = 0             # CTRL.INJ_PER: 1 = the square wave's sign holds a PWM period (spec 3.5)
     direct: int = 0              # CTRL.DIRECT: 1 = direct-vector mode, the FCS-MPC choice (spec 3.10)
     cic_m: int = 2               # CIC_M: comb delay of the CIC interpolator (golden.fpga.diff_cic)
+    oc_limit: int = OC_LIMIT_VALUE_RESET  # OC_LIMIT: the hardware comparator's limit [current LSB] (spec 3.7)
 
 
 @dataclass(frozen=True)
@@ -177,7 +179,8 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
         pwm_half=half, dead_ticks=round(sc.pwm.dead_time * tick_hz),
         os_ticks=effective_os_ticks(min(round(ctl.sample_interval * tick_hz), 0xFFFF)), blank_ticks=round(ctl.blank * tick_hz),
         cw_angle_step=cw_angle_step(half), adc_mode=ADC_MODE[ctl.adc_mode],
-        adc_bits=int(sc.plant["sens"]["adc_bits"]))
+        adc_bits=int(sc.plant["sens"]["adc_bits"]),
+        oc_limit=OC_LIMIT_VALUE_RESET if ctl.oc_limit is None else sc_.current(ctl.oc_limit))
 
 
 def injection_step(sc: Scenario) -> int:

@@ -232,6 +232,12 @@ def _check_currents(reader, plant: dict, i_range: float, tick: float | None) -> 
                      f"currents saturate at +-adc_range (2^15 LSB, docs/spec.md 3), so the firmware's "
                      f"trip on the window means could never fire")
         trip = None
+    oc = reader.get("control.oc_limit")
+    if oc is not None and oc >= i_range:
+        reader.error("control.oc_limit",
+                     f"{_q(oc, 'A')} is not below the current sensors' range {rng}: the hardware comparator "
+                     f"(OC_LIMIT, docs/spec.md 3.7) compares the scaled samples, which saturate at +-adc_range; "
+                     f"leave the key out for the register's reset value (full scale)")
     if trip is not None:
         why = f"below control.i_trip = {_q(trip, 'A')}, or the drive trips on its own command"
         i_max = reader.get("control.i_max")

@@ -449,6 +449,25 @@ CAPS_FCS_MPC_WIDTH = 1
 CAPS_FCS_MPC_MASK = 0x00000004
 CAPS_FCS_MPC_RESET = 1
 
+# WIN_FAULT @ 0xBC: Window faults
+WIN_FAULT_ADDR = 0xBC
+WIN_FAULT_OC_LSB = 0  # ro
+WIN_FAULT_OC_WIDTH = 1
+WIN_FAULT_OC_MASK = 0x00000001
+WIN_FAULT_OC_RESET = None
+WIN_FAULT_WDT_LSB = 1  # ro
+WIN_FAULT_WDT_WIDTH = 1
+WIN_FAULT_WDT_MASK = 0x00000002
+WIN_FAULT_WDT_RESET = None
+WIN_FAULT_STO_LSB = 4  # ro
+WIN_FAULT_STO_WIDTH = 1
+WIN_FAULT_STO_MASK = 0x00000010
+WIN_FAULT_STO_RESET = None
+WIN_FAULT_DESAT_LSB = 5  # ro
+WIN_FAULT_DESAT_WIDTH = 1
+WIN_FAULT_DESAT_MASK = 0x00000020
+WIN_FAULT_DESAT_RESET = None
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -613,6 +632,12 @@ REGISTERS = {
         "ROT_INJ": (0, 1, 1, "ro"),
         "DIFF_CIC": (1, 1, 1, "ro"),
         "FCS_MPC": (2, 1, 1, "ro"),
+    }},
+    "WIN_FAULT": {"addr": 0xBC, "reset": 0x00000000, "signed": (), "fields": {
+        "OC": (0, 1, None, "ro"),
+        "WDT": (1, 1, None, "ro"),
+        "STO": (4, 1, None, "ro"),
+        "DESAT": (5, 1, None, "ro"),
     }},
 }
 

@@ -249,6 +249,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "i_max": _q("current", _positive, default=3.0),
         "v_max": _q("voltage", _positive, default=150.0),
         "i_trip": _q("current", _positive, default=6.0),
+        "oc_limit": _q("current", _positive),
         "theta_hat": _q("angle", default=0.0),
         "converge": _q("time", _positive, default=0.06),
         "pulse": _q("time", _positive, default=0.03),
@@ -494,6 +495,7 @@ class ControlSettings:
     i_max: float
     v_max: float
     i_trip: float
+    oc_limit: float | None
     theta_hat: float
     converge: float
     pulse: float

@@ -22,6 +22,7 @@ from golden.closedloop import OUTPUT_FIELDS, ClosedLoopResult, speed_references,
 from golden.control_config import firmware_params, hardware_config, scales
 from golden.fpga.adc_trigger import OS_MIN_DEFAULT
 from golden.fpga.gate_generator import DEAD_MIN_DEFAULT
+from golden.fpga.overcurrent import fault_delay, gate_off_delay
 from golden.plant import Plant, binding
 from golden.scenario import Scenario
 from hfi import hls_build
@@ -88,7 +89,9 @@ class HlsClosedLoop:
                             ("adc_gain_b", hw.adc_gain[1]), ("cw_angle_step", hw.cw_angle_step),
                             ("dtc_gain", hw.dtc_gain), ("hf_amp", hw.hf_amp), ("recip_h", hw.recip_h),
                             ("inj_rot", hw.inj_rot), ("inj_step", hw.inj_step), ("inj_per", hw.inj_per),
-                            ("cic_m", hw.cic_m), ("direct", hw.direct), ("n_windows", n_win)):
+                            ("cic_m", hw.cic_m), ("direct", hw.direct), ("n_windows", n_win),
+                            ("oc_limit", hw.oc_limit), ("oc_gate_delay", gate_off_delay(hw.adc_bits)),
+                            ("oc_fault_delay", fault_delay(hw.adc_bits))):
             try:
                 setattr(setup, name, int(value))
             except OverflowError:      # beyond the C field: the same refusal as the native loop's range checks

@@ -264,7 +264,7 @@ def config_block(sc: Scenario, hw: HardwareConfig, fp: FirmwareParams) -> bytes:
     h.cw_angle_step, h.dtc_gain, h.hf_amp, h.recip_h = hw.cw_angle_step, hw.dtc_gain, hw.hf_amp, hw.recip_h
     h.adc_offset = rm.pack("ADC_OFFSET", A=hw.adc_offset[0], B=hw.adc_offset[1])
     h.adc_gain = rm.pack("ADC_GAIN", A=hw.adc_gain[0], B=hw.adc_gain[1])
-    h.oc_limit = rm.OC_LIMIT_VALUE_RESET
+    h.oc_limit = rm.pack("OC_LIMIT", VALUE=hw.oc_limit)
     h.wdt_periods = rm.WDT_PERIODS_VALUE_RESET
     h.adc_mode, h.inj_en, h.inj_rot, h.inj_step = hw.adc_mode, 1, hw.inj_rot, hw.inj_step
     h.inj_per, h.cic_m, h.direct = hw.inj_per, hw.cic_m, hw.direct

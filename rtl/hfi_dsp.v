@@ -43,6 +43,9 @@
 //
 // DC-link voltage (docs/spec.md 3.12): the ADC's third channel converts with every sample; the code of
 // the carrier-bottom sample (the bottom tag) is held and latched at the next window boundary into VDC.
+//
+// Window faults (docs/spec.md 2.2, 3.7): the four fault latches of STATUS as they read in the boundary
+// tick are held and copied into WIN_FAULT with WINDOW_COUNT, so the firmware reads them at a fixed instant.
 module hfi_dsp #(
     parameter ADC_BITS = 12,
     parameter ADC_CONV_TICKS = 12,
@@ -137,6 +140,7 @@ module hfi_dsp #(
     reg  signed [16:0] env_a_q, env_b_q;
     reg  signed [15:0] top_ia_q, top_ib_q;   // TOP_I: latched at the boundary
     reg  [15:0] vdc_q;                       // VDC: latched at the boundary
+    reg  [3:0]  win_fault_q;                 // WIN_FAULT {DESAT, STO, WDT, OC}: copied with the window results
     wire signed [15:0] adc_offset_a, adc_offset_b, sh_v_d, sh_v_q, sh_sin, sh_cos, sh_i_d_ref, sh_i_q_ref;
     wire [14:0] sh_v_h, hf_amp;
     wire signed [31:0] gamma, gamma_d, sum_id, sum_iq, wsum;
@@ -167,6 +171,8 @@ module hfi_dsp #(
         .fcs_a1(sh_fcs_a1), .fcs_a2(sh_fcs_a2), .fcs_phi_min(sh_fcs_phi_min), .fcs_constrain(sh_fcs_constrain),
         .vector_state(vector_q), .vector_next(mod_state), .top_i_alpha(top_ia_q), .top_i_beta(top_ib_q),
         .vdc_code(vdc_q),
+        .win_fault_oc(win_fault_q[0]), .win_fault_wdt(win_fault_q[1]), .win_fault_sto(win_fault_q[2]),
+        .win_fault_desat(win_fault_q[3]),
         .cic_qa({{11{cic_qa_q[20]}}, cic_qa_q}), .cic_qb({{11{cic_qb_q[20]}}, cic_qb_q}),
         .env_a({{15{env_a_q[16]}}, env_a_q}), .env_b({{15{env_b_q[16]}}, env_b_q}),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
@@ -581,6 +587,25 @@ module hfi_dsp #(
             irq_window_set <= since_zc == IRQ_LATENCY - 1;
             if (since_zc == IRQ_LATENCY - 1)
                 window_count <= window_count + 32'd1;
+        end
+    end
+
+    // ---- window faults (spec 2.2, 3.7): WIN_FAULT
+    // The fault latches (STATUS.FAULT_OC, FAULT_WDT, FAULT_STO, FAULT_DESAT) as they read in the boundary
+    // tick, held in win_fault_b and copied to WIN_FAULT in the clock WINDOW_COUNT increments (IRQ_LATENCY
+    // after the boundary, before IRQ_STATUS.WINDOW): the firmware's read of window k gives the faults latched
+    // by the end of window k, whenever its handler runs within the next period. A fault that reads 1 from the
+    // boundary tick on counts in the window that ends there. 0 after reset.
+    reg [3:0] win_fault_b;
+    always @(posedge clk) begin
+        if (rst_dp) begin
+            win_fault_b <= 4'd0;
+            win_fault_q <= 4'd0;
+        end else begin
+            if (at_zc)
+                win_fault_b <= {fault_desat, fault_sto, fault_wdt, fault_oc};
+            if (since_zc == IRQ_LATENCY - 1)
+                win_fault_q <= win_fault_b;
         end
     end
 

@@ -114,6 +114,10 @@ module hfi_regs #(
     input  wire [15:0] top_i_alpha,       // TOP_I.I_ALPHA, TOP_I.I_BETA (s16 each)
     input  wire [15:0] top_i_beta,
     input  wire [15:0] vdc_code,          // VDC.CODE (u16)
+    input  wire        win_fault_oc,      // WIN_FAULT.OC ... DESAT: the fault latches at the window boundary,
+    input  wire        win_fault_wdt,     // latched by hfi_dsp with the window results (spec 2.2, 3.7)
+    input  wire        win_fault_sto,
+    input  wire        win_fault_desat,
     output reg         irq
 );
 /* verilator lint_off UNUSEDPARAM */  // the generated map lists every field; not all are needed here
@@ -241,7 +245,7 @@ module hfi_regs #(
             HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR,
             HFI_SAFETY_LOCK_ADDR, HFI_INJ_STEP_ADDR, HFI_INJ_PHASE_ADDR, HFI_CIC_M_ADDR, HFI_CIC_QA_ADDR,
             HFI_CIC_QB_ADDR, HFI_ENV_A_ADDR, HFI_ENV_B_ADDR, HFI_FCS_A_ADDR, HFI_FCS_CTRL_ADDR,
-            HFI_VECTOR_ADDR, HFI_TOP_I_ADDR, HFI_VDC_ADDR, HFI_CAPS_ADDR:
+            HFI_VECTOR_ADDR, HFI_TOP_I_ADDR, HFI_VDC_ADDR, HFI_CAPS_ADDR, HFI_WIN_FAULT_ADDR:
                 known_addr = 1'b1;
             default: known_addr = 1'b0;
         endcase
@@ -404,6 +408,10 @@ module hfi_regs #(
                     HFI_CAPS_ADDR: w = ({31'd0, ROT_INJ != 0} << HFI_CAPS_ROT_INJ_LSB)
                                      | ({31'd0, DIFF_CIC != 0} << HFI_CAPS_DIFF_CIC_LSB)
                                      | ({31'd0, FCS_MPC != 0} << HFI_CAPS_FCS_MPC_LSB);
+                    HFI_WIN_FAULT_ADDR: w = ({31'd0, win_fault_oc} << HFI_WIN_FAULT_OC_LSB)
+                                          | ({31'd0, win_fault_wdt} << HFI_WIN_FAULT_WDT_LSB)
+                                          | ({31'd0, win_fault_sto} << HFI_WIN_FAULT_STO_LSB)
+                                          | ({31'd0, win_fault_desat} << HFI_WIN_FAULT_DESAT_LSB);
                     HFI_SAFETY_LOCK_ADDR: w = {31'd0, r_safety_lock} << HFI_SAFETY_LOCK_LOCK_LSB;
                     default: w = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
                 endcase

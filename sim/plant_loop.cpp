@@ -84,7 +84,7 @@ bool PlantLoop::end_window()
     return true;
 }
 
-bool PlantLoop::run_window(const std::vector<long long> &e_ticks, const std::vector<int> &e_masks,
+bool PlantLoop::plant_call(const std::vector<long long> &e_ticks, const std::vector<int> &e_masks,
                            const std::vector<long long> &s_ticks, std::vector<int> &adc)
 {
     const int n = int(s_ticks.size());
@@ -95,16 +95,44 @@ bool PlantLoop::run_window(const std::vector<long long> &e_ticks, const std::vec
     plant_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (st != 0)
         return refused("the gate edges and samples", window_start(windows_ended()), st);
+    return true;
+}
+
+bool PlantLoop::record_window(const std::vector<long long> &e_ticks, const std::vector<int> &e_masks,
+                              const std::vector<long long> &s_ticks, const std::vector<int> &adc)
+{
     for (size_t i = 0; i < e_ticks.size(); i++)
         edges.push_back(gate_edge{e_ticks[i], e_masks[i]});
-    for (int i = 0; i < n; i++)
+    for (size_t i = 0; i < s_ticks.size(); i++)
         if (!record_sample(s_ticks[i], adc[PLANT_ADC_CHANNELS * i], adc[PLANT_ADC_CHANNELS * i + 1],
                            adc[PLANT_ADC_CHANNELS * i + PLANT_ADC_VDC]))
             return false;
-    t0 = std::chrono::steady_clock::now();
+    auto t0 = std::chrono::steady_clock::now();
     const bool ended = end_window();
     plant_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return ended;
+}
+
+bool PlantLoop::run_window(const std::vector<long long> &e_ticks, const std::vector<int> &e_masks,
+                           const std::vector<long long> &s_ticks, std::vector<int> &adc)
+{
+    return plant_call(e_ticks, e_masks, s_ticks, adc) && record_window(e_ticks, e_masks, s_ticks, adc);
+}
+
+bool PlantLoop::run_window_checked(std::vector<long long> &e_ticks, std::vector<int> &e_masks,
+                                   const std::vector<long long> &s_ticks, std::vector<int> &adc,
+                                   const std::function<bool(const std::vector<int> &)> &cut)
+{
+    snapshot_.resize(plant_snapshot_size());
+    plant_save(pl_, snapshot_.data());
+    if (!plant_call(e_ticks, e_masks, s_ticks, adc))
+        return false;
+    if (cut(adc)) {
+        plant_restore(pl_, snapshot_.data());
+        if (!plant_call(e_ticks, e_masks, s_ticks, adc))
+            return false;
+    }
+    return record_window(e_ticks, e_masks, s_ticks, adc);
 }
 
 void set_message(char *err, int err_len, const std::string &msg)

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,13 @@ public:
     // end_window().
     bool run_window(const std::vector<long long> &e_ticks, const std::vector<int> &e_masks,
                     const std::vector<long long> &s_ticks, std::vector<int> &adc);
+    // run_window for a window whose samples may trip the hardware overcurrent comparator (spec 3.7): the
+    // plant's moment before the window is kept, and `cut` (given the window's codes) returns true when it cut
+    // e_ticks / e_masks (the gates off from a tick inside the window); the plant then runs the window again from
+    // its start with the cut edges, and those are recorded.
+    bool run_window_checked(std::vector<long long> &e_ticks, std::vector<int> &e_masks,
+                            const std::vector<long long> &s_ticks, std::vector<int> &adc,
+                            const std::function<bool(const std::vector<int> &)> &cut);
 
     const std::string &error() const { return error_; }
     // Wall seconds spent inside the plant calls of run_window.
@@ -63,6 +71,11 @@ public:
 private:
     bool refused(const char *what, long long tick, int status);
     bool record_sample(long long tick, int a, int b, int vdc);
+    bool plant_call(const std::vector<long long> &e_ticks, const std::vector<int> &e_masks,
+                    const std::vector<long long> &s_ticks, std::vector<int> &adc);
+    bool record_window(const std::vector<long long> &e_ticks, const std::vector<int> &e_masks,
+                       const std::vector<long long> &s_ticks, const std::vector<int> &adc);
+    std::vector<char> snapshot_;
 
     plant *pl_;
     long long half_, n_windows_;

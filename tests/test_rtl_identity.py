@@ -277,6 +277,23 @@ def test_a_dc_link_trip_is_identical_on_the_soft_core():
     assert rtl.t[np.flatnonzero(fault)[0]] > 0.2
 
 
+def test_a_hardware_overcurrent_trip_is_identical_on_the_soft_core():
+    """The default drive with the comparator's limit (control.oc_limit, 1.5 A) below its polarity pulses: the RTL's
+    comparator turns the gates off mid-window at the tick golden's model gives (every gate edge and sample equal),
+    and the firmware on the soft core reads WIN_FAULT.OC and trips `hardware` in the same window as golden's
+    (tests/test_oc_comparator.py checks the timing against the samples)."""
+    from golden.firmware.protection import FAULT_HARDWARE
+    from test_oc_comparator import tripping_scenario
+
+    sc = tripping_scenario()
+    gold, rtl = ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
+    for group in ("windows", "samples", "edges", "writes"):
+        a, b = getattr(gold, group), getattr(rtl, group)
+        bad = {k: _first_difference(a[k], b[k]) for k in a if not np.array_equal(a[k], b[k])}
+        assert not bad, f"{group}: columns differ: {bad}"
+    assert FAULT_HARDWARE in rtl.windows["fault"] and rtl.edges["mask"][-1] == 0
+
+
 def test_a_flying_start_is_identical_on_the_soft_core():
     """scenarios/flying_start.toml for 0.15 s: switched on with the motor coasting at 800 r/min, the firmware on the
     soft core catches it (CATCH, the rotor flux observer at zero current), runs on the observer and hands back to

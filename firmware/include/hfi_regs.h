@@ -684,6 +684,31 @@ typedef union {
     uint32_t w;
 } hfi_regs__CAPS_t;
 
+// reg - hfi_regs.WIN_FAULT
+#define HFI_REGS__WIN_FAULT__OC_bm 0x1
+#define HFI_REGS__WIN_FAULT__OC_bp 0
+#define HFI_REGS__WIN_FAULT__OC_bw 1
+#define HFI_REGS__WIN_FAULT__WDT_bm 0x2
+#define HFI_REGS__WIN_FAULT__WDT_bp 1
+#define HFI_REGS__WIN_FAULT__WDT_bw 1
+#define HFI_REGS__WIN_FAULT__STO_bm 0x10
+#define HFI_REGS__WIN_FAULT__STO_bp 4
+#define HFI_REGS__WIN_FAULT__STO_bw 1
+#define HFI_REGS__WIN_FAULT__DESAT_bm 0x20
+#define HFI_REGS__WIN_FAULT__DESAT_bp 5
+#define HFI_REGS__WIN_FAULT__DESAT_bw 1
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t OC :1;
+        uint32_t WDT :1;
+        uint32_t :2;
+        uint32_t STO :1;
+        uint32_t DESAT :1;
+        uint32_t :26;
+    } f;
+    uint32_t w;
+} hfi_regs__WIN_FAULT_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -733,6 +758,7 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__TOP_I_t TOP_I;
     hfi_regs__VDC_t VDC;
     hfi_regs__CAPS_t CAPS;
+    hfi_regs__WIN_FAULT_t WIN_FAULT;
 } hfi_regs_t;
 
 
@@ -784,11 +810,12 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__TOP_I_offset 0xb0
 #define HFI_REGS__VDC_offset 0xb4
 #define HFI_REGS__CAPS_offset 0xb8
+#define HFI_REGS__WIN_FAULT_offset 0xbc
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0xbc, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0xc0, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -835,6 +862,7 @@ _Static_assert(offsetof(hfi_regs_t, VECTOR) == HFI_REGS__VECTOR_offset, "hfi_reg
 _Static_assert(offsetof(hfi_regs_t, TOP_I) == HFI_REGS__TOP_I_offset, "hfi_regs_t: TOP_I offset");
 _Static_assert(offsetof(hfi_regs_t, VDC) == HFI_REGS__VDC_offset, "hfi_regs_t: VDC offset");
 _Static_assert(offsetof(hfi_regs_t, CAPS) == HFI_REGS__CAPS_offset, "hfi_regs_t: CAPS offset");
+_Static_assert(offsetof(hfi_regs_t, WIN_FAULT) == HFI_REGS__WIN_FAULT_offset, "hfi_regs_t: WIN_FAULT offset");
 #endif
 
 #ifdef __cplusplus

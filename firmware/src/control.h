@@ -569,7 +569,8 @@ struct fw_window {
     int32_t top_ia;         /* TOP_I: s16 each, the Clarke currents of the carrier-top sample */
     int32_t top_ib;
     uint32_t vdc;           /* VDC.CODE, uB: the dc-link channel's code of the carrier-bottom sample (spec 3.12) */
-    uint32_t status;        /* STATUS's fault latches (FAULT_OC, WDT, STO, DESAT), other bits 0 */
+    uint32_t status;        /* WIN_FAULT: STATUS's fault latches (FAULT_OC, WDT, STO, DESAT, at their STATUS bit
+                             * positions) at the window boundary (docs/spec.md 2.2), other bits 0 */
 };
 
 /* What every estimator gets once per period (golden.firmware.estimator.Measurement). */

@@ -5,7 +5,8 @@
  * clocks, docs/rtl.md), enable the window interrupt, set SOC CTRL.DSP_RUN (tick 0). Then run() only reports
  * mode changes: a log line on the UART (with the fault's name in FAULT) and SOC FW_STATUS (mode and fault code).
  *
- * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results (with
+ * Window interrupt (IRQ 3, once per PWM period, docs/spec.md 2.2): read the window results (the fault latches from
+ * WIN_FAULT, as they stood at the window boundary; with
  * CIC_QA and CIC_QB only when the configuration runs the period square wave, CTRL.INJ_PER: two bus
  * reads saved otherwise, where they read 0 as golden's WindowResult has them; VECTOR and TOP_I likewise
  * only in the direct-vector mode, CTRL.DIRECT) and the speed reference (SPEED_REF mailbox), run fw_step()
@@ -163,8 +164,10 @@ static void control_step(void)
         win.top_ib = 0;
     }
     win.vdc = (DSP(VDC) & HFI_REGS__VDC__CODE_bm) >> HFI_REGS__VDC__CODE_bp;
-    win.status = DSP(STATUS) & (HFI_REGS__STATUS__FAULT_OC_bm | HFI_REGS__STATUS__FAULT_WDT_bm |
-                                HFI_REGS__STATUS__FAULT_STO_bm | HFI_REGS__STATUS__FAULT_DESAT_bm);
+    /* the fault latches as they stood at the window's boundary tick (WIN_FAULT, docs/spec.md 2.2 and 3.7), not the
+     * live STATUS: the value does not depend on when this handler runs; same bit positions as in STATUS */
+    win.status = DSP(WIN_FAULT) & (HFI_REGS__WIN_FAULT__OC_bm | HFI_REGS__WIN_FAULT__WDT_bm |
+                                   HFI_REGS__WIN_FAULT__STO_bm | HFI_REGS__WIN_FAULT__DESAT_bm);
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
     if (count < 2u) {                     /* window -1: no control step, a warm-up */

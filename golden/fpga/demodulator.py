@@ -81,10 +81,10 @@ class WindowResult:
         ``VDC.CODE``, uB: the code of the ADC's dc-link channel of the window's carrier-bottom sample
         (spec 3.12; unipolar, 0 V at code 0).
     status : int
-        The fault latches of ``STATUS`` when the firmware reads the window (``FAULT_OC``, ``FAULT_WDT``,
-        ``FAULT_STO``, ``FAULT_DESAT`` at their register positions, the other bits 0): nonzero once the
-        hardware turned the gates off by itself. The golden closed loop does not model those trips (its runs
-        set OC_LIMIT at full scale and drive no STO/DESAT: docs/faults.md), so it passes 0.
+        ``WIN_FAULT``: the fault latches (``OC``, ``WDT``, ``STO``, ``DESAT``) as they stood at the boundary that
+        ends the window (spec 2.2, 3.7): nonzero once the hardware turned the gates off by itself. The golden
+        closed loop models the overcurrent comparator (golden.fpga.overcurrent); it drives no STO or DESAT and
+        its firmware never misses a commit, so only ``OC`` can be set.
     """
 
     gamma: int

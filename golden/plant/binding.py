@@ -140,6 +140,7 @@ class Plant:
         self._run = lib.plant_run
         self._state = ffi.new("struct plant_state *")
         self._state_bytes = ffi.buffer(self._state)
+        self._snapshot = None
 
     # ---- per-event API ---------------------------------------------------------------------------
     @property
@@ -177,6 +178,19 @@ class Plant:
         self._lib.plant_get_state(self._p, self._state)
         # a fresh writable record (np.frombuffer of a copy is far cheaper than np.zeros of this dtype)
         return np.frombuffer(bytearray(self._state_bytes), dtype=STATE_DTYPE)[0]
+
+    def checkpoint(self) -> None:
+        """Remember the plant's present moment (``plant_save`` into one buffer of its own, kept until the next
+        checkpoint): :meth:`rollback` goes back to it."""
+        if self._snapshot is None:
+            self._snapshot = ffi.new("char[]", self._lib.plant_snapshot_size())
+        self._lib.plant_save(self._p, self._snapshot)
+
+    def rollback(self) -> None:
+        """Back to the moment of the last :meth:`checkpoint` (``plant_restore``)."""
+        if self._snapshot is None:
+            raise PlantError("rollback without a checkpoint")
+        self._lib.plant_restore(self._p, self._snapshot)
 
     # ---- batch API -------------------------------------------------------------------------------
     def run(self, edge_ticks, sample_ticks, gates=None, volts=None, analog=False, truth=False) -> dict:

@@ -57,6 +57,7 @@ extern "C" {
 #include "hfi_fcs_mpc.h"
 #include "hfi_gate_gen.h"
 #include "hfi_modulator.h"
+#include "hfi_overcurrent.h"
 #include "hfi_park.h"
 #include "hfi_window_dsp.h"
 
@@ -100,6 +101,8 @@ struct hls_loop {
     ap_uint<3> s_prev = 0;             // ideal switch signals of the tick before the cursor
     bool en = false;                   // enable in effect
     int64_t mask = 0;                  // gate mask after the last edge
+    int64_t plant_mask = 0;            // the gate mask the plant holds (0 from the overcurrent kill on)
+    int64_t oc_trip = -1;              // sampling instant of the sample that tripped the comparator (-1: none)
     int64_t last_switch = -1;          // latest switching instant (-1: none yet)
     u32 inj_acc = 0;                   // rotating injection's phase accumulator P (0 after reset)
     bool per = false;                  // the period square wave is on (CTRL.INJ_PER and not INJ_ROT)
@@ -122,6 +125,7 @@ struct hls_loop {
     bool keep[HFI_WINDOW_MAX];
 
     const Pattern &window_pattern(int mode);
+    bool cut_edges(int64_t end);
     void compares(const fw_outputs &o, bool top, bool rot, s16 inj_sin, s16 inj_cos, u16 cmp[3],
                   bool inj_top) const;
     void gate_range(int64_t a, int64_t b, int64_t half_start, bool rising);
@@ -222,6 +226,25 @@ void hls_loop::gate_segment(int64_t a, int64_t b) {
     }
 }
 
+// The overcurrent kill (spec 3.7; golden.fpga.overcurrent.cut_edges): once tripped, the window's edges before
+// the kill tick stay, then all gates off at it (unless they already are), none after; nothing when not tripped
+// or the kill tick is not before `end` (a kill in the next window). true: the edges changed.
+bool hls_loop::cut_edges(int64_t end) {
+    if (oc_trip < 0 || oc_trip + s.oc_gate_delay >= end) return false;
+    const long long kill = oc_trip + s.oc_gate_delay;
+    size_t n = 0;
+    while (n < e_ticks.size() && e_ticks[n] < kill) n++;
+    const int before = n ? e_masks[n - 1] : int(plant_mask);
+    const bool changed = n < e_ticks.size() || before != 0;
+    e_ticks.resize(n);
+    e_masks.resize(n);
+    if (before != 0) {
+        e_ticks.push_back(kill);
+        e_masks.push_back(0);
+    }
+    return changed;
+}
+
 // One window (golden ClosedLoop.run, loop body).
 bool hls_loop::step() {
     const int64_t H = s.half, P = 2 * H;
@@ -274,10 +297,33 @@ bool hls_loop::step() {
     const int n = int(pat.rel.size());
     s_ticks.resize(n);
     for (int i = 0; i < n; i++) s_ticks[i] = zc + pat.rel[i];
-    if (!loop.run_window(e_ticks, e_masks, s_ticks, adc)) {
+    hfi_adc_cfg cfg;
+    cfg.bits = s.adc_bits;
+    cfg.offset_a = s.adc_offset_a;
+    cfg.offset_b = s.adc_offset_b;
+    cfg.gain_a = s.adc_gain_a;
+    cfg.gain_b = s.adc_gain_b;
+    // the hardware overcurrent comparator (spec 3.7): a kill pending from the last window cuts these edges; while
+    // not tripped, every sample is compared, and a trip whose kill lies in this window runs it again, cut
+    cut_edges(end);
+    bool ran;
+    if (oc_trip < 0) {
+        ran = loop.run_window_checked(e_ticks, e_masks, s_ticks, adc, [&](const std::vector<int> &codes) {
+            for (int i = 0; i < n && oc_trip < 0; i++)
+                if (hfi_overcurrent(hfi_adc_scale(codes[PLANT_ADC_CHANNELS * i], cfg.bits, cfg.offset_a, cfg.gain_a),
+                                    hfi_adc_scale(codes[PLANT_ADC_CHANNELS * i + 1], cfg.bits, cfg.offset_b,
+                                                  cfg.gain_b), u16(s.oc_limit)))
+                    oc_trip = s_ticks[i];
+            return cut_edges(end);
+        });
+    } else {
+        ran = loop.run_window(e_ticks, e_masks, s_ticks, adc);
+    }
+    if (!ran) {
         error = loop.error();
         return false;
     }
+    if (!e_masks.empty()) plant_mask = e_masks.back();
 
     size_t sw_i = 0;
     for (int i = 0; i < n; i++) {
@@ -291,12 +337,6 @@ bool hls_loop::step() {
             keep[i] = latest < 0 || !hfi_blanked(ap_uint<64>(s_ticks[i] - latest), u16(s.blank_ticks));
         }
     }
-    hfi_adc_cfg cfg;
-    cfg.bits = s.adc_bits;
-    cfg.offset_a = s.adc_offset_a;
-    cfg.offset_b = s.adc_offset_b;
-    cfg.gain_a = s.adc_gain_a;
-    cfg.gain_b = s.adc_gain_b;
     hfi_window_result res;
     hfi_window_dsp(adc_a, adc_b, w, keep, ap_uint<12>(n), cfg, s16(active.sin), s16(active.cos), i_d, i_q, res);
     // the carrier-bottom sample (phase 0: offset P - H/2 from the window start, in every ADC mode)
@@ -332,6 +372,8 @@ bool hls_loop::step() {
     win.cic_qa = int32_t(cic_qa);                         // CIC_QA, CIC_QB (latched with them too)
     win.cic_qb = int32_t(cic_qb);
     win.vdc = uint32_t(adc[PLANT_ADC_CHANNELS * j + PLANT_ADC_VDC]);  // VDC (spec 3.12): the dc-link code of the bottom sample
+    // WIN_FAULT (spec 2.2, 3.7): the overcurrent latch at the boundary that ends the window
+    win.status = oc_trip >= 0 && oc_trip + s.oc_fault_delay <= end ? uint32_t(HFI_REGS__WIN_FAULT__OC_bm) : 0u;
     if (direct) {                                         // VECTOR, TOP_I (latched with the window results)
         // VECTOR.NEXT: the modulator's choice from the set the next boundary commits (the outputs of the
         // previous step; the reset set before k = 1) and the state applied now, held until that top
@@ -425,6 +467,11 @@ static bool check_setup(const hls_setup *s, char *err, int err_len) {
     }
     if (s->cic_m < 0 || s->cic_m > 0xFF) {
         std::snprintf(msg, sizeof msg, "cic_m = %d is not a u8 CIC_M register value", s->cic_m);
+        return setup_error(err, err_len, msg);
+    }
+    if (s->oc_limit < 0 || s->oc_limit > 0xFFFF || s->oc_gate_delay < 1 || s->oc_fault_delay < 1) {
+        std::snprintf(msg, sizeof msg, "oc_limit = %d is not a u16 OC_LIMIT register value, or a trip delay "
+                      "(%d, %d) is below 1 tick", s->oc_limit, s->oc_gate_delay, s->oc_fault_delay);
         return setup_error(err, err_len, msg);
     }
     if (s->inj_step < 0 || s->inj_step > int64_t(0xFFFFFFFF)) {

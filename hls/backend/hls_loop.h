@@ -48,6 +48,9 @@ struct hls_setup {
     int32_t cic_m;             /* CIC_M, u8: the CIC's comb delay register (spec 3.9) */
     int32_t direct;            /* CTRL.DIRECT: 1 = the direct-vector mode (spec 3.10; VECTOR, TOP_I of 3.11) */
     int64_t ds_from_tick;      /* windows starting at or after this tick sample in DS mode (INT64_MAX: never) */
+    int32_t oc_limit;          /* OC_LIMIT, u16: the hardware overcurrent comparator's limit (spec 3.7) */
+    int32_t oc_gate_delay;     /* ticks from a tripping sample to all gates off, >= 1 (golden.fpga.overcurrent) */
+    int32_t oc_fault_delay;    /* ticks from it to the first boundary whose WIN_FAULT shows it, >= 1 (same) */
     int32_t n_windows;         /* windows to run, >= 1 */
     const int32_t *speed_ref;  /* n_windows speed references (firmware input, one per window) */
 };

@@ -354,6 +354,21 @@ localparam integer HFI_CAPS_FCS_MPC_LSB = 2;  // ro
 localparam integer HFI_CAPS_FCS_MPC_WIDTH = 1;
 localparam [0:0] HFI_CAPS_FCS_MPC_RESET = 1'h1;
 
+// WIN_FAULT @ 0xBC: Window faults
+localparam [7:0] HFI_WIN_FAULT_ADDR = 8'hBC;
+localparam integer HFI_WIN_FAULT_OC_LSB = 0;  // ro
+localparam integer HFI_WIN_FAULT_OC_WIDTH = 1;
+localparam [0:0] HFI_WIN_FAULT_OC_RESET = 1'h0;
+localparam integer HFI_WIN_FAULT_WDT_LSB = 1;  // ro
+localparam integer HFI_WIN_FAULT_WDT_WIDTH = 1;
+localparam [0:0] HFI_WIN_FAULT_WDT_RESET = 1'h0;
+localparam integer HFI_WIN_FAULT_STO_LSB = 4;  // ro
+localparam integer HFI_WIN_FAULT_STO_WIDTH = 1;
+localparam [0:0] HFI_WIN_FAULT_STO_RESET = 1'h0;
+localparam integer HFI_WIN_FAULT_DESAT_LSB = 5;  // ro
+localparam integer HFI_WIN_FAULT_DESAT_WIDTH = 1;
+localparam [0:0] HFI_WIN_FAULT_DESAT_RESET = 1'h0;
+
 // Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
 function hfi_locked_by_safety_lock_lock(input [7:0] a);
     case (a)

@@ -48,6 +48,7 @@ struct mag_model {
 
 
 struct plant {
+    const struct plant *self; /* the plant itself: a snapshot's owner (plant_restore) */
     struct plant_params p;
     double *owned;            /* copies of profile and table arrays */
     struct fault *faults_owned; /* copy of the fault list */
@@ -1217,6 +1218,7 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     struct plant *p = calloc(1, sizeof *p);
     if (!p)
         return NULL;
+    p->self = p;
     p->p = *params;
     int ntab = params->mag.kind == MAG_TABLE ? params->mag.tab_nd * params->mag.tab_nq : 0;
     size_t total = 2 * (size_t)params->load.n + 2 * (size_t)params->speed.n + 2 * (size_t)ntab;
@@ -1268,6 +1270,22 @@ struct plant *plant_create(const struct plant_params *params, char *err, int err
     fault_effects(p); /* neutral */
     advance(p, 0);    /* faults at tick 0 */
     return p;
+}
+
+/* The whole struct is the snapshot: the arrays it points to (owned, faults_owned, the parameters' profiles and
+ * tables) are written once by plant_create and never change, so the copy and the plant share them. */
+size_t plant_snapshot_size(void) { return sizeof(struct plant); }
+
+void plant_save(const struct plant *p, void *buf) { memcpy(buf, p, sizeof *p); }
+
+int plant_restore(struct plant *p, const void *buf)
+{
+    const struct plant *s = buf;
+
+    if (s->self != p)
+        return -1;
+    memcpy(p, s, sizeof *p);
+    return 0;
 }
 
 void plant_free(struct plant *p)

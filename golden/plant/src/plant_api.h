@@ -171,6 +171,14 @@ int plant_advance(struct plant *p, long long tick);
 int plant_sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PLANT_ADC_CHANNELS]);
 void plant_get_state(const struct plant *p, struct plant_state *out);
 
+/* Snapshots (the golden loop's hardware overcurrent trip re-runs a window from its start with the gates cut):
+ * plant_save copies everything that changes while the plant runs (its time, state, random streams, memos, fault
+ * effects) into buf (plant_snapshot_size() bytes); plant_restore puts the plant back into that moment. A snapshot
+ * belongs to the plant it was taken of: restoring it into another returns -1 and changes nothing. */
+size_t plant_snapshot_size(void);
+void plant_save(const struct plant *p, void *buf);
+int plant_restore(struct plant *p, const void *buf);
+
 /* Batch API: applies gate edges (or ideal voltage steps, when volts != NULL; then gates may be NULL)
  * and takes samples, merged by tick; at equal ticks, the input change comes before the sample.
  * adc_out: [n_samples*PLANT_ADC_CHANNELS]; analog_out (same layout) and truth_out may be NULL. Returns 0; -1 on a bad tick order

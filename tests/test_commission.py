@@ -310,10 +310,11 @@ def _weak_scenario(tmp_path, v_max: str):
 
 def test_too_small_hf_amplitude_stops_with_its_reason(tmp_path):
     """The 001 drive with the HF amplitude capped at 0.3 V (the dead time's voltage is 2.2 V): the scan's
-    inductances are wrong, the current gains from them too, and the polarity test trips on overcurrent; the error
+    inductances are wrong, the current gains from them too, and in the polarity test the current reaches the ADC's
+    full scale, where the hardware comparator (OC_LIMIT at its reset value) turns the gates off; the error
     names the stage, the fault, what the scan saw and what to raise."""
     from hfi.commission import CommissionError, commission
-    with pytest.raises(CommissionError, match=r"stage 'polarity'.*fault overcurrent.*scan saw L_d.*hf_voltage_max"):
+    with pytest.raises(CommissionError, match=r"stage 'polarity'.*fault hardware.*scan saw L_d.*hf_voltage_max"):
         commission(_weak_scenario(tmp_path, "0.3 V"), tmp_path / "out", progress=False, backend=FAST)
 
 

@@ -16,7 +16,7 @@ LOCK_DETECT_MS = 20.0
 
 @pytest.mark.parametrize("name, rpm, code", [("phase open (a)", 250.0, "lock_loss"),
                                              ("switch open (a high)", 250.0, "lock_loss"),
-                                             ("ADC lane dead (b)", 50.0, "overcurrent"),
+                                             ("ADC lane dead (b)", 50.0, "hardware"),
                                              ("sensor gain x0.7 (a)", 50.0, "hf_response")])
 def test_a_fault_cell_is_detected_with_its_code(tmp_path, name, rpm, code):
     row = faults.run_one((name, rpm, True, faults.DURATION_SHORT_S, str(tmp_path)))
@@ -37,7 +37,7 @@ def test_unknown_rows_are_refused(capsys):
 
 
 def test_a_restart_takes_the_drive_back_once_the_fault_clears():
-    """[protection] restarts = 1: a dead ADC lane from 0.8 to 0.85 s trips the overcurrent check; 0.2 s later the
+    """[protection] restarts = 1: a dc-link sag from 0.8 to 0.85 s trips the undervoltage check; 0.2 s later the
     firmware starts again (CONVERGE, the polarity test, RUN) and the drive is locked at 50 r/min again. Without
     load: the default scenario's load is an active torque, which turns the coasting motor backwards, and the HF
     estimator cannot catch a motor spinning at hundreds of r/min (the restart then trips again and stays; the
@@ -54,7 +54,7 @@ def test_a_restart_takes_the_drive_back_once_the_fault_clears():
     data["scenario"]["duration"] = "1.6 s"
     data["reference"]["speed"] = [["0 s", "0 rpm"], ["0.3 s", "0 rpm"], ["0.5 s", "50 rpm"]]
     data["load"]["torque"] = [["0 s", "0 N*m"]]
-    data["faults"] = [dict(faults.FAULTS["ADC lane dead (b)"], at="0.8 s", until="0.85 s")]
+    data["faults"] = [dict(faults.FAULTS["dc-link sag -30 %"], at="0.8 s", until="0.85 s")]
     data["protection"] = {"restarts": 1, "restart_delay": "0.2 s"}
     res = ClosedLoop(parse_scenario(data)).run(progress=False)
     mode, t = res.windows["mode"], res.t

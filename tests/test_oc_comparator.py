@@ -95,3 +95,20 @@ def test_without_the_key_the_register_keeps_its_reset_value():
     from golden.regmap import OC_LIMIT_VALUE_RESET
 
     assert hardware_config(load_scenario(ROOT / "scenarios" / "fullload_start.toml")).oc_limit == OC_LIMIT_VALUE_RESET
+
+
+def test_a_hardware_trip_is_not_restarted():
+    """With `[protection] restarts = 1` the firmware restarts after its own checks' faults, never after `hardware`:
+    the latch holds the gates off (docs/faults.md); the run ends in FAULT with that code and no edge after the
+    kill."""
+    from golden.firmware.supervisor import MODE_FAULT
+
+    data = tomllib.loads((ROOT / "scenarios" / "fullload_start.toml").read_text())
+    data["scenario"]["duration"] = "0.12 s"
+    data["control"]["oc_limit"] = f"{LIMIT_A} A"
+    data["protection"] = {"restarts": 1, "restart_delay": "10 ms"}
+    res = ClosedLoop(parse_scenario(data, source="restarts after a hardware trip")).run(progress=False)
+    trip = int(np.flatnonzero(res.windows["fault"] == FAULT_HARDWARE)[0])
+    assert res.t[-1] - res.t[trip] > 0.03                   # three restart delays after the trip
+    assert (res.windows["mode"][trip:] == MODE_FAULT).all() and (res.windows["fault"][trip:] == FAULT_HARDWARE).all()
+    assert res.edges["mask"][-1] == 0

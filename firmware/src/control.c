@@ -1908,7 +1908,8 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
 {
     int32_t i_d, i_q, i_d_ref = 0, i_q_ref = 0, pilot = 0, v_pilot = 0, s_inj = 0, c_inj = 32767, i_d_prev, i_q_prev;
 
-    if (st->mode == FW_FAULT && st->restarts < p->prot.restarts && st->n >= p->prot.restart_n)
+    if (st->mode == FW_FAULT && st->restarts < p->prot.restarts && st->n >= p->prot.restart_n &&
+        st->fault != FW_FAULT_HARDWARE) /* a hardware trip is not retried: its latch holds the gates off */
         restart(st, p);
     i_d_prev = st->i_d_ref; /* the references of the last period */
     i_q_prev = st->i_q_ref;

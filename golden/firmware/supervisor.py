@@ -64,7 +64,9 @@ States (``MODE_*``):
               modulator keeps every leg at half duty, the line-to-line voltages at zero). ``prot.restart_n``
               periods after the tripping one the firmware starts again from CONVERGE (every state as at
               power-up, the polarity test again), at most ``prot.restarts`` times; then FAULT holds to the
-              end of the run (docs/faults.md).
+              end of the run (docs/faults.md). Never after ``FAULT_HARDWARE``: the hardware's latch holds
+              the gates off until someone acknowledges it (``CTRL.FAULT_CLEAR``; decision 2026-11-29:
+              an overcurrent the comparator saw, a watchdog, STO or DESAT is not retried automatically).
 """
 
 from __future__ import annotations
@@ -332,7 +334,8 @@ class Firmware:
     def step(self, win: WindowResult, speed_ref: int) -> Outputs:
         """One interrupt: window results in, register writes out."""
         p = self.p
-        if self.mode == MODE_FAULT and self.restarts < p.prot.restarts and self.n >= p.prot.restart_n:
+        if (self.mode == MODE_FAULT and self.restarts < p.prot.restarts and self.n >= p.prot.restart_n
+                and self.fault != FAULT_HARDWARE):
             self._restart()
         self.i_d, self.i_q = i_d, i_q = window_means(win.sum_id, win.sum_iq, win.n_samples)
         self.n += 1

@@ -2,9 +2,10 @@
 
 The ADC model of tb_hfi_dsp.v returns the golden ADC codes (codes.hex, written by the pytest side);
 this coroutine plays the firmware: after every window interrupt it reads the window results over
-AXI4-Lite (with INJ_PHASE, the differencing/CIC block's CIC_QA, CIC_QB, ENV_A, ENV_B, the dc-link code VDC
-and the carrier-top sample TOP_I), compares them with the golden window (VDC, the whole 32-bit word, with
-the golden column ``vdc``; TOP_I with the trace's top_exp_* columns, computed by
+AXI4-Lite (with INJ_PHASE, the differencing/CIC block's CIC_QA, CIC_QB, ENV_A, ENV_B, the dc-link code VDC,
+the window's fault latches WIN_FAULT, its frozen lanes WIN_ADC and the carrier-top sample TOP_I), compares them
+with the golden window (VDC, WIN_FAULT, WIN_ADC, the whole 32-bit words, with the golden columns ``vdc``,
+``win_fault``, ``win_adc``; TOP_I with the trace's top_exp_* columns, computed by
 test_dsp_replay.top_i_expected from the golden ADC codes), writes the golden firmware's registers and
 commits. VDC must read 0 after reset until the first window boundary, and after window -1 the dc-link code
 of its carrier-bottom sample (the trace's ``vdc_pre``, test_dsp_replay.adc_words). The gate edges and
@@ -38,7 +39,8 @@ of the sample taken at tick t rises in cycle t + CONVST_LATENCY (hfi/soc_platfor
 RESULTS = (("GAMMA", "gamma", True), ("GAMMA_D", "gamma_d", True), ("SUM_ID", "sum_id", True),
            ("SUM_IQ", "sum_iq", True), ("WSUM", "wsum", True), ("N_SAMPLES", "n_samples", False),
            ("INJ_PHASE", "inj_phase", False), ("CIC_QA", "cic_qa", True), ("CIC_QB", "cic_qb", True),
-           ("ENV_A", "env_a", True), ("ENV_B", "env_b", True), ("VDC", "vdc", False))
+           ("ENV_A", "env_a", True), ("ENV_B", "env_b", True), ("VDC", "vdc", False),
+           ("WIN_FAULT", "win_fault", False), ("WIN_ADC", "win_adc", False))
 
 
 def s32(v: int) -> int:

@@ -1,8 +1,9 @@
 """cocotb side of the hfi_dsp safety tests (see test_dsp_safety.py): overcurrent trip, watchdog,
-the STO and DESAT pins (spec 3.8) and the register lock (SAFETY_LOCK).
+the STO and DESAT pins (spec 3.8), the register lock (SAFETY_LOCK) and the frozen ADC channels (WIN_ADC, spec 3.13).
 
 The ADC model returns mid-scale codes (0 A) except for one conversion (index HFI_TRIP_INDEX) whose
-phase-a current exceeds OC_LIMIT. Gate edges and sampling instants come from the Verilog recorders.
+phase-a current exceeds OC_LIMIT (frozen_adc_channels: the noisy and stuck codes of test_dsp_safety.py's
+FROZEN_PLAN). Gate edges and sampling instants come from the Verilog recorders.
 Cycle numbering: "cycle k" is the clock period in which the testbench's ``tick`` reads k (gates.txt
 records "k mask" when the pins show ``mask`` in cycle k and something else in cycle k - 1). A pin
 driven by the testbench at the falling edge inside cycle k is first sampled by the rising edge that
@@ -82,14 +83,15 @@ def boundary(k: int, half: int = H) -> int:
     return (k + 1) * 2 * half + half // 2
 
 
-async def window_fault(dut, axi, k: int, half: int = H) -> int:
-    """WIN_FAULT as the firmware reads it for window k: after its copy (IRQ_LATENCY after the boundary, with
-    WINDOW_COUNT = k + 2: window -1 is the first) and before the next boundary."""
+async def window_fault(dut, axi, k: int, half: int = H, name: str = "WIN_FAULT") -> int:
+    """WIN_FAULT (or another window result, ``name``) as the firmware reads it for window k: after its copy
+    (IRQ_LATENCY after the boundary, with WINDOW_COUNT = k + 2: window -1 is the first) and before the next
+    boundary."""
     await wait_tick(dut, boundary(k, half) + IRQ_LATENCY + READ_MARGIN)
     count, resp = await axi.read(s("WINDOW_COUNT"))
     assert resp == 0 and count == k + 2, f"window {k}: WINDOW_COUNT {count}"
-    value, resp = await axi.read(s("WIN_FAULT"))
-    assert resp == 0 and int(dut.tick.value) < boundary(k + 1, half), f"window {k}: read of WIN_FAULT too late"
+    value, resp = await axi.read(s(name))
+    assert resp == 0 and int(dut.tick.value) < boundary(k + 1, half), f"window {k}: read of {name} too late"
     return value
 
 
@@ -218,6 +220,77 @@ async def overcurrent_window_boundary(dut):
     assert [reads[j] for j in sorted(reads)] == [0, int(offset <= 0), 1], reads
     cocotb.log.info(f"window boundary: H {half}, trip sample at tick {t_trip}, t_s + D_FAULT = B(window {k}) + "
                     f"{offset}: WIN_FAULT of windows {k - 1}..{k + 1} = {[reads[j] for j in sorted(reads)]}")
+
+
+# ---------------------------------------------------------------------- frozen ADC channels (spec 3.13)
+def frozen_rule(convst: np.ndarray, half: int) -> dict[int, tuple[int, int]]:
+    """WIN_ADC by the rule of spec 3.13, from the sampling instants the testbench recorded and the codes the ADC
+    model returned (codes.hex, in conversion order): window k = the conversions whose sampling tick lies in
+    [k*P + H/2, (k+1)*P + H/2) (spec 2.1); FROZEN_x = 1 iff there are at least 2 and lane x's codes are all equal."""
+    with open("codes.hex") as f:
+        words = [int(line, 16) for line in f.read().split()]
+    assert len(words) >= convst.size, f"{convst.size} conversions, codes.hex has {len(words)}"
+    mask = (1 << ADC_BITS) - 1
+    lanes = np.array([[w >> 16 & mask, w & mask] for w in words[:convst.size]], dtype=np.int64).reshape(-1, 2)
+    window = (convst - half // 2) // (2 * half)     # floor: the ticks before the first boundary are window -1
+    flags = {}
+    for k in np.unique(window):
+        codes = lanes[window == k]
+        flags[int(k)] = tuple(int(codes.shape[0] >= 2 and bool(np.all(codes[:, x] == codes[0, x]))) for x in (0, 1))
+    return flags
+
+
+@cocotb.test()
+async def frozen_adc_channels(dut):
+    """WIN_ADC (spec 3.13) per window: the ADC model returns noise (mid-scale + -4 codes) on both current lanes
+    except where test_dsp_safety.py's FROZEN_PLAN holds one code: from the first or the second conversion of a
+    window, to the last or the one before it, in OS (200 conversions per window), in DS (windows HFI_FROZEN_DS:
+    the carrier top and bottom) and with one conversion per window (OS_TICKS = HFI_FROZEN_OS_TICKS). PWM_HALF
+    (HFI_HALF, set while the timing is held) puts the boundary on the OS grid (the conversion at the boundary tick
+    is the first of the new window) or 20 ticks after a conversion (whose codes arrive after the boundary). Each
+    window's read equals the rule computed here from the recorded sampling instants and the codes, and that equals
+    the plan's intent (HFI_FROZEN_EXPECT); the copy comes IRQ_LATENCY after the boundary, not at it."""
+    half = int(os.environ["HFI_HALF"])
+    ds_first, ds_last = (int(k) for k in os.environ["HFI_FROZEN_DS"].split(","))
+    plan = (e.split(":") for e in os.environ["HFI_FROZEN_EXPECT"].split(";"))
+    intent = {int(k): (int(v[0]), int(v[1])) for k, v in plan}
+    dut.hold.value = 1                              # configure before tick 0 (hfi_dsp's run = 0)
+    axi = await start(dut)
+    for name, value in (("PWM_HALF", half), ("CW_ANGLE_STEP", round(2**30 / half)), ("RECIP_H", round(2**32 / half))):
+        await axi.write(s(name), rm.pack(name, VALUE=value))
+    await ClockCycles(dut.clk, 20)                  # the carrier's H*STEP product (docs/rtl.md)
+    assert await axi.read(s("WIN_ADC")) == (0, 0), "WIN_ADC after reset"
+    dut.hold.value = 0
+    reads = {}
+    for k in sorted(intent):
+        if k == 3:                                  # between the boundary and the copy: still window 2's
+            await wait_tick(dut, boundary(k, half) + IRQ_LATENCY // 2)
+            assert await axi.read(s("WIN_ADC")) == (reads[k - 1], 0), "WIN_ADC changed before the copy"
+        reads[k] = await window_fault(dut, axi, k, half, "WIN_ADC")
+        if k == ds_first - 2:                       # in window ds_first - 1: DS from its end (spec 2.2)
+            await axi.write(s("CTRL"), rm.pack("CTRL", ADC_MODE=1))
+        if k == ds_last - 1:                        # in window ds_last, before its bottom: OS, one per period
+            await axi.write(s("OS_TICKS"), rm.pack("OS_TICKS", VALUE=int(os.environ["HFI_FROZEN_OS_TICKS"])))
+            await axi.write(s("CTRL"), rm.pack("CTRL", ADC_MODE=0))
+            assert int(dut.tick.value) < (ds_last + 1) * 2 * half, "OS_TICKS written after the bottom"
+    dut.flush.value = 1
+    await ClockCycles(dut.clk, 2)
+
+    _, convst = records()
+    rule = frozen_rule(convst, half)
+    got = {k: (v >> rm.WIN_ADC_FROZEN_A_LSB & 1, v >> rm.WIN_ADC_FROZEN_B_LSB & 1) for k, v in reads.items()}
+    assert all(v == rm.pack("WIN_ADC", FROZEN_A=a, FROZEN_B=b) for v, (a, b) in zip(reads.values(), got.values()))
+    per_window = {k: int(np.count_nonzero((convst - half // 2) // (2 * half) == k)) for k in sorted(reads)}
+    cocotb.log.info(f"frozen ADC channels, H {half}: conversions per window {per_window}, WIN_ADC {got}")
+    for k in sorted(reads):
+        assert got[k] == rule[k], f"window {k} ({per_window[k]} conversions): WIN_ADC (A, B) {got[k]}, rule {rule[k]}"
+        assert rule[k] == intent[k], f"window {k}: the rule gives {rule[k]}, the plan meant {intent[k]}"
+    assert per_window[ds_first] == per_window[ds_last] == 2 and per_window[ds_last + 1] == 1, per_window
+    # the conversions next to the boundary between windows 3 and 4 (the grid of the case)
+    b = boundary(3, half)
+    on_grid = (half // 2) % rm.OS_TICKS_VALUE_RESET == 0
+    last, first = convst[convst < b][-1], convst[convst >= b][0]
+    assert (last - b, first - b) == ((-100, 0) if on_grid else (-20, 80)), f"B {b}: conversions at {last}, {first}"
 
 
 @cocotb.test()

@@ -75,6 +75,7 @@ HW_PORTS = {
     ("VDC", "CODE"): "vdc_code",
     ("WIN_FAULT", "OC"): "win_fault_oc", ("WIN_FAULT", "WDT"): "win_fault_wdt",
     ("WIN_FAULT", "STO"): "win_fault_sto", ("WIN_FAULT", "DESAT"): "win_fault_desat",
+    ("WIN_ADC", "FROZEN_A"): "win_adc_frozen_a", ("WIN_ADC", "FROZEN_B"): "win_adc_frozen_b",
 }
 PULSE_PORTS = {("CTRL", "FAULT_CLEAR"): "fault_clear", ("COMMIT", "GO"): "commit_go"}
 SET_PORTS = {("IRQ_STATUS", "WINDOW"): "irq_window_set"}
@@ -473,7 +474,7 @@ async def unmapped_addresses(dut):
     await b.pulse_set()  # status 1: a write aliasing IRQ_STATUS would clear it
     mapped = sorted(b.model.by_addr)
     addrs = [a for a in range(0, 256, 4) if a not in b.model.by_addr]
-    assert {0x3C, 0xC0, 0xFC} <= set(addrs)   # 0xC0: the first word after the last register (WIN_FAULT @ 0xBC)
+    assert {0x3C, 0xC4, 0xFC} <= set(addrs)   # 0xC4: the first word after the last register (WIN_ADC @ 0xC0)
     addrs += [a | off for a in mapped for off in (1, 2, 3)]
     if b.addr_bits > 8:
         addrs += [(1 << k) | a for k in range(8, b.addr_bits) for a in mapped]

@@ -26,6 +26,7 @@ import numpy as np
 
 from golden.control_config import HardwareConfig, Scales, firmware_params, hardware_config, scales
 from golden.firmware.supervisor import MODE_NAMES, RESET_OUTPUTS, Firmware, Outputs
+from golden.fpga.adc_frozen import frozen_lanes
 from golden.fpga.adc_scale import adc_to_current
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS_BLANK, blank_mask, sample_phases
 from golden.fpga.carrier import counter
@@ -46,14 +47,16 @@ WINDOW_FIELDS = (
     "v_d", "v_q", "sin", "cos", "theta_hat", "omega_f", "speed_ref", "mode", "fault",
     "adc_mode", "cmp_top_a", "cmp_top_b", "cmp_top_c", "cmp_bot_a", "cmp_bot_b", "cmp_bot_c",
     "est", "theta_lo", "theta_hi", "omega_lo", "omega_hi", "inj_phase", "cic_qa", "cic_qb", "env_a", "env_b",
-    "vector", "vector_next", "top_ia", "top_ib", "vdc", "theta_e", "omega_m", "torque", "load_torque", "i_d_true", "i_q_true",
+    "vector", "vector_next", "top_ia", "top_ib", "vdc", "win_fault", "win_adc", "theta_e", "omega_m", "torque",
+    "load_torque", "i_d_true", "i_q_true",
     "e_cu", "q_d", "q_q", "t_int", "t2_int")
 """Per-window trace columns (integers of the spec, and the plant's truth at the window end; ``e_cu``, ``q_d``,
 ``q_q``, ``t_int``, ``t2_int`` are the plant's running integrals of the copper loss, i_d, i_q, the torque and
 its square since t = 0, whose differences give exact window means: hfi.ripple). ``est`` is
 the estimator slot in charge (0 low-speed, 1 high-speed), ``theta_lo/hi`` and ``omega_lo/hi`` each slot's
 outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the window (``INJ_PHASE``),
-``cic_qa/qb`` and ``env_a/b`` the differencing and CIC block's outputs (``golden.fpga.diff_cic``)."""
+``cic_qa/qb`` and ``env_a/b`` the differencing and CIC block's outputs (``golden.fpga.diff_cic``), ``win_fault`` and
+``win_adc`` the registers ``WIN_FAULT`` and ``WIN_ADC`` as the firmware read them (spec 2.2, 3.7, 3.13)."""
 
 
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
@@ -283,7 +286,8 @@ class ClosedLoop:
                 win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
             # VDC (spec 3.12): the dc-link channel's code of the same bottom sample, in every mode; WIN_FAULT
             # (spec 3.7): the overcurrent latch at the boundary that ends the window
-            win = dataclasses.replace(win, vdc=int(out["vdc"][j_bot]), status=oc.status(zc + P))
+            win = dataclasses.replace(win, vdc=int(out["vdc"][j_bot]), status=oc.status(zc + P),
+                                      frozen=frozen_lanes(adc[:, 0], adc[:, 1]))   # WIN_ADC (spec 3.13)
             if direct:                                    # VECTOR and TOP_I (spec 3.10, 3.11)
                 top = self._top_sample(rel, adc, keep, top)
                 # the next boundary commits outs[k - 1] (the reset set before k = 1): the next top's state
@@ -310,6 +314,7 @@ class ClosedLoop:
             r["vector"][k], r["vector_next"][k] = win.vector, win.vector_next
             r["top_ia"][k], r["top_ib"][k] = win.top_ia, win.top_ib
             r["vdc"][k] = win.vdc
+            r["win_fault"][k], r["win_adc"][k] = win.status, win.frozen
             r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
             r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
             truths.append(truth)

@@ -372,6 +372,7 @@ def protection_params(sc: Scenario) -> ProtParams:
         restarts=pr.restarts, restart_n=max(round(pr.restart_delay * sc_.f_sw), 1),
         catch_n=catch_n,
         hf_k=shift(pr.hf_time), hf_tol=to_fixed(pr.hf_response, 16),
+        frz_n=round(pr.frozen_time * sc_.f_sw), frz_min=pr.frozen_samples,
         **dc_link_limits(sc))
 
 

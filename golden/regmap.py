@@ -468,6 +468,17 @@ WIN_FAULT_DESAT_WIDTH = 1
 WIN_FAULT_DESAT_MASK = 0x00000020
 WIN_FAULT_DESAT_RESET = None
 
+# WIN_ADC @ 0xC0: Frozen ADC channels
+WIN_ADC_ADDR = 0xC0
+WIN_ADC_FROZEN_A_LSB = 0  # ro
+WIN_ADC_FROZEN_A_WIDTH = 1
+WIN_ADC_FROZEN_A_MASK = 0x00000001
+WIN_ADC_FROZEN_A_RESET = None
+WIN_ADC_FROZEN_B_LSB = 1  # ro
+WIN_ADC_FROZEN_B_WIDTH = 1
+WIN_ADC_FROZEN_B_MASK = 0x00000002
+WIN_ADC_FROZEN_B_RESET = None
+
 
 REGISTERS = {
     "ID": {"addr": 0x00, "reset": 0x48464931, "signed": (), "fields": {
@@ -638,6 +649,10 @@ REGISTERS = {
         "WDT": (1, 1, None, "ro"),
         "STO": (4, 1, None, "ro"),
         "DESAT": (5, 1, None, "ro"),
+    }},
+    "WIN_ADC": {"addr": 0xC0, "reset": 0x00000000, "signed": (), "fields": {
+        "FROZEN_A": (0, 1, None, "ro"),
+        "FROZEN_B": (1, 1, None, "ro"),
     }},
 }
 

@@ -369,6 +369,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
                               default=0.75),
         "overvoltage": Field("number", check=lambda x: None if x > 1 else "must be > 1", default=1.25),
         "dc_link_time": _q("time", _positive, default=0.6e-3),
+        "frozen_time": _q("time", _non_negative, default=0.8e-3),
+        "frozen_samples": Field("integer", check=_between(2, 65535), default=16),
     },
     # Self-commissioning (`hfi commission`, golden.commission): absent keys are derived from the scenario
     "commission": {
@@ -556,6 +558,8 @@ class ProtectionSettings:
     undervoltage: float
     overvoltage: float
     dc_link_time: float
+    frozen_time: float
+    frozen_samples: int
 
 
 @dataclass(frozen=True)

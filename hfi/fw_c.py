@@ -42,7 +42,8 @@ LIBRARY = Path("out/firmware/host/libhfifw.so")
 
 STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id_int", "iq_int",
                 "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset", "speed_cnt", "i_s_ref", "i_s_cmd",
-                "vec_before", "fault", "asc", "emf_d", "emf_q", "track_f", "ovl_n", "ovl_e", "e0", "hf_ref", "hf_f", "vdc_lo_n", "vdc_hi_n", "restarts",
+                "vec_before", "fault", "asc", "emf_d", "emf_q", "track_f", "ovl_n", "ovl_e", "e0", "hf_ref", "hf_f",
+                "vdc_lo_n", "vdc_hi_n", "frz_a", "frz_b", "restarts",
                 "lobs_w", "lobs_i")
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
 (besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each

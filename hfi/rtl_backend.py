@@ -497,7 +497,8 @@ class RtlClosedLoop:
         w["tick"] = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
         results = [("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),
                    ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False),
-                   ("speed_ref", "SPEED_REF", True), ("inj_phase", "INJ_PHASE", False), ("vdc", "VDC", False)]
+                   ("speed_ref", "SPEED_REF", True), ("inj_phase", "INJ_PHASE", False), ("vdc", "VDC", False),
+                   ("win_fault", "WIN_FAULT", False), ("win_adc", "WIN_ADC", False)]
         if hw.inj_per:      # the firmware reads the CIC outputs only with the period square wave (0 else)
             results += [("cic_qa", "CIC_QA", True), ("cic_qb", "CIC_QB", True)]
         for col, reg, signed in results:

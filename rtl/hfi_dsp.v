@@ -46,6 +46,10 @@
 //
 // Window faults (docs/spec.md 2.2, 3.7): the four fault latches of STATUS as they read in the boundary
 // tick are held and copied into WIN_FAULT with WINDOW_COUNT, so the firmware reads them at a fixed instant.
+//
+// Frozen ADC channels (docs/spec.md 3.13): every conversion's raw codes of the two current lanes are compared
+// with the first conversion of its window (by the window parity tag, in the ADC's done cycle); per lane, "all
+// equal, at least 2 conversions" is copied into WIN_ADC with WIN_FAULT.
 module hfi_dsp #(
     parameter ADC_BITS = 12,
     parameter ADC_CONV_TICKS = 12,
@@ -141,6 +145,7 @@ module hfi_dsp #(
     reg  signed [15:0] top_ia_q, top_ib_q;   // TOP_I: latched at the boundary
     reg  [15:0] vdc_q;                       // VDC: latched at the boundary
     reg  [3:0]  win_fault_q;                 // WIN_FAULT {DESAT, STO, WDT, OC}: copied with the window results
+    reg  [1:0]  win_adc_q;                   // WIN_ADC {FROZEN_B, FROZEN_A}: copied with the window results
     wire signed [15:0] adc_offset_a, adc_offset_b, sh_v_d, sh_v_q, sh_sin, sh_cos, sh_i_d_ref, sh_i_q_ref;
     wire [14:0] sh_v_h, hf_amp;
     wire signed [31:0] gamma, gamma_d, sum_id, sum_iq, wsum;
@@ -173,6 +178,7 @@ module hfi_dsp #(
         .vdc_code(vdc_q),
         .win_fault_oc(win_fault_q[0]), .win_fault_wdt(win_fault_q[1]), .win_fault_sto(win_fault_q[2]),
         .win_fault_desat(win_fault_q[3]),
+        .win_adc_frozen_a(win_adc_q[0]), .win_adc_frozen_b(win_adc_q[1]),
         .cic_qa({{11{cic_qa_q[20]}}, cic_qa_q}), .cic_qb({{11{cic_qb_q[20]}}, cic_qb_q}),
         .env_a({{15{env_a_q[16]}}, env_a_q}), .env_b({{15{env_b_q[16]}}, env_b_q}),
         .status_fault_oc(fault_oc), .status_fault_wdt(fault_wdt), .status_outputs_on(outputs_on),
@@ -609,6 +615,54 @@ module hfi_dsp #(
         end
     end
 
+    // ---- frozen ADC channels (spec 3.13): WIN_ADC
+    // Per current lane, whether every conversion of a window returned one raw code (hfi_adc_if's code_a, code_b,
+    // before hfi_adc_scale). Every conversion counts, blanked or not (the set hfi_overcurrent sees, spec 3.7),
+    // taken in its done cycle with its window parity tag (tag_adc_par: the parity of its sampling tick, the one
+    // the demodulator's samples carry). The window of parity fz_par holds: its conversions so far (fz_n, saturating
+    // at 2), the codes of its first one (fz_ref_a/b) and whether a later one differed (fz_dif_a/b). As for the
+    // demodulator's latch (above): a conversion of the other parity ends the window and is the first of the next
+    // one; the window deadline ends it if none has arrived by then (the next window's first conversion comes
+    // later, e.g. DS: the top, H/2 after the boundary). The flags of the ended window (1: at least 2 conversions,
+    // none differed) are held in win_adc_b and copied to WIN_ADC with WIN_FAULT, in the clock WINDOW_COUNT
+    // increments; the ending comes first (the deadline is 7 clocks before). Window -1 holds the conversions from
+    // tick 0 to the first boundary. 0 after reset.
+    reg        fz_par;                      // parity of the window being collected (window -1: 1)
+    reg [1:0]  fz_n;                        // its conversions: 0, 1, 2 or more
+    reg [ADC_BITS-1:0] fz_ref_a, fz_ref_b;  // its first conversion's codes
+    reg        fz_dif_a, fz_dif_b;          // a later conversion returned another code
+    reg [1:0]  win_adc_b;                   // {FROZEN_B, FROZEN_A} of the window ended last
+    wire fz_end = (adc_done && tag_adc_par != fz_par) || (at_deadline && fz_par != win_parity);
+    always @(posedge clk) begin
+        if (rst_dp) begin
+            fz_par <= 1'b1;
+            fz_n <= 2'd0;
+            fz_ref_a <= {ADC_BITS{1'b0}}; fz_ref_b <= {ADC_BITS{1'b0}};
+            fz_dif_a <= 1'b0; fz_dif_b <= 1'b0;
+            win_adc_b <= 2'd0;
+            win_adc_q <= 2'd0;
+        end else begin
+            if (fz_end) begin
+                fz_par <= ~fz_par;
+                win_adc_b <= {fz_n[1] & ~fz_dif_b, fz_n[1] & ~fz_dif_a};
+            end
+            if (adc_done && (fz_end || fz_n == 2'd0)) begin          // the first conversion of a window
+                fz_n <= 2'd1;
+                fz_ref_a <= code_a; fz_ref_b <= code_b;
+                fz_dif_a <= 1'b0; fz_dif_b <= 1'b0;
+            end else if (adc_done) begin
+                fz_n <= 2'd2;
+                fz_dif_a <= fz_dif_a | (code_a != fz_ref_a);
+                fz_dif_b <= fz_dif_b | (code_b != fz_ref_b);
+            end else if (fz_end) begin                               // the deadline: an empty window so far
+                fz_n <= 2'd0;
+                fz_dif_a <= 1'b0; fz_dif_b <= 1'b0;
+            end
+            if (since_zc == IRQ_LATENCY - 1)
+                win_adc_q <= win_adc_b;
+        end
+    end
+
     hfi_demodulator u_demod (
         .clk(clk), .rst(rst_dm), .valid(join_both), .keep(dm_keep), .i_d(dm_i_d), .i_q(dm_i_q), .w(dm_w),
         .latch(demod_latch), .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id), .sum_iq(sum_iq),
@@ -636,6 +690,8 @@ module hfi_dsp #(
             $error("hfi_dsp: a current arrived before the weight of the previous sample");
         if (!rst_dp && sample_q && (adc_busy || cordic_busy))
             $error("hfi_dsp: sampling instant while the ADC or the CORDIC is busy (OS_MIN too small)");
+        if (!rst_dp && at_deadline && adc_done && tag_adc_par != win_parity)
+            $error("hfi_dsp: a conversion of the previous window arrived at the window deadline");
         if (!rst_dp && at_deadline && join_both && dm_par != win_parity)
             $error("hfi_dsp: a sample of the previous window arrived after the window deadline");
     end

@@ -118,6 +118,8 @@ module hfi_regs #(
     input  wire        win_fault_wdt,     // latched by hfi_dsp with the window results (spec 2.2, 3.7)
     input  wire        win_fault_sto,
     input  wire        win_fault_desat,
+    input  wire        win_adc_frozen_a,  // WIN_ADC.FROZEN_A, FROZEN_B: every conversion of the window returned one
+    input  wire        win_adc_frozen_b,  // raw code on lane A / B, latched by hfi_dsp with the window results (3.13)
     output reg         irq
 );
 /* verilator lint_off UNUSEDPARAM */  // the generated map lists every field; not all are needed here
@@ -245,7 +247,8 @@ module hfi_regs #(
             HFI_SPEED_REF_ADDR, HFI_DTC_GAIN_ADDR, HFI_HF_AMP_ADDR, HFI_RECIP_H_ADDR, HFI_I_REF_ADDR,
             HFI_SAFETY_LOCK_ADDR, HFI_INJ_STEP_ADDR, HFI_INJ_PHASE_ADDR, HFI_CIC_M_ADDR, HFI_CIC_QA_ADDR,
             HFI_CIC_QB_ADDR, HFI_ENV_A_ADDR, HFI_ENV_B_ADDR, HFI_FCS_A_ADDR, HFI_FCS_CTRL_ADDR,
-            HFI_VECTOR_ADDR, HFI_TOP_I_ADDR, HFI_VDC_ADDR, HFI_CAPS_ADDR, HFI_WIN_FAULT_ADDR:
+            HFI_VECTOR_ADDR, HFI_TOP_I_ADDR, HFI_VDC_ADDR, HFI_CAPS_ADDR, HFI_WIN_FAULT_ADDR,
+            HFI_WIN_ADC_ADDR:
                 known_addr = 1'b1;
             default: known_addr = 1'b0;
         endcase
@@ -412,6 +415,8 @@ module hfi_regs #(
                                           | ({31'd0, win_fault_wdt} << HFI_WIN_FAULT_WDT_LSB)
                                           | ({31'd0, win_fault_sto} << HFI_WIN_FAULT_STO_LSB)
                                           | ({31'd0, win_fault_desat} << HFI_WIN_FAULT_DESAT_LSB);
+                    HFI_WIN_ADC_ADDR: w = ({31'd0, win_adc_frozen_a} << HFI_WIN_ADC_FROZEN_A_LSB)
+                                        | ({31'd0, win_adc_frozen_b} << HFI_WIN_ADC_FROZEN_B_LSB);
                     HFI_SAFETY_LOCK_ADDR: w = {31'd0, r_safety_lock} << HFI_SAFETY_LOCK_LOCK_LSB;
                     default: w = 32'd0;   // COMMIT (w1p) and unmapped addresses read 0
                 endcase

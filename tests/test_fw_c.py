@@ -389,7 +389,7 @@ def test_protect_step_random_sequences(seed):
             seen.add(want)
     assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE,
                                                     protection.FAULT_IDENT, protection.FAULT_UNDERVOLTAGE,
-                                                    protection.FAULT_OVERVOLTAGE}, seen
+                                                    protection.FAULT_OVERVOLTAGE, protection.FAULT_SENSOR}, seen
 
 
 def test_dc_link_check_random_sequences(seed):
@@ -411,6 +411,28 @@ def test_dc_link_check_random_sequences(seed):
             assert (got, st.vdc_lo_n, st.vdc_hi_n) == (want, gold.vdc_lo_n, gold.vdc_hi_n), (seed, q, k, p, vdc)
             seen.add(want)
     assert seen == {protection.FAULT_NONE, protection.FAULT_UNDERVOLTAGE, protection.FAULT_OVERVOLTAGE}, seen
+
+
+def test_frozen_check_random_sequences(seed):
+    """Sequences of WIN_ADC values and sample counts (around frz_min and anywhere) through the sensor check, golden ==
+    C, counts included; its code and no trip are both reached."""
+    rng = np.random.default_rng(seed + 44)
+    c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")
+    seen = set()
+    for q in range(N_RANDOM // 50):
+        p = random_prot(rng)
+        fw_c._fill(c, p)
+        gold = Firmware(_params())
+        st.frz_a = st.frz_b = 0
+        for k in range(10):
+            frozen = int(rng.integers(0, 4)) if rng.random() < 0.8 else draw_one(rng, 0, U32_MAX)
+            n = draw_one(rng, 0, U16_MAX, (p.frz_min - 1, p.frz_min, 200))
+            n = min(max(n, 0), U16_MAX)
+            want = protection.frozen_check(gold, p, frozen, n)
+            got = lib.fw_frozen_check(st, c, frozen, n)
+            assert (got, st.frz_a, st.frz_b) == (want, gold.frz_a, gold.frz_b), (seed, q, k, p, frozen, n)
+            seen.add(want)
+    assert seen == {protection.FAULT_NONE, protection.FAULT_SENSOR}, seen
 
 
 def test_dc_feedforward_random(seed):
@@ -750,7 +772,8 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
                       catch_n=draw_one(rng, 0, 20, (0, 0, 1)),
                       hf_k=draw_one(rng, 0, 30, (0, 4)), hf_tol=draw_one(rng, 0, 1 << 16, (0, 5898, 1 << 16)),
                       vdc_lo=vdc_lo, vdc_hi=draw_one(rng, vdc_lo, 65535, (vdc_lo, 65535)),
-                      vdc_n=draw_one(rng, 0, 20, (0, 1, 5)))
+                      vdc_n=draw_one(rng, 0, 20, (0, 1, 5)),
+                      frz_n=draw_one(rng, 0, 12, (0, 1, 4)), frz_min=draw_one(rng, 0, 300, (2, 16)))
 
 
 def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:
@@ -770,7 +793,8 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
                    vdc: int = 0) -> list[WindowResult]:
     """``count`` window results whose means stay within +-i_trip (no trip); gamma_d shifted by the bias;
     CIC_QA/QB as :func:`random_cic_q`; VECTOR.STATE and NEXT 0..7, TOP_I s16 (mostly within +-4000); VDC ``vdc``
-    (:func:`healthy_vdc`: the dc-link check passes; its trips are tested on their own)."""
+    (:func:`healthy_vdc`: the dc-link check passes; its trips are tested on their own); WIN_ADC 0 in seven windows
+    of ten, else any of its four values."""
     gamma, gamma_d, wsum = (draw_array(rng, count, S32_MIN, S32_MAX) for _ in range(3))
     gamma_d = np.clip(gamma_d // 2 + gamma_d_bias, S32_MIN, S32_MAX)
     n = draw_array(rng, count, 0, U16_MAX, (1, 2, 10, 200))
@@ -785,8 +809,10 @@ def random_windows(rng: np.random.Generator, count: int, i_trip: int, gamma_d_bi
     vector, vector_next = (rng.integers(0, 8, size=count) for _ in range(2))
     top = [np.where(rng.random(count) < 0.8, rng.integers(-4000, 4001, size=count), draw_array(rng, count, S16_MIN, S16_MAX))
            for _ in range(2)]
+    # WIN_ADC: mostly live lanes, runs of frozen ones (the sensor check counts them in RUN)
+    frozen = np.where(rng.random(count) < 0.7, 0, rng.integers(0, 4, size=count))
     cols = (gamma, gamma_d, sums[0], sums[1], wsum, n, inj_phase, random_cic_q(rng, count), random_cic_q(rng, count),
-            zeros, zeros, vector, vector_next, top[0], top[1], np.full(count, vdc))
+            zeros, zeros, vector, vector_next, top[0], top[1], np.full(count, vdc), zeros, frozen)
     return [WindowResult(*row) for row in zip(*(c.tolist() for c in cols))]
 
 

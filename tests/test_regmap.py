@@ -137,7 +137,7 @@ SPEC_ADDRS = {
     "DTC_GAIN": 0x74, "HF_AMP": 0x78, "RECIP_H": 0x7C, "I_REF": 0x80, "SAFETY_LOCK": 0x84,
     "INJ_STEP": 0x88, "INJ_PHASE": 0x8C, "CIC_M": 0x90, "CIC_QA": 0x94, "CIC_QB": 0x98, "ENV_A": 0x9C,
     "ENV_B": 0xA0, "FCS_A": 0xA4, "FCS_CTRL": 0xA8, "VECTOR": 0xAC,
-    "TOP_I": 0xB0, "VDC": 0xB4, "CAPS": 0xB8, "WIN_FAULT": 0xBC,
+    "TOP_I": 0xB0, "VDC": 0xB4, "CAPS": 0xB8, "WIN_FAULT": 0xBC, "WIN_ADC": 0xC0,
 }
 
 
@@ -198,6 +198,9 @@ def test_fields_and_resets():
                                                        "STO": (4, 1, None, "ro"), "DESAT": (5, 1, None, "ro")}
     for win, status in (("OC", "FAULT_OC"), ("WDT", "FAULT_WDT"), ("STO", "FAULT_STO"), ("DESAT", "FAULT_DESAT")):
         assert getattr(regmap, f"WIN_FAULT_{win}_MASK") == getattr(regmap, f"STATUS_{status}_MASK"), win
+    # the frozen ADC channels of the window (docs/spec.md 3.13): one bit per current lane
+    assert regmap.REGISTERS["WIN_ADC"]["fields"] == {"FROZEN_A": (0, 1, None, "ro"), "FROZEN_B": (1, 1, None, "ro")}
+    assert regmap.REGISTERS["WIN_ADC"]["signed"] == ()
     for name, reg in regmap.REGISTERS.items():  # no overlapping fields, all inside 32 bits
         used = 0
         for lsb, width, _reset, _access in reg["fields"].values():
@@ -224,6 +227,8 @@ def test_pack_negative_signed_field():
     ("TOP_I", {"I_ALPHA": -32768, "I_BETA": 32767}),
     ("VDC", {"CODE": 65535}),
     ("WIN_FAULT", {"OC": 1, "WDT": 0, "STO": 1, "DESAT": 1}),
+    ("WIN_ADC", {"FROZEN_A": 1, "FROZEN_B": 0}),
+    ("WIN_ADC", {"FROZEN_A": 0, "FROZEN_B": 1}),
     ("CIC_M", {"VALUE": 255}),
     ("CIC_QA", {"VALUE": -(2**20)}),
     ("ENV_B", {"VALUE": 2**16 - 1}),

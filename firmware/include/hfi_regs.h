@@ -709,6 +709,22 @@ typedef union {
     uint32_t w;
 } hfi_regs__WIN_FAULT_t;
 
+// reg - hfi_regs.WIN_ADC
+#define HFI_REGS__WIN_ADC__FROZEN_A_bm 0x1
+#define HFI_REGS__WIN_ADC__FROZEN_A_bp 0
+#define HFI_REGS__WIN_ADC__FROZEN_A_bw 1
+#define HFI_REGS__WIN_ADC__FROZEN_B_bm 0x2
+#define HFI_REGS__WIN_ADC__FROZEN_B_bp 1
+#define HFI_REGS__WIN_ADC__FROZEN_B_bw 1
+typedef union {
+    struct __attribute__ ((__packed__)) {
+        uint32_t FROZEN_A :1;
+        uint32_t FROZEN_B :1;
+        uint32_t :30;
+    } f;
+    uint32_t w;
+} hfi_regs__WIN_ADC_t;
+
 // addrmap - hfi_regs
 typedef struct __attribute__ ((__packed__)) {
     hfi_regs__ID_t ID;
@@ -759,6 +775,7 @@ typedef struct __attribute__ ((__packed__)) {
     hfi_regs__VDC_t VDC;
     hfi_regs__CAPS_t CAPS;
     hfi_regs__WIN_FAULT_t WIN_FAULT;
+    hfi_regs__WIN_ADC_t WIN_ADC;
 } hfi_regs_t;
 
 
@@ -811,11 +828,12 @@ typedef struct __attribute__ ((__packed__)) {
 #define HFI_REGS__VDC_offset 0xb4
 #define HFI_REGS__CAPS_offset 0xb8
 #define HFI_REGS__WIN_FAULT_offset 0xbc
+#define HFI_REGS__WIN_ADC_offset 0xc0
 
 // Layout checks of the block struct against the offsets (C11 and later)
 #if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
 #include <stddef.h>
-_Static_assert(sizeof(hfi_regs_t) == 0xc0, "hfi_regs_t: size");
+_Static_assert(sizeof(hfi_regs_t) == 0xc4, "hfi_regs_t: size");
 _Static_assert(offsetof(hfi_regs_t, ID) == HFI_REGS__ID_offset, "hfi_regs_t: ID offset");
 _Static_assert(offsetof(hfi_regs_t, VERSION) == HFI_REGS__VERSION_offset, "hfi_regs_t: VERSION offset");
 _Static_assert(offsetof(hfi_regs_t, CTRL) == HFI_REGS__CTRL_offset, "hfi_regs_t: CTRL offset");
@@ -863,6 +881,7 @@ _Static_assert(offsetof(hfi_regs_t, TOP_I) == HFI_REGS__TOP_I_offset, "hfi_regs_
 _Static_assert(offsetof(hfi_regs_t, VDC) == HFI_REGS__VDC_offset, "hfi_regs_t: VDC offset");
 _Static_assert(offsetof(hfi_regs_t, CAPS) == HFI_REGS__CAPS_offset, "hfi_regs_t: CAPS offset");
 _Static_assert(offsetof(hfi_regs_t, WIN_FAULT) == HFI_REGS__WIN_FAULT_offset, "hfi_regs_t: WIN_FAULT offset");
+_Static_assert(offsetof(hfi_regs_t, WIN_ADC) == HFI_REGS__WIN_ADC_offset, "hfi_regs_t: WIN_ADC offset");
 #endif
 
 #ifdef __cplusplus

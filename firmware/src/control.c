@@ -22,6 +22,7 @@
 
 #include "fw_cordic_table.h"
 #include "fw_methods.h"
+#include "hfi_regs.h"
 
 void *memset(void *dst, int c, size_t n); /* firmware/src/mem.c (the host build: the C library's) */
 void *memcpy(void *dst, const void *src, size_t n);
@@ -1491,6 +1492,19 @@ int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, ui
     return FW_FAULT_NONE;
 }
 
+/* protection.frozen_check: one RUN period of the sensor check (lane A / B frozen in a window of at least frz_min
+ * samples, frz_n periods in a row) */
+int32_t fw_frozen_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t frozen, uint32_t n_samples)
+{
+    if (!p->frz_n)
+        return FW_FAULT_NONE;
+    const int enough = (int64_t)n_samples >= p->frz_min;
+
+    st->frz_a = count_while(st->frz_a, enough && (frozen & HFI_REGS__WIN_ADC__FROZEN_A_bm));
+    st->frz_b = count_while(st->frz_b, enough && (frozen & HFI_REGS__WIN_ADC__FROZEN_B_bm));
+    return st->frz_a >= p->frz_n || st->frz_b >= p->frz_n ? FW_FAULT_SENSOR : FW_FAULT_NONE;
+}
+
 /* protection.hf_learn: one CONVERGE period of the HF response check's reference. Not inlined: start-up code,
  * outside the steps' working set in the instruction cache (firmware/link.ld). */
 __attribute__((noinline)) void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d)
@@ -1520,7 +1534,7 @@ const char *fw_fault_name(int32_t code)
 {
     static const char *const names[FW_FAULTS] = {"none", "overcurrent", "overspeed", "lock_loss", "current_tracking",
                                                  "overload", "hardware", "ident", "hf_response",
-                                                 "undervoltage", "overvoltage"};
+                                                 "undervoltage", "overvoltage", "sensor"};
 
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }
@@ -1979,11 +1993,13 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
 
             if (p->law == FW_LAW_FCS_MPC && p->prot.emf_tol != 0) /* only the lock check reads it */
                 applied_dq(st, win, &st->act[0], &v_d, &v_q);
+            const int32_t frozen = fw_frozen_check(st, &p->prot, win->frozen, win->n_samples);   /* the cause first */
+
             code = fw_protect_step(st, &p->prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev,
                                    fw_lowpass_out(st->speed_f), speed_ref, abs64(st->i_s_ref) >= p->speed_pi.limit,
                                    hf_on, win->gamma_d);
-            if (code != FW_FAULT_NONE)
-                trip(st, p, code);
+            if (frozen != FW_FAULT_NONE || code != FW_FAULT_NONE)
+                trip(st, p, frozen != FW_FAULT_NONE ? frozen : code);
         }
         st->theta_hat = angle_in_use(st);
     }

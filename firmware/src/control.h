@@ -37,7 +37,7 @@ enum fw_pol_mode { FW_POL_CURRENT = 0, FW_POL_PILOT = 1, FW_POL_NONE = 2 };
 /* Fault codes (golden.firmware.protection.FAULT_*; names in fw_fault_name). */
 enum fw_fault { FW_FAULT_NONE = 0, FW_FAULT_OVERCURRENT = 1, FW_FAULT_OVERSPEED = 2, FW_FAULT_LOCK_LOSS = 3,
                 FW_FAULT_TRACKING = 4, FW_FAULT_OVERLOAD = 5, FW_FAULT_HARDWARE = 6, FW_FAULT_IDENT = 7, FW_FAULT_HF_RESPONSE = 8,
-                FW_FAULT_UNDERVOLTAGE = 9, FW_FAULT_OVERVOLTAGE = 10, FW_FAULTS = 11 };
+                FW_FAULT_UNDERVOLTAGE = 9, FW_FAULT_OVERVOLTAGE = 10, FW_FAULT_SENSOR = 11, FW_FAULTS = 12 };
 
 /* Limits of the fault checks (golden.firmware.protection.ProtParams; 0 turns a check off). */
 struct fw_prot_params {
@@ -63,6 +63,8 @@ struct fw_prot_params {
     int32_t vdc_lo;          /* dc-link check: under- and overvoltage limits, VDC codes */
     int32_t vdc_hi;
     int32_t vdc_n;           /* periods in a row beyond a limit before the trip (0: off) */
+    int32_t frz_n;           /* sensor check: periods in a row with a frozen current lane before the trip (0: off) */
+    int32_t frz_min;         /* the fewest samples a window needs to count */
 };
 
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
@@ -537,6 +539,8 @@ struct fw_state {
     int32_t hf_f;
     int32_t vdc_lo_n;           /* dc-link check: periods in a row below / above its limits */
     int32_t vdc_hi_n;
+    int32_t frz_a;              /* sensor check: periods in a row with lane A / B frozen */
+    int32_t frz_b;
     int32_t restarts;           /* automatic restarts done */
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;
@@ -571,6 +575,8 @@ struct fw_window {
     uint32_t vdc;           /* VDC.CODE, uB: the dc-link channel's code of the carrier-bottom sample (spec 3.12) */
     uint32_t status;        /* WIN_FAULT: STATUS's fault latches (FAULT_OC, WDT, STO, DESAT, at their STATUS bit
                              * positions) at the window boundary (docs/spec.md 2.2), other bits 0 */
+    uint32_t frozen;        /* WIN_ADC: FROZEN_A, FROZEN_B, the current lanes that returned one code for every
+                             * conversion of the window (docs/spec.md 3.13), other bits 0 */
 };
 
 /* What every estimator gets once per period (golden.firmware.estimator.Measurement). */
@@ -705,6 +711,7 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
                         int32_t at_limit, int32_t hf_on, int32_t hf);
 void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d);
 int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t vdc);
+int32_t fw_frozen_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t frozen, uint32_t n_samples);
 void fw_dc_feedforward(struct fw_outputs *out, uint32_t vdc, int32_t ff_nom, int32_t ff_lo, int32_t ff_hi);
 const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,

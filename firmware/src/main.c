@@ -168,6 +168,7 @@ static void control_step(void)
      * live STATUS: the value does not depend on when this handler runs; same bit positions as in STATUS */
     win.status = DSP(WIN_FAULT) & (HFI_REGS__WIN_FAULT__OC_bm | HFI_REGS__WIN_FAULT__WDT_bm |
                                    HFI_REGS__WIN_FAULT__STO_bm | HFI_REGS__WIN_FAULT__DESAT_bm);
+    win.frozen = DSP(WIN_ADC) & (HFI_REGS__WIN_ADC__FROZEN_A_bm | HFI_REGS__WIN_ADC__FROZEN_B_bm);
     int32_t speed_ref = (int32_t)DSP(SPEED_REF);
 
     if (count < 2u) {                     /* window -1: no control step, a warm-up */

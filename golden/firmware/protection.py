@@ -56,7 +56,9 @@ The software overcurrent on the window means (``i_trip``) is checked in every mo
 itself (``FAULT_OVERCURRENT``), and so are the hardware's own trips (``FAULT_HARDWARE``: a fault latch of
 ``STATUS`` set, ``WindowResult.status``; the hardware has already turned the gates off) and the dc link
 (:func:`dc_link_check`: ``undervoltage``, ``overvoltage``, the code of the ADC's dc-link channel, ``VDC``,
-below ``vdc_lo`` or above ``vdc_hi`` for ``vdc_n`` periods in a row).
+below ``vdc_lo`` or above ``vdc_hi`` for ``vdc_n`` periods in a row). In RUN, before the checks above, the sensor
+check (:func:`frozen_check`, ``sensor``): a current lane whose every conversion of a window returned one code
+(``WIN_ADC``), ``frz_n`` windows in a row.
 
 Units: voltage, current and speed LSB of the window formats (docs/spec.md 1); flux in ``v_lsb / (2 pi
 f_sw)`` per LSB, so that ``shr(omega * psi, 32)`` is a voltage in LSB (``omega`` in binary angle per
@@ -70,11 +72,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from golden.fixed import sat, shr
+from golden.regmap import WIN_ADC_FROZEN_A_MASK, WIN_ADC_FROZEN_B_MASK
 
 (FAULT_NONE, FAULT_OVERCURRENT, FAULT_OVERSPEED, FAULT_LOCK_LOSS, FAULT_TRACKING, FAULT_OVERLOAD,
- FAULT_HARDWARE, FAULT_IDENT, FAULT_HF_RESPONSE, FAULT_UNDERVOLTAGE, FAULT_OVERVOLTAGE) = range(11)
+ FAULT_HARDWARE, FAULT_IDENT, FAULT_HF_RESPONSE, FAULT_UNDERVOLTAGE, FAULT_OVERVOLTAGE, FAULT_SENSOR) = range(12)
 FAULT_NAMES = ("none", "overcurrent", "overspeed", "lock_loss", "current_tracking", "overload", "hardware", "ident",
-               "hf_response", "undervoltage", "overvoltage")
+               "hf_response", "undervoltage", "overvoltage", "sensor")
 """Fault codes of the firmware (``struct fw_state.fault``, the trace column ``fault``; C ``enum fw_fault``)."""
 
 
@@ -117,6 +120,9 @@ class ProtParams:
     vdc_lo, vdc_hi, vdc_n : int
         The dc-link check: under- and overvoltage limits [codes of ``VDC``] and the periods in a row beyond
         one before it trips (``vdc_n = 0``: off, as without a dc-link channel).
+    frz_n, frz_min : int
+        The sensor check (:func:`frozen_check`): the periods in a row with a frozen current lane before it trips
+        (0: off) and the fewest samples a window needs to count (fewer: the count starts again).
     """
 
     r: int = 0
@@ -141,6 +147,8 @@ class ProtParams:
     vdc_lo: int = 0
     vdc_hi: int = 0
     vdc_n: int = 0
+    frz_n: int = 0
+    frz_min: int = 0
 
 
 def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> tuple[int, int]:
@@ -180,6 +188,20 @@ def dc_link_check(st, p: ProtParams, vdc: int) -> int:
     if st.vdc_hi_n >= p.vdc_n:
         return FAULT_OVERVOLTAGE
     return FAULT_NONE
+
+
+def frozen_check(st, p: ProtParams, frozen: int, n_samples: int) -> int:
+    """One RUN period of the sensor check: ``st.frz_a``, ``st.frz_b`` count the periods in a row whose window has
+    at least ``frz_min`` samples and lane A / B frozen (``WIN_ADC``, golden.fpga.adc_frozen; capped); returns
+    ``FAULT_SENSOR`` once a count reaches ``frz_n``, else ``FAULT_NONE``. A stuck current channel is found in
+    ``frz_n`` periods, before the current controller has driven the unmeasured current far; in DS mode (two
+    samples a window) the check never counts."""
+    if not p.frz_n:
+        return FAULT_NONE
+    enough = n_samples >= p.frz_min
+    st.frz_a = min(st.frz_a + 1, OVL_CAP) if enough and frozen & WIN_ADC_FROZEN_A_MASK else 0
+    st.frz_b = min(st.frz_b + 1, OVL_CAP) if enough and frozen & WIN_ADC_FROZEN_B_MASK else 0
+    return FAULT_SENSOR if max(st.frz_a, st.frz_b) >= p.frz_n else FAULT_NONE
 
 
 def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_ref: int,

@@ -88,7 +88,7 @@ from golden.firmware.methods import CLASSES
 from golden.firmware.mtpa import mtpa_lookup
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.protection import (FAULT_HARDWARE, FAULT_IDENT, FAULT_NONE, FAULT_OVERCURRENT, ProtParams,
-                                       dc_link_check, hf_learn, protect_step)
+                                       dc_link_check, frozen_check, hf_learn, protect_step)
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -294,6 +294,8 @@ class Firmware:
     hf_f: int = 0
     vdc_lo_n: int = 0                # dc-link check: periods in a row below / above its limits
     vdc_hi_n: int = 0
+    frz_a: int = 0                   # sensor check: periods in a row with lane A / B frozen
+    frz_b: int = 0
     restarts: int = 0                # automatic restarts done
     ident: Ident | None = None       # the identification program's executor (FirmwareParams.ident)
     slots: list = field(init=False)
@@ -376,10 +378,11 @@ class Firmware:
                 i_d_ref, i_q_ref = self._run_refs(speed_ref)
                 fcs = p.law == LAW_FCS_MPC and p.prot.emf_tol != 0      # only the lock check reads it
                 v_d, v_q = self._applied_dq(win, now) if fcs else (now.v_d, now.v_q)
+                frozen = frozen_check(self, p.prot, win.frozen, win.n_samples)   # the sensor first: the cause
                 code = protect_step(self, p.prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev, self.omega_f,
                                     speed_ref, abs(self.i_s_ref) >= p.speed_pi.limit, hf)
-                if code != FAULT_NONE:
-                    self._trip(code)
+                if frozen != FAULT_NONE or code != FAULT_NONE:
+                    self._trip(frozen if frozen != FAULT_NONE else code)
             self.theta_hat = self._angle()
         self.i_d_ref, self.i_q_ref = i_d_ref, i_q_ref
         i_d_f, i_q_f = self._feedback(i_d, i_q)

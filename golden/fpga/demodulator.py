@@ -85,6 +85,9 @@ class WindowResult:
         ends the window (spec 2.2, 3.7): nonzero once the hardware turned the gates off by itself. The golden
         closed loop models the overcurrent comparator (golden.fpga.overcurrent); it drives no STO or DESAT and
         its firmware never misses a commit, so only ``OC`` can be set.
+    frozen : int
+        ``WIN_ADC``: the current lanes whose every conversion in the window returned one code (``FROZEN_A``,
+        ``FROZEN_B``; golden.fpga.adc_frozen, spec 3.13).
     """
 
     gamma: int
@@ -104,6 +107,7 @@ class WindowResult:
     top_ib: int = 0
     vdc: int = 0
     status: int = 0
+    frozen: int = 0
 
 
 def _window_array(x, name: str) -> np.ndarray:

@@ -48,6 +48,7 @@ extern "C" {
 #include "../../firmware/include/hfi_regs.h"
 }
 
+#include "hfi_adc_frozen.h"
 #include "hfi_adc_scale.h"
 #include "hfi_adc_trigger.h"
 #include "hfi_carrier.h"
@@ -374,6 +375,7 @@ bool hls_loop::step() {
     win.vdc = uint32_t(adc[PLANT_ADC_CHANNELS * j + PLANT_ADC_VDC]);  // VDC (spec 3.12): the dc-link code of the bottom sample
     // WIN_FAULT (spec 2.2, 3.7): the overcurrent latch at the boundary that ends the window
     win.status = oc_trip >= 0 && oc_trip + s.oc_fault_delay <= end ? uint32_t(HFI_REGS__WIN_FAULT__OC_bm) : 0u;
+    win.frozen = uint32_t(hfi_adc_frozen(adc_a, adc_b, n));    // WIN_ADC (spec 3.13): every conversion, blanked too
     if (direct) {                                         // VECTOR, TOP_I (latched with the window results)
         // VECTOR.NEXT: the modulator's choice from the set the next boundary commits (the outputs of the
         // previous step; the reset set before k = 1) and the state applied now, held until that top
@@ -408,6 +410,8 @@ bool hls_loop::step() {
     r.top_ia = win.top_ia;
     r.top_ib = win.top_ib;
     r.vdc = win.vdc;
+    r.win_fault = win.status;              // what the firmware was given as WIN_FAULT, WIN_ADC
+    r.win_adc = win.frozen;
 #define HLS_WINDOW_COLUMN(column, value) r.column = int64_t(value)
     FW_TRACE_COLUMNS(HLS_WINDOW_COLUMN, fw);
 #undef HLS_WINDOW_COLUMN

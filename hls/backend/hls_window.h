@@ -49,6 +49,8 @@ struct hls_window {
     int64_t top_ia;
     int64_t top_ib;
     int64_t vdc;
+    int64_t win_fault;
+    int64_t win_adc;
 };
 
 #endif

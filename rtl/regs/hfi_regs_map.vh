@@ -369,6 +369,15 @@ localparam integer HFI_WIN_FAULT_DESAT_LSB = 5;  // ro
 localparam integer HFI_WIN_FAULT_DESAT_WIDTH = 1;
 localparam [0:0] HFI_WIN_FAULT_DESAT_RESET = 1'h0;
 
+// WIN_ADC @ 0xC0: Frozen ADC channels
+localparam [7:0] HFI_WIN_ADC_ADDR = 8'hC0;
+localparam integer HFI_WIN_ADC_FROZEN_A_LSB = 0;  // ro
+localparam integer HFI_WIN_ADC_FROZEN_A_WIDTH = 1;
+localparam [0:0] HFI_WIN_ADC_FROZEN_A_RESET = 1'h0;
+localparam integer HFI_WIN_ADC_FROZEN_B_LSB = 1;  // ro
+localparam integer HFI_WIN_ADC_FROZEN_B_WIDTH = 1;
+localparam [0:0] HFI_WIN_ADC_FROZEN_B_RESET = 1'h0;
+
 // Registers whose fields SAFETY_LOCK.LOCK locks (swwel): software writes ignored while it is 1.
 function hfi_locked_by_safety_lock_lock(input [7:0] a);
     case (a)

@@ -1496,13 +1496,20 @@ int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, ui
  * samples, frz_n periods in a row) */
 int32_t fw_frozen_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t frozen, uint32_t n_samples)
 {
-    if (!p->frz_n)
-        return FW_FAULT_NONE;
-    const int enough = (int64_t)n_samples >= p->frz_min;
+    const int32_t n = p->frz_n;
+    int32_t a, b;
 
-    st->frz_a = count_while(st->frz_a, enough && (frozen & HFI_REGS__WIN_ADC__FROZEN_A_bm));
-    st->frz_b = count_while(st->frz_b, enough && (frozen & HFI_REGS__WIN_ADC__FROZEN_B_bm));
-    return st->frz_a >= p->frz_n || st->frz_b >= p->frz_n ? FW_FAULT_SENSOR : FW_FAULT_NONE;
+    if (!n)
+        return FW_FAULT_NONE;
+    if ((int64_t)n_samples < p->frz_min) /* too few samples: the window does not count */
+        frozen = 0;
+    /* count_while written out (0 <= counts <= OVL_CAP): this form is 128 bytes, one 32-byte line less in the ACC=0
+     * image, whose RAM keeps 3 KiB for the stack with it */
+    a = (frozen & HFI_REGS__WIN_ADC__FROZEN_A_bm) ? st->frz_a + (st->frz_a < OVL_CAP) : 0;
+    b = (frozen & HFI_REGS__WIN_ADC__FROZEN_B_bm) ? st->frz_b + (st->frz_b < OVL_CAP) : 0;
+    st->frz_a = a;
+    st->frz_b = b;
+    return a >= n || b >= n ? FW_FAULT_SENSOR : FW_FAULT_NONE;
 }
 
 /* protection.hf_learn: one CONVERGE period of the HF response check's reference. Not inlined: start-up code,
@@ -1556,8 +1563,15 @@ static __attribute__((noinline)) void restart(struct fw_state *st, const struct 
     st->restarts = restarts;
 }
 
-/* Firmware._trip: FAULT with the code; the active short circuit above w_asc under the FOC law. */
+/* Firmware._trip: FAULT with the code; the active short circuit above w_asc under the FOC law. It runs once, at a
+ * fault: out of line in the accelerated build, where its four call sites in fw_step would each carry a copy on the
+ * 000 step's cache lines (tests/test_fw_layout.py: 8 bytes to spare); inlined in the ACC=0 build, whose limit is
+ * the RAM left for the stack, not the cache (the copies cost 32 bytes less than a function of its own there). */
+#ifdef FW_ACC
+static __attribute__((noinline)) void trip(struct fw_state *st, const struct fw_params *p, int32_t code)
+#else
 static void trip(struct fw_state *st, const struct fw_params *p, int32_t code)
+#endif
 {
     st->fault = code;
     st->asc = p->prot.w_asc > 0 && abs64(fw_lowpass_out(st->speed_f)) > p->prot.w_asc && p->law == FW_LAW_FOC_PWM;

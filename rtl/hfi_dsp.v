@@ -577,6 +577,9 @@ module hfi_dsp #(
     wire sample_ends = join_both && dm_par != acc_parity;
     wire deadline_ends = at_deadline && acc_parity != win_parity;
     wire demod_latch = sample_ends | deadline_ends;
+    // the clock the window results are copied for the firmware (WINDOW_COUNT, WIN_FAULT, WIN_ADC), IRQ_LATENCY
+    // after the boundary; IRQ_STATUS.WINDOW is set in the next one
+    wire results_copy = since_zc == IRQ_LATENCY - 1;
     wire demod_latched;
     always @(posedge clk) begin
         if (rst_dp) begin
@@ -590,8 +593,8 @@ module hfi_dsp #(
             at_deadline <= !at_zc && since_zc == IRQ_LATENCY - 9;      // IRQ_LATENCY - 9 >= 55
             if (demod_latch)
                 acc_parity <= ~acc_parity;
-            irq_window_set <= since_zc == IRQ_LATENCY - 1;
-            if (since_zc == IRQ_LATENCY - 1)
+            irq_window_set <= results_copy;
+            if (results_copy)
                 window_count <= window_count + 32'd1;
         end
     end
@@ -610,7 +613,7 @@ module hfi_dsp #(
         end else begin
             if (at_zc)
                 win_fault_b <= {fault_desat, fault_sto, fault_wdt, fault_oc};
-            if (since_zc == IRQ_LATENCY - 1)
+            if (results_copy)
                 win_fault_q <= win_fault_b;
         end
     end
@@ -658,7 +661,7 @@ module hfi_dsp #(
                 fz_n <= 2'd0;
                 fz_dif_a <= 1'b0; fz_dif_b <= 1'b0;
             end
-            if (since_zc == IRQ_LATENCY - 1)
+            if (results_copy)
                 win_adc_q <= win_adc_b;
         end
     end

@@ -1504,7 +1504,7 @@ int32_t fw_frozen_check(struct fw_state *st, const struct fw_prot_params *p, uin
     if ((int64_t)n_samples < p->frz_min) /* too few samples: the window does not count */
         frozen = 0;
     /* count_while written out (0 <= counts <= OVL_CAP): this form is 128 bytes, one 32-byte line less in the ACC=0
-     * image, whose RAM keeps 3 KiB for the stack with it */
+     * image than with the calls, whose RAM is short of stack (firmware/link.ld) */
     a = (frozen & HFI_REGS__WIN_ADC__FROZEN_A_bm) ? st->frz_a + (st->frz_a < OVL_CAP) : 0;
     b = (frozen & HFI_REGS__WIN_ADC__FROZEN_B_bm) ? st->frz_b + (st->frz_b < OVL_CAP) : 0;
     st->frz_a = a;

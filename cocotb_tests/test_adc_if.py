@@ -53,6 +53,7 @@ def write_sweep_wrapper(path: Path, points) -> Path:
     return path
 
 
+@pytest.mark.long
 @pytest.mark.parametrize("sim", hdl_runner.SIMULATORS)
 def test_adc_if_default(sim, tmp_path):
     hdl_runner.run_cocotb(sim=sim, toplevel="hfi_adc_if", sources=hdl_runner.rtl_sources(SRC),

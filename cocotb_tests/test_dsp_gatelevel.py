@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import sys
 
+import pytest
+
 from hdl_runner import ROOT, RTL
 
 sys.path.insert(0, str(ROOT / "scripts"))
@@ -32,6 +34,7 @@ def test_gatelevel_sources_are_the_netlist():
     assert gatelevel.cell_models_dir() / "cells_sim.v" in files and gatelevel.MULT_MODEL in files
 
 
+@pytest.mark.long
 def test_gatelevel_replay_short(tmp_path):
     r = gatelevel.replay(SHORT_S, tmp_path / "run")
     print(f"windows compared: {r['windows']}, mismatches: {r['mismatches']}")

@@ -22,6 +22,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 
 from golden import regmap as rm
 from golden.closedloop import ClosedLoop
@@ -131,6 +132,7 @@ def replay(res, tmp_path) -> None:
                env={"HFI_REPLAY_TRACE": build / "trace.npz"}, build_args=["--timing"], expect_tests=1)
 
 
+@pytest.mark.long
 def test_replay_default_scenario(tmp_path):
     sc = paper.experiment("replay", {"scenario": {"duration": REPLAY_S}})
     res = ClosedLoop(sc).run(progress=False)
@@ -165,6 +167,7 @@ def test_replay_rotating_injection(tmp_path):
     replay(res, tmp_path)
 
 
+@pytest.mark.long
 def test_replay_period_square_wave(tmp_path):
     """The 001 drive (scenarios/xue2022_noload.toml, 1 kHz, PWM_HALF 50000: a held start) for 0.1 s: the
     period square wave (CTRL.INJ_PER: the sign S flips at every carrier bottom, the modulator's compares

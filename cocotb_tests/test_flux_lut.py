@@ -25,6 +25,7 @@ RAM_AW = 14             # the unit's default: 64 KiB
 N_COCOTB_TESTS = 5
 
 
+@pytest.mark.long
 @pytest.mark.parametrize("sim", hdl_runner.SIMULATORS)
 def test_flux_lut(sim, tmp_path):
     hdl_runner.run_cocotb(sim=sim, toplevel=TOP, sources=[*hdl_runner.rtl_sources("hfi_ram.v", SRC), WRAPPER],

@@ -19,6 +19,7 @@ ICARUS_N = 2_000
 from tb_modulator.COVERAGE_N vectors on) is reached in 2 000 (the counts of 15 seeds computed offline: at least 20)."""
 
 
+@pytest.mark.long
 @pytest.mark.parametrize("sim", hdl_runner.SIMULATORS)
 def test_modulator(sim, tmp_path):
     hdl_runner.run_cocotb(sim=sim, toplevel="hfi_modulator",

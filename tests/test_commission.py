@@ -269,6 +269,7 @@ def test_commission_hls_identical_to_golden():
         assert getattr(hls.ident, f.name) == getattr(gold.ident, f.name), f.name
 
 
+@pytest.mark.long
 def test_commission_rtl_identical_to_golden(tmp_path):
     """The commissioning image on the soft core (rtl backend: make -C firmware IDENT=1, the SoC with
     soc_platform.IDENT_RAM_BYTES of RAM; the program patched into the RAM image at fw_ident and the executor's state

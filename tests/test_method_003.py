@@ -220,6 +220,7 @@ def _run(name: str, backend: str):
     return sc, res, metrics_of(sc, res)
 
 
+@pytest.mark.long
 def test_speedrange_is_seamless():
     """0 -> 1500 -> -1500 r/min through the fusion both ways (issue 18): lock held, the position error's
     peak from the start of RUN within 10 deg el, both rated-speed plateaus settled within 1 %; the hls backend

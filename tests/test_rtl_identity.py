@@ -100,6 +100,7 @@ def _first_difference(a: np.ndarray, b: np.ndarray) -> str:
     return f"index {i}: golden {a[i]!r}, rtl {b[i]!r}"
 
 
+@pytest.mark.long
 def test_window_columns_identical(both):
     sc, gold, rtl = both
     assert len(gold.t) == len(rtl.t) >= int(0.5 * sc.pwm.f_sw) - 1

@@ -136,13 +136,13 @@ class CommissionSettings:
 def settings(sc) -> CommissionSettings:
     """The scenario's ``[commission]`` table with its derived defaults: ``current`` = ``control.i_max``,
     ``hf_current`` HF_CURRENT_SHARE of it, ``probe_voltage`` PROBE_DEAD_TIMES times the dead time's voltage ``t_d f_sw
-    V_dc`` (at least 2 % of V_dc, at most half of ``hf_voltage_max``), ``hf_voltage_max`` 25 % of V_dc, ``speed`` the
+    V_dc`` (at least 2 % of V_dc, at most half of ``hf_voltage_max``), ``hf_voltage_max`` 50 % of V_dc, ``speed`` the
     largest reference speed (at least SPIN_SPEED_MIN). ``magnets``: the machine type, which the user knows (a
     reluctance machine is the one whose angle is pi-periodic, ``Scales.angle_period_deg``)."""
     t, ctl, v_dc = sc.commission, sc.control, sc.plant["inv"]["V_dc"]
     current = t.current or ctl.i_max
     v_dt = sc.pwm.dead_time * sc.pwm.f_sw * v_dc                     # the dead time's voltage
-    v_max = t.hf_voltage_max or 0.25 * v_dc
+    v_max = t.hf_voltage_max or 0.5 * v_dc
     return CommissionSettings(
         current=current, hf_current=t.hf_current or HF_CURRENT_SHARE * current,
         probe_voltage=t.probe_voltage or min(max(PROBE_DEAD_TIMES * v_dt, 0.02 * v_dc), 0.5 * v_max),
@@ -181,14 +181,25 @@ class Program:
     duration: float
 
 
-def hf_response(hw, scl, tick_hz: float, v_h: int, s: int, c: int, v_d: int = 0, v_q: int = 0) -> tuple[float, float]:
+def sensor_bandwidth(sc) -> float:
+    """The current sensors' bandwidth [Hz] (0: ideal) that :func:`hf_response` takes into account: the sensors'
+    data sheet value, ``sensors.bandwidth`` of the scenario (decision: the drive's designer knows the sensors
+    fitted, as the dead time; a different sensor is a different scenario)."""
+    return float(sc.plant["sens"]["bandwidth_hz"])
+
+
+def hf_response(hw, scl, tick_hz: float, v_h: int, s: int, c: int, v_d: int = 0, v_q: int = 0,
+                sensor_bw: float = 0.0) -> tuple[float, float]:
     """``(GAMMA_D, GAMMA)`` of one window for an ideal inductance of 1 H: the hardware's HF gain.
 
     The modulator's compares (spec 3.5) for the registers ``V_D = v_d``, ``V_Q = v_q``, ``V_H = v_h`` and the
     frame ``SIN = s``, ``COS = c`` in both halves, the ideal switch signals (spec 2.4, no dead time), the phase
     voltages without their common mode at every tick of a period, the current of a 1 H inductance (their
-    integral, without its mean: the steady state of a lossless load), Park into the frame, sampled at the
-    window's instants and weighted as the demodulator does (spec 3.3, 3.4). For a small ``V_H`` the HF
+    integral, without its mean: the steady state of a lossless load), through the current sensors' first-order
+    lag of bandwidth ``sensor_bw`` [Hz] (0: none; in the periodic steady state, by the period's spectrum), Park
+    into the frame, sampled at the window's instants and weighted as the demodulator does (spec 3.3, 3.4). The
+    lag matters: 0.8 us at 200 kHz shifts the HF current against the demodulator's weights and takes about 1.5 %
+    of the response at 10 kHz (measured on the 000 motor's map, docs/commissioning.md). For a small ``V_H`` the HF
     voltage comes as short pulses around the middle of each half period and the current is nearly a square
     wave of amplitude ``V_H / (4 f_sw L)``, whose fundamental is ``4/pi`` of that (not the triangle of
     Benevieri et al. 2023, eq. (17), ``8/pi^2``, which holds only when the pulses fill the halves). A machine's
@@ -204,6 +215,9 @@ def hf_response(hw, scl, tick_hz: float, v_h: int, s: int, c: int, v_d: int = 0,
     cf, sf = c / 32768, s / 32768
     lam = np.cumsum(np.stack([v_al * cf + v_be * sf, v_be * cf - v_al * sf]), axis=1) / tick_hz
     lam -= lam.mean(axis=1, keepdims=True)                           # current of 1 H [A]
+    if sensor_bw > 0.0:                                              # the sensors' lag, periodic steady state
+        f = np.fft.rfftfreq(P, d=1.0 / tick_hz)
+        lam = np.fft.irfft(np.fft.rfft(lam, axis=1) / (1.0 + 1j * f / sensor_bw), n=P, axis=1)
     rel = np.sort((sample_phases(hw.adc_mode, H, hw.os_ticks) - H // 2) % P)
     phase = (rel + H // 2) % P
     w = np.asarray(demod_weight(counter(phase, H), H, hw.cw_angle_step), dtype=float)
@@ -226,7 +240,8 @@ def build_program(sc, cs: CommissionSettings) -> Program:
         infos.append(info)
 
     v_probe = min(sc_.voltage(cs.probe_voltage), 32767)
-    g_unit = hf_response(hw, sc_, sc.pwm.tick_hz, v_probe, 0, 32767)[0] / (v_probe * sc_.v_lsb)   # per V and 1/H
+    g_unit = hf_response(hw, sc_, sc.pwm.tick_hz, v_probe, 0, 32767,
+                         sensor_bw=sensor_bandwidth(sc))[0] / (v_probe * sc_.v_lsb)   # per V and 1/H
     # 1. probe
     # a reluctance machine's scan needs a bias current (its saliency appears only with current), so current
     # control from the probe on: gains from the probe's response for SATURATION_RATIO times less inductance
@@ -441,7 +456,7 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | No
             th = prog.steps[k].phi if prog.steps[k].stage in ("probe", "scan") else res.theta_r + prog.steps[k].phi
             s, c = sincos_q15(round(th / (2 * math.pi) * 2**32) % 2**32)
             gains[k] = hf_response(hw, sc_, sc.pwm.tick_hz, vh[k], s, c, round(means[k]["vd"]),
-                                   round(means[k]["vq"]))[0]
+                                   round(means[k]["vq"]), sensor_bw=sensor_bandwidth(sc))[0]
         return gains[k]
 
     def pair(k: int) -> complex:

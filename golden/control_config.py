@@ -339,15 +339,16 @@ def protection_params(sc: Scenario) -> ProtParams:
     ``lock_emf_rel`` is a share of the nominal flux (psi_f, or L_q i_max without a magnet). Under the ``fcs_mpc``
     law the tracking check is off (the law tracks a flux, not a current per axis: there is no current reference);
     the lock check takes the voltage of the states the inverter applied. ``checks = "off"``: every limit 0 (the
-    flying start, ``catch_time``, is no check: it stays)."""
+    flying start, ``catch_time`` and ``catch_probe`` with the magnet flux it needs, is no check: it stays)."""
     pr, ctl, sc_ = sc.protection, sc.control, scales(sc)
     catch_n = round(pr.catch_time * sc_.f_sw)
-    if pr.checks == "off":
-        return ProtParams(catch_n=catch_n)
     cm = controller_motor(sc)
     mag = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * ctl.i_max)
-    v_dc = sc.plant["inv"]["V_dc"]
     flux = 2 * math.pi * sc_.f_sw / sc_.v_lsb          # flux LSB per V*s (golden.firmware.protection)
+    probe_min = sc_.current(pr.catch_probe) if catch_n else 0
+    if pr.checks == "off":
+        return ProtParams(catch_n=catch_n, probe_min=probe_min, psi_f=to_fixed(mag["psi_f"] * flux, 0))
+    v_dc = sc.plant["inv"]["V_dc"]
     ref = max((abs(v) for _, v in sc.reference_speed), default=0.0)
     speed_max = pr.speed_max if pr.speed_max is not None else SPEED_MAX_MARGIN[0] * ref + SPEED_MAX_MARGIN[1]
     if pr.asc_speed is not None:
@@ -370,7 +371,7 @@ def protection_params(sc: Scenario) -> ProtParams:
         ovl_m=round(pr.overload_speed_time * sc_.f_sw),
         w_max=min(sc_.speed_mech(speed_max), 2**31 - 1), w_asc=min(sc_.speed_mech(asc), 2**31 - 1),
         restarts=pr.restarts, restart_n=max(round(pr.restart_delay * sc_.f_sw), 1),
-        catch_n=catch_n,
+        catch_n=catch_n, probe_min=probe_min,
         hf_k=shift(pr.hf_time), hf_tol=to_fixed(pr.hf_response, 16),
         frz_n=round(pr.frozen_time * sc_.f_sw), frz_min=pr.frozen_samples,
         **dc_link_limits(sc))

@@ -363,6 +363,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "restarts": Field("integer", check=_between(0, 1000), default=0),
         "restart_delay": _q("time", _positive, default=0.5),
         "catch_time": _q("time", _non_negative, default=0.0),
+        "catch_probe": _q("current", _non_negative, default=0.0),
         "hf_response": Field("number", check=_between(0, 1), default=0.09),
         "hf_time": _q("time", _positive, default=3.2e-3),
         "undervoltage": Field("number", check=lambda x: None if 0 < x < 1 else "must be between 0 and 1",
@@ -553,6 +554,7 @@ class ProtectionSettings:
     restarts: int
     restart_delay: float
     catch_time: float
+    catch_probe: float
     hf_response: float
     hf_time: float
     undervoltage: float
@@ -1089,6 +1091,9 @@ def _check_estimator(reader: _Reader) -> None:
         if law != "foc_pwm":
             reader.error("protection.catch_time", "the flying start holds the currents at zero with the current "
                          "PIs: it needs control.law = \"foc_pwm\"")
+    if reader.get("protection.catch_probe") and not reader.get("protection.catch_time"):
+        reader.error("protection.catch_probe", "the short-circuit probe is the flying start's first step: it needs "
+                     "protection.catch_time > 0")
     up, down = reader.get("estimator.handover_up"), reader.get("estimator.handover_down")
     if up is not None and down is not None and down > up:
         reader.error("estimator.handover_down",

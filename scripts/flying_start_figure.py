@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """The flying start's figure (docs/faults.md): scenarios/flying_start.toml (the drive switched on while the Table I
-motor coasts at ``--rpm``) with its ``catch_time`` and without it (the standstill start), on the golden backend:
+motor coasts at ``--rpm``) with its ``catch_time`` and its short-circuit probe (``catch_probe``), with the catch
+but without the probe, and without either (the standstill start), on the golden backend:
 speed (true, estimated, reference), angle error, current amplitude and the supervisor's mode.
 
     python scripts/flying_start_figure.py [--rpm 800] [--out docs/figures/flying_start.png]
+    python scripts/flying_start_figure.py --rpm 2500 --out docs/figures/flying_start_probe.png
 """
 
 from __future__ import annotations
@@ -32,13 +34,16 @@ SCENARIO = os.path.join(HERE, "..", "scenarios", "flying_start.toml")
 RPM = np.pi / 30
 
 
-def run(catch: bool, rpm: float):
-    """The scenario at ``rpm`` initial speed, with its catch_time or with the flying start off."""
+def run(catch: bool, rpm: float, probe: bool = True):
+    """The scenario at ``rpm`` initial speed, with its catch_time (and its short-circuit probe, or without it) or
+    with the flying start off."""
     with open(SCENARIO, "rb") as f:
         data = tomllib.load(f)
     data["load"]["initial"]["omega_m"] = f"{rpm} rpm"
     if not catch:
         data["protection"]["catch_time"] = "0 s"
+    if not catch or not probe:
+        data["protection"]["catch_probe"] = "0 A"
     return ClosedLoop(parse_scenario(data, f"{SCENARIO} at {rpm} rpm")).run(progress=False)
 
 
@@ -51,7 +56,9 @@ def main(argv=None) -> int:
         print("flying_start_figure: --rpm must be within +-5000", file=sys.stderr)
         return 1
     try:
-        runs = {"flying start (catch_time 40 ms)": run(True, args.rpm), "standstill start": run(False, args.rpm)}
+        runs = {"flying start (catch_time 40 ms, probe)": run(True, args.rpm),
+                "flying start without the probe": run(True, args.rpm, probe=False),
+                "standstill start": run(False, args.rpm)}
     except ScenarioError as exc:
         print(f"flying_start_figure: {exc}", file=sys.stderr)
         return 1

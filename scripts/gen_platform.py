@@ -42,7 +42,7 @@ import numpy as np  # noqa: E402
 
 from golden.build_options import caps_masks  # noqa: E402
 from golden.closedloop import WINDOW_FIELDS, truth_columns  # noqa: E402
-from golden.firmware import (biquad, eemf_smo, flux_lut, load_observer, motion, mtpa, rfo, rot_bpf,  # noqa: E402
+from golden.firmware import (biquad, catch_probe, eemf_smo, flux_lut, load_observer, motion, mtpa, rfo, rot_bpf,  # noqa: E402
                              sqw_bangbang, supervisor)
 from golden.firmware.estimator import INJ_NONE, INJ_SQW_D, METHODS  # noqa: E402
 from golden.plant.binding import STATE_DTYPE  # noqa: E402
@@ -176,6 +176,7 @@ def render_methods() -> str:
         f"#define FW_SMO_QUARTER {eemf_smo.QUARTER}u  /* golden.firmware.eemf_smo.QUARTER */",
         f"#define FW_MTPA_LEN {mtpa.MTPA_LEN}  /* golden.firmware.mtpa.MTPA_LEN */",
         f"#define FW_NOTCH_BITS {supervisor.NOTCH_BITS}  /* golden.firmware.supervisor.NOTCH_BITS */",
+        f"#define FW_PROBE_GAP {catch_probe.PROBE_GAP}  /* golden.firmware.catch_probe.PROBE_GAP */",
         f"#define FW_FLUX_FRAC {flux_lut.FLUX_FRAC}  /* golden.firmware.flux_lut.FLUX_FRAC */",
         f"#define FW_LUT_MAX_POINTS {flux_lut.LUT_MAX_POINTS}  /* golden.firmware.flux_lut.LUT_MAX_POINTS */",
         "",

@@ -295,6 +295,25 @@ def test_a_hardware_overcurrent_trip_is_identical_on_the_soft_core():
     assert FAULT_HARDWARE in rtl.windows["fault"] and rtl.edges["mask"][-1] == 0
 
 
+def test_the_flying_start_probe_is_identical_on_the_soft_core():
+    """scenarios/flying_start.toml with the motor coasting at 2500 r/min for 0.06 s: the firmware on the soft core
+    probes the rotor with two short circuits (golden.firmware.catch_probe: CTRL.ENABLE on and off one period apart),
+    starts the catch from the angle and speed found and runs on the observer, with every window column and register
+    write equal to golden."""
+    from golden.firmware.supervisor import MODE_CATCH, MODE_RUN
+
+    data = tomllib.loads((ROOT / "scenarios" / "flying_start.toml").read_text())
+    data["load"]["initial"]["omega_m"] = "2500 rpm"
+    sc = dataclasses.replace(parse_scenario(data, source="flying start at 2500 r/min"), duration=0.06)
+    gold, rtl = ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
+    bad = {k: _first_difference(gold.windows[k], rtl.windows[k]) for k in WINDOW_FIELDS
+           if not np.array_equal(gold.windows[k], rtl.windows[k])}
+    assert not bad, f"per-window columns differ: {bad}"
+    assert all(np.array_equal(gold.writes[k], rtl.writes[k]) for k in OUTPUT_FIELDS)
+    mode = rtl.windows["mode"]
+    assert mode[0] == MODE_CATCH and mode[-1] == MODE_RUN and rtl.writes["enable"][:3].tolist() == [1, 0, 0]
+
+
 def test_a_flying_start_is_identical_on_the_soft_core():
     """scenarios/flying_start.toml for 0.15 s: switched on with the motor coasting at 800 r/min, the firmware on the
     soft core catches it (CATCH, the rotor flux observer at zero current), runs on the observer and hands back to

@@ -267,6 +267,39 @@ void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
     *angle = z;
     *mag = (int32_t)(((int64_t)x * FW_CORDIC_X0) >> 30);
 }
+
+#endif
+
+#ifndef FW_NO_PROBE /* the image without the accelerators has no room for the probe (firmware/Makefile) */
+/* golden.firmware.catch_probe.probe_estimate: the rotor's angle at pulse 2's centroid and the back-EMF's advance
+ * between the pulses, from the two pulses' offset-free window means */
+__attribute__((cold)) int32_t fw_probe_estimate(int32_t d1x, int32_t d1y, int32_t d2x, int32_t d2y, int32_t i_min,
+                                                uint32_t *theta, int32_t *delta)
+{
+    uint32_t a1, a2;
+    int32_t m1, m2;
+
+    fw_vector_angle(d1x, d1y, &a1, &m1);
+    fw_vector_angle(d2x, d2y, &a2, &m2);
+    int32_t d = (int32_t)(a2 - a1);
+
+    *theta = 0;
+    *delta = 0;
+    if (m1 < i_min || m2 < i_min || d == 0)
+        return 0;
+    *theta = a2 + 0x80000000u - (d > 0 ? 0x40000000u : 0xC0000000u); /* HALF_TURN - (+-QUARTER_TURN) */
+    *delta = d;
+    return 1;
+}
+
+/* golden.firmware.catch_probe.probe_angles: delta / G, theta + 5 delta / (3 G), theta + 8 delta / (3 G) (c_div) */
+__attribute__((noinline, cold)) void fw_probe_angles(uint32_t theta, int32_t delta, int32_t *omega, uint32_t *theta_a,
+                                                     uint32_t *theta_b)
+{
+    *omega = delta / FW_PROBE_GAP;
+    *theta_a = theta + (uint32_t)(int32_t)((int64_t)5 * delta / (3 * FW_PROBE_GAP));
+    *theta_b = theta + (uint32_t)(int32_t)((int64_t)8 * delta / (3 * FW_PROBE_GAP));
+}
 #endif
 
 /* golden.fixed.sat(x, bits) of an int32 for 1 <= bits <= 31 */
@@ -1732,9 +1765,75 @@ static __attribute__((noinline)) int32_t supervise_pulses(struct fw_state *st, c
     }
 }
 
-/* Firmware._catch: after catch_n windows of CATCH, RUN on the high slot, or the standstill start. */
-static __attribute__((noinline)) void catch_end(struct fw_state *st, const struct fw_params *p)
+#ifndef FW_NO_PROBE
+/* Firmware._back_emf: the q voltage that cancels the back-EMF at omega, within the current PI's limit */
+static int32_t back_emf(const struct fw_params *p, int32_t omega)
 {
+    int64_t v = ((int64_t)omega * p->prot.psi_f) >> 32;
+    int64_t lim = p->iq_pi.limit;
+
+    return (int32_t)(v < -lim ? -lim : v > lim ? lim : v);
+}
+
+/* Firmware._probe, with the condition of its call in step (CATCH, a probe on and not done, n < PROBE_END): steps 1
+ * .. PROBE_END - 1 of the flying start's probe (golden.firmware.catch_probe). Returns 1 with *out filled, 0 when
+ * fw_step goes on as without a probe (off, done, or the gates were on in window 0). Out of line and placed with
+ * the start-up code: fw_step's own code stays as it was (the 000 step's span, firmware/link.ld). */
+static __attribute__((noinline, cold)) int probe_step(struct fw_state *st, const struct fw_params *p, int32_t i_d, int32_t i_q,
+                                                      struct fw_outputs *out)
+{
+    const int32_t n = st->n;
+
+    if (!p->prot.probe_min || st->probe < 0 || n >= FW_PROBE_GAP + 3)
+        return 0;
+    if (n == 1 && (st->act[0].enable | st->act[1].enable)) { /* the gates were on (an active short circuit) */
+        st->probe = -1;
+        return 0;
+    }
+    const int32_t dx = sat32((int64_t)i_d - st->pr_x0), dy = sat32((int64_t)i_q - st->pr_y0);
+
+    *out = reset_outputs;
+    out->enable = n == 1 || n == FW_PROBE_GAP + 1; /* catch_probe.probe_enable */
+    if (n == 1) {
+        st->pr_x0 = i_d;
+        st->pr_y0 = i_q;
+    } else if (n == 2) {
+        st->pr_x1 = dx;
+        st->pr_y1 = dy;
+    } else if (n == FW_PROBE_GAP + 2) { /* the estimate; found: the back-EMF's voltage in the frame of window G + 3 */
+        st->probe = fw_probe_estimate(st->pr_x1, st->pr_y1, dx, dy, p->prot.probe_min, &st->pr_theta,
+                                      &st->pr_delta) ? 1 : -1;
+        if (st->probe > 0) {
+            uint32_t theta_a, theta_b;
+            int32_t omega;
+
+            fw_probe_angles(st->pr_theta, st->pr_delta, &omega, &theta_a, &theta_b);
+            out->v_q = back_emf(p, omega);
+            fw_sincos_q15(theta_a, &out->sin, &out->cos);
+        }
+    }
+    return 1;
+}
+
+#endif
+
+/* Firmware._catch: after catch_n windows of CATCH, RUN on the high slot, or the standstill start; at PROBE_END a
+ * probe that found the rotor starts the current-control catch from it. */
+static __attribute__((noinline, cold)) void catch_end(struct fw_state *st, const struct fw_params *p)
+{
+#ifndef FW_NO_PROBE
+    if (st->probe == 1 && st->n == FW_PROBE_GAP + 3) {
+        uint32_t theta_a, theta_b;
+        int32_t omega;
+
+        fw_probe_angles(st->pr_theta, st->pr_delta, &omega, &theta_a, &theta_b);
+        st->probe = -1;
+        st->speed_f = (int64_t)omega * 65536;                            /* omega << 16 */
+        sync_slot(st, p, FW_SLOT_HIGH, theta_b, omega);
+        st->id_int = 0;
+        st->iq_int = (int64_t)back_emf(p, omega) * ((int64_t)1 << p->iq_pi.si);   /* << si */
+    }
+#endif
     if (st->n < p->prot.catch_n)
         return;
     int64_t w = abs64(fw_lowpass_out(st->speed_f));
@@ -1970,6 +2069,10 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         return;
     }
 #endif
+#ifndef FW_NO_PROBE
+    if (st->mode == FW_CATCH && probe_step(st, p, i_d, i_q, out))
+        goto emit;
+#endif
     if (st->mode != FW_FIXED && st->mode != FW_FAULT) {
         struct fw_meas m;
         int hf_on;
@@ -2046,6 +2149,9 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         out->fcs_a1 = out->fcs_a2 = out->fcs_phi_min = out->fcs_constrain = 0;
         dtc_refs(p, i_d_ref, i_q_ref, out->v_h, s_inj, c_inj, out);
     }
+#ifndef FW_NO_PROBE
+emit:
+#endif
     st->prev = st->act[0];
     st->act[0] = st->act[1];
     st->act[1] = *out; /* the voltages applied: the estimators' and checks' */

@@ -65,6 +65,8 @@ struct fw_prot_params {
     int32_t vdc_n;           /* periods in a row beyond a limit before the trip (0: off) */
     int32_t frz_n;           /* sensor check: periods in a row with a frozen current lane before the trip (0: off) */
     int32_t frz_min;         /* the fewest samples a window needs to count */
+    int32_t probe_min;       /* the flying start's short-circuit probe: the least pulse current that finds the rotor
+                              * (0: no probe; golden.firmware.catch_probe) */
 };
 
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
@@ -541,6 +543,13 @@ struct fw_state {
     int32_t vdc_hi_n;
     int32_t frz_a;              /* sensor check: periods in a row with lane A / B frozen */
     int32_t frz_b;
+    int32_t probe;              /* flying-start probe (golden.firmware.catch_probe): 0 on, 1 found, -1 off this start */
+    int32_t pr_x0;              /* its gates-off window means (the sensors' offsets), pulse 1's mean less them, the */
+    int32_t pr_y0;              /* angle found and the advance between the pulses */
+    int32_t pr_x1;
+    int32_t pr_y1;
+    uint32_t pr_theta;
+    int32_t pr_delta;
     int32_t restarts;           /* automatic restarts done */
     struct fw_biquad nd;        /* feedback notch states */
     struct fw_biquad nq;
@@ -609,6 +618,11 @@ void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15);
 uint32_t fw_acc_caps(void);
 /* golden.firmware.vector.vector_angle: |x|, |y| <= 2^28 */
 void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag);
+/* golden.firmware.catch_probe.probe_estimate: returns found (0/1), *theta and *delta (0 when not found) */
+int32_t fw_probe_estimate(int32_t d1x, int32_t d1y, int32_t d2x, int32_t d2y, int32_t i_min, uint32_t *theta,
+                          int32_t *delta);
+/* golden.firmware.catch_probe.probe_angles */
+void fw_probe_angles(uint32_t theta, int32_t delta, int32_t *omega, uint32_t *theta_a, uint32_t *theta_b);
 /* golden.firmware.biquad.biquad_step (updates *s; the output is s->y1) */
 void fw_biquad_step(struct fw_biquad *s, int32_t x, const struct fw_biquad_coef *c);
 /* golden.firmware.mtpa.mtpa_lookup */

@@ -302,6 +302,13 @@ int main(void)
         for (;;)
             ;
     }
+#ifdef FW_NO_PROBE
+    if (cfg.fw.prot.probe_min) {
+        uart_puts("hfi_fw: this image has no flying-start probe: protection.catch_probe must be 0; gates stay off\n");
+        for (;;)
+            ;
+    }
+#endif
     DSP(PWM_HALF) = cfg.hw.pwm_half;
     DSP(CW_ANGLE_STEP) = cfg.hw.cw_angle_step;
     DSP(DEAD_TICKS) = cfg.hw.dead_ticks;

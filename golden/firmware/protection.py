@@ -123,6 +123,9 @@ class ProtParams:
     frz_n, frz_min : int
         The sensor check (:func:`frozen_check`): the periods in a row with a frozen current lane before it trips
         (0: off) and the fewest samples a window needs to count (fewer: the count starts again).
+    probe_min : int
+        The flying start's short-circuit probe (golden.firmware.catch_probe, with ``catch_n``): the least window
+        mean of a pulse's first quarter that finds the rotor [current LSB] (0: no probe).
     """
 
     r: int = 0
@@ -149,6 +152,7 @@ class ProtParams:
     vdc_n: int = 0
     frz_n: int = 0
     frz_min: int = 0
+    probe_min: int = 0
 
 
 def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> tuple[int, int]:

@@ -27,7 +27,11 @@ States (``MODE_*``):
               hand-over down, golden.firmware.protection); slower -> CONVERGE, the standstill
               start (the speed filter cleared, the low slot in charge). A rotor an active load has spun up
               while the drive coasted is thus braked back under control instead of tripping the standstill
-              start (docs/faults.md).
+              start (docs/faults.md). With ``prot.probe_min`` the catch begins with the short-circuit probe
+              (:mod:`golden.firmware.catch_probe`: two zero-voltage pulses of one period, the estimators not
+              stepped, the steps' outputs the probe's); when it finds the rotor, the high slot is synced to its
+              angle and speed, the speed filter set to that speed and the q current PI's integrator to the
+              back-EMF's voltage, and the catch goes on from there; else as without it.
 ``CONVERGE``  low-speed estimator in charge, current references 0: theta_hat settles on the +-d axis.
               Its last window already asks for +I_p, so both polarity pulses last ``n_pulse`` windows.
 ``POL_POS``   i_d* = +I_p; after ``n_settle`` windows gamma_d is summed (HF d-current response).
@@ -74,6 +78,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from golden.firmware.biquad import Y_FRAC, BiquadCoef, BiquadState, biquad_step
+from golden.firmware.catch_probe import PROBE_END, PROBE_GAP, probe_angles, probe_enable, probe_estimate
 from golden.firmware.dc_feedforward import dc_feedforward
 from golden.firmware.eemf_smo import SmoParams
 from golden.firmware.fcs_law import LAW_FCS_MPC, LAW_FOC_PWM, FcsParams, deadbeat_voltage
@@ -296,6 +301,13 @@ class Firmware:
     vdc_hi_n: int = 0
     frz_a: int = 0                   # sensor check: periods in a row with lane A / B frozen
     frz_b: int = 0
+    probe: int = 0                   # flying-start probe (golden.firmware.catch_probe): 0 on, 1 found, -1 off this start
+    pr_x0: int = 0                   # its gates-off window means (the sensors' offsets), pulse 1's mean less them,
+    pr_y0: int = 0                   # the angle found and the advance
+    pr_x1: int = 0
+    pr_y1: int = 0
+    pr_theta: int = 0
+    pr_delta: int = 0
     restarts: int = 0                # automatic restarts done
     ident: Ident | None = None       # the identification program's executor (FirmwareParams.ident)
     slots: list = field(init=False)
@@ -353,6 +365,10 @@ class Firmware:
             self.prev = self.act[0]
             self.act = [self.act[1], out]
             return out
+        if self.mode == MODE_CATCH and p.prot.probe_min and self.probe >= 0 and self.n < PROBE_END:
+            out = self._probe(i_d, i_q)
+            if out is not None:
+                return self._emit(out, win)
         pilot = None
         s_inj, c_inj = sincos_q15(win.inj_phase) if p.inj_rot else (0, 32767)
         if self.mode in (MODE_FIXED, MODE_FAULT):
@@ -401,11 +417,48 @@ class Firmware:
             v_h = p.v_h if self._injecting() else 0
             r_d, r_q = self._dtc_refs(i_d_ref, i_q_ref, v_h, s_inj, c_inj, s, c)
             out = Outputs(v_d, v_q, v_h, s, c, 1, r_d, r_q)
+        return self._emit(out, win)
+
+    def _emit(self, out: Outputs, win: WindowResult) -> Outputs:
+        """The step's outputs into the history of the register sets (the voltages applied: the estimators' and
+        checks'), then through the dc-link feed-forward when it is on."""
+        p = self.p
         self.prev = self.act[0]
-        self.act = [self.act[1], out]                          # the voltages applied: the estimators' and checks'
+        self.act = [self.act[1], out]
         if p.ff_nom and p.law == LAW_FOC_PWM:
             out = dc_feedforward(out, win.vdc, p.ff_nom, p.ff_lo, p.ff_hi)
         return out
+
+    def _probe(self, i_d: int, i_q: int) -> Outputs | None:
+        """Steps 1 .. PROBE_END - 1 of the flying start's probe (golden.firmware.catch_probe): the stator frame, zero
+        voltage, the pulses' enables; at the last the estimate, and if found the back-EMF's voltage in the frame of
+        the window after next. None
+        (the current-control catch instead, from this step on) when the gates were on in window 0 (a restart from
+        the active short circuit: no clean offsets)."""
+        p, n = self.p, self.n
+        if n == 1:
+            if self.act[0].enable or self.act[1].enable:
+                self.probe = -1
+                return None
+            self.pr_x0, self.pr_y0 = i_d, i_q
+        elif n == 2:
+            self.pr_x1, self.pr_y1 = sat(i_d - self.pr_x0, 32), sat(i_q - self.pr_y0, 32)
+        elif n == PROBE_GAP + 2:
+            found, theta, delta = probe_estimate(self.pr_x1, self.pr_y1, sat(i_d - self.pr_x0, 32),
+                                                 sat(i_q - self.pr_y0, 32), p.prot.probe_min)
+            self.probe = 1 if found else -1
+            if found:
+                self.pr_theta, self.pr_delta = theta, delta
+                omega, theta_a, _ = probe_angles(theta, delta)
+                s, c = sincos_q15(theta_a)
+                return Outputs(0, self._back_emf(omega), 0, s, c, 0)
+        return Outputs(0, 0, 0, 0, 32767, probe_enable(n))
+
+    def _back_emf(self, omega: int) -> int:
+        """The q voltage that cancels the back-EMF at ``omega`` (``shr(omega psi_f, 32)``, protection's units),
+        within the current PI's limit."""
+        lim = self.p.iq_pi.limit
+        return min(max(shr(omega * self.p.prot.psi_f, 32), -lim), lim)
 
     def _ident_outputs(self, win: WindowResult, i_d: int, i_q: int) -> Outputs:
         """``MODE_IDENT``: one window of the identification program (:mod:`golden.firmware.ident`); gates off
@@ -606,8 +659,17 @@ class Firmware:
         return 0, 0, None
 
     def _catch(self) -> None:
-        """CATCH (the module docstring): after ``catch_n`` windows, RUN on the high slot or the standstill start."""
+        """CATCH (the module docstring): after ``catch_n`` windows, RUN on the high slot or the standstill start. At
+        window PROBE_END a probe that found the rotor starts the current-control catch from it: the high slot synced
+        to the probe's angle and speed, the speed filter at that speed, the q current PI's integrator at the
+        back-EMF's voltage (its first window then applies that voltage, not the short circuit)."""
         p = self.p
+        if self.probe == 1 and self.n == PROBE_END:
+            omega, _, theta_b = probe_angles(self.pr_theta, self.pr_delta)
+            self.probe = -1
+            self.speed_f = omega << 16
+            self._sync(SLOT_HIGH, theta_b, omega)
+            self.id_int, self.iq_int = 0, self._back_emf(omega) << p.iq_pi.si
         if self.n < p.prot.catch_n:
             return
         if abs(self.omega_f) >= p.w_down:

@@ -773,7 +773,8 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
                       hf_k=draw_one(rng, 0, 30, (0, 4)), hf_tol=draw_one(rng, 0, 1 << 16, (0, 5898, 1 << 16)),
                       vdc_lo=vdc_lo, vdc_hi=draw_one(rng, vdc_lo, 65535, (vdc_lo, 65535)),
                       vdc_n=draw_one(rng, 0, 20, (0, 1, 5)),
-                      frz_n=draw_one(rng, 0, 12, (0, 1, 4)), frz_min=draw_one(rng, 0, 300, (2, 16)))
+                      frz_n=draw_one(rng, 0, 12, (0, 1, 4)), frz_min=draw_one(rng, 0, 300, (2, 16)),
+                      probe_min=draw_one(rng, 0, 1 << 16, (0, 0, 1, 130)))
 
 
 def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:

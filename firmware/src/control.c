@@ -271,6 +271,12 @@ void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
 #endif
 
 #ifndef FW_NO_PROBE /* the image without the accelerators has no room for the probe (firmware/Makefile) */
+/* golden.fixed.sat(x, 29) */
+static int32_t sat_29(int32_t x)
+{
+    return x < -(1 << 28) ? -(1 << 28) : x > (1 << 28) - 1 ? (1 << 28) - 1 : x;
+}
+
 /* golden.firmware.catch_probe.probe_estimate: the rotor's angle at pulse 2's centroid and the back-EMF's advance
  * between the pulses, from the two pulses' offset-free window means */
 __attribute__((cold)) int32_t fw_probe_estimate(int32_t d1x, int32_t d1y, int32_t d2x, int32_t d2y, int32_t i_min,
@@ -279,8 +285,8 @@ __attribute__((cold)) int32_t fw_probe_estimate(int32_t d1x, int32_t d1y, int32_
     uint32_t a1, a2;
     int32_t m1, m2;
 
-    fw_vector_angle(d1x, d1y, &a1, &m1);
-    fw_vector_angle(d2x, d2y, &a2, &m2);
+    fw_vector_angle(sat_29(d1x), sat_29(d1y), &a1, &m1); /* the vector angle's range, +-2^28 */
+    fw_vector_angle(sat_29(d2x), sat_29(d2y), &a2, &m2);
     int32_t d = (int32_t)(a2 - a1);
 
     *theta = 0;

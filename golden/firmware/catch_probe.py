@@ -38,14 +38,15 @@ Table I motor (3 periods: a speed 10 % low at 2500 r/min). Found when both pulse
 currents reach ``i_min`` (``ProtParams.probe_min``; a slower rotor, or none: the current-control catch, which
 handles those, continues) and ``delta != 0``.
 
-Fixed point: the window means (current LSB), u32 binary angles (:func:`golden.firmware.vector.vector_angle`),
+Fixed point: the window means (current LSB; saturated to +-2^28, the range of
+:func:`golden.firmware.vector.vector_angle`), u32 binary angles,
 ``delta`` s32, ``c_div`` for the thirds and ninths (C ``/`` on int64).
 """
 
 from __future__ import annotations
 
 from golden.firmware.vector import vector_angle
-from golden.fixed import c_div, uwrap, wrap
+from golden.fixed import c_div, sat, uwrap, wrap
 
 PROBE_GAP = 6
 """Periods between the two pulses (the module docstring)."""
@@ -64,8 +65,8 @@ def probe_estimate(d1x: int, d1y: int, d2x: int, d2y: int, i_min: int) -> tuple[
     """``(found, theta, delta)`` from the two pulses' offset-free window means (module docstring): ``theta`` the
     rotor's electrical angle (u32) at pulse 2's centroid, ``delta`` the back-EMF's advance over the PROBE_GAP
     periods between the pulses (s32, binary angle). Not found: ``(0, 0, 0)``."""
-    a1, m1 = vector_angle(d1x, d1y)
-    a2, m2 = vector_angle(d2x, d2y)
+    a1, m1 = vector_angle(sat(d1x, 29), sat(d1y, 29))       # the vector angle's range, +-2^28
+    a2, m2 = vector_angle(sat(d2x, 29), sat(d2y, 29))
     delta = wrap(a2 - a1, 32)
     if m1 < i_min or m2 < i_min or delta == 0:
         return 0, 0, 0

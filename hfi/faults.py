@@ -15,8 +15,9 @@ The restart part (:func:`run_restart`): every fault again, lasting :data:`TRANSI
 :data:`RESTART_RPM` with and without load, with ``[protection] restarts = 1`` after :data:`RESTART_DELAY_S`:
 does the drive trip, start again once the fault has cleared (CONVERGE, the polarity test, RUN) and hold its
 reference locked at the end? Each cell twice: the paper's drive (the restart is a standstill start) and with the
-flying start (the rotor flux observer as the high-speed estimator and ``[protection] catch_time`` =
-:data:`CATCH_S`: the restart first catches a rotor the load has spun up while the drive coasted).
+flying start (the rotor flux observer as the high-speed estimator, ``[protection] catch_time`` =
+:data:`CATCH_S` and its probe :data:`CATCH_PROBE`: the restart first catches a rotor the load has spun up while the
+drive coasted).
 
 Outputs in ``--out`` (default ``out/faults``): ``matrix.json`` (one object per run), ``restart.json``,
 ``matrix.md`` (the tables of docs/faults.md) and one figure per run in ``fig/``. Progress on stderr, one line
@@ -62,6 +63,9 @@ RESTART_EXTRA_S = 1.0
 CATCH_S = 0.04
 """``[protection] catch_time`` of the flying start (30 ms is the least that works on the Table I motor: the speed
 filter has not settled after 20 ms, and the overload check then sees the speed error grow)."""
+CATCH_PROBE = "50 mA"
+"""``[protection] catch_probe`` of the flying start: its short-circuit probe finds a rotor above about 1000 r/min on
+the Table I motor (scenarios/flying_start.toml, docs/faults.md)."""
 RELOCK_DEG = 15.0
 RELOCK_RPM = 10.0
 """A restart holds when, over the last RELOCK_WINDOW_S of the run, the drive is in RUN, the angle error's RMS is
@@ -108,7 +112,7 @@ def scenario(fault: dict, rpm: float, loaded: bool, duration: float, restart: bo
         data.setdefault("protection", {}).update(restarts=1, restart_delay=f"{RESTART_DELAY_S} s")
     if flying:
         data.setdefault("estimator", {}).update(high="rfo")
-        data.setdefault("protection", {}).update(catch_time=f"{CATCH_S} s")
+        data.setdefault("protection", {}).update(catch_time=f"{CATCH_S} s", catch_probe=CATCH_PROBE)
     return parse_scenario(data, source=f"fault matrix ({BASE.name})")
 
 

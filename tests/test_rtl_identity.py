@@ -100,6 +100,16 @@ def _first_difference(a: np.ndarray, b: np.ndarray) -> str:
     return f"index {i}: golden {a[i]!r}, rtl {b[i]!r}"
 
 
+def _rtl_identical(sc):
+    """``sc`` on golden and on the rtl backend: every window column and register write equal; returns the rtl run."""
+    gold, rtl = ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
+    bad = {k: _first_difference(gold.windows[k], rtl.windows[k]) for k in WINDOW_FIELDS
+           if not np.array_equal(gold.windows[k], rtl.windows[k])}
+    assert not bad, f"per-window columns differ: {bad}"
+    assert all(np.array_equal(gold.writes[k], rtl.writes[k]) for k in OUTPUT_FIELDS)
+    return rtl
+
+
 @pytest.mark.long
 def test_window_columns_identical(both):
     sc, gold, rtl = both
@@ -268,11 +278,7 @@ def test_a_dc_link_trip_is_identical_on_the_soft_core():
     data["scenario"]["duration"] = "0.25 s"
     data["faults"] = [{"kind": "adc_lane_dead", "phase": "dc", "at": "0.2 s"}]
     sc = parse_scenario(data, source="fullload_start.toml + dead dc-link lane")
-    gold, rtl = ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
-    bad = {k: _first_difference(gold.windows[k], rtl.windows[k]) for k in WINDOW_FIELDS
-           if not np.array_equal(gold.windows[k], rtl.windows[k])}
-    assert not bad, f"per-window columns differ: {bad}"
-    assert all(np.array_equal(gold.writes[k], rtl.writes[k]) for k in OUTPUT_FIELDS)
+    rtl = _rtl_identical(sc)
     fault = rtl.windows["fault"]
     assert set(np.unique(fault).tolist()) == {0, FAULT_UNDERVOLTAGE}
     assert rtl.t[np.flatnonzero(fault)[0]] > 0.2
@@ -305,11 +311,7 @@ def test_the_flying_start_probe_is_identical_on_the_soft_core():
     data = tomllib.loads((ROOT / "scenarios" / "flying_start.toml").read_text())
     data["load"]["initial"]["omega_m"] = "2500 rpm"
     sc = dataclasses.replace(parse_scenario(data, source="flying start at 2500 r/min"), duration=0.06)
-    gold, rtl = ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
-    bad = {k: _first_difference(gold.windows[k], rtl.windows[k]) for k in WINDOW_FIELDS
-           if not np.array_equal(gold.windows[k], rtl.windows[k])}
-    assert not bad, f"per-window columns differ: {bad}"
-    assert all(np.array_equal(gold.writes[k], rtl.writes[k]) for k in OUTPUT_FIELDS)
+    rtl = _rtl_identical(sc)
     mode = rtl.windows["mode"]
     assert mode[0] == MODE_CATCH and mode[-1] == MODE_RUN and rtl.writes["enable"][:3].tolist() == [1, 0, 0]
 
@@ -321,11 +323,7 @@ def test_a_flying_start_is_identical_on_the_soft_core():
     from golden.firmware.supervisor import MODE_CATCH, MODE_RUN
 
     sc = dataclasses.replace(load_scenario(ROOT / "scenarios" / "flying_start.toml"), duration=0.15)
-    gold, rtl = ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
-    bad = {k: _first_difference(gold.windows[k], rtl.windows[k]) for k in WINDOW_FIELDS
-           if not np.array_equal(gold.windows[k], rtl.windows[k])}
-    assert not bad, f"per-window columns differ: {bad}"
-    assert all(np.array_equal(gold.writes[k], rtl.writes[k]) for k in OUTPUT_FIELDS)
+    rtl = _rtl_identical(sc)
     mode, est = rtl.windows["mode"], rtl.windows["est"]
     assert mode[0] == MODE_CATCH and set(np.unique(mode).tolist()) == {MODE_CATCH, MODE_RUN}
     assert est[0] == 1 and est[-1] == 0                # caught on the observer, handed back to the HF estimator

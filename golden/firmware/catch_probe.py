@@ -23,8 +23,8 @@ G + 2  pulse 2's first quarter: ``d2 = m - m0``     disable; :func:`probe_estima
                                                      the back-EMF voltage in the frame of window
                                                      G + 3
 G + 3  pulse 2's rest                                the current-control catch from the probe:
-                                                     the high-speed estimator synced, the current
-                                                     PIs preset to that voltage
+                                                     the high-speed estimator synced, the q
+                                                     current PI preset to that voltage
 =====  ============================================  ===========================================
 
 ``G`` = PROBE_GAP. The frame of windows 0 to G + 2 is the stator's (``SIN`` 0, ``COS`` 32767: the window means
@@ -40,7 +40,7 @@ handles those, continues) and ``delta != 0``.
 
 Fixed point: the window means (current LSB; saturated to +-2^28, the range of
 :func:`golden.firmware.vector.vector_angle`), u32 binary angles,
-``delta`` s32, ``c_div`` for the thirds and ninths (C ``/`` on int64).
+``delta`` s32, ``c_div`` for the divisions by ``G`` and ``3 G`` (C ``/`` on int64).
 """
 
 from __future__ import annotations

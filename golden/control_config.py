@@ -347,7 +347,8 @@ def protection_params(sc: Scenario) -> ProtParams:
     flux = 2 * math.pi * sc_.f_sw / sc_.v_lsb          # flux LSB per V*s (golden.firmware.protection)
     probe_min = sc_.current(pr.catch_probe) if catch_n else 0
     if pr.checks == "off":
-        return ProtParams(catch_n=catch_n, probe_min=probe_min, psi_f=to_fixed(mag["psi_f"] * flux, 0))
+        return ProtParams(catch_n=catch_n, probe_min=probe_min,
+                          psi_f=to_fixed(mag["psi_f"] * flux, 0) if probe_min else 0)
     v_dc = sc.plant["inv"]["V_dc"]
     ref = max((abs(v) for _, v in sc.reference_speed), default=0.0)
     speed_max = pr.speed_max if pr.speed_max is not None else SPEED_MAX_MARGIN[0] * ref + SPEED_MAX_MARGIN[1]

@@ -211,6 +211,8 @@ def test_protection_params_of_the_default_scenario():
     assert firmware_params(sc).prot == p
     off = replace(sc, protection=replace(sc.protection, checks="off"))
     assert protection_params(off) == ProtParams()
+    flying = replace(off, protection=replace(off.protection, catch_time=0.04, catch_probe=0.05))   # the probe stays
+    assert protection_params(flying) == ProtParams(catch_n=200, probe_min=round(0.05 / s.i_lsb), psi_f=p.psi_f)
 
 
 def test_the_soc_status_register_names_the_modes_and_faults_in_order():

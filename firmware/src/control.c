@@ -1815,6 +1815,7 @@ static __attribute__((noinline, cold)) int probe_step(struct fw_state *st, const
 
             fw_probe_angles(st->pr_theta, st->pr_delta, &omega, &theta_a, &theta_b);
             out->v_q = back_emf(p, omega);
+            st->theta_hat = theta_a; /* the angle whose sin/cos this step writes */
             fw_sincos_q15(theta_a, &out->sin, &out->cos);
         }
     }

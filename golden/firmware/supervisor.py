@@ -450,6 +450,7 @@ class Firmware:
             if found:
                 self.pr_theta, self.pr_delta = theta, delta
                 omega, theta_a, _ = probe_angles(theta, delta)
+                self.theta_hat = theta_a                   # the angle whose sin/cos this step writes
                 s, c = sincos_q15(theta_a)
                 return Outputs(0, self._back_emf(omega), 0, s, c, 0)
         return Outputs(0, 0, 0, 0, 32767, probe_enable(n))

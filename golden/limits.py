@@ -238,6 +238,12 @@ def _check_currents(reader, plant: dict, i_range: float, tick: float | None) -> 
                      f"{_q(oc, 'A')} is not below the current sensors' range {rng}: the hardware comparator "
                      f"(OC_LIMIT, docs/spec.md 3.7) compares the scaled samples, which saturate at +-adc_range; "
                      f"leave the key out for the register's reset value (full scale)")
+    probe = reader.get("protection.catch_probe")
+    if probe and probe >= (trip if trip is not None else i_range):
+        reader.error("protection.catch_probe",
+                     f"{_q(probe, 'A')} is not below {'control.i_trip' if trip is not None else rng}: a pulse whose "
+                     f"window mean reached it would have tripped the drive (or saturated the sensors) first, so "
+                     f"the flying start's probe could never find the rotor")
     if trip is not None:
         why = f"below control.i_trip = {_q(trip, 'A')}, or the drive trips on its own command"
         i_max = reader.get("control.i_max")

@@ -109,8 +109,11 @@ def test_hls_is_identical_with_the_probe(rpm):
         assert np.array_equal(gold.windows[k], hls.windows[k]), k
 
 
-def test_the_probe_needs_the_flying_start():
+def test_the_probe_needs_the_flying_start_and_a_limit_below_the_trip():
     data = tomllib.loads((ROOT / "scenarios" / "flying_start.toml").read_text())
     data["protection"] = {"catch_probe": "50 mA"}
     with pytest.raises(ScenarioError, match="protection.catch_probe: the short-circuit probe"):
+        parse_scenario(data, source="test")
+    data["protection"] = {"catch_time": "40 ms", "catch_probe": "6 A"}      # control.i_trip: 6 A (the default)
+    with pytest.raises(ScenarioError, match="protection.catch_probe: 6 A is not below control.i_trip"):
         parse_scenario(data, source="test")

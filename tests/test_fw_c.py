@@ -392,16 +392,23 @@ def test_protect_step_random_sequences(seed):
                                                     protection.FAULT_OVERVOLTAGE, protection.FAULT_SENSOR}, seen
 
 
+def prot_sequences(rng: np.random.Generator):
+    """N_RANDOM / 50 sequences of one check: ``(q, p, c, st, gold)`` with random limits ``p`` (:func:`random_prot`)
+    in the C struct ``c``, one C state ``st`` for all (the check's counts reset by the caller) and a fresh golden
+    firmware state ``gold``."""
+    c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")
+    for q in range(N_RANDOM // 50):
+        p = random_prot(rng)
+        fw_c._fill(c, p)
+        yield q, p, c, st, Firmware(_params())
+
+
 def test_dc_link_check_random_sequences(seed):
     """Sequences of VDC codes (u16, around the limits and anywhere) through the dc-link check, golden == C,
     counts included; both of its codes are reached, and so is no trip."""
     rng = np.random.default_rng(seed + 42)
-    c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")
     seen = set()
-    for q in range(N_RANDOM // 50):
-        p = random_prot(rng)
-        fw_c._fill(c, p)
-        gold = Firmware(_params())
+    for q, p, c, st, gold in prot_sequences(rng):
         st.vdc_lo_n = st.vdc_hi_n = 0
         for k in range(10):
             vdc = draw_one(rng, 0, 65535, (0, 65535, p.vdc_lo - 1, p.vdc_lo, p.vdc_hi, p.vdc_hi + 1))
@@ -417,12 +424,8 @@ def test_frozen_check_random_sequences(seed):
     """Sequences of WIN_ADC values and sample counts (around frz_min and anywhere) through the sensor check, golden ==
     C, counts included; its code and no trip are both reached."""
     rng = np.random.default_rng(seed + 44)
-    c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")
     seen = set()
-    for q in range(N_RANDOM // 50):
-        p = random_prot(rng)
-        fw_c._fill(c, p)
-        gold = Firmware(_params())
+    for q, p, c, st, gold in prot_sequences(rng):
         st.frz_a = st.frz_b = 0
         for k in range(10):
             frozen = int(rng.integers(0, 4)) if rng.random() < 0.8 else draw_one(rng, 0, U32_MAX)

@@ -177,6 +177,7 @@ def render_methods() -> str:
         f"#define FW_MTPA_LEN {mtpa.MTPA_LEN}  /* golden.firmware.mtpa.MTPA_LEN */",
         f"#define FW_NOTCH_BITS {supervisor.NOTCH_BITS}  /* golden.firmware.supervisor.NOTCH_BITS */",
         f"#define FW_PROBE_GAP {catch_probe.PROBE_GAP}  /* golden.firmware.catch_probe.PROBE_GAP */",
+        f"#define FW_PROBE_END {catch_probe.PROBE_END}  /* golden.firmware.catch_probe.PROBE_END */",
         f"#define FW_FLUX_FRAC {flux_lut.FLUX_FRAC}  /* golden.firmware.flux_lut.FLUX_FRAC */",
         f"#define FW_LUT_MAX_POINTS {flux_lut.LUT_MAX_POINTS}  /* golden.firmware.flux_lut.LUT_MAX_POINTS */",
         "",

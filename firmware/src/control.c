@@ -1790,7 +1790,7 @@ static __attribute__((noinline, cold)) int probe_step(struct fw_state *st, const
 {
     const int32_t n = st->n;
 
-    if (!p->prot.probe_min || st->probe < 0 || n >= FW_PROBE_GAP + 3)
+    if (!p->prot.probe_min || st->probe < 0 || n >= FW_PROBE_END)
         return 0;
     if (n == 1 && (st->act[0].enable | st->act[1].enable)) { /* the gates were on (an active short circuit) */
         st->probe = -1;
@@ -1829,7 +1829,7 @@ static __attribute__((noinline, cold)) int probe_step(struct fw_state *st, const
 static __attribute__((noinline, cold)) void catch_end(struct fw_state *st, const struct fw_params *p)
 {
 #ifndef FW_NO_PROBE
-    if (st->probe == 1 && st->n == FW_PROBE_GAP + 3) {
+    if (st->probe == 1 && st->n == FW_PROBE_END) {
         uint32_t theta_a, theta_b;
         int32_t omega;
 

@@ -28,6 +28,7 @@
 #define FW_MTPA_LEN 33  /* golden.firmware.mtpa.MTPA_LEN */
 #define FW_NOTCH_BITS 21  /* golden.firmware.supervisor.NOTCH_BITS */
 #define FW_PROBE_GAP 6  /* golden.firmware.catch_probe.PROBE_GAP */
+#define FW_PROBE_END 9  /* golden.firmware.catch_probe.PROBE_END */
 #define FW_FLUX_FRAC 8  /* golden.firmware.flux_lut.FLUX_FRAC */
 #define FW_LUT_MAX_POINTS 1024  /* golden.firmware.flux_lut.LUT_MAX_POINTS */
 

@@ -51,10 +51,8 @@ from golden.control_config import hardware_config, scales
 from golden.firmware.ident import (F_FIT, F_GAIN, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, F_SNAP, G2_SHIFT,
                                    IdentParams)
 from golden.fixed import to_fixed
-from golden.fpga.adc_trigger import sample_phases
-from golden.fpga.carrier import counter
-from golden.fpga.cordic import demod_weight, sincos_q15
-from golden.fpga.modulator import compares
+from golden.hf_gain import OperatingPoint, hf_response, inverter_model, sensor_bandwidth
+from golden.fpga.cordic import sincos_q15
 
 QUARTER = 1 << 30
 PROBE_DEAD_TIMES = 8.0
@@ -98,6 +96,8 @@ LF_Q_LEVELS = (0.9, 1.1)
 """A reluctance machine's stage lf on q (2c): the two levels, shares of the scan's bias. q's inductance is large,
 so the step's signal is large and the chord's error rules: -1.3 % between 0.8 and 1.2 (L_q -2.1 to -2.4 % over five
 seeds), -0.3 % between 0.9 and 1.1 (L_q -0.9 to -1.4 %); measured 2026-11-29."""
+MAP_ITERATIONS = 3
+"""Passes of the map's correction for the inverter's error (:func:`reduce`)."""
 R_LEVELS = (0.5, 0.75, 1.0)
 """Current levels of the resistance steps (shares of ``current``)."""
 SPIN_MEASURED = ("hold_low", "accel", "hold_high", "coast_a", "coast_b", "decel", "hold_low2")
@@ -181,50 +181,6 @@ class Program:
     duration: float
 
 
-def sensor_bandwidth(sc) -> float:
-    """The current sensors' bandwidth [Hz] (0: ideal) that :func:`hf_response` takes into account: the sensors'
-    data sheet value, ``sensors.bandwidth`` of the scenario (decision: the drive's designer knows the sensors
-    fitted, as the dead time; a different sensor is a different scenario)."""
-    return float(sc.plant["sens"]["bandwidth_hz"])
-
-
-def hf_response(hw, scl, tick_hz: float, v_h: int, s: int, c: int, v_d: int = 0, v_q: int = 0,
-                sensor_bw: float = 0.0) -> tuple[float, float]:
-    """``(GAMMA_D, GAMMA)`` of one window for an ideal inductance of 1 H: the hardware's HF gain.
-
-    The modulator's compares (spec 3.5) for the registers ``V_D = v_d``, ``V_Q = v_q``, ``V_H = v_h`` and the
-    frame ``SIN = s``, ``COS = c`` in both halves, the ideal switch signals (spec 2.4, no dead time), the phase
-    voltages without their common mode at every tick of a period, the current of a 1 H inductance (their
-    integral, without its mean: the steady state of a lossless load), through the current sensors' first-order
-    lag of bandwidth ``sensor_bw`` [Hz] (0: none; in the periodic steady state, by the period's spectrum), Park
-    into the frame, sampled at the window's instants and weighted as the demodulator does (spec 3.3, 3.4). The
-    lag matters: 0.8 us at 200 kHz shifts the HF current against the demodulator's weights and takes about 1.5 %
-    of the response at 10 kHz (measured on the 000 motor's map, docs/commissioning.md). For a small ``V_H`` the HF
-    voltage comes as short pulses around the middle of each half period and the current is nearly a square
-    wave of amplitude ``V_H / (4 f_sw L)``, whose fundamental is ``4/pi`` of that (not the triangle of
-    Benevieri et al. 2023, eq. (17), ``8/pi^2``, which holds only when the pulses fill the halves). A machine's
-    response is this times its inverse incremental inductance in the injection direction (``GAMMA_D``) and
-    across it (``GAMMA``)."""
-    H, P = hw.pwm_half, 2 * hw.pwm_half
-    rise, fall = (np.array(compares(v_d, v_q, v_h, s, c, H, sign)) for sign in (-1, 1))
-    phi = np.arange(P)
-    on = np.where(phi[:, None] < H, phi[:, None] < rise[None, :], (P - phi[:, None]) <= fall[None, :])
-    v = on.astype(float) * (scl.v_lsb * 2**15)                       # leg voltages [V]
-    v -= v.mean(axis=1, keepdims=True)
-    v_al, v_be = v[:, 0], (v[:, 1] - v[:, 2]) / math.sqrt(3)
-    cf, sf = c / 32768, s / 32768
-    lam = np.cumsum(np.stack([v_al * cf + v_be * sf, v_be * cf - v_al * sf]), axis=1) / tick_hz
-    lam -= lam.mean(axis=1, keepdims=True)                           # current of 1 H [A]
-    if sensor_bw > 0.0:                                              # the sensors' lag, periodic steady state
-        f = np.fft.rfftfreq(P, d=1.0 / tick_hz)
-        lam = np.fft.irfft(np.fft.rfft(lam, axis=1) / (1.0 + 1j * f / sensor_bw), n=P, axis=1)
-    rel = np.sort((sample_phases(hw.adc_mode, H, hw.os_ticks) - H // 2) % P)
-    phase = (rel + H // 2) % P
-    w = np.asarray(demod_weight(counter(phase, H), H, hw.cw_angle_step), dtype=float)
-    i = lam[:, phase] / scl.i_lsb
-    return float(i[0] @ w / 2**15), float(i[1] @ w / 2**15)
-
-
 def build_program(sc, cs: CommissionSettings) -> Program:
     """The identification program of scenario ``sc`` with the settings ``cs`` (module docstring)."""
     sc_, hw = scales(sc), hardware_config(sc)
@@ -295,18 +251,16 @@ def build_program(sc, cs: CommissionSettings) -> Program:
         for sign in (1, -1):
             add(StepInfo("polarity", i_d=sign * cs.current, axis="d"), 2 * n_set + n_meas, n_meas,
                 F_SET | (F_POL if sign < 0 else 0), i_d=sign * cs.current, vh=v_probe)
-    # 4. map: each response from a pair at half and full amplitude (the HF current stays below the bias of
-    # the grid's first ring, so the phases with a bias do not cross zero)
+    # 4. map: one step per axis at the scan's larger amplitude; the host takes the inverter's error at each point
+    # out with its model (reduce): a pair of amplitudes does not cancel it where a phase current crosses zero with
+    # the HF at one amplitude and not at the other (docs/commissioning.md)
     grid_q = (0.0, 0.5, 1.0) if cs.lock else (0.0,)
     for fq in grid_q:
         for fd in (-1.0, -0.5, 0.0, 0.5, 1.0):
             i_d, i_q = fd * cs.current, fq * cs.current
-            for twice in (0, 1):
-                add(StepInfo("map", i_d, i_q, 0.0, "d"), n_set + n_meas, n_meas, F_SET, i_d=i_d, i_q=i_q,
-                    vh=(v_probe << twice) >> 1)
-            for twice in (0, 1):
-                add(StepInfo("map", i_d, i_q, math.pi / 2, "q"), n_set + n_meas, n_meas, F_SET, i_d=i_q, i_q=-i_d,
-                    vh=(v_probe << twice) >> 1, phi=QUARTER)
+            add(StepInfo("map", i_d, i_q, 0.0, "d"), n_set + n_meas, n_meas, F_SET, i_d=i_d, i_q=i_q, vh=v_probe << 1)
+            add(StepInfo("map", i_d, i_q, math.pi / 2, "q"), n_set + n_meas, n_meas, F_SET, i_d=i_q, i_q=-i_d,
+                vh=v_probe << 1, phi=QUARTER)
     # 4b. lf (magnets only; a reluctance machine's inductance at the two levels is not the scan's, at its bias):
     # the inductance along d and q from a current step between two levels of the same sign (no zero crossing: the
     # inverter's error is a smooth function of the current, taken from the two holds), every window of the
@@ -494,13 +448,35 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | No
     if ax:
         res.scan["fit_L_d"] = res.values["L_d"]
         res.values["L_d"] = res.scan["axis_L_d"] = 1.0 / pair(ax[0]).real
-    # map: the columns of the inverse incremental inductance from the d and q injections (pairs of steps)
-    mp = [k for k, s in enumerate(prog.steps) if s.stage == "map"][1::2]
+    # map: the inverse incremental inductance from the d and the q step of each point, with the inverter's error
+    # at the point (golden.hf_gain): each step's responses are G times its HF gains, which depend on G (the phase
+    # currents' signs at the switching edges); from the ideal inverter's G, MAP_ITERATIONS passes
+    inv = inverter_model(sc, hw)
+
+    def turn(phi: float) -> np.ndarray:
+        """Coordinates in a frame ``phi`` ahead of the map's (the rotor's found) frame."""
+        return np.array([[math.cos(phi), math.sin(phi)], [-math.sin(phi), math.cos(phi)]])
+
+    def map_gains(k: int, y_map: np.ndarray | None) -> np.ndarray:
+        """Step ``k``'s HF gains (GAMMA_D, GAMMA per 1 H): the ideal inverter's (``y_map`` None), else with the
+        inverter's error for the admittance ``y_map`` (the map's frame) at the step's currents."""
+        r, m = turn(prog.steps[k].phi), means[k]
+        s, c = sincos_q15(round((res.theta_r + prog.steps[k].phi) / (2 * math.pi) * 2**32) % 2**32)
+        point = None if y_map is None else OperatingPoint(r @ y_map @ r.T, (m["id"] * i_lsb, m["iq"] * i_lsb),
+                                                          (p.s_id[k], p.s_iq[k]))
+        return np.array(hf_response(hw, sc_, sc.pwm.tick_hz, vh[k], s, c, round(m["vd"]), round(m["vq"]),
+                                    sensor_bw=sensor_bandwidth(sc), inverter=None if point is None else inv,
+                                    point=point))
+
+    mp = [k for k, s in enumerate(prog.steps) if s.stage == "map"]
     for kd, kq in zip(mp[::2], mp[1::2]):
-        zd, zq = pair(kd), pair(kq)
-        # frame of the q step: d' = q, q' = -d: its responses (along, across) are (Gqq, -Gdq)
-        G = np.array([[zd.real, zq.imag], [-zd.imag, zq.real]])
-        G = 0.5 * (G + G.T)
+        G = None
+        for _ in range(MAP_ITERATIONS + 1):
+            # G [u_d u_q] = [g_d g_q]: the responses and gains of both steps in the map's frame
+            g, u = zip(*((turn(prog.steps[k].phi).T @ np.stack([[means[k]["gd"], means[k]["gq"]], map_gains(k, G)],
+                                                                axis=1)).T for k in (kd, kq)))
+            G = np.stack(g, axis=1) @ np.linalg.inv(np.stack(u, axis=1))
+            G = 0.5 * (G + G.T)
         res.map.append((prog.steps[kd].i_d, prog.steps[kd].i_q, np.linalg.inv(G)))
     # lf: per axis, the up and the down transition; their mean replaces the scan's inductance when they agree
     axes = sorted({s.axis for s in prog.steps if s.stage == "lf_up"})

@@ -18,9 +18,10 @@ firmware leaves into the motor's data; :func:`tuning` into the controller's sett
 3. ``polarity`` (magnets only): ``+I_p`` then ``-I_p`` on d with the injection; the firmware turns the
    angle by half a turn when the second response is the larger (``F_POL``). The shaft is held from here.
 4. ``map``: the incremental inductance matrix on a grid of (i_d, i_q): at each point the injection on d,
-   then on q (the frame turned by a quarter turn, the current references turned with it), each at ``v/2`` and
-   ``v``. Points with ``i_q != 0`` make torque: the map needs the shaft held (``lock = "on"``, as a brake or a
-   locking pin on a bench does); without it only the ``i_q = 0`` line is measured.
+   then on q (the frame turned by a quarter turn, the current references turned with it), one step each at
+   ``2 v``; the host takes the inverter's error at the point out with its model (:mod:`golden.hf_gain`). Points
+   with ``i_q != 0`` make torque: the map needs the shaft held (``lock = "on"``, as a brake or a locking pin on
+   a bench does); without it only the ``i_q = 0`` line is measured.
 4b. ``lf`` (magnets only): along d, then q, the current stepped up from ``hf_current / 2`` to ``hf_current`` and
    back under current control, every window of the transitions summed: ``L = (T sum(v) - T sum(f(i))) / (I2 -
    I1)``, ``f`` (resistance and the inverter's error) the line through the holds before and after. Its ``L_d``,
@@ -56,8 +57,8 @@ from golden.fpga.cordic import sincos_q15
 
 QUARTER = 1 << 30
 PROBE_DEAD_TIMES = 8.0
-"""The probe's HF amplitude is this many times the dead time's voltage (the scan's pair: once and twice it, the
-map's pair half and once), unless ``hf_current`` caps it. Measured (golden): on the 002 Table I motor (11.2 V of
+"""The probe's HF amplitude is this many times the dead time's voltage (the scan's pair: once and twice it; the
+map's steps twice it; the measurements below had the map's pair at half and once), unless ``hf_current`` caps it. Measured (golden): on the 002 Table I motor (11.2 V of
 dead time) a scan pair of 2.2 and 4.4 times put the angle 20 deg off and L_q 36 % high, 4 and 8 times gave
 0.4 % but a map pair of 2 and 4 times errors up to 20 %, 4.3 and 8.6 times (map 2.1 and 4.3) 0.3 % and a map
 within 9 %; on the 001 motor (2.2 V) 4 and 8 times: L_d 3.9 % low, 8.8 and 17.6 times: within 1.1 % and the map

@@ -160,12 +160,13 @@ def build_firmware(acc: bool = True, ident: bool = False) -> Path:
 
 
 def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] | None = None,
-              ram_bytes: int | None = None) -> Path:
+              ram_bytes: int | None = None, acc: bool = True) -> Path:
     """Verilate hfi_soc with the harness into ``out/sim/<variant>/libhfisoc.so`` (rebuilt when a source
     changed; a file lock serialises concurrent builds). ``fst``: the variant with FST waveforms;
     ``profile``: the variant that records the firmware profile (``SOC_PROF_*`` of sim/soc_sim.h);
     ``options``: build options (golden.build_options, docs/rtl.md) other than the default 1, a variant of its own;
-    ``ram_bytes``: a RAM other than ``soc_platform.RAM_BYTES`` (the commissioning image's), likewise."""
+    ``ram_bytes``: a RAM other than ``soc_platform.RAM_BYTES`` (the commissioning image's), likewise; ``acc=False``:
+    the SoC without the accelerators (``hfi_soc`` parameter ``ACC = 0``, the Tang Nano 20K's), likewise."""
     from golden.build_options import OPTIONS
     from golden.plant.binding import LIBRARY as PLANT_LIB
 
@@ -177,6 +178,8 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
             raise RtlBackendError(f"build option {name}={value!r}: expected one of {', '.join(OPTIONS)} = 0 or 1")
     # hfi_soc's parameters other than their defaults: the build options and the RAM size
     params = dict(options)
+    if not acc:
+        params["ACC"] = 0
     if ram_bytes is not None and ram_bytes != soc_platform.RAM_BYTES:
         if profile:
             raise RtlBackendError("the firmware profile counts the words of the default RAM: no other RAM size")
@@ -191,8 +194,9 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     if verilator is None:
         raise RtlBackendError("verilator is not on PATH: run `make setup` and `source scripts/env.sh`")
     # profile-guided for the runs that last: not for the waveform and profile variants, nor for a build with options
-    # left out (a check that the firmware refuses it, seconds long)
-    pgo = not (fst or profile or options)
+    # left out (a check that the firmware refuses it, seconds long) or without the accelerators (the checks of its
+    # image)
+    pgo = not (fst or profile or options or not acc)
     key = digest(srcs, f"{variant} {verilator} pgo={pgo}")
     OUT_SIM.mkdir(parents=True, exist_ok=True)
     with open(OUT_SIM / ".lock", "w") as lock:
@@ -398,13 +402,14 @@ class RtlClosedLoop:
 
     def run(self, progress: bool = True, fst: str | None = None, fst_window: tuple[float, float] | None = None,
             workdir: Path | None = None, profile: bool = False,
-            options: dict[str, int] | None = None, sim_lib: Path | None = None) -> ClosedLoopResult:
+            options: dict[str, int] | None = None, sim_lib: Path | None = None, acc: bool = True) -> ClosedLoopResult:
         """Run the co-simulation. ``fst``: FST waveform file; ``fst_window``: its time span [s]
         (default: the first 2 ms). ``profile``: record the firmware profile into ``self.profile``
         (``cycles`` and ``fetch``: one count per RAM word, sim/soc_sim.h; scripts/fw_profile.py).
         ``options``: an FPGA build with these build options (build_sim; the firmware refuses to start when the
         scenario's methods need a block the build lacks: RtlBackendError with the UART log). ``sim_lib``: a
-        co-simulation library built already (build_sim's training run of the profile-guided build)."""
+        co-simulation library built already (build_sim's training run of the profile-guided build). ``acc=False``:
+        the SoC without the accelerators and its firmware image (``make -C firmware ACC=0``, the Tang Nano 20K's)."""
         sc, hw = self.sc, self.hw
         H = hw.pwm_half
         tick_hz = sc.pwm.tick_hz
@@ -415,8 +420,9 @@ class RtlClosedLoop:
         fp = firmware_params(sc)
         program = fp.ident
         ram_bytes = soc_platform.RAM_BYTES if program is None else soc_platform.IDENT_RAM_BYTES
-        elf = build_firmware(ident=program is not None)
-        lib_path = sim_lib or build_sim(fst=fst is not None, profile=profile, options=options, ram_bytes=ram_bytes)
+        elf = build_firmware(acc=acc, ident=program is not None)
+        lib_path = sim_lib or build_sim(fst=fst is not None, profile=profile, options=options, ram_bytes=ram_bytes,
+                                        acc=acc)
         lib = _sim_ffi.dlopen(str(lib_path))
         workdir = Path(workdir or OUT_SIM / "runs")
         workdir.mkdir(parents=True, exist_ok=True)

@@ -1,7 +1,8 @@
 """The FPGA build options (docs/rtl.md "Build options") on the SoC: one Verilated hfi_soc with every option left
-out (ROT_INJ, DIFF_CIC, FCS_MPC, FLUX_LUT = 0). The firmware reads CAPS before it starts: a scenario whose method
-needs a missing block is refused with the missing bits on the UART and the gates never on; a method that needs
-none runs on that build exactly as on the full one (the options change nothing else)."""
+out (ROT_INJ, DIFF_CIC, FCS_MPC, FLUX_LUT = 0), and one without the accelerators (ACC = 0, with its own firmware
+image). The firmware reads CAPS before it starts: a scenario whose method needs a missing block is refused with the
+missing bits on the UART and the gates never on; a method that needs none runs on that build exactly as on the full
+one (the options change nothing else), and so does the SoC without the accelerators."""
 
 from __future__ import annotations
 
@@ -40,12 +41,29 @@ def test_a_method_without_its_blocks_is_refused(tmp_path, scenario, dsp, acc):
 
 
 def test_a_method_that_needs_none_runs_as_on_the_full_build(tmp_path):
+    """The options left out change nothing else, not even the firmware's clocks; the SoC without the accelerators
+    (``ACC = 0``, the Tang Nano 20K's) with its own image (``make -C firmware ACC=0``: the firmware's own sin/cos,
+    vector angle and flux-map look-up) gives every window column equal too, in more clocks."""
     sc = short("fullload_start.toml", 0.05)
     full = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path)
     slim = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, options=NONE)
+    no_acc = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, acc=False)
     for col in WINDOW_FIELDS:
         assert np.array_equal(full.windows[col], slim.windows[col]), col
-    assert full.soc["fw_cycles_max"] == slim.soc["fw_cycles_max"]
+        assert np.array_equal(full.windows[col], no_acc.windows[col]), col
+    assert full.soc["fw_cycles_max"] == slim.soc["fw_cycles_max"] < no_acc.soc["fw_cycles_max"]
+
+
+def test_the_image_without_accelerators_refuses_the_probe(tmp_path):
+    """The image without the accelerators has no room for the flying start's probe (firmware/Makefile FW_NO_PROBE):
+    a scenario that asks for it (scenarios/flying_start.toml, catch_probe 50 mA) is refused with the line, the gates
+    never on."""
+    with pytest.raises(RtlBackendError) as e:
+        RtlClosedLoop(short("flying_start.toml", 0.002)).run(progress=False, workdir=tmp_path, acc=False)
+    text = str(e.value)
+    assert "tick 0" in text
+    assert ("hfi_fw: this image has no flying-start probe: protection.catch_probe must be 0; gates stay off\n"
+            in text)
 
 
 def test_unknown_or_bad_options_are_refused():

@@ -53,6 +53,7 @@ from golden.firmware.ident import (F_FIT, F_GAIN, F_LEVEL, F_NEG, F_OPEN, F_POL,
                                    IdentParams)
 from golden.fixed import to_fixed
 from golden.hf_gain import OperatingPoint, hf_response, inverter_model, sensor_bandwidth
+from golden.saturation_fit import InductanceData, fit_inductances
 from golden.fpga.cordic import sincos_q15
 
 QUARTER = 1 << 30
@@ -97,6 +98,12 @@ LF_Q_LEVELS = (0.9, 1.1)
 """A reluctance machine's stage lf on q (2c): the two levels, shares of the scan's bias. q's inductance is large,
 so the step's signal is large and the chord's error rules: -1.3 % between 0.8 and 1.2 (L_q -2.1 to -2.4 % over five
 seeds), -0.3 % between 0.9 and 1.1 (L_q -0.9 to -1.4 %); measured 2026-11-29."""
+CHORD_WEIGHT = 2.0
+"""Weight of stage lf's chords beside the map's entries in the saturation model's fit (:func:`saturation_data`)."""
+ZERO_CURRENT_WEIGHT = 0.1
+"""Weight of the map's entries at zero current on their own axis in that fit (9-16 % off on the 003 SyRM). With 0 the
+unsaturated inductance is left to the chords alone and the fit drifted to a_d0 = 5e-10 (an infinite L_d at zero
+current); 0.1 gave a_d0 0.87 (the plant's 0.97), 0.25 and 0.5 pulled q's coefficients 1-9 % off (2026-11-29)."""
 MAP_ITERATIONS = 3
 """Passes of the map's correction for the inverter's error (:func:`reduce`)."""
 R_LEVELS = (0.5, 0.75, 1.0)
@@ -361,6 +368,8 @@ class Results:
     spin: dict = field(default_factory=dict)
     snr: float = 0.0
     lf: dict = field(default_factory=dict)          # "d", "q": (up, down) [H]; "used": they replaced the scan's
+    saturation: dict | None = None                  # a reluctance machine's fitted algebraic model (coefficients,
+    saturation_rms: float = 0.0                     # exponents) and its RMS relative residual (saturation_data)
 
 
 def _lf_inductance(prog: Program, st, means: list, axis: str, i_lsb: float, v_lsb: float,
@@ -377,6 +386,22 @@ def _lf_inductance(prog: Program, st, means: list, axis: str, i_lsb: float, v_ls
         sum_f = n * v1 + (v2 - v1) / (i2 - i1) * (st.r_id[k] * i_lsb - n * i1)
         out.append(period * (st.r_vd[k] * v_lsb - sum_f) / (i2 - i1))
     return out[0], out[1]
+
+
+def saturation_data(prog: Program, res: Results) -> InductanceData:
+    """What the saturation model is fitted to: the map's entries (L_dq where both currents are not zero; L_dd, L_qq
+    at zero current on their own axis with the weight :data:`ZERO_CURRENT_WEIGHT`: their HF current is a few mA on a
+    reluctance machine), and the chords of stage lf along d and q (weight :data:`CHORD_WEIGHT`: the only points at
+    small currents, where the inductance changes fastest)."""
+    own = lambda i: 1.0 if i else ZERO_CURRENT_WEIGHT                                    # noqa: E731
+    points = [(i_d, i_q, L[0, 0], L[0, 1], L[1, 1], own(i_d), float(i_d != 0 and i_q != 0), own(i_q))
+              for i_d, i_q, L in res.map]
+    chords = []
+    for n, axis in enumerate(("d", "q")):
+        levels = {s.stage: s.i_d for s in prog.steps if s.stage in ("lf_lo", "lf_hi") and s.axis == axis}
+        if axis in res.lf and len(levels) == 2:
+            chords.append((n, levels["lf_lo"], levels["lf_hi"], float(np.mean(res.lf[axis])), CHORD_WEIGHT))
+    return InductanceData(np.array(points), np.array(chords).reshape(-1, 5))
 
 
 def _step_means(st, k: int, m: int) -> dict:
@@ -487,6 +512,10 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | No
         if res.lf["used"]:
             for axis in axes:
                 res.values["L_" + axis] = float(np.mean(res.lf[axis]))
+    # a reluctance machine: the algebraic saturation model fitted to the map and the chords of stage lf (its
+    # controller's flux maps come from it; the points are too few and too far apart to interpolate)
+    if not cs.magnets and res.lf.get("used"):
+        res.saturation, res.saturation_rms = fit_inductances(saturation_data(prog, res))
     # resistance: V = R i + V0 + b / i through the three levels (b: the dead time's share that the node
     # capacitances take back at small currents, their charge time ~ C V_dc / i)
     rk = [k for k, s in enumerate(prog.steps) if s.stage == "resistance"]

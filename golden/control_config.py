@@ -124,15 +124,23 @@ def linear_mag(L_d: float, L_q: float, psi_f: float) -> dict:
     return mag
 
 
+def algebraic_mag(coefficients: dict, psi_f: float) -> dict:
+    """A complete algebraic magnetic model dict (``MAG_KINDS["algebraic"]``, golden.saturation_fit) of the given
+    coefficients and exponents (``[model.saturation]``) and magnet flux [V*s]."""
+    mag = plant_defaults.default_params()["mag"]
+    mag.update(kind=MAG_KINDS["algebraic"], psi_f=psi_f, **coefficients)
+    return mag
+
+
 def controller_motor(sc: Scenario) -> ControllerMotor:
     """What the controller knows of its motor: the scenario's ``[model]`` table (``sc.model``, written by
-    ``hfi commission``) as a linear magnetic model, or, without it, the plant's own ``R_s``, ``mag`` and
+    ``hfi commission``) as a linear magnetic model (the algebraic one of ``[model.saturation]`` when the table has
+    it: a reluctance machine's), or, without it, the plant's own ``R_s``, ``mag`` and
     ``mech`` data (``mag`` is then the plant's dict itself, so the firmware's parameters are those of a
     drive tuned from the data sheet, unchanged from before ``[model]`` existed).
 
     With ``[model]`` the 003 method's flux maps (:func:`hfo_proj_params`' ``flux_lut``, :func:`fcs_params`'
-    ``flux_reference_table``) are sampled from that linear model: the measured saturation map is not yet
-    fed to the controller. ``pole_pairs`` is always the scenario's (``motor.pole_pairs`` or the preset's)."""
+    ``flux_reference_table``) are sampled from that model. ``pole_pairs`` is always the scenario's (``motor.pole_pairs`` or the preset's)."""
     mech = sc.plant["mech"]
     p = int(mech["pole_pairs"])
     m = sc.model
@@ -140,7 +148,8 @@ def controller_motor(sc: Scenario) -> ControllerMotor:
         cm = ControllerMotor(R_s=sc.plant["R_s"], mag=sc.plant["mag"], J=mech["J"], pole_pairs=p,
                              B=mech["B"], T_c=mech["T_c"])
     else:
-        cm = ControllerMotor(R_s=m.R_s, mag=linear_mag(m.L_d, m.L_q, m.psi_f), J=m.J, pole_pairs=p, B=m.B, T_c=m.T_c)
+        mag = linear_mag(m.L_d, m.L_q, m.psi_f) if m.saturation is None else algebraic_mag(m.saturation, m.psi_f)
+        cm = ControllerMotor(R_s=m.R_s, mag=mag, J=m.J, pole_pairs=p, B=m.B, T_c=m.T_c)
     e = sc.model_error
     if e is None:
         return cm

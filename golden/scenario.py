@@ -396,6 +396,14 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "J": _q("inertia", _positive),
         "B": _q("viscous_friction", _non_negative, default=0.0),
         "T_c": _q("torque", _non_negative, default=0.0),
+        "saturation": _TABLE,
+    },
+    # The controller's saturation model (a reluctance machine's, fitted by `hfi commission`): the algebraic model of
+    # motor.magnetic (golden.saturation_fit), every key required when the table is given (_check_model)
+    "model.saturation": {
+        "a_d0": Field("number", check=_positive), "a_q0": Field("number", check=_positive),
+        **{name: Field("number", check=_non_negative) for name in ("a_dd", "a_qq", "a_dq")},
+        **{exp: Field("integer", check=_between(0, 64)) for exp in ("S", "T", "U", "V")},
     },
     "model_error": {name: Field("number", check=_positive, default=1.0) for name in ("R_s", "L_d", "L_q", "psi_f", "J")},
     "simulation": {
@@ -584,7 +592,10 @@ class CommissionTable:
 class ModelSettings:
     """The ``[model]`` table (docs/scenario.md): the motor data the controller uses, SI units. ``R_s`` [ohm]
     (motor and inverter), ``L_d``, ``L_q`` [H] (incremental, at zero current), ``psi_f`` [V*s] (0: a reluctance
-    machine), ``J`` [kg*m^2], ``B`` [N*m*s/rad], ``T_c`` [N*m]."""
+    machine), ``J`` [kg*m^2], ``B`` [N*m*s/rad], ``T_c`` [N*m]; ``saturation``: the ``[model.saturation]`` table
+    (the algebraic model's coefficients and exponents, SI) or None: with it the controller's magnetic model is that
+    model (and ``L_d``, ``L_q`` are the measured values, for the record), without it a linear one of ``L_d``,
+    ``L_q``, ``psi_f``."""
 
     R_s: float
     L_d: float
@@ -593,6 +604,7 @@ class ModelSettings:
     J: float
     B: float
     T_c: float
+    saturation: dict | None = None
 
 
 @dataclass(frozen=True)
@@ -1109,6 +1121,12 @@ def _check_model(reader: _Reader) -> None:
         path = f"model.{key}"
         if path not in reader.values and path not in reader.invalid:
             reader.error(path, "missing (required when [model] is given)")
+    if reader.has_table("model.saturation"):
+        for key in SCHEMA["model.saturation"]:
+            path = f"model.saturation.{key}"
+            if path not in reader.values and path not in reader.invalid:
+                reader.error(path, "missing (every coefficient and exponent is required when [model.saturation] "
+                                   "is given)")
 
 
 def _check_faults(reader: _Reader, plant: dict) -> None:
@@ -1196,7 +1214,10 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
         faults=tuple(sorted(get("faults") or [], key=lambda f: f.at)),
         protection=ProtectionSettings(*(get(f"protection.{f.name}") for f in dataclass_fields(ProtectionSettings))),
         commission=CommissionTable(*(get(f"commission.{f.name}") for f in dataclass_fields(CommissionTable))),
-        model=(ModelSettings(*(get(f"model.{f.name}") for f in dataclass_fields(ModelSettings)))
+        model=(ModelSettings(*(get(f"model.{f.name}") for f in dataclass_fields(ModelSettings)
+                                 if f.name != "saturation"),
+                               saturation=({key: get(f"model.saturation.{key}") for key in SCHEMA["model.saturation"]}
+                                           if reader.has_table("model.saturation") else None))
                if reader.has_table("model") else None),
         model_error=(ModelError(*(get(f"model_error.{f.name}") for f in dataclass_fields(ModelError)))
                      if reader.has_table("model_error") else None),

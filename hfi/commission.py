@@ -30,6 +30,7 @@ from golden.firmware.estimator import INJ_NONE, METHODS
 from golden.firmware.ident import IdentParams
 from golden.control_config import scales
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
+from golden.saturation_fit import EXPONENT_NAMES, fluxes
 from golden.scenario import load_scenario, parse_scenario
 
 HANDOVER_EMF = 2.0
@@ -126,6 +127,22 @@ def tuning(sc, res) -> dict:
     return out
 
 
+SATURATION_CHECK = ((0.5, 0.0), (0.0, 0.5), (2.0, 0.0), (0.0, 2.0), (-3.0, 1.25), (3.0, 3.0), (6.0, 6.0))
+"""Currents [A] at which ``commission.json`` compares the fitted saturation model's flux linkages with the plant's."""
+
+
+def saturation_check(sc, model: dict) -> list:
+    """The fitted saturation model's flux linkages against the plant's at :data:`SATURATION_CHECK` (the rated
+    current's MTPA point of the 003 SyRM, -2.9 / 1.6 A, lies between them)."""
+    out = []
+    for i_d, i_q in SATURATION_CHECK:
+        fit = [float(v) for v in fluxes(model, i_d, i_q)]
+        true = [float(v) for v in psi_from_current(sc.plant["mag"], i_d, i_q)]
+        out.append({"i_d": i_d, "i_q": i_q, "psi": fit, "truth": true,
+                    "rel_error": math.hypot(fit[0] - true[0], fit[1] - true[1]) / math.hypot(*true)})
+    return out
+
+
 def commissioned_scenario(path: str | Path, res, tune: dict) -> dict:
     """The scenario file's tree with the measured ``[model]`` and the tuned settings."""
     with open(path, "rb") as f:
@@ -134,6 +151,9 @@ def commissioned_scenario(path: str | Path, res, tune: dict) -> dict:
     d["model"] = {"R_s": f"{v['R_s']:.6g} ohm", "L_d": f"{v['L_d']:.6g} H", "L_q": f"{v['L_q']:.6g} H",
                   "psi_f": f"{v.get('psi_f', 0.0):.6g} Wb", "J": f"{v['J']:.6g} kg*m^2",
                   "B": f"{max(v['B'], 0.0):.6g} N*m*s/rad", "T_c": f"{max(v['T_c'], 0.0):.6g} N*m"}
+    if res.saturation is not None:                # a reluctance machine's fitted saturation model (SI numbers)
+        d["model"]["saturation"] = {k: (int(v) if k in EXPONENT_NAMES else float(f"{v:.6g}"))
+                                    for k, v in res.saturation.items()}
     d.setdefault("injection", {})["V_h"] = f"{tune['V_h']:.4g} V"
     if "handover_up" in tune and d.get("estimator", {}).get("high", "none") != "none":   # a hand-over to tune
         est = d["estimator"]
@@ -197,6 +217,11 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
                **{k: res.scan[k] for k in ("fit_L_d", "axis_L_d") if k in res.scan},
                "lf": {axis: list(res.lf[axis]) for axis in ("d", "q") if axis in res.lf},
                "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
+               # a reluctance machine: the algebraic saturation model fitted to the map and the chords (golden.commission
+               # saturation_data), its RMS relative residual, and its flux linkages against the plant's at test points
+               **({"saturation": {"model": res.saturation, "rms": res.saturation_rms,
+                                  "flux_check": saturation_check(sc, res.saturation)}}
+                  if res.saturation is not None else {}),
                # a magnet machine's program ends with its coast: the gates off, the rotor turning (r/min)
                "coasting_at_end_rpm": (res.spin["w_coast"] / sc.plant["mech"]["pole_pairs"] * 30 / math.pi
                                        if "w_coast" in res.spin else None),

@@ -30,6 +30,8 @@ import math
 
 import numpy as np
 
+from golden.saturation_fit import COEF_NAMES, fluxes, jacobian
+
 # ---- 003 paper, Table I (rated values) -----------------------------------------------------------
 POLE_PAIRS = 2
 R_S = 4.5                                  # [ohm]
@@ -41,7 +43,6 @@ I_RATED = I_RATED_RMS * math.sqrt(2.0)     # 3.2527 A peak = |i| in the dq frame
 W_E_RATED = 2.0 * math.pi * N_RATED / 60.0 * POLE_PAIRS   # 314.16 rad/s electrical
 U_PHASE_PEAK = U_RATED * math.sqrt(2.0 / 3.0)              # 277.6 V peak phase
 
-COEF_NAMES = ("a_d0", "a_dd", "a_q0", "a_qq", "a_dq")
 
 # ---- target curves (our convention), read from the description of the paper's Figs. 2-3 -----------
 # q = high-inductance axis (paper d): steep rise (about 1 H at i = 0), 0.83 Vs at 1 A, then saturating
@@ -72,91 +73,7 @@ RATED_WEIGHT = 3.0
 ORIGIN_WEIGHT = 0.2
 
 
-# ---- the model ------------------------------------------------------------------------------------
-def currents(c: dict, psi_d, psi_q):
-    """Currents ``(i_d, i_q)`` of the algebraic model at fluxes ``(psi_d, psi_q)`` (psi_f = 0).
-
-    Parameters
-    ----------
-    c : dict
-        Coefficients ``a_d0, a_dd, a_q0, a_qq, a_dq`` and integer exponents ``S, T, U, V``.
-    psi_d, psi_q : float or ndarray
-        Rotor-frame flux linkages [Vs].
-
-    Returns
-    -------
-    tuple of ndarray
-        ``(i_d, i_q)`` [A].
-    """
-    x, y = np.asarray(psi_d, float), np.asarray(psi_q, float)
-    ax, ay = np.abs(x), np.abs(y)
-    i_d = (c["a_d0"] + c["a_dd"] * ax ** c["S"] + c["a_dq"] / (c["V"] + 2) * ax ** c["U"] * ay ** (c["V"] + 2)) * x
-    i_q = (c["a_q0"] + c["a_qq"] * ay ** c["T"] + c["a_dq"] / (c["U"] + 2) * ax ** (c["U"] + 2) * ay ** c["V"]) * y
-    return i_d, i_q
-
-
-def jacobian(c: dict, psi_d, psi_q):
-    """Analytic Jacobian ``d(i_d, i_q)/d(psi_d, psi_q)`` = inverse incremental inductance matrix.
-
-    Returns
-    -------
-    tuple of ndarray
-        ``(g_dd, g_dq, g_qd, g_qq)`` with ``g_dq = di_d/dpsi_q = g_qd = di_q/dpsi_d`` (reciprocity).
-    """
-    x, y = np.asarray(psi_d, float), np.asarray(psi_q, float)
-    ax, ay = np.abs(x), np.abs(y)
-    S, T, U, V = c["S"], c["T"], c["U"], c["V"]
-    g_dd = c["a_d0"] + c["a_dd"] * (S + 1) * ax ** S + c["a_dq"] / (V + 2) * (U + 1) * ax ** U * ay ** (V + 2)
-    g_qq = c["a_q0"] + c["a_qq"] * (T + 1) * ay ** T + c["a_dq"] / (U + 2) * (V + 1) * ax ** (U + 2) * ay ** V
-    g_x = c["a_dq"] * ax ** U * x * ay ** V * y
-    return g_dd, g_x, g_x, g_qq
-
-
-def fluxes(c: dict, i_d, i_q, tol: float = 1e-13, max_iter: int = 200):
-    """Invert the model: fluxes ``(psi_d, psi_q)`` giving currents ``(i_d, i_q)``.
-
-    Damped Newton iteration with the analytic Jacobian, vectorised over arrays.
-
-    Parameters
-    ----------
-    c : dict
-        Model coefficients and exponents.
-    i_d, i_q : float or ndarray
-        Target currents [A].
-    tol : float
-        Convergence tolerance on the current residual [A].
-    max_iter : int
-        Iteration limit; a ``RuntimeError`` is raised when it is reached.
-
-    Returns
-    -------
-    tuple of ndarray
-        ``(psi_d, psi_q)`` [Vs].
-    """
-    i_d, i_q = np.broadcast_arrays(np.asarray(i_d, float), np.asarray(i_q, float))
-    x = i_d / c["a_d0"]          # start from the unsaturated inductances: above the root on each axis
-    y = i_q / c["a_q0"]
-    for _ in range(max_iter):
-        r_d, r_q = currents(c, x, y)
-        r_d, r_q = r_d - i_d, r_q - i_q
-        res = np.hypot(r_d, r_q)
-        if np.all(res < tol * (1.0 + np.hypot(i_d, i_q))):
-            return x, y
-        g_dd, g_dq, _, g_qq = jacobian(c, x, y)
-        det = g_dd * g_qq - g_dq * g_dq
-        dx = (g_qq * r_d - g_dq * r_q) / det
-        dy = (g_dd * r_q - g_dq * r_d) / det
-        step = np.ones_like(x)
-        for _ in range(30):  # backtracking: accept a step only if it lowers the residual
-            n_d, n_q = currents(c, x - step * dx, y - step * dy)
-            bad = np.hypot(n_d - i_d, n_q - i_q) > res
-            if not np.any(bad):
-                break
-            step = np.where(bad, 0.5 * step, step)
-        x, y = x - step * dx, y - step * dy
-    raise RuntimeError("flux inversion did not converge")
-
-
+# ---- the model: golden.saturation_fit (the plant's MAG_ALGEBRAIC, vectorised) ------------------------------------
 def torque(c: dict, i_d, i_q):
     """Torque T = 1.5 p (psi_d i_q - psi_q i_d) [N*m] at currents ``(i_d, i_q)``."""
     psi_d, psi_q = fluxes(c, i_d, i_q)
@@ -213,7 +130,7 @@ def steady_voltage(c: dict, i_d: float, i_q: float, w_e: float = W_E_RATED):
 def inductances(c: dict, i_d: float, i_q: float):
     """Incremental inductance matrix L = J^-1 at the currents ``(i_d, i_q)`` [H]: (l_dd, l_dq, l_qq)."""
     psi_d, psi_q = fluxes(c, i_d, i_q)
-    g_dd, g_dq, _, g_qq = (float(v) for v in jacobian(c, psi_d, psi_q))
+    g_dd, g_dq, g_qq = (float(v) for v in jacobian(c, psi_d, psi_q))
     det = g_dd * g_qq - g_dq * g_dq
     return g_qq / det, -g_dq / det, g_dd / det
 
@@ -282,7 +199,7 @@ def positive_definite_margin(c: dict, i_max: float = 2.0 * I_RATED):
     g = np.linspace(-i_max, i_max, 81)
     i_d, i_q = np.meshgrid(g, g)
     psi_d, psi_q = fluxes(c, i_d, i_q)
-    g_dd, g_dq, _, g_qq = jacobian(c, psi_d, psi_q)
+    g_dd, g_dq, g_qq = jacobian(c, psi_d, psi_q)
     return float(np.min((g_dd * g_qq - g_dq ** 2) / (g_dd * g_qq)))
 
 
@@ -351,7 +268,7 @@ def plot(c: dict, path: str):
     g = np.linspace(-5.0, 5.0, 101)
     i_d, i_q = np.meshgrid(g, g)
     psi_d, psi_q = fluxes(c, i_d, i_q)
-    g_dd, _, _, g_qq = jacobian(c, psi_d, psi_q)
+    g_dd, _, g_qq = jacobian(c, psi_d, psi_q)
     sal = g_dd / g_qq  # l_q/l_d of the incremental inductance matrix L = J^-1 (l_q/l_d = g_dd/g_qq)
     levels = np.linspace(0.0, 12.0, 25)
     cs = ax[2].contourf(i_d, i_q, np.minimum(sal, 12.0), levels=levels, cmap="viridis", extend="max")

@@ -30,7 +30,7 @@ from golden.firmware.estimator import INJ_NONE, METHODS
 from golden.firmware.ident import IdentParams
 from golden.control_config import scales
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
-from golden.saturation_fit import EXPONENT_NAMES, fluxes
+from golden.saturation_fit import EXPONENT_NAMES, fluxes, jacobian
 from golden.scenario import load_scenario, parse_scenario
 
 HANDOVER_EMF = 2.0
@@ -319,6 +319,44 @@ def _lf_figure(out: Path, prog, res, run, sc, plt, tr: dict) -> None:
     plt.close(fig)
 
 
+def _saturation_figure(out: Path, res, sc, plt, map_rows) -> None:
+    """``commission_saturation.png``: the fitted saturation model's flux linkages along each axis at three currents
+    on the other (lines) against the plant's (dotted), and its incremental inductances against the map's."""
+    mag, fit = sc.plant["mag"], res.saturation
+    i_max = max(abs(r["i_d"]) for r in map_rows)
+    grid = np.linspace(-i_max, i_max, 161)
+    fig, axs = plt.subplots(1, 3, figsize=(13, 4))
+    for n, (ax, name) in enumerate(zip(axs[:2], ("d", "q"))):
+        for other in (0.0, 0.5 * i_max, i_max):
+            cur = (grid, np.full_like(grid, other)) if n == 0 else (np.full_like(grid, other), grid)
+            line, = ax.plot(grid, fluxes(fit, *cur)[n], lw=1.2, label=f"fitted, i_{'qd'[n]} = {other:g} A")
+            truth = [psi_from_current(mag, a, b)[n] for a, b in zip(*cur)]
+            ax.plot(grid, truth, "k:", lw=1)
+        ax.set_xlabel(f"i_{name} [A]")
+        ax.set_ylabel(f"psi_{name} [V*s] (lines fitted, dotted plant)")
+        ax.legend(fontsize=7)
+    ax = axs[2]
+    for key in ("dd", "qq"):
+        rows = [r for r in map_rows if (r["i_d"] if key == "dd" else r["i_q"])]      # own-axis current
+        g = [np.linalg.inv(np.array([[a, b], [b, c]])) for a, b, c in
+             (jacobian(fit, *fluxes(fit, r["i_d"], r["i_q"])) for r in rows)]
+        model = [1e3 * (L[0, 0] if key == "dd" else L[1, 1]) for L in g]
+        ax.plot([1e3 * r["L_" + key] for r in rows], model, "o", label=f"L_{key}")
+    lim = ax.get_xlim()
+    ax.plot(lim, lim, "k-", lw=0.6)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("measured (map) [mH]")
+    ax.set_ylabel("fitted model [mH]")
+    ax.legend(fontsize=7)
+    e = ", ".join(f"{k} {v:g}" for k, v in fit.items() if k in EXPONENT_NAMES)
+    fig.suptitle(f"{sc.name}: fitted saturation model ({e}; RMS residual {100 * res.saturation_rms:.1f} %)",
+                 fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out / "commission_saturation.png", dpi=110)
+    plt.close(fig)
+
+
 def _figures(out: Path, prog, res, run, sc, map_rows, tr: dict) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -364,6 +402,8 @@ def _figures(out: Path, prog, res, run, sc, map_rows, tr: dict) -> None:
     plt.close(fig)
     if res.lf:
         _lf_figure(out, prog, res, run, sc, plt, tr)
+    if res.saturation is not None:
+        _saturation_figure(out, res, sc, plt, map_rows)
     # spin
     fig, ax = plt.subplots(figsize=(8, 4))
     t = run.t

@@ -25,7 +25,8 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
-from golden.commission import SCAN_BIAS_SHARE, build_program, frame_speed, reduce, settings, spin_speed
+from golden.commission import (PROBE_DEAD_TIMES, SCAN_BIAS_SHARE, build_program, frame_speed, reduce, settings,
+                               spin_speed)
 from golden.firmware.estimator import INJ_NONE, METHODS
 from golden.firmware.ident import IdentParams
 from golden.control_config import scales
@@ -111,17 +112,22 @@ def truth(sc, bias: float = 0.0) -> dict:
 def tuning(sc, res) -> dict:
     """The controller's settings from the measurements: the HF amplitude for ``commission.snr`` (the
     saliency signal of one window over its noise, both measured by the scan, the signal growing with the
-    amplitude), the hand-over speeds (HANDOVER_EMF), and whether an HF method can run at all."""
+    amplitude), but at least PROBE_DEAD_TIMES times the dead time's voltage (and 1 % of V_dc), the hand-over
+    speeds (HANDOVER_EMF), and whether an HF method can run at all. The floor (decision, 2026-11-29): the 001
+    motor at 1 kHz, whose scan windows average 1000 samples, got 5.4 V from the signal-to-noise rule, 2.5 times
+    the dead time's 2.2 V, and its drive lost the angle and tripped; 8.8 and 13.2 V lost it at 300 r/min, 17.6 V
+    (8 times) ran its scenario within 0.2 deg of the hand-tuned 20 V (docs/commissioning.md)."""
     sc_, v_dc = scales(sc), sc.plant["inv"]["V_dc"]
     per_volt = res.scan["g_sal"] / res.scan["v_hf"]
     sigma = res.scan["sigma"]
     v_max = settings(sc).hf_voltage_max
-    v_h = min(max(sc.commission.snr * sigma / per_volt, 0.01 * v_dc), v_max) if per_volt > 0 else v_max
+    v_dt = sc.pwm.dead_time * sc_.f_sw * v_dc
+    v_min = max(PROBE_DEAD_TIMES * v_dt, 0.01 * v_dc)
+    v_h = min(max(sc.commission.snr * sigma / per_volt, v_min), v_max) if per_volt > 0 else v_max
     out = {"V_h": v_h, "snr_at_V_h": per_volt * v_h / sigma if sigma > 0 else math.inf,
            "hf_possible": bool(per_volt * v_max / max(sigma, 1e-12) >= SNR_MIN_SALIENCY)}
     psi_f = res.values.get("psi_f", 0.0)
     if psi_f > 0:
-        v_dt = sc.pwm.dead_time * sc_.f_sw * v_dc
         w_up = HANDOVER_EMF * v_dt / (sc_.pole_pairs * psi_f)
         out.update(handover_up=w_up, handover_down=HANDOVER_DOWN * w_up)
     return out

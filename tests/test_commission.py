@@ -175,12 +175,16 @@ def assert_map_within(s: dict, tol: float, own_current_only: bool = False) -> No
                 assert abs(r["rel_error_" + axis]) < tol, (axis, r)
 
 
-@pytest.mark.parametrize("path", ["scenarios/bench2_loadsteps.toml", "scenarios/xue2022_noload.toml"])
-def test_commission_other_pm_motors(path, tmp_path):
+@pytest.mark.parametrize("path, drive", [("scenarios/bench2_loadsteps.toml", False),
+                                         ("scenarios/xue2022_noload.toml", True)])
+def test_commission_other_pm_motors(path, drive, tmp_path):
     """The 002 Table III motor and the 001 IPMSM, each with its scenario's sensors, offsets and dead time: R, L_d,
     L_q, psi_f within 3 % and J within 10 % of the plant's, the standstill angle within 10 deg, the map within 5 %
     (0.3 % and 0.8 % measured) (the 000 motor: the test below; the 003 SyRM, its inductances at the scan's bias:
-    test_commission_reluctance_motor)."""
+    test_commission_reluctance_motor). ``drive``: the drive tuned from it (commissioned.toml) runs the scenario
+    without a fault, its angle error RMS on each plateau within 1.5 times the hand-tuned drive's (the 001 drive:
+    1.11 and 1.54 deg against 1.03 and 1.36; with V_h from the signal-to-noise rule alone, 5.4 V, it tripped;
+    the Table III scenario's rated-load steps are issue 14's)."""
     from hfi.commission import commission
     s = commission(path, tmp_path, progress=False, backend=FAST)
     for name in ("R_s", "L_d", "L_q", "psi_f"):
@@ -188,6 +192,21 @@ def test_commission_other_pm_motors(path, tmp_path):
     assert abs(s["values"]["J"]["rel_error"]) < 0.10
     assert abs(s["angle_error_deg"]) < 10.0
     assert_map_within(s, 0.05)
+    if drive:
+        assert_tuned_drive(tmp_path, path, 1.5)
+
+
+def assert_tuned_drive(out, path: str, factor: float) -> None:
+    """The drive tuned by the commissioning in ``out`` (commissioned.toml) runs the scenario ``path`` on FAST without
+    a fault, the angle error RMS of each speed plateau below ``factor`` times the hand-tuned drive's."""
+    from hfi.run import run_file
+    tuned = run_file(str(out / "commissioned.toml"), FAST, str(out / "tuned"), progress=False)
+    hand = run_file(path, FAST, str(out / "hand"), progress=False)
+    assert tuned.metrics["faults"]["code"] == "none", tuned.metrics["faults"]
+    assert len(tuned.metrics["segments"]) == len(hand.metrics["segments"]) > 0
+    for a, b in zip(tuned.metrics["segments"], hand.metrics["segments"]):
+        assert a["speed_ref_rpm"] == b["speed_ref_rpm"]
+        assert a["err_rms_deg"] < factor * b["err_rms_deg"], (a, b)
 
 
 def test_commission_reluctance_motor(tmp_path):
@@ -216,14 +235,7 @@ def test_commission_reluctance_motor(tmp_path):
         assert v["L_" + axis]["measured"] == pytest.approx(0.5 * (up + down), rel=1e-12)
     assert_map_within(s, 0.05, own_current_only=True)
     assert all(c["rel_error"] < 0.03 for c in s["saturation"]["flux_check"]), s["saturation"]["flux_check"]
-    from hfi.run import run_file
-    tuned = run_file(str(tmp_path / "commissioned.toml"), FAST, str(tmp_path / "tuned"), progress=False)
-    hand = run_file("scenarios/varatharajan2020_speedrange.toml", FAST, str(tmp_path / "hand"), progress=False)
-    assert tuned.metrics["faults"]["code"] == "none"
-    assert len(tuned.metrics["segments"]) == len(hand.metrics["segments"]) > 0
-    for a, b in zip(tuned.metrics["segments"], hand.metrics["segments"]):
-        assert a["speed_ref_rpm"] == b["speed_ref_rpm"]
-        assert a["err_rms_deg"] < 1.5 * b["err_rms_deg"], (a, b)
+    assert_tuned_drive(tmp_path, "scenarios/varatharajan2020_speedrange.toml", 1.5)
 
 
 @pytest.mark.xdist_group("default_commission")

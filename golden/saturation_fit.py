@@ -80,10 +80,11 @@ def fluxes(c: dict, i_d, i_q, tol: float = 1e-13, max_iter: int = 200, start=Non
     raise RuntimeError("flux inversion did not converge")
 
 
-def levenberg_marquardt(residuals, theta: np.ndarray, iters: int = 60, rtol: float = 1e-6) -> tuple[np.ndarray, float]:
+def levenberg_marquardt(residuals, theta: np.ndarray, iters: int = 60, rtol: float = 1e-6,
+                        step_tol: float = 0.0) -> tuple[np.ndarray, float]:
     """Minimise ``|residuals(theta)|^2`` (Levenberg-Marquardt, forward-difference Jacobian) until a step lowers it
-    by less than ``rtol`` of itself; returns ``theta`` and the residuals' RMS. A ``residuals`` that raises
-    RuntimeError (no solution there) counts as a rejected step."""
+    by less than ``rtol`` of itself or moves no parameter by ``step_tol``, or ``iters`` steps; returns ``theta`` and
+    the residuals' RMS. A ``residuals`` that raises RuntimeError (no solution there) counts as a rejected step."""
     theta = np.asarray(theta, float)
     r = residuals(theta)
     lam = 1e-2
@@ -107,7 +108,7 @@ def levenberg_marquardt(residuals, theta: np.ndarray, iters: int = 60, rtol: flo
                 theta, r, lam, improved = theta + step, r_new, max(lam / 3.0, 1e-9), True
                 break
             lam *= 10.0
-        if not improved or gain < rtol:
+        if not improved or gain < rtol or np.max(np.abs(step)) < step_tol:
             break
     return theta, float(np.sqrt(r @ r / r.size))
 

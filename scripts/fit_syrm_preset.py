@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from golden.saturation_fit import COEF_NAMES, fluxes, jacobian
+from golden.saturation_fit import COEF_NAMES, fluxes, jacobian, levenberg_marquardt
 
 # ---- 003 paper, Table I (rated values) -----------------------------------------------------------
 POLE_PAIRS = 2
@@ -161,37 +161,13 @@ def residuals(c: dict, tg: np.ndarray):
 def fit(exps: dict, tg: np.ndarray, start: dict | None = None, iters: int = 200):
     """Levenberg-Marquardt on log-coefficients (keeps every coefficient > 0), flux-space residuals."""
     c0 = start or {"a_d0": 1.2, "a_dd": 100.0, "a_q0": 1.1, "a_qq": 1.0, "a_dq": 1.0}
-    th = np.log([c0[k] for k in COEF_NAMES])
 
     def mk(t):
         return {**dict(zip(COEF_NAMES, np.exp(t))), **exps}
 
-    r = residuals(mk(th), tg)
-    lam = 1e-2
-    for _ in range(iters):
-        jac = np.empty((r.size, th.size))
-        for k in range(th.size):
-            d = np.zeros_like(th)
-            d[k] = 1e-6
-            jac[:, k] = (residuals(mk(th + d), tg) - r) / 1e-6
-        a = jac.T @ jac
-        g = jac.T @ r
-        improved = False
-        for _ in range(20):
-            step = np.linalg.solve(a + lam * np.diag(np.diag(a) + 1e-12), -g)
-            th_new = th + step
-            try:
-                r_new = residuals(mk(th_new), tg)
-            except RuntimeError:
-                lam *= 10.0
-                continue
-            if r_new @ r_new < r @ r:
-                th, r, lam, improved = th_new, r_new, max(lam / 3.0, 1e-9), True
-                break
-            lam *= 10.0
-        if not improved or np.max(np.abs(step)) < 1e-10:
-            break
-    return mk(th), float(np.sqrt(r @ r / r.size))
+    th, rms = levenberg_marquardt(lambda t: residuals(mk(t), tg), np.log([c0[k] for k in COEF_NAMES]), iters=iters,
+                                  rtol=0.0, step_tol=1e-10)
+    return mk(th), rms
 
 
 def positive_definite_margin(c: dict, i_max: float = 2.0 * I_RATED):

@@ -52,14 +52,15 @@ from golden.control_config import hardware_config, scales
 from golden.firmware.ident import (F_FIT, F_GAIN, F_LEVEL, F_NEG, F_OPEN, F_POL, F_SCAN, F_SET, F_SNAP, G2_SHIFT,
                                    IdentParams)
 from golden.fixed import to_fixed
+from golden.fpga.cordic import sincos_q15
 from golden.hf_gain import OperatingPoint, hf_response, inverter_model, sensor_bandwidth
 from golden.saturation_fit import InductanceData, fit_inductances
-from golden.fpga.cordic import sincos_q15
 
 QUARTER = 1 << 30
 PROBE_DEAD_TIMES = 8.0
 """The probe's HF amplitude is this many times the dead time's voltage (the scan's pair: once and twice it; the
-map's steps twice it; the measurements below had the map's pair at half and once), unless ``hf_current`` caps it. Measured (golden): on the 002 Table I motor (11.2 V of
+map's steps twice it), unless ``hf_current`` caps it; the tuned ``V_h`` is at least this many (hfi.commission
+``tuning``). Measured (golden, the map then a pair at half and once the probe): on the 002 Table I motor (11.2 V of
 dead time) a scan pair of 2.2 and 4.4 times put the angle 20 deg off and L_q 36 % high, 4 and 8 times gave
 0.4 % but a map pair of 2 and 4 times errors up to 20 %, 4.3 and 8.6 times (map 2.1 and 4.3) 0.3 % and a map
 within 9 %; on the 001 motor (2.2 V) 4 and 8 times: L_d 3.9 % low, 8.8 and 17.6 times: within 1.1 % and the map

@@ -59,7 +59,10 @@ def fluxes(c: dict, i_d, i_q, tol: float = 1e-13, max_iter: int = 200, start=Non
     on each axis: the model's energy is convex, the root unique), vectorised. RuntimeError when it does not
     converge."""
     i_d, i_q = np.broadcast_arrays(np.asarray(i_d, float), np.asarray(i_q, float))
-    x, y = (i_d / c["a_d0"], i_q / c["a_q0"]) if start is None else (np.array(start[0], float), np.array(start[1], float))
+    if start is None:
+        x, y = i_d / c["a_d0"], i_q / c["a_q0"]
+    else:
+        x, y = np.array(start[0], float), np.array(start[1], float)
     for _ in range(max_iter):
         r_d, r_q = currents(c, x, y)
         r_d, r_q = r_d - i_d, r_q - i_q

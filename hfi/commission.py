@@ -223,8 +223,9 @@ def commission(path: str | Path, out: Path, progress: bool = True, backend: str 
                **{k: res.scan[k] for k in ("fit_L_d", "axis_L_d") if k in res.scan},
                "lf": {axis: list(res.lf[axis]) for axis in ("d", "q") if axis in res.lf},
                "map_max_rel_error": max(max(abs(r["rel_error_dd"]), abs(r["rel_error_qq"])) for r in map_rows),
-               # a reluctance machine: the algebraic saturation model fitted to the map and the chords (golden.commission
-               # saturation_data), its RMS relative residual, and its flux linkages against the plant's at test points
+               # a reluctance machine: the algebraic saturation model fitted to the map and the chords
+               # (golden.commission saturation_data), its RMS relative residual, and its flux linkages against the
+               # plant's at test points
                **({"saturation": {"model": res.saturation, "rms": res.saturation_rms,
                                   "flux_check": saturation_check(sc, res.saturation)}}
                   if res.saturation is not None else {}),

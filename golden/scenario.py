@@ -26,11 +26,14 @@ from dataclasses import dataclass, fields as dataclass_fields
 from pathlib import Path
 from typing import Callable
 
+import numpy as np
+
 from golden import motors
 from golden.firmware.estimator import METHODS, SLOT_HIGH, SLOT_LOW
 from golden.limits import check_limits
 from golden.plant import defaults as _plant_defaults
 from golden.plant.binding import GATE_BITS, ffi as _plant_ffi
+from golden.saturation_fit import fluxes
 from golden.units import UnitError, finite_float, format_quantity, parse_quantity, type_name
 
 
@@ -1122,11 +1125,34 @@ def _check_model(reader: _Reader) -> None:
         if path not in reader.values and path not in reader.invalid:
             reader.error(path, "missing (required when [model] is given)")
     if reader.has_table("model.saturation"):
-        for key in SCHEMA["model.saturation"]:
-            path = f"model.saturation.{key}"
+        keys = [f"model.saturation.{key}" for key in SCHEMA["model.saturation"]]
+        for path in keys:
             if path not in reader.values and path not in reader.invalid:
                 reader.error(path, "missing (every coefficient and exponent is required when [model.saturation] "
                                    "is given)")
+        if all(path in reader.values for path in keys):
+            _check_saturation_model(reader, {path.rsplit(".", 1)[1]: reader.values[path] for path in keys})
+
+
+def _check_saturation_model(reader: _Reader, model: dict) -> None:
+    """The controller's saturation model must carry every current up to ``control.i_max`` (the controller's flux
+    tables invert it there): a model without a flux solution in that range is refused with the current."""
+    i_max = reader.values.get("control.i_max", SCHEMA["control"]["i_max"].default)
+
+    def solvable(i_d, i_q) -> bool:
+        try:
+            with np.errstate(all="ignore"):
+                return bool(np.all(np.isfinite(fluxes(model, i_d, i_q))))
+        except RuntimeError:
+            return False
+
+    i_d, i_q = np.meshgrid(*(np.linspace(-i_max, i_max, 9),) * 2)
+    if solvable(i_d, i_q):
+        return
+    bad = next((a, b) for a, b in zip(i_d.ravel(), i_q.ravel()) if not solvable(a, b))
+    reader.error("model.saturation", f"the model has no flux linkage for the currents ({bad[0]:g}, {bad[1]:g}) A, "
+                                     "within control.i_max: its coefficients or exponents are out of reach "
+                                     "(docs/scenario.md)")
 
 
 def _check_faults(reader: _Reader, plant: dict) -> None:

@@ -76,10 +76,15 @@ def with_model(model: dict) -> dict:
 
 
 def test_model_saturation_table():
-    """[model.saturation] gives the controller the algebraic model; a missing coefficient is refused by name."""
+    """[model.saturation] gives the controller the algebraic model; a missing coefficient is refused by name, and so
+    is a model without a flux solution within control.i_max."""
     sat = {k: SYRM[k] for k in sf.COEF_NAMES + sf.EXPONENT_NAMES}
     mag = controller_motor(parse_scenario(with_model({**MODEL, "saturation": sat}), "t")).mag
     assert mag["kind"] == MAG_KINDS["algebraic"] and all(mag[k] == sat[k] for k in sat)
     assert controller_motor(parse_scenario(with_model(MODEL), "t")).mag["kind"] == MAG_KINDS["linear"]
     with pytest.raises(ScenarioError, match=r"model\.saturation\.a_dq: missing"):
         parse_scenario(with_model({**MODEL, "saturation": {k: v for k, v in sat.items() if k != "a_dq"}}), "t")
+    # a model that carries no current within i_max (its unsaturated inductance 10^12 H, the saturation beyond any
+    # float) is refused with the first current it fails at, not left to the flux tables' inversion
+    with pytest.raises(ScenarioError, match=r"model\.saturation: the model has no flux linkage for the currents"):
+        parse_scenario(with_model({**MODEL, "saturation": {**sat, "a_d0": 1e-12, "S": 60}}), "t")

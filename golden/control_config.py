@@ -44,7 +44,7 @@ from golden.fpga.cordic import cw_angle_step, sincos_q15
 from golden.fpga.deadtime_comp import recip_half
 from golden.fpga.rot_injection import inj_step
 from golden.plant import defaults as plant_defaults
-from golden.plant.binding import MAG_KINDS
+from golden.plant.binding import MAG_KINDS, PlantError
 from golden.regmap import OC_LIMIT_VALUE_RESET
 from golden.scenario import Scenario
 
@@ -223,7 +223,20 @@ def rot_hf_current(sc: Scenario) -> int:
 
 
 def firmware_params(sc: Scenario) -> FirmwareParams:
-    """Firmware integers from the control settings and the controller's motor data (:func:`controller_motor`).
+    """Firmware integers from the control settings and the controller's motor data (:func:`controller_motor`); a
+    magnetic model the controller's tables cannot invert (the MTPA point, the flux tables) is reported with its
+    source (a PlantError, a ValueError: one line on the command line).
+    """
+    try:
+        return _firmware_params(sc)
+    except PlantError as exc:
+        source = ("[model.saturation]" if sc.model is not None and sc.model.saturation is not None
+                  else "[model]" if sc.model is not None else "the motor's magnetic model")
+        raise PlantError(f"{source}: the controller's tables cannot invert it: {exc}") from exc
+
+
+def _firmware_params(sc: Scenario) -> FirmwareParams:
+    """:func:`firmware_params` itself.
 
     Current PIs: technical optimum on the nominal L and R (k_p = L·ω_c, k_i = R·ω_c, ω_c = 2π·current_bw).
     Speed PI: k_p = J·ω_s / (K_t·p) [A per electrical rad/s], integral zero at ω_s/4 (ω_s = 2π·speed_bw),
@@ -428,7 +441,7 @@ def threshold_flux(sc: Scenario) -> int:
 def fcs_params(sc: Scenario) -> FcsParams:
     """The ``fcs_mpc`` law's integers (golden.firmware.fcs_law): ``R_s`` as flux and as voltage per current
     LSB, the flux reference table over ``0..i_max`` from the controller's map (:func:`controller_motor`: the
-    plant's, or the linear model of ``[model]``) with ``control.flux_min``, and the constraint's threshold
+    plant's, or the model of ``[model]``) with ``control.flux_min``, and the constraint's threshold
     ``estimator.hfo_proj.phi_min``."""
     ctl, sc_, cm = sc.control, scales(sc), controller_motor(sc)
     r = resistance_per_lsb(sc)
@@ -443,14 +456,13 @@ def fcs_params(sc: Scenario) -> FcsParams:
 
 def hfo_proj_params(sc: Scenario) -> HfoParams:
     """``estimator.hfo_proj``: the 003 estimator's integers (golden.firmware.hfo_proj). The flux LUT from the
-    controller's map (:func:`controller_motor`: the plant's, or the linear model of ``[model]``: the measured
-    saturation map is not yet fed to the controller; times ``map_scale_d/q``); ``g``, ``w_g`` as electrical speeds; the PLL's poles at ``-Omega`` (eq. (40): ``k_p = 2 Omega``,
-    ``k_i = Omega^2``)."""
+    controller's map (:func:`controller_motor`: the plant's, or the model of ``[model]``, linear or
+    ``[model.saturation]``; times ``map_scale_d/q``); ``g``, ``w_g`` as electrical speeds; the PLL's poles at
+    ``-Omega`` (eq. (40): ``k_p = 2 Omega``, ``k_i = Omega^2``)."""
     t, sc_, f_sw = sc.estimator.params["hfo_proj"], scales(sc), sc.pwm.f_sw
     T = 1.0 / f_sw
     lut = flux_lut(controller_motor(sc).mag, sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], t["lut_coarse"],
-                   t["lut_max_d"], t["lut_max_q"],
-                   t["map_scale_d"], t["map_scale_q"])
+                   t["lut_max_d"], t["lut_max_q"], t["map_scale_d"], t["map_scale_q"])
     omega = 2 * math.pi * t["pll_bw"]
     kp, ki = pll_gains(2 * omega, omega * omega, f_sw)
     return HfoParams(lut=lut, c_lag=min(to_fixed(t["i_lag"] * f_sw, 16), 1 << 16),

@@ -140,3 +140,16 @@ def test_plant_with_table_follows_the_model_it_samples():
     scale = np.max(np.abs(currents[0]))
     assert scale > 1.0
     assert np.max(np.abs(currents[1] - currents[0])) < 5e-3 * scale
+
+
+def test_psi_from_current_falls_back_to_backtracking():
+    """A stiff model (the 003 SyRM's with its cross-saturation coefficient 10^12, as a mistyped controller model
+    may have it) cycles under the damped Newton steps alone; the second, backtracking attempt finds the fluxes
+    whose currents are the ones asked for."""
+    from golden.motors import preset
+    from golden.plant.binding import mag_eval
+    from golden.plant.fluxmap import psi_from_current
+    mag = dict(preset("varatharajan2020_syrm")["mag"], a_dq=1e12)
+    for i in ((-3.959897740716342, 0.5649866220271175), (-5.932041233300841, 4.058453283754617)):
+        psi = psi_from_current(mag, *i)
+        np.testing.assert_allclose(mag_eval(mag, *psi)[:2], i, rtol=1e-12)

@@ -13,22 +13,38 @@ import numpy as np
 from golden.plant.binding import MAG_KINDS, PlantError, mag_eval
 
 
+BACKTRACK_ITER = 400
+"""Steps of :func:`psi_from_current`'s second, backtracking attempt."""
+
+
 def psi_from_current(mag: dict, i_d: float, i_q: float, tol: float = 1e-13, max_iter: int = 60) -> np.ndarray:
     """Flux linkages ``[psi_d, psi_q]`` at which the model ``mag`` carries the currents (i_d, i_q).
 
-    Newton's method on ``f(psi) - i`` with the model's analytic Jacobian, from the linear guess.
+    Newton's method on ``f(psi) - i`` with the model's analytic Jacobian, from the linear guess, each step damped
+    to 0.5 V*s at most. When that does not converge within ``max_iter`` steps (a stiff model, e.g. a controller's
+    saturation model with an extreme coefficient, cycles), it starts again halving each step while it does not
+    lower the residual, for up to ``BACKTRACK_ITER`` steps (the models it converged on before keep their results).
     """
-    psi = np.array([mag.get("psi_f", 0.0), 0.0])
     target = np.array([i_d, i_q], dtype=float)
-    for _ in range(max_iter):
+    for backtrack, n_iter in ((False, max_iter), (True, BACKTRACK_ITER)):
+        psi = np.array([mag.get("psi_f", 0.0), 0.0])
         out = mag_eval(mag, psi[0], psi[1])
-        resid = out[:2] - target
-        if np.max(np.abs(resid)) <= tol * max(1.0, np.max(np.abs(target))):
-            return psi
-        step = np.linalg.solve(out[2:].reshape(2, 2), resid)
-        # damp steps that would jump too far on a strongly saturating curve
-        scale = min(1.0, 0.5 / max(np.max(np.abs(step)), 1e-300))
-        psi = psi - scale * step
+        for _ in range(n_iter):
+            resid = out[:2] - target
+            if np.max(np.abs(resid)) <= tol * max(1.0, np.max(np.abs(target))):
+                return psi
+            step = np.linalg.solve(out[2:].reshape(2, 2), resid)
+            # damp steps that would jump too far on a strongly saturating curve
+            scale = min(1.0, 0.5 / max(np.max(np.abs(step)), 1e-300))
+            trial = psi - scale * step
+            out_t = mag_eval(mag, trial[0], trial[1])
+            for _ in range(60 if backtrack else 0):
+                if np.all(np.isfinite(out_t)) and np.linalg.norm(out_t[:2] - target) < np.linalg.norm(resid):
+                    break
+                scale *= 0.5
+                trial = psi - scale * step
+                out_t = mag_eval(mag, trial[0], trial[1])
+            psi, out = trial, out_t
     raise PlantError(f"flux map inversion did not converge at i = ({i_d}, {i_q})")
 
 

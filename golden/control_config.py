@@ -178,7 +178,12 @@ def hardware_config(sc: Scenario) -> HardwareConfig:
     direct = int(ctl.law == "fcs_mpc")
     # self-commissioning: no HF prediction (the amplitude is the program's, the inductance not yet known)
     ident = sc.control is not None and sc.control.mode == "commission"
-    hf_amp = 0 if rot or period_injection(sc) or direct or ident else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * mag["L_d"])), 32767)
+    # the d inductance: the model's parameter (linear, dsat: at zero current), or for a model without one (algebraic,
+    # table: a reluctance machine's) the nominal motor's, as the current PIs take it (the parameter dict's L_d is
+    # then the defaults', 5.59 mH, whatever the machine)
+    L_d = (mag["L_d"] if mag["kind"] in (MAG_KINDS["linear"], MAG_KINDS["dsat"])
+           else nominal_motor(mag, controller_motor(sc).pole_pairs, 0.5 * ctl.i_max)["L_d"])
+    hf_amp = 0 if rot or period_injection(sc) or direct or ident else min(sc_.current(sc.injection.V_h / (4 * sc.pwm.f_sw * L_d)), 32767)
     dtc_gain = min(to_fixed(dead / max(sc_.current(ctl.dtc_zone), 1), 8), 65535) if ctl.dead_time_comp == "on" else 0
     per = period_injection(sc)
     return HardwareConfig(

@@ -194,3 +194,19 @@ def test_model_error_of_ones_is_bit_exact_and_bad_factors_are_refused():
     text = str(exc.value)
     assert "model_error.L_x: unknown key (did you mean 'L_d'?)" in text or "model_error.L_x: unknown key" in text
     assert "model_error.psi_f: must be > 0, got 0" in text and "model_error.J" in text
+
+
+def test_predicted_hf_current_of_a_model_without_an_inductance_parameter():
+    """HF_AMP (the dead-time compensation's HF current, V_h / (4 f_sw L_d)) of an algebraic model (the 003 SyRM under
+    a square-wave method) takes the nominal motor's L_d at half i_max, as the current PIs (it took the parameter
+    dict's default 5.59 mH, whatever the machine: 733 LSB here instead of 122)."""
+    import tomllib
+
+    from golden.flux_tables import nominal_motor
+    with open("scenarios/varatharajan2020_speedrange.toml", "rb") as f:
+        d = tomllib.load(f)
+    d["control"].update(law="foc_pwm", polarity="none")
+    d["estimator"], d["injection"] = {"low": "sqw_bangbang", "high": "none"}, {"V_h": "100 V"}
+    sc = parse_scenario(d, "syrm_sqw")
+    L_d = nominal_motor(sc.plant["mag"], 2, 0.5 * sc.control.i_max)["L_d"]
+    assert hardware_config(sc).hf_amp == scales(sc).current(100.0 / (4 * sc.pwm.f_sw * L_d)) == 122

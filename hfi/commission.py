@@ -285,6 +285,12 @@ def _print(s: dict) -> None:
         print(f"{name:8s} {r['measured']:12.5g} {r['truth']:12.5g} {e:>8s}")
     print(f"rotor angle error at standstill {s['angle_error_deg']:+.2f} deg; scan SNR {s['snr_scan']:.1f}; "
           f"map: largest error {100 * s['map_max_rel_error']:.1f}% over {len(s['map'])} points")
+    if "saturation" in s:
+        sat = s["saturation"]
+        exps = ", ".join(f"{k} {sat['model'][k]}" for k in EXPONENT_NAMES)
+        worst = max(c["rel_error"] for c in sat["flux_check"])
+        print(f"saturation model fitted ({exps}; RMS residual {100 * sat['rms']:.1f} %): flux linkages within "
+              f"{100 * worst:.1f} % of the plant's at {len(sat['flux_check'])} points; [model.saturation] written")
     if s["coasting_at_end_rpm"] is not None:
         print(f"the program ended with the gates off and the rotor coasting at {s['coasting_at_end_rpm']:.0f} r/min "
               "(it stops by its friction; a drive started before then needs the flying start, [protection] catch_time)")

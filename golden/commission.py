@@ -418,10 +418,11 @@ def frame_speed(theta: np.ndarray, w_lsb: float) -> np.ndarray:
 
 
 def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | None = None,
-           scan_only: bool = False) -> Results:
+           scan_only: bool = False, map_iterations: int = MAP_ITERATIONS) -> Results:
     """The motor data from the firmware's sums ``st`` (an :class:`~golden.firmware.ident.Ident`) and the frame
     angles it wrote each window (``theta``, the trace's ``theta_hat``; the spin's speeds); ``scan_only``: the
-    inductances, the angle and the noise of the scan alone (a program that stopped after it)."""
+    inductances, the angle and the noise of the scan alone (a program that stopped after it); ``map_iterations``:
+    the passes of the map's correction for the inverter's error (0: the ideal inverter's gains)."""
     sc_, hw = scales(sc), hardware_config(sc)
     f_sw, i_lsb, v_lsb = sc_.f_sw, sc_.i_lsb, sc_.v_lsb
     p = prog.params
@@ -477,7 +478,7 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | No
         res.values["L_d"] = res.scan["axis_L_d"] = 1.0 / pair(ax[0]).real
     # map: the inverse incremental inductance from the d and the q step of each point, with the inverter's error
     # at the point (golden.hf_gain): each step's responses are G times its HF gains, which depend on G (the phase
-    # currents' signs at the switching edges); from the ideal inverter's G, MAP_ITERATIONS passes
+    # currents' signs at the switching edges); from the ideal inverter's G, map_iterations passes
     inv = inverter_model(sc, hw)
 
     def turn(phi: float) -> np.ndarray:
@@ -498,7 +499,7 @@ def reduce(prog: Program, st, sc, cs: CommissionSettings, theta: np.ndarray | No
     mp = [k for k, s in enumerate(prog.steps) if s.stage == "map"]
     for kd, kq in zip(mp[::2], mp[1::2]):
         G = None
-        for _ in range(MAP_ITERATIONS + 1):
+        for _ in range(map_iterations + 1):
             # G [u_d u_q] = [g_d g_q]: the responses and gains of both steps in the map's frame
             g, u = zip(*((turn(prog.steps[k].phi).T @ np.stack([[means[k]["gd"], means[k]["gq"]], map_gains(k, G)],
                                                                 axis=1)).T for k in (kd, kq)))

@@ -97,12 +97,13 @@ def hf_response(hw, scl, tick_hz: float, v_h: int, s: int, c: int, v_d: int = 0,
     admittance draws from these voltages, a fixed point of :data:`SIGN_ITERATIONS` passes); the result is still the
     volt-seconds' response of 1 H (the machine's response is ``point.y`` times it), now with the inverter's error
     at this operating point in it, across the frame as well as along it."""
+    if (inverter is None) != (point is None):
+        raise ValueError("hf_response: the inverter model and the operating point go together")
     H, P = hw.pwm_half, 2 * hw.pwm_half
     rise, fall = (compares(v_d, v_q, v_h, s, c, H, sign) for sign in (-1, 1))
     if inverter is not None and inverter.dtc_gain:
-        i_ref = point.i_ref if point is not None else (0, 0)
-        rise, fall = (compensate(cm, sign, H, inverter.dead, inverter.dtc_gain, i_ref[0], i_ref[1], inverter.hf_amp,
-                                 s, c, inverter.recip_h) for cm, sign in ((rise, -1), (fall, 1)))
+        rise, fall = (compensate(cm, sign, H, inverter.dead, inverter.dtc_gain, point.i_ref[0], point.i_ref[1],
+                                 inverter.hf_amp, s, c, inverter.recip_h) for cm, sign in ((rise, -1), (fall, 1)))
     rise, fall = np.array(rise), np.array(fall)
     phi = np.arange(P)
     on = np.where(phi[:, None] < H, phi[:, None] < rise[None, :], (P - phi[:, None]) <= fall[None, :])
@@ -119,7 +120,7 @@ def hf_response(hw, scl, tick_hz: float, v_h: int, s: int, c: int, v_d: int = 0,
         return lam - lam.mean(axis=1, keepdims=True)
 
     lam = volt_seconds(on.astype(float) * v_full)                  # current of 1 H [A]
-    if inverter is not None and point is not None:
+    if inverter is not None:
         edges = [(rise[x], P - fall[x]) for x in range(3)]         # s falls (rising half), s rises (falling half)
         i_dc = np.asarray(point.i_dc, dtype=float)
         for _ in range(SIGN_ITERATIONS):

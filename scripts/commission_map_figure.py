@@ -35,12 +35,7 @@ MOTORS = (("002 Table I", "fullload_start"), ("002 Table III", "bench2_loadsteps
 
 def map_errors(sc, prog, ident, theta, iterations: int) -> np.ndarray:
     """(points x 2) relative errors of L_dd, L_qq against the plant's with ``iterations`` passes of the model."""
-    saved = commission.MAP_ITERATIONS
-    commission.MAP_ITERATIONS = iterations
-    try:
-        res = commission.reduce(prog, ident, sc, commission.settings(sc), theta)
-    finally:
-        commission.MAP_ITERATIONS = saved
+    res = commission.reduce(prog, ident, sc, commission.settings(sc), theta, map_iterations=iterations)
     mag = sc.plant["mag"]
     out = []
     for i_d, i_q, L in res.map:

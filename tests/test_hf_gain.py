@@ -80,7 +80,7 @@ def test_dc_voltage_drives_no_hf(drive):
 
 def test_ideal_inverter_model_is_the_ideal_gain(drive):
     """An inverter without dead time, drops or node capacitance at the modulator's own full scale gives the ideal
-    gain, whatever the operating point."""
+    gain, whatever the operating point; an inverter model without an operating point is refused."""
     sc, hw, scl = drive
     ideal = InverterModel(dead=0, v_dc=scl.v_lsb * 2**15)
     point = OperatingPoint(np.array([[180.0, 12.0], [12.0, 160.0]]), (0.05, -0.02))
@@ -88,6 +88,8 @@ def test_ideal_inverter_model_is_the_ideal_gain(drive):
         a = hf_response(hw, scl, sc.pwm.tick_hz, 3600, s, c, 150, -80)
         b = hf_response(hw, scl, sc.pwm.tick_hz, 3600, s, c, 150, -80, inverter=ideal, point=point)
         assert b == pytest.approx(a, rel=1e-9, abs=1e-9)
+    with pytest.raises(ValueError, match="go together"):
+        hf_response(hw, scl, sc.pwm.tick_hz, 3600, 0, 32767, inverter=ideal)
 
 
 def pattern(P: int, cmp: int) -> np.ndarray:

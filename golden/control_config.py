@@ -228,9 +228,12 @@ def rot_hf_current(sc: Scenario) -> int:
 
 
 def firmware_params(sc: Scenario) -> FirmwareParams:
-    """Firmware integers from the control settings and the controller's motor data (:func:`controller_motor`); a
-    magnetic model the controller's tables cannot invert (the MTPA point, the flux tables) is reported with its
-    source (a PlantError, a ValueError: one line on the command line).
+    """Firmware integers from the control settings and the controller's motor data (:func:`controller_motor`).
+
+    Current PIs: technical optimum on the nominal L and R (k_p = L·ω_c, k_i = R·ω_c, ω_c = 2π·current_bw).
+    Speed PI: k_p = J·ω_s / (K_t·p) [A per electrical rad/s], integral zero at ω_s/4 (ω_s = 2π·speed_bw),
+    with K_t = 1.5·p·ψ_f. A magnetic model the controller's tables cannot invert (the MTPA point, the flux tables)
+    is reported with its source (a PlantError, a ValueError: one line on the command line).
     """
     try:
         return _firmware_params(sc)
@@ -241,12 +244,7 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
 
 
 def _firmware_params(sc: Scenario) -> FirmwareParams:
-    """:func:`firmware_params` itself.
-
-    Current PIs: technical optimum on the nominal L and R (k_p = L·ω_c, k_i = R·ω_c, ω_c = 2π·current_bw).
-    Speed PI: k_p = J·ω_s / (K_t·p) [A per electrical rad/s], integral zero at ω_s/4 (ω_s = 2π·speed_bw),
-    with K_t = 1.5·p·ψ_f.
-    """
+    """:func:`firmware_params` without the report of the model's source."""
     ctl, sc_ = sc.control, scales(sc)
     f_sw = sc.pwm.f_sw
     cm = controller_motor(sc)

@@ -38,30 +38,12 @@ from golden.firmware.protection import FAULT_LOCK_LOSS, FAULT_NAMES
 from golden.firmware.supervisor import MODE_FAULT
 from golden.scenario import load_scenario, parse_scenario
 from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, config_block
+from hfi.soc_copies import varatharajan2020_2khz
 
 ROOT = Path(__file__).resolve().parents[1]
 IDENTITY_S = 0.6
 """Simulated seconds compared (at least 0.5 s around the hand-overs): 2999 windows at 5 kHz, 599 at 1 kHz
 (60 M clocks each; 1199 at 2 kHz)."""
-
-
-def varatharajan2020_2khz():
-    """The 003 drive (scenarios/varatharajan2020_torquestep.toml: law fcs_mpc, CTRL.DIRECT, the estimator
-    hfo_proj) at 2 kHz: its firmware step takes about 6800 CPU clocks mean, 9300 worst (with the accelerators
-    of hfi_soc_acc and the 16 KiB instruction cache, docs/methods.md) on the soft core, more than the 5000 of
-    the scenario's 10 kHz period, and the first step's CTRL.ENABLE must land within
-    three quarters of a period (18 750 clocks at 2 kHz). So the rtl backend runs it at f_sw / 5 with V_dc / 5
-    (the same flux per vector and period, so the same current ripple per period: 3 A on l_d, not 15 A
-    through the trip limit), the voltage thresholds phi_min and phi_knee / 5 with it, and the 2 p.u. load
-    step at 0.4 s (in RUN, inside the compared 0.6 s) instead of 0.8 s."""
-    sc = load_scenario(ROOT / "scenarios" / "varatharajan2020_torquestep.toml")
-    k = 5.0
-    hp = sc.estimator.params["hfo_proj"]
-    params = dict(sc.estimator.params, hfo_proj=dict(hp, phi_min=hp["phi_min"] / k, phi_knee=hp["phi_knee"] / k))
-    plant = dict(sc.plant, inv=dict(sc.plant["inv"], V_dc=sc.plant["inv"]["V_dc"] / k),
-                 load=dict(sc.plant["load"], t=[0.0, 0.4, 0.4]))
-    return dataclasses.replace(sc, pwm=dataclasses.replace(sc.pwm, f_sw=sc.pwm.f_sw / k), plant=plant,
-                               estimator=dataclasses.replace(sc.estimator, params=params))
 
 
 def xue2022_phase_open():

@@ -1,0 +1,230 @@
+#!/usr/bin/env python3
+"""The order of the firmware's last code group (link.ld ``/* 003 */``) for the 16 KiB direct-mapped instruction cache.
+
+The 000 and 002 steps fit the cache with the groups before it (tests/test_fw_layout.py); the 003 step executes about
+17 KiB of code per period, so some of its lines must share cache lines with the shared group's, and which ones decides
+how many are refilled every period (docs/soc.md, "The instruction cache"). This tool measures and chooses:
+
+1. builds the image (its link map, ``out/firmware/hfi_fw.map``) and runs the slowed 003 drive
+   (:func:`hfi.soc_copies.varatharajan2020_2khz`) on the rtl backend with the program-counter profile
+   (scripts/fw_profile.py): CPU clocks per period of every instruction word;
+2. takes the input sections from the first one of the ``/* 003 */`` group to the end of ``.text`` (the 003 method's
+   functions and the code no step runs: start-up, sync, turn, the flying start, the library's division) and searches
+   their order (moves of one section, from the present order and from ``--restarts`` shuffled ones, fixed seed) for
+   the least :func:`conflict_cost`, with ``.text`` no longer than it was;
+3. prints the order with each section's address and cache offset; ``--write`` puts it into link.ld's ``/* 003 */``
+   group. Check the result with scripts/fw_profile.py (the measured refills) before committing it.
+
+    python scripts/fw_layout.py [--duration 0.3] [--restarts 8] [--seed 1] [--write]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import random
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from hfi import soc_platform  # noqa: E402
+from hfi.rtl_backend import FW_OUT, RtlBackendError, RtlClosedLoop, build_firmware  # noqa: E402
+from hfi.soc_copies import varatharajan2020_2khz  # noqa: E402
+
+LINK_LD = ROOT / "firmware" / "link.ld"
+LINE_BYTES = 32
+"""Bytes per instruction-cache line (docs/soc.md)."""
+SETS = soc_platform.CPU_ICACHE_BYTES // LINE_BYTES
+LINE_CLOCKS = 8.0
+"""A line that runs every period takes at least this many clocks (8 instructions): a line's clocks per period over
+it, at most 1, stands for the share of periods in which the line runs."""
+FUNCTION_ALIGN = 64
+"""-falign-functions of the default image (firmware/Makefile); the library's and the unlikely sections keep 4."""
+SECTION_RE = re.compile(r"^ (\.text[\w.]*)(?:\s+(0x[0-9a-f]+)\s+(0x[0-9a-f]+)\s+(\S+))?\s*$")
+NEXT_RE = re.compile(r"^\s+(0x[0-9a-f]+)\s+(0x[0-9a-f]+)\s+(\S+)")
+
+
+@dataclass(frozen=True)
+class Section:
+    """One input section of ``.text`` in the link map: its name, where it was, its size, the object it came from."""
+
+    name: str
+    addr: int
+    size: int
+    source: str
+
+    @property
+    def align(self) -> int:
+        """Its alignment: the function alignment for the C sections that had it, else a word."""
+        aligned = self.addr % FUNCTION_ALIGN == 0
+        return FUNCTION_ALIGN if aligned and "libgcc" not in self.source and ".unlikely." not in self.name else 4
+
+    def link_line(self) -> str:
+        """Its line in link.ld."""
+        if "libgcc" in self.source:
+            obj = re.search(r"\((\w+\.o)\)", self.source)
+            if obj is None:
+                raise ValueError(f"cannot name the library object of {self.name} ({self.source})")
+            return f"*libgcc.a:{obj.group(1)}(.text .text.*)"
+        return f"*({self.name})"
+
+
+def map_sections(path: Path) -> list[Section]:
+    """The non-empty ``.text*`` input sections of the link map ``path``, by address."""
+    lines = path.read_text().splitlines()
+    out = []
+    for i, line in enumerate(lines):
+        m = SECTION_RE.match(line)
+        if not m:
+            continue
+        name, addr, size, src = m.groups()
+        if addr is None:
+            nxt = NEXT_RE.match(lines[i + 1]) if i + 1 < len(lines) else None
+            if nxt is None:
+                continue
+            addr, size, src = nxt.groups()
+        if int(size, 16):
+            out.append(Section(name, int(addr, 16), int(size, 16), src))
+    return sorted(out, key=lambda s: s.addr)
+
+
+def place(order: list[Section], start: int) -> tuple[list[int], int]:
+    """Addresses of ``order`` laid out from ``start`` with each section's alignment, and the end."""
+    addrs, a = [], start
+    for s in order:
+        a = -(-a // s.align) * s.align
+        addrs.append(a)
+        a += s.size
+    return addrs, a
+
+
+def line_clocks(sections: list[Section], addrs: list[int], clocks: np.ndarray) -> dict[int, float]:
+    """Clocks per period of every cache line that runs, for ``sections`` placed at ``addrs`` (``clocks``: per
+    instruction word of the profiled image, indexed by its address / 4)."""
+    out: dict[int, float] = {}
+    for s, a in zip(sections, addrs):
+        w = clocks[s.addr // 4:(s.addr + s.size) // 4]
+        for k in np.flatnonzero(w):
+            line = (a + 4 * int(k)) // LINE_BYTES
+            out[line] = out.get(line, 0.0) + float(w[k])
+    return out
+
+
+def conflict_cost(lines: dict[int, float]) -> float:
+    """Expected refills per period: in every cache set, the shares of the lines that run in it (clocks over
+    :data:`LINE_CLOCKS`, at most 1) less the largest one (a direct-mapped set keeps one line; a pair that both run
+    every period costs 1, a line that runs every period against one that runs in half of them 0.5)."""
+    sets: dict[int, list[float]] = {}
+    for line, c in lines.items():
+        sets.setdefault(line % SETS, []).append(min(1.0, c / LINE_CLOCKS))
+    return sum(sum(v) - max(v) for v in sets.values() if len(v) > 1)
+
+
+def search(head: list[Section], tail: list[Section], clocks: np.ndarray, restarts: int, seed: int,
+           progress: bool = True) -> tuple[list[Section], float, float]:
+    """The order of ``tail`` (placed from its first section's address, after the fixed ``head``) with the least
+    :func:`conflict_cost` found by moving one section at a time until no move lowers it, from the present order
+    and ``restarts`` shuffled ones; never longer than the present. Returns the order, its cost and the present's."""
+    fixed = line_clocks(head, [s.addr for s in head], clocks)
+    start = tail[0].addr
+    _, end0 = place(tail, start)
+
+    def cost(order: list[Section]) -> tuple[float, int]:
+        addrs, end = place(order, start)
+        lines = dict(fixed)
+        for line, c in line_clocks(order, addrs, clocks).items():
+            lines[line] = lines.get(line, 0.0) + c
+        return conflict_cost(lines), end
+
+    c0, _ = cost(tail)
+    rng = random.Random(seed)
+    best, best_cost = list(tail), c0
+    for r in range(restarts + 1):
+        cur = list(tail) if r == 0 else rng.sample(tail, len(tail))
+        cc, _ = cost(cur)
+        improved = True
+        while improved:
+            improved = False
+            for i in range(len(cur)):
+                for j in range(len(cur)):
+                    if i == j:
+                        continue
+                    cand = list(cur)
+                    cand.insert(j, cand.pop(i))
+                    c, end = cost(cand)
+                    if c < cc - 1e-9 and end <= end0:
+                        cur, cc, improved = cand, c, True
+        if cc < best_cost:
+            best, best_cost = cur, cc
+        if progress:
+            print(f"fw_layout: start {r} of {restarts}: cost {cc:.1f} (best {best_cost:.1f}, present {c0:.1f})",
+                  flush=True)
+    return best, best_cost, c0
+
+
+def group_bounds(text: str) -> tuple[int, int]:
+    """Character range of the ``/* 003 */`` group's section lines in link.ld (up to the catch-all line)."""
+    start = text.index("        /* 003 */\n") + len("        /* 003 */\n")
+    return start, text.index("        *(.text .text.*)", start)
+
+
+def first_listed(text: str, sections: list[Section]) -> Section:
+    """The first section of the ``/* 003 */`` group that the image has."""
+    a, b = group_bounds(text)
+    by_line = {s.link_line(): s for s in sections}
+    for line in text[a:b].splitlines():
+        if line.strip() in by_line:
+            return by_line[line.strip()]
+    raise ValueError("link.ld: no section of the /* 003 */ group is in the image")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--duration", type=float, default=0.3, help="simulated seconds profiled (default 0.3)")
+    ap.add_argument("--restarts", type=int, default=8, help="shuffled starting orders (default 8)")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--write", action="store_true", help="write the order into link.ld's /* 003 */ group")
+    args = ap.parse_args(argv)
+    if not args.duration > 0 or args.restarts < 0:
+        print("fw_layout: --duration must be > 0 and --restarts >= 0", file=sys.stderr)
+        return 1
+    try:
+        build_firmware()
+        sc = dataclasses.replace(varatharajan2020_2khz(), duration=args.duration)
+        loop = RtlClosedLoop(sc)
+        res = loop.run(progress=False, profile=True)
+    except (RtlBackendError, ValueError, OSError) as exc:
+        print(f"fw_layout: {exc}", file=sys.stderr)
+        return 1
+    clocks = loop.profile["cycles"] / len(res.t)
+    print(f"fw_layout: {sc.name} at {sc.pwm.f_sw:.0f} Hz, {len(res.t)} periods: step {res.soc['fw_cycles_mean']:.0f} "
+          f"CPU clocks mean, {res.soc['fw_cycles_max']} worst, "
+          f"{loop.profile['fetch'].sum() / (LINE_BYTES // 4) / len(res.t):.1f} lines refilled per period", flush=True)
+    sections = map_sections(FW_OUT / "hfi_fw.map")
+    text = LINK_LD.read_text()
+    first = first_listed(text, sections)
+    head = [s for s in sections if s.addr < first.addr]
+    tail = [s for s in sections if s.addr >= first.addr]
+    order, cost, cost0 = search(head, tail, clocks, args.restarts, args.seed)
+    addrs, end = place(order, first.addr)
+    print(f"{'section':40s} {'address':>8s} {'cache':>6s} {'clocks/period':>13s}")
+    for s, a in zip(order, addrs):
+        c = float(clocks[s.addr // 4:(s.addr + s.size) // 4].sum())
+        print(f"{s.name + (' ' + s.source.split('/')[-1] if 'libgcc' in s.source else ''):40s} {a:8x} "
+              f"{a % soc_platform.CPU_ICACHE_BYTES:6x} {c:13.1f}")
+    print(f"fw_layout: expected refills per period {cost:.1f} (present order {cost0:.1f}), .text ends at {end:#x}")
+    if args.write:
+        a, b = group_bounds(text)
+        LINK_LD.write_text(text[:a] + "".join(f"        {s.link_line()}\n" for s in order) + text[b:])
+        print(f"fw_layout: wrote the order into {LINK_LD.relative_to(ROOT)}; measure it with scripts/fw_profile.py")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

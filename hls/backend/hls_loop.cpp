@@ -86,7 +86,14 @@ void sort_small(int64_t *a, int n) {
 
 struct hls_loop {
     hls_loop(const hls_setup &setup, plant *pl, int32_t half)
-        : s(setup), loop(pl, half, setup.n_windows, setup.speed_ref, setup.adc_bits) {}
+        : s(setup), loop(pl, half, setup.n_windows, setup.speed_ref, setup.adc_bits) {
+        // hfi_adc_scale of every code of lanes A and B for the overcurrent comparator's check of every sample (the
+        // run's offsets and gains are fixed): a look-up instead of two kernel calls per sample, the same values
+        for (int code = 0; code < (1 << setup.adc_bits); code++) {
+            scaled_a.push_back(hfi_adc_scale(ap_uint<16>(code), setup.adc_bits, setup.adc_offset_a, setup.adc_gain_a));
+            scaled_b.push_back(hfi_adc_scale(ap_uint<16>(code), setup.adc_bits, setup.adc_offset_b, setup.adc_gain_b));
+        }
+    }
     hls_setup s;                       // half, os_ticks: effective values
     PlantLoop loop;                    // the plant calls and their records
     int32_t dead = 0;                  // effective dead time
@@ -113,6 +120,13 @@ struct hls_loop {
     int32_t top_ia = 0, top_ib = 0;    // TOP_I (spec 3.11): 0 after reset, held over a window without a top sample
     Pattern pattern[4];
     bool have_pattern[4] = {false, false, false, false};
+    std::vector<s16> scaled_a, scaled_b;                // hfi_adc_scale by code (the constructor)
+    // hfi_adc_scale of `code` from the table, or from the kernel for a code outside it (which the plant never gives
+    // and PlantLoop then refuses with its message)
+    s16 scaled(const std::vector<s16> &table, int code, s16 offset, u16 gain) const {
+        return code >= 0 && size_t(code) < table.size() ? table[size_t(code)]
+                                                         : hfi_adc_scale(ap_uint<16>(code), s.adc_bits, offset, gain);
+    }
 
     std::vector<hls_window> windows;
     std::vector<fw_outputs> outputs;
@@ -311,9 +325,9 @@ bool hls_loop::step() {
     if (oc_trip < 0) {
         ran = loop.run_window_checked(e_ticks, e_masks, s_ticks, adc, [&](const std::vector<int> &codes) {
             for (int i = 0; i < n && oc_trip < 0; i++)
-                if (hfi_overcurrent(hfi_adc_scale(codes[PLANT_ADC_CHANNELS * i], cfg.bits, cfg.offset_a, cfg.gain_a),
-                                    hfi_adc_scale(codes[PLANT_ADC_CHANNELS * i + 1], cfg.bits, cfg.offset_b,
-                                                  cfg.gain_b), u16(s.oc_limit)))
+                if (hfi_overcurrent(scaled(scaled_a, codes[PLANT_ADC_CHANNELS * i], cfg.offset_a, cfg.gain_a),
+                                    scaled(scaled_b, codes[PLANT_ADC_CHANNELS * i + 1], cfg.offset_b, cfg.gain_b),
+                                    u16(s.oc_limit)))
                     oc_trip = s_ticks[i];
             return cut_edges(end);
         });

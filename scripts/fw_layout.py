@@ -12,8 +12,9 @@ how many are refilled every period (docs/soc.md, "The instruction cache"). This 
    functions and the code no step runs: start-up, sync, turn, the flying start, the library's division) and searches
    their order (moves of one section, from the present order and from ``--restarts`` shuffled ones, fixed seed) for
    the least :func:`conflict_cost`, with ``.text`` no longer than it was;
-3. prints the order with each section's address and cache offset; ``--write`` puts it into link.ld's ``/* 003 */``
-   group. Check the result with scripts/fw_profile.py (the measured refills) before committing it.
+3. prints the order with each section's address and cache offset; ``--write`` puts it into link.ld's ``003`` group,
+   builds and profiles again, and keeps it only if the measured refills are fewer (the cost ranks orders only
+   roughly: docs/soc.md, "The 003 group's order"); otherwise link.ld is put back.
 
     python scripts/fw_layout.py [--duration 0.3] [--restarts 8] [--seed 1] [--write]
 """
@@ -184,45 +185,66 @@ def first_listed(text: str, sections: list[Section]) -> Section:
     raise ValueError("link.ld: no section of the /* 003 */ group is in the image")
 
 
+def profile(duration: float) -> tuple[np.ndarray, float, dict]:
+    """Build the image and profile the slowed 003 drive for ``duration`` s: CPU clocks per period of every
+    instruction word, instruction-cache lines refilled per period, and the run's ``soc`` block."""
+    build_firmware()
+    sc = dataclasses.replace(varatharajan2020_2khz(), duration=duration)
+    loop = RtlClosedLoop(sc)
+    res = loop.run(progress=False, profile=True)
+    n = len(res.t)
+    refills = float(loop.profile["fetch"].sum()) / (LINE_BYTES // 4) / n
+    print(f"fw_layout: {sc.name} at {sc.pwm.f_sw:.0f} Hz, {n} periods: step {res.soc['fw_cycles_mean']:.0f} CPU "
+          f"clocks mean, {res.soc['fw_cycles_max']} worst, {refills:.1f} lines refilled per period", flush=True)
+    return loop.profile["cycles"] / n, refills, res.soc
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--duration", type=float, default=0.3, help="simulated seconds profiled (default 0.3)")
     ap.add_argument("--restarts", type=int, default=8, help="shuffled starting orders (default 8)")
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--write", action="store_true", help="write the order into link.ld's /* 003 */ group")
+    ap.add_argument("--write", action="store_true",
+                    help="write the order into link.ld's 003 group, measure it, and keep it only if it refills fewer "
+                         "lines than the present order")
     args = ap.parse_args(argv)
     if not args.duration > 0 or args.restarts < 0:
         print("fw_layout: --duration must be > 0 and --restarts >= 0", file=sys.stderr)
         return 1
     try:
-        build_firmware()
-        sc = dataclasses.replace(varatharajan2020_2khz(), duration=args.duration)
-        loop = RtlClosedLoop(sc)
-        res = loop.run(progress=False, profile=True)
+        clocks, refills0, _ = profile(args.duration)
+        sections = map_sections(FW_OUT / "hfi_fw.map")
+        text = LINK_LD.read_text()
+        first = first_listed(text, sections)
+        head = [s for s in sections if s.addr < first.addr]
+        tail = [s for s in sections if s.addr >= first.addr]
+        order, cost, cost0 = search(head, tail, clocks, args.restarts, args.seed)
+        addrs, end = place(order, first.addr)
+        print(f"{'section':40s} {'address':>8s} {'cache':>6s} {'clocks/period':>13s}")
+        for s, a in zip(order, addrs):
+            c = float(clocks[s.addr // 4:(s.addr + s.size) // 4].sum())
+            print(f"{s.name + (' ' + s.source.split('/')[-1] if 'libgcc' in s.source else ''):40s} {a:8x} "
+                  f"{a % soc_platform.CPU_ICACHE_BYTES:6x} {c:13.1f}")
+        print(f"fw_layout: expected refills per period {cost:.1f} (present order {cost0:.1f}), .text ends at {end:#x}")
+        if args.write:
+            a, b = group_bounds(text)
+            LINK_LD.write_text(text[:a] + "".join(f"        {s.link_line()}\n" for s in order) + text[b:])
+            try:
+                _, refills, _ = profile(args.duration)
+            except (RtlBackendError, ValueError, OSError):
+                LINK_LD.write_text(text)
+                raise
+            if refills < refills0:
+                print(f"fw_layout: kept in {LINK_LD.relative_to(ROOT)}: {refills0:.1f} -> {refills:.1f} lines refilled "
+                      "per period")
+            else:
+                LINK_LD.write_text(text)
+                build_firmware()
+                print(f"fw_layout: not kept ({refills:.1f} lines refilled per period, the present order {refills0:.1f}); "
+                      f"{LINK_LD.relative_to(ROOT)} unchanged")
     except (RtlBackendError, ValueError, OSError) as exc:
         print(f"fw_layout: {exc}", file=sys.stderr)
         return 1
-    clocks = loop.profile["cycles"] / len(res.t)
-    print(f"fw_layout: {sc.name} at {sc.pwm.f_sw:.0f} Hz, {len(res.t)} periods: step {res.soc['fw_cycles_mean']:.0f} "
-          f"CPU clocks mean, {res.soc['fw_cycles_max']} worst, "
-          f"{loop.profile['fetch'].sum() / (LINE_BYTES // 4) / len(res.t):.1f} lines refilled per period", flush=True)
-    sections = map_sections(FW_OUT / "hfi_fw.map")
-    text = LINK_LD.read_text()
-    first = first_listed(text, sections)
-    head = [s for s in sections if s.addr < first.addr]
-    tail = [s for s in sections if s.addr >= first.addr]
-    order, cost, cost0 = search(head, tail, clocks, args.restarts, args.seed)
-    addrs, end = place(order, first.addr)
-    print(f"{'section':40s} {'address':>8s} {'cache':>6s} {'clocks/period':>13s}")
-    for s, a in zip(order, addrs):
-        c = float(clocks[s.addr // 4:(s.addr + s.size) // 4].sum())
-        print(f"{s.name + (' ' + s.source.split('/')[-1] if 'libgcc' in s.source else ''):40s} {a:8x} "
-              f"{a % soc_platform.CPU_ICACHE_BYTES:6x} {c:13.1f}")
-    print(f"fw_layout: expected refills per period {cost:.1f} (present order {cost0:.1f}), .text ends at {end:#x}")
-    if args.write:
-        a, b = group_bounds(text)
-        LINK_LD.write_text(text[:a] + "".join(f"        {s.link_line()}\n" for s in order) + text[b:])
-        print(f"fw_layout: wrote the order into {LINK_LD.relative_to(ROOT)}; measure it with scripts/fw_profile.py")
     return 0
 
 

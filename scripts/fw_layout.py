@@ -107,10 +107,11 @@ def place(order: list[Section], start: int) -> tuple[list[int], int]:
 
 def line_clocks(sections: list[Section], addrs: list[int], clocks: np.ndarray) -> dict[int, float]:
     """Clocks per period of every cache line that runs, for ``sections`` placed at ``addrs`` (``clocks``: per
-    instruction word of the profiled image, indexed by its address / 4)."""
+    instruction word of the profiled image, indexed by its offset in the RAM / 4)."""
     out: dict[int, float] = {}
+    base = soc_platform.RAM_BASE
     for s, a in zip(sections, addrs):
-        w = clocks[s.addr // 4:(s.addr + s.size) // 4]
+        w = clocks[(s.addr - base) // 4:(s.addr - base + s.size) // 4]
         for k in np.flatnonzero(w):
             line = (a + 4 * int(k)) // LINE_BYTES
             out[line] = out.get(line, 0.0) + float(w[k])
@@ -222,7 +223,8 @@ def main(argv: list[str] | None = None) -> int:
         addrs, end = place(order, first.addr)
         print(f"{'section':40s} {'address':>8s} {'cache':>6s} {'clocks/period':>13s}")
         for s, a in zip(order, addrs):
-            c = float(clocks[s.addr // 4:(s.addr + s.size) // 4].sum())
+            w0 = (s.addr - soc_platform.RAM_BASE) // 4
+            c = float(clocks[w0:w0 + s.size // 4].sum())
             print(f"{s.name + (' ' + s.source.split('/')[-1] if 'libgcc' in s.source else ''):40s} {a:8x} "
                   f"{a % soc_platform.CPU_ICACHE_BYTES:6x} {c:13.1f}")
         print(f"fw_layout: expected refills per period {cost:.1f} (present order {cost0:.1f}), .text ends at {end:#x}")
@@ -240,8 +242,8 @@ def main(argv: list[str] | None = None) -> int:
             else:
                 LINK_LD.write_text(text)
                 build_firmware()
-                print(f"fw_layout: not kept ({refills:.1f} lines refilled per period, the present order {refills0:.1f}); "
-                      f"{LINK_LD.relative_to(ROOT)} unchanged")
+                print(f"fw_layout: not kept ({refills:.1f} lines refilled per period, the present order "
+                      f"{refills0:.1f}); {LINK_LD.relative_to(ROOT)} unchanged")
     except (RtlBackendError, ValueError, OSError) as exc:
         print(f"fw_layout: {exc}", file=sys.stderr)
         return 1

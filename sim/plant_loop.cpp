@@ -2,7 +2,6 @@
 #include "plant_loop.h"
 
 #include <algorithm>
-
 #include <chrono>
 #include <cstdio>
 
@@ -21,9 +20,10 @@ PlantLoop::PlantLoop(plant *pl, long long half, long long n_windows, const int32
     : pl_(pl), half_(half), n_windows_(n_windows), speed_ref_(speed_ref, speed_ref + n_windows),
       adc_bits_(adc_bits)
 {
-    // the records' whole length at once (the default 1 us sampling grid, six edges per half period): grown by
-    // push_back they were copied and their pages touched about twice over (6 % of an hls run in the kernel's page
-    // clearing, 2026-11-29); pages reserved and never written cost no memory
+    // the records' whole length at once (a sample per 100 ticks, the default 1 us grid at 100 MHz; six edges per half
+    // period): grown by push_back they were copied and their pages touched about twice over (6-9 % of an hls run in
+    // the kernel's page clearing, 2026-11-29); pages reserved and never written (a coarser grid, a faster tick) cost
+    // no memory
     const long long per_us = std::max(2 * half / 100, 2LL);
     truth.reserve((size_t)n_windows);
     samples.reserve((size_t)(n_windows * per_us));

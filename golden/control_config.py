@@ -490,7 +490,8 @@ def rfo_params(sc: Scenario) -> RfoParams:
     """``estimator.rfo`` and the motor's nominal data: the flux-observer integers (golden.firmware.rfo).
 
     Flux LSB = v_lsb T / 2^FLUX_FRAC; ``r_s`` = R_s i_lsb / v_lsb (Q16); ``l_s`` = L_q i_lsb / flux LSB
-    (Q16); ``k_c = 1 - exp(-2 pi flux_bw T)`` and ``k_min`` likewise of ``flux_bw_min`` (Q16); ``k_r =
+    (Q16); ``l_dq`` = (L_d - L_q) i_lsb / flux LSB (Q16, signed: the active flux's magnitude follows i_d);
+    ``k_c = 1 - exp(-2 pi flux_bw T)`` and ``k_min`` likewise of ``flux_bw_min`` (Q16); ``k_r =
     flux_ratio 2 pi 2^16`` (so that ``k_r |w| >> 32`` is ``flux_ratio`` times the electrical angle per period,
     Q16); ``i_d = -i_d_min`` [current LSB]. Raises ValueError when a value leaves its range.
     """
@@ -504,11 +505,13 @@ def rfo_params(sc: Scenario) -> RfoParams:
                   l_s=to_fixed(mag["L_q"] * sc_.i_lsb / f_lsb, 16),
                   psi_f=to_fixed(mag["psi_f"] / f_lsb, 0),
                   k_c=lowpass_coef(t["flux_bw"], f_sw), k_min=lowpass_coef(t["flux_bw_min"], f_sw),
-                  k_r=to_fixed(t["flux_ratio"] * 2 * math.pi, 16), pll_kp=kp, pll_ki=ki, i_d=-sc_.current(t["i_d_min"]))
-    for name, value, hi in (("r_s", p.r_s, 2**31 - 1), ("l_s", p.l_s, 2**31 - 1), ("psi_f", p.psi_f, 2**27),
-                            ("k_r", p.k_r, 2**31 - 1)):
-        if not 0 <= value <= hi:
-            raise ValueError(f"rotor flux observer: {name} = {value} outside 0..{hi} (motor data and scales "
+                  k_r=to_fixed(t["flux_ratio"] * 2 * math.pi, 16), pll_kp=kp, pll_ki=ki, i_d=-sc_.current(t["i_d_min"]),
+                  l_dq=to_fixed((mag["L_d"] - mag["L_q"]) * sc_.i_lsb / f_lsb, 16))
+    for name, value, lo, hi in (("r_s", p.r_s, 0, 2**31 - 1), ("l_s", p.l_s, 0, 2**31 - 1),
+                                ("psi_f", p.psi_f, 0, 2**27), ("k_r", p.k_r, 0, 2**31 - 1),
+                                ("l_dq", p.l_dq, -2**31 + 1, 2**31 - 1)):
+        if not lo <= value <= hi:
+            raise ValueError(f"rotor flux observer: {name} = {value} outside {lo}..{hi} (motor data and scales "
                              f"of scenario {sc.name})")
     return p
 

@@ -163,6 +163,7 @@ def render_methods() -> str:
         f"#define FW_SQW_SYNC_HOLD {sqw_bangbang.SYNC_HOLD}  /* golden.firmware.sqw_bangbang.SYNC_HOLD */",
         f"#define FW_RFO_FLUX_FRAC {rfo.FLUX_FRAC}  /* golden.firmware.rfo.FLUX_FRAC */",
         f"#define FW_RFO_Q_LIMIT {rfo.Q_LIMIT}  /* golden.firmware.rfo.Q_LIMIT */",
+        f"#define FW_RFO_A_MAX {rfo.A_MAX}  /* golden.firmware.rfo.A_MAX */",
         f"#define FW_BIQUAD_COEF_FRAC {biquad.COEF_FRAC}  /* golden.firmware.biquad.COEF_FRAC */",
         f"#define FW_BIQUAD_Y_FRAC {biquad.Y_FRAC}  /* golden.firmware.biquad.Y_FRAC */",
         f"#define FW_ROT_N_MAX {rot_bpf.N_MAX}  /* golden.firmware.rot_bpf.N_MAX */",

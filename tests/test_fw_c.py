@@ -631,7 +631,8 @@ def random_rfo(rng: np.random.Generator) -> RfoParams:
     return RfoParams(r_s=r_s, l_s=l_s, psi_f=draw_one(rng, 1, 1 << 27, (11_000_000,)),
                      k_c=draw_one(rng, 0, 1 << 16, (5519,)), k_min=draw_one(rng, 0, 1 << 16, (411,)),
                      k_r=draw_one(rng, 0, S32_MAX, (205887,)), pll_kp=draw_one(rng, 0, S32_MAX, (13107,)),
-                     pll_ki=draw_one(rng, 0, S32_MAX, (167772,)), i_d=draw_one(rng, -S32_MAX, 0, (-2621,)))
+                     pll_ki=draw_one(rng, 0, S32_MAX, (167772,)), i_d=draw_one(rng, -S32_MAX, 0, (-2621,)),
+                     l_dq=draw_one(rng, -S32_MAX, S32_MAX, (0, -1_252_000)))
 
 
 def random_coef(rng: np.random.Generator) -> BiquadCoef:
@@ -966,7 +967,7 @@ def _running(active: int, speed_f: int, w_up: int, w_down: int) -> Firmware:
     """A firmware in RUN with the rotor flux observer as the high slot, the given slot in charge and
     filtered speed (Q16 state), distinct angles in the two slots."""
     rfo = RfoParams(r_s=2923, l_s=11_700_000, psi_f=11_000_000, k_c=5519, k_min=411, k_r=205887, pll_kp=13107,
-                    pll_ki=167772, i_d=-2621)
+                    pll_ki=167772, i_d=-2621, l_dq=-1_252_000)
     fw = Firmware(_params(high=METHOD_RFO, rfo=rfo, w_up=w_up, w_down=w_down, merge=2000))
     fw.mode, fw.n, fw.active, fw.speed_f = MODE_RUN, 5, active, speed_f
     fw.slots[SLOT_LOW].theta = fw.est_theta[SLOT_LOW] = 0x1000_0000

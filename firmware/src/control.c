@@ -448,6 +448,13 @@ int32_t fw_rfo_correction(int32_t psi_f, int32_t mag)
     return d < 0 ? -(int32_t)q : (int32_t)q;
 }
 
+/* golden.firmware.rfo.active_flux: psi_f + (L_d - L_q) i_d [flux LSB] within 1..2^27 */
+static inline int32_t rfo_active_flux(const struct fw_rfo_params *rp, int32_t i_d)
+{
+    int64_t a = rp->psi_f + (((int64_t)rp->l_dq * i_d) >> 16);
+    return a < 1 ? 1 : a > FW_RFO_A_MAX ? FW_RFO_A_MAX : (int32_t)a;
+}
+
 void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
                  int32_t *omega)
 {
@@ -466,7 +473,7 @@ void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     int32_t eta_be = (int32_t)sat_bits(e->x_be + (dx_be >> 1) - (((int64_t)rp->l_s * i_be) >> 16), 29);
     fw_vector_angle(eta_al, eta_be, &ang, &mag);
     e->mag = mag;
-    /* Ortega et al. 2011: correction along eta towards |eta| = psi_f (normalised gradient) */
+    /* Ortega et al. 2011: correction along eta towards |eta| = A (normalised gradient), A the active flux */
     /* the correction rate follows the speed: k_r |w_i| >> 32 within [k_min, k_c] (w_i: the PLL integrator's
        speed of the previous period) */
     int64_t w_i = sat32(e->pll.integ >> 24);
@@ -475,7 +482,8 @@ void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     k = k > rp->k_c ? rp->k_c : k;                      /* the ceiling wins (golden: min(max(k, k_min), k_c)) */
     if (!e->synced)                                     /* acquiring: the fastest correction */
         k = rp->k_c;
-    int64_t g = (k * fw_rfo_correction(rp->psi_f, mag)) >> 16;
+    e->a_mag = rfo_active_flux(rp, m->i_d);
+    int64_t g = (k * fw_rfo_correction(e->a_mag, mag)) >> 16;
     e->x_al = (int32_t)sat_bits(e->x_al + dx_al + (((int64_t)eta_al * g) >> 16), 32);
     e->x_be = (int32_t)sat_bits(e->x_be + dx_be + (((int64_t)eta_be * g) >> 16), 32);
     fw_pll_step(&e->pll, ang, rp->pll_kp, rp->pll_ki);
@@ -506,8 +514,8 @@ void fw_rfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
     int32_t s, c;
 
     fw_sincos_q15(mid, &s, &c);
-    e->x_al = (int32_t)sat_bits(round_shr64((int64_t)p->rfo.psi_f * c, 15) + (((int64_t)p->rfo.l_s * e->i_al) >> 16), 32);
-    e->x_be = (int32_t)sat_bits(round_shr64((int64_t)p->rfo.psi_f * s, 15) + (((int64_t)p->rfo.l_s * e->i_be) >> 16), 32);
+    e->x_al = (int32_t)sat_bits(round_shr64((int64_t)e->a_mag * c, 15) + (((int64_t)p->rfo.l_s * e->i_al) >> 16), 32);
+    e->x_be = (int32_t)sat_bits(round_shr64((int64_t)e->a_mag * s, 15) + (((int64_t)p->rfo.l_s * e->i_be) >> 16), 32);
     e->pll.theta = mid + (uint32_t)omega;
     e->pll.integ = (int64_t)omega * 16777216;
     e->pll.omega = omega;

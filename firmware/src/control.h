@@ -123,6 +123,7 @@ struct fw_rfo_params {
     int32_t pll_kp;
     int32_t pll_ki;
     int32_t i_d;
+    int32_t l_dq;
 };
 
 struct fw_rfo_state {
@@ -133,6 +134,7 @@ struct fw_rfo_state {
     int32_t x_be;
     int32_t i_al;
     int32_t i_be;
+    int32_t a_mag;           /* the active flux's magnitude the last step aimed at (0 before the first) */
     int32_t mag;
     int32_t synced;          /* 0 from fw_init to the first sync: the flux is unknown, the correction at k_c */
 };

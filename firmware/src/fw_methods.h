@@ -14,6 +14,7 @@
 #define FW_SQW_SYNC_HOLD 1  /* golden.firmware.sqw_bangbang.SYNC_HOLD */
 #define FW_RFO_FLUX_FRAC 8  /* golden.firmware.rfo.FLUX_FRAC */
 #define FW_RFO_Q_LIMIT 131072  /* golden.firmware.rfo.Q_LIMIT */
+#define FW_RFO_A_MAX 134217728  /* golden.firmware.rfo.A_MAX */
 #define FW_BIQUAD_COEF_FRAC 28  /* golden.firmware.biquad.COEF_FRAC */
 #define FW_BIQUAD_Y_FRAC 4  /* golden.firmware.biquad.Y_FRAC */
 #define FW_ROT_N_MAX 32  /* golden.firmware.rot_bpf.N_MAX */

@@ -1,11 +1,17 @@
 #!/usr/bin/env python3
-"""The flying start's figure (docs/faults.md): scenarios/flying_start.toml (the drive switched on while the Table I
-motor coasts at ``--rpm``) with its ``catch_time`` and its short-circuit probe (``catch_probe``), with the catch
-but without the probe, and without either (the standstill start), on the golden backend:
-speed (true, estimated, reference), angle error, current amplitude and the supervisor's mode.
+"""The flying start's figures (docs/faults.md), on the golden backend: speed (true, estimated, reference), angle
+error, current amplitude and the supervisor's mode.
+
+* scenarios/flying_start.toml (the drive switched on while the Table I motor coasts at ``--rpm``) with its
+  ``catch_time`` and its short-circuit probe (``catch_probe``), with the catch but without the probe, and without
+  either (the standstill start);
+* ``--high A,B``: a scenario (``--scenario``) with each of these high-speed estimators (``estimator.high``), e.g.
+  the 000 drive's flying start with the paper's EEMF observer and with the rotor flux observer.
 
     python scripts/flying_start_figure.py [--rpm 800] [--out docs/figures/flying_start.png]
     python scripts/flying_start_figure.py --rpm 2500 --out docs/figures/flying_start_probe.png
+    python scripts/flying_start_figure.py --scenario scenarios/tap2023_flying.toml --high eemf_smo,rfo \\
+        --out docs/figures/flying_start_000.png
 """
 
 from __future__ import annotations
@@ -34,32 +40,41 @@ SCENARIO = os.path.join(HERE, "..", "scenarios", "flying_start.toml")
 RPM = np.pi / 30
 
 
-def run(catch: bool, rpm: float, probe: bool = True):
-    """The scenario at ``rpm`` initial speed, with its catch_time (and its short-circuit probe, or without it) or
-    with the flying start off."""
-    with open(SCENARIO, "rb") as f:
+def run(catch: bool, rpm: float, probe: bool = True, scenario: str = SCENARIO, high: str | None = None):
+    """``scenario`` at ``rpm`` initial speed, with its catch_time (and its short-circuit probe, or without it) or
+    with the flying start off; ``high``: with this high-speed estimator instead of the scenario's."""
+    with open(scenario, "rb") as f:
         data = tomllib.load(f)
     data["load"]["initial"]["omega_m"] = f"{rpm} rpm"
     if not catch:
         data["protection"]["catch_time"] = "0 s"
     if not catch or not probe:
         data["protection"]["catch_probe"] = "0 A"
-    return ClosedLoop(parse_scenario(data, f"{SCENARIO} at {rpm} rpm")).run(progress=False)
+    if high is not None:
+        data["estimator"]["high"] = high
+    return ClosedLoop(parse_scenario(data, f"{scenario} at {rpm} rpm")).run(progress=False)
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rpm", type=float, default=800.0, help="the coasting motor's speed at switch-on [r/min]")
     ap.add_argument("--out", default=os.path.join(HERE, "..", "docs", "figures", "flying_start.png"))
+    ap.add_argument("--scenario", default=SCENARIO, help="scenario file (default scenarios/flying_start.toml)")
+    ap.add_argument("--high", help="comma-separated high-speed estimators to compare (estimator.high)")
     args = ap.parse_args(argv)
     if not -5000 <= args.rpm <= 5000:
         print("flying_start_figure: --rpm must be within +-5000", file=sys.stderr)
         return 1
     try:
-        runs = {"flying start (catch_time 40 ms, probe)": run(True, args.rpm),
-                "flying start without the probe": run(True, args.rpm, probe=False),
-                "standstill start": run(False, args.rpm)}
-    except ScenarioError as exc:
+        if args.high:
+            probe = "probe" if "catch_probe" in open(args.scenario).read() else "no probe"
+            runs = {f"estimator.high = {h} ({probe})": run(True, args.rpm, scenario=args.scenario, high=h)
+                    for h in args.high.split(",")}
+        else:
+            runs = {"flying start (catch_time 40 ms, probe)": run(True, args.rpm),
+                    "flying start without the probe": run(True, args.rpm, probe=False),
+                    "standstill start": run(False, args.rpm)}
+    except (OSError, ScenarioError) as exc:
         print(f"flying_start_figure: {exc}", file=sys.stderr)
         return 1
     fig, ax = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
@@ -85,7 +100,7 @@ def main(argv=None) -> int:
     ax[3].set(yticks=used, yticklabels=[MODE_NAMES[m] for m in used], xlabel="t [s]")
     for a in ax:
         a.grid(alpha=0.3)
-    fig.suptitle(f"switched on with the Table I motor coasting at {args.rpm:g} r/min (scenarios/flying_start.toml)")
+    fig.suptitle(f"switched on with the motor coasting at {args.rpm:g} r/min ({os.path.basename(args.scenario)})")
     fig.tight_layout()
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     fig.savefig(args.out, dpi=110)

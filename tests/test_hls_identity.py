@@ -118,6 +118,13 @@ def test_flying_start_identical():
     assert hls.windows["est"][0] == 1 and np.diff(hls.windows["est"]).tolist().count(-1) == 1
 
 
+def test_tap2023_flying_start_identical():
+    """The 000 drive switched on at 800 r/min (scenarios/tap2023_flying.toml), its first 0.2 s: CATCH and braking
+    on the rotor flux observer with the active flux's magnitude, the hand-back to the rotating injection."""
+    sc = dataclasses.replace(load_scenario(ROOT / "scenarios" / "tap2023_flying.toml"), duration=0.2)
+    _assert_identical(ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False))
+
+
 def test_tap2023_identical():
     """The 000 drive (scenarios/tap2023_fullload.toml) at its 10 kHz for 0.3 s: pilot polarity, the
     rotating injection, the notch, MTPA and the EEMF observer in parallel, identical to golden."""

@@ -197,7 +197,13 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     # left out (a check that the firmware refuses it, seconds long) or without the accelerators (the checks of its
     # image)
     pgo = not (fst or profile or options or not acc)
-    key = digest(srcs, f"{variant} {verilator} pgo={pgo}")
+    # hidden visibility and no semantic interposition: calls inside the library bind locally, without the PLT (its
+    # interface is soc_sim.h's, pushed default there): 2.02 -> 2.22 M clocks/s (2026-11-30, docs/soc.md)
+    cflags = (f"-fPIC -fno-semantic-interposition -fvisibility=hidden -fvisibility-inlines-hidden -O3 -I{SIM_DIR} "
+              f"-I{ROOT / 'golden/plant/src'} -I{ROOT / 'firmware/include'}"
+              + (" -DHFI_FST" if fst else "") + (" -DHFI_PROFILE" if profile else ""))
+    ldflags = f"-shared -L{PLANT_LIB.parent} -lhfiplant -Wl,-rpath,{PLANT_LIB.parent}"
+    key = digest(srcs, f"{variant} {verilator} pgo={pgo} {cflags} {ldflags}")
     OUT_SIM.mkdir(parents=True, exist_ok=True)
     with open(OUT_SIM / ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
@@ -207,9 +213,6 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
         if build.exists():
             shutil.rmtree(build)
         build.mkdir(parents=True)
-        cflags = (f"-fPIC -O3 -I{SIM_DIR} -I{ROOT / 'golden/plant/src'} -I{ROOT / 'firmware/include'}"
-                  + (" -DHFI_FST" if fst else "") + (" -DHFI_PROFILE" if profile else ""))
-        ldflags = f"-shared -L{PLANT_LIB.parent} -lhfiplant -Wl,-rpath,{PLANT_LIB.parent}"
 
         def verilate(extra_cflags: str = "", extra_ldflags: str = "") -> None:
             cmd = [verilator, "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast",

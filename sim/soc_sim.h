@@ -68,6 +68,8 @@ enum soc_record {
     SOC_PROF_DFETCH = 10  /* data-bus read beats from the RAM (data cache line refills) that read that word */
 };
 
+/* The library's whole interface: everything else in it is built hidden (-fvisibility=hidden, hfi/rtl_backend.py) */
+#pragma GCC visibility push(default)
 /* Returns NULL and a message in err on a bad setup. */
 struct soc_sim *soc_sim_create(const struct soc_sim_setup *setup, struct plant *plant, char *err, int err_len);
 void soc_sim_free(struct soc_sim *sim);
@@ -84,5 +86,6 @@ int soc_sim_read_ram(const struct soc_sim *sim, unsigned addr, unsigned n, unsig
 /* Number of records of a kind, and a copy of records [from, from + n) into dst. */
 long long soc_sim_count(const struct soc_sim *sim, int kind);
 int soc_sim_copy(const struct soc_sim *sim, int kind, long long from, long long n, void *dst);
+#pragma GCC visibility pop
 
 #endif

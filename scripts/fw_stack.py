@@ -1,17 +1,18 @@
 #!/usr/bin/env python3
-"""The firmware's deepest stack chain, from GCC's call graph (``-fcallgraph-info=su``, written beside each image
-into ``$(OUT)/callgraph``): the stack the image needs, against the reservation its link asks for (docs/soc.md,
-"The stack").
+"""The firmware's deepest stack chain, from GCC's call graph (``-fcallgraph-info=su``: a ``.ci`` file beside each
+object of an image, ``$(OUT)/obj``): the stack the image needs, against the reservation its link asks for
+(docs/soc.md, "The stack").
 
     python scripts/fw_stack.py [--image DIR ...]    the images built (default: all under out/firmware)
     python scripts/fw_stack.py --need OBJ_DIR         the bytes to reserve (firmware/Makefile's link)
 
 The interrupt is enabled only in ``run`` (main.c, ``irq_enable``), so the deepest chain is the larger of
 ``main``'s own deepest path and ``main`` > ``run``'s deepest path > a trap frame > ``irq_handler``'s deepest path >
-a second trap frame > ``exception_handler``'s path (a fault inside the interrupt, which reports and stops). A call through the estimator plug-in table (``__indirect_call``) is taken as the deepest of
-the table's members (``fw_methods`` in control.c), and an indirect call anywhere else is refused (its targets
-are unknown); a function without a node (libgcc's 64-bit division and shifts) as ``EXTERNAL_FRAME`` bytes. The
-trap frame is crt0.S's ``addi sp, sp, -N`` of ``trap_entry``. Every other number is GCC's own (``-fstack-usage``
+a second trap frame > ``exception_handler``'s path (a fault inside the interrupt, which reports and stops). A call
+through the estimator plug-in table (``__indirect_call``) is taken as the deepest of the table's members
+(``fw_methods`` in control.c), and an indirect call anywhere else is refused (its targets are unknown); a function
+without a node (libgcc's 64-bit division and shifts) as ``EXTERNAL_FRAME`` bytes. The trap frame is crt0.S's
+``addi sp, sp, -N`` of ``trap_entry``. Every other number is GCC's own (``-fstack-usage``
 frames), so the result is exact up to libgcc.
 """
 
@@ -20,7 +21,6 @@ from __future__ import annotations
 import argparse
 import re
 import sys
-from functools import lru_cache
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -39,12 +39,20 @@ _BYTES = re.compile(r"\\n(\d+) bytes \((static|dynamic[^)]*)\)")
 
 
 def _name(title: str) -> str:
-    """A node's function name (a static function's title is ``file:name``)."""
+    """A node's function name (a static function's title is ``file:name``, so two of one name stay apart)."""
     return title.rsplit(":", 1)[-1]
 
 
+def title_of(frames: dict[str, int], name: str) -> str:
+    """The node of the one defined function called ``name``."""
+    found = [t for t in frames if _name(t) == name]
+    if len(found) != 1:
+        raise ValueError(f"{len(found)} functions called {name} in the call graph (one expected)")
+    return found[0]
+
+
 def parse_callgraph(texts: list[str]) -> tuple[dict[str, int], dict[str, set[str]], list[str]]:
-    """Frames [bytes], callees by function name and the source locations (``file:line:col``) of the indirect
+    """Frames [bytes] and callees by node title, and the source locations (``file:line:col``) of the indirect
     calls, from the ``.ci`` texts. A dynamic frame (``alloca``, VLAs) is refused: its size is not known."""
     frames: dict[str, int] = {}
     calls: dict[str, set[str]] = {}
@@ -56,9 +64,9 @@ def parse_callgraph(texts: list[str]) -> tuple[dict[str, int], dict[str, set[str
                 continue                                  # a declaration (its node is in the defining file)
             if m.group(2) != "static":
                 raise ValueError(f"{_name(title)}: a dynamic stack frame ({m.group(2)}); the depth is not bounded")
-            frames[_name(title)] = int(m.group(1))
+            frames[title] = int(m.group(1))
         for src, dst, where in _EDGE.findall(text):
-            calls.setdefault(_name(src), set()).add(dst if dst == INDIRECT else _name(dst))
+            calls.setdefault(src, set()).add(dst)
             if dst == INDIRECT:
                 sites.append(where)
     return frames, calls, sites
@@ -85,22 +93,29 @@ def plugin_members(control_c: str) -> set[str]:
 
 
 def deepest(frames: dict[str, int], calls: dict[str, set[str]], indirect: set[str], root: str) -> tuple[int, list[str]]:
-    """The deepest path from ``root``: its bytes (frames summed) and its functions. Recursion is refused."""
+    """The deepest path from the node ``root``: its bytes (frames summed) and its functions' names. ``indirect``:
+    the nodes an indirect call may reach. Recursion is refused."""
+    done: dict[str, tuple[int, tuple[str, ...]]] = {}
+    active: set[str] = set()
 
-    @lru_cache(maxsize=None)
-    def walk(fn: str, stack: tuple[str, ...]) -> tuple[int, tuple[str, ...]]:
-        if fn in stack:
-            raise ValueError(f"recursion through {fn}: the depth is not bounded")
+    def walk(fn: str) -> tuple[int, tuple[str, ...]]:
+        if fn in done:
+            return done[fn]
+        if fn in active:
+            raise ValueError(f"recursion through {_name(fn)}: the depth is not bounded")
         if fn not in frames:
-            return EXTERNAL_FRAME, (fn,)
-        best = (0, ())
+            return EXTERNAL_FRAME, (_name(fn),)
+        active.add(fn)
+        best: tuple[int, tuple[str, ...]] = (0, ())
         for callee in sorted(calls.get(fn, ())):
             for target in (sorted(indirect) if callee == INDIRECT else (callee,)):
-                got = walk(target, stack + (fn,))
-                best = max(best, got, key=lambda b: b[0])
-        return frames[fn] + best[0], (fn,) + best[1]
+                got = walk(target)
+                best = got if got[0] > best[0] else best
+        active.discard(fn)
+        done[fn] = (frames[fn] + best[0], (_name(fn),) + best[1])
+        return done[fn]
 
-    n, path = walk(root, ())
+    n, path = walk(root)
     return n, list(path)
 
 
@@ -120,16 +135,18 @@ def image_depth(obj_dir: Path) -> tuple[int, list[str]]:
         raise FileNotFoundError(f"{obj_dir}: no .ci files (build the image: make -C firmware)")
     frames, calls, sites = parse_callgraph(texts)
     check_indirect_sites(sites)
-    indirect = plugin_members((ROOT / "firmware/src/control.c").read_text())
+    indirect = {title_of(frames, n) for n in plugin_members((ROOT / "firmware/src/control.c").read_text())}
     trap = trap_frame((ROOT / "firmware/src/crt0.S").read_text())
-    if "run" not in calls.get("main", ()):
+    main, run = title_of(frames, "main"), title_of(frames, "run")
+    if run not in calls.get(main, ()):
         raise ValueError("main does not call run, where the interrupt is enabled: the model no longer holds")
-    total, chain = frames["main"], ["main"]
-    for root, frame in (("run", 0), ("irq_handler", trap), ("exception_handler", trap)):
+    total, chain = frames[main], ["main"]
+    irq, exc = title_of(frames, "irq_handler"), title_of(frames, "exception_handler")
+    for root, frame in ((run, 0), (irq, trap), (exc, trap)):
         n, path = deepest(frames, calls, indirect, root)
         total += frame + n
         chain += (["<trap>"] if frame else []) + path
-    alone, path = deepest(frames, calls, indirect, "main")
+    alone, path = deepest(frames, calls, indirect, main)
     return (total, chain) if total >= alone else (alone, path)
 
 

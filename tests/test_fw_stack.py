@@ -38,7 +38,8 @@ def _ci(nodes: dict[str, int | None], edges: list[tuple[str, str, str]]) -> str:
         size = "" if frame is None else f"\\n{frame} bytes (static)"
         lines.append(f'node: {{ title: "x.c:{name}" label: "{name}\\nx.c:1:1{size}" }}')
     for src, dst, where in edges:
-        lines.append(f'edge: {{ sourcename: "x.c:{src}" targetname: "{dst}" label: "{where}" }}')
+        target = f"x.c:{dst}" if dst in nodes else dst          # a defined function's node, or a name without one
+        lines.append(f'edge: {{ sourcename: "x.c:{src}" targetname: "{target}" label: "{where}" }}')
     return "\n".join(lines + ["}"])
 
 
@@ -47,19 +48,26 @@ def test_deepest_sums_the_frames_of_the_deepest_path(fw_stack):
                [("main", "a", "x.c:2:1"), ("main", "b", "x.c:3:1"), ("a", "c", "x.c:4:1"),
                 ("a", "__indirect_call", "x.c:5:1"), ("c", "__divdi3", "x.c:6:1")])
     frames, calls, sites = fw_stack.parse_callgraph([text])
-    assert frames == {"main": 16, "a": 32, "b": 100, "c": 8, "step_x": 200, "step_y": 40}
+    want = {"main": 16, "a": 32, "b": 100, "c": 8, "step_x": 200, "step_y": 40}
+    assert frames == {f"x.c:{k}": v for k, v in want.items()}
     assert sites == ["x.c:5:1"]
     # main > a > step_x (the table's deepest member) = 16 + 32 + 200; main > b = 116; main > a > c > __divdi3 = 120
-    assert fw_stack.deepest(frames, calls, {"step_x", "step_y"}, "main") == (248, ["main", "a", "step_x"])
+    assert fw_stack.deepest(frames, calls, {"x.c:step_x", "x.c:step_y"}, "x.c:main") == (248, ["main", "a", "step_x"])
     # without the indirect call's members: main > a > c > external
-    n, path = fw_stack.deepest(frames, calls, set(), "main")
+    n, path = fw_stack.deepest(frames, calls, set(), "x.c:main")
     assert (n, path) == (16 + 32 + 8 + fw_stack.EXTERNAL_FRAME, ["main", "a", "c", "__divdi3"])
 
 
 def test_recursion_and_dynamic_frames_are_refused(fw_stack):
     frames, calls, _ = fw_stack.parse_callgraph([_ci({"f": 8, "g": 8}, [("f", "g", "x.c:1:1"), ("g", "f", "x.c:2:1")])])
     with pytest.raises(ValueError, match="recursion"):
-        fw_stack.deepest(frames, calls, set(), "f")
+        fw_stack.deepest(frames, calls, set(), "x.c:f")
+    # two static functions of one name in two files stay apart; a root must name one function
+    two = [_ci({"h": 8}, []), _ci({"h": 24}, []).replace("x.c", "y.c")]
+    frames2, _, _ = fw_stack.parse_callgraph(two)
+    assert frames2 == {"x.c:h": 8, "y.c:h": 24}
+    with pytest.raises(ValueError, match="2 functions called h"):
+        fw_stack.title_of(frames2, "h")
     dynamic = 'node: { title: "h" label: "h\\nx.c:1:1\\n24 bytes (dynamic,bounded)" }'
     with pytest.raises(ValueError, match="dynamic"):
         fw_stack.parse_callgraph([dynamic])

@@ -198,7 +198,7 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     # image)
     pgo = not (fst or profile or options or not acc)
     # hidden visibility and no semantic interposition: calls inside the library bind locally, without the PLT (its
-    # interface is soc_sim.h's, pushed default there): 2.02 -> 2.22 M clocks/s (2026-11-30, docs/soc.md)
+    # interface is soc_sim.h's, pushed default there): 8-20 % more clocks per second (docs/soc.md, "Measured")
     cflags = (f"-fPIC -fno-semantic-interposition -fvisibility=hidden -fvisibility-inlines-hidden -O3 -I{SIM_DIR} "
               f"-I{ROOT / 'golden/plant/src'} -I{ROOT / 'firmware/include'}"
               + (" -DHFI_FST" if fst else "") + (" -DHFI_PROFILE" if profile else ""))

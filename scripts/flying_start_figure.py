@@ -67,8 +67,7 @@ def main(argv=None) -> int:
         return 1
     try:
         if args.high:
-            probe = "probe" if "catch_probe" in open(args.scenario).read() else "no probe"
-            runs = {f"estimator.high = {h} ({probe})": run(True, args.rpm, scenario=args.scenario, high=h)
+            runs = {f"estimator.high = {h}": run(True, args.rpm, scenario=args.scenario, high=h)
                     for h in args.high.split(",")}
         else:
             runs = {"flying start (catch_time 40 ms, probe)": run(True, args.rpm),

@@ -108,21 +108,24 @@ def _package_file(package: str, name: str) -> Path:
 _warned_fallback = False
 
 
-def cpu_source(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES) -> Path:
-    """The soft core's Verilog: VexRiscv generated with ``icache_bytes`` of instruction cache
-    (hfi/vexriscv_gen.py; ``make setup`` generates the default one). Without it (a machine where the
-    generator cannot run: no JDK or Maven Central) the package's ``VexRiscv.v``, the same core with a 4 KiB
-    instruction cache: every value is the same, the firmware's cycles are those of docs/soc.md's 4 KiB
-    column; said once on stderr, and ``cpu_core`` of the run's ``soc`` metrics names the core."""
+def cpu_source(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
+               prediction: str = soc_platform.CPU_PREDICTION) -> Path:
+    """The soft core's Verilog: VexRiscv generated with ``icache_bytes`` of instruction cache and the branch
+    predictor ``prediction`` (hfi/vexriscv_gen.py; ``make setup`` generates the default one). Without it (a
+    machine where the generator cannot run: no JDK or Maven Central) the package's ``VexRiscv.v``, the same
+    core with a 4 KiB instruction cache and static prediction: every value is the same, the firmware's cycles
+    are those of docs/soc.md's 4 KiB column; said once on stderr, and ``cpu_core`` of the run's ``soc``
+    metrics names the core."""
     global _warned_fallback
     from hfi import vexriscv_gen
 
-    path = vexriscv_gen.core_path(icache_bytes)
+    path = vexriscv_gen.core_path(icache_bytes, prediction)
     if path.is_file():
         return path
     if not _warned_fallback:
         print(f"hfi: {path} is missing (`make setup` generates it; it needs a JDK and Maven Central): the SoC "
-              f"runs the package's {soc_platform.CPU_VARIANT} with a 4 KiB instruction cache instead",
+              f"runs the package's {soc_platform.CPU_VARIANT} with a 4 KiB instruction cache and static branch "
+              f"prediction instead",
               file=sys.stderr)
         _warned_fallback = True
     return _package_file(soc_platform.CPU_PACKAGE, soc_platform.CPU_VARIANT)
@@ -134,10 +137,11 @@ def picorv32_source() -> Path:
     return _package_file("pythondata_cpu_picorv32", "picorv32.v")
 
 
-def soc_sources(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES) -> list[Path]:
-    """Verilog sources of hfi_soc: the project's RTL, the core (with ``icache_bytes`` of instruction cache),
-    and the AXI4-Lite adapter's file."""
-    return sorted((ROOT / "rtl").glob("*.v")) + [cpu_source(icache_bytes), picorv32_source()]
+def soc_sources(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
+                prediction: str = soc_platform.CPU_PREDICTION) -> list[Path]:
+    """Verilog sources of hfi_soc: the project's RTL, the core (with ``icache_bytes`` of instruction cache and
+    the branch predictor ``prediction``), and the AXI4-Lite adapter's file."""
+    return sorted((ROOT / "rtl").glob("*.v")) + [cpu_source(icache_bytes, prediction), picorv32_source()]
 
 
 def digest(paths: list[Path], extra: str) -> str:

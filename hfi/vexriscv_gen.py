@@ -6,7 +6,7 @@ cache; the control step's code (6-14 KiB per method) does not fit it, and refill
 every step. The core's own generator (``vexriscv.GenCoreDefault``, the program LiteX runs to make the
 package's files) takes the cache size as an option, so the project runs it instead of changing any
 Verilog: the same configuration as the package's ``VexRiscv.v`` (RV32IM, 4 KiB data cache, the same
-ports), only ``--iCacheSize`` differs.
+ports), only ``--iCacheSize`` and ``--prediction`` differ.
 
 How, without sbt (whose plug-in repository is not reachable here): the Scala sources are copied from the
 installed package; Maven fetches the compiler and SpinalHDL from Maven Central (Scala 2.11.12 with
@@ -16,7 +16,8 @@ compiles the same sources unchanged); ``scalac`` compiles the library, then the 
 generator writes ``out/cpu/<name>.v``. Needs ``java`` (17 tested) and ``mvn`` (scripts/setup.sh installs
 them when missing); about one minute and 63 MB of downloads the first time, cached in ``out/cpu/cache``.
 
-    python -m hfi.vexriscv_gen [--icache BYTES]     (default: soc_platform.CPU_ICACHE_BYTES)
+    python -m hfi.vexriscv_gen [--icache BYTES] [--prediction KIND]
+                                    (defaults: soc_platform.CPU_ICACHE_BYTES, CPU_PREDICTION)
 """
 
 from __future__ import annotations
@@ -59,13 +60,19 @@ class CoreGenError(RuntimeError):
     """The core could not be generated (a tool missing, a download or compile failure)."""
 
 
-def core_name(icache_bytes: int) -> str:
-    """File stem of the generated core with this instruction cache (module name stays ``VexRiscv``)."""
-    return f"VexRiscv_I{icache_bytes // 1024}K"
+PREDICTIONS = ("none", "static", "dynamic", "dynamic_target")
+"""The generator's branch predictors (``GenCoreDefault --prediction``); the package's files are ``static``."""
 
 
-def core_path(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES) -> Path:
-    return OUT / f"{core_name(icache_bytes)}.v"
+def core_name(icache_bytes: int, prediction: str) -> str:
+    """File stem of the generated core with this instruction cache and branch prediction (module name stays
+    ``VexRiscv``): ``VexRiscv_I16K`` for the package's static prediction, ``VexRiscv_I16K_dynamic_target``."""
+    return f"VexRiscv_I{icache_bytes // 1024}K" + ("" if prediction == "static" else f"_{prediction}")
+
+
+def core_path(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
+              prediction: str = soc_platform.CPU_PREDICTION) -> Path:
+    return OUT / f"{core_name(icache_bytes, prediction)}.v"
 
 
 def _package_dir() -> Path:
@@ -93,11 +100,15 @@ def _ports(verilog: Path) -> str:
     return text[start:text.index(");", start)]
 
 
-def generate(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES) -> Path:
-    """Generate (once) the core with ``icache_bytes`` of instruction cache; returns its Verilog."""
+def generate(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
+             prediction: str = soc_platform.CPU_PREDICTION) -> Path:
+    """Generate (once) the core with ``icache_bytes`` of instruction cache and the branch predictor
+    ``prediction``; returns its Verilog."""
     if icache_bytes < 1024 or icache_bytes & (icache_bytes - 1):
         raise CoreGenError(f"instruction cache of {icache_bytes} bytes: a power of two >= 1024 is required")
-    out = core_path(icache_bytes)
+    if prediction not in PREDICTIONS:
+        raise CoreGenError(f"branch prediction {prediction!r}: one of {', '.join(PREDICTIONS)} is required")
+    out = core_path(icache_bytes, prediction)
     if out.is_file():
         return out
     for tool in ("java", "mvn"):
@@ -131,9 +142,10 @@ def generate(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES) -> Path:
         (classes / ".done").touch()
     work = CACHE / "gen"
     work.mkdir(exist_ok=True)
-    name = core_name(icache_bytes)
+    name = core_name(icache_bytes, prediction)
     _run(["java", *JAVA_OPTS, "-cp", f"{classes / 'gen'}:{classes / 'vex'}:{libs}", "vexriscv.GenCoreDefault",
-          "--iCacheSize", str(icache_bytes), "--outputFile", name], f"generate {name}", cwd=work)
+          "--iCacheSize", str(icache_bytes), "--prediction", prediction, "--outputFile", name], f"generate {name}",
+         cwd=work)
     made = work / f"{name}.v"
     if _ports(made) != _ports(pkg / soc_platform.CPU_VARIANT):
         raise CoreGenError(f"{made}: its ports differ from the package's {soc_platform.CPU_VARIANT}")
@@ -148,9 +160,11 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--icache", type=int, default=soc_platform.CPU_ICACHE_BYTES,
                     help=f"instruction cache bytes (default {soc_platform.CPU_ICACHE_BYTES})")
+    ap.add_argument("--prediction", choices=PREDICTIONS, default=soc_platform.CPU_PREDICTION,
+                    help=f"branch prediction (default {soc_platform.CPU_PREDICTION})")
     args = ap.parse_args(argv)
     try:
-        print(generate(args.icache))
+        print(generate(args.icache, args.prediction))
     except CoreGenError as e:
         print(f"vexriscv_gen: {e}", file=sys.stderr)
         return 1

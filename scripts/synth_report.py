@@ -141,15 +141,16 @@ def rtl_files(top: str) -> list[str]:
     return files
 
 
-def soc_files(icache_bytes: int | None = None) -> list[str]:
+def soc_files(icache_bytes: int | None = None, prediction: str | None = None) -> list[str]:
     """The sources of hfi_soc (hfi.rtl_backend.soc_sources: the project's RTL, the core's Verilog, generated
-    with ``icache_bytes`` of instruction cache (default: the SoC's), and the AXI4-Lite adapter's file),
+    with ``icache_bytes`` of instruction cache and the branch predictor ``prediction`` (defaults: the SoC's),
+    and the AXI4-Lite adapter's file),
     relative to ROOT: the packages live in the project's .venv and the core in out/cpu, which the yowasp
     tools can see."""
     from hfi import soc_platform
     from hfi.rtl_backend import soc_sources
     files = []
-    for p in soc_sources(icache_bytes or soc_platform.CPU_ICACHE_BYTES):
+    for p in soc_sources(icache_bytes or soc_platform.CPU_ICACHE_BYTES, prediction or soc_platform.CPU_PREDICTION):
         path = p.resolve()
         if not path.is_relative_to(ROOT):
             raise SystemExit(f"synth_report: {path} is outside {ROOT}; the yowasp tools cannot read it")

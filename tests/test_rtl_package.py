@@ -83,9 +83,24 @@ def test_core_falls_back_to_the_package_file(monkeypatch, tmp_path, capsys):
         assert rtl_backend.cpu_source() == generated
         package = rtl_backend._package_file(soc_platform.CPU_PACKAGE, soc_platform.CPU_VARIANT)
         assert vexriscv_gen._ports(generated) == vexriscv_gen._ports(package)
-    monkeypatch.setattr(vexriscv_gen, "core_path", lambda icache_bytes=0: tmp_path / "missing.v")
+    monkeypatch.setattr(vexriscv_gen, "core_path", lambda icache_bytes=0, prediction="": tmp_path / "missing.v")
     monkeypatch.setattr(rtl_backend, "_warned_fallback", False)
     assert rtl_backend.cpu_source().name == soc_platform.CPU_VARIANT
     assert rtl_backend.cpu_source().name == soc_platform.CPU_VARIANT
     err = capsys.readouterr().err
     assert err.count("4 KiB instruction cache") == 1, err
+
+
+def test_core_name_says_cache_and_prediction_and_bad_options_are_refused():
+    """The generated core's file names its instruction cache and (unless static, as the package's files) its
+    branch prediction; a cache that is no power of two and an unknown predictor stop before any tool runs."""
+    from hfi import soc_platform, vexriscv_gen
+
+    assert vexriscv_gen.core_name(16384, "static") == "VexRiscv_I16K"
+    assert vexriscv_gen.core_name(4096, "dynamic_target") == "VexRiscv_I4K_dynamic_target"
+    assert vexriscv_gen.core_path().name == f"VexRiscv_I16K_{soc_platform.CPU_PREDICTION}.v"
+    assert soc_platform.CPU_PREDICTION in vexriscv_gen.PREDICTIONS
+    with pytest.raises(vexriscv_gen.CoreGenError, match="power of two"):
+        vexriscv_gen.generate(3000, "static")
+    with pytest.raises(vexriscv_gen.CoreGenError, match="branch prediction 'bimodal'"):
+        vexriscv_gen.generate(16384, "bimodal")

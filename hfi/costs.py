@@ -31,7 +31,7 @@ SLOWER = (1, 2, 4)
 OVERRUN = "longer than a PWM period"
 """The rtl backend's words for a step that overran its period (hfi.rtl_backend, sim/soc_sim.cpp)."""
 SOURCES = ("firmware/src", "firmware/link.ld", "rtl")
-"""What the measured clocks depend on besides the scenario: the cache key hashes these files."""
+"""What the measured clocks depend on besides the scenario and the core: the cache key hashes these files."""
 
 
 @dataclass(frozen=True)
@@ -82,12 +82,13 @@ def measure(system: str, sc: Scenario, run: Callable[[Scenario], dict] = rtl_soc
 
 
 def source_digest(extra: str) -> str:
-    """The cache key: ``extra`` and every file under :data:`SOURCES` (hfi.rtl_backend.digest)."""
-    from hfi.rtl_backend import digest
+    """The cache key: ``extra``, every file under :data:`SOURCES` and the soft core's Verilog (its caches and
+    branch prediction set the clocks too; hfi.rtl_backend.digest)."""
+    from hfi.rtl_backend import cpu_source, digest
 
     files = [p for top in SOURCES for p in (sorted((ROOT / top).rglob("*")) if (ROOT / top).is_dir() else [ROOT / top])
              if p.is_file()]
-    return digest(files, extra)
+    return digest(files + [cpu_source()], extra)
 
 
 def costs(bases: dict[str, dict], cache: Path, log=print,

@@ -96,3 +96,15 @@ def test_the_key_follows_the_firmware(tmp_path, monkeypatch):
     before = costs.source_digest("x")
     src.write_text("int b;")
     assert costs.source_digest("x") != before and costs.source_digest("x") != costs.source_digest("y")
+
+
+def test_the_key_follows_the_core(tmp_path, monkeypatch):
+    """Another soft core (its branch prediction or caches) measures other clocks: the cache key changes."""
+    from hfi import rtl_backend
+
+    core = tmp_path / "VexRiscv_X.v"
+    core.write_text("module VexRiscv (); endmodule")
+    monkeypatch.setattr(rtl_backend, "cpu_source", lambda: core)
+    before = costs.source_digest("x")
+    core.write_text("module VexRiscv (); /* another predictor */ endmodule")
+    assert costs.source_digest("x") != before

@@ -7,9 +7,11 @@ that retired before it), every instruction-bus beat to the word it refills. Maps
 firmware's functions (``nm`` of out/firmware/hfi_fw.elf) and prints, per function, CPU clocks per control
 period, their share of the handler's clocks, and instruction-cache lines refilled per period (8 beats
 each), largest first; then the data cache's refills per period by data object. The start-up, the idle loop and
-the UART log (``IDLE``: firmware/src/main.c) are shown apart.
+the UART log (``IDLE``: firmware/src/main.c) are shown apart. ``--lines FUNC`` (repeatable) then splits one
+function's clocks by source line (the DWARF line table of ``objdump -l``: an inlined helper's statements count
+to the helper's own line), largest first, with the line's text.
 
-    python scripts/fw_profile.py [--scenario FILE] [--duration 0.1] [--top 25] [--f-sw HZ]
+    python scripts/fw_profile.py [--scenario FILE] [--duration 0.1] [--top 25] [--f-sw HZ] [--lines FUNC]...
 
 ``--f-sw`` runs the scenario at another switching frequency (everything else as written): a slower copy
 measures a step that overruns the scenario's own period (the co-simulation stops then).
@@ -20,6 +22,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -57,6 +60,60 @@ def functions(elf: str) -> list[tuple[int, int, str]]:
             for i, (a, b, n) in enumerate(syms)]
 
 
+LOCATION_RE = re.compile(r"^(/\S+?):(\d+)(?: \(discriminator \d+\))?$")
+INSN_RE = re.compile(r"^\s+([0-9a-f]+):\t")
+
+
+def parse_line_table(listing: str) -> dict[int, tuple[str, int]]:
+    """Instruction address -> (source file, line) from an ``objdump -d -l`` listing: each instruction takes
+    the location printed last before it (instructions before any location are left out)."""
+    where, out = None, {}
+    for text in listing.splitlines():
+        m = LOCATION_RE.match(text)
+        if m:
+            where = (m.group(1), int(m.group(2)))
+            continue
+        m = INSN_RE.match(text)
+        if m and where is not None:
+            out[int(m.group(1), 16)] = where
+    return out
+
+
+def line_clocks(table: dict[int, tuple[str, int]], cycles, base: int, n_win: int) -> list[tuple[str, int, float, int]]:
+    """(file, line, CPU clocks per period, instructions) per source line of ``table``, largest first."""
+    acc: dict[tuple[str, int], list] = {}
+    for addr, where in table.items():
+        row = acc.setdefault(where, [0, 0])
+        row[0] += int(cycles[(addr - base) // 4])
+        row[1] += 1
+    return sorted(((f, ln, c / n_win, k) for (f, ln), (c, k) in acc.items()), key=lambda r: (-r[2], r[0], r[1]))
+
+
+def source_text(path: str, line: int) -> str:
+    """Line ``line`` of ``path``, stripped ('' if unreadable)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            for i, text in enumerate(f, 1):
+                if i == line:
+                    return text.strip()
+    except OSError:
+        pass
+    return ""
+
+
+def print_lines(elf: str, name: str, start: int, end: int, cycles, base: int, n_win: int, top: int) -> None:
+    """The clocks of function ``name`` (``start``..``end``) by source line, at most ``top`` lines."""
+    objdump = shutil.which("riscv64-unknown-elf-objdump") or "riscv64-unknown-elf-objdump"
+    listing = subprocess.run([objdump, "-d", "-l", f"--start-address={start:#x}", f"--stop-address={end:#x}", elf],
+                             capture_output=True, text=True, check=True).stdout
+    rows = line_clocks(parse_line_table(listing), cycles, base, n_win)
+    total = sum(r[2] for r in rows)
+    print(f"{name}: {total:.1f} clocks per period by source line (the largest {min(top, len(rows))} of {len(rows)})")
+    print(f"{'clocks/period':>13s} {'insns':>5s}  line")
+    for f, ln, c, k in rows[:top]:
+        print(f"{c:13.1f} {k:5d}  {os.path.basename(f)}:{ln}  {source_text(f, ln)[:100]}")
+
+
 def data_objects(elf: str, chunk: int = 512) -> list[tuple[int, int, str]]:
     """(start, end, name) of the data the step reads through the data cache: the data symbols of ``elf``
     (``nm`` types d, b, r and their globals), the large ones (the configuration block) cut into ``chunk``-byte
@@ -85,6 +142,8 @@ def main(argv=None) -> int:
     ap.add_argument("--top", type=int, default=25, help="functions listed (default 25)")
     ap.add_argument("--f-sw", type=float, default=None,
                     help="switching frequency in Hz instead of the scenario's (a slower copy of a step that overruns)")
+    ap.add_argument("--lines", action="append", default=[], metavar="FUNC",
+                    help="split this function's clocks by source line (repeatable)")
     args = ap.parse_args(argv)
     if not args.duration > 0 or args.top < 1 or (args.f_sw is not None and not args.f_sw > 0):
         print("fw_profile: --duration and --f-sw must be > 0 and --top >= 1", file=sys.stderr)
@@ -101,8 +160,14 @@ def main(argv=None) -> int:
     cycles, fetch = loop.profile["cycles"], loop.profile["fetch"]
     n_win = len(res.t)
     base = soc_platform.RAM_BASE
+    elf = str(FW_OUT / "hfi_fw.elf")
+    spans = {name: (start, end) for start, end, name in functions(elf)}
+    unknown = [f for f in args.lines if f not in spans]
+    if unknown:
+        print(f"fw_profile: no function {', '.join(unknown)} in {elf}", file=sys.stderr)
+        return 1
     rows = []
-    for start, end, name in functions(str(FW_OUT / "hfi_fw.elf")):
+    for start, end, name in functions(elf):
         a, b = (start - base) // 4, max((end - base) // 4, (start - base) // 4 + 1)
         c, f = int(cycles[a:b].sum()), int(fetch[a:b].sum())
         if c or f:
@@ -130,6 +195,8 @@ def main(argv=None) -> int:
     for name, f, at, size in sorted(drows, key=lambda r: -r[1])[:args.top]:
         print(f"{name:28s} {f:12.1f} {f'0x{at % soc_platform.CPU_DCACHE_BYTES:03x}':>12s} {size:6d}")
     print(f"{'(all)':28s} {sum(r[1] for r in drows):12.1f}")
+    for name in args.lines:
+        print_lines(elf, name, *spans[name], cycles, base, n_win, args.top)
     return 0
 
 

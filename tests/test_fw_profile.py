@@ -80,6 +80,47 @@ def test_script_prints_the_table(profiled, capsys):
     assert data[0].startswith(f"data cache ({soc_platform.CPU_DCACHE_BYTES} bytes") and data[-1].startswith("(all)") and len(data) <= 2 + 2 + 1
 
 
+LISTING = """\
+00006700 <fw_step>:
+fw_step():
+/src/control.c:2051
+    6700:\t000087b7          \tlui\ta5,0x8
+/src/control.c:80 (discriminator 1)
+    6704:\t00052803          \tlw\ta6,0(a0)
+    6708:\tf5010113          \tadd\tsp,sp,-176
+/src/control.c:2051
+    670c:\tfff78793          \tadd\ta5,a5,-1 # 7fff <fw_window_voltage+0x33f>
+"""
+
+
+def test_clocks_by_source_line():
+    """Each instruction counts to the location printed last before it (a discriminator is the same line);
+    per line the clocks are summed and divided by the periods, largest first."""
+    fp = _script()
+    table = fp.parse_line_table(LISTING)
+    assert table == {0x6700: ("/src/control.c", 2051), 0x6704: ("/src/control.c", 80),
+                     0x6708: ("/src/control.c", 80), 0x670C: ("/src/control.c", 2051)}
+    base = 0x6700
+    cycles = np.array([4, 30, 6, 2])
+    assert fp.line_clocks(table, cycles, base, 2) == [("/src/control.c", 80, 18.0, 2), ("/src/control.c", 2051, 3.0, 2)]
+
+
+def test_script_splits_a_function_by_line(capsys):
+    assert _script().main(["--duration", "0.002", "--top", "40", "--lines", "fw_step"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    head = next(i for i, t in enumerate(out) if t.startswith("fw_step: "))
+    assert out[head + 1].split() == ["clocks/period", "insns", "line"]
+    rows = out[head + 2:]
+    assert len(rows) == 40 and all(r.split()[2].split(":")[1].isdigit() for r in rows)   # file:line
+    clocks = [float(r.split()[0]) for r in rows]
+    assert clocks == sorted(clocks, reverse=True)
+    # the window means' two divisions (fw_window_means, inlined; RV32IM div: about 34 clocks each) are there
+    text = "\n".join(rows)
+    assert "sum_id / n32" in text and "sum_iq / n32" in text
+    assert _script().main(["--duration", "0.002", "--lines", "no_such_function"]) == 1
+    assert "no function no_such_function" in capsys.readouterr().err
+
+
 def test_bad_arguments_are_refused(capsys):
     assert _script().main(["--duration", "0"]) == 1
     assert "--duration and --f-sw must be > 0" in capsys.readouterr().err

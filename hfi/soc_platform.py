@@ -79,9 +79,9 @@ the 000 and 003 steps but does not fit the LFE5U-25F's 56 block RAMs beside the 
 CPU_PREDICTION = "dynamic_target"
 """Branch prediction of the generated core (``GenCoreDefault --prediction``: ``none``, ``static`` as the
 package's files, ``dynamic``, ``dynamic_target``): ``dynamic_target`` (a branch target buffer in the fetch
-stage) takes 7-8 % fewer clocks per control step than ``static`` (the firmware's saturations and mode
-tests are branches a static rule mispredicts) for 236 LUT4, 243 FF and 3 DP16KD more, with the core's
-Fmax unchanged (docs/soc.md, "Branch prediction"). A board may build another (``Board.prediction``)."""
+stage) takes 5-12 % fewer clocks per control step on average than ``static`` (3-7 % in the worst step;
+the firmware's saturations and mode tests are branches a static rule mispredicts) for 236 LUT4, 243 FF and
+3 DP16KD more, with the core's Fmax unchanged (docs/soc.md, "Branch prediction"). A board may build another (``Board.prediction``)."""
 CPU_DCACHE_BYTES = 4096
 """Data cache of the core (the package's configuration, which the generator keeps): direct-mapped, so data
 this far apart shares a line (scripts/fw_profile.py reports its refills per object)."""

@@ -81,7 +81,8 @@ CPU_PREDICTION = "dynamic_target"
 package's files, ``dynamic``, ``dynamic_target``): ``dynamic_target`` (a branch target buffer in the fetch
 stage) takes 5-12 % fewer clocks per control step on average than ``static`` (3-7 % in the worst step;
 the firmware's saturations and mode tests are branches a static rule mispredicts) for 236 LUT4, 243 FF and
-3 DP16KD more, with the core's Fmax unchanged (docs/soc.md, "Branch prediction"). A board may build another (``Board.prediction``)."""
+3 DP16KD more, with the core's Fmax unchanged (docs/soc.md, "Branch prediction"); both boards build it (a
+board may build another: ``Board.prediction`` in scripts/bitstream.py)."""
 CPU_DCACHE_BYTES = 4096
 """Data cache of the core (the package's configuration, which the generator keeps): direct-mapped, so data
 this far apart shares a line (scripts/fw_profile.py reports its refills per object)."""

@@ -64,8 +64,7 @@ BOARDS = {
     "tangnano20k": Board("tangnano20k", "gowin", "tangnano20k_top", "tangnano20k.cst", "GW2AR-LV18QN88C8/I7",
                          "GW2A-18C", 27.0, "Sipeed Tang Nano 20K, Gowin GW2AR-LV18QN88C8/I7, 27 MHz crystal",
                          acc=False,    # with them the SoC takes 101 % of its LUT4 (docs/boards.md)
-                         icache=4096,   # 16 KiB: 48 of the 46 BSRAM (docs/boards.md)
-                         prediction="static"),  # its LUT4 and BSRAM are nearly all used (docs/boards.md)
+                         icache=4096),  # 16 KiB: 48 of the 46 BSRAM (docs/boards.md)
 }
 
 
@@ -147,7 +146,8 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
         vexriscv_gen.generate(board.icache, board.prediction)
     except vexriscv_gen.CoreGenError as e:
         raise SystemExit(f"bitstream: {e}") from e
-    files = sr.soc_files(board.icache, board.prediction) + [f"boards/{board.name}/{board.top}.v"] + [str(p) for p in plls]
+    files = (sr.soc_files(board.icache, board.prediction) + [f"boards/{board.name}/{board.top}.v"]
+             + [str(p) for p in plls])
     netlist, report = out / "netlist.json", out / "pnr_report.json"
     constraints = f"boards/{board.name}/{board.constraints}"
     target = sr.TARGET_DEFINES.get(f"synth_{board.flow}")   # the part-specific RTL (docs/rtl.md, "Timing")

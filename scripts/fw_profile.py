@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import linecache
 import os
 import re
 import shutil
@@ -89,18 +90,6 @@ def line_clocks(table: dict[int, tuple[str, int]], cycles, base: int, n_win: int
     return sorted(((f, ln, c / n_win, k) for (f, ln), (c, k) in acc.items()), key=lambda r: (-r[2], r[0], r[1]))
 
 
-def source_text(path: str, line: int) -> str:
-    """Line ``line`` of ``path``, stripped ('' if unreadable)."""
-    try:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            for i, text in enumerate(f, 1):
-                if i == line:
-                    return text.strip()
-    except OSError:
-        pass
-    return ""
-
-
 def print_lines(elf: str, name: str, start: int, end: int, cycles, base: int, n_win: int, top: int) -> None:
     """The clocks of function ``name`` (``start``..``end``) by source line, at most ``top`` lines."""
     objdump = shutil.which("riscv64-unknown-elf-objdump") or "riscv64-unknown-elf-objdump"
@@ -111,7 +100,7 @@ def print_lines(elf: str, name: str, start: int, end: int, cycles, base: int, n_
     print(f"{name}: {total:.1f} clocks per period by source line (the largest {min(top, len(rows))} of {len(rows)})")
     print(f"{'clocks/period':>13s} {'insns':>5s}  line")
     for f, ln, c, k in rows[:top]:
-        print(f"{c:13.1f} {k:5d}  {os.path.basename(f)}:{ln}  {source_text(f, ln)[:100]}")
+        print(f"{c:13.1f} {k:5d}  {os.path.basename(f)}:{ln}  {linecache.getline(f, ln).strip()[:100]}")
 
 
 def data_objects(elf: str, chunk: int = 512) -> list[tuple[int, int, str]]:
@@ -161,13 +150,14 @@ def main(argv=None) -> int:
     n_win = len(res.t)
     base = soc_platform.RAM_BASE
     elf = str(FW_OUT / "hfi_fw.elf")
-    spans = {name: (start, end) for start, end, name in functions(elf)}
+    symbols = functions(elf)
+    spans = {name: (start, end) for start, end, name in symbols}
     unknown = [f for f in args.lines if f not in spans]
     if unknown:
         print(f"fw_profile: no function {', '.join(unknown)} in {elf}", file=sys.stderr)
         return 1
     rows = []
-    for start, end, name in functions(elf):
+    for start, end, name in symbols:
         a, b = (start - base) // 4, max((end - base) // 4, (start - base) // 4 + 1)
         c, f = int(cycles[a:b].sum()), int(fetch[a:b].sum())
         if c or f:

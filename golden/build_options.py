@@ -29,3 +29,20 @@ def caps_masks(names) -> tuple[int, int]:
         else:
             raise ValueError(f"unknown build option {name!r} (known: {', '.join(OPTIONS)})")
     return dsp, acc
+
+
+def needed(low: str, high: str) -> tuple[str, ...]:
+    """The options the estimator methods ``low`` and ``high`` (scenario names, ``estimator.low`` / ``.high``) need,
+    in :data:`OPTIONS` order: the system a scenario describes (``hfi compare`` synthesizes it, the rtl backend
+    simulates it). An unknown name needs none (the scenario's own check names it)."""
+    from golden.firmware.estimator import METHODS
+
+    need = {o for name in (low, high) if name in METHODS for o in METHODS[name].hardware}
+    return tuple(o for o in OPTIONS if o in need)
+
+
+def left_out(low: str, high: str) -> dict[str, int]:
+    """The build options the methods ``low`` and ``high`` do not need, each 0: the parameters of their system's build
+    (every other option keeps its default, 1)."""
+    need = needed(low, high)
+    return {o: 0 for o in OPTIONS if o not in need}

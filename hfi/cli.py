@@ -1,6 +1,6 @@
 """The ``hfi`` command: run, check and list what the platform does.
 
-    hfi run [FILE] [--backend golden|rtl|hls] [--out DIR] [--quiet] [--fst FILE --fst-window T0 T1]
+    hfi run [FILE] [--backend golden|rtl|hls] [--out DIR] [--quiet] [--fst FILE --fst-window T0 T1] [--every-block]
     hfi check FILE...
     hfi methods
     hfi paper [--short] [--only GROUPS] [--jobs N] [--out DIR]
@@ -60,7 +60,7 @@ def one_line(exc: BaseException) -> str:
 def cmd_run(args) -> int:
     from hfi.run import run_file   # imports matplotlib and the open-loop study: only when needed
     out = run_file(args.file, backend=args.backend, out_dir=args.out, progress=not args.quiet,
-                   fst=args.fst, fst_window=tuple(args.fst_window))
+                   fst=args.fst, fst_window=tuple(args.fst_window), every_block=args.every_block)
     sys.stderr.write("".join(f"[fw] {line}\n" for line in out.uart_log.splitlines()))
     print(json.dumps(out.metrics, indent=2))
     print("wrote", ", ".join(out.files))
@@ -180,6 +180,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--fst", metavar="FILE", help="rtl backend: write an FST waveform of the SoC to FILE")
     p.add_argument("--fst-window", nargs=2, type=float, metavar=("T0", "T1"), default=(0.0, 0.002),
                    help="time span of the waveform [s] (default 0 0.002)")
+    p.add_argument("--every-block", action="store_true",
+                   help="rtl backend: simulate the FPGA build with every optional block in (the boards' bitstreams) "
+                        "instead of the scenario's system (only the blocks its methods need, docs/rtl.md "
+                        "\"Build options\")")
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("check", help="validate scenario files (exit 1 if any is invalid)",

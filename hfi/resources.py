@@ -18,8 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from golden.build_options import ACC_OPTIONS, DSP_OPTIONS
-from golden.firmware.estimator import METHODS
+from golden.build_options import ACC_OPTIONS, DSP_OPTIONS, needed
 from golden.scenario import Scenario
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -34,8 +33,7 @@ Synth = Callable[[str, dict], dict]
 
 def options(sc: Scenario) -> tuple[str, ...]:
     """The build options the scenario's estimator methods need, in golden.build_options order."""
-    need = {o for slot in (sc.estimator.low, sc.estimator.high) if slot in METHODS for o in METHODS[slot].hardware}
-    return tuple(o for o in DSP_OPTIONS + ACC_OPTIONS if o in need)
+    return needed(sc.estimator.low, sc.estimator.high)
 
 
 def synth_module(top: str, params: dict) -> dict:

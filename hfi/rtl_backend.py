@@ -39,6 +39,7 @@ import numpy as np
 
 from golden import regmap as rm
 from golden import socmap
+from golden.build_options import OPTIONS, left_out
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoopResult, speed_references, truth_columns
 from golden.control_config import HardwareConfig, firmware_params, hardware_config, scales
 from golden.fixed import wrap
@@ -61,6 +62,9 @@ PGO_TRAIN = ("scenarios/fullload_start.toml", 0.02)
 """The training run of the profile-guided build (build_sim): the default scenario's start, 2 M clocks (the 002
 firmware's start-up on the soft core and the DSP path in every clock). Measured 2026-11-29: 2.37 -> 2.85 M clocks
 per second (scripts/bench_rtl.py; docs/soc.md)."""
+
+EVERY_BLOCK: dict[str, int] = {name: 1 for name in OPTIONS}
+"""The build options of the build with every optional block in (build_sim, RtlClosedLoop.run)."""
 
 FW_BUDGET = 0.25
 """Performance target of the firmware at PWM periods of at least FW_BUDGET_LONG_PERIOD: its control step
@@ -157,9 +161,13 @@ def build_firmware(acc: bool = True, ident: bool = False) -> Path:
     """``make -C firmware``: the RAM image ``out/firmware/hfi_fw.bin`` (and .elf, .hex, .lst); ``acc=False``:
     the build for a SoC without the accelerators (``ACC=0``, into ``out/firmware/noacc``); ``ident``: the
     commissioning image (``IDENT=1``, into ``.../ident``: the identification executor, for a SoC with
-    ``soc_platform.IDENT_RAM_BYTES`` of RAM)."""
-    _run(["make", "-C", str(ROOT / "firmware"), f"PYTHON={sys.executable}", f"ACC={int(acc)}", f"IDENT={int(ident)}"],
-         "firmware build")
+    ``soc_platform.IDENT_RAM_BYTES`` of RAM). A file lock serialises concurrent builds (two ``make`` in one output
+    directory would write the same objects at once)."""
+    FW_OUT.mkdir(parents=True, exist_ok=True)
+    with open(FW_OUT / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        _run(["make", "-C", str(ROOT / "firmware"), f"PYTHON={sys.executable}", f"ACC={int(acc)}",
+              f"IDENT={int(ident)}"], "firmware build")
     return (FW_OUT if acc else FW_OUT / "noacc") / ("ident" if ident else "") / "hfi_fw.elf"
 
 
@@ -168,10 +176,10 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     """Verilate hfi_soc with the harness into ``out/sim/<variant>/libhfisoc.so`` (rebuilt when a source
     changed; a file lock serialises concurrent builds). ``fst``: the variant with FST waveforms;
     ``profile``: the variant that records the firmware profile (``SOC_PROF_*`` of sim/soc_sim.h);
-    ``options``: build options (golden.build_options, docs/rtl.md) other than the default 1, a variant of its own;
+    ``options``: build options (golden.build_options, docs/rtl.md), {name: 0 or 1}; those at 0 make a variant of its
+    own (the default 1 names none: ``{}`` and :data:`EVERY_BLOCK` are the same build, every block in);
     ``ram_bytes``: a RAM other than ``soc_platform.RAM_BYTES`` (the commissioning image's), likewise; ``acc=False``:
     the SoC without the accelerators (``hfi_soc`` parameter ``ACC = 0``, the Tang Nano 20K's), likewise."""
-    from golden.build_options import OPTIONS
     from golden.plant.binding import LIBRARY as PLANT_LIB
 
     if fst and profile:
@@ -180,8 +188,8 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     for name, value in options.items():
         if name not in OPTIONS or value not in (0, 1):
             raise RtlBackendError(f"build option {name}={value!r}: expected one of {', '.join(OPTIONS)} = 0 or 1")
-    # hfi_soc's parameters other than their defaults: the build options and the RAM size
-    params = dict(options)
+    # hfi_soc's parameters other than their defaults: the build options left out and the RAM size
+    params = {name: 0 for name, value in options.items() if value == 0}
     if not acc:
         params["ACC"] = 0
     if ram_bytes is not None and ram_bytes != soc_platform.RAM_BYTES:
@@ -197,10 +205,11 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     verilator = shutil.which("verilator")
     if verilator is None:
         raise RtlBackendError("verilator is not on PATH: run `make setup` and `source scripts/env.sh`")
-    # profile-guided for the runs that last: not for the waveform and profile variants, nor for a build with options
-    # left out (a check that the firmware refuses it, seconds long) or without the accelerators (the checks of its
-    # image)
-    pgo = not (fst or profile or options or not acc)
+    # profile-guided for the system of the default scenario (PGO_TRAIN's: the build `make run`, `make bench` and most
+    # tests simulate); the other systems' builds, the waveform and profile variants, the commissioning RAM and the SoC
+    # without the accelerators are compiled once (a profile of their own would need a training run of their own)
+    sc_train = load_scenario(ROOT / PGO_TRAIN[0])
+    pgo = not (fst or profile) and params == left_out(sc_train.estimator.low, sc_train.estimator.high)
     # hidden visibility and no semantic interposition: calls inside the library bind locally, without the PLT (its
     # interface is soc_sim.h's, pushed default there): 8-20 % more clocks per second (docs/soc.md, "Measured")
     cflags = (f"-fPIC -fno-semantic-interposition -fvisibility=hidden -fvisibility-inlines-hidden -O3 -I{SIM_DIR} "
@@ -209,7 +218,7 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     ldflags = f"-shared -L{PLANT_LIB.parent} -lhfiplant -Wl,-rpath,{PLANT_LIB.parent}"
     key = digest(srcs, f"{variant} {verilator} pgo={pgo} {cflags} {ldflags}")
     OUT_SIM.mkdir(parents=True, exist_ok=True)
-    with open(OUT_SIM / ".lock", "w") as lock:
+    with open(OUT_SIM / f".{variant}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         stamp = build / "digest"
         if lib.is_file() and stamp.is_file() and stamp.read_text() == key:
@@ -413,8 +422,10 @@ class RtlClosedLoop:
         """Run the co-simulation. ``fst``: FST waveform file; ``fst_window``: its time span [s]
         (default: the first 2 ms). ``profile``: record the firmware profile into ``self.profile``
         (``cycles`` and ``fetch``: one count per RAM word, sim/soc_sim.h; scripts/fw_profile.py).
-        ``options``: an FPGA build with these build options (build_sim; the firmware refuses to start when the
-        scenario's methods need a block the build lacks: RtlBackendError with the UART log). ``sim_lib``: a
+        ``options``: the FPGA build's options (build_sim); by default the scenario's system, every block its
+        estimator methods do not need left out (golden.build_options.left_out, as ``hfi compare`` synthesizes it;
+        :data:`EVERY_BLOCK` keeps them all; the firmware refuses to start when the scenario's methods need a block the
+        build lacks: RtlBackendError with the UART log). ``sim_lib``: a
         co-simulation library built already (build_sim's training run of the profile-guided build). ``acc=False``:
         the SoC without the accelerators and its firmware image (``make -C firmware ACC=0``, the Tang Nano 20K's)."""
         sc, hw = self.sc, self.hw
@@ -428,6 +439,8 @@ class RtlClosedLoop:
         program = fp.ident
         ram_bytes = soc_platform.RAM_BYTES if program is None else soc_platform.IDENT_RAM_BYTES
         elf = build_firmware(acc=acc, ident=program is not None)
+        if options is None:
+            options = left_out(sc.estimator.low, sc.estimator.high)
         lib_path = sim_lib or build_sim(fst=fst is not None, profile=profile, options=options, ram_bytes=ram_bytes,
                                         acc=acc)
         lib = _sim_ffi.dlopen(str(lib_path))
@@ -492,9 +505,10 @@ class RtlClosedLoop:
             ident = None if program is None else _read_ident(lib, sim, elf, program)
         finally:
             lib.soc_sim_free(sim)
-        return self._result(rec, n_win, wall, cycles, ident)
+        return self._result(rec, n_win, wall, cycles, options, ident)
 
-    def _result(self, rec: dict, n_win: int, wall: float, cycles: int, ident=None) -> ClosedLoopResult:
+    def _result(self, rec: dict, n_win: int, wall: float, cycles: int, options: dict[str, int],
+                ident=None) -> ClosedLoopResult:
         hw, sc = self.hw, self.sc
         H, P = hw.pwm_half, 2 * hw.pwm_half
         end = n_win * P + H // 2
@@ -569,6 +583,7 @@ class RtlClosedLoop:
         late = int(irqs["late"][n_win]) - 2
         soc = {
             "cpu_core": cpu_source().stem,
+            "left_out": [name for name in OPTIONS if options.get(name, 1) == 0],
             "fw_cycles_max": int(t["cycles"].max()),
             "fw_cycles_mean": round(float(t["cycles"].mean()), 1),
             "fw_cycles_target": int(fw_budget_share(P / sc.pwm.tick_hz) * P / soc_platform.CPU_CLOCK_DIVIDER),

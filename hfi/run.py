@@ -44,28 +44,35 @@ def default_backend() -> str:
 
 
 def run_file(path: str, backend: str | None = None, out_dir: str | None = None, progress: bool = True,
-             fst: str | None = None, fst_window: tuple[float, float] = (0.0, 0.002)) -> RunOutput:
+             fst: str | None = None, fst_window: tuple[float, float] = (0.0, 0.002),
+             every_block: bool = False) -> RunOutput:
     """Load ``path``, run it (closed loop on ``backend``, or the open-loop study) and write the outputs.
 
-    ``fst``: FST waveform of the SoC over ``fst_window`` [s] (rtl backend only). Raises ScenarioError,
-    OSError, ValueError (unknown backend, ``fst`` on another backend), PlantError, BackendError.
+    ``fst``: FST waveform of the SoC over ``fst_window`` [s] (rtl backend only). ``every_block``: the FPGA build with
+    every optional block in instead of the scenario's system (rtl backend only). Raises ScenarioError, OSError,
+    ValueError (unknown backend, ``fst`` or ``every_block`` on another backend), PlantError, BackendError.
     """
     backend = backend or default_backend()
     backends.get(backend)
     if fst is not None and backend != "rtl":
         raise ValueError(f"an FST waveform needs the rtl backend (not {backend})")
+    if every_block and backend != "rtl":
+        raise ValueError(f"--every-block chooses the rtl backend's FPGA build (not {backend}'s)")
     if not fst_window[0] < fst_window[1]:
         raise ValueError(f"FST window {fst_window[0]} .. {fst_window[1]} s is empty")
     sc = load_scenario(path)
     out_dir = out_dir or sc.output.dir
     os.makedirs(out_dir, exist_ok=True)
     if sc.control is None:
-        if fst is not None:
-            raise ValueError(f"{path}: no [control] table (open-loop study): no SoC waveform to write")
+        if fst is not None or every_block:
+            raise ValueError(f"{path}: no [control] table (open-loop study): no SoC to simulate")
         res = simulate(sc, progress=progress)
         metrics, files = openloop_report.write_all(sc, res, out_dir)
         return RunOutput(metrics, files, "")
     options = {"fst": fst, "fst_window": tuple(fst_window)} if fst is not None else {}
+    if every_block:
+        from hfi.rtl_backend import EVERY_BLOCK
+        options["options"] = EVERY_BLOCK
     res = backends.run(sc, backend, progress=progress, **options)
     metrics, files = report.write_all(sc, res, out_dir)
     return RunOutput(metrics, files, "" if res.soc is None else res.soc["uart_log"])

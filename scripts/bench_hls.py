@@ -28,7 +28,7 @@ from golden.closedloop import ClosedLoop  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
 from hfi.hls_backend import HlsBackendError, HlsClosedLoop  # noqa: E402
 from hfi.hls_build import HlsBuildError, build  # noqa: E402
-from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, build_firmware, build_sim  # noqa: E402
+from hfi.rtl_backend import RtlBackendError, RtlClosedLoop  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -46,9 +46,6 @@ def main(argv=None) -> int:
     try:
         sc = dataclasses.replace(load_scenario(args.scenario), duration=args.duration)
         build("loop")
-        if not args.no_rtl:
-            build_firmware()
-            build_sim()
         runs = {"golden": ClosedLoop(sc).run(progress=False)}
         if not args.no_rtl:
             runs["rtl"] = RtlClosedLoop(sc).run(progress=False)

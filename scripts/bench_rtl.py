@@ -2,9 +2,11 @@
 """Benchmark of the ``rtl`` closed-loop backend: simulated clock cycles per wall second on one core.
 
 Runs the default scenario (``scenarios/fullload_start.toml``) on the Verilated hfi_soc with the C plant
-for ``--duration`` simulated seconds (default 0.2 s), after building the firmware and the library (not
-timed). Prints the simulated clocks, the wall time of the co-simulation, the firmware's cycles per
-control period, and ends with ``mcycles_per_s: X`` (million simulated clocks per wall second; the
+for ``--duration`` simulated seconds (default 0.2 s), after building the firmware and the libraries (not
+timed), twice: on the FPGA build with every optional block in (the baseline) and on the scenario's system
+(only the blocks its methods need, the build the rtl backend runs; docs/rtl.md "Build options"). Prints the
+simulated clocks, the wall time of each co-simulation, the firmware's cycles per control period, the ratio,
+and ends with ``mcycles_per_s: X`` (million simulated clocks per wall second of the scenario's system; the
 project's target is >= 5).
 
     python scripts/bench_rtl.py [--duration 0.2] [--scenario FILE]
@@ -21,7 +23,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
-from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, build_firmware, build_sim  # noqa: E402
+from golden.build_options import left_out  # noqa: E402
+from hfi.rtl_backend import EVERY_BLOCK, RtlBackendError, RtlClosedLoop, build_firmware, build_sim  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -36,15 +39,24 @@ def main(argv=None) -> int:
         return 1
     try:
         sc = dataclasses.replace(load_scenario(args.scenario), duration=args.duration)
+        builds = {"every block": EVERY_BLOCK, "the scenario's system": left_out(sc.estimator.low, sc.estimator.high)}
         build_firmware()
-        build_sim()
-        res = RtlClosedLoop(sc).run(progress=False)
+        for options in builds.values():
+            build_sim(options=options)
+        runs = {name: RtlClosedLoop(sc).run(progress=False, options=options) for name, options in builds.items()}
     except (ScenarioError, RtlBackendError, ValueError) as exc:
         print(f"bench_rtl: {exc}", file=sys.stderr)
         return 1
+    for name, res in runs.items():
+        soc = res.soc
+        left = ", ".join(k for k, v in builds[name].items() if v == 0) or "none"
+        print(f"scenario {sc.name} on {name} (left out: {left}): {float(res.t[-1]):.3f} s simulated, "
+              f"{soc['sim_cycles']} clocks, {soc['wall_s']:.2f} s wall (co-simulation only), "
+              f"{soc['mcycles_per_s']} M clocks/s")
+    res = runs["the scenario's system"]
     soc = res.soc
-    print(f"scenario {sc.name}: {float(res.t[-1]):.3f} s simulated, {soc['sim_cycles']} clocks, "
-          f"{soc['wall_s']:.2f} s wall (co-simulation only)")
+    print(f"the scenario's system against every block: "
+          f"{soc['mcycles_per_s'] / runs['every block'].soc['mcycles_per_s']:.2f}x")
     print(f"realtime factor {float(res.t[-1]) / soc['wall_s']:.4f}; firmware cycles per period: max "
           f"{soc['fw_cycles_max']} (target {soc['fw_cycles_target']}), mean {soc['fw_cycles_mean']}; "
           f"interrupt to COMMIT max {soc['irq_to_commit_cycles_max']} (deadline {soc['deadline_cycles']}); "

@@ -43,7 +43,7 @@ def test_console_script_help_lists_every_command():
 
 
 @pytest.mark.parametrize("command, words", [
-    ("run", ("--backend", "golden", "rtl", "hls", "$BACKEND", "--fst-window", "docs/metrics.md")),
+    ("run", ("--backend", "golden", "rtl", "hls", "$BACKEND", "--fst-window", "--every-block", "docs/metrics.md")),
     ("check", ("exit status 1",)),
     ("methods", ("golden.firmware.estimator.METHODS",)),
     ("paper", ("--short", "--only", "fig6_7", "table3")),
@@ -159,6 +159,7 @@ def test_run_golden_writes_the_documented_outputs(tmp_path):
 @pytest.mark.parametrize("args, message", [
     (["--backend", "nope"], "hfi run: unknown backend 'nope' (valid: golden, rtl, hls)"),
     (["--backend", "golden", "--fst", "x.fst"], "hfi run: an FST waveform needs the rtl backend (not golden)"),
+    (["--backend", "hls", "--every-block"], "hfi run: --every-block chooses the rtl backend's FPGA build (not hls's)"),
 ])
 def test_run_bad_options_one_line(tmp_path, args, message):
     proc = hfi("run", str(short_default_scenario(tmp_path)), "--out", str(tmp_path / "out"), *args)

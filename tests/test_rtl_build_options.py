@@ -1,8 +1,9 @@
 """The FPGA build options (docs/rtl.md "Build options") on the SoC: one Verilated hfi_soc with every option left
-out (ROT_INJ, DIFF_CIC, FCS_MPC, FLUX_LUT = 0), and one without the accelerators (ACC = 0, with its own firmware
-image). The firmware reads CAPS before it starts: a scenario whose method needs a missing block is refused with the
-missing bits on the UART and the gates never on; a method that needs none runs on that build exactly as on the full
-one (the options change nothing else), and so does the SoC without the accelerators."""
+out (ROT_INJ, DIFF_CIC, FCS_MPC, FLUX_LUT = 0: the 002 system's, which the rtl backend simulates for the default
+scenario), one with every block in, and one without the accelerators (ACC = 0, with its own firmware image). The
+firmware reads CAPS before it starts: a scenario whose method needs a missing block is refused with the missing bits
+on the UART and the gates never on; a method that needs none runs on that build exactly as on the full one (the
+options change nothing else), and so does the SoC without the accelerators."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ from golden import accmap, regmap
 from golden.build_options import OPTIONS
 from golden.closedloop import WINDOW_FIELDS
 from golden.scenario import load_scenario
-from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, build_sim
+from hfi.rtl_backend import EVERY_BLOCK, RtlBackendError, RtlClosedLoop, build_sim
 
 ROOT = Path(__file__).resolve().parents[1]
 NONE = {name: 0 for name in OPTIONS}
@@ -45,13 +46,16 @@ def test_a_method_that_needs_none_runs_as_on_the_full_build(tmp_path):
     (``ACC = 0``, the Tang Nano 20K's) with its own image (``make -C firmware ACC=0``: the firmware's own sin/cos,
     vector angle and flux-map look-up) gives every window column equal too, in more clocks."""
     sc = short("fullload_start.toml", 0.05)
-    full = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path)
-    slim = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, options=NONE)
+    full = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, options=EVERY_BLOCK)
+    slim = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path)        # the scenario's system: 002 needs none
     no_acc = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, acc=False)
+    assert full.soc["left_out"] == []
+    assert slim.soc["left_out"] == no_acc.soc["left_out"] == list(OPTIONS)
     for col in WINDOW_FIELDS:
         assert np.array_equal(full.windows[col], slim.windows[col]), col
         assert np.array_equal(full.windows[col], no_acc.windows[col]), col
     assert full.soc["fw_cycles_max"] == slim.soc["fw_cycles_max"] < no_acc.soc["fw_cycles_max"]
+
 
 
 def test_the_image_without_accelerators_refuses_the_probe(tmp_path):

@@ -227,6 +227,22 @@ def rot_hf_current(sc: Scenario) -> int:
                32767)
 
 
+def _named(keys: str, make, *args):
+    """``make(*args)`` (the gains of a PI, a PLL, the bang-bang step); a ValueError it raises (a gain beyond the
+    firmware's 31 bits) names the scenario keys the value comes from, so ``hfi check`` and ``hfi run`` say which
+    key to change."""
+    try:
+        return make(*args)
+    except ValueError as exc:
+        raise ValueError(f"{keys}: {exc}") from exc
+
+
+def _at_least_one_lsb(key: str, value: float, unit: str, lsb: float, source: str) -> None:
+    """A limit that rounds to 0 LSB would stop its controller: refuse it with the scale's LSB."""
+    if round(value / lsb) < 1:
+        raise ValueError(f"{key} = {value:g} {unit} is below one LSB of its scale ({lsb:.4g} {unit}, {source})")
+
+
 def firmware_params(sc: Scenario) -> FirmwareParams:
     """Firmware integers from the control settings and the controller's motor data (:func:`controller_motor`).
 
@@ -252,8 +268,11 @@ def _firmware_params(sc: Scenario) -> FirmwareParams:
     mag = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * ctl.i_max)
     L = 0.5 * (mag["L_d"] + mag["L_q"])
     w_c = 2 * math.pi * ctl.current_bw
+    _at_least_one_lsb("control.v_max", ctl.v_max, "V", sc_.v_lsb, "inverter.V_dc / 2^15")
+    _at_least_one_lsb("control.i_max", ctl.i_max, "A", sc_.i_lsb, "from sensors.adc_range")
     v_lim = min(sc_.voltage(ctl.v_max), 32767)
-    kp, ki = pi_gains(L * w_c, cm.R_s * w_c, sc_.i_lsb / sc_.v_lsb, f_sw, sp=16, si=16)
+    kp, ki = _named(f"control.current_bw (the current PIs' gains, with L = {L:.4g} H and R_s = {cm.R_s:.4g} ohm)",
+                    pi_gains, L * w_c, cm.R_s * w_c, sc_.i_lsb / sc_.v_lsb, f_sw, 16, 16)
     cur_pi = PiParams(kp, 16, ki, 16, v_lim)
     k_t = mag["k_t"]
     w_s = 2 * math.pi * ctl.speed_bw
@@ -262,7 +281,8 @@ def _firmware_params(sc: Scenario) -> FirmwareParams:
     lobs = load_observer_params(sc, k_t, speed_div)
     # with the load observer the speed controller is P only: the observer's load current is its integral action
     ki_w = 0.0 if lobs.g else kp_w * w_s / 4
-    kp_s, ki_s = pi_gains(kp_w, ki_w, sc_.w_lsb / sc_.i_lsb, f_sw / speed_div, sp=24, si=31)
+    kp_s, ki_s = _named(f"control.speed_bw and speed_rate (the speed PI's gains, with J = {cm.J:.4g} kg m^2 and "
+                        f"k_t = {k_t:.4g} N m/A)", pi_gains, kp_w, ki_w, sc_.w_lsb / sc_.i_lsb, f_sw / speed_div, 24, 31)
     speed_pi = PiParams(kp_s, 24, ki_s, 31, sc_.current(ctl.i_max))
     fixed = to_fixed(ctl.theta_hat / (2 * math.pi), 32) % 2**32 if ctl.mode == "fixed_angle" else None
     est = sc.estimator
@@ -274,7 +294,8 @@ def _firmware_params(sc: Scenario) -> FirmwareParams:
     inj_s2, inj_c2 = sincos_q15(2 * step % 2**32)
     mtpa = (mtpa_table(sc_.current(ctl.i_max), sc_.i_lsb, mag["psi_f"], mag["L_d"], mag["L_q"])
             if ctl.mtpa == "on" else (0, (), ()))
-    notch = biquad.notch(ctl.notch_freq, ctl.notch_width, f_sw) if ctl.notch_freq > 0 else None
+    notch = (_named("control.notch_freq, notch_width", biquad.notch, ctl.notch_freq, ctl.notch_width, f_sw)
+             if ctl.notch_freq > 0 else None)
     return FirmwareParams(
         low=low, high=high,
         sqw=sqw_params(sc) if METHOD_SQW_BANGBANG in methods else None,
@@ -467,7 +488,7 @@ def hfo_proj_params(sc: Scenario) -> HfoParams:
     lut = flux_lut(controller_motor(sc).mag, sc_.i_lsb, flux_lsb(sc), t["lut_step"], t["lut_knee"], t["lut_coarse"],
                    t["lut_max_d"], t["lut_max_q"], t["map_scale_d"], t["map_scale_q"])
     omega = 2 * math.pi * t["pll_bw"]
-    kp, ki = pll_gains(2 * omega, omega * omega, f_sw)
+    kp, ki = _named("estimator.hfo_proj.pll_bw", pll_gains, 2 * omega, omega * omega, f_sw)
     return HfoParams(lut=lut, c_lag=min(to_fixed(t["i_lag"] * f_sw, 16), 1 << 16),
                      r_f=to_fixed(resistance_per_lsb(sc) * 2**FLUX_FRAC, 16),
                      dt_f=dead_time_flux(sc), vth_f=threshold_flux(sc),
@@ -482,8 +503,8 @@ def hfo_proj_params(sc: Scenario) -> HfoParams:
 def sqw_params(sc: Scenario) -> SqwParams:
     """``estimator.sqw_bangbang``: bang-bang step and PLL gains (Benevieri et al. 2023, Table II)."""
     t, f_sw = sc.estimator.params["sqw_bangbang"], sc.pwm.f_sw
-    kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
-    return SqwParams(k_bb=k_bb_raw(t["K_bb"], f_sw), pll_kp=kp, pll_ki=ki)
+    kp, ki = _named("estimator.sqw_bangbang.pll_kp, pll_ki", pll_gains, t["pll_kp"], t["pll_ki"], f_sw)
+    return SqwParams(k_bb=_named("estimator.sqw_bangbang.K_bb", k_bb_raw, t["K_bb"], f_sw), pll_kp=kp, pll_ki=ki)
 
 
 def rfo_params(sc: Scenario) -> RfoParams:
@@ -500,7 +521,7 @@ def rfo_params(sc: Scenario) -> RfoParams:
     f_lsb = flux_lsb(sc)
     cm = controller_motor(sc)
     mag = cm.mag
-    kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
+    kp, ki = _named("estimator.rfo.pll_kp, pll_ki", pll_gains, t["pll_kp"], t["pll_ki"], f_sw)
     p = RfoParams(r_s=to_fixed(cm.R_s * sc_.i_lsb / sc_.v_lsb, 16),
                   l_s=to_fixed(mag["L_q"] * sc_.i_lsb / f_lsb, 16),
                   psi_f=to_fixed(mag["psi_f"] / f_lsb, 0),
@@ -544,8 +565,8 @@ def rot_bpf_params(sc: Scenario) -> RotParams:
     mag, p = cm.mag, cm.pole_pairs
     step = injection_step(sc)
     q_sin, q_cos = sincos_q15(uwrap(-shr(wrap(step, 32), 2), 32))     # -INJ_STEP / 4
-    bpf = biquad.bandpass(2 * t["f_inj"], t["bpf_width"], f_sw)
-    kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
+    bpf = _named("estimator.rot_bpf.f_inj, bpf_width", biquad.bandpass, 2 * t["f_inj"], t["bpf_width"], f_sw)
+    kp, ki = _named("estimator.rot_bpf.pll_kp, pll_ki", pll_gains, t["pll_kp"], t["pll_ki"], f_sw)
     f_e_max = sc.estimator.handover_up * p / (2 * math.pi)
     delay = rot_bpf_delay(bpf, t["f_inj"], t["n_avg"], f_sw, max(f_e_max, 1.0))
     # the negative sequence's phase: +-pi/2 by the saliency's sign (docs/methods.md), less the stator
@@ -654,7 +675,7 @@ def eemf_smo_params(sc: Scenario) -> SmoParams:
     c_v = T / l_o * sc_.v_lsb / sc_.i_lsb                       # current LSB per voltage LSB per period
     c_r = T * cm.R_s / l_o
     k = (1 - c_r - t["obs_pole"]) / c_v                         # voltage LSB per current LSB
-    kp, ki = pll_gains(t["pll_kp"], t["pll_ki"], f_sw)
+    kp, ki = _named("estimator.eemf_smo.pll_kp, pll_ki", pll_gains, t["pll_kp"], t["pll_ki"], f_sw)
     pp = cm.pole_pairs
     f_e_max = sc.plant["rated"]["speed_rpm"] / 60 * pp if "rated" in sc.plant else 100.0
     f_e_min = sc.estimator.handover_down * pp / (2 * math.pi)

@@ -80,8 +80,8 @@ def _between(low: int, high: int) -> Check:
     return lambda x: None if low <= x <= high else f"must be between {low} and {high}"
 
 
-def _even_at_least_2(x: int) -> str | None:
-    return None if x >= 2 and x % 2 == 0 else "must be an even integer >= 2"
+def _even_2_to_16(x: int) -> str | None:
+    return None if 2 <= x <= 16 and x % 2 == 0 else "must be an even integer in 2..16 (the plant's range)"
 
 
 def _file_name(x: str) -> str | None:
@@ -170,7 +170,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "L_d": _q("inductance", _positive, ("mag", "L_d")),
         "L_q": _q("inductance", _positive, ("mag", "L_q")),
         "dsat_a": _num(_non_negative, ("mag", "dsat_a")),
-        "dsat_S": _int(_even_at_least_2, ("mag", "dsat_S")),
+        "dsat_S": _int(_even_2_to_16, ("mag", "dsat_S")),
         "a_d0": _num(_positive, ("mag", "a_d0")),
         "a_dd": _num(_non_negative, ("mag", "a_dd")),
         "a_q0": _num(_positive, ("mag", "a_q0")),
@@ -208,7 +208,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "ring_amp": _q("current", _non_negative, ("sens", "ring_amp")),
         "ring_freq": _q("frequency", _positive, ("sens", "ring_freq")),
         "ring_tau": _q("time", _positive, ("sens", "ring_tau")),
-        "ring_cross": _q("dimensionless", None, ("sens", "ring_cross")),
+        "ring_cross": _q("dimensionless", _non_negative, ("sens", "ring_cross")),
         "adc_bits": _int(_between(1, 24), ("sens", "adc_bits")),
         "adc_range": _q("current", _positive, ("sens", "adc_range")),
         # the dc-link channel (docs/scenario.md): absent vdc_range is 2 x inverter.V_dc; 0 V: no channel

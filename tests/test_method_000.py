@@ -48,6 +48,18 @@ def test_bandpass_centre_is_exact_and_bandwidth_is_eq13():
         assert abs(biquad.response(c, f, F_S)) == pytest.approx(math.sqrt(0.5), abs=0.03)   # warped a little
 
 
+def test_a_bandpass_narrower_than_its_coefficients_resolve_is_refused():
+    """b0 = w_g k / (k^2 + w_g k + w_0^2) (eq. (13), bilinear, prewarped) rounds to 0 below half an LSB of the
+    Q(COEF_FRAC) coefficients: such a filter passes nothing (and the delay fit divided by its zero gain)."""
+    w0 = 2 * math.pi * 1000.0
+    k = w0 / math.tan(w0 / (2 * F_S))
+    half_lsb = 2.0 ** -(biquad.COEF_FRAC + 1)
+    bw_edge = half_lsb * (k * k + w0 * w0) / (k * (1 - half_lsb)) / (2 * math.pi)   # b0(bw_edge) = half an LSB
+    assert biquad.bandpass(1000.0, bw_edge * 1.01, F_S).b0 == 1
+    with pytest.raises(ValueError, match=r"a band-pass of .* Hz at 1000 Hz is narrower than its coefficients resolve"):
+        biquad.bandpass(1000.0, bw_edge * 0.99, F_S)
+
+
 def test_plain_bilinear_would_move_the_centre():
     """docs/methods.md: without prewarping the 1000 Hz centre lands near 970 Hz at 10 kHz."""
     f_plain = F_S / math.pi * math.atan(math.pi * 1000.0 / F_S)

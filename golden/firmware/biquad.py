@@ -83,8 +83,12 @@ def bandpass(f0: float, bw: float, f_s: float) -> BiquadCoef:
     """Tap et al. 2023, eq. (13): ``G(s) = w_g s / (s^2 + w_g s + w_0^2)`` (centre ``f0``, -3 dB
     bandwidth ``bw``), bilinear with ``s = k (z - 1)/(z + 1)``, ``k = w_0 / tan(w_0 T / 2)``."""
     w0, wg, k = _prewarp(f0, bw, f_s)
-    return _quantise((wg * k, 0.0, -wg * k), (k * k + wg * k + w0 * w0, 2 * (w0 * w0 - k * k),
-                                              k * k - wg * k + w0 * w0))
+    c = _quantise((wg * k, 0.0, -wg * k), (k * k + wg * k + w0 * w0, 2 * (w0 * w0 - k * k),
+                                           k * k - wg * k + w0 * w0))
+    if c.b0 == 0:
+        raise ValueError(f"a band-pass of {bw:g} Hz at {f0:g} Hz is narrower than its coefficients resolve "
+                         f"(2^-{COEF_FRAC} at f_s = {f_s:g} Hz): its gain rounds to 0")
+    return c
 
 
 def notch(f0: float, bw: float, f_s: float) -> BiquadCoef:

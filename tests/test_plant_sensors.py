@@ -176,3 +176,21 @@ def test_bad_inputs_are_refused():
         plant.run([2000, 1500], [], gates=[1, 2])
     with pytest.raises(PlantError, match="not a plant parameter"):
         Plant(merge(default_params(), {}) | {"bogus": 1})
+
+
+def test_a_diverged_state_is_reported_not_converted():
+    """An ideal voltage of 1e308 V drives the currents past the double range: a sample of a state that is no
+    longer finite has no ADC code (a NaN has no int conversion in C), so the batch and the per-event API refuse it
+    with PLANT_NOT_FINITE's message instead of returning a code."""
+    volts = [d_axis_volts(1e308)]
+    with pytest.raises(PlantError, match=r"^the plant's state is no longer finite \(NaN or infinite\)"):
+        Plant(locked()).run([0], [0, 100_000], volts=volts)
+    plant = Plant(locked())
+    plant.set_voltage(volts[0])
+    plant.advance(100_000)
+    with pytest.raises(PlantError, match=r"^the plant's state is no longer finite"):
+        plant.sample()
+    ok = Plant(locked())
+    ok.set_voltage(d_axis_volts(1.0))
+    ok.advance(100_000)
+    assert ok.sample()[0].dtype == np.int32        # a finite state samples as before

@@ -3,13 +3,15 @@ closed-loop scenarios (the 002, 000 and 001 drives), set to values no drive has 
 NaN, infinities, the wrong type, the scenario's own value scaled by 1e-9..1e9) and, with Hypothesis, to arbitrary
 numbers, strings with any of the unit table's symbols, booleans and lists. What ``hfi check`` does with each
 (golden.scenario.parse_scenario, then hfi.cli.check_scenario: the plant, the register values, the firmware's
-integers) either accepts it or raises a ValueError, the one-line error of the command line; nothing else.
+integers) either accepts it or raises a ValueError, the one-line error of the command line; nothing else. The
+default scenario's accepted cases also run 1 ms on golden, with the same rule.
 
 The 003 drive is left out: its flux tables take a second per scenario (its keys are parsed by the same code)."""
 
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import tomllib
 from pathlib import Path
@@ -18,6 +20,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from golden.closedloop import ClosedLoop
 from golden.scenario import SCHEMA, parse_scenario
 from golden.units import UNITS
 from hfi.cli import check_scenario, main
@@ -71,10 +74,14 @@ def scaled(value) -> list:
     return []
 
 
-def outcome(data: dict) -> str:
-    """``"ok"`` or ``"refused"``; any exception but a ValueError propagates (the test's failure)."""
+def outcome(data: dict, run_s: float = 0.0) -> str:
+    """``"ok"`` or ``"refused"``; any exception but a ValueError propagates (the test's failure). ``run_s`` > 0:
+    an accepted scenario also runs that long on the golden backend (a diverging plant stops with a PlantError)."""
     try:
-        check_scenario(parse_scenario(data, source="fuzz"))
+        sc = parse_scenario(data, source="fuzz")
+        check_scenario(sc)
+        if run_s > 0 and sc.control is not None:
+            ClosedLoop(dataclasses.replace(sc, duration=run_s)).run(progress=False)
     except ValueError:
         return "refused"
     return "ok"
@@ -82,11 +89,15 @@ def outcome(data: dict) -> str:
 
 @pytest.mark.parametrize("name", FILES)
 def test_every_key_with_extreme_values(name):
+    """The default scenario's accepted cases also run 1 ms (5 windows) on golden: values the parser cannot call
+    absurd (a dc-link resistance of 1e30 ohm) make the plant diverge, which stops the run with PLANT_NOT_FINITE's
+    message instead of turning a NaN into ADC codes."""
     base = BASES[name]
+    run_s = 1e-3 if name == "fullload_start.toml" else 0.0
     counts = {"ok": 0, "refused": 0}
     for path in KEYS:
         for value in EXTREMES + tuple(scaled(own_value(base, path))):
-            counts[outcome(with_value(base, path, value))] += 1
+            counts[outcome(with_value(base, path, value), run_s)] += 1
     print(name, counts)
     assert counts["refused"] > counts["ok"] > 0     # the values are mostly bad, and the harmless ones pass
 

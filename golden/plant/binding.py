@@ -25,6 +25,10 @@ ADC_CHANNELS, ADC_VDC = (int(re.search(rf"#define {name} (\d+)", HEADER.read_tex
 """ADC channels per sample and the dc link's among them (``PLANT_ADC_CHANNELS``, ``PLANT_ADC_VDC`` of the
 header): the currents a, b, c, then the dc link."""
 
+NOT_FINITE = ("the plant's state is no longer finite (NaN or infinite): the simulation diverged, check the motor, "
+              "mechanics and inverter values of the scenario")
+"""The message of ``PLANT_NOT_FINITE`` (plant_api.h)."""
+
 MAG_KINDS = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3}
 GATE_BITS = {"a_hi": 0, "a_lo": 1, "b_hi": 2, "b_lo": 3, "c_hi": 4, "c_lo": 5}
 """Gate mask layout: bit 2k is the high switch of leg k (a, b, c), bit 2k+1 its low switch."""
@@ -170,7 +174,8 @@ class Plant:
         c [A], then the dc link [V]."""
         adc = ffi.new("int[]", ADC_CHANNELS)
         analog = ffi.new("double[]", ADC_CHANNELS)
-        self._lib.plant_sample(self._p, adc, analog)
+        if self._lib.plant_sample(self._p, adc, analog) == self._lib.PLANT_NOT_FINITE:
+            raise PlantError(NOT_FINITE)
         return np.array(list(adc), dtype=np.int32), np.array(list(analog))
 
     def state(self) -> np.void:
@@ -255,6 +260,8 @@ class Plant:
                 raise ShootThroughError("a gate mask turned on both switches of a leg")
             if status == -3:
                 raise PlantError("gates must hold one 6-bit mask per edge")
+            if status == self._lib.PLANT_NOT_FINITE:
+                raise PlantError(NOT_FINITE)
             raise PlantError(f"plant_run failed ({status})")
         return out
 

@@ -992,6 +992,8 @@ static int sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PL
             y += sp->noise_rms * gauss(p);
         /* clip(floor(z), 0, full - 1); for 0 <= z < full, floor is the truncation of the conversion */
         double z = y * inv_lsb + 0.5 * full + 0.5;
+        if (!isfinite(z))
+            return PLANT_NOT_FINITE; /* a diverged state has no code (and NaN has no int conversion) */
         adc[k] = z < 0.0 ? 0 : (z >= full ? (int)(full - 1.0) : (int)z);
         if (p->sens_fault && p->f_stuck[k] >= 0)
             adc[k] = p->f_stuck[k];
@@ -1004,6 +1006,8 @@ static int sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PL
         if (sp->vdc_noise_rms > 0.0)
             v += sp->vdc_noise_rms * gauss_vdc(p);
         double z = v * p->vdc_codes + 0.5;
+        if (!isfinite(z))
+            return PLANT_NOT_FINITE;
         adc[PLANT_ADC_VDC] = z < 0.0 ? 0 : (z >= full ? (int)(full - 1.0) : (int)z);
         if (analog)
             analog[PLANT_ADC_VDC] = v;
@@ -1089,7 +1093,8 @@ int plant_run(struct plant *p, int n_edges, const long long *edge_ticks, const i
         } else {
             if (advance(p, sample_ticks[j]) != 0)
                 return -1;
-            sample(p, adc_out + PLANT_ADC_CHANNELS * j, analog_out ? analog_out + PLANT_ADC_CHANNELS * j : NULL);
+            if (sample(p, adc_out + PLANT_ADC_CHANNELS * j, analog_out ? analog_out + PLANT_ADC_CHANNELS * j : NULL) != 0)
+                return PLANT_NOT_FINITE;
             if (truth_out)
                 get_state(p, truth_out + j);
             j++;

@@ -167,7 +167,10 @@ int plant_set_gates(struct plant *p, int gates);
 int plant_set_voltage(struct plant *p, const double v_abc[3]); /* ideal voltages, zero sequence ignored */
 int plant_advance(struct plant *p, long long tick);
 /* Samples the PLANT_ADC_CHANNELS channels at the current tick: adc codes and the analog values
- * ([A] for the currents, [V] for the dc link). */
+ * ([A] for the currents, [V] for the dc link). Returns 0, or PLANT_NOT_FINITE when a sensed value is NaN or
+ * infinite (the state diverged: motor or inverter values far outside any real machine; the codes are then
+ * undefined). */
+enum { PLANT_NOT_FINITE = -4 };
 int plant_sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PLANT_ADC_CHANNELS]);
 void plant_get_state(const struct plant *p, struct plant_state *out);
 
@@ -183,7 +186,8 @@ int plant_restore(struct plant *p, const void *buf);
  * and takes samples, merged by tick; at equal ticks, the input change comes before the sample.
  * adc_out: [n_samples*PLANT_ADC_CHANNELS]; analog_out (same layout) and truth_out may be NULL. Returns 0; -1 on a bad tick order
  * (events up to it are applied); -2 when a gate mask turned on both switches of a leg (the run goes
- * on); -3 when a gate mask is outside 0..63 (checked first: nothing is applied). */
+ * on); -3 when a gate mask is outside 0..63 (checked first: nothing is applied); PLANT_NOT_FINITE (-4) when a
+ * sample's value is not finite (the run stops there). */
 int plant_run(struct plant *p,
               int n_edges, const long long *edge_ticks, const int *gates, const double *volts,
               int n_samples, const long long *sample_ticks,

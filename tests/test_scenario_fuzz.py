@@ -113,7 +113,8 @@ values = st.one_of(
 )
 
 
-@settings(max_examples=300, derandomize=True, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=300, derandomize=True, database=None, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(name=st.sampled_from(FILES), path=st.sampled_from(KEYS), value=values)
 def test_arbitrary_values_are_accepted_or_refused(name, path, value):
     outcome(with_value(BASES[name], path, value))

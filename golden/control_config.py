@@ -282,7 +282,8 @@ def _firmware_params(sc: Scenario) -> FirmwareParams:
     # with the load observer the speed controller is P only: the observer's load current is its integral action
     ki_w = 0.0 if lobs.g else kp_w * w_s / 4
     kp_s, ki_s = _named(f"control.speed_bw and speed_rate (the speed PI's gains, with J = {cm.J:.4g} kg m^2 and "
-                        f"k_t = {k_t:.4g} N m/A)", pi_gains, kp_w, ki_w, sc_.w_lsb / sc_.i_lsb, f_sw / speed_div, 24, 31)
+                        f"k_t = {k_t:.4g} N m/A)",
+                        pi_gains, kp_w, ki_w, sc_.w_lsb / sc_.i_lsb, f_sw / speed_div, 24, 31)
     speed_pi = PiParams(kp_s, 24, ki_s, 31, sc_.current(ctl.i_max))
     fixed = to_fixed(ctl.theta_hat / (2 * math.pi), 32) % 2**32 if ctl.mode == "fixed_angle" else None
     est = sc.estimator

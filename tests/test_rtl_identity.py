@@ -33,11 +33,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from golden.build_options import needed
 from golden.closedloop import OUTPUT_FIELDS, WINDOW_FIELDS, ClosedLoop
 from golden.firmware.protection import FAULT_LOCK_LOSS, FAULT_NAMES
 from golden.firmware.supervisor import MODE_FAULT
 from golden.scenario import load_scenario, parse_scenario
-from hfi.rtl_backend import RtlBackendError, RtlClosedLoop, config_block
+from hfi.rtl_backend import EVERY_BLOCK, RtlBackendError, RtlClosedLoop, config_block
 from hfi.soc_copies import varatharajan2020_2khz
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -71,8 +72,12 @@ detection; converge, relax, the speed loop at standstill and the 2 p.u. load ste
 @pytest.fixture(scope="module", params=[pytest.param(n, marks=pytest.mark.xdist_group(f"rtl_{n}"))
                                         for n in sorted(SCENARIOS)])
 def both(request):
+    """The 002 drive on its own system's build (every optional block left out: the backend's default, and the
+    profile-guided one); the 000, 001 and 003 drives on the build with every block (the boards' bitstreams): one
+    Verilator build for the three instead of one per system, and both builds are compared with golden."""
     sc = dataclasses.replace(SCENARIOS[request.param](), duration=IDENTITY_S)
-    return sc, ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False)
+    options = EVERY_BLOCK if needed(sc.estimator.low, sc.estimator.high) else None
+    return sc, ClosedLoop(sc).run(progress=False), RtlClosedLoop(sc).run(progress=False, options=options)
 
 
 def _first_difference(a: np.ndarray, b: np.ndarray) -> str:

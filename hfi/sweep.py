@@ -50,6 +50,10 @@ from golden.units import UnitError, parse_quantity, scale_quantity, split_quanti
 
 ROOT = Path(__file__).resolve().parent.parent
 DESIGNS = ("grid", "random", "one_at_a_time")
+MAX_RUNS = 100_000
+"""The most runs a spec may expand to (points x seeds): every run is a scenario tree in memory before the first one
+starts (about 10 KB each), and 100 000 runs of a 2 s scenario on the hls backend take most of a day on two cores.
+A larger design is refused before it is expanded (a seeds = 10^12 once took 10 GB and never started); split it."""
 ANGLE_AT = {"method": None, "middle": 2, "bottom": 3}
 """``sweep.angle_at``: where in a window the true angle of the windows' error is taken (quarters of the window,
 ``ClosedLoopResult.angle_error_deg``): ``method`` (default), where the estimator in charge of that window
@@ -178,10 +182,10 @@ def load_spec(path: str | Path) -> Spec:
     problems += [f"{k}: unknown table (valid: sweep, set, params)" for k in data if k not in ("sweep", "set", "params")]
     from hfi.backends import NAMES
     backend = sw.get("backend", "hls")
-    if backend not in NAMES:
+    if not isinstance(backend, str) or backend not in NAMES:
         problems.append(f"sweep.backend: {backend!r} is not a backend ({', '.join(NAMES)})")
     design = sw.get("design", "grid")
-    if design not in DESIGNS:
+    if not isinstance(design, str) or design not in DESIGNS:
         problems.append(f"sweep.design: {design!r}, expected one of {', '.join(DESIGNS)}")
 
     def integer(key: str, default: int | None, low: int) -> int | None:
@@ -193,7 +197,7 @@ def load_spec(path: str | Path) -> Spec:
 
     seeds, samples, seed = integer("seeds", None, 1), integer("samples", 0, 0), integer("seed", 1, 0)
     angle_at = sw.get("angle_at", "method")
-    if angle_at not in ANGLE_AT:
+    if not isinstance(angle_at, str) or angle_at not in ANGLE_AT:
         problems.append(f"sweep.angle_at: {angle_at!r}, expected one of {', '.join(ANGLE_AT)}")
     crb = sw.get("crb", False)
     if not isinstance(crb, bool):
@@ -203,7 +207,11 @@ def load_spec(path: str | Path) -> Spec:
     if design != "random" and samples:
         problems.append("sweep.samples: only for design = \"random\" (a grid runs every combination)")
     windows = []
-    for i, w in enumerate(sw.get("windows", [])):
+    raw_windows = sw.get("windows", [])
+    if not isinstance(raw_windows, list):
+        problems.append(f"sweep.windows: expected a list of [t0, t1] pairs, got {raw_windows!r}")
+        raw_windows = []
+    for i, w in enumerate(raw_windows):
         try:
             if not isinstance(w, list) or len(w) != 2:
                 raise UnitError(f"sweep.windows[{i}]: expected [t0, t1], got {w!r}")
@@ -240,6 +248,18 @@ def load_spec(path: str | Path) -> Spec:
     for a in axes:
         if a.kind in ("scale", "scale_uniform") and base and _get(base, a.key) is None:
             problems.append(f"params.{a.key!r}: {a.kind} needs a value in the base scenario, which has none")
+    if base and not problems:
+        # the base with [set] is a scenario of its own (its seed numbers the runs): refused here, not in every run
+        try:
+            parse_scenario(copy.deepcopy(base), str(scenario_path))
+        except ValueError as exc:
+            problems += [f"the base scenario with [set]: {p}" for p in getattr(exc, "problems", [str(exc)])]
+    if not problems:
+        n_points = (samples if design == "random" else 1 + sum(len(a.items) for a in axes) if design == "one_at_a_time"
+                    else math.prod(len(a.items) for a in axes))
+        if n_points * (seeds or 1) > MAX_RUNS:
+            problems.append(f"the design expands to {n_points} points x {seeds or 1} seeds = {n_points * (seeds or 1)} "
+                            f"runs, more than {MAX_RUNS} (hfi.sweep.MAX_RUNS): split it")
     if problems:
         raise SweepError(str(path), problems)
     return Spec(str(sw.get("name", path.stem)), scenario_path, backend, design, tuple(axes), seeds, samples,

@@ -67,6 +67,21 @@ def test_every_problem_of_a_spec_is_listed(tmp_path):
     assert "sweep.scenario: cannot read" in str(exc.value)
 
 
+@pytest.mark.parametrize("sweep, words", [
+    ("windows = 0", "sweep.windows: expected a list of [t0, t1] pairs, got 0"),
+    ("angle_at = []", "sweep.angle_at: [], expected one of method, middle, bottom"),
+    ("design = {}", "sweep.design: {}, expected one of grid, random, one_at_a_time"),
+    ("seeds = 1000000", "the design expands to 2 points x 1000000 seeds = 2000000 runs, more than 100000"),
+    ('[set]\n"scenario.seed" = inf', "the base scenario with [set]: scenario.seed: expected an integer"),
+])
+def test_a_malformed_spec_is_refused_before_it_expands(tmp_path, sweep, words):
+    """Found by fuzzing the spec (2026-11-30): each of these raised a TypeError or OverflowError (a traceback from
+    hfi sweep), and seeds = 10^12 filled 10 GB expanding its jobs before anything ran."""
+    with pytest.raises(sw.SweepError) as exc:
+        sw.load_spec(spec_file(tmp_path, '"injection.V_h" = ["20 V", "40 V"]', sweep=sweep))
+    assert words in str(exc.value)
+
+
 def test_grid_is_the_cartesian_product_and_scale_scales_the_profile(tmp_path):
     spec = sw.load_spec(spec_file(tmp_path, '"load.torque" = { scale = [0, 0.5, 1.5] }\n'
                                   '"injection.V_h" = ["20 V", "40 V"]'))

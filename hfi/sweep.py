@@ -109,6 +109,8 @@ class Spec:
     angle_at: str = "method"
     crb: bool = False
     base: dict = field(default_factory=dict, compare=False)
+    pole_pairs: int = 1
+    """The base scenario's (the seeds' initial angles are drawn over one pole pitch)."""
 
 
 # ---------------------------------------------------------------------------------------------- the spec
@@ -248,10 +250,11 @@ def load_spec(path: str | Path) -> Spec:
     for a in axes:
         if a.kind in ("scale", "scale_uniform") and base and _get(base, a.key) is None:
             problems.append(f"params.{a.key!r}: {a.kind} needs a value in the base scenario, which has none")
+    pole_pairs = 1
     if base and not problems:
         # the base with [set] is a scenario of its own (its seed numbers the runs): refused here, not in every run
         try:
-            parse_scenario(copy.deepcopy(base), str(scenario_path))
+            pole_pairs = parse_scenario(copy.deepcopy(base), str(scenario_path)).plant["mech"]["pole_pairs"]
         except ValueError as exc:
             problems += [f"the base scenario with [set]: {p}" for p in getattr(exc, "problems", [str(exc)])]
     if not problems:
@@ -263,7 +266,7 @@ def load_spec(path: str | Path) -> Spec:
     if problems:
         raise SweepError(str(path), problems)
     return Spec(str(sw.get("name", path.stem)), scenario_path, backend, design, tuple(axes), seeds, samples,
-                seed, tuple(windows), angle_at, crb is True, base)
+                seed, tuple(windows), angle_at, crb is True, base, pole_pairs)
 
 
 # ---------------------------------------------------------------------------------------------- the runs
@@ -358,7 +361,6 @@ def source_version() -> str:
 def jobs(spec: Spec, version: str) -> list[Job]:
     """Every run of the sweep, in order: points x seeds."""
     base_seed = int(_get(spec.base, "scenario.seed") or 0)
-    pole_pairs = None
     out = []
     for i, p in enumerate(points(spec)):
         tree, error = copy.deepcopy(spec.base), ""
@@ -369,12 +371,10 @@ def jobs(spec: Spec, version: str) -> list[Job]:
                 error = f"UnitError: {exc}"
         runs = [(None, None)]
         if spec.seeds:
-            if pole_pairs is None:
-                pole_pairs = parse_scenario(copy.deepcopy(spec.base), str(spec.scenario)).plant["mech"]["pole_pairs"]
             runs = []
             for k in range(spec.seeds):
                 seed = base_seed + SEED_OFFSET + k
-                theta = float(np.random.default_rng(seed).uniform(0, 360.0 / pole_pairs))
+                theta = float(np.random.default_rng(seed).uniform(0, 360.0 / spec.pole_pairs))
                 runs.append((seed, round(theta, 4)))
         for seed, theta in runs:
             t = copy.deepcopy(tree)

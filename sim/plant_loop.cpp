@@ -32,12 +32,7 @@ PlantLoop::PlantLoop(plant *pl, long long half, long long n_windows, const int32
 
 bool PlantLoop::refused(const char *what, long long tick, int status)
 {
-    const char *why = status == -1 ? "tick went backwards"
-                      : status == -2 ? "a gate mask turned on both switches of a leg"
-                      : status == -3 ? "a gate mask outside 0..63"
-                      : status == PLANT_NOT_FINITE ? "the plant's state is no longer finite: the simulation diverged, "
-                                                     "check the motor, mechanics and inverter values"
-                                     : "unknown status";
+    const char *why = plant_status_text(status);
     error_ = "window " + std::to_string(windows_ended()) + ": the plant refused " + what + " at tick " +
              std::to_string(tick) + " (status " + std::to_string(status) + ": " + why + ")";
     return false;

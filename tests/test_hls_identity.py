@@ -226,6 +226,23 @@ def test_bad_setup_is_refused_with_a_message():
         loop.run(progress=False)
 
 
+def test_a_diverged_plant_stops_both_loops_with_the_plant_message():
+    """A dc-link resistance of 1e30 ohm makes the plant diverge: golden raises PlantError and the hls loop (its C++
+    event loop, sim/plant_loop.cpp) refuses the window, both with ``plant_status_text(PLANT_NOT_FINITE)``, the one
+    wording of plant_api.h."""
+    from golden.plant.binding import PlantError, library, status_error
+    sc = dataclasses.replace(_default(), duration=1e-3)
+    sc.plant = dict(sc.plant, inv=dict(sc.plant["inv"], R_dc=1e30))
+    text = str(status_error(library().PLANT_NOT_FINITE))
+    assert text.startswith("the plant's state is no longer finite (NaN or infinite)")
+    with pytest.raises(PlantError) as gold:
+        ClosedLoop(sc).run(progress=False)
+    assert str(gold.value) == text
+    with pytest.raises(HlsBackendError) as hls:
+        HlsClosedLoop(sc).run(progress=False)
+    assert f"(status {library().PLANT_NOT_FINITE}: {text})" in str(hls.value)
+
+
 def test_run_script_hls_backend(tmp_path):
     """scripts/run.py --backend hls writes the same outputs as the other backends."""
     scen = tmp_path / "short.toml"

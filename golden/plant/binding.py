@@ -25,9 +25,6 @@ ADC_CHANNELS, ADC_VDC = (int(re.search(rf"#define {name} (\d+)", HEADER.read_tex
 """ADC channels per sample and the dc link's among them (``PLANT_ADC_CHANNELS``, ``PLANT_ADC_VDC`` of the
 header): the currents a, b, c, then the dc link."""
 
-NOT_FINITE = ("the plant's state is no longer finite (NaN or infinite): the simulation diverged, check the motor, "
-              "mechanics and inverter values of the scenario")
-"""The message of ``PLANT_NOT_FINITE`` (plant_api.h)."""
 
 MAG_KINDS = {"linear": 0, "dsat": 1, "algebraic": 2, "table": 3}
 GATE_BITS = {"a_hi": 0, "a_lo": 1, "b_hi": 2, "b_lo": 3, "c_hi": 4, "c_lo": 5}
@@ -161,7 +158,7 @@ class Plant:
         """Apply a 6-bit gate mask (see ``GATE_BITS``) at the present tick."""
         if not 0 <= int(gates) < 64:
             raise PlantError(f"gate mask {gates} is not a 6-bit value")
-        if self._lib.plant_set_gates(self._p, int(gates)) == -2:
+        if self._lib.plant_set_gates(self._p, int(gates)) == self._lib.PLANT_SHOOT_THROUGH:
             raise ShootThroughError(f"gate mask {int(gates):#04x} turns on both switches of a leg")
 
     def set_voltage(self, v_abc) -> None:
@@ -174,8 +171,8 @@ class Plant:
         c [A], then the dc link [V]."""
         adc = ffi.new("int[]", ADC_CHANNELS)
         analog = ffi.new("double[]", ADC_CHANNELS)
-        if self._lib.plant_sample(self._p, adc, analog) == self._lib.PLANT_NOT_FINITE:
-            raise PlantError(NOT_FINITE)
+        if (status := self._lib.plant_sample(self._p, adc, analog)) != 0:
+            raise status_error(status)
         return np.array(list(adc), dtype=np.int32), np.array(list(analog))
 
     def state(self) -> np.void:
@@ -231,7 +228,7 @@ class Plant:
         if gates is not None:
             g = np.ascontiguousarray(gates, dtype=np.int32)
             if len(g) != n_e or (g is not gates and not _masks_ok(gates)):
-                raise PlantError("gates must hold one 6-bit mask per edge")
+                raise status_error(library().PLANT_BAD_MASK)
             if n_e:
                 p_gates = ffi.from_buffer("int[]", g)
         if volts is not None:
@@ -254,16 +251,16 @@ class Plant:
                            p_gates, p_volts, n_s, ffi.from_buffer("long long[]", sample_ticks) if n_s else ffi.NULL,
                            ffi.from_buffer("int[]", adc) if n_s else ffi.NULL, p_analog, p_truth)
         if status != 0:
-            if status == -1:
-                raise PlantError("edge and sample ticks must be non-decreasing and not before the plant's time")
-            if status == -2:
-                raise ShootThroughError("a gate mask turned on both switches of a leg")
-            if status == -3:
-                raise PlantError("gates must hold one 6-bit mask per edge")
-            if status == self._lib.PLANT_NOT_FINITE:
-                raise PlantError(NOT_FINITE)
-            raise PlantError(f"plant_run failed ({status})")
+            raise status_error(status)
         return out
+
+
+def status_error(status: int) -> Exception:
+    """The exception of a plant call's non-zero status, with the library's own message (``plant_status_text``:
+    one wording for every binding); a shoot-through is a :class:`ShootThroughError`."""
+    lib = library()
+    text = ffi.string(lib.plant_status_text(int(status))).decode()
+    return (ShootThroughError if status == lib.PLANT_SHOOT_THROUGH else PlantError)(text)
 
 
 def _masks_ok(gates) -> bool:

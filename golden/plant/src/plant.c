@@ -851,7 +851,7 @@ static int set_gates(struct plant *p, int gates)
             p->ring_re[k] += leg == LEG_HIGH ? 1.0 : -1.0;
         }
         if (leg_of(gates, k) == LEG_SHORT) /* what was commanded */
-            status = -2;
+            status = PLANT_SHOOT_THROUGH;
         p->legs[k] = leg;
     }
     p->gates = gates & 63;
@@ -941,7 +941,7 @@ static long long next_fault_event(const struct plant *p, long long tick)
 static int advance(struct plant *p, long long tick)
 {
     if (tick < p->tick)
-        return -1;
+        return PLANT_BAD_ORDER;
     for (long long ev; (ev = next_fault_event(p, tick)) >= 0;) {
         if (ev > p->tick)
             advance_to(p, ev);
@@ -1065,6 +1065,20 @@ static void get_state(const struct plant *p, struct plant_state *o)
 
 /* the per-event API (the batch API below calls the same internal functions) */
 int plant_advance(struct plant *p, long long tick) { return advance(p, tick); }
+const char *plant_status_text(int status)
+{
+    switch (status) {
+    case 0: return "ok";
+    case PLANT_BAD_ORDER: return "edge and sample ticks must be non-decreasing and not before the plant's time";
+    case PLANT_SHOOT_THROUGH: return "a gate mask turned on both switches of a leg";
+    case PLANT_BAD_MASK: return "gates must hold one 6-bit mask (0..63) per edge";
+    case PLANT_NOT_FINITE:
+        return "the plant's state is no longer finite (NaN or infinite): the simulation diverged, check the motor, "
+               "mechanics and inverter values of the scenario";
+    default: return "unknown plant status";
+    }
+}
+
 int plant_set_gates(struct plant *p, int gates) { return set_gates(p, gates); }
 int plant_set_voltage(struct plant *p, const double v_abc[3]) { return set_voltage(p, v_abc); }
 int plant_sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PLANT_ADC_CHANNELS])
@@ -1081,18 +1095,18 @@ int plant_run(struct plant *p, int n_edges, const long long *edge_ticks, const i
     if (!volts)
         for (int k = 0; k < n_edges; k++)
             if (gates[k] < 0 || gates[k] > 63)
-                return -3; /* checked before anything is applied */
+                return PLANT_BAD_MASK; /* checked before anything is applied */
     while (i < n_edges || j < n_samples) {
         if (i < n_edges && (j >= n_samples || edge_ticks[i] <= sample_ticks[j])) {
             if (advance(p, edge_ticks[i]) != 0)
-                return -1;
+                return PLANT_BAD_ORDER;
             int st = volts ? set_voltage(p, volts + 3 * i) : set_gates(p, gates[i]);
             if (st != 0)
                 status = st;
             i++;
         } else {
             if (advance(p, sample_ticks[j]) != 0)
-                return -1;
+                return PLANT_BAD_ORDER;
             if (sample(p, adc_out + PLANT_ADC_CHANNELS * j, analog_out ? analog_out + PLANT_ADC_CHANNELS * j : NULL) != 0)
                 return PLANT_NOT_FINITE;
             if (truth_out)

@@ -162,7 +162,7 @@ struct plant;
 struct plant *plant_create(const struct plant_params *params, char *err, int err_len);
 void plant_free(struct plant *p);
 
-/* Per-event API. Ticks must not go backwards (returns -1). */
+/* Per-event API. Ticks must not go backwards (returns PLANT_BAD_ORDER). */
 int plant_set_gates(struct plant *p, int gates);
 int plant_set_voltage(struct plant *p, const double v_abc[3]); /* ideal voltages, zero sequence ignored */
 int plant_advance(struct plant *p, long long tick);
@@ -170,7 +170,15 @@ int plant_advance(struct plant *p, long long tick);
  * ([A] for the currents, [V] for the dc link). Returns 0, or PLANT_NOT_FINITE when a sensed value is NaN or
  * infinite (the state diverged: motor or inverter values far outside any real machine; the codes are then
  * undefined). */
-enum { PLANT_NOT_FINITE = -4 };
+/* The statuses of the calls below (0 is success); plant_status_text gives each one's message, the one wording
+ * every binding (golden/plant/binding.py, sim/plant_loop.cpp) reports. */
+enum {
+    PLANT_BAD_ORDER = -1,     /* a tick before the plant's time, or edge/sample ticks out of order */
+    PLANT_SHOOT_THROUGH = -2, /* a gate mask turned on both switches of a leg (the plant runs on) */
+    PLANT_BAD_MASK = -3,      /* a gate mask outside 0..63 */
+    PLANT_NOT_FINITE = -4     /* a sensed value is NaN or infinite: the state diverged */
+};
+const char *plant_status_text(int status);
 int plant_sample(struct plant *p, int adc[PLANT_ADC_CHANNELS], double analog[PLANT_ADC_CHANNELS]);
 void plant_get_state(const struct plant *p, struct plant_state *out);
 
@@ -184,10 +192,10 @@ int plant_restore(struct plant *p, const void *buf);
 
 /* Batch API: applies gate edges (or ideal voltage steps, when volts != NULL; then gates may be NULL)
  * and takes samples, merged by tick; at equal ticks, the input change comes before the sample.
- * adc_out: [n_samples*PLANT_ADC_CHANNELS]; analog_out (same layout) and truth_out may be NULL. Returns 0; -1 on a bad tick order
- * (events up to it are applied); -2 when a gate mask turned on both switches of a leg (the run goes
- * on); -3 when a gate mask is outside 0..63 (checked first: nothing is applied); PLANT_NOT_FINITE (-4) when a
- * sample's value is not finite (the run stops there). */
+ * adc_out: [n_samples*PLANT_ADC_CHANNELS]; analog_out (same layout) and truth_out may be NULL. Returns 0; PLANT_BAD_ORDER on a bad tick order
+ * (events up to it are applied); PLANT_SHOOT_THROUGH when a gate mask turned on both switches of a leg (the run
+ * goes on); PLANT_BAD_MASK when a gate mask is outside 0..63 (checked first: nothing is applied); PLANT_NOT_FINITE
+ * when a sample's value is not finite (the run stops there). */
 int plant_run(struct plant *p,
               int n_edges, const long long *edge_ticks, const int *gates, const double *volts,
               int n_samples, const long long *sample_ticks,

@@ -164,7 +164,7 @@ class ClosedLoop:
             rel = np.sort((phases - H // 2) % P).astype(np.int64)
             c = counter((rel + H // 2) % P, H)
             w = demod_weight(c, H, self.hw.cw_angle_step)
-            self._pattern[mode] = (rel, np.asarray(w, dtype=np.int64))
+            self._pattern[mode] = (rel, np.asarray(w, dtype=np.int16))   # s16 (spec 3.4): window_dsp takes it as is
         return self._pattern[mode]
 
     def _compares(self, o: Outputs, sign: int, rot: tuple[int, int] | None = None, inj_sign: int | None = None):

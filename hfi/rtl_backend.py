@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import fcntl
+import functools
 import hashlib
 import importlib
 import os
@@ -171,6 +172,14 @@ def build_firmware(acc: bool = True, ident: bool = False) -> Path:
     return (FW_OUT if acc else FW_OUT / "noacc") / ("ident" if ident else "") / "hfi_fw.elf"
 
 
+@functools.lru_cache(maxsize=1)
+def _pgo_system() -> dict[str, int]:
+    """The build options of the profile-guided build: those :data:`PGO_TRAIN`'s scenario leaves out (its file
+    read once per process)."""
+    sc = load_scenario(ROOT / PGO_TRAIN[0])
+    return left_out(sc.estimator.low, sc.estimator.high)
+
+
 def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] | None = None,
               ram_bytes: int | None = None, acc: bool = True) -> Path:
     """Verilate hfi_soc with the harness into ``out/sim/<variant>/libhfisoc.so`` (rebuilt when a source
@@ -208,8 +217,7 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     # profile-guided for the system of the default scenario (PGO_TRAIN's: the build `make run`, `make bench` and most
     # tests simulate); the other systems' builds, the waveform and profile variants, the commissioning RAM and the SoC
     # without the accelerators are compiled once (a profile of their own would need a training run of their own)
-    sc_train = load_scenario(ROOT / PGO_TRAIN[0])
-    pgo = not (fst or profile) and params == left_out(sc_train.estimator.low, sc_train.estimator.high)
+    pgo = not (fst or profile) and params == _pgo_system()
     # hidden visibility and no semantic interposition: calls inside the library bind locally, without the PLT (its
     # interface is soc_sim.h's, pushed default there): 8-20 % more clocks per second (docs/soc.md, "Measured")
     cflags = (f"-fPIC -fno-semantic-interposition -fvisibility=hidden -fvisibility-inlines-hidden -O3 -I{SIM_DIR} "

@@ -258,6 +258,7 @@ def test_self_tuned_drive_no_worse_than_hand_tuned(default_commission, tmp_path)
     tuned = run_file(str(default_commission[1] / "commissioned.toml"), FAST, str(tmp_path / "tuned"), progress=False)
     hand = run_file(DEFAULT, FAST, str(tmp_path / "hand"), progress=False)
     assert tuned.metrics["faults"]["code"] == "none"
+    assert len(tuned.metrics["segments"]) == len(hand.metrics["segments"]) > 0     # every plateau compared
     for a, b in zip(tuned.metrics["segments"], hand.metrics["segments"]):
         assert a["speed_ref_rpm"] == b["speed_ref_rpm"]
         assert a["err_rms_deg"] <= b["err_rms_deg"], (a, b)

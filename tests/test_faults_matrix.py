@@ -22,8 +22,22 @@ def test_a_fault_cell_is_detected_with_its_code(tmp_path, name, rpm, code):
     row = faults.run_one((name, rpm, True, faults.DURATION_SHORT_S, str(tmp_path)))
     assert (row["verdict"], row["code"], row["reaction"]) == ("detected", code, "coast")
     assert 0 < row["detect_ms"] < 1e3 * (faults.DURATION_SHORT_S - faults.ONSET_S)
-    assert row["lock_detect_ms"] is None or row["lock_detect_ms"] <= LOCK_DETECT_MS
+    assert (row["lock_lost"], row["lock_detect_ms"]) == (False, None)    # tripped before the angle passed 60 deg
     assert not row["runaway_gates_on"] and Path(row["figure"]).is_file()
+
+
+@pytest.mark.parametrize("load", [
+    True,
+    pytest.param(False, marks=pytest.mark.xfail(strict=True, reason="open (docs/faults.md): the gain error's "
+                                                 "polarity slip at 250 r/min without load is found 66 ms after")),
+], ids=["rated", "no_load"])
+def test_a_lost_lock_is_detected_within_20_ms(tmp_path, load):
+    """A sensor gain of 0.7 at 250 r/min: the angle error passes 60 deg and the HF response check trips. Under the
+    rated load within the issue's 20 ms (7.4 ms); without load 66 ms after (the target not met, a strict xfail that
+    reports the day it passes)."""
+    row = faults.run_one(("sensor gain x0.7 (a)", 250.0, load, faults.DURATION_SHORT_S, str(tmp_path)))
+    assert (row["verdict"], row["code"], row["lock_lost"]) == ("detected", "hf_response", True)
+    assert row["lock_detect_ms"] <= LOCK_DETECT_MS
 
 
 def test_the_healthy_cell_does_not_trip(tmp_path):

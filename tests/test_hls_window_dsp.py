@@ -6,7 +6,7 @@ golden/testvectors/adc_scale.py (codes at 0 and full scale, saturating offsets a
 golden/testvectors/park.py, random keep masks (all, none, partial); directed windows at n = 0 and
 n = HFI_WINDOW_MAX at full scale. Both the latched result and every sample's i_d, i_q are compared.
 Random inputs use ``numpy.random.default_rng(seed)``; the seed is ``HFI_SEED`` if set, else a fresh
-one, and is printed. ``test_time_per_sample`` prints the kernel's time per sample (-s), no assertion.
+one, and is printed. The kernel's time per sample is measured by scripts/bench_hls.py (`make bench`).
 """
 
 from __future__ import annotations
@@ -22,7 +22,6 @@ from hfi import hls_build
 
 WINDOW_MAX = 3277                  # HFI_WINDOW_MAX of hls/include/hfi_window_dsp.h
 N_WINDOWS = 300
-TIMING_N, TIMING_REPEAT = 200, 20_000
 OUT_NAMES = ("gamma", "gamma_d", "sum_id", "sum_iq", "wsum", "n_samples")
 
 
@@ -118,17 +117,3 @@ def test_directed_windows():
         assert exp[0][5] == n
         full["keep"] = np.zeros(n, bool)
         assert _check(full, f"full scale, n = {n}, all blanked, ADC_BITS={bits}")[0] == (0, 0, 0, 0, 0, 0)
-
-
-def test_time_per_sample(seed):
-    """Kernel time per sample of a 200-sample window (printed with -s; not an assertion)."""
-    ffi, lib = hls_build.csim()
-    rng = np.random.default_rng(seed + 1)
-    a, b, w, keep = _arrays(rng.integers(1900, 2200, TIMING_N), rng.integers(1900, 2200, TIMING_N),
-                            rng.integers(-32768, 32768, TIMING_N), rng.random(TIMING_N) < 0.9)
-    ns = lib.csim_window_dsp_time(TIMING_REPEAT, TIMING_N, ffi.from_buffer("uint16_t[]", a),
-                                  ffi.from_buffer("uint16_t[]", b), ffi.from_buffer("int16_t[]", w),
-                                  ffi.from_buffer("uint8_t[]", keep), 12, 10, -10, 16400, 16300, 12000, 30000)
-    assert ns > 0
-    print(f"hfi_window_dsp: {ns / (TIMING_REPEAT * TIMING_N):.2f} ns per sample "
-          f"({TIMING_N}-sample windows x {TIMING_REPEAT})")

@@ -1,6 +1,7 @@
-"""Helpers shared by the block testbenches: the seeded random generator, whole-cycle waits and a monitor
+"""Helpers shared by the block testbenches: the seeded random generator, whole-cycle waits, a monitor
 of a one-bit pulse output (tb_adc_scale.py, tb_park.py, tb_demodulator.py, tb_overcurrent.py,
-tb_diff_cic.py)."""
+tb_diff_cic.py) and the overlapping start/done sequence of a fixed-latency pipeline (tb_adc_scale.py,
+tb_park.py)."""
 
 from __future__ import annotations
 
@@ -57,3 +58,37 @@ class HighMonitor:
             last = round((fall - self.t0 + PERIOD_NS / 2) / PERIOD_NS) - 1
             out.update(range(first, last + 1))
         return out
+
+
+async def run_pipelined(dut, vectors, spacings, garbage, label: str, latency: int, drive, check) -> None:
+    """One operation of a fixed-latency pipeline per vector: vector k starts in cycle ``sum(spacings[:k])``
+    (``drive(1, v)``), ``drive(0, garbage[k])`` in the cycle after it (inputs that must not be sampled), and
+    ``check(f"{label} {k}", v)`` reads the result ``latency`` cycles after the start; a :class:`HighMonitor`
+    checks that ``done`` is high in exactly those cycles. Starts at the current falling edge, ends at one."""
+    events: dict[int, list] = {}
+
+    def at(cycle, fn):
+        events.setdefault(cycle, []).append(fn)
+
+    cycle = 0
+    starts = []
+    for k, v in enumerate(vectors):
+        starts.append(cycle)
+        at(cycle, lambda v=v: drive(1, v))
+        at(cycle + 1, lambda g=garbage[k]: drive(0, g))
+        at(cycle + latency, lambda k=k, v=v: check(f"{label} {k}", v))
+        cycle += int(spacings[k])
+    expected_high = {c + latency for c in starts}
+    mon = HighMonitor(dut, get_sim_time(unit="ns"))
+    now = 0
+    for c in sorted(events):        # same-cycle events: the checks read registered outputs only
+        if c > now:
+            await cycles(c - now)
+            now = c
+        for fn in events[c]:
+            fn()
+    await cycles(latency + 2)      # ends at a falling edge, the last done over
+    high = mon.stop()
+    assert high == expected_high, (
+        f"{label}: done high in unexpected cycles {sorted(high - expected_high)[:10]}, "
+        f"missing in {sorted(expected_high - high)[:10]} (cycles from the first start)")

@@ -21,9 +21,8 @@ import cocotb
 import numpy as np
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge
-from cocotb.utils import get_sim_time
 
-from pulse_monitor import HighMonitor, cycles
+from pulse_monitor import cycles, run_pipelined
 from golden.fpga.adc_scale import adc_to_current
 from golden.testvectors import adc_scale as testvectors
 
@@ -93,33 +92,8 @@ async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
     its timing (``done`` high exactly in the start cycles + LATENCY); ``garbage[k]`` is driven in
     the cycle after start k (start = 0). Starts at the current falling edge, ends at one."""
     bits = _bits()
-    events: dict[int, list] = {}
-
-    def at(cycle, fn):
-        events.setdefault(cycle, []).append(fn)
-
-    cycle = 0
-    starts = []
-    for k, v in enumerate(vectors):
-        starts.append(cycle)
-        at(cycle, lambda v=v: _drive(dut, 1, v))
-        at(cycle + 1, lambda g=garbage[k]: _drive(dut, 0, g))
-        at(cycle + LATENCY, lambda k=k, v=v: _check_result(dut, f"{label} {k}", v, bits))
-        cycle += int(spacings[k])
-    expected_high = {c + LATENCY for c in starts}
-    mon = HighMonitor(dut, get_sim_time(unit="ns"))
-    now = 0
-    for c in sorted(events):        # same-cycle events: the checks read registered outputs only
-        if c > now:
-            await cycles(c - now)
-            now = c
-        for fn in events[c]:
-            fn()
-    await cycles(LATENCY + 2)      # ends at a falling edge, the last done over
-    high = mon.stop()
-    assert high == expected_high, (
-        f"{label}: done high in unexpected cycles {sorted(high - expected_high)[:10]}, "
-        f"missing in {sorted(expected_high - high)[:10]} (cycles from the first start)")
+    await run_pipelined(dut, vectors, spacings, garbage, label, LATENCY, lambda start, v: _drive(dut, start, v),
+                        lambda idx, v: _check_result(dut, idx, v, bits))
 
 
 def _rows(arr) -> list[tuple]:

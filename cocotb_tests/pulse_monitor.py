@@ -63,7 +63,7 @@ class HighMonitor:
 async def run_pipelined(dut, vectors, spacings, garbage, label: str, latency: int, drive, check) -> None:
     """One operation of a fixed-latency pipeline per vector: vector k starts in cycle ``sum(spacings[:k])``
     (``drive(1, v)``), ``drive(0, garbage[k])`` in the cycle after it (inputs that must not be sampled), and
-    ``check(f"{label} {k}", v)`` reads the result ``latency`` cycles after the start; a :class:`HighMonitor`
+    ``check(k, f"{label} {k}", v)`` reads the result ``latency`` cycles after the start; a :class:`HighMonitor`
     checks that ``done`` is high in exactly those cycles. Starts at the current falling edge, ends at one."""
     events: dict[int, list] = {}
 
@@ -76,7 +76,7 @@ async def run_pipelined(dut, vectors, spacings, garbage, label: str, latency: in
         starts.append(cycle)
         at(cycle, lambda v=v: drive(1, v))
         at(cycle + 1, lambda g=garbage[k]: drive(0, g))
-        at(cycle + latency, lambda k=k, v=v: check(f"{label} {k}", v))
+        at(cycle + latency, lambda k=k, v=v: check(k, f"{label} {k}", v))
         cycle += int(spacings[k])
     expected_high = {c + latency for c in starts}
     mon = HighMonitor(dut, get_sim_time(unit="ns"))

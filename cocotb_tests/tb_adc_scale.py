@@ -93,7 +93,7 @@ async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
     the cycle after start k (start = 0). Starts at the current falling edge, ends at one."""
     bits = _bits()
     await run_pipelined(dut, vectors, spacings, garbage, label, LATENCY, lambda start, v: _drive(dut, start, v),
-                        lambda idx, v: _check_result(dut, idx, v, bits))
+                        lambda k, idx, v: _check_result(dut, idx, v, bits))
 
 
 def _rows(arr) -> list[tuple]:

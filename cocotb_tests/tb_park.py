@@ -3,7 +3,8 @@
 Reference: golden.fpga.park.clarke then golden.fpga.park.park (spec 3.2).
 
 Timing checked on every transform: ``done`` is 1 exactly ``LATENCY`` cycles after ``start``, with
-``i_d``, ``i_q`` equal to the golden values, and a monitor of ``done``'s value changes checks that it is
+``i_d``, ``i_q`` and the Clarke outputs ``i_alpha``, ``i_beta`` equal to the golden values (``i_alpha`` where
+the next start is at least ``LATENCY`` cycles later: it is held until the next start), and a monitor of ``done``'s value changes checks that it is
 high in exactly those cycles (no spurious, lost or stretched pulses). Inputs are sampled in the start cycle only: the cycle after each start
 drives random other inputs (a register change right after the sample). Starts come every 5..12 cycles
 (5 is the documented minimum spacing), so transforms overlap in the pipeline.
@@ -52,12 +53,19 @@ def _check_idle(dut, what: str) -> None:
     assert int(dut.done.value) == 0, f"done = 1 {what}"
 
 
-def _check_result(dut, idx, v) -> None:
+def _check_result(dut, idx, v, alpha_held: bool) -> None:
+    """The done cycle of transform ``idx``: done, i_d and i_q, and the Clarke currents of the same transform
+    (i_beta always; i_alpha only if no start came within LATENCY cycles after this one's: the RTL header's
+    'held until the next start')."""
     assert int(dut.done.value) == 1, f"vector {idx} {v}: done = 0 {LATENCY} cycles after start"
     got = _outputs(dut)
     exp = _golden(v)
     assert got == exp, (f"vector {idx}: (i_a, i_b, sin_q15, cos_q15) = {v}: RTL (i_d, i_q) = {got}, "
                         f"golden {exp}")
+    i_alpha, i_beta = clarke(v[0], v[1])
+    got_ab = dut.i_alpha.value.to_signed(), dut.i_beta.value.to_signed()
+    assert got_ab[1] == i_beta and (not alpha_held or got_ab[0] == i_alpha), (
+        f"vector {idx}: (i_a, i_b) = {v[:2]}: RTL (i_alpha, i_beta) = {got_ab}, golden {(i_alpha, i_beta)}")
 
 
 async def _start(dut):
@@ -76,8 +84,9 @@ async def run_vectors(dut, vectors, spacings, garbage, label: str) -> None:
     """Start one transform per vector (vector k at cycle sum(spacings[:k])), check every result and
     its timing (``done`` high exactly in the start cycles + LATENCY); ``garbage[k]`` is driven in
     the cycle after start k (start = 0). Starts at the current falling edge, ends at one."""
+    held = [k == len(vectors) - 1 or spacings[k] >= LATENCY for k in range(len(vectors))]
     await run_pipelined(dut, vectors, spacings, garbage, label, LATENCY, lambda start, v: _drive(dut, start, v),
-                        lambda idx, v: _check_result(dut, idx, v))
+                        lambda k, idx, v: _check_result(dut, idx, v, held[k]))
 
 
 def _rows(arr) -> list[tuple]:

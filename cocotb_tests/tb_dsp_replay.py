@@ -9,7 +9,8 @@ with the golden window (VDC, WIN_FAULT, WIN_ADC, the whole 32-bit words, with th
 test_dsp_replay.top_i_expected from the golden ADC codes), writes the golden firmware's registers and
 commits. VDC must read 0 after reset until the first window boundary, and after window -1 the dc-link code
 of its carrier-bottom sample (the trace's ``vdc_pre``, test_dsp_replay.adc_words). The gate edges and
-sampling instants recorded by the Verilog are compared at the end.
+sampling instants recorded by the Verilog are compared at the end; then ``replay_summary.json`` in the test
+directory gives the counts compared.
 
 Start-up: by default the carrier runs from reset (its registers must equal the reset values) and the
 configuration is written before the first window boundary. A trace with ``cfg_start_held`` = 1 (a
@@ -21,6 +22,7 @@ the SoC.
 
 from __future__ import annotations
 
+import json
 import os
 
 import cocotb
@@ -41,6 +43,11 @@ RESULTS = (("GAMMA", "gamma", True), ("GAMMA_D", "gamma_d", True), ("SUM_ID", "s
            ("INJ_PHASE", "inj_phase", False), ("CIC_QA", "cic_qa", True), ("CIC_QB", "cic_qb", True),
            ("ENV_A", "env_a", True), ("ENV_B", "env_b", True), ("VDC", "vdc", False),
            ("WIN_FAULT", "win_fault", False), ("WIN_ADC", "win_adc", False))
+
+
+SUMMARY = "replay_summary.json"
+"""Written into the test directory once every window, gate edge and sampling instant compared equal: the counts of
+each (``windows``, ``top_i_windows``, ``gate_edges``, ``samples``)."""
 
 
 def s32(v: int) -> int:
@@ -160,6 +167,9 @@ async def replay_golden_closed_loop(dut):
     convst = convst[(convst >= int(tr["first_window_tick"])) & (convst < end)]
     assert np.array_equal(convst, tr["sample_tick"]), (
         f"sampling instants differ: RTL {len(convst)}, golden {len(tr['sample_tick'])} samples")
+    with open(SUMMARY, "w") as f:       # what was compared, for the caller (scripts/gatelevel.py)
+        json.dump({"windows": n_win, "top_i_windows": int(np.count_nonzero(top_chk)),
+                   "gate_edges": int(len(gold_ticks)), "samples": int(len(convst))}, f)
     cocotb.log.info(f"replay equal: {n_win} windows ({', '.join(r for r, _, _ in RESULTS)}, TOP_I in "
                     f"{int(np.count_nonzero(top_chk))}), {len(gold_ticks)} gate edges, "
                     f"{len(convst)} sampling instants")

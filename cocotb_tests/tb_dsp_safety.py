@@ -20,7 +20,10 @@ from cocotb.triggers import ClockCycles, FallingEdge, ReadOnly, RisingEdge, curr
 
 from dsp_bench import start
 from golden import regmap as rm
+from golden.fpga.adc_frozen import frozen_lanes
+from golden.fpga.carrier import window_of
 from golden.fpga.overcurrent import fault_delay, gate_off_delay
+from golden.regmap import WIN_ADC_FROZEN_A_MASK, WIN_ADC_FROZEN_B_MASK
 from tb_dsp_replay import CONVST_LATENCY, GATE_LATENCY
 
 H = rm.PWM_HALF_VALUE_RESET
@@ -224,19 +227,19 @@ async def overcurrent_window_boundary(dut):
 
 # ---------------------------------------------------------------------- frozen ADC channels (spec 3.13)
 def frozen_rule(convst: np.ndarray, half: int) -> dict[int, tuple[int, int]]:
-    """WIN_ADC by the rule of spec 3.13, from the sampling instants the testbench recorded and the codes the ADC
-    model returned (codes.hex, in conversion order): window k = the conversions whose sampling tick lies in
-    [k*P + H/2, (k+1)*P + H/2) (spec 2.1); FROZEN_x = 1 iff there are at least 2 and lane x's codes are all equal."""
+    """WIN_ADC (spec 3.13) by the golden model (golden.fpga.adc_frozen.frozen_lanes of each window's conversions,
+    golden.fpga.carrier.window_of of their sampling ticks), from the sampling instants the testbench recorded and
+    the codes the ADC model returned (codes.hex, in conversion order): {window: (FROZEN_A, FROZEN_B)}."""
     with open("codes.hex") as f:
         words = [int(line, 16) for line in f.read().split()]
     assert len(words) >= convst.size, f"{convst.size} conversions, codes.hex has {len(words)}"
     mask = (1 << ADC_BITS) - 1
     lanes = np.array([[w >> 16 & mask, w & mask] for w in words[:convst.size]], dtype=np.int64).reshape(-1, 2)
-    window = (convst - half // 2) // (2 * half)     # floor: the ticks before the first boundary are window -1
+    window = window_of(convst, half)                 # the ticks before the first boundary are window -1
     flags = {}
     for k in np.unique(window):
-        codes = lanes[window == k]
-        flags[int(k)] = tuple(int(codes.shape[0] >= 2 and bool(np.all(codes[:, x] == codes[0, x]))) for x in (0, 1))
+        word = frozen_lanes(lanes[window == k, 0], lanes[window == k, 1])
+        flags[int(k)] = (int(bool(word & WIN_ADC_FROZEN_A_MASK)), int(bool(word & WIN_ADC_FROZEN_B_MASK)))
     return flags
 
 

@@ -26,8 +26,9 @@ docs/rtl.md "Gate-level replay"). Two caches, each rebuilt only when its key cha
 
 Usage: ``python scripts/gatelevel.py [--seconds S] [--synth-only] [--force]`` (``make gatelevel``, called
 by ``make synth``: by default the whole replay of cocotb_tests/test_dsp_replay.py, 0.201 s, 1004
-windows). Prints ``windows compared: N, mismatches: 0`` and exits 0 when every window result, gate edge
-and sampling instant equals the golden trace; 1 if something differs; 2 if a tool is missing or fails.
+windows). Prints the windows, gate edges and sampling instants the testbench compared (its
+``replay_summary.json``) and exits 0 when every one equals the golden trace; 1 if something differs; 2 if a tool
+is missing or fails.
 """
 
 from __future__ import annotations
@@ -316,8 +317,10 @@ def replay(duration_s: float, run_dir: Path, force: bool = False) -> dict:
     """Replay ``duration_s`` of the default scenario's golden closed loop (the RTL replay's scenario and
     inputs) through the netlist with the RTL replay's testbench; synthesizes and builds if needed.
 
-    Returns {"windows", "mismatches", "cycles", "sim_s"}; raises AssertionError with the first
-    differences if a window result, gate edge or sampling instant differs from the golden trace."""
+    Returns the testbench's counts of what it compared equal (``windows``, ``top_i_windows``, ``gate_edges``,
+    ``samples``: its ``replay_summary.json``) with ``golden_windows``, ``cycles`` and ``sim_s``; raises
+    AssertionError with the first differences if a window result, gate edge or sampling instant differs from the
+    golden trace."""
     from cocotb_tools.runner import get_results, get_runner
 
     from golden.closedloop import ClosedLoop
@@ -336,6 +339,8 @@ def replay(duration_s: float, run_dir: Path, force: bool = False) -> dict:
           f"through {NETLIST} (Verilator, in {run_dir})", flush=True)
     results_xml = run_dir / "results.xml"
     results_xml.unlink(missing_ok=True)
+    summary = run_dir / "replay_summary.json"
+    summary.unlink(missing_ok=True)
     t0 = time.perf_counter()
     with _build_env():
         results = get_runner("verilator").test(
@@ -356,7 +361,9 @@ def replay(duration_s: float, run_dir: Path, force: bool = False) -> dict:
         raise AssertionError(f"gate-level replay failed ({failed} of {total} cocotb tests): {detail or 'log above'}")
     print(f"gatelevel: simulated {cycles / 1e6:.1f} M cycles in {sim_s:.1f} s "
           f"({cycles / sim_s / 1e3:.0f} k cycles/s)", flush=True)
-    return {"windows": n_win, "mismatches": 0, "cycles": cycles, "sim_s": sim_s}
+    if not summary.is_file():
+        raise AssertionError(f"the replay passed but its testbench wrote no {summary.name}")
+    return {**json.loads(summary.read_text()), "golden_windows": n_win, "cycles": cycles, "sim_s": sim_s}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -383,7 +390,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"gatelevel: FAILED: {e}", file=sys.stderr)
         return 1
     print(f"gatelevel: total {time.perf_counter() - t0:.0f} s")
-    print(f"windows compared: {r['windows']}, mismatches: {r['mismatches']}")
+    print(f"compared equal: {r['windows']} of {r['golden_windows']} windows (TOP_I in {r['top_i_windows']}), "
+          f"{r['gate_edges']} gate edges, {r['samples']} sampling instants")
     return 0
 
 

@@ -1,4 +1,12 @@
-"""cocotb side of test_dsp_options.py: hfi_dsp built with every option in (HFI_OPTIONS_ON = 1) or out (0)."""
+"""cocotb side of test_dsp_options.py: hfi_dsp built with every option in (HFI_OPTIONS_ON = 1) or out (0).
+
+What a build option changes: with the block out its registers read 0 and its mode leaves the compares, VECTOR and
+the CIC results at their idle values (asserted exactly); with it in, the mode acts (asserted as "not idle"). The
+values a block computes are compared with the golden closed loop window by window, every result register and
+every gate edge, by the replays of test_dsp_replay.py (rotating injection, period square wave with the CIC) on
+the build with every block in; the direct-vector mode by hfi_modulator's bench (test_modulator.py, its
+direct_random and direct_cases against golden direct_state / direct_compares) and the 003 drive's identity test on
+the SoC (tests/test_rtl_identity.py, varatharajan2020_2khz)."""
 
 from __future__ import annotations
 

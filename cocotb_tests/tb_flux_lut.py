@@ -409,7 +409,8 @@ async def directed(dut):
 
 @cocotb.test()
 async def random_lookups(dut):
-    """HFI_RANDOM_N look-ups: half on the real table, half over six random tables (random protocol)."""
+    """HFI_RANDOM_N look-ups: half on the real table (at four layouts), half over five random tables (random
+    protocol)."""
     tb = Bench(dut)
     await tb.setup()
     n = tb.random_n

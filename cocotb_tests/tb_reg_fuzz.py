@@ -11,9 +11,12 @@ flight at a time, issued by two concurrent coroutines.
 The per-cycle invariants (no shoot-through, no gate on while a fault is latched or 3 clocks after the
 STO/DESAT pin, drive_allowed, every request answered within BUS_BOUND cycles, AXI response rules) are
 checked in Verilog (cocotb_tests/hdl/tb_reg_fuzz.v); this module checks every response against the
-register map (golden/regmap.py): BRESP/RRESP = OKAY exactly for word-aligned mapped addresses (and for
-writes, not a register held by SAFETY_LOCK while it is set), RDATA = 0 for an unmapped read, ID and
-VERSION read their constants.
+register map (golden/regmap.py) through tb_regs.RegModel, the transaction-level register file of the register
+bench: BRESP/RRESP = OKAY exactly for word-aligned mapped addresses (and for writes, not a register held by
+SAFETY_LOCK while it is set), RDATA = 0 for an unmapped read, and RDATA of every register the bus alone sets
+(rw, w1s and w1p fields, constants: all but STATUS, IRQ_STATUS and the hardware's results) equal to a value the
+model held while the read was in flight (the writes run concurrently: a write to the same register between the
+read's issue and its data makes either value right).
 
 Reproducible: the stimulus comes from ``random.Random(FUZZ_SEED)`` (the simulation is deterministic),
 FUZZ_TRANSACTIONS transactions (reads + writes) in epochs that end with a reset of the DUT.
@@ -33,6 +36,7 @@ from cocotbext.axi.axil_channels import (AxiLiteARSource, AxiLiteARTransaction, 
                                          AxiLiteWSource, AxiLiteWTransaction)
 
 from golden import regmap as rm
+from tb_regs import RegModel
 
 CLK_NS = 10
 OKAY, SLVERR = 0, 2
@@ -44,9 +48,12 @@ PRELUDE_WRITES = 4
 PROGRESS = 100_000
 """Transactions between progress lines."""
 MAPPED = sorted(r["addr"] for r in rm.REGISTERS.values())
-LOCKED = {rm.REGISTERS[reg]["addr"] for reg, _ in rm.LOCKED_BY}
 LOCK_ADDR = rm.SAFETY_LOCK_ADDR
 CONSTANTS = {rm.REGISTERS[name]["addr"]: rm.REGISTERS[name]["reset"] for name in ("ID", "VERSION", "CAPS")}
+PREDICTABLE = sorted(r["addr"] for r in rm.REGISTERS.values()
+                     if all(access in ("rw", "w1s", "w1p") or (access == "ro" and reset is not None)
+                            for _, _, reset, access in r["fields"].values()))
+"""Registers whose read value follows from the writes alone (RegModel predicts it)."""
 VIOLATIONS = ("viol_shoot", "viol_kill", "viol_drive", "viol_bus", "viol_proto")
 COVERAGE = ("cov_gates_on", "cov_kill", "cov_wr_on", "cov_oc", "cov_wdt", "cov_sto", "cov_desat")
 COVERAGE_CAP = 3
@@ -171,8 +178,17 @@ class Fuzzer:
                                                                 for _ in range(4))
         self.done = 0               # transactions completed
         self.mismatches = 0         # responses that differ from the register map
-        self.locked = False         # SAFETY_LOCK.LOCK as the writes so far set it
+        self.model = RegModel()     # the register file as the writes so far set it (SAFETY_LOCK included)
+        self.history: dict[int, list[int]] = {}   # per PREDICTABLE address: its values since the reset, in order
+        self.pending = None         # the address of the write in flight (issued, BRESP not yet received)
+        self.readbacks = 0          # reads whose RDATA the model predicted and checked
         self.stop_pins = False
+        self.reset_model()
+
+    def reset_model(self) -> None:
+        """After a reset of the DUT: every register at its reset value."""
+        self.model.reset()
+        self.history = {a: [self.model.read(a)[0]] for a in PREDICTABLE}
 
     def count(self) -> None:
         self.done += 1
@@ -208,18 +224,18 @@ class Fuzzer:
                     DIRECT=int(rng.random() < 0.2), FAULT_CLEAR=rng.getrandbits(1))
         return v | (rng.getrandbits(32) if rng.random() < 0.1 else 0)
 
-    def expected_bresp(self, addr: int) -> int:
-        return OKAY if addr in MAPPED and not (self.locked and addr in LOCKED) else SLVERR
-
     async def write(self, addr: int, data: int, strb: int = 0xF, holds: tuple = ()) -> None:
-        """One write, its BRESP checked against the register map; tracks SAFETY_LOCK."""
-        expect = self.expected_bresp(addr)
+        """One write, its BRESP checked against the register model, which applies it (SAFETY_LOCK included)."""
+        locked = self.model.store[("SAFETY_LOCK", "LOCK")]
+        expect, _ = self.model.write(addr, data, strb)
+        if addr in self.history:
+            self.history[addr].append(self.model.read(addr)[0])
+        self.pending = addr
         resp = await self.bus.write(addr, data, strb, *holds)
+        self.pending = None
         if resp != expect:
             self.mismatch(f"write 0x{addr:02X} <= 0x{data:08X} strb 0x{strb:X}: BRESP {resp}, expected "
-                          f"{expect} (lock {self.locked})")
-        if addr == LOCK_ADDR and resp == OKAY and strb & 1 and data & 1:
-            self.locked = True
+                          f"{expect} (lock {int(locked)})")
         self.count()
 
     async def prelude(self) -> None:
@@ -266,11 +282,18 @@ class Fuzzer:
                 addr = rng.choice(MAPPED)
             else:
                 addr = rng.getrandbits(8)
+            values = self.history.get(addr)
+            # the value in effect at the issue: the one before a write to this address still in flight
+            first = len(values) - 1 - (self.pending == addr) if values else 0
             data, resp = await self.bus.read(addr, rng.choice((0, 0, 1, 3)), rng.choice((0, 0, 1, 4, 40)))
             if addr not in MAPPED and (resp, data) != (SLVERR, 0):
                 self.mismatch(f"read 0x{addr:02X}: RRESP {resp} RDATA 0x{data:08X}, expected SLVERR, 0")
-            if addr in MAPPED and (resp != OKAY or data != CONSTANTS.get(addr, data)):
-                self.mismatch(f"read 0x{addr:02X}: RRESP {resp} RDATA 0x{data:08X}")
+            if addr in MAPPED and resp != OKAY:
+                self.mismatch(f"read 0x{addr:02X}: RRESP {resp}")
+            self.readbacks += bool(values)
+            if values and data not in values[first:]:
+                self.mismatch(f"read 0x{addr:02X}: RDATA 0x{data:08X}, the model held "
+                              f"{', '.join(f'0x{v:08X}' for v in values[first:])} while the read was in flight")
             self.count()
             await self.gap(rng)
 
@@ -311,7 +334,7 @@ class Fuzzer:
             self.stop_pins = True
             await pins
             await reset(dut, self.rng_epoch.randint(1, 20))
-            self.locked = False
+            self.reset_model()
             epoch += 1
 
 
@@ -341,9 +364,9 @@ async def fuzz(dut):
     c = counters(dut)
     violations = sum(c[v] for v in VIOLATIONS)
     cocotb.log.info("fuzz counters: " + ", ".join(f"{k} {v}" for k, v in c.items()))
-    cocotb.log.info(f"fuzz: {f.done} transactions, {c['cycles']} cycles checked, {violations + f.mismatches} "
-                    f"violations, seed {seed}")
-    assert f.done >= total
+    cocotb.log.info(f"fuzz: {f.done} transactions ({f.readbacks} reads with their RDATA predicted), {c['cycles']} "
+                    f"cycles checked, {violations + f.mismatches} violations, seed {seed}")
+    assert f.done >= total and f.readbacks > total // 10
     assert violations == 0 and f.mismatches == 0, f"seed {seed}: {c}, {f.mismatches} response mismatches"
     assert c["bus_max"] == REG_WAIT, f"longest bus wait {c['bus_max']} cycles, hfi_regs answers in {REG_WAIT}"
     for name in COVERAGE:

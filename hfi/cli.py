@@ -34,6 +34,13 @@ ERRORS = (ValueError, OSError, backends.BackendError)
 BENCH_SCRIPTS = ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls.py")
 """``hfi bench``: the benchmarks of ``scripts/``, in this order (as ``make bench``)."""
 
+BENCH_TARGETS = {"bench_plant.py": ("the plant alone, x real time", None),
+                 "bench_golden.py": ("golden backend, x real time", 1.0),
+                 "bench_rtl.py": ("rtl backend, M clocks/s", 5.0),
+                 "bench_hls.py": ("hls backend, x real time", 10.0)}
+"""Per benchmark: what its last line (``name: value``) measures and the issue's target (issue 21; None: no
+target, the plant is the hls backend's bound)."""
+
 SLOT_NAMES = {SLOT_LOW: "low", SLOT_HIGH: "high"}
 INJECTION_NAMES = {INJ_NONE: "none", INJ_SQW_D: "square wave on d_hat at f_sw",
                    INJ_ROT: "vector rotating at f_inj in the stationary frame",
@@ -160,15 +167,27 @@ def cmd_compare(args) -> int:
 
 
 def cmd_bench(args) -> int:
+    results = {}
     for name in BENCH_SCRIPTS:
         script = ROOT / "scripts" / name
         if not script.is_file():
             raise OSError(2, "benchmark not found (hfi bench needs the source tree)", str(script))
         print(f"== {name}", flush=True)
-        rc = subprocess.run([sys.executable, str(script)], env=dict(os.environ, OPENBLAS_NUM_THREADS="1")).returncode
-        if rc != 0:
-            print(f"hfi bench: {name} failed (exit status {rc})", file=sys.stderr)
+        proc = subprocess.Popen([sys.executable, str(script)], env=dict(os.environ, OPENBLAS_NUM_THREADS="1"),
+                                stdout=subprocess.PIPE, text=True, bufsize=1)
+        last = ""
+        for line in proc.stdout:                  # echoed as it comes; the last line is the measurement
+            print(line, end="", flush=True)
+            last = line.strip() or last
+        if proc.wait() != 0:
+            print(f"hfi bench: {name} failed (exit status {proc.returncode})", file=sys.stderr)
             return 1
+        results[name] = float(last.rpartition(":")[2])
+    print("== summary (issue 21's targets)")
+    for name, value in results.items():
+        what, target = BENCH_TARGETS[name]
+        verdict = "" if target is None else f"  target >= {target:g}: {'met' if value >= target else 'NOT met'}"
+        print(f"{what:32s} {value:8.3f}{verdict}")
     return 0
 
 

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from hfi import cli
 from hfi.cli import BENCH_SCRIPTS, main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -199,3 +200,22 @@ def test_usage_errors_are_one_line_exit_1():
 def test_bench_runs_the_four_benchmarks_of_make_bench():
     assert BENCH_SCRIPTS == ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls.py")
     assert sorted(p.name for p in (ROOT / "scripts").glob("bench_*.py")) == sorted(BENCH_SCRIPTS)
+    assert set(cli.BENCH_TARGETS) == set(BENCH_SCRIPTS)
+
+
+def test_bench_summary_holds_each_last_line_against_its_target(tmp_path, monkeypatch, capsys):
+    """hfi bench echoes every benchmark's output and ends with each one's last value against the issue's target
+    (scripts stood in for by ones that print a line and a value)."""
+    values = {"bench_plant.py": 4.25, "bench_golden.py": 1.02, "bench_rtl.py": 2.5, "bench_hls.py": 10.0}
+    (tmp_path / "scripts").mkdir()
+    for name, v in values.items():
+        (tmp_path / "scripts" / name).write_text(f"print('running {name}')\nprint('x_per_y: {v}')\n")
+    monkeypatch.setattr(cli, "ROOT", tmp_path)
+    assert cli.main(["bench"]) == 0
+    out = capsys.readouterr().out
+    assert "running bench_rtl.py" in out
+    summary = out.split("== summary (issue 21's targets)\n")[1].splitlines()
+    assert summary == ["the plant alone, x real time        4.250",
+                       "golden backend, x real time         1.020  target >= 1: met",
+                       "rtl backend, M clocks/s             2.500  target >= 5: NOT met",
+                       "hls backend, x real time           10.000  target >= 10: met"]

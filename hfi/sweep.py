@@ -122,6 +122,13 @@ def _is_key(key: str) -> bool:
     return field_ is not None and field_.kind != "table"
 
 
+def _plain_value(v: object) -> bool:
+    """Whether ``v`` can stand in a scenario file as a value: a number, string or boolean, or a list of them."""
+    if isinstance(v, list):
+        return all(_plain_value(x) for x in v)
+    return isinstance(v, (bool, int, float, str))
+
+
 def _axis(key: str, raw: object, design: str, problems: list[str]) -> Axis | None:
     path = f"params.{key!r}"
     if not _is_key(key):
@@ -130,6 +137,11 @@ def _axis(key: str, raw: object, design: str, problems: list[str]) -> Axis | Non
     if isinstance(raw, list):
         if not raw:
             problems.append(f"{path}: the list of values is empty")
+            return None
+        bad = [v for v in raw if not _plain_value(v)]
+        if bad:
+            problems.append(f"{path}: {bad[0]!r} is not a scenario value (numbers, strings, booleans and lists "
+                            f"of them; a TOML date or time is none)")
             return None
         return Axis(key, "values", tuple(raw))
     if not isinstance(raw, dict) or len(raw) != 1:
@@ -173,6 +185,8 @@ def load_spec(path: str | Path) -> Spec:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise SweepError(str(path), [f"TOML syntax error: {exc}"]) from None
+    except UnicodeDecodeError:
+        raise SweepError(str(path), ["not a text file in UTF-8"]) from None
     except OSError as exc:
         raise SweepError(str(path), [f"cannot read it: {exc.strerror}"]) from None
     problems: list[str] = []
@@ -231,6 +245,8 @@ def load_spec(path: str | Path) -> Spec:
         scenario_path = (path.parent / scenario)
         try:
             base = tomllib.loads(scenario_path.read_text(encoding="utf-8"))
+        except UnicodeDecodeError:
+            problems.append(f"sweep.scenario: {scenario_path} is not a text file in UTF-8")
         except (OSError, tomllib.TOMLDecodeError) as exc:
             problems.append(f"sweep.scenario: cannot read {scenario_path}: {exc}")
     fixed = data.get("set", {})
@@ -240,8 +256,13 @@ def load_spec(path: str | Path) -> Spec:
     for key, value in fixed.items():
         if not _is_key(key):
             problems.append(f"set.{key!r}: not a scenario key (docs/scenario.md lists them)")
+        elif not _plain_value(value):
+            problems.append(f"set.{key!r}: {value!r} is not a scenario value")
         elif base:
-            _set(base, key, value)
+            try:
+                _set(base, key, value)
+            except ValueError as exc:
+                problems.append(f"set.{key!r}: {exc}")
     params = data.get("params", {})
     if not isinstance(params, dict) or not params:
         problems.append("params: expected a table with at least one parameter to vary")
@@ -263,9 +284,12 @@ def load_spec(path: str | Path) -> Spec:
         if n_points * (seeds or 1) > MAX_RUNS:
             problems.append(f"the design expands to {n_points} points x {seeds or 1} seeds = {n_points * (seeds or 1)} "
                             f"runs, more than {MAX_RUNS} (hfi.sweep.MAX_RUNS): split it")
+    name = sw.get("name", path.stem)
+    if not isinstance(name, str) or not name or name in (".", "..") or "/" in name or "\\" in name:
+        problems.append(f"sweep.name: {name!r} must be a plain name (the results go to out/sweep/<name>)")
     if problems:
         raise SweepError(str(path), problems)
-    return Spec(str(sw.get("name", path.stem)), scenario_path, backend, design, tuple(axes), seeds, samples,
+    return Spec(name, scenario_path, backend, design, tuple(axes), seeds, samples,
                 seed, tuple(windows), angle_at, crb is True, base, pole_pairs)
 
 
@@ -280,10 +304,14 @@ def _get(tree: dict, key: str) -> object:
 
 
 def _set(tree: dict, key: str, value: object) -> None:
+    """``tree[a][b]... = value`` for ``key = "a.b..."``, making missing tables; ValueError if a part on the way
+    holds a value that is not a table."""
     *tables, last = key.split(".")
     node = tree
-    for part in tables:
+    for i, part in enumerate(tables):
         node = node.setdefault(part, {})
+        if not isinstance(node, dict):
+            raise ValueError(f"{'.'.join(tables[:i + 1])} of the base scenario is {type_name(node)}, not a table")
     node[last] = value
 
 

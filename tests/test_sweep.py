@@ -73,6 +73,9 @@ def test_every_problem_of_a_spec_is_listed(tmp_path):
     ("design = {}", "sweep.design: {}, expected one of grid, random, one_at_a_time"),
     ("seeds = 1000000", "the design expands to 2 points x 1000000 seeds = 2000000 runs, more than 100000"),
     ('[set]\n"scenario.seed" = inf', "the base scenario with [set]: scenario.seed: expected an integer"),
+    ('[set]\n"injection.V_h" = 1979-05-27', "set.'injection.V_h': datetime.date(1979, 5, 27) is not a scenario value"),
+    ('name = "../elsewhere"', "sweep.name: '../elsewhere' must be a plain name"),
+    ('name = "/tmp/x"', "sweep.name: '/tmp/x' must be a plain name"),
 ])
 def test_a_malformed_spec_is_refused_before_it_expands(tmp_path, sweep, words):
     """Found by fuzzing the spec (2026-11-30): each of these raised a TypeError or OverflowError (a traceback from
@@ -80,6 +83,27 @@ def test_a_malformed_spec_is_refused_before_it_expands(tmp_path, sweep, words):
     with pytest.raises(sw.SweepError) as exc:
         sw.load_spec(spec_file(tmp_path, '"injection.V_h" = ["20 V", "40 V"]', sweep=sweep))
     assert words in str(exc.value)
+
+
+def test_values_that_no_scenario_holds_and_files_not_in_utf8_are_refused(tmp_path):
+    """Found by probing the command (2026-11-30): a TOML date among an axis's values reached the run's hash (a
+    TypeError), [set] into a base value that is not a table raised a TypeError, and a spec or base scenario not in
+    UTF-8 gave the codec's message without the file's name."""
+    with pytest.raises(sw.SweepError, match=r"params.'injection.V_h': datetime.datetime\(1979, 5, 27, 7, 32, "
+                                            r"tzinfo=datetime.timezone.utc\) is not a scenario value"):
+        sw.load_spec(spec_file(tmp_path, '"injection.V_h" = ["20 V", 1979-05-27T07:32:00Z]'))
+    path = spec_file(tmp_path, '"injection.V_h" = ["20 V"]')
+    (tmp_path / "base.toml").write_bytes(b"[scenario]\nname = \"\xe6\"\n")
+    with pytest.raises(sw.SweepError, match=r"sweep.scenario: .*base.toml is not a text file in UTF-8"):
+        sw.load_spec(path)
+    (tmp_path / "base.toml").write_text('load = "x"\n[scenario]\nname = "b"\n')
+    path = spec_file(tmp_path, '"injection.V_h" = ["20 V"]', sweep='[set]\n"load.torque" = []')
+    (tmp_path / "base.toml").write_text('load = "x"\n[scenario]\nname = "b"\n')
+    with pytest.raises(sw.SweepError, match="set.'load.torque': load of the base scenario is a string, not a table"):
+        sw.load_spec(path)
+    path.write_bytes(b"\xff\xfe[sweep]")
+    with pytest.raises(sw.SweepError, match="not a text file in UTF-8"):
+        sw.load_spec(path)
 
 
 def test_grid_is_the_cartesian_product_and_scale_scales_the_profile(tmp_path):

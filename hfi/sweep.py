@@ -123,9 +123,12 @@ def _is_key(key: str) -> bool:
 
 
 def _plain_value(v: object) -> bool:
-    """Whether ``v`` can stand in a scenario file as a value: a number, string or boolean, or a list of them."""
+    """Whether ``v`` can stand in a scenario file as a value: a number, string or boolean, or a list or inline table
+    of them (``faults`` is a list of tables); not a TOML date or time."""
     if isinstance(v, list):
         return all(_plain_value(x) for x in v)
+    if isinstance(v, dict):
+        return all(_plain_value(x) for x in v.values())
     return isinstance(v, (bool, int, float, str))
 
 
@@ -140,8 +143,8 @@ def _axis(key: str, raw: object, design: str, problems: list[str]) -> Axis | Non
             return None
         bad = [v for v in raw if not _plain_value(v)]
         if bad:
-            problems.append(f"{path}: {bad[0]!r} is not a scenario value (numbers, strings, booleans and lists "
-                            f"of them; a TOML date or time is none)")
+            problems.append(f"{path}: {bad[0]!r} is not a scenario value (numbers, strings, booleans, lists "
+                            f"and inline tables of them; a TOML date or time is none)")
             return None
         return Axis(key, "values", tuple(raw))
     if not isinstance(raw, dict) or len(raw) != 1:

@@ -204,6 +204,15 @@ def build_program(sc, cs: CommissionSettings) -> Program:
         rows.append((n, m, cur(i_d), cur(i_q), vh, phi % 2**32, dw, flags))
         infos.append(info)
 
+    w_frame = cs.speed * sc_.pole_pairs / f_sw                      # the spin frame's top advance [rad per period]
+    if not w_frame < 0.5 * math.pi:
+        raise ValueError(f"commission.speed: {cs.speed * 30 / math.pi:.6g} r/min turns the spin's frame by "
+                         f"{w_frame / (2 * math.pi):.3g} of an electrical turn per PWM period (a quarter at most)")
+    for key, volts in (("hf_voltage_max", cs.hf_voltage_max), ("probe_voltage", cs.probe_voltage)):
+        if sc_.voltage(volts) < 1:
+            derived = key == "probe_voltage" and sc.commission.probe_voltage is None
+            raise ValueError(f"commission.{key}: {volts:.6g} V is below one voltage LSB ({sc_.v_lsb:.6g} V)"
+                             + (" (derived: half of hf_voltage_max at most)" if derived else ""))
     v_probe = min(sc_.voltage(cs.probe_voltage), 32767)
     g_unit = hf_response(hw, sc_, sc.pwm.tick_hz, v_probe, 0, 32767,
                          sensor_bw=sensor_bandwidth(sc))[0] / (v_probe * sc_.v_lsb)   # per V and 1/H

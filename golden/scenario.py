@@ -1271,14 +1271,19 @@ def load_scenario(path: str | Path, presets: dict | None = None) -> Scenario:
     OSError
         If the file cannot be read.
     """
+    return parse_scenario(read_toml(path), source=str(path), presets=presets)
+
+
+def read_toml(path: str | Path) -> dict:
+    """The TOML tree of the scenario file ``path``; ScenarioError naming the file for a syntax error or text not in
+    UTF-8, OSError if it cannot be read."""
     with open(path, "rb") as file:
         try:
-            data = tomllib.load(file)
+            return tomllib.load(file)
         except tomllib.TOMLDecodeError as exc:
             raise ScenarioError(str(path), [f"TOML syntax error: {exc}"]) from None
         except UnicodeDecodeError as exc:
             raise ScenarioError(str(path), [f"not UTF-8 text: {exc}"]) from None
-    return parse_scenario(data, source=str(path), presets=presets)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -19,7 +19,6 @@ import copy
 import dataclasses
 import json
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +31,7 @@ from golden.firmware.ident import IdentParams
 from golden.control_config import scales
 from golden.plant.fluxmap import incremental_inductance, psi_from_current
 from golden.saturation_fit import EXPONENT_NAMES, fluxes, jacobian
-from golden.scenario import load_scenario, parse_scenario
+from golden.scenario import load_scenario, parse_scenario, read_toml
 
 HANDOVER_EMF = 2.0
 """Hand-over speed: the back-EMF is this many times the dead time's voltage ``t_d f_sw V_dc`` (the 002 paper's
@@ -49,8 +48,7 @@ SNR_MIN_SALIENCY = 2.0
 
 def run_scenario_dict(path: str | Path) -> dict:
     """The commissioning run's scenario tree from the scenario file ``path`` (module docstring)."""
-    with open(path, "rb") as f:
-        raw = tomllib.load(f)
+    raw = read_toml(path)
     sc0 = parse_scenario(raw, str(path))
     d = copy.deepcopy(raw)
     for key in ("faults", "reference"):
@@ -151,8 +149,7 @@ def saturation_check(sc, model: dict) -> list:
 
 def commissioned_scenario(path: str | Path, res, tune: dict) -> dict:
     """The scenario file's tree with the measured ``[model]`` and the tuned settings."""
-    with open(path, "rb") as f:
-        d = tomllib.load(f)
+    d = read_toml(path)
     v = res.values
     d["model"] = {"R_s": f"{v['R_s']:.6g} ohm", "L_d": f"{v['L_d']:.6g} H", "L_q": f"{v['L_q']:.6g} H",
                   "psi_f": f"{v.get('psi_f', 0.0):.6g} Wb", "J": f"{v['J']:.6g} kg*m^2",

@@ -338,6 +338,27 @@ def test_too_small_hf_amplitude_stops_with_its_reason(tmp_path):
         commission(_weak_scenario(tmp_path, "0.3 V"), tmp_path / "out", progress=False, backend=FAST)
 
 
+@pytest.mark.parametrize("table, words", [
+    ({"hf_voltage_max": "0.01 V"}, r"commission.probe_voltage: 0.005 V is below one voltage LSB \(0\.0\d+ V\) "
+                                   r"\(derived: half of hf_voltage_max at most\)"),
+    ({"hf_voltage_max": "1 mV", "probe_voltage": "10 V"}, r"commission.hf_voltage_max: 0.001 V is below one voltage LSB"),
+    ({"speed": "1e30 rpm"}, r"commission.speed: 1e\+30 r/min turns the spin's frame by .* of an electrical turn per "
+                            r"PWM period \(a quarter at most\)"),
+])
+def test_settings_the_program_cannot_hold_are_refused(tmp_path, table, words):
+    """Found by probing the command (2026-11-30): an HF amplitude below one voltage LSB divided by zero in the
+    probe's expected response, and a spin speed of 1e30 r/min wrapped the frame speed silently (the run "succeeded"
+    with J < 0). Refused, naming the key, before anything runs."""
+    from golden.commission import build_program, settings
+    from golden.scenario import load_scenario
+    path = _weak_scenario(tmp_path, "100 V")
+    text = path.read_text().replace('hf_voltage_max = "100 V"', "\n".join(f'{k} = "{v}"' for k, v in table.items()))
+    path.write_text(text)
+    sc = load_scenario(path)
+    with pytest.raises(ValueError, match=words):
+        build_program(sc, settings(sc))
+
+
 def test_hf_method_refused_writes_no_configuration(tmp_path, monkeypatch):
     """When the tuning finds the saliency signal below SNR_MIN_SALIENCY times the noise (forced here), the
     application's HF method (sqw_cic) is refused with the numbers: commission.json written, no commissioned.toml."""

@@ -1036,6 +1036,20 @@ def _check_dead_time(reader: _Reader) -> None:
                  f"({format_quantity(0.5 / f_sw, 's')} at pwm.f_sw = {format_quantity(f_sw, 'Hz')})")
 
 
+MAX_WINDOWS = 2_000_000
+"""The most PWM periods a run may have: a run keeps every window's record and every sample in memory (about 3 KB per
+window with 1 us oversampling), so 2 million is about 6 GB (400 s at 5 kHz)."""
+
+
+def _check_duration(reader: _Reader) -> None:
+    duration, f_sw = reader.get("scenario.duration"), reader.get("pwm.f_sw")
+    if duration is None or f_sw is None or duration * f_sw <= MAX_WINDOWS:
+        return
+    reader.error("scenario.duration", f"{duration:.6g} s is {duration * f_sw:.3g} PWM periods at "
+                 f"pwm.f_sw = {format_quantity(f_sw, 'Hz')}, more than {MAX_WINDOWS} (golden.scenario.MAX_WINDOWS: "
+                 "a run keeps every window in memory); split it")
+
+
 def _check_load_profiles(reader: _Reader) -> None:
     """The profile of the load mode is required; the other one would be silently ignored."""
     mode = reader.get("load.mode")
@@ -1202,6 +1216,7 @@ def parse_scenario(data: dict, source: str = "<dict>", presets: dict | None = No
     reader.require()
     plant = _build_plant(reader, presets)
     _check_dead_time(reader)
+    _check_duration(reader)
     _check_load_profiles(reader)
     _check_magnetics(reader, plant["mag"])
     _check_injection(reader, plant)

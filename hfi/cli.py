@@ -115,15 +115,34 @@ def cmd_methods(args) -> int:
     return 0
 
 
+def selection(text: str | None, option: str) -> list[str] | None:
+    """The names of a comma-separated ``--only``/``--systems`` value (None: the option not given, everything); a value
+    that names nothing (``""``, ``","``) is refused rather than read as everything or nothing."""
+    if text is None:
+        return None
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise ValueError(f"{option} {text!r} names nothing (leave the option out for all)")
+    return names
+
+
+def at_least_one(value: int | None, option: str) -> None:
+    if value is not None and value < 1:
+        raise ValueError(f"{option} {value}: expected at least 1")
+
+
 def cmd_paper(args) -> int:
     from hfi.reproduce import reproduce
-    names = [n for n in args.only.split(",") if n]
+    at_least_one(args.jobs, "--jobs")
+    names = selection(args.only, "--only") or []
     return 0 if reproduce(names, short=args.short, jobs=args.jobs, out=Path(args.out)) else 1
 
 
 def cmd_faults(args) -> int:
     from hfi.faults import main as fault_matrix   # imports matplotlib: only when needed
-    return fault_matrix(short=args.short, jobs=args.jobs, out=Path(args.out), only=args.only)
+    at_least_one(args.jobs, "--jobs")
+    only = selection(args.only, "--only")
+    return fault_matrix(short=args.short, jobs=args.jobs, out=Path(args.out), only=",".join(only or []))
 
 
 def cmd_commission(args) -> int:
@@ -146,8 +165,7 @@ def cmd_sweep(args) -> int:
     except SweepError as exc:
         print(f"hfi sweep: {exc}", file=sys.stderr)
         return 1
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers {args.workers}: expected at least 1")
+    at_least_one(args.workers, "--workers")
     out = Path(args.out) if args.out else ROOT / "out" / "sweep" / spec.name
     rows = sweep(spec, out, scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
     return 1 if any(r["error"] for r in rows) else 0
@@ -155,7 +173,8 @@ def cmd_sweep(args) -> int:
 
 def cmd_compare(args) -> int:
     from hfi.compare import SYSTEMS, compare   # imports Dask and matplotlib only when needed
-    systems = tuple(s for s in args.systems.split(",") if s) if args.systems else SYSTEMS
+    at_least_one(args.workers, "--workers")
+    systems = tuple(selection(args.systems, "--systems") or SYSTEMS)
     bad = [s for s in systems if s not in SYSTEMS]
     if bad:
         raise ValueError(f"--systems: unknown {', '.join(bad)} (valid: {', '.join(SYSTEMS)})")
@@ -212,7 +231,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--fst", metavar="FILE", help="rtl backend: write an FST waveform of the SoC to FILE")
     p.add_argument("--fst-window", nargs=2, type=float, metavar=("T0", "T1"), default=(0.0, 0.002),
-                   help="time span of the waveform [s] (default 0 0.002)")
+                   help="time span of the waveform [s] (default 0 0.002; T0 within the run, an end beyond it is "
+                        "the run's end)")
     p.add_argument("--every-block", action="store_true",
                    help="rtl backend: simulate the FPGA build with every optional block in (the boards' bitstreams) "
                         "instead of the scenario's system (only the blocks its methods need, docs/rtl.md "
@@ -236,7 +256,7 @@ def parser() -> argparse.ArgumentParser:
                        description="Run the figure groups of Benevieri et al. 2023 on the golden closed loop and "
                        "write metrics.json and plots; exit status 1 if a group fails its criterion.")
     p.add_argument("--short", action="store_true", help="test-suite lengths")
-    p.add_argument("--only", default="", metavar="GROUPS",
+    p.add_argument("--only", metavar="GROUPS",
                    help=f"comma-separated groups (default: all: {', '.join(GROUPS)})")
     p.add_argument("--jobs", type=int, default=2, help="parallel processes (default 2)")
     p.add_argument("--out", default=str(ROOT / "out" / "paper"), metavar="DIR",
@@ -251,7 +271,7 @@ def parser() -> argparse.ArgumentParser:
                        "ran away with the gates on or a healthy run tripped.")
     p.add_argument("--short", action="store_true", help="1 s runs instead of 1.6 s (the overload check needs 0.5 s "
                    "at the current limit: a blocked rotor may then go undetected)")
-    p.add_argument("--only", default="", metavar="ROWS", help="comma-separated row names (default: all)")
+    p.add_argument("--only", metavar="ROWS", help="comma-separated row names (default: all)")
     p.add_argument("--jobs", type=int, default=2, help="parallel processes (default 2)")
     p.add_argument("--out", default=str(ROOT / "out" / "faults"), metavar="DIR", help="output directory "
                    "(default out/faults)")

@@ -467,6 +467,7 @@ class RtlClosedLoop:
             keep.append(_sim_ffi.new("char[]", str(fst).encode()))
             setup.fst_path = keep[-1]
             t0, t1 = fst_window or (0.0, 0.002)
+            t1 = min(t1, sc.duration)                       # an end beyond the run (inf included): the run's end
             setup.fst_from_tick, setup.fst_to_tick = round(t0 * tick_hz), round(t1 * tick_hz)
         else:
             setup.fst_path = _sim_ffi.NULL

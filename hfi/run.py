@@ -52,7 +52,7 @@ def run_file(path: str, backend: str | None = None, out_dir: str | None = None, 
     every optional block in instead of the scenario's system (rtl backend only). Raises ScenarioError, OSError,
     ValueError (unknown backend, ``fst`` or ``every_block`` on another backend), PlantError, BackendError.
     """
-    backend = backend or default_backend()
+    backend = default_backend() if backend is None else backend
     backends.get(backend)
     if fst is not None and backend != "rtl":
         raise ValueError(f"an FST waveform needs the rtl backend (not {backend})")
@@ -61,6 +61,9 @@ def run_file(path: str, backend: str | None = None, out_dir: str | None = None, 
     if not fst_window[0] < fst_window[1]:
         raise ValueError(f"FST window {fst_window[0]} .. {fst_window[1]} s is empty")
     sc = load_scenario(path)
+    if fst is not None and not 0 <= fst_window[0] < sc.duration:
+        raise ValueError(f"FST window {fst_window[0]} .. {fst_window[1]} s: it must start within the run's "
+                         f"0 .. {sc.duration:g} s")
     out_dir = out_dir or sc.output.dir
     os.makedirs(out_dir, exist_ok=True)
     if sc.control is None:

@@ -197,6 +197,27 @@ def test_usage_errors_are_one_line_exit_1():
     assert proc.stderr.startswith("hfi paper: unknown group(s) fig99 (known: fig6_7, ")
 
 
+@pytest.mark.parametrize("argv, words", [
+    (["faults", "--only", ","], "hfi faults: --only ',' names nothing (leave the option out for all)"),
+    (["faults", "--jobs", "0"], "hfi faults: --jobs 0: expected at least 1"),
+    (["paper", "--only", " , "], "hfi paper: --only ' , ' names nothing"),
+    (["paper", "--jobs", "-2"], "hfi paper: --jobs -2: expected at least 1"),
+    (["compare", "--systems", ""], "hfi compare: --systems '' names nothing"),
+    (["compare", "--systems", "002", "--workers", "-1"], "hfi compare: --workers -1: expected at least 1"),
+    (["compare", "--systems", "002", "--workers", "0"], "hfi compare: --workers 0: expected at least 1"),
+    (["run", "scenarios/fullload_start.toml", "--backend", ""], "hfi run: unknown backend '' (valid: golden, rtl, hls)"),
+    (["run", "scenarios/fullload_start.toml", "--backend", "rtl", "--fst", "w.fst", "--fst-window", "3", "inf"],
+     "hfi run: FST window 3.0 .. inf s: it must start within the run's 0 .. 2.4 s"),
+])
+def test_arguments_that_name_nothing_or_no_process_are_refused(argv, words, capsys):
+    """Found by probing the command (2026-11-30): an empty selection ran everything or nothing, --workers -1 started a
+    cluster without workers and waited forever, --workers 0 meant all cores, --backend "" the default backend, and an
+    infinite FST window raised an OverflowError after the build. Each is one line now, before anything runs."""
+    assert cli.main(argv) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(words) and err.count("\n") == 1, err
+
+
 def test_bench_runs_the_four_benchmarks_of_make_bench():
     assert BENCH_SCRIPTS == ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls.py")
     assert sorted(p.name for p in (ROOT / "scripts").glob("bench_*.py")) == sorted(BENCH_SCRIPTS)

@@ -321,6 +321,17 @@ def test_dead_time_names_both_numbers():
         "pwm.dead_time: 50 us must be shorter than half the PWM period (50 us at pwm.f_sw = 10 kHz)"]
 
 
+def test_a_duration_beyond_the_memory_of_a_run_is_refused():
+    """Found by probing the command (2026-11-30): 1e12 s passed the check and failed allocating 35 PiB; 1e300 s gave
+    numpy's "Maximum allowed size exceeded" without the key. MAX_WINDOWS PWM periods are accepted, one more is not."""
+    assert problems({"scenario": {"duration": "1e12 s"}, "pwm": {"f_sw": "5 kHz"}}) == [
+        "scenario.duration: 1e+12 s is 5e+15 PWM periods at pwm.f_sw = 5 kHz, more than 2000000 "
+        "(golden.scenario.MAX_WINDOWS: a run keeps every window in memory); split it"]
+    scenario({"scenario": {"duration": "400 s"}, "pwm": {"f_sw": "5 kHz"}})          # exactly MAX_WINDOWS: accepted
+    assert problems({"scenario": {"duration": "400.001 s"}, "pwm": {"f_sw": "5 kHz"}})[0].startswith(
+        "scenario.duration: 400.001 s is 2e+06 PWM periods")
+
+
 def test_max_substep_shorter_than_a_tick():
     assert problems({"simulation": {"max_substep": "5 ns", "max_substep_commutation": 1e-9}}) == [
         "simulation.max_substep: 5 ns is shorter than one tick (10 ns at pwm.tick_hz = 100 MHz)",

@@ -20,6 +20,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 
 from golden.closedloop import ClosedLoop  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
+from hfi.argtypes import positive_finite  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -27,17 +28,14 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenario", default=os.path.join(HERE, "..", "scenarios", "fullload_start.toml"))
-    ap.add_argument("--duration", type=float, help="simulated seconds (default: the scenario's)")
+    ap.add_argument("--duration", type=positive_finite, help="simulated seconds (default: the scenario's)")
     args = ap.parse_args(argv)
     try:
         sc = load_scenario(args.scenario)
-    except ScenarioError as exc:
+    except (ScenarioError, OSError) as exc:
         print(f"bench_golden: {exc}", file=sys.stderr)
         return 1
     if args.duration is not None:
-        if args.duration <= 0:
-            print("bench_golden: --duration must be > 0", file=sys.stderr)
-            return 1
         sc.duration = args.duration
     cl = ClosedLoop(sc)
     plant_time = [0.0]

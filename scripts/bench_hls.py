@@ -26,6 +26,7 @@ import numpy as np  # noqa: E402
 
 from golden.closedloop import ClosedLoop  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
+from hfi.argtypes import positive_finite, positive_int  # noqa: E402
 from hfi.hls_backend import HlsBackendError, HlsClosedLoop  # noqa: E402
 from hfi.hls_build import HlsBuildError, build  # noqa: E402
 from hfi.rtl_backend import RtlBackendError, RtlClosedLoop  # noqa: E402
@@ -36,13 +37,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenario", default=os.path.join(HERE, "..", "scenarios", "fullload_start.toml"))
-    ap.add_argument("--duration", type=float, default=0.4, help="simulated seconds (default 0.4)")
-    ap.add_argument("--repeat", type=int, default=3, help="runs of the hls backend, best kept (default 3)")
+    ap.add_argument("--duration", type=positive_finite, default=0.4, help="simulated seconds (default 0.4)")
+    ap.add_argument("--repeat", type=positive_int, default=3, help="runs of the hls backend, best kept (default 3)")
     ap.add_argument("--no-rtl", action="store_true", help="skip the (slow) rtl backend")
     args = ap.parse_args(argv)
-    if not args.duration > 0 or args.repeat < 1:
-        print("bench_hls: --duration must be > 0 and --repeat >= 1", file=sys.stderr)
-        return 1
     try:
         sc = dataclasses.replace(load_scenario(args.scenario), duration=args.duration)
         build("loop")
@@ -50,7 +48,7 @@ def main(argv=None) -> int:
         if not args.no_rtl:
             runs["rtl"] = RtlClosedLoop(sc).run(progress=False)
         runs["hls"] = min((HlsClosedLoop(sc).run(progress=False) for _ in range(args.repeat)), key=lambda r: r.wall_s)
-    except (ScenarioError, RtlBackendError, HlsBackendError, HlsBuildError, ValueError) as exc:
+    except (ScenarioError, RtlBackendError, HlsBackendError, HlsBuildError, ValueError, OSError) as exc:
         print(f"bench_hls: {exc}", file=sys.stderr)
         return 1
     sim_s = float(runs["golden"].t[-1])

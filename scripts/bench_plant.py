@@ -27,6 +27,7 @@ import numpy as np  # noqa: E402
 from golden.openloop import PwmConfig, gate_edges, injection_compares  # noqa: E402
 from golden.plant import Plant, merge  # noqa: E402
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
+from hfi.argtypes import positive_finite  # noqa: E402
 
 SAMPLE_TICKS = 100  # 1 us oversampling: 200 samples per 5 kHz period
 
@@ -100,13 +101,17 @@ def main() -> int:
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenario", default=os.path.join(here, "..", "scenarios", "openloop_injection.toml"))
-    ap.add_argument("--seconds", type=float, default=2.0, help="simulated time for the batch benchmark")
-    ap.add_argument("--event-seconds", type=float, default=0.05, help="simulated time, per-event benchmark")
+    ap.add_argument("--seconds", type=positive_finite, default=2.0, help="simulated time for the batch benchmark")
+    ap.add_argument("--event-seconds", type=positive_finite, default=0.05, help="simulated time, per-event benchmark")
     args = ap.parse_args()
     try:
         scn = load_scenario(args.scenario)
     except (ScenarioError, OSError) as exc:
         print(f"bench_plant: {exc}", file=sys.stderr)
+        return 1
+    if min(args.seconds, args.event_seconds) < 1 / scn.pwm.f_sw:
+        print(f"bench_plant: --seconds and --event-seconds must be at least one PWM period ({1 / scn.pwm.f_sw:g} s)",
+              file=sys.stderr)
         return 1
     print(f"scenario: {scn.name}; f_sw {scn.pwm.f_sw:g} Hz, dead time {scn.pwm.dead_time * 1e6:g} us, "
           f"{int(scn.pwm.tick_hz / scn.pwm.f_sw / SAMPLE_TICKS)} samples/period, "

@@ -23,6 +23,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
+from hfi.argtypes import positive_finite  # noqa: E402
 from hfi.rtl_backend import EVERY_BLOCK, RtlBackendError, RtlClosedLoop  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -31,17 +32,14 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenario", default=os.path.join(HERE, "..", "scenarios", "fullload_start.toml"))
-    ap.add_argument("--duration", type=float, default=0.2, help="simulated seconds (default 0.2)")
+    ap.add_argument("--duration", type=positive_finite, default=0.2, help="simulated seconds (default 0.2)")
     args = ap.parse_args(argv)
-    if not args.duration > 0:
-        print("bench_rtl: --duration must be > 0", file=sys.stderr)
-        return 1
     try:
         sc = dataclasses.replace(load_scenario(args.scenario), duration=args.duration)
         # the builds are not timed: a run's wall_s is its co-simulation's
         runs = {"every block": RtlClosedLoop(sc).run(progress=False, options=EVERY_BLOCK),
                 "the scenario's system": RtlClosedLoop(sc).run(progress=False)}
-    except (ScenarioError, RtlBackendError, ValueError) as exc:
+    except (ScenarioError, RtlBackendError, ValueError, OSError) as exc:
         print(f"bench_rtl: {exc}", file=sys.stderr)
         return 1
     for name, res in runs.items():

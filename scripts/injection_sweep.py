@@ -20,19 +20,27 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from golden.scenario import load_scenario  # noqa: E402
-from hfi.backends import run  # noqa: E402
+from hfi.argtypes import positive_finite, positive_int  # noqa: E402
+from hfi.backends import BackendError, run  # noqa: E402
+from hfi.cli import one_line  # noqa: E402
 from hfi.report import metrics_of  # noqa: E402
 
 
 def main() -> int:
+    try:
+        return sweep()
+    except (ValueError, OSError, BackendError) as exc:     # a scenario file, a value its run refuses, a backend
+        print(f"injection_sweep: {one_line(exc)}", file=sys.stderr)
+        return 2
+
+
+def sweep() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("scenarios", nargs="+")
-    ap.add_argument("--volts", type=float, nargs="+", required=True, help="amplitudes to try [V]")
-    ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--volts", type=positive_finite, nargs="+", required=True, help="amplitudes to try [V]")
+    ap.add_argument("--seeds", type=positive_int, default=3)
     ap.add_argument("--backend", default="golden")
     args = ap.parse_args()
-    if any(not v > 0 for v in args.volts):
-        ap.error("every amplitude must be positive")
     ok_all = []
     for volts in sorted(args.volts, reverse=True):
         lost_any = False

@@ -2,7 +2,7 @@
 """Lock losses over random seeds and initial rotor angles (issue 14): every scenario given, N seeds each,
 on one backend (default hls, the fastest). Prints one line per run (seed, initial angle, locked, estimator
 switches, the firmware's first fault code, worst plateau speed error) and the count of lock losses and of
-runs with a fault; exit status 1 if any run lost lock or tripped.
+runs with a fault; exit status 1 if any run lost lock or tripped, 2 on an input it cannot run (one line).
 
 Usage: scripts/seed_sweep.py SCENARIO.toml... [--seeds 10] [--backend hls] [--window T0 T1]...
 
@@ -25,14 +25,24 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 
 from golden.firmware.protection import FAULT_NAMES  # noqa: E402
 from golden.scenario import load_scenario  # noqa: E402
-from hfi.backends import run  # noqa: E402
+from hfi.argtypes import positive_int  # noqa: E402
+from hfi.backends import BackendError, run  # noqa: E402
+from hfi.cli import one_line  # noqa: E402
 from hfi.report import metrics_of  # noqa: E402
 
 
 def main() -> int:
+    try:
+        return sweep()
+    except (ValueError, OSError, BackendError) as exc:     # a scenario file, a value its run refuses, a backend
+        print(f"seed_sweep: {one_line(exc)}", file=sys.stderr)
+        return 2
+
+
+def sweep() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("scenarios", nargs="+")
-    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--seeds", type=positive_int, default=10)
     ap.add_argument("--backend", default="hls")
     ap.add_argument("--window", nargs=2, type=float, action="append", default=[], metavar=("T0", "T1"))
     args = ap.parse_args()

@@ -218,6 +218,20 @@ def test_arguments_that_name_nothing_or_no_process_are_refused(argv, words, caps
     assert err.startswith(words) and err.count("\n") == 1, err
 
 
+def test_argument_types_refuse_what_no_run_can_use():
+    import argparse
+
+    from hfi.argtypes import positive_finite, positive_int
+    assert positive_finite("0.25") == 0.25 and positive_int("3") == 3
+    for bad, words in (("nan", "'nan': expected a finite number > 0"), ("inf", "'inf': expected a finite number > 0"),
+                       ("0", "'0': expected a finite number > 0"), ("x", "'x' is not a number")):
+        with pytest.raises(argparse.ArgumentTypeError, match=words):
+            positive_finite(bad)
+    for bad, words in (("0", "'0': expected an integer >= 1"), ("1.5", "'1.5' is not an integer")):
+        with pytest.raises(argparse.ArgumentTypeError, match=words):
+            positive_int(bad)
+
+
 def test_bench_runs_the_four_benchmarks_of_make_bench():
     assert BENCH_SCRIPTS == ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls.py")
     assert sorted(p.name for p in (ROOT / "scripts").glob("bench_*.py")) == sorted(BENCH_SCRIPTS)

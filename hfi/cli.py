@@ -329,6 +329,16 @@ def parser() -> argparse.ArgumentParser:
     return ap
 
 
+def run_script(prog: str, body) -> int:
+    """A script's entry point: ``body()``'s exit status, or 2 with one line ``prog: message`` for what a command
+    reports as one line (:data:`ERRORS`: a scenario file, a value its run refuses, a backend)."""
+    try:
+        return body()
+    except ERRORS as exc:
+        print(f"{prog}: {one_line(exc)}", file=sys.stderr)
+        return 2
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``hfi`` console script; returns the exit status."""
     args = parser().parse_args(argv)

@@ -26,17 +26,13 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from golden.firmware.protection import FAULT_NAMES  # noqa: E402
 from golden.scenario import load_scenario  # noqa: E402
 from hfi.argtypes import positive_int  # noqa: E402
-from hfi.backends import BackendError, run  # noqa: E402
-from hfi.cli import one_line  # noqa: E402
+from hfi.backends import run  # noqa: E402
+from hfi.cli import run_script  # noqa: E402
 from hfi.report import metrics_of  # noqa: E402
 
 
 def main() -> int:
-    try:
-        return sweep()
-    except (ValueError, OSError, BackendError) as exc:     # a scenario file, a value its run refuses, a backend
-        print(f"seed_sweep: {one_line(exc)}", file=sys.stderr)
-        return 2
+    return run_script("seed_sweep", sweep)
 
 
 def sweep() -> int:

@@ -232,6 +232,14 @@ def test_argument_types_refuse_what_no_run_can_use():
             positive_int(bad)
 
 
+def test_a_script_reports_an_input_it_cannot_run_in_one_line(capsys):
+    def refuse():
+        raise ValueError("V_H = 58514286 is outside\n0..32767")
+    assert cli.run_script("injection_sweep", refuse) == 2
+    assert capsys.readouterr().err == "injection_sweep: V_H = 58514286 is outside 0..32767\n"
+    assert cli.run_script("seed_sweep", lambda: 1) == 1
+
+
 def test_bench_runs_the_four_benchmarks_of_make_bench():
     assert BENCH_SCRIPTS == ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls.py")
     assert sorted(p.name for p in (ROOT / "scripts").glob("bench_*.py")) == sorted(BENCH_SCRIPTS)

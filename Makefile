@@ -90,7 +90,7 @@ fuzz: setup
 	$(ENV) FUZZ_TRANSACTIONS=$(FUZZ_TRANSACTIONS) $(if $(FUZZ_SEED),FUZZ_SEED=$(FUZZ_SEED)) \
 	    .venv/bin/python -m pytest -q -s -p no:cacheprovider cocotb_tests/test_reg_fuzz.py cocotb_tests/test_soc_bus_fuzz.py
 
-# Register maps: rtl/regs/hfi_regs.rdl and hfi_soc.rdl -> C headers, golden/regmap.py + socmap.py, docs, Verilog constants.
+# Register maps: rtl/regs/hfi_regs.rdl, hfi_soc.rdl and hfi_acc.rdl -> C headers, golden/regmap.py, socmap.py + accmap.py, docs, Verilog constants.
 .PHONY: regs
 regs: setup
 	$(ENV) .venv/bin/python scripts/gen_regs.py

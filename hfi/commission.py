@@ -10,7 +10,8 @@ the plant's truth and writes:
 * ``commission.json``: for each quantity ``measured``, ``truth``, ``rel_error``, plus the tuning;
 * ``commissioned.toml``: the scenario with the measured ``[model]``, the tuned ``injection.V_h`` and the
   hand-over speeds, which every other command takes;
-* ``commission_scan.png``, ``commission_map.png``, ``commission_lf.png`` (magnets only), ``commission_spin.png``.
+* ``commission_scan.png``, ``commission_map.png``, ``commission_lf.png`` (when the stage lf ran),
+  ``commission_spin.png``, ``commission_saturation.png`` (a reluctance machine).
 """
 
 from __future__ import annotations

@@ -24,6 +24,7 @@ from pathlib import Path
 from golden.firmware.estimator import INJ_NONE, INJ_ROT, INJ_SQW_D, INJ_SQW_P, METHODS, SLOT_HIGH, SLOT_LOW
 from golden.scenario import ScenarioError, load_scenario
 from hfi import backends
+from hfi.argtypes import positive_int
 from hfi.paper import BASE as DEFAULT_SCENARIO
 from hfi.paper import ROOT
 from hfi.paper_groups import GROUPS
@@ -31,15 +32,14 @@ from hfi.paper_groups import GROUPS
 ERRORS = (ValueError, OSError, backends.BackendError)
 """What a command reports as one line (ScenarioError and PlantError are ValueErrors)."""
 
-BENCH_SCRIPTS = ("bench_plant.py", "bench_golden.py", "bench_rtl.py", "bench_hls.py")
-"""``hfi bench``: the benchmarks of ``scripts/``, in this order (as ``make bench``)."""
-
 BENCH_TARGETS = {"bench_plant.py": ("the plant alone, x real time", None),
                  "bench_golden.py": ("golden backend, x real time", 1.0),
                  "bench_rtl.py": ("rtl backend, M clocks/s", 5.0),
                  "bench_hls.py": ("hls backend, x real time", 10.0)}
-"""Per benchmark: what its last line (``name: value``) measures and the issue's target (issue 21; None: no
-target, the plant is the hls backend's bound)."""
+"""``hfi bench``: the benchmarks of ``scripts/``, in this order (as ``make bench``), each with what its last line
+(``name: value``) measures and the issue's target (issue 21; None: no target, the plant is the hls backend's bound)."""
+
+BENCH_SCRIPTS = tuple(BENCH_TARGETS)
 
 SLOT_NAMES = {SLOT_LOW: "low", SLOT_HIGH: "high"}
 INJECTION_NAMES = {INJ_NONE: "none", INJ_SQW_D: "square wave on d_hat at f_sw",
@@ -126,21 +126,14 @@ def selection(text: str | None, option: str) -> list[str] | None:
     return names
 
 
-def at_least_one(value: int | None, option: str) -> None:
-    if value is not None and value < 1:
-        raise ValueError(f"{option} {value}: expected at least 1")
-
-
 def cmd_paper(args) -> int:
     from hfi.reproduce import reproduce
-    at_least_one(args.jobs, "--jobs")
     names = selection(args.only, "--only") or []
     return 0 if reproduce(names, short=args.short, jobs=args.jobs, out=Path(args.out)) else 1
 
 
 def cmd_faults(args) -> int:
     from hfi.faults import main as fault_matrix   # imports matplotlib: only when needed
-    at_least_one(args.jobs, "--jobs")
     only = selection(args.only, "--only")
     return fault_matrix(short=args.short, jobs=args.jobs, out=Path(args.out), only=",".join(only or []))
 
@@ -165,7 +158,6 @@ def cmd_sweep(args) -> int:
     except SweepError as exc:
         print(f"hfi sweep: {exc}", file=sys.stderr)
         return 1
-    at_least_one(args.workers, "--workers")
     out = Path(args.out) if args.out else ROOT / "out" / "sweep" / spec.name
     rows = sweep(spec, out, scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
     return 1 if any(r["error"] for r in rows) else 0
@@ -173,13 +165,10 @@ def cmd_sweep(args) -> int:
 
 def cmd_compare(args) -> int:
     from hfi.compare import SYSTEMS, compare   # imports Dask and matplotlib only when needed
-    at_least_one(args.workers, "--workers")
     systems = tuple(selection(args.systems, "--systems") or SYSTEMS)
     bad = [s for s in systems if s not in SYSTEMS]
     if bad:
         raise ValueError(f"--systems: unknown {', '.join(bad)} (valid: {', '.join(SYSTEMS)})")
-    if args.seeds is not None and args.seeds < 1:
-        raise ValueError(f"--seeds {args.seeds}: expected at least 1")
     compare(Path(args.out), systems, seeds=args.seeds, scheduler=args.scheduler, workers=args.workers,
             progress=not args.quiet, firmware_cost=not args.no_cost)
     return 0
@@ -258,7 +247,7 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--short", action="store_true", help="test-suite lengths")
     p.add_argument("--only", metavar="GROUPS",
                    help=f"comma-separated groups (default: all: {', '.join(GROUPS)})")
-    p.add_argument("--jobs", type=int, default=2, help="parallel processes (default 2)")
+    p.add_argument("--jobs", type=positive_int, default=2, help="parallel processes (default 2)")
     p.add_argument("--out", default=str(ROOT / "out" / "paper"), metavar="DIR",
                    help="output directory (default out/paper)")
     p.set_defaults(func=cmd_paper)
@@ -272,7 +261,7 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--short", action="store_true", help="1 s runs instead of 1.6 s (the overload check needs 0.5 s "
                    "at the current limit: a blocked rotor may then go undetected)")
     p.add_argument("--only", metavar="ROWS", help="comma-separated row names (default: all)")
-    p.add_argument("--jobs", type=int, default=2, help="parallel processes (default 2)")
+    p.add_argument("--jobs", type=positive_int, default=2, help="parallel processes (default 2)")
     p.add_argument("--out", default=str(ROOT / "out" / "faults"), metavar="DIR", help="output directory "
                    "(default out/faults)")
     p.set_defaults(func=cmd_faults)
@@ -300,7 +289,7 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("spec", metavar="SPEC", help="sweep spec (TOML, docs/sweep.md)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a local cluster "
                    "with one single-threaded worker process per core)")
-    p.add_argument("--workers", type=int, metavar="N", help="local cluster's worker processes (default: the cores)")
+    p.add_argument("--workers", type=positive_int, metavar="N", help="local cluster's worker processes (default: the cores)")
     p.add_argument("--out", metavar="DIR", help="output directory (default out/sweep/<name>)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_sweep)
@@ -311,10 +300,10 @@ def parser() -> argparse.ArgumentParser:
                        "second call only reports), measure each system's firmware clocks per step on the rtl "
                        "backend (cached likewise), and write report.md, angle_vs_load.png, ripple_vs_load.png, "
                        "sensitivity.png, results.csv and costs.json.")
-    p.add_argument("--seeds", type=int, metavar="N", help="seeds per point (default: the specs' 20)")
+    p.add_argument("--seeds", type=positive_int, metavar="N", help="seeds per point (default: the specs' 20)")
     p.add_argument("--systems", metavar="IDS", help="comma-separated systems (default: all, hfi.compare.SYSTEMS)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a local cluster)")
-    p.add_argument("--workers", type=int, metavar="N", help="local cluster's worker processes (default: the cores)")
+    p.add_argument("--workers", type=positive_int, metavar="N", help="local cluster's worker processes (default: the cores)")
     p.add_argument("--out", default=str(ROOT / "out" / "compare"), metavar="DIR", help="output directory "
                    "(default out/compare)")
     p.add_argument("--no-cost", action="store_true", help="leave out the firmware and FPGA cost (the rtl "

@@ -115,12 +115,12 @@ _warned_fallback = False
 
 def cpu_source(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
                prediction: str = soc_platform.CPU_PREDICTION) -> Path:
-    """The soft core's Verilog: VexRiscv generated with ``icache_bytes`` of instruction cache and the branch
-    predictor ``prediction`` (hfi/vexriscv_gen.py; ``make setup`` generates the default one). Without it (a
-    machine where the generator cannot run: no JDK or Maven Central) the package's ``VexRiscv.v``, the same
-    core with a 4 KiB instruction cache and static prediction: every value is the same, the firmware's cycles
-    are those of docs/soc.md's 4 KiB column; said once on stderr, and ``cpu_core`` of the run's ``soc``
-    metrics names the core."""
+    """The soft core's Verilog: VexRiscv generated with ``icache_bytes`` of instruction cache, the branch
+    predictor ``prediction`` and the CFU port (hfi/vexriscv_gen.py; ``make setup`` generates the default
+    one). Without it (a machine where the generator cannot run: no JDK or Maven Central) the package's
+    ``VexRiscv_FullCfu.v`` (LiteX's ``full+cfu``: the same ports, a 4 KiB instruction cache): every value is
+    the same, the firmware's cycles are not those of docs/soc.md; said once on stderr, and ``cpu_core`` of the
+    run's ``soc`` metrics names the core."""
     global _warned_fallback
     from hfi import vexriscv_gen
 
@@ -129,11 +129,10 @@ def cpu_source(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
         return path
     if not _warned_fallback:
         print(f"hfi: {path} is missing (`make setup` generates it; it needs a JDK and Maven Central): the SoC "
-              f"runs the package's {soc_platform.CPU_VARIANT} with a 4 KiB instruction cache and static branch "
-              f"prediction instead",
+              f"runs the package's {vexriscv_gen.CFU_VARIANT} with a 4 KiB instruction cache instead",
               file=sys.stderr)
         _warned_fallback = True
-    return _package_file(soc_platform.CPU_PACKAGE, soc_platform.CPU_VARIANT)
+    return _package_file(soc_platform.CPU_PACKAGE, vexriscv_gen.CFU_VARIANT)
 
 
 def picorv32_source() -> Path:

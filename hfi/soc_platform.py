@@ -83,6 +83,15 @@ stage) takes 5-12 % fewer clocks per control step on average than ``static`` (3-
 the firmware's saturations and mode tests are branches a static rule mispredicts) for 236 LUT4, 243 FF and
 3 DP16KD more, with the core's Fmax unchanged (docs/soc.md, "Branch prediction"); both boards build it (a
 board may build another: ``Board.prediction`` in scripts/bitstream.py)."""
+CPU_CFU = True
+"""The core has LiteX's CFU port (``GenCoreDefault --cfu true``, as the package's ``VexRiscv_FullCfu.v``): the
+custom-0 instructions of the fixed-point unit rtl/hfi_cfu.v (docs/soc.md, "The fixed-point instructions")."""
+CFU_OPCODE = 0x0B
+"""Major opcode of the fixed-point instructions: RISC-V custom-0, R-type, as LiteX's CFU port decodes it
+(``function_id = {funct7, funct3}``)."""
+CFU_OPS = {"MUL": 0, "MAC": 1, "MSU": 2, "ADD": 3, "RND": 4, "FLR": 5, "SET": 6}
+"""funct3 of each fixed-point instruction (hfi/cfu.py gives each one's arithmetic; funct7 holds the shift
+``k``, 0..63); funct3 7 is reserved (answers 0, leaves the accumulator)."""
 CPU_DCACHE_BYTES = 4096
 """Data cache of the core (the package's configuration, which the generator keeps): direct-mapped, so data
 this far apart shares a line (scripts/fw_profile.py reports its refills per object)."""

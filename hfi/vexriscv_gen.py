@@ -6,7 +6,8 @@ cache; the control step's code (6-14 KiB per method) does not fit it, and refill
 every step. The core's own generator (``vexriscv.GenCoreDefault``, the program LiteX runs to make the
 package's files) takes the cache size as an option, so the project runs it instead of changing any
 Verilog: the same configuration as the package's ``VexRiscv.v`` (RV32IM, 4 KiB data cache, the same
-ports), only ``--iCacheSize`` and ``--prediction`` differ.
+ports), only ``--iCacheSize``, ``--prediction`` and ``--cfu`` differ (``--cfu true`` adds the CFU port of LiteX's
+``full+cfu`` cores, the package's ``VexRiscv_FullCfu.v``: custom-0 instructions answered by rtl/hfi_cfu.v).
 
 How, without sbt (whose plug-in repository is not reachable here): the Scala sources are copied from the
 installed package; Maven fetches the compiler and SpinalHDL from Maven Central (Scala 2.11.12 with
@@ -16,8 +17,8 @@ compiles the same sources unchanged); ``scalac`` compiles the library, then the 
 generator writes ``out/cpu/<name>.v``. Needs ``java`` (17 tested) and ``mvn`` (scripts/setup.sh installs
 them when missing); about one minute and 63 MB of downloads the first time, cached in ``out/cpu/cache``.
 
-    python -m hfi.vexriscv_gen [--icache BYTES] [--prediction KIND]
-                                    (defaults: soc_platform.CPU_ICACHE_BYTES, CPU_PREDICTION)
+    python -m hfi.vexriscv_gen [--icache BYTES] [--prediction KIND] [--cfu | --no-cfu]
+                                    (defaults: soc_platform.CPU_ICACHE_BYTES, CPU_PREDICTION, CPU_CFU)
 """
 
 from __future__ import annotations
@@ -60,19 +61,24 @@ class CoreGenError(RuntimeError):
     """The core could not be generated (a tool missing, a download or compile failure)."""
 
 
+CFU_VARIANT = "VexRiscv_FullCfu.v"
+"""The package's core with the CFU port (LiteX ``full+cfu``), whose port the generated one must match."""
+
 PREDICTIONS = ("none", "static", "dynamic", "dynamic_target")
 """The generator's branch predictors (``GenCoreDefault --prediction``); the package's files are ``static``."""
 
 
-def core_name(icache_bytes: int, prediction: str) -> str:
-    """File stem of the generated core with this instruction cache and branch prediction (module name stays
-    ``VexRiscv``): ``VexRiscv_I16K`` for the package's static prediction, ``VexRiscv_I16K_dynamic_target``."""
-    return f"VexRiscv_I{icache_bytes // 1024}K" + ("" if prediction == "static" else f"_{prediction}")
+def core_name(icache_bytes: int, prediction: str, cfu: bool = False) -> str:
+    """File stem of the generated core with this instruction cache, branch prediction and CFU port (module
+    name stays ``VexRiscv``): ``VexRiscv_I16K`` for the package's static prediction,
+    ``VexRiscv_I16K_dynamic_target``, ``VexRiscv_I16K_dynamic_target_cfu``."""
+    return (f"VexRiscv_I{icache_bytes // 1024}K" + ("" if prediction == "static" else f"_{prediction}")
+            + ("_cfu" if cfu else ""))
 
 
 def core_path(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
-              prediction: str = soc_platform.CPU_PREDICTION) -> Path:
-    return OUT / f"{core_name(icache_bytes, prediction)}.v"
+              prediction: str = soc_platform.CPU_PREDICTION, cfu: bool = soc_platform.CPU_CFU) -> Path:
+    return OUT / f"{core_name(icache_bytes, prediction, cfu)}.v"
 
 
 def _package_dir() -> Path:
@@ -94,21 +100,28 @@ def _run(cmd: list[str], what: str, cwd: Path | None = None) -> None:
     print(f"[vexriscv] {what}: {time.monotonic() - t0:.0f} s", flush=True)
 
 
-def _ports(verilog: Path) -> str:
+CFU_PORT = "CfuPlugin_bus_"
+"""Prefix of the CFU port's signals (the package's ``VexRiscv_FullCfu.v``)."""
+
+
+def _ports(verilog: Path, cfu: bool | None = None) -> list[str]:
+    """The port lines of ``verilog``'s module ``VexRiscv``: all of them, or only those of the CFU port
+    (``cfu`` True) or only the others (False)."""
     text = verilog.read_text()
     start = text.index("module VexRiscv (")
-    return text[start:text.index(");", start)]
+    lines = [ln.strip() for ln in text[start:text.index(");", start)].splitlines()[1:]]
+    return [ln for ln in lines if cfu is None or (CFU_PORT in ln) == cfu]
 
 
 def generate(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
-             prediction: str = soc_platform.CPU_PREDICTION) -> Path:
-    """Generate (once) the core with ``icache_bytes`` of instruction cache and the branch predictor
-    ``prediction``; returns its Verilog."""
+             prediction: str = soc_platform.CPU_PREDICTION, cfu: bool = soc_platform.CPU_CFU) -> Path:
+    """Generate (once) the core with ``icache_bytes`` of instruction cache, the branch predictor
+    ``prediction`` and (``cfu``) the CFU port; returns its Verilog."""
     if icache_bytes < 1024 or icache_bytes & (icache_bytes - 1):
         raise CoreGenError(f"instruction cache of {icache_bytes} bytes: a power of two >= 1024 is required")
     if prediction not in PREDICTIONS:
         raise CoreGenError(f"branch prediction {prediction!r}: one of {', '.join(PREDICTIONS)} is required")
-    out = core_path(icache_bytes, prediction)
+    out = core_path(icache_bytes, prediction, cfu)
     if out.is_file():
         return out
     for tool in ("java", "mvn"):
@@ -142,13 +155,15 @@ def generate(icache_bytes: int = soc_platform.CPU_ICACHE_BYTES,
         (classes / ".done").touch()
     work = CACHE / "gen"
     work.mkdir(exist_ok=True)
-    name = core_name(icache_bytes, prediction)
+    name = core_name(icache_bytes, prediction, cfu)
     _run(["java", *JAVA_OPTS, "-cp", f"{classes / 'gen'}:{classes / 'vex'}:{libs}", "vexriscv.GenCoreDefault",
-          "--iCacheSize", str(icache_bytes), "--prediction", prediction, "--outputFile", name], f"generate {name}",
-         cwd=work)
+          "--iCacheSize", str(icache_bytes), "--prediction", prediction, "--cfu", "true" if cfu else "false",
+          "--outputFile", name], f"generate {name}", cwd=work)
     made = work / f"{name}.v"
-    if _ports(made) != _ports(pkg / soc_platform.CPU_VARIANT):
+    if _ports(made, False) != _ports(pkg / soc_platform.CPU_VARIANT):
         raise CoreGenError(f"{made}: its ports differ from the package's {soc_platform.CPU_VARIANT}")
+    if _ports(made, True) != (_ports(pkg / CFU_VARIANT, True) if cfu else []):
+        raise CoreGenError(f"{made}: its CFU port differs from the package's {CFU_VARIANT}")
     OUT.mkdir(parents=True, exist_ok=True)
     tmp = out.with_suffix(".v.tmp")
     shutil.copyfile(made, tmp)
@@ -162,9 +177,11 @@ def main(argv: list[str] | None = None) -> int:
                     help=f"instruction cache bytes (default {soc_platform.CPU_ICACHE_BYTES})")
     ap.add_argument("--prediction", choices=PREDICTIONS, default=soc_platform.CPU_PREDICTION,
                     help=f"branch prediction (default {soc_platform.CPU_PREDICTION})")
+    ap.add_argument("--cfu", action=argparse.BooleanOptionalAction, default=soc_platform.CPU_CFU,
+                    help=f"the CFU port for hfi_cfu (default {soc_platform.CPU_CFU})")
     args = ap.parse_args(argv)
     try:
-        print(generate(args.icache, args.prediction))
+        print(generate(args.icache, args.prediction, args.cfu))
     except CoreGenError as e:
         print(f"vexriscv_gen: {e}", file=sys.stderr)
         return 1

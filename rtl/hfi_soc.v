@@ -90,6 +90,9 @@ module hfi_soc #(
     wire        d_ack;
     wire [31:0] ram_idat;
     wire        dsp_irq, irq_cpu;
+    wire        cfu_cmd_valid, cfu_cmd_ready, cfu_rsp_valid, cfu_rsp_ready;
+    wire [9:0]  cfu_function_id;
+    wire [31:0] cfu_in0, cfu_in1, cfu_out;
 
     VexRiscv u_cpu (
         .clk(cpu_clk), .reset(rst_cpu),
@@ -101,7 +104,17 @@ module hfi_soc #(
         .iBusWishbone_SEL(i_sel), .iBusWishbone_ERR(i_err), .iBusWishbone_CTI(i_cti), .iBusWishbone_BTE(i_bte),
         .dBusWishbone_CYC(d_cyc), .dBusWishbone_STB(d_stb), .dBusWishbone_ACK(d_ack), .dBusWishbone_WE(d_we),
         .dBusWishbone_ADR(d_adr), .dBusWishbone_DAT_MISO(d_rdat), .dBusWishbone_DAT_MOSI(d_wdat),
-        .dBusWishbone_SEL(d_sel), .dBusWishbone_ERR(1'b0), .dBusWishbone_CTI(d_cti), .dBusWishbone_BTE(d_bte)
+        .dBusWishbone_SEL(d_sel), .dBusWishbone_ERR(1'b0), .dBusWishbone_CTI(d_cti), .dBusWishbone_BTE(d_bte),
+        .CfuPlugin_bus_cmd_valid(cfu_cmd_valid), .CfuPlugin_bus_cmd_ready(cfu_cmd_ready),
+        .CfuPlugin_bus_cmd_payload_function_id(cfu_function_id), .CfuPlugin_bus_cmd_payload_inputs_0(cfu_in0),
+        .CfuPlugin_bus_cmd_payload_inputs_1(cfu_in1), .CfuPlugin_bus_rsp_valid(cfu_rsp_valid),
+        .CfuPlugin_bus_rsp_ready(cfu_rsp_ready), .CfuPlugin_bus_rsp_payload_outputs_0(cfu_out)
+    );
+    // the fixed-point instructions (custom-0) of the core's CFU port (hfi/cfu.py, docs/soc.md)
+    hfi_cfu u_cfu (
+        .clk(cpu_clk), .rst(rst_cpu), .cmd_valid(cfu_cmd_valid), .cmd_ready(cfu_cmd_ready),
+        .cmd_function_id(cfu_function_id), .cmd_inputs_0(cfu_in0), .cmd_inputs_1(cfu_in1),
+        .rsp_valid(cfu_rsp_valid), .rsp_ready(cfu_rsp_ready), .rsp_outputs_0(cfu_out)
     );
     hfi_cdc_sync u_irq_sync (.clk(cpu_clk), .d(dsp_irq), .q(irq_cpu));
 

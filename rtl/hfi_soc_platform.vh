@@ -14,4 +14,11 @@
 `define HFI_SOC_DEAD_MIN 50           // default DEAD_MIN (golden.fpga.gate_generator)
 `define HFI_SOC_IRQ_LATENCY 400       // default IRQ_LATENCY
 `define HFI_SOC_OS_MIN 40             // default OS_MIN (golden.fpga.adc_trigger)
+`define HFI_CFU_MUL 3'd0              // funct3 of the fixed-point instruction MUL (hfi/cfu.py)
+`define HFI_CFU_MAC 3'd1              // funct3 of the fixed-point instruction MAC (hfi/cfu.py)
+`define HFI_CFU_MSU 3'd2              // funct3 of the fixed-point instruction MSU (hfi/cfu.py)
+`define HFI_CFU_ADD 3'd3              // funct3 of the fixed-point instruction ADD (hfi/cfu.py)
+`define HFI_CFU_RND 3'd4              // funct3 of the fixed-point instruction RND (hfi/cfu.py)
+`define HFI_CFU_FLR 3'd5              // funct3 of the fixed-point instruction FLR (hfi/cfu.py)
+`define HFI_CFU_SET 3'd6              // funct3 of the fixed-point instruction SET (hfi/cfu.py)
 `endif

@@ -107,6 +107,8 @@ def render_header() -> str:
         f"#define HFI_SOC_ACC_BASE 0x{sp.ACC_BASE:08X}u   /* accelerators hfi_soc_acc (hfi_acc_regs.h offsets) */",
         f"#define HFI_SOC_IRQ_WINDOW {sp.IRQ_WINDOW}u       /* external interrupt line of the window interrupt */",
         f"#define HFI_SOC_PIN_LATENCY {sp.PIN_LATENCY}      /* hfi_dsp pins show tick t in clock t + this */",
+        f"#define HFI_CFU_OPCODE 0x{sp.CFU_OPCODE:02X}        /* the fixed-point instructions (hfi/cfu.py): custom-0 */",
+        *(f"#define HFI_CFU_{name} {f3}" for name, f3 in sp.CFU_OPS.items()),
         "",
         "#endif",
         ""])
@@ -225,6 +227,8 @@ def render_verilog() -> str:
         ("HFI_SOC_DEAD_MIN", str(sp.DEAD_MIN), "default DEAD_MIN (golden.fpga.gate_generator)"),
         ("HFI_SOC_IRQ_LATENCY", str(sp.IRQ_LATENCY), "default IRQ_LATENCY"),
         ("HFI_SOC_OS_MIN", str(sp.OS_MIN), "default OS_MIN (golden.fpga.adc_trigger)"),
+        *((f"HFI_CFU_{name}", f"3'd{f3}", f"funct3 of the fixed-point instruction {name} (hfi/cfu.py)")
+          for name, f3 in sp.CFU_OPS.items()),
     ]
     width = max(len(n) + len(v) for n, v, _ in defs) + 1
     lines = [f"// {GENERATED}",

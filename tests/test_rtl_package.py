@@ -16,7 +16,7 @@ CORE = ROOT / "hfi_dsp.core"
 
 SOC_FILES = {"rtl/hfi_soc.v", "rtl/hfi_soc_ctl.v", "rtl/hfi_ram.v", "rtl/hfi_uart_tx.v", "rtl/regs/hfi_soc_map.vh",
              "rtl/hfi_soc_platform.vh", "rtl/hfi_cdc_bus.v", "rtl/hfi_soc_acc.v", "rtl/hfi_flux_lut.v", "rtl/hfi_vector.v",
-             "rtl/regs/hfi_acc_map.vh"}
+             "rtl/regs/hfi_acc_map.vh", "rtl/hfi_cfu.v"}
 """The SoC around the IP (docs/soc.md): not part of hfi_dsp.core."""
 
 
@@ -75,18 +75,22 @@ def test_verilator_lint_wall_soc(tmp_path, acc, options):
 
 def test_core_falls_back_to_the_package_file(monkeypatch, tmp_path, capsys):
     """Without the generated core (a machine where hfi/vexriscv_gen.py cannot run) the SoC takes the package's
-    VexRiscv.v, says so once, and the generated core, when there, has exactly the package file's ports."""
+    VexRiscv_FullCfu.v, says so once, and the generated core, when there, has exactly that file's ports: the
+    package's VexRiscv.v (the configuration it is generated from) and the CFU port."""
     from hfi import rtl_backend, soc_platform, vexriscv_gen
 
     generated = vexriscv_gen.core_path()
+    package = rtl_backend._package_file(soc_platform.CPU_PACKAGE, soc_platform.CPU_VARIANT)
+    with_cfu = rtl_backend._package_file(soc_platform.CPU_PACKAGE, vexriscv_gen.CFU_VARIANT)
+    assert vexriscv_gen._ports(with_cfu, False) == vexriscv_gen._ports(package)
+    assert len(vexriscv_gen._ports(with_cfu, True)) == 8
     if generated.is_file():
         assert rtl_backend.cpu_source() == generated
-        package = rtl_backend._package_file(soc_platform.CPU_PACKAGE, soc_platform.CPU_VARIANT)
-        assert vexriscv_gen._ports(generated) == vexriscv_gen._ports(package)
+        assert vexriscv_gen._ports(generated) == vexriscv_gen._ports(with_cfu)
     monkeypatch.setattr(vexriscv_gen, "core_path", lambda icache_bytes=0, prediction="": tmp_path / "missing.v")
     monkeypatch.setattr(rtl_backend, "_warned_fallback", False)
-    assert rtl_backend.cpu_source().name == soc_platform.CPU_VARIANT
-    assert rtl_backend.cpu_source().name == soc_platform.CPU_VARIANT
+    assert rtl_backend.cpu_source().name == vexriscv_gen.CFU_VARIANT
+    assert rtl_backend.cpu_source().name == vexriscv_gen.CFU_VARIANT
     err = capsys.readouterr().err
     assert err.count("4 KiB instruction cache") == 1, err
 
@@ -98,7 +102,8 @@ def test_core_name_says_cache_and_prediction_and_bad_options_are_refused():
 
     assert vexriscv_gen.core_name(16384, "static") == "VexRiscv_I16K"
     assert vexriscv_gen.core_name(4096, "dynamic_target") == "VexRiscv_I4K_dynamic_target"
-    assert vexriscv_gen.core_path().name == f"VexRiscv_I16K_{soc_platform.CPU_PREDICTION}.v"
+    assert vexriscv_gen.core_name(4096, "static", cfu=True) == "VexRiscv_I4K_cfu"
+    assert vexriscv_gen.core_path().name == f"VexRiscv_I16K_{soc_platform.CPU_PREDICTION}_cfu.v"
     assert soc_platform.CPU_PREDICTION in vexriscv_gen.PREDICTIONS
     with pytest.raises(vexriscv_gen.CoreGenError, match="power of two"):
         vexriscv_gen.generate(3000, "static")

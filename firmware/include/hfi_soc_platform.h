@@ -10,5 +10,13 @@
 #define HFI_SOC_ACC_BASE 0xA0000000u   /* accelerators hfi_soc_acc (hfi_acc_regs.h offsets) */
 #define HFI_SOC_IRQ_WINDOW 3u       /* external interrupt line of the window interrupt */
 #define HFI_SOC_PIN_LATENCY 3      /* hfi_dsp pins show tick t in clock t + this */
+#define HFI_CFU_OPCODE 0x0B        /* the fixed-point instructions (hfi/cfu.py): custom-0 */
+#define HFI_CFU_MUL 0
+#define HFI_CFU_MAC 1
+#define HFI_CFU_MSU 2
+#define HFI_CFU_ADD 3
+#define HFI_CFU_RND 4
+#define HFI_CFU_FLR 5
+#define HFI_CFU_SET 6
 
 #endif

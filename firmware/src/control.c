@@ -21,6 +21,7 @@
 #include <stddef.h>
 
 #include "fw_cordic_table.h"
+#include "fw_fx.h"
 #include "fw_methods.h"
 #include "hfi_regs.h"
 
@@ -327,9 +328,14 @@ static int32_t rq15(int64_t x)
 void fw_biquad_step(struct fw_biquad *s, int32_t x, const struct fw_biquad_coef *c)
 {
     const int32_t f = 1 << FW_BIQUAD_Y_FRAC; /* |x| < 2^20: x * f fits int32, every product is 32 x 32 */
-    int64_t acc = (int64_t)c->b0 * (x * f) + (int64_t)c->b1 * (s->x1 * f) + (int64_t)c->b2 * (s->x2 * f) -
-                  (int64_t)c->a1 * s->y1 - (int64_t)c->a2 * s->y2;
-    int32_t y = sat32((acc + ((int64_t)1 << (FW_BIQUAD_COEF_FRAC - 1))) >> FW_BIQUAD_COEF_FRAC);
+    FX_ACC(acc);
+
+    FX_MUL(acc, c->b0, x * f, 0);
+    FX_MAC(acc, c->b1, s->x1 * f, 0);
+    FX_MAC(acc, c->b2, s->x2 * f, 0);
+    FX_MSU(acc, c->a1, s->y1, 0);
+    FX_MSU(acc, c->a2, s->y2, 0);
+    int32_t y = FX_RND(acc, FW_BIQUAD_COEF_FRAC, 32);
 
     s->x2 = s->x1;
     s->x1 = x;

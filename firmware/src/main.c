@@ -42,6 +42,11 @@
 #define IRQ_WINDOW (1u << HFI_SOC_IRQ_WINDOW)
 #define TRACE_PUT(word) (SOC(TRACE) = (word))
 #define CSR_IRQ_MASK 0xBC0          /* VexRiscv: enable mask of the external interrupt lines */
+#ifdef FW_CFU
+#define CSR_CFU_ENABLE (1u << 31)   /* the same CSR's bit 31 enables the CFU's custom instructions (fw_fx.h) */
+#else
+#define CSR_CFU_ENABLE 0u
+#endif
 #define MIE_MEIE (1u << 11)         /* mie: machine external interrupt enable */
 #define MSTATUS_MIE (1u << 3)       /* mstatus: global interrupt enable */
 
@@ -67,13 +72,20 @@ static inline uint32_t rdcycle(void)
     return SOC(CYCLE_LO);
 }
 
-/* Enable the external interrupt lines in `lines` (and no other), then interrupts globally. */
+/* Enable the external interrupt lines in `lines` (and no other; the CFU stays enabled), then interrupts globally. */
 static void irq_enable(uint32_t lines)
 {
     /* -march=rv32im keeps the rv32im/ilp32 libgcc; the CSR instructions are Zicsr */
     __asm__ volatile(".option push\n.option arch, +zicsr\n"
                      "csrw %0, %1\ncsrs mie, %2\ncsrs mstatus, %3\n.option pop"
-                     : : "i"(CSR_IRQ_MASK), "r"(lines), "r"(MIE_MEIE), "r"(MSTATUS_MIE));
+                     : : "i"(CSR_IRQ_MASK), "r"(lines | CSR_CFU_ENABLE), "r"(MIE_MEIE), "r"(MSTATUS_MIE));
+}
+
+/* Enable the fixed-point instructions (the core raises an illegal-instruction trap on them until then). */
+static void cfu_enable(void)
+{
+    __asm__ volatile(".option push\n.option arch, +zicsr\ncsrw %0, %1\n.option pop"
+                     : : "i"(CSR_IRQ_MASK), "r"(CSR_CFU_ENABLE));
 }
 
 /* ---------------------------------------------------------------- UART log */
@@ -285,6 +297,7 @@ static __attribute__((noinline, noreturn)) void run(void)
 int main(void)
 {
     gates_off();
+    cfu_enable();
     uart_puts("hfi_fw: start\n");
     if (!config_ok()) {
         uart_puts("hfi_fw: no valid configuration block (magic/version), gates stay off\n");

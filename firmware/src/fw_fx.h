@@ -1,0 +1,70 @@
+/* fw_fx.h - sums of 32 x 32-bit products with a shift, a rounding and a saturation: golden's fixed-point idioms
+ * (golden.fixed: round_shr, shr, sat) as the fixed-point instructions of the SoC (hfi/cfu.py, rtl/hfi_cfu.v,
+ * docs/soc.md "The fixed-point instructions"; -DFW_CFU: the SoC build) or as the same int64 C (the host build).
+ *
+ *   FX_ACC(acc);                    declare an accumulator (int64 on the host; the unit's on the SoC)
+ *   FX_MUL(acc, a, b, k)            acc  = (a * b) >> k      (a, b int32; k a constant 0..63; >> floors)
+ *   FX_MAC(acc, a, b, k)            acc += (a * b) >> k
+ *   FX_MSU(acc, a, b, k)            acc -= (a * b) >> k
+ *   FX_ADD(acc, a, k, b)            acc += (a << k) + b
+ *   FX_RND(acc, k, bits)            sat(round_shr(acc, k), bits)   as int32 (bits 1..32; 0: the low word)
+ *   FX_FLR(acc, k, bits)            sat(acc >> k, bits)
+ *
+ * One accumulator: on the SoC there is one, so an accumulation is started (FX_MUL) and read (FX_RND/FX_FLR)
+ * before another starts, and only the control step (the window interrupt, which is not nested) uses it. The
+ * operands are int32 values (the unit's registers): a caller whose C had an int64 operand there cannot use
+ * these. The sums are the C's int64 sums (the callers' documented ranges keep them from overflowing).
+ */
+#ifndef FW_FX_H
+#define FW_FX_H
+
+#include <stdint.h>
+
+#include "hfi_soc_platform.h"
+
+#ifdef FW_CFU
+
+#define FX_ACC(acc) const int acc = 0
+#define FX_INSN_(f3, k, a, b)                                                                                          \
+    __asm__ volatile(".insn r %0, %1, %2, x0, %3, %4" ::"i"(HFI_CFU_OPCODE), "i"(f3), "i"(k), "r"((int32_t)(a)),     \
+                     "r"((int32_t)(b)))
+#define FX_READ_(f3, k, bits)                                                                                          \
+    __extension__({                                                                                                    \
+        int32_t fx_r_;                                                                                                 \
+        __asm__ volatile(".insn r %1, %2, %3, %0, %4, x0"                                                            \
+                         : "=r"(fx_r_)                                                                                 \
+                         : "i"(HFI_CFU_OPCODE), "i"(f3), "i"(k), "r"((int32_t)(bits)));                               \
+        fx_r_;                                                                                                         \
+    })
+#define FX_MUL(acc, a, b, k) do { (void)(acc); FX_INSN_(HFI_CFU_MUL, k, a, b); } while (0)
+#define FX_MAC(acc, a, b, k) do { (void)(acc); FX_INSN_(HFI_CFU_MAC, k, a, b); } while (0)
+#define FX_MSU(acc, a, b, k) do { (void)(acc); FX_INSN_(HFI_CFU_MSU, k, a, b); } while (0)
+#define FX_ADD(acc, a, k, b) do { (void)(acc); FX_INSN_(HFI_CFU_ADD, k, a, b); } while (0)
+#define FX_RND(acc, k, bits) ((void)(acc), FX_READ_(HFI_CFU_RND, k, bits))
+#define FX_FLR(acc, k, bits) ((void)(acc), FX_READ_(HFI_CFU_FLR, k, bits))
+
+#else
+
+#define FX_ACC(acc) int64_t acc
+#define FX_MUL(acc, a, b, k) ((acc) = ((int64_t)(int32_t)(a) * (int32_t)(b)) >> (k))
+#define FX_MAC(acc, a, b, k) ((acc) += ((int64_t)(int32_t)(a) * (int32_t)(b)) >> (k))
+#define FX_MSU(acc, a, b, k) ((acc) -= ((int64_t)(int32_t)(a) * (int32_t)(b)) >> (k))
+#define FX_ADD(acc, a, k, b) ((acc) += (int64_t)((uint64_t)(int64_t)(int32_t)(a) << (k)) + (int32_t)(b))
+#define FX_RND(acc, k, bits) fx_result_((acc), (k), (bits), 1)
+#define FX_FLR(acc, k, bits) fx_result_((acc), (k), (bits), 0)
+
+/* RND / FLR of hfi/cfu.py: the rounding's add wraps as the unit's 64-bit adder does */
+static inline int32_t fx_result_(int64_t acc, int k, int32_t bits, int rounding)
+{
+    int64_t v = rounding && k ? (int64_t)((uint64_t)acc + ((uint64_t)1 << (k - 1))) >> k : acc >> k;
+    int w = bits & 63;
+
+    if (w < 1 || w > 32)
+        return (int32_t)(uint32_t)(uint64_t)v;
+    int64_t hi = ((int64_t)1 << (w - 1)) - 1;
+    return (int32_t)(v > hi ? hi : v < -hi - 1 ? -hi - 1 : v);
+}
+
+#endif
+
+#endif

@@ -213,8 +213,8 @@ static int64_t round_shr64(int64_t x, int n)
 /* golden.firmware.estimator.inv_park */
 static void inv_park(int32_t d, int32_t q, int32_t s, int32_t c, int32_t *al, int32_t *be)
 {
-    *al = (int32_t)sat_bits(round_shr64((int64_t)d * c - (int64_t)q * s, 15), 32);
-    *be = (int32_t)sat_bits(round_shr64((int64_t)d * s + (int64_t)q * c, 15), 32);
+    *al = FX_CROSS(d, c, q, s, 15, 32);
+    *be = FX_DOT(d, s, q, c, 15, 32);
 }
 
 /* golden.firmware.estimator.window_voltage */
@@ -224,8 +224,8 @@ void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *be
 
     inv_park(now->v_d, now->v_q, now->sin, now->cos, &a1, &b1);
     inv_park(before->v_d, before->v_q, before->sin, before->cos, &a0, &b0);
-    *v_al = (int32_t)round_shr64(3 * (int64_t)a1 + a0, 2);
-    *v_be = (int32_t)round_shr64(3 * (int64_t)b1 + b0, 2);
+    *v_al = FX_DOT(3, a1, 1, a0, 2, 0);
+    *v_be = FX_DOT(3, b1, 1, b0, 2, 0);
 }
 
 /* dc_feedforward.dc_feedforward: the voltages times ff_nom / vdc (Q14, vdc clamped to [ff_lo, ff_hi], ff_lo >= 1,
@@ -363,11 +363,11 @@ void fw_mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d
 void fw_injection_voltage(int32_t v_now, int32_t v_before, int32_t s, int32_t c, int32_t cd, int32_t sd, int32_t *v_al,
                           int32_t *v_be)
 {
-    int32_t c_b = rq15((int64_t)c * cd + (int64_t)s * sd);
-    int32_t s_b = rq15((int64_t)s * cd - (int64_t)c * sd);
+    int32_t c_b = FX_DOT(c, cd, s, sd, 15, 0);
+    int32_t s_b = FX_CROSS(s, cd, c, sd, 15, 0);
 
-    *v_al = (int32_t)round_shr64(3 * (int64_t)v_now * c + (int64_t)v_before * c_b, 17);
-    *v_be = (int32_t)round_shr64(3 * (int64_t)v_now * s + (int64_t)v_before * s_b, 17);
+    *v_al = FX_DOT(3 * v_now, c, v_before, c_b, 17, 0);
+    *v_be = FX_DOT(3 * v_now, s, v_before, s_b, 17, 0);
 }
 
 /* ---- estimator sqw_bangbang (golden.firmware.sqw_bangbang) ------------------------------------------ */
@@ -590,16 +590,16 @@ void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw
     uint32_t psi;
 
     inv_park(m->i_d, m->i_q, m->sin, m->cos, &i_al, &i_be);
-    int32_t c = rq15((int64_t)m->inj_cos * rp->q_cos - (int64_t)m->inj_sin * rp->q_sin); /* INJ_PHASE - INJ_STEP/4 */
-    int32_t s = rq15((int64_t)m->inj_sin * rp->q_cos + (int64_t)m->inj_cos * rp->q_sin);
-    int32_t x_d = (int32_t)sat_bits(round_shr64((int64_t)i_al * c + (int64_t)i_be * s, 15), FW_ROT_X_BITS); /* eq. (12) */
-    int32_t x_q = (int32_t)sat_bits(round_shr64((int64_t)i_be * c - (int64_t)i_al * s, 15), FW_ROT_X_BITS);
+    int32_t c = FX_CROSS(m->inj_cos, rp->q_cos, m->inj_sin, rp->q_sin, 15, 0); /* INJ_PHASE - INJ_STEP/4 */
+    int32_t s = FX_DOT(m->inj_sin, rp->q_cos, m->inj_cos, rp->q_sin, 15, 0);
+    int32_t x_d = FX_DOT(i_al, c, i_be, s, 15, FW_ROT_X_BITS); /* eq. (12) */
+    int32_t x_q = FX_CROSS(i_be, c, i_al, s, 15, FW_ROT_X_BITS);
     fw_biquad_step(&e->bd, x_d, &rp->bpf); /* eq. (13) */
     fw_biquad_step(&e->bq, x_q, &rp->bpf);
     int32_t y_d = e->bd.y1, y_q = e->bq.y1;
-    int32_t s2 = rq15(2 * (int64_t)s * c), c2 = rq15((int64_t)c * c - (int64_t)s * s);
-    int32_t z_d = (int32_t)sat_bits(round_shr64((int64_t)y_d * c2 - (int64_t)y_q * s2, 15), FW_ROT_Z_BITS); /* eq. (15) */
-    int32_t z_q = (int32_t)sat_bits(round_shr64((int64_t)y_d * s2 + (int64_t)y_q * c2, 15), FW_ROT_Z_BITS);
+    int32_t s2 = FX_PROD(2 * s, c, 15, 0), c2 = FX_CROSS(c, c, s, s, 15, 0); /* |s|, |c| <= 2^15 */
+    int32_t z_d = FX_CROSS(y_d, c2, y_q, s2, 15, FW_ROT_Z_BITS); /* eq. (15) */
+    int32_t z_q = FX_DOT(y_d, s2, y_q, c2, 15, FW_ROT_Z_BITS);
     int32_t k = e->idx; /* eq. (16): moving sum */
     e->sum_d += z_d - e->buf_d[k];
     e->sum_q += z_q - e->buf_q[k];
@@ -624,7 +624,7 @@ void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw
         e->omega = e->pll.omega;
         tracked = e->pll.theta;
     }
-    e->theta = tracked + (uint32_t)(((int64_t)e->omega * rp->k_delay) >> 16); /* eqs. (18)-(19) */
+    e->theta = tracked + (uint32_t)FX_SHR(e->omega, rp->k_delay, 16, 0); /* eqs. (18)-(19) */
     *theta = e->theta;
     *omega = e->omega;
 }

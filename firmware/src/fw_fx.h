@@ -7,11 +7,19 @@
  *   FX_MAC(acc, a, b, k)            acc += (a * b) >> k
  *   FX_MSU(acc, a, b, k)            acc -= (a * b) >> k
  *   FX_ADD(acc, a, k, b)            acc += (a << k) + b
+ *   FX_SET(acc, hi, lo)             acc = (hi << 32) + (uint32_t)lo    (an int64 value, from its two words)
  *   FX_RND(acc, k, bits)            sat(round_shr(acc, k), bits)   as int32 (bits 1..32; 0: the low word)
  *   FX_FLR(acc, k, bits)            sat(acc >> k, bits)
  *
- * One accumulator: on the SoC there is one, so an accumulation is started (FX_MUL) and read (FX_RND/FX_FLR)
- * before another starts, and only the control step (the window interrupt, which is not nested) uses it. The
+ * and, on their own accumulator, the two-product idioms (values, each a single expression):
+ *   FX_DOT(a, b, c, d, k, bits)     sat(round_shr(a * b + c * d, k), bits)
+ *   FX_CROSS(a, b, c, d, k, bits)   sat(round_shr(a * b - c * d, k), bits)
+ *   FX_PROD(a, b, k, bits)          sat(round_shr(a * b, k), bits)
+ *   FX_SHR(a, b, k, bits)           sat(shr(a * b, k), bits)           (floor: the C's (a * b) >> k)
+ *
+ * One accumulator: on the SoC there is one, so the operands of these macros are plain values (never an FX_*
+ * expression, which would run its own accumulation in the middle of this one), an accumulation is started
+ * (FX_MUL, FX_SET) and read (FX_RND/FX_FLR) before another starts, and only the control step (the window interrupt, which is not nested) uses it. The
  * operands are int32 values (the unit's registers): a caller whose C had an int64 operand there cannot use
  * these. The sums are the C's int64 sums (the callers' documented ranges keep them from overflowing).
  */
@@ -40,6 +48,7 @@
 #define FX_MAC(acc, a, b, k) do { (void)(acc); FX_INSN_(HFI_CFU_MAC, k, a, b); } while (0)
 #define FX_MSU(acc, a, b, k) do { (void)(acc); FX_INSN_(HFI_CFU_MSU, k, a, b); } while (0)
 #define FX_ADD(acc, a, k, b) do { (void)(acc); FX_INSN_(HFI_CFU_ADD, k, a, b); } while (0)
+#define FX_SET(acc, hi, lo) do { (void)(acc); FX_INSN_(HFI_CFU_SET, 0, hi, lo); } while (0)
 #define FX_RND(acc, k, bits) ((void)(acc), FX_READ_(HFI_CFU_RND, k, bits))
 #define FX_FLR(acc, k, bits) ((void)(acc), FX_READ_(HFI_CFU_FLR, k, bits))
 
@@ -50,6 +59,7 @@
 #define FX_MAC(acc, a, b, k) ((acc) += ((int64_t)(int32_t)(a) * (int32_t)(b)) >> (k))
 #define FX_MSU(acc, a, b, k) ((acc) -= ((int64_t)(int32_t)(a) * (int32_t)(b)) >> (k))
 #define FX_ADD(acc, a, k, b) ((acc) += (int64_t)((uint64_t)(int64_t)(int32_t)(a) << (k)) + (int32_t)(b))
+#define FX_SET(acc, hi, lo) ((acc) = (int64_t)(((uint64_t)(uint32_t)(hi) << 32) | (uint32_t)(lo)))
 #define FX_RND(acc, k, bits) fx_result_((acc), (k), (bits), 1)
 #define FX_FLR(acc, k, bits) fx_result_((acc), (k), (bits), 0)
 
@@ -66,5 +76,12 @@ static inline int32_t fx_result_(int64_t acc, int k, int32_t bits, int rounding)
 }
 
 #endif
+
+#define FX_DOT(a, b, c, d, k, bits)                                                                                    \
+    __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, b, 0); FX_MAC(fx_d_, c, d, 0); FX_RND(fx_d_, k, bits); })
+#define FX_CROSS(a, b, c, d, k, bits)                                                                                  \
+    __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, b, 0); FX_MSU(fx_d_, c, d, 0); FX_RND(fx_d_, k, bits); })
+#define FX_PROD(a, b, k, bits) __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, b, 0); FX_RND(fx_d_, k, bits); })
+#define FX_SHR(a, b, k, bits) __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, b, 0); FX_FLR(fx_d_, k, bits); })
 
 #endif

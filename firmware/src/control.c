@@ -103,7 +103,10 @@ void fw_pll_step(struct fw_pll *s, uint32_t theta_hat, int32_t kp, int32_t ki)
     if (__builtin_add_overflow(s->integ, p, &integ))
         integ = p < 0 ? INT64_MIN : INT64_MAX;
     s->integ = integ;
-    s->omega = sat32((((int64_t)kp * e) >> 16) + (integ >> 24));
+    FX_ACC(acc);                                 /* shr(kp e, 16) + shr(integ, 24), the latter from integ's words */
+    FX_MUL(acc, kp, e, 16);
+    FX_ADD(acc, (int32_t)(integ >> 32), 8, (int32_t)((uint32_t)integ >> 24));
+    s->omega = FX_FLR(acc, 0, 32);
     s->theta += (uint32_t)s->omega;
 }
 
@@ -317,12 +320,6 @@ static int32_t sat_s32(int32_t x, int bits)
     return x > hi ? hi : x < -hi - 1 ? -hi - 1 : x;
 }
 
-/* golden.fixed.round_shr(x, 15) of an int64 product sum, as int32 (the callers' ranges keep it in s32) */
-static int32_t rq15(int64_t x)
-{
-    return (int32_t)((x + (1 << 14)) >> 15);
-}
-
 /* golden.firmware.biquad.biquad_step: direct form I, Q28 coefficients, inputs x << Y_FRAC as products
  * (|x| < 2^20, |y| < 2^31: every product below 2^61, the sum of five within int64). */
 void fw_biquad_step(struct fw_biquad *s, int32_t x, const struct fw_biquad_coef *c)
@@ -505,8 +502,8 @@ void fw_rfo_turn(struct fw_state *st, uint32_t delta)
     int32_t s, c;
 
     fw_sincos_q15(delta, &s, &c);
-    int32_t x_al = (int32_t)sat_bits(round_shr64((int64_t)e->x_al * c - (int64_t)e->x_be * s, 15), 32);
-    int32_t x_be = (int32_t)sat_bits(round_shr64((int64_t)e->x_al * s + (int64_t)e->x_be * c, 15), 32);
+    int32_t x_al = FX_CROSS(e->x_al, c, e->x_be, s, 15, 32);
+    int32_t x_be = FX_DOT(e->x_al, s, e->x_be, c, 15, 32);
     e->x_al = x_al;
     e->x_be = x_be;
     e->pll.theta += delta;
@@ -675,25 +672,43 @@ void fw_smo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     uint32_t ang;
 
     inv_park(m->i_d, m->i_q, m->sin, m->cos, &i_al, &i_be);
-    int32_t eps_al = sat32((int64_t)e->ih_al - (int64_t)i_al * (1 << FW_SMO_I_FRAC));
-    int32_t eps_be = sat32((int64_t)e->ih_be - (int64_t)i_be * (1 << FW_SMO_I_FRAC));
-    int32_t z_al = clamp_z(((int64_t)eps_al * sp->k_lin) >> 16, sp->z_max);
-    int32_t z_be = clamp_z(((int64_t)eps_be * sp->k_lin) >> 16, sp->z_max);
-    int32_t g = (int32_t)(((int64_t)e->pll.omega * sp->c_x) >> 32); /* |g| < 2^23 */
-    /* Tap et al. 2023, eq. (20) in the plant's frame with L_o, driven by the sliding-mode term z */
-    int64_t d_al = (((int64_t)sp->c_v * sat32((int64_t)m->v_al - z_al)) >> (16 - FW_SMO_I_FRAC)) -
-                   (((int64_t)sp->c_r * e->ih_al) >> 16) - (((int64_t)g * e->ih_be) >> 16);
-    int64_t d_be = (((int64_t)sp->c_v * sat32((int64_t)m->v_be - z_be)) >> (16 - FW_SMO_I_FRAC)) -
-                   (((int64_t)sp->c_r * e->ih_be) >> 16) + (((int64_t)g * e->ih_al) >> 16);
-    e->ih_al = sat32(e->ih_al + d_al);
-    e->ih_be = sat32(e->ih_be + d_be);
+    FX_ACC(acc);
+    FX_MUL(acc, e->ih_al, 1, 0);
+    FX_MSU(acc, i_al, 1 << FW_SMO_I_FRAC, 0);
+    int32_t eps_al = FX_FLR(acc, 0, 32);
+    FX_MUL(acc, e->ih_be, 1, 0);
+    FX_MSU(acc, i_be, 1 << FW_SMO_I_FRAC, 0);
+    int32_t eps_be = FX_FLR(acc, 0, 32);
+    /* clamp_z of the int64 product shifted: the same on its int32 saturation (z_max < 2^31) */
+    int32_t z_al = clamp_z(FX_SHR(eps_al, sp->k_lin, 16, 32), sp->z_max);
+    int32_t z_be = clamp_z(FX_SHR(eps_be, sp->k_lin, 16, 32), sp->z_max);
+    int32_t g = FX_SHR(e->pll.omega, sp->c_x, 32, 0); /* |g| < 2^23 */
+    FX_MUL(acc, m->v_al, 1, 0);
+    FX_MSU(acc, z_al, 1, 0);
+    int32_t u_al = FX_FLR(acc, 0, 32);
+    FX_MUL(acc, m->v_be, 1, 0);
+    FX_MSU(acc, z_be, 1, 0);
+    int32_t u_be = FX_FLR(acc, 0, 32);
+    /* Tap et al. 2023, eq. (20) in the plant's frame with L_o, driven by the sliding-mode term z; with the old
+     * i_hat: ih + shr(c_v u, 8) - shr(c_r ih, 16) -+ shr(g ih_other, 16), saturated to s32 */
+    FX_MUL(acc, sp->c_v, u_al, 16 - FW_SMO_I_FRAC);
+    FX_MSU(acc, sp->c_r, e->ih_al, 16);
+    FX_MSU(acc, g, e->ih_be, 16);
+    FX_ADD(acc, e->ih_al, 0, 0);
+    int32_t ih_al = FX_FLR(acc, 0, 32);
+    FX_MUL(acc, sp->c_v, u_be, 16 - FW_SMO_I_FRAC);
+    FX_MSU(acc, sp->c_r, e->ih_be, 16);
+    FX_MAC(acc, g, e->ih_al, 16);
+    FX_ADD(acc, e->ih_be, 0, 0);
+    e->ih_be = FX_FLR(acc, 0, 32);
+    e->ih_al = ih_al;
     int64_t w_i = e->pll.integ >> 24;
     int64_t a = ((w_i < 0 ? -w_i : w_i) * sp->c_a) >> 24;
     a = a < sp->a_min ? sp->a_min : a;
     a = a > sp->a_max ? sp->a_max : a;
     /* |z << 8| < 2^23 and e_f stays between its old value and z << 8: the difference fits int32 */
-    e->ef_al += (int32_t)(((int64_t)(int32_t)a * (z_al * (1 << FW_SMO_I_FRAC) - e->ef_al)) >> 16);
-    e->ef_be += (int32_t)(((int64_t)(int32_t)a * (z_be * (1 << FW_SMO_I_FRAC) - e->ef_be)) >> 16);
+    e->ef_al += FX_SHR((int32_t)a, z_al * (1 << FW_SMO_I_FRAC) - e->ef_al, 16, 0);
+    e->ef_be += FX_SHR((int32_t)a, z_be * (1 << FW_SMO_I_FRAC) - e->ef_be, 16, 0);
     fw_vector_angle((int32_t)sat_bits(e->ef_al, 29), (int32_t)sat_bits(e->ef_be, 29), &ang, &e->mag); /* eq. (22) */
     if (e->mag < sp->e_min)
         ang = e->pll.theta;
@@ -704,7 +719,7 @@ void fw_smo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     else if (w_i < -(int64_t)sp->w_dir)
         e->dir = -1;
     uint32_t lead = e->dir > 0 ? sp->lag0 - FW_SMO_QUARTER : FW_SMO_QUARTER - sp->lag0;
-    e->theta = e->pll.theta + lead + (uint32_t)(((int64_t)e->omega * sp->k_delay) >> 16);
+    e->theta = e->pll.theta + lead + (uint32_t)FX_SHR(e->omega, sp->k_delay, 16, 0);
     *theta = e->theta;
     *omega = e->omega;
 }
@@ -1984,11 +1999,13 @@ static void dtc_refs(const struct fw_params *p, int32_t i_d_ref, int32_t i_q_ref
         out->i_q_ref = i_q_ref;
         return;
     }
-    int32_t s_n = rq15((int64_t)s_i * p->inj_c2 + (int64_t)c_i * p->inj_s2);
-    int32_t c_n = rq15((int64_t)c_i * p->inj_c2 - (int64_t)s_i * p->inj_s2);
-    int32_t h_al = rq15((int64_t)p->hf_dtc * s_n), h_be = -rq15((int64_t)p->hf_dtc * c_n);
-    out->i_d_ref = sat32((int64_t)i_d_ref + rq15((int64_t)h_al * out->cos + (int64_t)h_be * out->sin));
-    out->i_q_ref = sat32((int64_t)i_q_ref + rq15((int64_t)h_be * out->cos - (int64_t)h_al * out->sin));
+    int32_t s_n = FX_DOT(s_i, p->inj_c2, c_i, p->inj_s2, 15, 0);
+    int32_t c_n = FX_CROSS(c_i, p->inj_c2, s_i, p->inj_s2, 15, 0);
+    int32_t h_al = FX_PROD(p->hf_dtc, s_n, 15, 0), h_be = -FX_PROD(p->hf_dtc, c_n, 15, 0);
+    int32_t r_d = FX_DOT(h_al, out->cos, h_be, out->sin, 15, 0);
+    int32_t r_q = FX_CROSS(h_be, out->cos, h_al, out->sin, 15, 0);
+    out->i_d_ref = FX_SUM(i_d_ref, r_d, 32);
+    out->i_q_ref = FX_SUM(i_q_ref, r_q, 32);
 }
 
 /* Firmware._fcs_outputs: the fcs_mpc law (golden.firmware.fcs_law): the deadbeat voltage for the angle in use

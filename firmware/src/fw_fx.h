@@ -16,6 +16,7 @@
  *   FX_CROSS(a, b, c, d, k, bits)   sat(round_shr(a * b - c * d, k), bits)
  *   FX_PROD(a, b, k, bits)          sat(round_shr(a * b, k), bits)
  *   FX_SHR(a, b, k, bits)           sat(shr(a * b, k), bits)           (floor: the C's (a * b) >> k)
+ *   FX_SUM(a, b, bits)              sat(a + b, bits)                   (in int64: no wrap)
  *
  * One accumulator: on the SoC there is one, so the operands of these macros are plain values (never an FX_*
  * expression, which would run its own accumulation in the middle of this one), an accumulation is started
@@ -82,6 +83,7 @@ static inline int32_t fx_result_(int64_t acc, int k, int32_t bits, int rounding)
 #define FX_CROSS(a, b, c, d, k, bits)                                                                                  \
     __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, b, 0); FX_MSU(fx_d_, c, d, 0); FX_RND(fx_d_, k, bits); })
 #define FX_PROD(a, b, k, bits) __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, b, 0); FX_RND(fx_d_, k, bits); })
+#define FX_SUM(a, b, bits) __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, 1, 0); FX_ADD(fx_d_, b, 0, 0); FX_FLR(fx_d_, 0, bits); })
 #define FX_SHR(a, b, k, bits) __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, b, 0); FX_FLR(fx_d_, k, bits); })
 
 #endif

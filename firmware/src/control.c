@@ -1489,11 +1489,20 @@ static void next_mode(struct fw_state *st, int32_t mode)
 void fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, int32_t i_d, int32_t i_q,
                      int32_t omega, int32_t *e_d, int32_t *e_q)
 {
-    int32_t psi_d = sat32((int64_t)p->psi_f + (((int64_t)p->ld * i_d) >> 16));
-    int32_t psi_q = sat32(((int64_t)p->lq * i_q) >> 16);
+    FX_ACC(acc);
+    FX_MUL(acc, p->ld, i_d, 16);
+    FX_ADD(acc, p->psi_f, 0, 0);
+    int32_t psi_d = FX_FLR(acc, 0, 32);
+    int32_t psi_q = FX_SHR(p->lq, i_q, 16, 32);
 
-    *e_d = sat32((int64_t)v_d - (((int64_t)p->r * i_d) >> 16) + (((int64_t)omega * psi_q) >> 32));
-    *e_q = sat32((int64_t)v_q - (((int64_t)p->r * i_q) >> 16) - (((int64_t)omega * psi_d) >> 32));
+    FX_MUL(acc, omega, psi_q, 32);
+    FX_MSU(acc, p->r, i_d, 16);
+    FX_ADD(acc, v_d, 0, 0);
+    *e_d = FX_FLR(acc, 0, 32);
+    FX_MUL(acc, v_q, 1, 0);
+    FX_MSU(acc, p->r, i_q, 16);
+    FX_MSU(acc, omega, psi_d, 32);
+    *e_q = FX_FLR(acc, 0, 32);
 }
 
 #define OVL_CAP (1 << 30) /* protection.OVL_CAP */
@@ -2127,8 +2136,8 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
             int32_t a, b;
 
             fw_injection_voltage(st->act[0].v_h, st->prev.v_h, m.inj_sin, m.inj_cos, p->inj_cd, p->inj_sd, &a, &b);
-            m.v_al = sat32((int64_t)m.v_al + a);
-            m.v_be = sat32((int64_t)m.v_be + b);
+            m.v_al = FX_SUM(m.v_al, a, 32);
+            m.v_be = FX_SUM(m.v_be, b, 32);
         }
         hf_on = square_wave_on(st, p);
         if (st->mode == FW_CONVERGE && hf_on)

@@ -5,15 +5,16 @@ a shift, a rounding and a saturation (``golden.fixed``). On RV32IM each product 
 ``mulh``, each 64-bit sum an add with a carry, each shift three instructions and each saturation two
 compares of a 64-bit value: 12-15 instructions for ``sat(round_shr(a b + c d, 15), 32)``. The core's CFU
 port (LiteX's, ``hfi/vexriscv_gen.py``) takes RISC-V custom-0 R-type instructions (``funct3`` the operation,
-``funct7`` a shift ``k`` in 0..63) to the unit rtl/hfi_cfu.v, which keeps a 64-bit accumulator ``acc``:
+``funct7`` a shift ``k`` in 0..63) to the unit rtl/hfi_cfu.v, which keeps a 64-bit accumulator ``acc``
+(``kb``: ``k`` rounded down to a multiple of 8, a byte shift, cheap beside the accumulator's adder):
 
 =====  =========================================================  ========
 op     effect (``a`` = rs1, ``b`` = rs2, both int32)              rd
 =====  =========================================================  ========
-MUL    ``acc = (a b) >> k``                                       0
-MAC    ``acc += (a b) >> k``                                      0
-MSU    ``acc -= (a b) >> k``                                      0
-ADD    ``acc += (a << k) + b``                                    0
+MUL    ``acc = (a b) >> kb``                                      0
+MAC    ``acc += (a b) >> kb``                                     0
+MSU    ``acc -= (a b) >> kb``                                     0
+ADD    ``acc += (a << kb) + b``                                   0
 SET    ``acc = (a << 32) + (b as uint32)`` (k ignored)            0
 RND    ``sat(round_shr(acc, k), a)``                              result
 FLR    ``sat(acc >> k, a)``                                       result
@@ -56,14 +57,15 @@ class CfuModel:
     def step(self, op: int, k: int, a: int, b: int) -> int:
         """Execute one instruction; ``a``, ``b`` as int32 (or uint32) values; returns rd (int32)."""
         a, b, k = _s32(a), _s32(b), k & 63
+        kb = k & 56
         if op == CFU_OPS["MUL"]:
-            self.acc = _s64((a * b) >> k)
+            self.acc = _s64((a * b) >> kb)
         elif op == CFU_OPS["MAC"]:
-            self.acc = _s64(self.acc + ((a * b) >> k))
+            self.acc = _s64(self.acc + ((a * b) >> kb))
         elif op == CFU_OPS["MSU"]:
-            self.acc = _s64(self.acc - ((a * b) >> k))
+            self.acc = _s64(self.acc - ((a * b) >> kb))
         elif op == CFU_OPS["ADD"]:
-            self.acc = _s64(self.acc + (a << k) + b)
+            self.acc = _s64(self.acc + (a << kb) + b)
         elif op == CFU_OPS["SET"]:
             self.acc = _s64((a << 32) + (b & 0xFFFF_FFFF))
         elif op == CFU_OPS["RND"]:

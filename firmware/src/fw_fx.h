@@ -3,12 +3,12 @@
  * docs/soc.md "The fixed-point instructions"; -DFW_CFU: the SoC build) or as the same int64 C (the host build).
  *
  *   FX_ACC(acc);                    declare an accumulator (int64 on the host; the unit's on the SoC)
- *   FX_MUL(acc, a, b, k)            acc  = (a * b) >> k      (a, b int32; k a constant 0..63; >> floors)
+ *   FX_MUL(acc, a, b, k)            acc  = (a * b) >> k      (a, b int32; k a constant 0, 8, .., 56; >> floors)
  *   FX_MAC(acc, a, b, k)            acc += (a * b) >> k
  *   FX_MSU(acc, a, b, k)            acc -= (a * b) >> k
- *   FX_ADD(acc, a, k, b)            acc += (a << k) + b
+ *   FX_ADD(acc, a, k, b)            acc += (a << k) + b      (k 0, 8, .., 56: the unit shifts products by bytes)
  *   FX_SET(acc, hi, lo)             acc = (hi << 32) + (uint32_t)lo    (an int64 value, from its two words)
- *   FX_RND(acc, k, bits)            sat(round_shr(acc, k), bits)   as int32 (bits 1..32; 0: the low word)
+ *   FX_RND(acc, k, bits)            sat(round_shr(acc, k), bits)   as int32 (k 0..63; bits 1..32; 0: the low word)
  *   FX_FLR(acc, k, bits)            sat(acc >> k, bits)
  *
  * and, on their own accumulator, the two-product idioms (values, each a single expression):
@@ -35,6 +35,7 @@
 
 #define FX_ACC(acc) const int acc = 0
 #define FX_INSN_(f3, k, a, b)                                                                                          \
+    _Static_assert((k) % 8 == 0 && (k) >= 0 && (k) < 64, "FX_MUL/MAC/MSU/ADD: the unit shifts by whole bytes");     \
     __asm__ volatile(".insn r %0, %1, %2, x0, %3, %4" ::"i"(HFI_CFU_OPCODE), "i"(f3), "i"(k), "r"((int32_t)(a)),     \
                      "r"((int32_t)(b)))
 #define FX_READ_(f3, k, bits)                                                                                          \
@@ -56,10 +57,11 @@
 #else
 
 #define FX_ACC(acc) int64_t acc
-#define FX_MUL(acc, a, b, k) ((acc) = ((int64_t)(int32_t)(a) * (int32_t)(b)) >> (k))
-#define FX_MAC(acc, a, b, k) ((acc) += ((int64_t)(int32_t)(a) * (int32_t)(b)) >> (k))
-#define FX_MSU(acc, a, b, k) ((acc) -= ((int64_t)(int32_t)(a) * (int32_t)(b)) >> (k))
-#define FX_ADD(acc, a, k, b) ((acc) += (int64_t)((uint64_t)(int64_t)(int32_t)(a) << (k)) + (int32_t)(b))
+/* the unit's byte shifts (k & 56; the SoC build refuses any other k at compile time) */
+#define FX_MUL(acc, a, b, k) ((acc) = ((int64_t)(int32_t)(a) * (int32_t)(b)) >> ((k) & 56))
+#define FX_MAC(acc, a, b, k) ((acc) += ((int64_t)(int32_t)(a) * (int32_t)(b)) >> ((k) & 56))
+#define FX_MSU(acc, a, b, k) ((acc) -= ((int64_t)(int32_t)(a) * (int32_t)(b)) >> ((k) & 56))
+#define FX_ADD(acc, a, k, b) ((acc) += (int64_t)((uint64_t)(int64_t)(int32_t)(a) << ((k) & 56)) + (int32_t)(b))
 #define FX_SET(acc, hi, lo) ((acc) = (int64_t)(((uint64_t)(uint32_t)(hi) << 32) | (uint32_t)(lo)))
 #define FX_RND(acc, k, bits) fx_result_((acc), (k), (bits), 1)
 #define FX_FLR(acc, k, bits) fx_result_((acc), (k), (bits), 0)

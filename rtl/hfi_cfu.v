@@ -13,8 +13,9 @@
 // command (the CPU's memory stage, so they issue one per clock), RND/FLR four clocks after it (three stall clocks).
 // Pipeline, one heavy element per stage (the CPU clock closes with its margin on the ECP5: docs/soc.md):
 //   1 operands; 2 the product (or the ADD/SET value; for RND/FLR the rounding constant and the saturation's
-//   bound); 3 acc updated by the byte-shifted product, or for RND/FLR acc plus the rounding constant (acc then
-//   holds every older instruction); 4 RND/FLR: that sum shifted and saturated, the answer.
+//   bound); 3 acc updated by the byte-shifted product, or for RND/FLR acc plus the rounding constant, shifted by
+//   the whole bytes of k (acc then holds every older instruction); 4 RND/FLR: the rest of the shift (k mod 8)
+//   and the saturation, the answer.
 // No command is taken while an RND/FLR is in flight or an answer waits for the CPU, so answers stay in order.
 module hfi_cfu (
     input  wire        clk,
@@ -65,8 +66,8 @@ module hfi_cfu (
     // ---------------------------------------------------------------- stage 3: acc, or the read's sum
     reg  signed [63:0] acc;
     reg               s3_v;                                    // an RND/FLR in stage 4
-    reg  [5:0]        s3_k;
-    reg  signed [63:0] s3_sum, s3_hi;
+    reg  [2:0]        s3_k;                                    // k mod 8: the rest of the read's shift
+    reg  signed [63:0] s3_sum, s3_hi;                          // (acc + rounding constant) >>> (k - k mod 8)
     reg               s3_sat;
 
     // ---------------------------------------------------------------- stage 4: the answer
@@ -116,8 +117,8 @@ module hfi_cfu (
                     `HFI_CFU_SET: acc <= s2_val;
                     default: ;
                 endcase
-                s3_k <= s2_k;
-                s3_sum <= acc + s2_rc;
+                s3_k <= s2_k[2:0];
+                s3_sum <= (acc + s2_rc) >>> kb;
                 s3_hi <= s2_hi;
                 s3_sat <= s2_sat;
             end

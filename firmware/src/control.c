@@ -967,28 +967,38 @@ void fw_lut_point(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, struc
 }
 #endif
 
-static int32_t sgn64(int64_t x)
-{
-    return (x > 0) - (x < 0);
-}
-
-/* golden.firmware.applied_flux.applied_flux (0 <= dt_f, vth_f <= 2^28: the sums below 2^46) */
+/* golden.firmware.applied_flux.applied_flux (0 <= dt_f, vth_f <= 2^28, s16 currents). Each e_x is a sum of
+ * +-dt_f and +-vth_f (|e_x| <= 2^29: int32), the products by the signs as selections; the phases' signs from the
+ * int32 saturation of the exact products (it keeps the sign); (v << FLUX_FRAC) + round_shr(S, 15) as
+ * round_shr(S + v 2^(15 + FLUX_FRAC), 15), the added term a multiple of 2^15. */
 void fw_applied_flux(int32_t old, int32_t new_state, int32_t i_al, int32_t i_be, int32_t dt_f, int32_t vth_f,
                      int32_t *f_al, int32_t *f_be)
 {
-    int32_t v_al, v_be;
-    int32_t signs[3] = {sgn64(i_al), sgn64(56756 * (int64_t)i_be - 32768 * (int64_t)i_al),
-                        sgn64(-32768 * (int64_t)i_al - 56756 * (int64_t)i_be)};
-    int64_t e[3];
+    int32_t v_al, v_be, e[3];
+    int32_t signs[3] = {(i_al > 0) - (i_al < 0), 0, 0};
+    int32_t sb = FX_CROSS(56756, i_be, 32768, i_al, 0, 32), sc = FX_DOT(32768, i_al, 56756, i_be, 0, 32);
 
+    signs[1] = (sb > 0) - (sb < 0);
+    signs[2] = (sc < 0) - (sc > 0); /* the sign of -32768 i_al - 56756 i_be */
     fw_state_voltage(new_state, &v_al, &v_be);
     for (int x = 0; x < 3; x++) {
-        int32_t ds = ((new_state >> x) & 1) - ((old >> x) & 1);
+        int32_t ds = ((new_state >> x) & 1) - ((old >> x) & 1), sg = signs[x];
+        int32_t ex = sg > 0 ? -vth_f : sg < 0 ? vth_f : 0;
 
-        e[x] = (ds * signs[x] > 0 ? -(int64_t)ds * dt_f : 0) - (int64_t)signs[x] * vth_f;
+        if (ds != 0 && ds == sg)                    /* ds sg > 0: -ds dt_f */
+            ex += ds > 0 ? -dt_f : dt_f;
+        e[x] = ex;
     }
-    *f_al = (int32_t)(((int64_t)v_al << FW_FLUX_FRAC) + round_shr64((2 * e[0] - e[1] - e[2]) * 10923, 15));
-    *f_be = (int32_t)(((int64_t)v_be << FW_FLUX_FRAC) + round_shr64((e[1] - e[2]) * 18919, 15));
+    FX_ACC(acc);
+    FX_MUL(acc, e[0], 2 * 10923, 0);
+    FX_MSU(acc, e[1], 10923, 0);
+    FX_MSU(acc, e[2], 10923, 0);
+    FX_MAC(acc, v_al, 1 << (15 + FW_FLUX_FRAC), 0);
+    *f_al = FX_RND(acc, 15, 0);
+    FX_MUL(acc, e[1], 18919, 0);
+    FX_MSU(acc, e[2], 18919, 0);
+    FX_MAC(acc, v_be, 1 << (15 + FW_FLUX_FRAC), 0);
+    *f_be = FX_RND(acc, 15, 0);
 }
 
 /* golden.firmware.hfo_proj._to_bin: radians (Q16) to binary angle (|x| <= 2^31: below 2^61) */

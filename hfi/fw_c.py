@@ -241,8 +241,9 @@ def state_to_c(ffi: cffi.FFI, fw: Firmware):
         setattr(c, name, getattr(fw, name))
     for k in range(2):
         c.est_theta[k], c.est_omega[k] = fw.est_theta[k], fw.est_omega[k]
-        _outputs_into(c.act[k], fw.act[k])
-    _outputs_into(c.prev, fw.prev)
+    c.hist_at = 0                       # the output history's ring (control.h): act[0], act[1], prev from slot 0
+    for k, out in enumerate((*fw.act, fw.prev)):
+        _outputs_into(c.hist[k], out)
     _biquad_into(c.nd, fw.nd)
     _biquad_into(c.nq, fw.nq)
     for est in fw.slots:
@@ -284,8 +285,9 @@ def state_from_c(c, p: FirmwareParams) -> Firmware:
         setattr(fw, name, getattr(c, name))
     fw.est_theta = [c.est_theta[0], c.est_theta[1]]
     fw.est_omega = [c.est_omega[0], c.est_omega[1]]
-    fw.act = [outputs_from_c(c.act[0]), outputs_from_c(c.act[1])]
-    fw.prev = outputs_from_c(c.prev)
+    act0, act1, prev = (c.hist[(c.hist_at + k) % 3] for k in range(3))   # the ring (control.h)
+    fw.act = [outputs_from_c(act0), outputs_from_c(act1)]
+    fw.prev = outputs_from_c(prev)
     fw.nd, fw.nq = _biquad_from(c.nd), _biquad_from(c.nq)
     for est in fw.slots:
         if est is None:

@@ -86,7 +86,7 @@ def check_indirect_sites(sites: list[str]) -> None:
 
 def plugin_members(control_c: str) -> set[str]:
     """The functions of the estimator plug-in table ``fw_methods`` (control.c): the targets of its calls."""
-    m = re.search(r"fw_methods\[FW_METHODS\] = \{(.*?)\n\};", control_c, re.S)
+    m = re.search(r"fw_methods\[FW_METHODS\](?: STEP_TABLE)? = \{(.*?)\n\};", control_c, re.S)
     if m is None:
         raise ValueError("control.c: no fw_methods table")
     return set(re.findall(r"\b(fw_\w+)\b", m.group(1))) - {"fw_methods"}

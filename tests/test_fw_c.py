@@ -219,8 +219,10 @@ def test_build_failure_reports_make_output(tmp_path):
 
 
 # ---- window means ---------------------------------------------------------------------------------------
-def _c_means(sum_id: int, sum_iq: int, n: int, out) -> tuple[int, int]:
-    lib.fw_window_means(sum_id, sum_iq, n, out[0], out[1])
+def _c_means(sum_id: int, sum_iq: int, n: int, out, div=None) -> tuple[int, int]:
+    """fw_window_means with a fresh divisor (its magic number computed for n), or with ``div`` kept from the
+    calls before (recomputed only when n changes)."""
+    lib.fw_window_means(ffi.new("struct fw_divisor *") if div is None else div, sum_id, sum_iq, n, out[0], out[1])
     return out[0][0], out[1][0]
 
 
@@ -233,11 +235,24 @@ def test_window_means_random(seed):
     sid = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
     siq = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
     n = draw(rng, N_RANDOM, 0, U16_MAX, (2, 3, 7))
-    out = _out_pair()
+    small = draw(rng, N_RANDOM, -(1 << 30) + 1, (1 << 30) - 1)     # the multiply's range (control.c, div_by)
+    out, div = _out_pair(), ffi.new("struct fw_divisor *")
     for k in range(N_RANDOM):
-        got = _c_means(sid[k], siq[k], n[k], out)
-        assert got == window_means(sid[k], siq[k], n[k]), (seed, sid[k], siq[k], n[k], got)
+        got = _c_means(sid[k], small[k], n[k], out, div if k % 2 else None)
+        assert got == window_means(sid[k], small[k], n[k]), (seed, sid[k], small[k], n[k], got)
     assert n.count(0) > 1000
+
+
+def test_window_means_every_divisor():
+    """The magic number of every N against golden's c_div, at the edges of the multiply's range (|x| < 2^30), at
+    multiples of N and one off them (where a magic number one too small or too large shows first), and on both
+    sides of the switch to the core's divide."""
+    div, out = ffi.new("struct fw_divisor *"), _out_pair()
+    edge = (1 << 30) - 1
+    for n in range(0, U16_MAX + 1):
+        k = edge // n if n else 0
+        for x in (edge, -edge, k * n, -k * n, k * n - 1, 1 - k * n, n, -n, n - 1, 1 - n, 1 << 30, -(1 << 30)):
+            assert _c_means(x, -x, n, out, div) == window_means(x, -x, n), (x, n)
 
 
 @pytest.mark.parametrize("sum_id, sum_iq, n", [

@@ -30,6 +30,11 @@ void *memcpy(void *dst, const void *src, size_t n);
 
 #define HALF_TURN 0x80000000u /* golden.firmware.supervisor.HALF_TURN: half an electrical turn */
 
+/* The constant tables the control step reads, placed right after the state (firmware/link.ld, .state): in
+ * .rodata their offset in the 4 KiB direct-mapped data cache moved with the code's size, and one change put
+ * fw_methods on the stack's lines (docs/soc.md, "The data cache"). */
+#define STEP_TABLE __attribute__((section(".state_tables")))
+
 /* ---- fixed-point helpers (golden/fixed.py) ------------------------------------------------------ */
 
 /* golden.fixed.sat(x, 32) */
@@ -72,14 +77,50 @@ static int64_t clamp_sym(int64_t x, int64_t lim)
 
 /* ---- blocks ------------------------------------------------------------------------------------ */
 
-/* golden.firmware.means.window_means: c_div of the window sums by N (u16, so n32 >= 0 and
- * INT32_MIN / -1 cannot occur); 0 if N == 0. */
-void fw_window_means(int32_t sum_id, int32_t sum_iq, uint32_t n, int32_t *i_d, int32_t *i_q)
+/* c_div(x, d) for 3 <= d < 2^16 by a multiply with the divisor's magic number (div, from div_magic), when
+ * |x| < 2^30; the core's divide (about 35 clocks) otherwise. With l = ceil(log2 d), s = 30 + l = 32 + t and
+ * M = floor(2^s / d) + 1 (so M d = 2^s + e, 0 < e <= d): x M / 2^s = x / d + x e / (d 2^s), and |x| e < 2^s
+ * keeps the second term below 1/d, so floor(x M / 2^s) is floor(x / d) for x >= 0 and one below trunc(x / d)
+ * for x < 0 (the term is > 0 and x / d lies on or below the integer it truncates to). Granlund & Montgomery,
+ * "Division by invariant integers using multiplication", PLDI 1994, Sec. 5; M < 2^31 fits a signed mulh.
+ * tests/test_fw_c.py checks it against golden for every d at the edges of the fast range. */
+static int32_t div_by(const struct fw_divisor *div, int32_t x)
 {
-    int32_t n32 = (int32_t)n;
+    if ((uint32_t)x + (1u << 30) >= (1u << 31) || div->n < 3u) /* |x| >= 2^30 (or d = 1, 2): the divide */
+        return x / (int32_t)div->n;
+    int32_t hi = (int32_t)(((int64_t)x * div->m) >> 32);     /* one mulh */
 
-    *i_d = n32 ? sum_id / n32 : 0;
-    *i_q = n32 ? sum_iq / n32 : 0;
+    return (hi >> div->t) + (int32_t)((uint32_t)x >> 31);
+}
+
+/* div's magic number for d (1 <= d < 2^16): M = floor(2^(30+l) / d) + 1 from 32-bit divides, as
+ * 2^(l-1) floor(2^31 / d) + floor(2^(l-1) (2^31 mod d) / d) + 1 (each term < 2^31 for l <= 16). */
+static void div_magic(struct fw_divisor *div, uint32_t d)
+{
+    div->n = d;
+    if (d < 3u)
+        return;
+    const int32_t l = 32 - __builtin_clz(d - 1u);
+    const uint32_t q = 0x80000000u / d, r = 0x80000000u - q * d;
+
+    div->m = (int32_t)((q << (l - 1)) + (r << (l - 1)) / d + 1u);
+    div->t = l - 2;
+}
+
+/* golden.firmware.means.window_means: c_div of the window sums by N (u16, so INT32_MIN / -1 cannot occur); 0 if
+ * N == 0. The divisions go by div's magic number for N (kept while N stays; about 16 clocks for both instead of
+ * 70 on the core). */
+void fw_window_means(struct fw_divisor *div, int32_t sum_id, int32_t sum_iq, uint32_t n, int32_t *i_d,
+                     int32_t *i_q)
+{
+    if (n == 0u) {
+        *i_d = *i_q = 0;
+        return;
+    }
+    if (n != div->n)
+        div_magic(div, n);
+    *i_d = div_by(div, sum_id);
+    *i_q = div_by(div, sum_iq);
 }
 
 /* golden.firmware.bangbang.bangbang_step (Benevieri et al. 2023, Sec. II-B, Fig. 1) */
@@ -635,10 +676,9 @@ void fw_rot_turn(struct fw_state *st, uint32_t delta)
 
 void fw_rot_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega)
 {
-    static const struct fw_rot_state zero;
     struct fw_rot_state *e = &st->rot;
 
-    *e = zero;
+    memset(e, 0, sizeof *e); /* in place: a static zero copy lands wherever the code's size puts it in the data cache */
     e->pll.theta = theta - (uint32_t)(((int64_t)omega * p->rot.k_delay) >> 16);
     e->pll.integ = (int64_t)omega * 16777216;
     e->pll.omega = omega;
@@ -854,8 +894,8 @@ static int64_t abs64(int64_t x)
 
 /* golden.fpga.fcs_mpc.state_voltage by state 0..7 (bit 0 = phase a): VX, VY of the active states 001, 011,
  * 010, 110, 100, 101 ((2/3) 2^15 (cos, sin)(60 deg j), j = 0..5), 0 for 000 and 111 */
-static const int32_t state_vx[8] = {0, 21845, -10923, 10923, -10923, 10923, -21845, 0};
-static const int32_t state_vy[8] = {0, 0, 18919, 18919, -18919, -18919, 0, 0};
+static const int32_t state_vx[8] STEP_TABLE = {0, 21845, -10923, 10923, -10923, 10923, -21845, 0};
+static const int32_t state_vy[8] STEP_TABLE = {0, 0, 18919, 18919, -18919, -18919, 0, 0};
 
 void fw_state_voltage(int32_t state, int32_t *v_al, int32_t *v_be)
 {
@@ -1221,7 +1261,7 @@ void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t 
 }
 
 /* golden.firmware.methods.CLASSES: the members of the plug-in interface, by method id. */
-static const struct fw_est_ops fw_methods[FW_METHODS] = {
+static const struct fw_est_ops fw_methods[FW_METHODS] STEP_TABLE = {
     [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync, fw_sqw_i_d, 0},
     [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d, 0},
     [FW_METHOD_ROT_BPF] = {fw_rot_step, fw_rot_turn, fw_rot_sync, fw_rot_i_d, 0},
@@ -1231,7 +1271,7 @@ static const struct fw_est_ops fw_methods[FW_METHODS] = {
 };
 
 /* Whether a method's injection is on while it is in charge, by method id (generated, fw_methods.h). */
-static const uint8_t fw_method_injects[FW_METHODS] = FW_METHOD_INJECTS;
+static const uint8_t fw_method_injects[FW_METHODS] STEP_TABLE = FW_METHOD_INJECTS;
 
 /* The method id of a slot (0: none). */
 static int32_t slot_method(const struct fw_params *p, int32_t slot)
@@ -1456,6 +1496,38 @@ static void ident_refs(struct fw_state *st, const struct fw_ident_params *p, int
 
 static const struct fw_outputs reset_outputs = {0, 0, 0, 0, 32767, 0, 0, 0, 0, 0, 0, 0}; /* RESET_OUTPUTS */
 
+/* ---- the output history (struct fw_state hist, hist_at) --------------------------------------- */
+
+/* golden Firmware.act[0]: the outputs active in this window */
+static const struct fw_outputs *act0(const struct fw_state *st)
+{
+    return &st->hist[st->hist_at];
+}
+
+#ifndef FW_NO_PROBE
+/* golden Firmware.act[1]: the outputs of the last step (read by the flying-start probe only) */
+static const struct fw_outputs *act1(const struct fw_state *st)
+{
+    return &st->hist[st->hist_at == 2 ? 0 : st->hist_at + 1];
+}
+#endif
+
+/* golden Firmware.prev: the outputs active in the window before */
+static const struct fw_outputs *prev_out(const struct fw_state *st)
+{
+    return &st->hist[st->hist_at == 0 ? 2 : st->hist_at - 1];
+}
+
+/* prev, act[0], act[1] = act[0], act[1], out (Firmware.step's last lines): out goes into prev's slot, which
+ * becomes act[1], and the index moves on one slot */
+static void push_outputs(struct fw_state *st, const struct fw_outputs *out)
+{
+    const int32_t at = st->hist_at;
+
+    st->hist[at == 0 ? 2 : at - 1] = *out;
+    st->hist_at = at == 2 ? 0 : at + 1;
+}
+
 /* Firmware.__init__ / __post_init__: everything 0 (the EEMF observer's direction forwards), CONVERGE; FIXED at
  * fixed_angle if enabled; else CATCH with the high slot in charge if the flying start is on; IDENT with the
  * executor at its step 0 if st->ident is set (before FIXED). */
@@ -1473,7 +1545,7 @@ void fw_init(struct fw_state *st, const struct fw_params *p)
         st->mode = FW_CATCH;
         st->active = FW_SLOT_HIGH;
     }
-    st->act[0] = st->act[1] = st->prev = reset_outputs;
+    st->hist[0] = st->hist[1] = st->hist[2] = reset_outputs; /* hist_at 0 */
     st->smo.dir = 1; /* EemfSmo.__init__: forwards */
 #ifndef FW_NO_IDENT
     st->ident = ident;
@@ -1633,19 +1705,17 @@ const char *fw_fault_name(int32_t code)
     return code >= 0 && code < FW_FAULTS ? names[code] : "?";
 }
 
-_Static_assert(offsetof(struct fw_state, prev) == offsetof(struct fw_state, act) + 2 * sizeof(struct fw_outputs),
-               "restart copies act[0], act[1] and prev as one block");
-
 /* Firmware._restart: fw_init but the fault code, the restart count and the output history. Not inlined: it runs
  * only after a fault, and fw_step's code stays within the instruction cache's working set (firmware/link.ld). */
 static __attribute__((noinline)) void restart(struct fw_state *st, const struct fw_params *p)
 {
-    int32_t fault = st->fault, restarts = st->restarts + 1;
-    struct fw_outputs history[3]; /* act[0], act[1], prev: one copy each way (the smaller code) */
+    int32_t fault = st->fault, restarts = st->restarts + 1, at = st->hist_at;
+    struct fw_outputs history[3]; /* the ring: one copy each way (the smaller code) */
 
-    memcpy(history, st->act, sizeof history);
+    memcpy(history, st->hist, sizeof history);
     fw_init(st, p);
-    memcpy(st->act, history, sizeof history);
+    memcpy(st->hist, history, sizeof history);
+    st->hist_at = at;
     st->fault = fault;
     st->restarts = restarts;
 }
@@ -1840,7 +1910,7 @@ static __attribute__((noinline, cold)) int probe_step(struct fw_state *st, const
 
     if (!p->prot.probe_min || st->probe < 0 || n >= FW_PROBE_END)
         return 0;
-    if (n == 1 && (st->act[0].enable | st->act[1].enable)) { /* the gates were on (an active short circuit) */
+    if (n == 1 && (act0(st)->enable | act1(st)->enable)) { /* the gates were on (an active short circuit) */
         st->probe = -1;
         return 0;
     }
@@ -1944,7 +2014,7 @@ static int injecting(const struct fw_state *st, const struct fw_params *p)
  * it, the register sets active in the window and in the one before both with V_H != 0). */
 static int square_wave_on(const struct fw_state *st, const struct fw_params *p)
 {
-    return fw_method_injects[slot_method(p, st->active)] == FW_INJ_SQW_D && st->act[0].v_h != 0 && st->prev.v_h != 0;
+    return fw_method_injects[slot_method(p, st->active)] == FW_INJ_SQW_D && act0(st)->v_h != 0 && prev_out(st)->v_h != 0;
 }
 
 /* Firmware._feedback: the window means through the notch (input saturated to FW_NOTCH_BITS), if on. */
@@ -2066,7 +2136,7 @@ static __attribute__((noinline)) void ident_outputs(struct fw_state *st, const s
     struct fw_ident_state *id = &st->ident->s;
 
     *out = reset_outputs;
-    ident_measure(id, &st->ident->p, i_d, i_q, win->gamma_d, win->gamma, &st->act[0], &st->prev);
+    ident_measure(id, &st->ident->p, i_d, i_q, win->gamma_d, win->gamma, act0(st), prev_out(st));
     if (id->failed) {
         trip(st, p, FW_FAULT_IDENT);
         return;
@@ -2100,7 +2170,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
 
     if (p->inj_rot)
         fw_sincos_q15(win->inj_phase, &s_inj, &c_inj);
-    fw_window_means(win->sum_id, win->sum_iq, win->n_samples, &i_d, &i_q);
+    fw_window_means(&st->mean_div, win->sum_id, win->sum_iq, win->n_samples, &i_d, &i_q);
     st->i_d = i_d;
     st->i_q = i_q;
     count_window(st);
@@ -2120,9 +2190,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
             ident_outputs(st, p, win, i_d, i_q, out);
         else
             *out = reset_outputs;
-        st->prev = st->act[0];
-        st->act[0] = st->act[1];
-        st->act[1] = *out;
+        push_outputs(st, out);
         return;
     }
 #endif
@@ -2137,15 +2205,15 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         m.win = win;
         m.i_d = i_d;
         m.i_q = i_q;
-        m.sin = st->act[0].sin;
-        m.cos = st->act[0].cos;
-        fw_window_voltage(&st->act[0], &st->prev, &m.v_al, &m.v_be);
+        m.sin = act0(st)->sin;
+        m.cos = act0(st)->cos;
+        fw_window_voltage(act0(st), prev_out(st), &m.v_al, &m.v_be);
         m.inj_sin = s_inj;
         m.inj_cos = c_inj;
         if (p->inj_rot) {
             int32_t a, b;
 
-            fw_injection_voltage(st->act[0].v_h, st->prev.v_h, m.inj_sin, m.inj_cos, p->inj_cd, p->inj_sd, &a, &b);
+            fw_injection_voltage(act0(st)->v_h, prev_out(st)->v_h, m.inj_sin, m.inj_cos, p->inj_cd, p->inj_sd, &a, &b);
             m.v_al = FX_SUM(m.v_al, a, 32);
             m.v_be = FX_SUM(m.v_be, b, 32);
         }
@@ -2163,10 +2231,10 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
 
             hand_over(st, p);
             run_refs(st, p, speed_ref, &i_d_ref, &i_q_ref);
-            int32_t v_d = st->act[0].v_d, v_q = st->act[0].v_q;
+            int32_t v_d = act0(st)->v_d, v_q = act0(st)->v_q;
 
             if (p->law == FW_LAW_FCS_MPC && p->prot.emf_tol != 0) /* only the lock check reads it */
-                applied_dq(st, win, &st->act[0], &v_d, &v_q);
+                applied_dq(st, win, act0(st), &v_d, &v_q);
             const int32_t frozen = fw_frozen_check(st, &p->prot, win->frozen, win->n_samples);   /* the cause first */
 
             code = fw_protect_step(st, &p->prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev,
@@ -2209,9 +2277,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
 #ifndef FW_NO_PROBE
 emit:
 #endif
-    st->prev = st->act[0];
-    st->act[0] = st->act[1];
-    st->act[1] = *out; /* the voltages applied: the estimators' and checks' */
+    push_outputs(st, out); /* the voltages applied: the estimators' and checks' */
     if (p->ff_nom && p->law == FW_LAW_FOC_PWM)
         fw_dc_feedforward(out, win->vdc, p->ff_nom, p->ff_lo, p->ff_hi);
 }

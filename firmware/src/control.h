@@ -485,6 +485,14 @@ struct fw_params {
     int32_t ff_hi;
 };
 
+/* A divisor and its magic number for fw_window_means (control.c, div_magic): m and t are valid for n >= 3 and
+ * are recomputed when the window's sample count differs from n (0: none yet). Not part of golden's state. */
+struct fw_divisor {
+    uint32_t n;
+    int32_t m;
+    int32_t t;
+};
+
 /* Register values written by one control step (golden.firmware.supervisor.Outputs). */
 struct fw_outputs {
     int32_t v_d;
@@ -521,8 +529,12 @@ struct fw_state {
     uint32_t est_theta[2];   /* each slot's angle output of the last step (u32 binary angle) */
     int32_t est_omega[2];    /* each slot's speed output of the last step (binary angle per period) */
     int32_t offset;          /* hand-over angle offset: angle in use - high slot's angle */
-    struct fw_outputs act[2];   /* outputs of steps k-2 (active in this window) and k-1 */
-    struct fw_outputs prev;     /* outputs of step k-3 (active in the window before) */
+    struct fw_outputs hist[3];  /* the output history (golden Firmware.act[0], act[1], prev) as a ring: act[0]
+                                 * (outputs of step k-2, active in this window) in hist[hist_at], act[1] (step k-1)
+                                 * in the next slot, prev (step k-3, active in the window before) in the one after;
+                                 * a step writes one slot and moves the index instead of copying two records */
+    int32_t hist_at;            /* 0..2 */
+    struct fw_divisor mean_div; /* the window means' divisor (fw_window_means) */
     int32_t speed_cnt;          /* periods since the last speed-PI step */
     int32_t i_s_ref;            /* speed-PI output, held between its steps */
     int32_t i_s_cmd;            /* the current command: i_s_ref through the slew limit */
@@ -604,7 +616,8 @@ struct fw_meas {
 };
 
 /* golden.firmware.means.window_means */
-void fw_window_means(int32_t sum_id, int32_t sum_iq, uint32_t n, int32_t *i_d, int32_t *i_q);
+void fw_window_means(struct fw_divisor *div, int32_t sum_id, int32_t sum_iq, uint32_t n, int32_t *i_d,
+                     int32_t *i_q);
 /* golden.firmware.bangbang.bangbang_step */
 uint32_t fw_bangbang_step(uint32_t theta_hat, int32_t gamma, uint32_t k_bb);
 /* golden.firmware.pll.pll_step (updates *s in place) */

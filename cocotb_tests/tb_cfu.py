@@ -8,7 +8,7 @@ memory stage can be stuck), and checks, for every instruction:
 - the answer against the model (accumulating instructions answer 0, RND/FLR the model's value), in order, one
   answer per command;
 - the timing the firmware's cycle counts rest on: with ``rsp_ready`` high, MUL/MAC/MSU/ADD/SET are answered in
-  the clock after their command and taken back to back (a command every clock), RND/FLR four clocks after;
+  the clock after their command and taken back to back (a command every clock), RND/FLR three clocks after;
 - no command is taken while an answer waits for the CPU or an RND/FLR is in flight.
 
 Random programs: HFI_RANDOM_N instructions (default 100 000 under Verilator) drawn as the firmware's idioms
@@ -34,8 +34,8 @@ INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 SPECIAL = (0, 1, -1, 2, -2, INT32_MIN, INT32_MAX, INT32_MIN + 1, 1 << 30, -(1 << 30), 32767, -32768, 1 << 15)
 OPS = CFU_OPS
 READS = (OPS["RND"], OPS["FLR"])
-READ_LATENCY = 4
-"""Clocks from an RND/FLR command to its answer (rtl/hfi_cfu.v's four stages)."""
+READ_LATENCY = 3
+"""Clocks from an RND/FLR command to its answer (rtl/hfi_cfu.v: the read skips the product stage)."""
 
 
 def operand(rng: np.random.Generator) -> int:

@@ -48,8 +48,8 @@ STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
 (besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each
 method's state block, named by the method's ``PARAMS``)."""
-WINDOW_HOST_ONLY = ("env_a", "env_b")
-"""Fields of :class:`~golden.fpga.demodulator.WindowResult` that no estimator reads (``ENV_A``, ``ENV_B``:
+WINDOW_HOST_ONLY = ("wsum", "env_a", "env_b")
+"""Fields of :class:`~golden.fpga.demodulator.WindowResult` that no estimator reads (``WSUM``; ``ENV_A``, ``ENV_B``:
 diagnostics of the differencing block), so ``struct fw_window`` has no field for them."""
 WINDOW_RESULT_FIELDS = tuple(f.name for f in dataclass_fields(WindowResult) if f.name not in WINDOW_HOST_ONLY)
 """Fields shared by ``struct fw_window`` and :class:`~golden.fpga.demodulator.WindowResult`, in the struct's

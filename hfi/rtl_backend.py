@@ -7,11 +7,11 @@ run's configuration block into the firmware's RAM image, runs the co-simulation 
 stderr) and turns its records into the same :class:`golden.closedloop.ClosedLoopResult` as the golden
 backend, so reports, plots and the identity test use one format:
 
-* window results (GAMMA ... N_SAMPLES, INJ_PHASE, CIC_QA/QB when the period square wave runs, VECTOR and
-  TOP_I in the direct-vector mode, CTRL.DIRECT) and
+* window results (SUM_ID, SUM_IQ, N_SAMPLES, INJ_PHASE, VDC, WIN_FAULT, WIN_ADC, CIC_QA/QB when the period
+  square wave runs, VECTOR and TOP_I in the direct-vector mode, CTRL.DIRECT) and
   the speed reference from the firmware's register reads, the firmware's register writes (V_DQ, V_H,
-  SINCOS, I_REF, CTRL), compares, LATE_COUNT, the ADC mode in use and ENV_A/ENV_B (which the firmware
-  does not use, so does not read) at each window interrupt;
+  SINCOS, I_REF, CTRL), compares, LATE_COUNT, the ADC mode in use, ENV_A/ENV_B and GAMMA, GAMMA_D, WSUM
+  (which the firmware reads only when it uses them, so the harness samples them) at each window interrupt;
 * estimator and controller state from the firmware's trace records (:data:`hfi.soc_platform.TRACE`:
   every trace word named like a column of ``WINDOW_FIELDS`` fills that column);
 * gate edges, ADC samples and the plant state at each window end from the harness (sim/plant_loop.h).
@@ -388,7 +388,7 @@ _EDGE = np.dtype([("tick", "<i8"), ("mask", "<i8")])
 _SAMPLE = np.dtype([("tick", "<i8"), ("a", "<i4"), ("b", "<i4"), ("vdc", "<i4"), ("pad", "<i4")])
 _BUS = np.dtype([("tick", "<i8"), ("addr", "<u4"), ("data", "<u4")])
 _IRQ = np.dtype([("tick", "<i8"), ("commit", "<i8"), ("cmp", "<i4", (6,)), ("late", "<i4"), ("adc_mode", "<i4"),
-                 ("env", "<i4", (2,))])
+                 ("env", "<i4", (2,)), ("dem", "<i4", (3,))], align=True)   # padded to 8 bytes as struct soc_irq
 
 
 def _s16(v: np.ndarray) -> np.ndarray:
@@ -530,8 +530,7 @@ class RtlClosedLoop:
         reads, writes = rec["reads"][rec["reads"]["tick"] >= P + H // 2], rec["writes"]
         w = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
         w["tick"] = (np.arange(n_win, dtype=np.int64) + 1) * P + H // 2
-        results = [("gamma", "GAMMA", True), ("gamma_d", "GAMMA_D", True), ("sum_id", "SUM_ID", True),
-                   ("sum_iq", "SUM_IQ", True), ("wsum", "WSUM", True), ("n_samples", "N_SAMPLES", False),
+        results = [("sum_id", "SUM_ID", True), ("sum_iq", "SUM_IQ", True), ("n_samples", "N_SAMPLES", False),
                    ("speed_ref", "SPEED_REF", True), ("inj_phase", "INJ_PHASE", False), ("vdc", "VDC", False),
                    ("win_fault", "WIN_FAULT", False), ("win_adc", "WIN_ADC", False)]
         if hw.inj_per:      # the firmware reads the CIC outputs only with the period square wave (0 else)
@@ -574,6 +573,9 @@ class RtlClosedLoop:
         # firmware does not read them: sim/soc_sim.h)
         env = irqs["env"][1:n_win + 1].astype(np.int64)
         w["env_a"], w["env_b"] = env[:, 0], env[:, 1]
+        # GAMMA, GAMMA_D, WSUM the same way (the firmware reads the first two only when it uses them, WSUM never)
+        dem = irqs["dem"][1:n_win + 1].astype(np.int64)
+        w["gamma"], w["gamma_d"], w["wsum"] = dem[:, 0], dem[:, 1], dem[:, 2]
         w.update(truth_columns(rec["truth"][:n_win], self.scales.pole_pairs))
 
         samples = rec["samples"]

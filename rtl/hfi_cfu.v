@@ -10,12 +10,15 @@
 // with k = funct7[5:0] and kb = k rounded down to a multiple of 8 (a byte shift: one level of multiplexers beside
 // the accumulator's adder); saturation width 1..32, 0 and 33..63 answer the low word unsaturated; funct3 7 is
 // reserved: it answers 0 and leaves acc. Every instruction is answered, in order: MUL..SET in the clock after the
-// command (the CPU's memory stage, so they issue one per clock), RND/FLR four clocks after it (three stall clocks).
-// Pipeline, one heavy element per stage (the CPU clock closes with its margin on the ECP5: docs/soc.md):
-//   1 operands; 2 the product (or the ADD/SET value; for RND/FLR the rounding constant and the saturation's
-//   bound); 3 acc updated by the byte-shifted product, or for RND/FLR acc plus the rounding constant, shifted by
-//   the whole bytes of k (acc then holds every older instruction); 4 RND/FLR: the rest of the shift (k mod 8)
-//   and the saturation, the answer.
+// command (the CPU's memory stage, so they issue one per clock), RND/FLR three clocks after it (two stall clocks).
+// Accumulating instructions, one heavy element per stage (the CPU clock closes with its margin on the ECP5:
+// docs/soc.md): 1 operands; 2 the product (or the ADD value (rs1 <<< kb) + rs2, or SET's); 3 acc updated by the
+// byte-shifted product or the value. A read skips the product: its command loads its own registers (the rounding
+// constant from k, the width), and in the next clock the read's sum is formed from what acc becomes in that clock
+// (the instruction in stage 2 forwarded: acc, the stage's value and the rounding constant in one carry-save add
+// and one carry chain), shifted by the whole bytes of k; then the rest of the shift (k mod 8) and the saturation,
+// the answer. An instruction in stage 1 when a read is taken is in stage 2 in the read's first clock, so the sum
+// holds every older instruction.
 // No command is taken while an RND/FLR is in flight or an answer waits for the CPU, so answers stay in order.
 module hfi_cfu (
     input  wire        clk,
@@ -41,36 +44,61 @@ module hfi_cfu (
     assign cmd_ready = !rd_busy && !(rsp_valid && !rsp_ready);
     wire fire = cmd_valid && cmd_ready;
 
-    // ---------------------------------------------------------------- stage 1: operands
+    reg  signed [63:0] acc;
+
+    // ---------------------------------------------------------------- stage 1: operands (accumulating only)
     reg               s1_v;
     reg  [2:0]        s1_op;
-    reg  [5:0]        s1_k;
+    reg  [5:3]        s1_k;                                    // the whole bytes of k
     reg  signed [31:0] s1_a, s1_b;
     wire signed [63:0] s1_prod = s1_a * s1_b;
-    wire        [5:0]  s1_w = s1_a[5:0];                       // RND/FLR: the saturation width
-    wire               s1_rnd = s1_op == `HFI_CFU_RND && s1_k != 6'd0;
+    wire        [5:0]  s1_kb = {s1_k, 3'b000};
 
-    // ---------------------------------------------------------------- stage 2: product, or the read's constants
+    // ---------------------------------------------------------------- stage 2: product, or the value
     reg               s2_v;
     reg  [2:0]        s2_op;
-    reg  [5:0]        s2_k;
-    reg  signed [63:0] s2_val;                                 // the product, rs1 (ADD) or {rs1, rs2} (SET)
-    reg  signed [31:0] s2_b;                                   // ADD: rs2
-    reg  signed [63:0] s2_rc, s2_hi;                           // RND/FLR: rounding constant, upper bound
-    reg               s2_sat;                                  // RND/FLR: the width is 1..32
-    wire        [5:0]  kb = {s2_k[5:3], 3'b000};
+    reg  [5:3]        s2_k;                                    // the whole bytes of k
+    reg  signed [63:0] s2_val;                                 // the product, (rs1 <<< kb) + rs2 (ADD), {rs1, rs2} (SET)
+    wire        [5:0]  kb = {s2_k, 3'b000};
     wire signed [63:0] s2_shr = s2_val >>> kb;                 // byte shifts: 8 inputs per bit
-    wire signed [63:0] s2_add = (s2_val <<< kb) + $signed({{32{s2_b[31]}}, s2_b});
-    wire              s2_read = s2_op == `HFI_CFU_RND || s2_op == `HFI_CFU_FLR;
+    // what acc becomes in this clock, as acc_next (one adder per operation, then a multiplexer) and, for a read's
+    // sum, as x + y + neg: x acc or 0 (MUL, SET), y what is added (MSU: its one's complement, and neg the one)
+    reg  signed [63:0] acc_next;
+    always @(*) begin
+        acc_next = acc;
+        if (s2_v)
+            case (s2_op)
+                `HFI_CFU_MUL: acc_next = s2_shr;
+                `HFI_CFU_MAC: acc_next = acc + s2_shr;
+                `HFI_CFU_MSU: acc_next = acc - s2_shr;
+                `HFI_CFU_ADD: acc_next = acc + s2_val;
+                `HFI_CFU_SET: acc_next = s2_val;
+                default: ;
+            endcase
+    end
+    wire replace = s2_v && (s2_op == `HFI_CFU_MUL || s2_op == `HFI_CFU_SET);
+    wire signed [63:0] x = replace ? 64'sd0 : acc;
+    wire signed [63:0] y = !s2_v ? 64'sd0 :
+                           s2_op == `HFI_CFU_MUL || s2_op == `HFI_CFU_MAC ? s2_shr :
+                           s2_op == `HFI_CFU_MSU ? ~s2_shr :
+                           s2_op == `HFI_CFU_ADD || s2_op == `HFI_CFU_SET ? s2_val : 64'sd0;
+    wire              neg = s2_v && s2_op == `HFI_CFU_MSU;
 
-    // ---------------------------------------------------------------- stage 3: acc, or the read's sum
-    reg  signed [63:0] acc;
-    reg               s3_v;                                    // an RND/FLR in stage 4
+    // ---------------------------------------------------------------- a read: its registers, its sum
+    reg               r_v;                                     // a read taken in the last clock
+    reg  [5:0]        r_k, r_w;
+    reg  signed [63:0] r_rc;                                   // the rounding constant (0 for FLR, k = 0)
+    // acc_next + r_rc as one carry-save layer and one carry chain (neg enters the free carry bit 0)
+    wire        [63:0] cs_s = x ^ y ^ r_rc;
+    wire        [63:0] cs_c = {(x[62:0] & y[62:0]) | (x[62:0] & r_rc[62:0]) | (y[62:0] & r_rc[62:0]), neg};
+    wire signed [63:0] r_sum = $signed(cs_s + cs_c);
+    wire        [5:0]  r_kb = {r_k[5:3], 3'b000};
+
+    // ---------------------------------------------------------------- stage 3: acc; the read's answer
+    reg               s3_v;                                    // an RND/FLR's sum in stage 3
     reg  [2:0]        s3_k;                                    // k mod 8: the rest of the read's shift
     reg  signed [63:0] s3_sum, s3_hi;                          // (acc + rounding constant) >>> (k - k mod 8)
     reg               s3_sat;
-
-    // ---------------------------------------------------------------- stage 4: the answer
     wire signed [63:0] value = s3_sum >>> s3_k;
     wire signed [63:0] lo = -s3_hi - 64'sd1;
     wire [31:0] answer = !s3_sat ? value[31:0] : value > s3_hi ? s3_hi[31:0] : value < lo ? lo[31:0] : value[31:0];
@@ -79,6 +107,7 @@ module hfi_cfu (
         if (rst) begin
             s1_v <= 1'b0;
             s2_v <= 1'b0;
+            r_v <= 1'b0;
             s3_v <= 1'b0;
             acc <= 64'sd0;
             rd_busy <= 1'b0;
@@ -86,41 +115,36 @@ module hfi_cfu (
             rsp_is_read <= 1'b0;
             rsp_outputs_0 <= 32'd0;
         end else begin
-            s1_v <= fire;
-            if (fire) begin
+            s1_v <= fire && !is_read;
+            if (fire && !is_read) begin
                 s1_op <= op;
-                s1_k <= k;
+                s1_k <= k[5:3];
                 s1_a <= cmd_inputs_0;
                 s1_b <= cmd_inputs_1;
+            end
+            r_v <= fire && is_read;
+            if (fire && is_read) begin
+                r_k <= k;
+                r_w <= cmd_inputs_0[5:0];
+                r_rc <= op == `HFI_CFU_RND && k != 6'd0 ? 64'sd1 <<< (k - 6'd1) : 64'sd0;
             end
             s2_v <= s1_v;
             if (s1_v) begin
                 s2_op <= s1_op;
                 s2_k <= s1_k;
                 case (s1_op)
-                    `HFI_CFU_ADD: s2_val <= {{32{s1_a[31]}}, s1_a};
+                    `HFI_CFU_ADD: s2_val <= ({{32{s1_a[31]}}, s1_a} <<< s1_kb) + {{32{s1_b[31]}}, s1_b};
                     `HFI_CFU_SET: s2_val <= {s1_a, s1_b};
                     default: s2_val <= s1_prod;
                 endcase
-                s2_b <= s1_b;
-                s2_rc <= s1_rnd ? 64'sd1 <<< (s1_k - 6'd1) : 64'sd0;
-                s2_hi <= (64'sd1 <<< (s1_w - 6'd1)) - 64'sd1;
-                s2_sat <= s1_w != 6'd0 && s1_w <= 6'd32;
             end
-            s3_v <= s2_v && s2_read;
-            if (s2_v) begin
-                case (s2_op)
-                    `HFI_CFU_MUL: acc <= s2_shr;
-                    `HFI_CFU_MAC: acc <= acc + s2_shr;
-                    `HFI_CFU_MSU: acc <= acc - s2_shr;
-                    `HFI_CFU_ADD: acc <= acc + s2_add;
-                    `HFI_CFU_SET: acc <= s2_val;
-                    default: ;
-                endcase
-                s3_k <= s2_k[2:0];
-                s3_sum <= (acc + s2_rc) >>> kb;
-                s3_hi <= s2_hi;
-                s3_sat <= s2_sat;
+            acc <= acc_next;
+            s3_v <= r_v;
+            if (r_v) begin
+                s3_k <= r_k[2:0];
+                s3_sum <= r_sum >>> r_kb;
+                s3_hi <= (64'sd1 <<< (r_w - 6'd1)) - 64'sd1;
+                s3_sat <= r_w != 6'd0 && r_w <= 6'd32;
             end
             // answers: at most one is made per clock (a command is not taken while an RND/FLR is in flight)
             if (rsp_valid && rsp_ready) begin

@@ -246,6 +246,10 @@ static int clock_once(soc_sim *sim)
         // it does not use (soc_sim.h, struct soc_irq)
         rec.env[0] = (int32_t)((uint32_t)r->hfi_soc__DOT__u_dsp__DOT__env_a_q << 15) >> 15;
         rec.env[1] = (int32_t)((uint32_t)r->hfi_soc__DOT__u_dsp__DOT__env_b_q << 15) >> 15;
+        // GAMMA, GAMMA_D, WSUM of that window (latched two clocks before the interrupt rises), for the same reason
+        rec.dem[0] = (int32_t)r->hfi_soc__DOT__u_dsp__DOT__gamma;
+        rec.dem[1] = (int32_t)r->hfi_soc__DOT__u_dsp__DOT__gamma_d;
+        rec.dem[2] = (int32_t)r->hfi_soc__DOT__u_dsp__DOT__wsum;
         sim->irq_log.push_back(rec);
         sim->irqs++;
     }

@@ -46,9 +46,11 @@ struct soc_bus { long long tick; uint32_t addr; uint32_t data; };   /* AXI4-Lite
  * and as the interrupt rises: the six compares the modulator computed at this window's boundary (top
  * a, b, c, bottom a, b, c), LATE_COUNT, the ADC mode the sampling of this window uses, and ENV_A, ENV_B
  * of the window it reports (the differencing/CIC block's envelope, latched at that window's end; read
- * here rather than by the firmware, whose estimator uses only CIC_QA/QB: no CPU cycles for them). */
+ * here rather than by the firmware, whose estimator uses only CIC_QA/QB: no CPU cycles for them), and GAMMA,
+ * GAMMA_D, WSUM of that window (the square-wave demodulator's: the firmware reads GAMMA and GAMMA_D only when
+ * something it runs uses them, WSUM never). */
 struct soc_irq { long long tick; long long commit_tick; int32_t cmp[6]; int32_t late_count; int32_t adc_mode;
-                 int32_t env[2]; };
+                 int32_t env[2]; int32_t dem[3]; };
 
 enum soc_record {
     SOC_EDGES = 0,     /* struct gate_edge: gate-mask changes */

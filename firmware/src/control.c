@@ -35,6 +35,10 @@ void *memcpy(void *dst, const void *src, size_t n);
  * fw_methods on the stack's lines (docs/soc.md, "The data cache"). */
 #define STEP_TABLE __attribute__((section(".state_tables")))
 
+/* The body of a small block that fw_step runs once per period, inlined there; the block's public function (the host
+ * tests', the other callers') calls the same body: the call's register moves were about a third of its clocks. */
+#define STEP_INLINE __attribute__((always_inline)) static inline
+
 /* ---- fixed-point helpers (golden/fixed.py) ------------------------------------------------------ */
 
 /* golden.fixed.sat(x, 32) */
@@ -262,7 +266,8 @@ static void inv_park(int32_t d, int32_t q, int32_t s, int32_t c, int32_t *al, in
 }
 
 /* golden.firmware.estimator.window_voltage */
-void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *before, int32_t *v_al, int32_t *v_be)
+STEP_INLINE void window_voltage(const struct fw_outputs *now, const struct fw_outputs *before, int32_t *v_al,
+                                int32_t *v_be)
 {
     int32_t a1, b1, a0, b0;
 
@@ -270,6 +275,11 @@ void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *be
     inv_park(before->v_d, before->v_q, before->sin, before->cos, &a0, &b0);
     *v_al = FX_DOT(3, a1, 1, a0, 2, 0);
     *v_be = FX_DOT(3, b1, 1, b0, 2, 0);
+}
+
+void fw_window_voltage(const struct fw_outputs *now, const struct fw_outputs *before, int32_t *v_al, int32_t *v_be)
+{
+    window_voltage(now, before, v_al, v_be);
 }
 
 /* dc_feedforward.dc_feedforward: the voltages times ff_nom / vdc (Q14, vdc clamped to [ff_lo, ff_hi], ff_lo >= 1,
@@ -383,8 +393,8 @@ void fw_biquad_step(struct fw_biquad *s, int32_t x, const struct fw_biquad_coef 
 
 /* golden.firmware.mtpa.mtpa_lookup: i_s clamped to the table's end, then linear interpolation
  * (2 <= len <= FW_MTPA_LEN, s16 values, 0 <= shift <= 20: the product is below 2^37). */
-void fw_mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d, const int32_t *t_q, int32_t *i_d,
-                    int32_t *i_q)
+STEP_INLINE void mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d, const int32_t *t_q,
+                             int32_t *i_d, int32_t *i_q)
 {
     uint32_t end = (uint32_t)(len - 1) << shift;
     uint32_t x = i_s < end ? i_s : end;
@@ -395,6 +405,12 @@ void fw_mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d
     int64_t f = (int64_t)x - ((int64_t)k << shift);
     *i_d = t_d[k] + (int32_t)(((int64_t)(t_d[k + 1] - t_d[k]) * f) >> shift);
     *i_q = t_q[k] + (int32_t)(((int64_t)(t_q[k + 1] - t_q[k]) * f) >> shift);
+}
+
+void fw_mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d, const int32_t *t_q, int32_t *i_d,
+                    int32_t *i_q)
+{
+    mtpa_lookup(i_s, shift, len, t_d, t_q, i_d, i_q);
 }
 
 /* golden.firmware.estimator.injection_voltage (v in 0..2^15, Q15 sin/cos: products below 2^32) */
@@ -697,10 +713,10 @@ int32_t fw_rot_i_d(const struct fw_params *p)
 
 /* ---- estimator eemf_smo (golden.firmware.eemf_smo; Tap et al. 2023, Sec. II-F) ---------------------------- */
 
-/* min(max(x, -lim), lim) for an int64, lim >= 0 (golden.firmware.eemf_smo._clamp) */
-static int32_t clamp_z(int64_t x, int32_t lim)
+/* min(max(x, -lim), lim), lim >= 0 (golden.firmware.eemf_smo._clamp) */
+static int32_t clamp_z(int32_t x, int32_t lim)
 {
-    return (int32_t)(x > lim ? lim : x < -lim ? -lim : x);
+    return x > lim ? lim : x < -lim ? -lim : x;
 }
 
 void fw_smo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
@@ -1590,6 +1606,15 @@ void fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, i
 #define OVL_CAP (1 << 30) /* protection.OVL_CAP */
 
 /* n + 1 while cond, up to OVL_CAP; 0 otherwise */
+/* golden shr(a - b, k) for 0 <= k <= 30 without the 33-bit difference: shr(a, k) - shr(b, k), less one when a's low
+ * k bits are below b's (the borrow); for k = 0 the int32 wrap of a - b, as the int32 cast of the exact value */
+static int32_t shr_diff(int32_t a, int32_t b, int32_t k)
+{
+    const uint32_t m = (1u << k) - 1u;
+
+    return (int32_t)((uint32_t)(a >> k) - (uint32_t)(b >> k) - (((uint32_t)a & m) < ((uint32_t)b & m)));
+}
+
 static int32_t count_while(int32_t n, int cond)
 {
     return cond ? (n < OVL_CAP ? n + 1 : OVL_CAP) : 0;
@@ -1607,8 +1632,8 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
         int32_t e_d, e_q;
 
         fw_emf_residual(p, v_d, v_q, i_d, i_q, omega_f, &e_d, &e_q);
-        st->emf_d += (int32_t)(((int64_t)e_d - st->emf_d) >> p->emf_k);
-        st->emf_q += (int32_t)(((int64_t)e_q - st->emf_q) >> p->emf_k);
+        st->emf_d += shr_diff(e_d, st->emf_d, p->emf_k);
+        st->emf_q += shr_diff(e_q, st->emf_q, p->emf_k);
     }
     if (p->track_tol)
         st->track_f += (sat32(abs64((int64_t)i_d_ref - i_d) + abs64((int64_t)i_q_ref - i_q)) - st->track_f) >> p->track_k;
@@ -1653,7 +1678,8 @@ int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, ui
 
 /* protection.frozen_check: one RUN period of the sensor check (lane A / B frozen in a window of at least frz_min
  * samples, frz_n periods in a row) */
-int32_t fw_frozen_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t frozen, uint32_t n_samples)
+STEP_INLINE int32_t frozen_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t frozen,
+                                 uint32_t n_samples)
 {
     const int32_t n = p->frz_n;
     int32_t a, b;
@@ -1669,6 +1695,11 @@ int32_t fw_frozen_check(struct fw_state *st, const struct fw_prot_params *p, uin
     st->frz_a = a;
     st->frz_b = b;
     return a >= n || b >= n ? FW_FAULT_SENSOR : FW_FAULT_NONE;
+}
+
+int32_t fw_frozen_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t frozen, uint32_t n_samples)
+{
+    return frozen_check(st, p, frozen, n_samples);
 }
 
 /* protection.hf_learn: one CONVERGE period of the HF response check's reference. Not inlined: start-up code,
@@ -2010,6 +2041,22 @@ static int injecting(const struct fw_state *st, const struct fw_params *p)
     return fw_method_injects[slot_method(p, st->active)] != FW_INJ_NONE;
 }
 
+/* Whether fw_step can read win->gamma or win->gamma_d with these parameters (main.c reads GAMMA and GAMMA_D only
+ * then, two register reads across the clock crossing, about 22 CPU clocks per period): only the square-wave
+ * response does, in the estimator that injects it (sqw_bangbang), the HF response check and its learning (both
+ * while that injection is on), the current-pulse polarity detection and the identification program. */
+int fw_reads_gamma(const struct fw_state *st, const struct fw_params *p)
+{
+    int uses = fw_method_injects[slot_method(p, FW_SLOT_LOW)] == FW_INJ_SQW_D ||
+               fw_method_injects[slot_method(p, FW_SLOT_HIGH)] == FW_INJ_SQW_D || p->pol_mode == FW_POL_CURRENT;
+#ifndef FW_NO_IDENT
+    uses = uses || st->ident != 0;
+#else
+    (void)st;
+#endif
+    return uses;
+}
+
 /* Firmware._square_wave_on: the square wave on d_hat was on for the whole window (the estimator in charge injects
  * it, the register sets active in the window and in the one before both with V_H != 0). */
 static int square_wave_on(const struct fw_state *st, const struct fw_params *p)
@@ -2073,7 +2120,7 @@ static void run_refs(struct fw_state *st, const struct fw_params *p, int32_t spe
     }
     int32_t i_d, i_q;
     uint32_t mag = st->i_s_cmd < 0 ? 0u - (uint32_t)st->i_s_cmd : (uint32_t)st->i_s_cmd;
-    fw_mtpa_lookup(mag, p->mtpa_shift, p->mtpa_len, p->mtpa_id, p->mtpa_iq, &i_d, &i_q);
+    mtpa_lookup(mag, p->mtpa_shift, p->mtpa_len, p->mtpa_id, p->mtpa_iq, &i_d, &i_q);
     *i_d_ref = i_d < i_d_est ? i_d : i_d_est;
     *i_q_ref = st->i_s_cmd < 0 ? -i_q : i_q;
 }
@@ -2207,7 +2254,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         m.i_q = i_q;
         m.sin = act0(st)->sin;
         m.cos = act0(st)->cos;
-        fw_window_voltage(act0(st), prev_out(st), &m.v_al, &m.v_be);
+        window_voltage(act0(st), prev_out(st), &m.v_al, &m.v_be);
         m.inj_sin = s_inj;
         m.inj_cos = c_inj;
         if (p->inj_rot) {
@@ -2235,7 +2282,7 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
 
             if (p->law == FW_LAW_FCS_MPC && p->prot.emf_tol != 0) /* only the lock check reads it */
                 applied_dq(st, win, act0(st), &v_d, &v_q);
-            const int32_t frozen = fw_frozen_check(st, &p->prot, win->frozen, win->n_samples);   /* the cause first */
+            const int32_t frozen = frozen_check(st, &p->prot, win->frozen, win->n_samples);   /* the cause first */
 
             code = fw_protect_step(st, &p->prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev,
                                    fw_lowpass_out(st->speed_f), speed_ref, abs64(st->i_s_ref) >= p->speed_pi.limit,

@@ -580,13 +580,12 @@ struct fw_state {
                                     * wherever it goes it grows the struct by 8 (960 -> 968, 4 of them padding). */
 };
 
-/* Window results of the demodulator (registers GAMMA ... N_SAMPLES). */
+/* Window results of the demodulator (registers GAMMA ... N_SAMPLES; not WSUM, which nothing here uses). */
 struct fw_window {
-    int32_t gamma;
+    int32_t gamma;          /* GAMMA, GAMMA_D: read by main.c only when the square-wave response is used (0 else) */
     int32_t gamma_d;
     int32_t sum_id;
     int32_t sum_iq;
-    int32_t wsum;
     uint32_t n_samples;
     uint32_t inj_phase;     /* INJ_PHASE (golden WindowResult.inj_phase) */
     int32_t cic_qa;         /* CIC_QA, CIC_QB: s21 (golden WindowResult.cic_qa, cic_qb; the estimator sqw_cic) */
@@ -745,5 +744,6 @@ void fw_dc_feedforward(struct fw_outputs *out, uint32_t vdc, int32_t ff_nom, int
 const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out);
+int fw_reads_gamma(const struct fw_state *st, const struct fw_params *p);
 
 #endif

@@ -66,6 +66,7 @@ static struct fw_state st __attribute__((section(".state")));
 static volatile int32_t shown_mode = -1;
 static volatile uint32_t shown_window;
 static volatile int32_t halted;
+static int read_gamma;                    /* fw_reads_gamma of the configuration, set once at the start */
 
 static inline uint32_t rdcycle(void)
 {
@@ -148,11 +149,15 @@ static void control_step(void)
     uint32_t t0 = rdcycle();
     uint32_t count = DSP(WINDOW_COUNT);
     struct fw_window win;
-    win.gamma = (int32_t)DSP(GAMMA);
-    win.gamma_d = (int32_t)DSP(GAMMA_D);
+    if (read_gamma) {                     /* only when something the step runs uses them (fw_reads_gamma) */
+        win.gamma = (int32_t)DSP(GAMMA);
+        win.gamma_d = (int32_t)DSP(GAMMA_D);
+    } else {
+        win.gamma = 0;
+        win.gamma_d = 0;
+    }
     win.sum_id = (int32_t)DSP(SUM_ID);
     win.sum_iq = (int32_t)DSP(SUM_IQ);
-    win.wsum = (int32_t)DSP(WSUM);
     win.n_samples = DSP(N_SAMPLES) & HFI_REGS__N_SAMPLES__VALUE_bm;
     win.inj_phase = DSP(INJ_PHASE);
     if (cfg.hw.inj_per) {                 /* the differencing/CIC block's outputs (spec 3.9) */
@@ -348,6 +353,7 @@ int main(void)
     st.ident = fw_ident.p.n_steps > 0 ? &fw_ident : 0;
 #endif
     fw_init(&st, &cfg.fw);
+    read_gamma = fw_reads_gamma(&st, &cfg.fw);
     /* the log lines before the warm-up and the start: the UART code then does not evict the first steps' code
      * from the instruction cache (a log line takes about 20 periods at 10 kHz) */
     uart_puts("hfi_fw: running\n");

@@ -396,7 +396,6 @@ bool hls_loop::step() {
     win.gamma_d = int32_t(res.gamma_d);
     win.sum_id = int32_t(res.sum_id);
     win.sum_iq = int32_t(res.sum_iq);
-    win.wsum = int32_t(res.wsum);
     win.n_samples = uint32_t(res.n_samples);
     win.inj_phase = inj_phase.to_uint();                  // INJ_PHASE, latched with the window results
     win.cic_qa = int32_t(cic_qa);                         // CIC_QA, CIC_QB (latched with them too)
@@ -428,7 +427,7 @@ bool hls_loop::step() {
     r.n_samples = win.n_samples;
     r.sum_id = win.sum_id;
     r.sum_iq = win.sum_iq;
-    r.wsum = win.wsum;
+    r.wsum = int32_t(res.wsum);            // WSUM (the firmware does not use it)
     r.inj_phase = win.inj_phase;           // what the firmware was given as INJ_PHASE
     r.cic_qa = win.cic_qa;                 // ... as CIC_QA, CIC_QB
     r.cic_qb = win.cic_qb;

@@ -73,10 +73,14 @@ static int32_t opaque_s32(int32_t x)
     return x;
 }
 
-/* min(max(x, -lim), lim) for lim >= 0 (the clamps of golden.firmware.pi.pi_step) */
+/* min(max(x, -lim), lim) for 0 <= lim < 2^62 (the clamps of golden.firmware.pi.pi_step): x + lim in uint64 lies in
+ * [0, 2 lim] exactly when x is inside (no wrap for any int64 x: x + lim < 2^64), so the common case is one unsigned
+ * 64-bit compare instead of two signed ones */
 static int64_t clamp_sym(int64_t x, int64_t lim)
 {
-    return x > lim ? lim : x < -lim ? -lim : x;
+    if ((uint64_t)x + (uint64_t)lim <= 2u * (uint64_t)lim)
+        return x;
+    return x < 0 ? -lim : lim;
 }
 
 /* ---- blocks ------------------------------------------------------------------------------------ */
@@ -392,7 +396,7 @@ void fw_biquad_step(struct fw_biquad *s, int32_t x, const struct fw_biquad_coef 
 }
 
 /* golden.firmware.mtpa.mtpa_lookup: i_s clamped to the table's end, then linear interpolation
- * (2 <= len <= FW_MTPA_LEN, s16 values, 0 <= shift <= 20: the product is below 2^37). */
+ * (2 <= len <= FW_MTPA_LEN, s16 values, 0 <= shift <= 20: the product is below 2^37 and its shift fits int32). */
 STEP_INLINE void mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d, const int32_t *t_q,
                              int32_t *i_d, int32_t *i_q)
 {
@@ -402,9 +406,9 @@ STEP_INLINE void mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int
 
     if (k > len - 2)
         k = len - 2;
-    int64_t f = (int64_t)x - ((int64_t)k << shift);
-    *i_d = t_d[k] + (int32_t)(((int64_t)(t_d[k + 1] - t_d[k]) * f) >> shift);
-    *i_q = t_q[k] + (int32_t)(((int64_t)(t_q[k + 1] - t_q[k]) * f) >> shift);
+    int32_t f = (int32_t)(x - ((uint32_t)k << shift));  /* 0 <= f <= 2^(shift + 1): x <= end < 2^26 */
+    *i_d = t_d[k] + (int32_t)shr64((int64_t)(t_d[k + 1] - t_d[k]) * f, shift);
+    *i_q = t_q[k] + (int32_t)shr64((int64_t)(t_q[k + 1] - t_q[k]) * f, shift);
 }
 
 void fw_mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d, const int32_t *t_q, int32_t *i_d,

@@ -57,7 +57,7 @@ order (tests/test_fw_c.py checks both)."""
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref", "fcs_a1", "fcs_a2", "fcs_phi_min",
                  "fcs_constrain")
 """Fields shared by ``struct fw_outputs`` and :class:`~golden.firmware.supervisor.Outputs`."""
-PI_FIELDS = ("kp", "sp", "ki", "si", "limit")
+PI_FIELDS = ("kp", "sp", "ki", "si", "limit", "lim_i")
 """Fields shared by ``struct fw_pi_params`` and :class:`~golden.firmware.pi.PiParams`."""
 IDENT_FIELDS = ("k", "n", "theta", "w", "theta_r", "kp", "ki", "lvl", "ref_d", "ref_q", "jump", "fit_x", "fit_y",
                 "fit_y0", "failed", "done", "g2")
@@ -121,9 +121,10 @@ def load(root: Path = ROOT) -> tuple[cffi.FFI, object]:
 # ---- golden -> C --------------------------------------------------------------------------------------
 def _fill(c, obj) -> None:
     """Copy a frozen params dataclass into the C struct ``c`` field by field, by name (nested dataclasses
-    into nested structs); the C struct is the layout, the dataclass the values."""
+    into nested structs); the C struct is the layout, the dataclass the values. A derived field (``init=False``,
+    such as ``PiParams.lim_i``) goes in when the struct has it."""
     for f in dataclass_fields(obj):
-        if not f.init:
+        if not f.init and f.name not in dir(c):
             continue
         v = getattr(obj, f.name)
         if is_dataclass(v):
@@ -163,7 +164,6 @@ def ident_to_c(ffi: cffi.FFI, ip: IdentParams):
     (``fw_init`` starts it)."""
     c = ffi.new("struct fw_ident *")
     _fill(c.p, ip)
-    c.p.n_steps = ip.n_steps      # derived (init=False): _fill skips it
     return c
 
 

@@ -548,6 +548,35 @@ def test_pi_random(seed):
     assert min(n_pos, n_neg) > 10_000 and n_frozen > 1000, (n_pos, n_neg, n_frozen)
 
 
+def test_pi_random_32bit_words(seed):
+    """The drive's own ranges, where the C takes its 32-bit path (|prop| < 2^30, limit < 2^30): gains, limits and
+    errors of current and speed loops, and the path's edges (|prop| and limit at 2^30 - 1 and 2^30); every result
+    against golden, frozen and integrating calls both present."""
+    rng = np.random.default_rng(seed + 7)
+    integ_c = ffi.new("int64_t *")
+    n_frozen = n_taken = 0
+    for _ in range(PI_SETS):
+        limit = int(rng.choice([int(rng.integers(1, 1 << 16)), (1 << 30) - 1, 1 << 30]))
+        sp, si = (int(v) for v in rng.integers(0, 31, size=2, endpoint=True))
+        kp = int(rng.integers(0, 1 << 16)) if rng.random() < 0.8 else int(rng.integers(0, S32_MAX))
+        p = PiParams(kp=kp, sp=sp, ki=int(rng.integers(0, 1 << 20)), si=si, limit=limit)
+        cp = fw_c.pi_params_to_c(ffi, p)
+        lim_i = p.limit << p.si
+        integ = draw(rng, PI_PER_SET, -lim_i, lim_i)
+        span = 1 << int(rng.integers(1, 32))
+        ref = draw(rng, PI_PER_SET, -span, span - 1)
+        meas = draw(rng, PI_PER_SET, -span, span - 1)
+        for k in range(PI_PER_SET):
+            integ_c[0] = integ[k]
+            u = lib.fw_pi_step(integ_c, ref[k], meas[k], cp)
+            want = pi_step(integ[k], ref[k], meas[k], p)
+            assert (u, integ_c[0]) == want, (seed, p, integ[k], ref[k], meas[k])
+            frozen = want[1] == integ[k] and p.ki and ref[k] != meas[k] and abs(integ[k]) != lim_i
+            n_frozen += frozen
+            n_taken += not frozen
+    assert n_frozen > 1000 and n_taken > 10_000, (n_frozen, n_taken)
+
+
 def _pi_sequence(p: PiParams, errors, integ=0):
     """Run golden and C side by side over (ref, meas) pairs; returns the golden (u, integ) per call."""
     cp = fw_c.pi_params_to_c(ffi, p)

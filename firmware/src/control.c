@@ -191,8 +191,21 @@ static __attribute__((noinline)) int32_t pi_step(int64_t *integ, int32_t ref, in
         e = ref < 0 ? INT32_MIN : INT32_MAX;
     e = opaque_s32(e);
     int64_t prop = shr64((int64_t)p->kp * e, p->sp);                     /* 2 */
-    int64_t lim_i = (int64_t)((uint64_t)(uint32_t)limit << si);          /* limit << si, limit >= 1 */
-    int64_t cand = clamp_sym(*integ + (int64_t)p->ki * e, lim_i);        /* 3 */
+    int64_t cand = clamp_sym(*integ + (int64_t)p->ki * e, p->lim_i);     /* 3 */
+
+    /* the usual case in 32-bit words: |prop| < 2^30 and limit < 2^30; |cand|, |integ| <= lim_i (the integrator's
+     * range, golden's precondition), so their shifts by si lie in [-limit, limit]: the low word of shr64, and
+     * every sum below within int32 */
+    if ((uint64_t)prop + (1u << 30) < (1u << 31) && limit < (1 << 30)) {
+        const int32_t p32 = (int32_t)prop;
+        int32_t v = p32 + (int32_t)shr64(cand, si);                      /* 4 */
+
+        if (e > 0 ? v > limit : e < 0 && v < -limit)                     /* 5: frozen */
+            v = p32 + (int32_t)shr64(*integ, si);                        /* 6, integ_new = integ */
+        else
+            *integ = cand;                                               /* 6, integ_new = cand */
+        return v > limit ? limit : v < -limit ? -limit : v;
+    }
     int64_t u = prop + shr64(cand, si);                                  /* 4 */
 
     if (e > 0 ? u > limit : e < 0 && u < -(int64_t)limit)                /* 5: frozen */
@@ -1503,7 +1516,7 @@ static void ident_refs(struct fw_state *st, const struct fw_ident_params *p, int
         out->v_d = out->v_q = 0;
         st->id_int = st->iq_int = 0;
     } else {
-        const struct fw_pi_params pi = {id->kp, 16, id->ki, 16, p->v_lim};
+        const struct fw_pi_params pi = {id->kp, 16, id->ki, 16, p->v_lim, (int64_t)p->v_lim << 16};
 
         out->v_d = fw_pi_step(&st->id_int, sat32((int64_t)id->ref_d - d), 0, &pi);
         out->v_q = fw_pi_step(&st->iq_int, sat32((int64_t)id->ref_q - q), 0, &pi);

@@ -25,6 +25,7 @@ struct fw_pi_params {
     int32_t ki;
     int32_t si;
     int32_t limit;
+    int64_t lim_i;          /* limit << si (golden PiParams.lim_i, derived there; the host writes it) */
 };
 
 /* Estimator methods (golden.firmware.estimator.METHOD_*): the ids a slot of fw_params names. */

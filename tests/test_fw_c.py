@@ -233,7 +233,6 @@ def _out_pair():
 def test_window_means_random(seed):
     rng = np.random.default_rng(seed + 1)
     sid = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
-    siq = draw(rng, N_RANDOM, S32_MIN, S32_MAX)
     n = draw(rng, N_RANDOM, 0, U16_MAX, (2, 3, 7))
     small = draw(rng, N_RANDOM, -(1 << 30) + 1, (1 << 30) - 1)     # the multiply's range (control.c, div_by)
     out, div = _out_pair(), ffi.new("struct fw_divisor *")

@@ -934,6 +934,35 @@ def test_fw_step_random_sequences(seed, chunk):
         {pol for _, pol in running} == {POL_CURRENT, POL_PILOT, POL_NONE}, running
 
 
+def test_steps_that_do_not_read_gamma_ignore_it(seed):
+    """fw_reads_gamma (main.c reads GAMMA and GAMMA_D only when it says so): for every parameter set where it says
+    no, two C twins stepped over the same random windows, one given the windows' GAMMA and GAMMA_D and one given 0,
+    keep equal outputs and states; where it says yes, the square wave's estimator or the current-pulse polarity is
+    configured."""
+    rng = np.random.default_rng(seed + 11)
+    quiet = 0
+    for q in range(60):
+        p = random_params(rng, fixed=False, prot=q % 2 == 0)
+        cp = fw_c.params_to_c(ffi, p)
+        twins = [fw_c.new_state(ffi, p) for _ in range(2)]
+        for st in twins:
+            lib.fw_init(st, cp)
+        reads = lib.fw_reads_gamma(twins[0], cp)
+        assert reads == (METHOD_SQW_BANGBANG in (p.low, p.high) or p.pol_mode == POL_CURRENT), p
+        if reads:
+            continue
+        quiet += 1
+        win, out = ffi.new("struct fw_window *"), [ffi.new("struct fw_outputs *") for _ in range(2)]
+        speed_ref = draw_one(rng, S32_MIN, S32_MAX)
+        for k, w in enumerate(random_windows(rng, SEQ_LEN, p.i_trip, 0, healthy_vdc(p))):
+            for st, o, g in zip(twins, out, (w, replace(w, gamma=0, gamma_d=0))):
+                lib.fw_step(st, cp, fw_c.window_to_c(ffi, g, win), speed_ref, o)
+            assert fw_c.outputs_from_c(out[0]) == fw_c.outputs_from_c(out[1]), (seed, q, k, p)
+            diff = state_diff(fw_c.state_from_c(twins[0], p), fw_c.state_from_c(twins[1], p))
+            assert not diff, (seed, q, k, diff)
+    assert quiet >= 10, quiet
+
+
 def _params(**kw) -> FirmwareParams:
     pi = PiParams(kp=1 << 16, sp=16, ki=1 << 10, si=16, limit=2000)
     base = dict(low=METHOD_SQW_BANGBANG, high=0, sqw=SqwParams(27_342_611, 2621, 6711), rfo=None,

@@ -16,6 +16,9 @@ one-clock pulse; reads 0), ``rc`` (clear on read).
 ``LOCKED_BY[(reg, field)] = (lock_reg, lock_field)``: the fields whose software writes are ignored
 (and answered SLVERR) while the 1-bit lock field is 1 (SystemRDL ``swwel``).
 
+``WINDOW_COPY`` (maps that have the RDL property ``window_copy``): the registers set between the window
+boundary and the window interrupt and held until the next boundary, which hfi_soc's CPU reads from its copy.
+
 ``pack(reg, **fields)`` builds a register value (fields not named are 0); ``unpack(reg, value)``
 splits one (signed fields sign-extended). Both raise ValueError on unknown registers or fields and on
 values that do not fit (golden.regfields.RegisterFields, shared by every generated map).
@@ -661,6 +664,25 @@ LOCKED_BY = {
     ("OC_LIMIT", "VALUE"): ("SAFETY_LOCK", "LOCK"),
     ("WDT_PERIODS", "VALUE"): ("SAFETY_LOCK", "LOCK"),
 }
+
+WINDOW_COPY = (
+    "GAMMA",
+    "GAMMA_D",
+    "SUM_ID",
+    "SUM_IQ",
+    "WSUM",
+    "N_SAMPLES",
+    "WINDOW_COUNT",
+    "INJ_PHASE",
+    "CIC_QA",
+    "CIC_QB",
+    "ENV_A",
+    "ENV_B",
+    "TOP_I",
+    "VDC",
+    "WIN_FAULT",
+    "WIN_ADC",
+)
 
 _FIELDS = RegisterFields(REGISTERS, REGWIDTH)
 field_range = _FIELDS.field_range

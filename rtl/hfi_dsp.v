@@ -89,6 +89,13 @@ module hfi_dsp #(
     output wire        s_axil_rvalid,
     input  wire        s_axil_rready,
     output wire        irq,
+    // for a copy of the window results in another clock (hfi_soc: rtl/hfi_win_copy.v): every register's
+    // read value (word i = byte address 4*i, as hfi_regs answers a read) and a toggle that flips in the
+    // clock after the registers with the RDL property window_copy (rtl/regs/hfi_regs.rdl) have taken the
+    // window's values (with IRQ_STATUS.WINDOW's set), and in the clock they take their reset values when
+    // run falls; they hold from each flip until the next window boundary
+    output wire [2047:0] reg_words,
+    output reg         window_tog,
     // gate signals: bit 2x = high switch of leg x, 2x+1 = low switch (a, b, c = 0, 1, 2)
     output wire [5:0]  gate,
     // serial simultaneous-sampling ADC (phases a and b, the dc link)
@@ -186,7 +193,8 @@ module hfi_dsp #(
         .status_desat_active(desat_s),
         .status_commit_pending(commit_pending), .irq_window_set(irq_window_set),
         .gamma(gamma), .gamma_d(gamma_d), .sum_id(sum_id), .sum_iq(sum_iq), .wsum(wsum),
-        .n_samples(n_samples), .window_count(window_count), .late_count(late_count), .irq(irq)
+        .n_samples(n_samples), .window_count(window_count), .late_count(late_count), .irq(irq),
+        .read_words(reg_words)
     );
 
     // ---------------------------------------------------------------- carrier (spec 2.1)
@@ -596,6 +604,21 @@ module hfi_dsp #(
             irq_window_set <= results_copy;
             if (results_copy)
                 window_count <= window_count + 32'd1;
+        end
+    end
+
+    // window_tog (the port's comment above): flips with irq_window_set, one clock after WINDOW_COUNT, WIN_FAULT
+    // and WIN_ADC took their values (the demodulator's, INJ_PHASE, CIC_*, ENV_*, TOP_I and VDC did so earlier in
+    // the window), and in the clock the timing reset takes effect (rst_dp rose a clock before)
+    reg rst_dp_q;
+    always @(posedge clk) begin
+        if (rst) begin
+            window_tog <= 1'b0;
+            rst_dp_q <= 1'b1;
+        end else begin
+            rst_dp_q <= rst_dp;
+            if (irq_window_set || (rst_dp && !rst_dp_q))
+                window_tog <= ~window_tog;
         end
     end
 

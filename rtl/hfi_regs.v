@@ -120,7 +120,10 @@ module hfi_regs #(
     input  wire        win_fault_desat,
     input  wire        win_adc_frozen_a,  // WIN_ADC.FROZEN_A, FROZEN_B: every conversion of the window returned one
     input  wire        win_adc_frozen_b,  // raw code on lane A / B, latched by hfi_dsp with the window results (3.13)
-    output reg         irq
+    output reg         irq,
+    // every word as a read returns it (word i = byte address 4*i; unmapped words and COMMIT 0), for the SoC's
+    // copy of the window results (rtl/hfi_win_copy.v)
+    output wire [2047:0] read_words
 );
 /* verilator lint_off UNUSEDPARAM */  // the generated map lists every field; not all are needed here
 `include "regs/hfi_regs_map.vh"
@@ -424,6 +427,7 @@ module hfi_regs #(
             assign rd_table[32*wi +: 32] = w;
         end
     endgenerate
+    assign read_words = rd_table;
     // The word is selected by a one-hot register decoded with the address (rd_sel_q, same timing as
     // rd_addr_q): an AND-OR of the table instead of a 64-way multiplexer on the index (timing in the
     // SoC: the synthesized multiplexer was a chain of seven LUTs). No bit set: 0.

@@ -197,6 +197,16 @@ module hfi_soc #(
 
     // hfi_dsp: the crossing into clk, then PicoRV32's native-to-AXI4-Lite adapter (from the
     // pythondata-cpu-picorv32 package) in front of hfi_dsp's AXI4-Lite slave
+    // The window-result registers are read from the CPU's copy (one clock), every other access crosses.
+    wire        win_hit, win_ready;
+    wire [31:0] win_rdata;
+    wire [2047:0] dsp_words;
+    wire        dsp_window_tog;
+    wire        sel_win = sel_dsp && !d_we && win_hit;
+    hfi_win_copy u_win_copy (
+        .clk(cpu_clk), .rst(rst_cpu), .src(dsp_words), .src_tog(dsp_window_tog),
+        .sel(sel_win), .addr(d_byte[7:0]), .hit(win_hit), .ready(win_ready), .rdata(win_rdata)
+    );
     wire        dsp_ready;
     wire [31:0] dsp_rdata;
     wire        m_valid, m_ready;
@@ -204,14 +214,15 @@ module hfi_soc #(
     wire [31:0] m_wdata, m_rdata;
     wire [3:0]  m_wstrb;
     hfi_cdc_bus #(.AW(8)) u_cdc (
-        .s_clk(cpu_clk), .s_rst(rst_cpu), .s_valid(sel_dsp), .s_addr(d_byte[7:0]), .s_wdata(d_wdat),
+        .s_clk(cpu_clk), .s_rst(rst_cpu), .s_valid(sel_dsp && !sel_win), .s_addr(d_byte[7:0]), .s_wdata(d_wdat),
         .s_wstrb(d_wstrb), .s_ready(dsp_ready), .s_rdata(dsp_rdata),
         .m_clk(clk), .m_rst(rst_dsp), .m_valid(m_valid), .m_addr(m_addr), .m_wdata(m_wdata),
         .m_wstrb(m_wstrb), .m_ready(m_ready), .m_rdata(m_rdata)
     );
 
-    assign d_ack = d_ack_ram | d_wack_ram | dsp_ready | ctl_ready | acc_ready | d_ack_none;
-    assign d_rdat = d_ack_ram ? ram_ddat : dsp_ready ? dsp_rdata : ctl_ready ? ctl_rdata : acc_ready ? acc_rdata : 32'd0;
+    assign d_ack = d_ack_ram | d_wack_ram | dsp_ready | win_ready | ctl_ready | acc_ready | d_ack_none;
+    assign d_rdat = d_ack_ram ? ram_ddat : dsp_ready ? dsp_rdata : win_ready ? win_rdata : ctl_ready ? ctl_rdata
+                  : acc_ready ? acc_rdata : 32'd0;
 
     // ---------------------------------------------------------------- DSP (clk)
     wire        awvalid, awready, wvalid, wready, bvalid, bready, arvalid, arready, rvalid, rready;
@@ -243,7 +254,7 @@ module hfi_soc #(
         .s_axil_bresp(bresp_unused), .s_axil_bvalid(bvalid), .s_axil_bready(bready),
         .s_axil_araddr(araddr[7:0]), .s_axil_arvalid(arvalid), .s_axil_arready(arready),
         .s_axil_rdata(rdata), .s_axil_rresp(rresp_unused), .s_axil_rvalid(rvalid), .s_axil_rready(rready),
-        .irq(dsp_irq), .gate(gate),
+        .irq(dsp_irq), .reg_words(dsp_words), .window_tog(dsp_window_tog), .gate(gate),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),
         .adc_sdo_a(adc_sdo_a), .adc_sdo_b(adc_sdo_b), .adc_sdo_c(adc_sdo_c),
         .sto(sto), .desat(desat), .drive_allowed(drive_allowed)

@@ -145,6 +145,8 @@ class RegInfo:
     addr: int
     title: str
     fields: list[FieldInfo] = field(default_factory=list)
+    window_copy: bool = False   # the project's UDP window_copy (rtl/regs/hfi_regs.rdl): held from the window's
+                                # results until the next boundary, read by the CPU from hfi_soc's copy
 
 
 def field_access(node: FieldNode) -> str:
@@ -187,7 +189,8 @@ class RegCollector(RDLListener):
     def enter_Reg(self, node: RegNode) -> None:
         if node.is_array:
             raise GenError(f"{node.get_path()}: register arrays are not supported by scripts/gen_regs.py")
-        reg = RegInfo(node.inst_name, node.absolute_address, node.get_property("name"))
+        reg = RegInfo(node.inst_name, node.absolute_address, node.get_property("name"),
+                      window_copy=bool(node.get_property("window_copy", default=False)))
         for f in node.fields():
             reset = f.get_property("reset")
             if reset is not None and not isinstance(reset, int):
@@ -234,6 +237,9 @@ one-clock pulse; reads 0), ``rc`` (clear on read).
 
 ``LOCKED_BY[(reg, field)] = (lock_reg, lock_field)``: the fields whose software writes are ignored
 (and answered SLVERR) while the 1-bit lock field is 1 (SystemRDL ``swwel``).
+
+``WINDOW_COPY`` (maps that have the RDL property ``window_copy``): the registers set between the window
+boundary and the window interrupt and held until the next boundary, which hfi_soc's CPU reads from its copy.
 
 ``pack(reg, **fields)`` builds a register value (fields not named are 0); ``unpack(reg, value)``
 splits one (signed fields sign-extended). Both raise ValueError on unknown registers or fields and on
@@ -289,6 +295,9 @@ def render_regmap(m: RegMap, regs: list[RegInfo]) -> str:
             if f.lock:
                 lines.append(f'    ("{reg.name}", "{f.name}"): ("{f.lock.split(".")[0]}", "{f.lock.split(".")[1]}"),')
     lines.append("}")
+    copies = [reg.name for reg in regs if reg.window_copy]
+    if copies:
+        lines += ["", "WINDOW_COPY = ("] + [f'    "{name}",' for name in copies] + [")"]
     return "\n".join(lines) + "\n" + REGMAP_HELPERS
 
 
@@ -353,6 +362,14 @@ def render_verilog_map(m: RegMap, regs: list[RegInfo]) -> str:
                   f"        default: {p.lower()}locked_by_{name.lower()} = 1'b0;",
                   "    endcase",
                   "endfunction", ""]
+    copies = [reg for reg in regs if reg.window_copy]
+    if copies:
+        words = 1 << (VERILOG_ADDR_BITS - 2)
+        mask = sum(1 << (reg.addr // 4) for reg in copies)
+        lines += ["// Registers with the RDL property window_copy (bit i = the word at byte address 4*i): set between",
+                  "// the window boundary and IRQ_STATUS.WINDOW, held until the next boundary; the CPU of hfi_soc",
+                  "// reads them from its copy (rtl/hfi_win_copy.v). " + ", ".join(r.name for r in copies) + ".",
+                  f"localparam [{words - 1}:0] {p}WINDOW_COPY_WORDS = {words}'h{mask:0{words // 4}X};", ""]
     return "\n".join(lines)
 
 

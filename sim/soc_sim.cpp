@@ -7,7 +7,7 @@
 //  - ADC: the protocol of cocotb_tests/hdl/adc_model.v (the replay's ADC model): a CONVST rising
 //    edge takes a plant sample (tick - CONVST latency), CS_N falling shifts out the MSB, each SCLK
 //    falling edge the next bit, every change one clock after the pin edge;
-//  - AXI4-Lite of hfi_dsp (register reads and writes), the window interrupt (SPEED_REF is written for
+//  - the AXI4-Lite writes of hfi_dsp, the CPU's reads of hfi_dsp's page, the window interrupt (SPEED_REF is written for
 //    the reported window, as the host would), the trace port, the UART line.
 #include <cstdio>
 #include <cstring>
@@ -60,8 +60,7 @@ struct soc_sim {
     int pair_a = 0, pair_b = 0, pair_c = 0, bitpos = 0;   // the codes of lanes A, B, C being read out
     bool irq_q = false;
     bool aw_done = false, w_done = false;
-    uint32_t aw_addr = 0, w_data = 0, ar_addr = 0;
-    bool ar_done = false;
+    uint32_t aw_addr = 0, w_data = 0;
 
     // UART receiver
     int uart_state = 0;      // 0 idle, 1 start bit, 2.. data bits, 10 stop
@@ -268,14 +267,11 @@ static int clock_once(soc_sim *sim)
             sim->irq_log.back().commit_tick = tk;
         sim->aw_done = sim->w_done = false;
     }
-    if (r->hfi_soc__DOT__arvalid && r->hfi_soc__DOT__arready) {
-        sim->ar_done = true;
-        sim->ar_addr = r->hfi_soc__DOT__araddr & 0xFF;
-    }
-    if (sim->ar_done && r->hfi_soc__DOT__rvalid && r->hfi_soc__DOT__rready) {
-        sim->reads.push_back(soc_bus{tk, sim->ar_addr, r->hfi_soc__DOT__rdata});
-        sim->ar_done = false;
-    }
+    // reads of hfi_dsp's page on the CPU's bus, in the CPU clock in which they complete: through the crossing or
+    // from the window-result copy (rtl/hfi_win_copy.v), as the firmware sees them
+    if (cpu_edge && r->hfi_soc__DOT__sel_dsp && !r->hfi_soc__DOT__d_we &&
+        (r->hfi_soc__DOT__dsp_ready || r->hfi_soc__DOT__win_ready))
+        sim->reads.push_back(soc_bus{tk, (uint32_t)(r->hfi_soc__DOT__d_adr << 2) & 0xFFu, r->hfi_soc__DOT__d_rdat});
     if (cpu_edge && top->trace_valid)            // a CPU-clock output: one record per CPU clock
         sim->trace.push_back(top->trace_data);
 #ifdef HFI_PROFILE

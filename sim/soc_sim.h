@@ -41,7 +41,9 @@ struct soc_sim_setup {
 };
 
 /* What the co-simulation records (one entry per event), besides gate_edge and adc_sample. */
-struct soc_bus { long long tick; uint32_t addr; uint32_t data; };   /* AXI4-Lite access of hfi_dsp */
+/* An access of hfi_dsp: a write on its AXI4-Lite port, or a read on the CPU's bus (through the crossing or from
+ * the window-result copy, rtl/hfi_win_copy.v), in the clock it completes */
+struct soc_bus { long long tick; uint32_t addr; uint32_t data; };
 /* Window interrupt: its tick, the tick of the next COMMIT write (-1: none before the next interrupt),
  * and as the interrupt rises: the six compares the modulator computed at this window's boundary (top
  * a, b, c, bottom a, b, c), LATE_COUNT, the ADC mode the sampling of this window uses, and ENV_A, ENV_B

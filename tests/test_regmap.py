@@ -383,6 +383,9 @@ def verilog_expected(m) -> dict[str, int]:
         for fname, (lsb, width, reset, _access) in reg["fields"].items():
             out |= {f"{p}{name}_{fname}_LSB": lsb, f"{p}{name}_{fname}_WIDTH": width,
                     f"{p}{name}_{fname}_RESET": reset or 0}
+    copies = getattr(MODULES[m.top], "WINDOW_COPY", ())
+    if copies:    # bit i: the word at byte address 4*i (rtl/hfi_win_copy.v)
+        out[f"{p}WINDOW_COPY_WORDS"] = sum(1 << (MODULES[m.top].REGISTERS[name]["addr"] // 4) for name in copies)
     return out
 
 

@@ -16,7 +16,7 @@ CORE = ROOT / "hfi_dsp.core"
 
 SOC_FILES = {"rtl/hfi_soc.v", "rtl/hfi_soc_ctl.v", "rtl/hfi_ram.v", "rtl/hfi_uart_tx.v", "rtl/regs/hfi_soc_map.vh",
              "rtl/hfi_soc_platform.vh", "rtl/hfi_cdc_bus.v", "rtl/hfi_soc_acc.v", "rtl/hfi_flux_lut.v", "rtl/hfi_vector.v",
-             "rtl/regs/hfi_acc_map.vh", "rtl/hfi_cfu.v"}
+             "rtl/regs/hfi_acc_map.vh", "rtl/hfi_cfu.v", "rtl/hfi_win_copy.v"}
 """The SoC around the IP (docs/soc.md): not part of hfi_dsp.core."""
 
 

@@ -385,3 +385,8 @@ function hfi_locked_by_safety_lock_lock(input [7:0] a);
         default: hfi_locked_by_safety_lock_lock = 1'b0;
     endcase
 endfunction
+
+// Registers with the RDL property window_copy (bit i = the word at byte address 4*i): set between
+// the window boundary and IRQ_STATUS.WINDOW, held until the next boundary; the CPU of hfi_soc
+// reads them from its copy (rtl/hfi_win_copy.v). GAMMA, GAMMA_D, SUM_ID, SUM_IQ, WSUM, N_SAMPLES, WINDOW_COUNT, INJ_PHASE, CIC_QA, CIC_QB, ENV_A, ENV_B, TOP_I, VDC, WIN_FAULT, WIN_ADC.
+localparam [63:0] HFI_WINDOW_COPY_WORDS = 64'h0001B1E807F00000;

@@ -6,7 +6,8 @@ values a block computes are compared with the golden closed loop window by windo
 every gate edge, by the replays of test_dsp_replay.py (rotating injection, period square wave with the CIC) on
 the build with every block in; the direct-vector mode by hfi_modulator's bench (test_modulator.py, its
 direct_random and direct_cases against golden direct_state / direct_compares) and the 003 drive's identity test on
-the SoC (tests/test_rtl_identity.py, varatharajan2020_2khz)."""
+the SoC (tests/test_rtl_identity.py, varatharajan2020_2khz). Each test also runs tb_hfi_dsp's window-copy check
+(tb_dsp_replay.window_copy_check) over its windows, in both builds."""
 
 from __future__ import annotations
 
@@ -15,8 +16,9 @@ import os
 import cocotb
 from cocotb.triggers import ClockCycles
 
-from dsp_bench import start
+from dsp_bench import start as bench_start
 from golden import regmap as rm
+from tb_dsp_replay import WINDOW_COPY_MASK, window_copy_check
 
 ON = int(os.environ["HFI_OPTIONS_ON"])
 H = rm.PWM_HALF_VALUE_RESET
@@ -38,6 +40,18 @@ async def run_windows(dut, axi, **v_dq) -> None:
         await ClockCycles(dut.clk, P)
 
 
+async def start(dut):
+    """dsp_bench.start with tb_hfi_dsp's window-copy check on (checked at the end of each test: check_copy)."""
+    dut.win_copy_mask.value = WINDOW_COPY_MASK
+    return await bench_start(dut)
+
+
+def check_copy(dut) -> None:
+    """No window-copy register changed within 64 clocks of a window_tog flip; one flip per window run at least."""
+    window_copy_check(dut)
+    assert int(dut.win_tog_flips.value) >= WINDOWS
+
+
 def compares(dut) -> list[int]:
     return [int(getattr(dut.dut, f"cmp_{half}_{leg}").value) for half in ("top", "bot") for leg in "abc"]
 
@@ -55,6 +69,7 @@ async def rotating_injection(dut):
         assert any(c != H // 2 for c in cmps), f"no rotating voltage with the block in: {cmps}"
     else:
         assert cmps == [H // 2] * 6, f"a voltage without the block: {cmps}"
+    check_copy(dut)
 
 
 @cocotb.test()
@@ -68,6 +83,7 @@ async def period_square_wave_cic(dut):
         assert any(got.values()), f"no CIC result with the block in: {got}"
     else:
         assert got == dict.fromkeys(got, 0), got
+    check_copy(dut)
 
 
 @cocotb.test()
@@ -81,3 +97,4 @@ async def direct_vector_mode(dut):
         assert vector["NEXT"] != 0 and any(cmps), f"no active vector with the block in: {vector}, {cmps}"
     else:
         assert vector == {"STATE": 0, "NEXT": 0} and cmps == [0] * 6, f"{vector}, {cmps}"
+    check_copy(dut)

@@ -12,6 +12,13 @@ of its carrier-bottom sample (the trace's ``vdc_pre``, test_dsp_replay.adc_words
 sampling instants recorded by the Verilog are compared at the end; then ``replay_summary.json`` in the test
 directory gives the counts compared.
 
+The registers the SoC's CPU reads from its copy (``golden.regmap.WINDOW_COPY``, rtl/hfi_win_copy.v) must hold
+from hfi_dsp's window_tog flip on: tb_hfi_dsp's check (``win_copy_mask``, driven here) counts every change of
+one of them in the clock of a flip or in the WIN_HOLD (64) clocks after it, which must be none, and the flips,
+which must be one per window interrupt (checked after every interrupt: interrupt j follows the flip of window
+j - 1 by one clock), and the fewest clocks from a flip to the next change of a copied register (win_hold_min;
+at least one seen by the end) must reach the next window boundary: the period minus IRQ_LATENCY + 1.
+
 Start-up: by default the carrier runs from reset (its registers must equal the reset values) and the
 configuration is written before the first window boundary. A trace with ``cfg_start_held`` = 1 (a
 carrier other than the reset one, or the period square wave, whose sign at tick 0's bottom follows
@@ -50,6 +57,30 @@ SUMMARY = "replay_summary.json"
 each (``windows``, ``top_i_windows``, ``gate_edges``, ``samples``)."""
 
 
+WINDOW_COPY_MASK = sum(1 << rm.REGISTERS[name]["addr"] // 4 for name in rm.WINDOW_COPY)
+"""tb_hfi_dsp's win_copy_mask: bit i for the window-copy register at byte address 4*i."""
+WIN_HOLD = 64
+"""tb_hfi_dsp's WIN_HOLD (its default): no copied word may change in the flip's clock or the 64 after it."""
+NONE_SEEN = 0xFFFFFFFF
+"""win_hold_min before any change of a copied word after a flip."""
+DSP_IRQ_LATENCY = 400
+"""hfi_dsp's default IRQ_LATENCY (tb_hfi_dsp keeps it; tb_dsp_safety.IRQ_LATENCY): window_tog flips IRQ_LATENCY + 1
+clocks after the window boundary, so the copied registers hold for a period minus IRQ_LATENCY + 1 clocks."""
+
+
+def window_copy_check(dut, flips: int | None = None, where: str = "", hold: int = WIN_HOLD + 1) -> tuple[int, int]:
+    """tb_hfi_dsp's window-copy check (win_copy_mask driven since the reset): no copied register changed
+    within WIN_HOLD clocks of a window_tog flip (none earlier than ``hold`` clocks after one), and ``flips``
+    flips (None: at least one). Returns (flips, win_hold_min)."""
+    n, errors, hold_min = (int(getattr(dut, k).value) for k in ("win_tog_flips", "win_copy_errors", "win_hold_min"))
+    assert errors == 0, (f"{where}{errors} changes of window-copy registers in the clock of a window_tog flip or the "
+                         f"{WIN_HOLD} clocks after it (the first printed by tb_hfi_dsp); fewest clocks {hold_min}")
+    assert hold_min >= hold, (f"{where}a window-copy register changed {hold_min} clocks after a window_tog flip, "
+                              f"expected none before {hold} clocks")
+    assert (n > 0) if flips is None else (n == flips), f"{where}window_tog flipped {n} times, expected {flips or '> 0'}"
+    return n, hold_min
+
+
 def s32(v: int) -> int:
     return v - (1 << 32) if v & (1 << 31) else v
 
@@ -67,6 +98,7 @@ async def replay_golden_closed_loop(dut):
     held = bool(cfg["start_held"])
     dut.flush.value = 0
     dut.hold.value = int(held)
+    dut.win_copy_mask.value = WINDOW_COPY_MASK
     dut.rst.value = 1
     await ClockCycles(dut.clk, 20)
     dut.rst.value = 0
@@ -124,6 +156,7 @@ async def replay_golden_closed_loop(dut):
             assert got_top == (0, 0), f"TOP_I after window -1 (no top sample) is {got_top}, expected the reset 0"
             assert got["VDC"] == int(tr["vdc_pre"]), \
                 f"VDC after window -1 is {got['VDC']}, expected {int(tr['vdc_pre'])} (its bottom sample's dc-link code)"
+        window_copy_check(dut, j + 1, f"interrupt {j}: ", 2 * cfg["pwm_half"] - DSP_IRQ_LATENCY - 1)
         if j >= 1:
             k = j - 1
             for reg, col, _ in RESULTS:
@@ -150,6 +183,11 @@ async def replay_golden_closed_loop(dut):
         f"a fault was latched: STATUS = 0x{status:X}"
     # Windows -1 and 0 have no commit (the golden firmware's first output is committed at window 2).
     assert late == 2, f"LATE_COUNT = {late}, expected 2"
+
+    flips, hold_min = window_copy_check(dut, n_win + 1, hold=2 * cfg["pwm_half"] - DSP_IRQ_LATENCY - 1)
+    assert hold_min != NONE_SEEN, "no change of a window-copy register after a window_tog flip was checked"
+    cocotb.log.info(f"window copy: {flips} window_tog flips, no copied register changed within {WIN_HOLD} clocks of "
+                    f"one; the fewest clocks from a flip to the next change: {hold_min}")
 
     dut.flush.value = 1
     await ClockCycles(dut.clk, 2)

@@ -8,23 +8,27 @@ Cycle numbering: "cycle k" is the clock period in which the testbench's ``tick``
 records "k mask" when the pins show ``mask`` in cycle k and something else in cycle k - 1). A pin
 driven by the testbench at the falling edge inside cycle k is first sampled by the rising edge that
 ends cycle k; the spec's 3-clock latency then means: all gate pins 0 from cycle k + 3 on.
+Every test that runs windows also runs tb_hfi_dsp's window-copy check (tb_dsp_replay.window_copy_check, checked at
+its end): no register of golden.regmap.WINDOW_COPY (WIN_FAULT and WIN_ADC among them, which change here) changes
+in the clock of a window_tog flip or the 64 after it, and window_tog flipped at least once.
 """
 
 from __future__ import annotations
 
+import functools
 import os
 
 import cocotb
 import numpy as np
 from cocotb.triggers import ClockCycles, FallingEdge, ReadOnly, RisingEdge, current_gpi_trigger, with_timeout
 
-from dsp_bench import start
+from dsp_bench import start as bench_start
 from golden import regmap as rm
 from golden.fpga.adc_frozen import frozen_lanes
 from golden.fpga.carrier import window_of
 from golden.fpga.overcurrent import fault_delay, gate_off_delay
 from golden.regmap import WIN_ADC_FROZEN_A_MASK, WIN_ADC_FROZEN_B_MASK
-from tb_dsp_replay import CONVST_LATENCY, GATE_LATENCY
+from tb_dsp_replay import CONVST_LATENCY, GATE_LATENCY, WINDOW_COPY_MASK, window_copy_check
 
 H = rm.PWM_HALF_VALUE_RESET
 P = 2 * H
@@ -56,6 +60,23 @@ latency less the gate generator's and the output register."""
 
 def s(addr_name: str) -> int:
     return rm.REGISTERS[addr_name]["addr"]
+
+
+async def start(dut):
+    """dsp_bench.start with tb_hfi_dsp's window-copy check on (its counters restart with the reset)."""
+    dut.win_copy_mask.value = WINDOW_COPY_MASK
+    return await bench_start(dut)
+
+
+def window_copy_checked(test):
+    """The test, then tb_hfi_dsp's window-copy check over all of it."""
+    @functools.wraps(test)
+    async def run(dut):
+        await test(dut)
+        flips, hold_min = window_copy_check(dut, where=f"{test.__name__}: ")
+        cocotb.log.info(f"window copy: {flips} window_tog flips; the fewest clocks from one to the next change of a "
+                        f"copied register: {hold_min}")
+    return run
 
 
 async def status(axi) -> dict:
@@ -110,6 +131,7 @@ def expect_window_faults(reads: dict[int, int], t_trip: int, clear: int | None =
 
 
 @cocotb.test()
+@window_copy_checked
 async def overcurrent_trip_latch_and_clear(dut):
     """The sample of conversion HFI_TRIP_INDEX (tick 77 700, window 3) trips: all gates off exactly D_GATE ticks
     after its sampling instant, STATUS.FAULT_OC latched; WIN_FAULT.OC is 0 in windows 0 to 2, 1 from window 3 (the
@@ -184,6 +206,7 @@ async def overcurrent_trip_latch_and_clear(dut):
 
 
 @cocotb.test()
+@window_copy_checked
 async def overcurrent_window_boundary(dut):
     """The boundary rule of WIN_FAULT (spec 3.7) on both sides: PWM_HALF (HFI_HALF, set while the timing is held)
     puts the boundary tick B that ends window 3 at phase H/2 = 5000 + D_FAULT - HFI_BOUNDARY_OFFSET, and the
@@ -244,6 +267,7 @@ def frozen_rule(convst: np.ndarray, half: int) -> dict[int, tuple[int, int]]:
 
 
 @cocotb.test()
+@window_copy_checked
 async def frozen_adc_channels(dut):
     """WIN_ADC (spec 3.13) per window: the ADC model returns noise (mid-scale + -4 codes) on both current lanes
     except where test_dsp_safety.py's FROZEN_PLAN holds one code: from the first or the second conversion of a
@@ -297,6 +321,7 @@ async def frozen_adc_channels(dut):
 
 
 @cocotb.test()
+@window_copy_checked
 async def watchdog_turns_gates_off(dut):
     periods = 3
     axi = await start(dut)
@@ -452,18 +477,20 @@ async def pin_fault_case(dut, pin: str) -> None:
 
 
 @cocotb.test()
+@window_copy_checked
 async def sto_safe_torque_off(dut):
     await pin_fault_case(dut, "sto")
 
 
 @cocotb.test()
+@window_copy_checked
 async def desat_driver_fault(dut):
     await pin_fault_case(dut, "desat")
 
 
 # ---------------------------------------------------------------------- SAFETY_LOCK
 @cocotb.test()
-async def safety_lock_freezes_registers(dut):
+async def safety_lock_freezes_registers(dut):       # runs no window: no window-copy check
     """After SAFETY_LOCK.LOCK = 1 writes to the LOCKED_BY registers answer SLVERR and change nothing
     (full and partial byte strobes); the lock cannot be cleared by software; other registers stay
     writable."""

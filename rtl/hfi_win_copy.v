@@ -6,7 +6,8 @@
 // clocks; here it is answered in one, like the SoC control block.
 //
 // Bundled data with a toggle, the same pattern as hfi_cdc_bus: src_tog flips (in the source clock) in the
-// clock after the copied words have taken their window's values; it reaches clk through a two-flop
+// clock after the copied words have taken their window's values (in the same clock when hfi_dsp's timing reset
+// gives them their reset values, as hfi_cdc_bus's req flips with its hold registers); it reaches clk through a two-flop
 // synchronizer, and in the clock after the synchronized toggle changes, every copied word is taken from
 // src at once. The words have then been stable for at least two clk clocks, and they stay stable until the
 // next window boundary, a PWM period minus the interrupt latency later (spec 2.2), which is far longer

@@ -99,8 +99,10 @@ module tb_reg_fuzz #(
             m_axil_rresp, m_axil_rvalid} = {s_axil_awready, s_axil_wready, s_axil_bresp, s_axil_bvalid,
                                             s_axil_arready, s_axil_rdata, s_axil_rresp, s_axil_rvalid};
 
+    wire [2047:0] reg_words_nc;     // the SoC's window-copy outputs (rtl/hfi_win_copy.v): checked by tb_hfi_dsp.v
+    wire          window_tog_nc;
     hfi_dsp #(.ADC_BITS(ADC_BITS)) dut (
-        .clk(clk), .rst(rst), .run(1'b1),
+        .clk(clk), .rst(rst), .run(1'b1), .reg_words(reg_words_nc), .window_tog(window_tog_nc),
         .s_axil_awaddr(s_axil_awaddr), .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),
         .s_axil_wdata(s_axil_wdata), .s_axil_wstrb(s_axil_wstrb), .s_axil_wvalid(s_axil_wvalid),
         .s_axil_wready(s_axil_wready), .s_axil_bresp(s_axil_bresp), .s_axil_bvalid(s_axil_bvalid),

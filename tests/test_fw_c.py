@@ -55,7 +55,7 @@ from golden.firmware.vector import vector_angle
 from golden.firmware.supervisor import (MODE_CATCH, MODE_CONVERGE, MODE_DONE, MODE_FAULT, MODE_FIXED, MODE_IDENT, MODE_NAMES,
                                         MODE_POL_NEG, MODE_POL_POS, MODE_RELAX, MODE_RUN, POL_CURRENT, POL_NONE, POL_PILOT, Firmware,
                                         FirmwareParams, Outputs)
-from golden.fixed import c_div, uwrap
+from golden.fixed import c_div, sat, uwrap
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
 from golden.scenario import load_scenario
@@ -292,6 +292,62 @@ def test_rfo_correction_corners(psi_f, mag):
     """Clamp edges (quotients of exactly 2^17 and 2^17 + 1), a zero magnitude and, off the range, negative."""
     _, lib = fw_c.load()
     assert lib.fw_rfo_correction(psi_f, mag) == _rfo_correction(psi_f, mag)
+
+
+# ---- the 64-bit saturated division (the 003 observer's quotients) ------------------------------------------
+SAT_DIV_BITS = (16, 18, 21, 22)
+"""The widths fw_sat_div64 is used with (control.c: the projection's coefficients, the fusion weight, the
+low-speed and APP errors)."""
+
+
+def _sat_div_cases(rng, n_cases: int, bits: int) -> list[tuple[int, int]]:
+    """Random (n, d) with |n|, |d| < 2^62: divisors of every size, numerators that give quotients on both sides of
+    the saturation limit 2^(bits-1), near multiples of d (one off them) and at the limit itself."""
+    lim = 1 << (bits - 1)
+    out = []
+    for _ in range(n_cases):
+        d = int(rng.integers(1, 1 << int(rng.integers(1, 62))))
+        kind = int(rng.integers(0, 4))
+        if kind == 0:          # anything
+            n = int(rng.integers(-(1 << 62) + 1, 1 << 62))
+        elif kind == 1:        # an unsaturated quotient
+            n = int(rng.integers(0, lim)) * d + int(rng.integers(0, d))
+        elif kind == 2:        # at a multiple, one off it
+            n = int(rng.integers(0, lim + 2)) * d + int(rng.integers(-1, 2))
+        else:                  # around the limit
+            n = lim * d + int(rng.integers(-2 * d, 2 * d + 1))
+        n = max(min(n, (1 << 62) - 1), 0)
+        out.append((-n if rng.integers(0, 2) else n, -d if rng.integers(0, 2) else d))
+    return out
+
+
+@pytest.mark.parametrize("bits", SAT_DIV_BITS)
+def test_sat_div64_random(seed, bits):
+    """fw_sat_div64(n, d, bits) = golden's sat(c_div(n, d), bits) (truncation toward zero, then saturation), over
+    random operands of every size and sign, quotients below, at and beyond the limit."""
+    _, lib = fw_c.load()
+    rng = np.random.default_rng(seed + 71 + bits)
+    saturated = 0
+    for n, d in _sat_div_cases(rng, N_RANDOM // 4, bits):
+        want = sat(c_div(n, d), bits)
+        saturated += abs(want) >= (1 << (bits - 1)) - 1
+        assert lib.fw_sat_div64(n, d, bits) == want, (n, d, bits)
+    assert N_RANDOM // 40 < saturated < N_RANDOM // 4 - N_RANDOM // 40
+
+
+@pytest.mark.parametrize("n, d", [(0, 1), (0, -7), (1, 1), (-1, 1), (1, -1), (5, 3), (-5, 3), (5, -3), (-5, -3),
+                                  ((1 << 62) - 1, 1), (-(1 << 62) + 1, 1), ((1 << 62) - 1, (1 << 62) - 1),
+                                  ((1 << 62) - 1, (1 << 61) + 1), (1 << 40, (1 << 40) + 1), (3 << 30, 1 << 31),
+                                  ((1 << 61) - 1, (1 << 41) - 1), ((1 << 61) - 1, 1 << 41)])
+@pytest.mark.parametrize("bits", SAT_DIV_BITS)
+def test_sat_div64_corners(n, d, bits):
+    """Zero, signs, the largest operands, divisors just above a power of two (the rounded-up digit divisor), and
+    quotients at exactly 2^(bits-1) and one below."""
+    _, lib = fw_c.load()
+    lim = 1 << (bits - 1)
+    for nn, dd in ((n, d), (lim * d, d), (lim * d - 1, d), (-lim * d, d), (-lim * d + 1, d), ((lim - 1) * d, -d)):
+        if abs(nn) < 1 << 63:
+            assert lib.fw_sat_div64(nn, dd, bits) == sat(c_div(nn, dd), bits), (nn, dd, bits)
 
 
 def test_bangbang_random(seed):

@@ -269,6 +269,49 @@ static int64_t sat_bits(int64_t x, int bits)
     return x > hi ? hi : x < -hi - 1 ? -hi - 1 : x;
 }
 
+/* the bit length of x (Python int.bit_length) by halving, without libgcc's __clzsi2 and its table (a data-cache
+ * line of its own) */
+static int32_t bit_length32(uint32_t x)
+{
+    int32_t n = 0;
+
+    if (x >> 16) { n += 16; x >>= 16; }
+    if (x >> 8) { n += 8; x >>= 8; }
+    if (x >> 4) { n += 4; x >>= 4; }
+    if (x >> 2) { n += 2; x >>= 2; }
+    if (x >> 1) { n += 1; x >>= 1; }
+    return n + (int32_t)x;
+}
+
+/* sat_bits(c_div(n, d), bits) for d != 0, |n| and |d| < 2^63, 2 <= bits <= 22, without a 64-bit division
+ * (libgcc's __divdi3: about 170 clocks on the soft core, and its count-leading-zeros table on the data cache).
+ * With a = |n|, b = |d| and L = 2^(bits-1): the truncated quotient's magnitude is floor(a / b), which is >= L
+ * exactly when floor(a / L) >= b (one compare: the result saturates). Below that, a < L b: the divisor shifted
+ * right by s keeps 32 - bits significant bits, rounded up (bh 2^s >= b), so a >> s < 2^31 and each 32-bit
+ * division's digit floor((a >> s) / bh) is at most the true quotient of the remainder; the remainder shrinks
+ * by about 2^(31 - bits) per digit (a digit of 0 counts as 1 while the remainder is >= b). tests/test_fw_c.py
+ * checks it against golden's expression over random and edge operands. */
+int32_t fw_sat_div64(int64_t n, int64_t d, int32_t bits)
+{
+    const uint64_t lim = (uint64_t)1 << (bits - 1);
+    uint64_t a = n < 0 ? 0u - (uint64_t)n : (uint64_t)n, b = d < 0 ? 0u - (uint64_t)d : (uint64_t)d;
+    const int neg = (n < 0) != (d < 0);
+
+    if ((a >> (bits - 1)) >= b)                         /* floor(a / lim) */
+        return neg ? -(int32_t)lim : (int32_t)(lim - 1u);
+    int32_t s = ((b >> 32) ? 32 + bit_length32((uint32_t)(b >> 32)) : bit_length32((uint32_t)b)) - (32 - bits);
+    s = s > 0 ? s : 0;
+    const uint32_t bh = (uint32_t)(b >> s) + (s > 0 && (b & (((uint64_t)1 << s) - 1u)) ? 1u : 0u);
+    uint32_t q = 0;
+    while (a >= b) {
+        uint32_t digit = (uint32_t)(a >> s) / bh;
+        digit = digit ? digit : 1u;
+        q += digit;
+        a -= (uint64_t)digit * b;
+    }
+    return neg ? -(int32_t)q : (int32_t)q;
+}
+
 /* golden.fixed.round_shr(x, n) of an int64, n >= 1 */
 static int64_t round_shr64(int64_t x, int n)
 {
@@ -896,8 +939,8 @@ void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, 
         *a1 = *a2 = 0;
         return;
     }
-    *a1 = (int32_t)sat_bits((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) * 4096 / det, 16);
-    *a2 = (int32_t)sat_bits((ldq * (ld + lq) + dld * lq - dldq * ldq) * 4096 / det, 16);
+    *a1 = fw_sat_div64((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) * 4096, det, 16);
+    *a2 = fw_sat_div64((ldq * (ld + lq) + dld * lq - dldq * ldq) * 4096, det, 16);
 }
 
 /* golden.fixed.shr(x, n) of an int64 for any n >= 0 (n >= 63: the sign) */
@@ -1092,7 +1135,7 @@ static int64_t hfo_limit(int64_t e, int32_t eps_max)
 /* the bit length of x >= 0 (Python int.bit_length) */
 static int32_t bit_length64(int64_t x)
 {
-    return x == 0 ? 0 : 64 - __builtin_clzll((uint64_t)x);
+    return (uint64_t)x >> 32 ? 32 + bit_length32((uint32_t)((uint64_t)x >> 32)) : bit_length32((uint32_t)x);
 }
 
 /* golden.firmware.hfo_proj.HybridFluxProjection.step (Varatharajan et al. 2020, Secs. II-B, III-C, IV): the
@@ -1130,7 +1173,8 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     int32_t a1, a2;
     fw_projection_coefficients(&pt, lut->l_shift, &a1, &a2);
     /* 6. fusion weight */
-    int64_t f = (((int64_t)hp->g_b + hp->wg_b - abs64(w_i)) * 65536) / (2 * (int64_t)hp->wg_b);
+    /* sat_bits(., 18) keeps [0, 65536] whole, so the clamp gives c_div's result */
+    int64_t f = fw_sat_div64(((int64_t)hp->g_b + hp->wg_b - abs64(w_i)) * 65536, 2 * (int64_t)hp->wg_b, 18);
     f = f < 0 ? 0 : f > 65536 ? 65536 : f;
     /* 4. low speed */
     int64_t eps_h = 0;
@@ -1151,13 +1195,15 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
         int64_t strength = round_shr64(a1 * dpq - a2 * dpd, 12); /* eq. (29) */
         valid = abs64(strength) > ((int64_t)hp->phi_min << FW_FLUX_FRAC);
         if (valid) {
-            int64_t q;
+            /* sat32(q) as sat_bits(q, 21): |q| >= 2^20 gives |hfo_to_bin| > 10^10 > eps_max either way, so
+             * the limit's result is the same (hfo_to_bin is monotonic) */
+            int32_t q;
 
             if (abs64(strength) >= hp->s_knee)
-                q = (e_d * 65536) / strength;
+                q = fw_sat_div64(e_d * 65536, strength, 21);
             else
-                q = (sat_bits(e_d, 24) * strength * 65536) / ((int64_t)hp->s_knee * hp->s_knee);
-            eps_h = hfo_limit(hfo_to_bin(sat32(q)), hp->eps_max);
+                q = fw_sat_div64(sat_bits(e_d, 24) * strength * 65536, (int64_t)hp->s_knee * hp->s_knee, 21);
+            eps_h = hfo_limit(hfo_to_bin(q), hp->eps_max);
             e->th_meas = e->th + (uint32_t)eps_h;
         } else if (hp->hold && e->since < hp->n_max) {
             eps_h = hfo_limit((int32_t)(e->th_meas - e->th), hp->eps_max);
@@ -1186,9 +1232,11 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
         x_q = sat_bits(x_q >> nb, 16);
         int64_t sq = a_d * a_d + a_q * a_q;
         if (sq > 0) {
-            int64_t q1 = sat_bits(((a_d * x_d + a_q * x_q) * 65536) / sq, 21);
-            int64_t q2 = sat_bits(((a_q * x_d - a_d * x_q) * 65536) / sq, 21);
-            eps_t = hfo_limit(hfo_to_bin(sat32(q1 - (q2 * hp->g_b) / w_i)), hp->eps_max);
+            int64_t q1 = fw_sat_div64((a_d * x_d + a_q * x_q) * 65536, sq, 21);
+            int64_t q2 = fw_sat_div64((a_q * x_d - a_d * x_q) * 65536, sq, 21);
+            /* c_div(q2 g_b, w_i) as sat_bits(., 22): beyond it |q1 - .| >= 2^20 on the same side (|q1| < 2^20),
+             * where the limit's result is the same (above) */
+            eps_t = hfo_limit(hfo_to_bin(sat32(q1 - fw_sat_div64(q2 * hp->g_b, w_i, 22))), hp->eps_max);
         }
     }
     int32_t eps = sat32((f * eps_h + (65536 - f) * eps_t) >> 16);

@@ -697,6 +697,8 @@ void fw_sqw_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
 int32_t fw_sqw_i_d(const struct fw_params *p);
 /* Method rfo (golden.firmware.rfo.RotorFluxObserver) */
 int32_t fw_rfo_correction(int32_t psi_f, int32_t mag);   /* golden.firmware.rfo step 5 */
+/* golden.fixed: sat(c_div(n, d), bits) for d != 0, |n|, |d| < 2^63, 2 <= bits <= 22, without a 64-bit division */
+int32_t fw_sat_div64(int64_t n, int64_t d, int32_t bits);
 void fw_rfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
                  int32_t *omega);
 void fw_rfo_turn(struct fw_state *st, uint32_t delta);

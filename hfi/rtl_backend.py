@@ -157,9 +157,10 @@ def digest(paths: list[Path], extra: str) -> str:
     return h.hexdigest()
 
 
-def build_firmware(acc: bool = True, ident: bool = False) -> Path:
+def build_firmware(acc: bool = True, ident: bool = False, cfu: bool = True) -> Path:
     """``make -C firmware``: the RAM image ``out/firmware/hfi_fw.bin`` (and .elf, .hex, .lst); ``acc=False``:
-    the build for a SoC without the accelerators (``ACC=0``, into ``out/firmware/noacc``); ``ident``: the
+    the build for a SoC without the accelerators (``ACC=0``, into ``out/firmware/noacc``); ``cfu=False``: for a
+    SoC without the fixed-point unit (``CFU=0``: fw_fx.h's plain C, into ``.../nocfu``); ``ident``: the
     commissioning image (``IDENT=1``, into ``.../ident``: the identification executor, for a SoC with
     ``soc_platform.IDENT_RAM_BYTES`` of RAM). A file lock serialises concurrent builds (two ``make`` in one output
     directory would write the same objects at once)."""
@@ -167,8 +168,9 @@ def build_firmware(acc: bool = True, ident: bool = False) -> Path:
     with open(FW_OUT / ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         _run(["make", "-C", str(ROOT / "firmware"), f"PYTHON={sys.executable}", f"ACC={int(acc)}",
-              f"IDENT={int(ident)}"], "firmware build")
-    return (FW_OUT if acc else FW_OUT / "noacc") / ("ident" if ident else "") / "hfi_fw.elf"
+              f"CFU={int(cfu)}", f"IDENT={int(ident)}"], "firmware build")
+    return ((FW_OUT if acc else FW_OUT / "noacc") / ("" if cfu else "nocfu") / ("ident" if ident else "")
+            / "hfi_fw.elf")
 
 
 @functools.lru_cache(maxsize=1)
@@ -180,14 +182,15 @@ def _pgo_system() -> dict[str, int]:
 
 
 def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] | None = None,
-              ram_bytes: int | None = None, acc: bool = True) -> Path:
+              ram_bytes: int | None = None, acc: bool = True, cfu: bool = True) -> Path:
     """Verilate hfi_soc with the harness into ``out/sim/<variant>/libhfisoc.so`` (rebuilt when a source
     changed; a file lock serialises concurrent builds). ``fst``: the variant with FST waveforms;
     ``profile``: the variant that records the firmware profile (``SOC_PROF_*`` of sim/soc_sim.h);
     ``options``: build options (golden.build_options, docs/rtl.md), {name: 0 or 1}; those at 0 make a variant of its
     own (the default 1 names none: ``{}`` and :data:`EVERY_BLOCK` are the same build, every block in);
     ``ram_bytes``: a RAM other than ``soc_platform.RAM_BYTES`` (the commissioning image's), likewise; ``acc=False``:
-    the SoC without the accelerators (``hfi_soc`` parameter ``ACC = 0``, the Tang Nano 20K's), likewise."""
+    the SoC without the accelerators (``hfi_soc`` parameter ``ACC = 0``), likewise; ``cfu=False``: without the
+    fixed-point unit (``CFU = 0``; the Tang Nano 20K's SoC has neither), likewise."""
     from golden.plant.binding import LIBRARY as PLANT_LIB
 
     if fst and profile:
@@ -200,6 +203,8 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     params = {name: 0 for name, value in options.items() if value == 0}
     if not acc:
         params["ACC"] = 0
+    if not cfu:
+        params["CFU"] = 0
     if ram_bytes is not None and ram_bytes != soc_platform.RAM_BYTES:
         if profile:
             raise RtlBackendError("the firmware profile counts the words of the default RAM: no other RAM size")
@@ -425,7 +430,8 @@ class RtlClosedLoop:
 
     def run(self, progress: bool = True, fst: str | None = None, fst_window: tuple[float, float] | None = None,
             workdir: Path | None = None, profile: bool = False,
-            options: dict[str, int] | None = None, sim_lib: Path | None = None, acc: bool = True) -> ClosedLoopResult:
+            options: dict[str, int] | None = None, sim_lib: Path | None = None, acc: bool = True,
+            cfu: bool = True) -> ClosedLoopResult:
         """Run the co-simulation. ``fst``: FST waveform file; ``fst_window``: its time span [s]
         (default: the first 2 ms). ``profile``: record the firmware profile into ``self.profile``
         (``cycles`` and ``fetch``: one count per RAM word, sim/soc_sim.h; scripts/fw_profile.py).
@@ -434,7 +440,8 @@ class RtlClosedLoop:
         :data:`EVERY_BLOCK` keeps them all; the firmware refuses to start when the scenario's methods need a block the
         build lacks: RtlBackendError with the UART log). ``sim_lib``: a
         co-simulation library built already (build_sim's training run of the profile-guided build). ``acc=False``:
-        the SoC without the accelerators and its firmware image (``make -C firmware ACC=0``, the Tang Nano 20K's)."""
+        the SoC without the accelerators and its firmware image (``make -C firmware ACC=0``); ``cfu=False``: without the
+        fixed-point unit, likewise (``CFU=0``: the Tang Nano 20K's SoC has neither)."""
         sc, hw = self.sc, self.hw
         H = hw.pwm_half
         tick_hz = sc.pwm.tick_hz
@@ -445,11 +452,11 @@ class RtlClosedLoop:
         fp = firmware_params(sc)
         program = fp.ident
         ram_bytes = soc_platform.RAM_BYTES if program is None else soc_platform.IDENT_RAM_BYTES
-        elf = build_firmware(acc=acc, ident=program is not None)
+        elf = build_firmware(acc=acc, ident=program is not None, cfu=cfu)
         if options is None:
             options = left_out(sc.estimator.low, sc.estimator.high)
         lib_path = sim_lib or build_sim(fst=fst is not None, profile=profile, options=options, ram_bytes=ram_bytes,
-                                        acc=acc)
+                                        acc=acc, cfu=cfu)
         lib = _sim_ffi.dlopen(str(lib_path))
         workdir = Path(workdir or OUT_SIM / "runs")
         workdir.mkdir(parents=True, exist_ok=True)

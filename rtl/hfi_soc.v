@@ -29,6 +29,9 @@ module hfi_soc #(
     // 1: the arithmetic accelerators hfi_soc_acc on the ACC page; 0: none, the page reads 0 like an unmapped
     // one (a smaller SoC for small parts; its firmware is built without FW_ACC, docs/boards.md)
     parameter ACC = 1,
+    // 1: the fixed-point unit hfi_cfu on the core's CFU port; 0: none, a custom-0 instruction answers 0 in the next
+    // clock (a smaller SoC for small parts; its firmware is built without FW_CFU and issues none, docs/boards.md)
+    parameter CFU = 1,
     // hfi_dsp parameters (rtl/hfi_dsp.v)
     parameter ADC_BITS = `HFI_SOC_ADC_BITS,
     parameter ADC_CONV_TICKS = 12,
@@ -111,11 +114,23 @@ module hfi_soc #(
         .CfuPlugin_bus_rsp_ready(cfu_rsp_ready), .CfuPlugin_bus_rsp_payload_outputs_0(cfu_out)
     );
     // the fixed-point instructions (custom-0) of the core's CFU port (hfi/cfu.py, docs/soc.md)
-    hfi_cfu u_cfu (
-        .clk(cpu_clk), .rst(rst_cpu), .cmd_valid(cfu_cmd_valid), .cmd_ready(cfu_cmd_ready),
-        .cmd_function_id(cfu_function_id), .cmd_inputs_0(cfu_in0), .cmd_inputs_1(cfu_in1),
-        .rsp_valid(cfu_rsp_valid), .rsp_ready(cfu_rsp_ready), .rsp_outputs_0(cfu_out)
-    );
+    generate
+        if (CFU != 0) begin : g_cfu
+            hfi_cfu u_cfu (
+                .clk(cpu_clk), .rst(rst_cpu), .cmd_valid(cfu_cmd_valid), .cmd_ready(cfu_cmd_ready),
+                .cmd_function_id(cfu_function_id), .cmd_inputs_0(cfu_in0), .cmd_inputs_1(cfu_in1),
+                .rsp_valid(cfu_rsp_valid), .rsp_ready(cfu_rsp_ready), .rsp_outputs_0(cfu_out)
+            );
+        end else begin : g_no_cfu
+            reg rsp_pending;   // one instruction at a time, answered 0 in the clock after it is taken
+            always @(posedge cpu_clk)
+                rsp_pending <= !rst_cpu && ((cfu_cmd_valid && cfu_cmd_ready) || (rsp_pending && !cfu_rsp_ready));
+            assign cfu_cmd_ready = !rsp_pending;
+            assign cfu_rsp_valid = rsp_pending;
+            assign cfu_out = 32'd0;
+            wire unused_cfu = &{1'b0, cfu_function_id, cfu_in0, cfu_in1};
+        end
+    endgenerate
     hfi_cdc_sync u_irq_sync (.clk(cpu_clk), .d(dsp_irq), .q(irq_cpu));
 
     // ---------------------------------------------------------------- address decode (Wishbone)

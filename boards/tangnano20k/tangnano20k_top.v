@@ -13,6 +13,7 @@
 module tangnano20k_top #(
     parameter RAM_INIT = "",
     parameter ACC = 1,                 // hfi_soc's accelerators (scripts/bitstream.py sets it per board)
+    parameter CFU = 1,                 // hfi_soc's fixed-point unit (scripts/bitstream.py sets it per board)
     parameter RESET_CLOCKS = 255
 ) (
     input  wire       clk_27mhz,
@@ -51,7 +52,7 @@ module tangnano20k_top #(
     wire [5:0]  soc_gate;
     wire        trace_valid;
     wire [31:0] trace_data;
-    hfi_soc #(.RAM_INIT(RAM_INIT), .ACC(ACC)) u_soc (
+    hfi_soc #(.RAM_INIT(RAM_INIT), .ACC(ACC), .CFU(CFU)) u_soc (
         .clk(clk), .cpu_clk(cpu_clk), .rst(rst),
         .gate(soc_gate), .sto(!sto_n), .desat(!fault_n), .drive_allowed(drive_allowed),
         .adc_convst(adc_convst), .adc_cs_n(adc_cs_n), .adc_sclk(adc_sclk),

@@ -46,37 +46,24 @@ pairs (default :data:`N_PAIRS`).
 
 from __future__ import annotations
 
-import math
-import os
 from collections import Counter
 from dataclasses import dataclass
 
 import cocotb
-import numpy as np
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, First, RisingEdge, Timer, ValueChange
-from cocotb.utils import get_sim_time
 
-PERIOD_MIN_PS = 3_000
-PERIOD_MAX_PS = 97_000
-RATIO_MAX = 30.0
-"""Random clock pairs: periods 3..97 ns (even ps), period ratio Ts/Tm from 1/30 to 30."""
+from two_clocks import PERIOD_MAX_PS, PERIOD_MIN_PS, RESET_SLOW_CLOCKS, TwoClockBench, clock_pairs, now
+
 N_PAIRS = 32
 """Random clock pairs of test random_clock_ratios (2 of them equal and nearly equal periods)."""
 DELAY_MAX = 5
 """The slave waits 0..DELAY_MAX m clocks with m_ready low before the clock with m_ready high."""
-RESET_SLOW_CLOCKS = 20
-"""rst is held for at least this many clocks of the slower clock (hfi_soc's contract)."""
 WORDS = 256
 """8-bit addresses (AW = 8, as in hfi_soc): the slave's register file has one word per address."""
 HOT_ADDRS = 6
 """Accesses go to a few hot addresses most of the time, so reads see earlier writes."""
 WORD = 0xFFFFFFFF
-
-
-def now() -> int:
-    """Simulation time in ps."""
-    return int(round(get_sim_time("ps")))
 
 
 def lane_mask(wstrb: int) -> int:
@@ -127,18 +114,12 @@ class Access:
         return f"access {self.index} ({kind} at 0x{self.addr:02X})"
 
 
-class Bench:
+class Bench(TwoClockBench):
     """Clocks, reset, s-side master, m-side slave and monitors of the wrapper tb_cdc_bus."""
 
     def __init__(self, dut, name: str, test_id: int):
-        self.dut = dut
-        self.name = name
-        self.seed = int(os.environ["HFI_SEED"])
-        self.n_random = int(os.environ["HFI_RANDOM_N"])
-        self.n_pairs = int(os.environ.get("HFI_CDC_PAIRS", N_PAIRS))
-        streams = np.random.SeedSequence([self.seed, test_id]).spawn(3)
-        self.rng, self.rng_slave, self.rng_clk = (np.random.default_rng(s) for s in streams)
-        cocotb.log.info(f"{name}: HFI_SEED={self.seed} HFI_RANDOM_N={self.n_random}")
+        super().__init__(dut, name, test_id, "HFI_CDC_PAIRS", N_PAIRS)
+        self.rng_slave = self.rng_aux
         init = [int(x) for x in self.rng.integers(0, 1 << 32, size=WORDS)]
         self.ref = RefRegs(init)
         self.slave_regs = SlaveRegs(init)
@@ -149,30 +130,10 @@ class Bench:
         self.pending = False          # the master holds an access (from valid to the edge it sees ready)
         self.ready_rises = 0          # s_ready rising edges seen by the monitor
         self.slave_busy = False
-        self.errors: list[str] = []
-        self.where = ""               # the clock pair or setup, for messages
         self.current: Access | None = None   # the master's latest access, for messages
-        self.clk_s = self.clk_m = None
-        self.ts = self.tm = None
-        self.phase = (0, 0)
         self.m_active_t = None        # from this time on the m side is out of reset (None: in reset)
         self.exact_period = None      # equal clocks in phase: the exact latency check uses this period
-        self.stats = Counter()
         self.latency = []             # (L - lower bound) / (upper - lower) of checked accesses
-
-    # ------------------------------------------------------------------ messages
-    def fail(self, text: str) -> str:
-        clocks = f"Ts={self.ts} ps, Tm={self.tm} ps, first edges s@{self.phase[0]} m@{self.phase[1]} ps"
-        acc = f", {self.current}" if self.current is not None else ""
-        return f"{self.name} [{self.where}{acc}; {clocks}] t={now()} ps (HFI_SEED={self.seed}): {text}"
-
-    def error(self, text: str) -> None:
-        """An error found by a background monitor; the master raises the first one."""
-        self.errors.append(self.fail(text))
-
-    def check_errors(self) -> None:
-        assert not self.errors, self.errors[0] + (f" (and {len(self.errors) - 1} more)"
-                                                   if len(self.errors) > 1 else "")
 
     # ------------------------------------------------------------------ start, clocks, reset
     async def start(self) -> None:
@@ -187,32 +148,11 @@ class Bench:
         cocotb.start_soon(self.ready_monitor())
         cocotb.start_soon(self.m_rst_monitor())
 
-    async def stop_clocks(self) -> None:
-        """Stop both clocks right after a falling edge (both then low); the bus must be idle."""
-        if self.clk_s is not None:
-            await FallingEdge(self.dut.s_clk)
-            self.clk_s.stop()
-        if self.clk_m is not None:
-            await FallingEdge(self.dut.m_clk)
-            self.clk_m.stop()
-        self.clk_s = self.clk_m = None
-
     async def set_clocks(self, ts: int, tm: int, off_s: int, off_m: int) -> None:
-        """Restart the clocks with periods ts, tm (even ps): first rising edges off_s, off_m ps from now."""
-        assert ts % 2 == 0 and tm % 2 == 0 and ts >= 2 and tm >= 2
-        await self.stop_clocks()
+        """Restart the clocks with periods ts, tm (even ps): first rising edges off_s, off_m ps from now; the bus
+        must be idle."""
         self.current = None
-        t = now()
-        self.ts, self.tm = ts, tm
-        self.phase = (t + off_s, t + off_m)
-        self.clk_s = Clock(self.dut.s_clk, ts, unit="ps", impl="gpi")
-        self.clk_m = Clock(self.dut.m_clk, tm, unit="ps", impl="gpi")
-        elapsed = 0
-        for off, clk in sorted([(off_s, self.clk_s), (off_m, self.clk_m)], key=lambda x: x[0]):
-            if off > elapsed:
-                await Timer(off - elapsed, unit="ps")
-                elapsed = off
-            clk.start(start_high=True)
+        await self.start_clocks(ts, tm, off_s, off_m)
 
     async def reset(self) -> None:
         """rst high at a random instant for >= 20 clocks of the slower clock, then low at a random
@@ -429,31 +369,6 @@ class Bench:
         lat = (f", latency within its bounds at {min(self.latency):.2f}..{max(self.latency):.2f}"
                if self.latency else "")
         return f"{self.name}: {dict(sorted(self.stats.items()))}{lat}"
-
-
-def clock_pairs(rng, n: int) -> list[tuple[int, int, int, int]]:
-    """n random (Ts, Tm, first s edge, first m edge) in ps: one pair of equal periods and one of
-    periods 2..40 ps apart, the rest with log(Ts/Tm) stratified over [-log 30, log 30] (so both
-    extremes and ratios near 1 occur); random phases; shuffled."""
-    def even(x: float) -> int:
-        return max(PERIOD_MIN_PS, int(round(x / 2)) * 2)
-
-    pairs = []
-    t = even(rng.integers(PERIOD_MIN_PS, PERIOD_MAX_PS))
-    pairs.append((t, t))
-    t = even(rng.integers(PERIOD_MIN_PS, PERIOD_MAX_PS - 40))
-    pairs.append((t, t + 2 * int(rng.integers(1, 21))))
-    k = n - len(pairs)
-    for i in range(k):
-        u = (i + rng.random()) / k
-        ratio = RATIO_MAX ** (2 * u - 1)              # Ts / Tm
-        r = max(ratio, 1 / ratio)
-        slow = even(rng.integers(math.ceil(PERIOD_MIN_PS * r), PERIOD_MAX_PS + 1))
-        fast = even(slow / r)
-        pairs.append((slow, fast) if ratio >= 1 else (fast, slow))
-    order = rng.permutation(len(pairs))
-    return [(ts, tm, int(rng.integers(0, ts)), int(rng.integers(0, tm)))
-            for ts, tm in (pairs[i] for i in order)][:n]
 
 
 # ---------------------------------------------------------------------- bus tests

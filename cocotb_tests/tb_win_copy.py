@@ -59,25 +59,18 @@ from __future__ import annotations
 
 import bisect
 import math
-import os
-from collections import Counter
 from dataclasses import dataclass
 
 import cocotb
 import numpy as np
-from cocotb.clock import Clock
-from cocotb.simtime import get_sim_time
 from cocotb.triggers import FallingEdge, Timer, ValueChange
 
 from golden import regmap as rm
+from two_clocks import RESET_SLOW_CLOCKS, TwoClockBench, clock_pairs, now
 
 COPY_ADDRS = tuple(rm.REGISTERS[name]["addr"] for name in rm.WINDOW_COPY)
 """Byte addresses of the copied registers (golden.regmap.WINDOW_COPY)."""
 NAME = {rm.REGISTERS[name]["addr"]: name for name in rm.WINDOW_COPY}
-PERIOD_MIN_PS = 3_000
-PERIOD_MAX_PS = 97_000
-RATIO_MAX = 30.0
-"""Random clock pairs: periods 3..97 ns (even ps), period ratio Ts/Tm from 1/30 to 30."""
 N_PAIRS = 8
 """Random clock pairs of random_clock_ratios, besides equal clocks in phase, 30:1 and 1:30."""
 SYNC_CLOCKS = 3
@@ -89,14 +82,7 @@ them for a PWM period minus the interrupt latency)."""
 FIRST_DELAY_S = 8
 """After a reset or a change of clocks the source changes only junk, without a toggle, for at least this
 many s clocks before its first window."""
-RESET_SLOW_CLOCKS = 20
-"""rst is held for at least this many clocks of the slower clock (hfi_soc's contract)."""
 WORD = 0xFFFFFFFF
-
-
-def now() -> int:
-    """Simulation time in ps."""
-    return int(round(get_sim_time("ps")))
 
 
 class _SourceReset(Exception):
@@ -110,18 +96,13 @@ class Flip:
     words: dict[int, int]       # copied byte address -> value, held since the m edge before t
 
 
-class Bench:
+class Bench(TwoClockBench):
     """Clocks, reset, the m-side source, the s-side reader and the monitors of the wrapper tb_win_copy."""
 
     def __init__(self, dut, name: str, test_id: int):
-        self.dut = dut
-        self.name = name
-        self.seed = int(os.environ["HFI_SEED"])
-        self.n_random = int(os.environ["HFI_RANDOM_N"])
-        self.n_pairs = int(os.environ.get("HFI_WINCOPY_PAIRS", N_PAIRS))
-        streams = np.random.SeedSequence([self.seed, test_id]).spawn(3)
-        self.rng, self.rng_src, self.rng_clk = (np.random.default_rng(s) for s in streams)
-        cocotb.log.info(f"{name}: HFI_SEED={self.seed} HFI_RANDOM_N={self.n_random}")
+        super().__init__(dut, name, test_id, "HFI_WINCOPY_PAIRS", N_PAIRS)
+        self.rng_src = self.rng_aux
+        self.current = ""
         # source state
         self.cur = dict.fromkeys(COPY_ADDRS, 0)   # the copied words of src_next (src from the next m edge)
         self.tog = 0                              # src_tog as the source has set it
@@ -138,28 +119,8 @@ class Bench:
         self.reads = 0
         self.ready_rises = 0
         self.pending = False
-        self.errors: list[str] = []
-        self.where = ""
-        self.current = ""
-        self.clk_s = self.clk_m = None
-        self.ts = self.tm = None
-        self.phase = (0, 0)
-        self.stats = Counter()
         self.confirmed = 0                        # logged flips the src_tog monitor saw happen
         self.either_new = None                    # expected(): the flip's word when R - t_f = 3Ts
-
-    # ------------------------------------------------------------------ messages
-    def fail(self, text: str) -> str:
-        clocks = f"Ts={self.ts} ps, Tm={self.tm} ps, first edges s@{self.phase[0]} m@{self.phase[1]} ps"
-        cur = f", {self.current}" if self.current else ""
-        return f"{self.name} [{self.where}{cur}; {clocks}] t={now()} ps (HFI_SEED={self.seed}): {text}"
-
-    def error(self, text: str) -> None:
-        self.errors.append(self.fail(text))
-
-    def check_errors(self) -> None:
-        assert not self.errors, self.errors[0] + (f" (and {len(self.errors) - 1} more)"
-                                                   if len(self.errors) > 1 else "")
 
     # ------------------------------------------------------------------ start, clocks, reset
     async def start(self) -> None:
@@ -180,33 +141,12 @@ class Bench:
         cocotb.start_soon(self.s_rst_monitor())
         cocotb.start_soon(self.tog_monitor())
 
-    async def stop_clocks(self) -> None:
-        """Stop both clocks right after a falling edge (both then low)."""
-        if self.clk_s is not None:
-            await FallingEdge(self.dut.s_clk)
-            self.clk_s.stop()
-        if self.clk_m is not None:
-            await FallingEdge(self.dut.m_clk)
-            self.clk_m.stop()
-        self.clk_s = self.clk_m = None
-
     async def set_clocks(self, ts: int, tm: int, off_s: int, off_m: int) -> None:
         """Restart the clocks with periods ts, tm (even ps): first rising edges off_s, off_m ps from now. Every
         flip logged so far has been copied (the caller settled the copy before)."""
-        assert ts % 2 == 0 and tm % 2 == 0 and ts >= 2 and tm >= 2
         await self.stop_clocks()
-        t = now()
-        self.settled_t = t
-        self.ts, self.tm = ts, tm
-        self.phase = (t + off_s, t + off_m)
-        self.clk_s = Clock(self.dut.s_clk, ts, unit="ps", impl="gpi")
-        self.clk_m = Clock(self.dut.m_clk, tm, unit="ps", impl="gpi")
-        elapsed = 0
-        for off, clk in sorted([(off_s, self.clk_s), (off_m, self.clk_m)], key=lambda x: x[0]):
-            if off > elapsed:
-                await Timer(off - elapsed, unit="ps")
-                elapsed = off
-            clk.start(start_high=True)
+        self.settled_t = now()
+        await self.start_clocks(ts, tm, off_s, off_m)
 
     async def reset(self) -> None:
         """rst high at a random instant for >= 20 clocks of the slower clock, then low at a random instant;
@@ -510,31 +450,6 @@ class Bench:
 
     def summary(self) -> str:
         return f"{self.name}: {dict(sorted(self.stats.items()))}"
-
-
-def clock_pairs(rng, n: int) -> list[tuple[int, int, int, int]]:
-    """n random (Ts, Tm, first s edge, first m edge) in ps: one pair of equal periods and one of periods
-    2..40 ps apart, the rest with log(Ts/Tm) stratified over [-log 30, log 30]; random phases; shuffled
-    (as tb_cdc_bus.clock_pairs)."""
-    def even(x: float) -> int:
-        return max(PERIOD_MIN_PS, int(round(x / 2)) * 2)
-
-    pairs = []
-    t = even(rng.integers(PERIOD_MIN_PS, PERIOD_MAX_PS))
-    pairs.append((t, t))
-    t = even(rng.integers(PERIOD_MIN_PS, PERIOD_MAX_PS - 40))
-    pairs.append((t, t + 2 * int(rng.integers(1, 21))))
-    k = max(0, n - len(pairs))
-    for i in range(k):
-        u = (i + rng.random()) / k
-        ratio = RATIO_MAX ** (2 * u - 1)              # Ts / Tm
-        r = max(ratio, 1 / ratio)
-        slow = even(rng.integers(math.ceil(PERIOD_MIN_PS * r), PERIOD_MAX_PS + 1))
-        fast = even(slow / r)
-        pairs.append((slow, fast) if ratio >= 1 else (fast, slow))
-    order = rng.permutation(len(pairs))
-    return [(ts, tm, int(rng.integers(0, ts)), int(rng.integers(0, tm)))
-            for ts, tm in (pairs[i] for i in order)][:n]
 
 
 FIXED_PAIRS = ((10_000, 10_000, 0, 0), (3_000, 90_000, None, None), (90_000, 3_000, None, None))

@@ -85,6 +85,20 @@ static int64_t clamp_sym(int64_t x, int64_t lim)
 
 /* ---- blocks ------------------------------------------------------------------------------------ */
 
+/* the bit length of x (Python int.bit_length) by halving, without libgcc's __clzsi2 and its table (a data-cache
+ * line of its own) */
+static int32_t bit_length32(uint32_t x)
+{
+    int32_t n = 0;
+
+    if (x >> 16) { n += 16; x >>= 16; }
+    if (x >> 8) { n += 8; x >>= 8; }
+    if (x >> 4) { n += 4; x >>= 4; }
+    if (x >> 2) { n += 2; x >>= 2; }
+    if (x >> 1) { n += 1; x >>= 1; }
+    return n + (int32_t)x;
+}
+
 /* c_div(x, d) for 3 <= d < 2^16 by a multiply with the divisor's magic number (div, from div_magic), when
  * |x| < 2^30; the core's divide (about 35 clocks) otherwise. With l = ceil(log2 d), s = 30 + l = 32 + t and
  * M = floor(2^s / d) + 1 (so M d = 2^s + e, 0 < e <= d): x M / 2^s = x / d + x e / (d 2^s), and |x| e < 2^s
@@ -108,7 +122,7 @@ static void div_magic(struct fw_divisor *div, uint32_t d)
     div->n = d;
     if (d < 3u)
         return;
-    const int32_t l = 32 - __builtin_clz(d - 1u);
+    const int32_t l = bit_length32(d - 1u);
     const uint32_t q = 0x80000000u / d, r = 0x80000000u - q * d;
 
     div->m = (int32_t)((q << (l - 1)) + (r << (l - 1)) / d + 1u);
@@ -267,20 +281,6 @@ static int64_t sat_bits(int64_t x, int bits)
     int64_t hi = ((int64_t)1 << (bits - 1)) - 1;
 
     return x > hi ? hi : x < -hi - 1 ? -hi - 1 : x;
-}
-
-/* the bit length of x (Python int.bit_length) by halving, without libgcc's __clzsi2 and its table (a data-cache
- * line of its own) */
-static int32_t bit_length32(uint32_t x)
-{
-    int32_t n = 0;
-
-    if (x >> 16) { n += 16; x >>= 16; }
-    if (x >> 8) { n += 8; x >>= 8; }
-    if (x >> 4) { n += 4; x >>= 4; }
-    if (x >> 2) { n += 2; x >>= 2; }
-    if (x >> 1) { n += 1; x >>= 1; }
-    return n + (int32_t)x;
 }
 
 /* sat_bits(c_div(n, d), bits) for d != 0, |n| and |d| < 2^63, 2 <= bits <= 22, without a 64-bit division

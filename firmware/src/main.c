@@ -63,10 +63,13 @@ __attribute__((section(".ident"), used)) struct fw_ident fw_ident;
 /* The state sits right after the configuration block (firmware/link.ld, .state): on data-cache lines of its own, apart
  * from the stack's and the hot parameters', wherever the code's size puts .bss (docs/soc.md, "The data cache"). */
 static struct fw_state st __attribute__((section(".state")));
-static volatile int32_t shown_mode = -1;
-static volatile uint32_t shown_window;
-static volatile int32_t halted;
-static int read_gamma;                    /* fw_reads_gamma of the configuration, set once at the start */
+/* The handler's own variables follow the state's tables there: in .data and .bss their lines moved with the code's
+ * size, and one build put them on the configuration block's first lines (a line each refilled every period). */
+#define HANDLER_VAR __attribute__((section(".state_vars")))
+static volatile int32_t shown_mode HANDLER_VAR = -1;
+static volatile uint32_t shown_window HANDLER_VAR;
+static volatile int32_t halted HANDLER_VAR;
+static int read_gamma HANDLER_VAR;        /* fw_reads_gamma of the configuration, set once at the start */
 
 static inline uint32_t rdcycle(void)
 {

@@ -538,6 +538,11 @@ async def reads_after_reset(b: Bench) -> None:
     long_first_window(b, False)
 
 
+def reset_setups(b: Bench) -> list[tuple[int, int, int, int]]:
+    """The clock pairs of the reset tests: the fixed ones and two random pairs."""
+    return [*fixed_pairs(b.rng_clk), *clock_pairs(b.rng_clk, 4)[-2:]]
+
+
 @cocotb.test()
 async def reads_zero_after_reset(dut):
     """After reset every copied word reads 0 until the first toggle, whatever the source's words hold (junk
@@ -545,7 +550,7 @@ async def reads_zero_after_reset(dut):
     reset at start-up and after traffic."""
     b = Bench(dut, "reads_zero_after_reset", 2)
     await b.start()
-    setups = [*fixed_pairs(b.rng_clk), *clock_pairs(b.rng_clk, 4)[-2:]]
+    setups = reset_setups(b)
     for k, (ts, tm, off_s, off_m) in enumerate(setups):
         b.where = f"setup {k}"
         await b.set_clocks(ts, tm, off_s, off_m)
@@ -602,7 +607,7 @@ async def reset_in_the_middle(dut):
     Three resets on each of equal clocks in phase, 30:1, 1:30 and two random pairs."""
     b = Bench(dut, "reset_in_the_middle", 4)
     await b.start()
-    setups = [*fixed_pairs(b.rng_clk), *clock_pairs(b.rng_clk, 4)[-2:]]
+    setups = reset_setups(b)
     n = max(20, b.n_random // 10)
     for k, (ts, tm, off_s, off_m) in enumerate(setups):
         b.where = f"setup {k}"

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import math
 import time
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +31,7 @@ from golden.fpga.adc_trigger import MODE_DS, MODE_OS_BLANK, blank_mask, sample_p
 from golden.fpga.carrier import counter
 from golden.fpga.cordic import demod_weight
 from golden.fpga.deadtime_comp import compensate
+from golden.fpga.demodulator import WindowResult
 from golden.fpga.diff_cic import DiffCic
 from golden.fpga.gate_generator import GateGenerator
 from golden.fpga.overcurrent import OvercurrentLatch, cut_edges
@@ -57,6 +57,9 @@ the estimator slot in charge (0 low-speed, 1 high-speed), ``theta_lo/hi`` and ``
 outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the window (``INJ_PHASE``),
 ``cic_qa/qb`` and ``env_a/b`` the differencing and CIC block's outputs (``golden.fpga.diff_cic``), ``win_fault`` and
 ``win_adc`` the registers ``WIN_FAULT`` and ``WIN_ADC`` as the firmware read them (spec 2.2, 3.7, 3.13)."""
+
+_ROW_FIELDS = WINDOW_FIELDS[:WINDOW_FIELDS.index("theta_e")]
+"""The columns the loop records itself, in the order of its per-window row (the rest: ``truth_columns``)."""
 
 
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
@@ -151,20 +154,23 @@ class ClosedLoop:
         self.fw = Firmware(firmware_params(sc))
         self.plant = Plant(sc.plant)
         self.half = self.hw.pwm_half
-        self.gen = GateGenerator(self.hw.dead_ticks)
+        # the switching instants only for the blanking (OS_BLANK is fixed for a run; the DS switch leaves it)
+        self.gen = GateGenerator(self.hw.dead_ticks, switch_ticks=self.hw.adc_mode == MODE_OS_BLANK)
         self.rot_inj = RotatingInjection()
         self.diff_cic = DiffCic()
         self._pattern = {}
 
     def _window_pattern(self, mode: int):
-        """Sample offsets from the window start and their CORDIC weights (identical every window)."""
+        """Sample offsets from the window start, their CORDIC weights, and the index of the carrier-bottom sample
+        (``P - H/2`` after the window start, in every mode; identical every window)."""
         if mode not in self._pattern:
             H, P = self.half, 2 * self.half
             phases = sample_phases(mode, H, self.hw.os_ticks)
             rel = np.sort((phases - H // 2) % P).astype(np.int64)
             c = counter((rel + H // 2) % P, H)
             w = demod_weight(c, H, self.hw.cw_angle_step)
-            self._pattern[mode] = (rel, np.asarray(w, dtype=np.int16))   # s16 (spec 3.4): window_dsp takes it as is
+            self._pattern[mode] = (rel, np.asarray(w, dtype=np.int16),   # s16 (spec 3.4): window_dsp takes it as is
+                                   int(np.searchsorted(rel, P - H // 2)))
         return self._pattern[mode]
 
     def _compares(self, o: Outputs, sign: int, rot: tuple[int, int] | None = None, inj_sign: int | None = None):
@@ -195,7 +201,7 @@ class ClosedLoop:
         speed_ref = speed_references(sc, hw, self.scales).tolist()
         n_win = len(speed_ref)
         ds_from = (math.inf if sc.control.switch_to_ds_at is None else sc.control.switch_to_ds_at) * tick_hz
-        rec = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
+        rows = []                                         # one tuple per window: the _ROW_FIELDS
         truths = []
         s_ticks, s_a, s_b, s_vdc = [], [], [], []
         edge_ticks, edge_masks = [], []
@@ -243,7 +249,7 @@ class ClosedLoop:
             cmp_bot = cmp_top if direct else self._compares(active, -1, rot, inj_sign)
             gen.add_half((k + 1) * P, H, True, cmp_bot)
             e_ticks, e_masks = cut_edges(*gen.take_edges(zc + P), oc.kill_tick, mask_now, zc + P)
-            rel, w = self._window_pattern(adc_mode)
+            rel, w, j_bot = self._window_pattern(adc_mode)
             ticks = rel + zc
             armed = oc.trip_tick is None
             if armed:
@@ -262,66 +268,55 @@ class ClosedLoop:
             plant.advance(zc + P)
             truth = plant.state()
             adc = out["adc"]
+            adc_a, adc_b = adc[:, 0], adc[:, 1]
             keep = None
             if adc_mode == MODE_OS_BLANK:
                 sw = gen.take_switch_ticks(zc + P)
                 keep = ~blank_mask(ticks, np.concatenate([prev_switch, sw]), hw.blank_ticks)
                 prev_switch = sw[sw >= zc + P - hw.blank_ticks]
-            else:
-                gen.take_switch_ticks(zc + P)
-            win, _, _ = window_dsp(adc[:, 0], adc[:, 1], hw.adc_bits, hw.adc_offset[0], hw.adc_offset[1],
+            win, _, _ = window_dsp(adc_a, adc_b, hw.adc_bits, hw.adc_offset[0], hw.adc_offset[1],
                                    hw.adc_gain[0], hw.adc_gain[1], active.sin, active.cos, w, keep)
             # the carrier-bottom sample (phase 0, in every ADC mode) through the differencing and CIC block;
             # the mode is fixed for a run, and without it plus is never 1, so the block's outputs stay 0
             # (the hardware steps it anyway; skipping it here changes no output)
             q_a = q_b = e_a = e_b = 0
-            j_bot = int(np.searchsorted(rel, P - H // 2))
             if per:
                 j = j_bot
                 i_al, i_be = clarke(
-                    adc_to_current(int(adc[j, 0]), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0]),
-                    adc_to_current(int(adc[j, 1]), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1]))
+                    adc_to_current(int(adc_a[j]), hw.adc_bits, hw.adc_offset[0], hw.adc_gain[0]),
+                    adc_to_current(int(adc_b[j]), hw.adc_bits, hw.adc_offset[1], hw.adc_gain[1]))
                 q_a, q_b, e_a, e_b = self.diff_cic.step(int(i_al), int(i_be), plus, hw.cic_m)
-            if inj_phase or per:
-                win = dataclasses.replace(win, inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
             # VDC (spec 3.12): the dc-link channel's code of the same bottom sample, in every mode; WIN_FAULT
-            # (spec 3.7): the overcurrent latch at the boundary that ends the window
-            win = dataclasses.replace(win, vdc=int(out["vdc"][j_bot]), status=oc.status(zc + P),
-                                      frozen=frozen_lanes(adc[:, 0], adc[:, 1]))   # WIN_ADC (spec 3.13)
+            # (spec 3.7): the overcurrent latch at the boundary that ends the window; WIN_ADC (spec 3.13)
+            latched = {"vdc": int(out["vdc"][j_bot]), "status": oc.status(zc + P),
+                       "frozen": frozen_lanes(adc_a, adc_b)}
+            if inj_phase or per:
+                latched.update(inj_phase=inj_phase, cic_qa=q_a, cic_qb=q_b, env_a=e_a, env_b=e_b)
             if direct:                                    # VECTOR and TOP_I (spec 3.10, 3.11)
                 top = self._top_sample(rel, adc, keep, top)
                 # the next boundary commits outs[k - 1] (the reset set before k = 1): the next top's state
                 nxt = _direct_next(outs[k - 1] if k >= 1 else active, state)
-                win = dataclasses.replace(win, vector=state, vector_next=nxt, top_ia=top[0], top_ib=top[1])
+                latched.update(vector=state, vector_next=nxt, top_ia=top[0], top_ib=top[1])
+            win = WindowResult(**{**win.__dict__, **latched})   # dataclasses.replace, without its field walk
             o = fw.step(win, speed_ref[k])
             outs.append(o)
             s_ticks.append(ticks)
-            s_a.append(adc[:, 0])
-            s_b.append(adc[:, 1])
+            s_a.append(adc_a)
+            s_b.append(adc_b)
             s_vdc.append(out["vdc"])
-            r = rec
-            r["tick"][k] = zc + P
-            r["gamma"][k], r["gamma_d"][k], r["n_samples"][k] = win.gamma, win.gamma_d, win.n_samples
-            r["sum_id"][k], r["sum_iq"][k], r["wsum"][k] = win.sum_id, win.sum_iq, win.wsum
-            r["i_d"][k], r["i_q"][k], r["i_d_ref"][k], r["i_q_ref"][k] = fw.i_d, fw.i_q, fw.i_d_ref, fw.i_q_ref
-            r["v_d"][k], r["v_q"][k], r["sin"][k], r["cos"][k] = o.v_d, o.v_q, o.sin, o.cos
-            r["theta_hat"][k], r["omega_f"][k], r["speed_ref"][k] = fw.theta_hat, fw.omega_f, speed_ref[k]
-            r["mode"][k], r["fault"][k], r["adc_mode"][k] = fw.mode, fw.fault, adc_mode
-            r["est"][k], r["theta_lo"][k], r["theta_hi"][k] = fw.active, fw.est_theta[0], fw.est_theta[1]
-            r["omega_lo"][k], r["omega_hi"][k] = fw.est_omega[0], fw.est_omega[1]
-            r["inj_phase"][k] = inj_phase
-            r["cic_qa"][k], r["cic_qb"][k], r["env_a"][k], r["env_b"][k] = q_a, q_b, e_a, e_b
-            r["vector"][k], r["vector_next"][k] = win.vector, win.vector_next
-            r["top_ia"][k], r["top_ib"][k] = win.top_ia, win.top_ib
-            r["vdc"][k] = win.vdc
-            r["win_fault"][k], r["win_adc"][k] = win.status, win.frozen
-            r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
-            r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
+            rows.append((
+                zc + P, win.gamma, win.gamma_d, win.n_samples, win.sum_id, win.sum_iq, win.wsum,
+                fw.i_d, fw.i_q, fw.i_d_ref, fw.i_q_ref, o.v_d, o.v_q, o.sin, o.cos, fw.theta_hat, fw.omega_f,
+                speed_ref[k], fw.mode, fw.fault, adc_mode, *cmp_top, *cmp_bot, fw.active, fw.est_theta[0],
+                fw.est_theta[1], fw.est_omega[0], fw.est_omega[1], inj_phase, q_a, q_b, e_a, e_b, win.vector,
+                win.vector_next, win.top_ia, win.top_ib, win.vdc, win.status, win.frozen))
             truths.append(truth)
             if bar is not None:
                 bar.update(k + 1, fw)
         if bar is not None:
             bar.close()
+        table = np.array(rows, dtype=np.int64).reshape(n_win, len(_ROW_FIELDS))
+        rec = {name: table[:, j].copy() for j, name in enumerate(_ROW_FIELDS)}   # contiguous columns
         rec.update(truth_columns(np.array(truths, dtype=STATE_DTYPE), self.scales.pole_pairs))
         samples = {"tick": np.concatenate(s_ticks), "adc_a": np.concatenate(s_a).astype(np.uint16),
                    "adc_b": np.concatenate(s_b).astype(np.uint16), "adc_vdc": np.concatenate(s_vdc).astype(np.uint16)}

@@ -444,6 +444,7 @@ def test_random_safety_property(block):
         H_, dead, halves, enables = _random_case(seed)
         rng = random.Random(10**6 + seed)
         g = GateGenerator(dead, dead_min=1)
+        g0 = GateGenerator(dead, dead_min=1, switch_ticks=False)    # the same gates without the switch record
         n = len(halves)
         T = H_ * n
         en = np.zeros(T, dtype=np.int64)
@@ -454,18 +455,24 @@ def test_random_safety_property(block):
             start = k * H_
             if enables[k] is not None:
                 g.set_enabled(start, enables[k])
+                g0.set_enabled(start, enables[k])
                 state = int(enables[k])
             en[start:start + H_] = state
             g.add_half(start, H_, k % 2 == 0, halves[k])
+            g0.add_half(start, H_, k % 2 == 0, halves[k])
             if rng.random() < 0.5:                           # stream the edges out in random pieces
                 until = rng.randint(taken, g.horizon)
                 t_, m_ = g.take_edges(until)
+                t0, m0 = g0.take_edges(until)
+                assert t0.tolist() == t_.tolist() and m0.tolist() == m_.tolist(), f"seed {seed}"
                 assert all(taken <= x < until for x in t_.tolist()), f"seed {seed}"
                 ticks += t_.tolist()
                 masks += m_.tolist()
                 sw += g.take_switch_ticks(until).tolist()
                 taken = until
         t_, m_ = g.take_edges(T)
+        t0, m0 = g0.take_edges(T)
+        assert t0.tolist() == t_.tolist() and m0.tolist() == m_.tolist(), f"seed {seed}"
         ticks += t_.tolist()
         masks += m_.tolist()
         sw += g.take_switch_ticks(T).tolist()
@@ -501,6 +508,14 @@ def test_random_safety_property(block):
         expected_sw = np.flatnonzero(np.any(s != s_prev, axis=0)).tolist()
         assert sw == sorted(sw), msg
         assert sorted(set(sw)) == expected_sw, msg
+
+
+def test_switch_ticks_not_recorded_when_not_asked():
+    g = GateGenerator(D, dead_min=1, switch_ticks=False)
+    g.add_half(0, H, True, [40, 40, 0])
+    assert g._switch_ticks == []
+    with pytest.raises(ValueError, match="switch_ticks=False"):
+        g.take_switch_ticks(100)
 
 
 def test_switch_ticks_one_entry_per_leg_change():

@@ -225,13 +225,21 @@ def cordic_sincos(angle, width: int = 32, iterations: int = 32):
             x, y = x - d * shr(y, i), y + d * shr(x, i)
             z = z - d * table[i]
         return np.where(fold, -y, y), np.where(fold, -x, x)
-    fold = quadrant in (1, 2)
+    return _rotate_int(a, table, start)
+
+
+def _rotate_int(a: int, table: tuple[int, ...], start: int) -> tuple[int, int]:
+    """The rotation of :func:`cordic_sincos` for one Python-int angle in 0..2^32-1 (checked by the caller):
+    ``(sin_raw, cos_raw)``. ``>>`` on a Python int is ``shr`` (floor), and each ``d`` branch is the
+    iteration's ``x - d*shr(y, i), y + d*shr(x, i), z - d*ATAN[i]``."""
+    fold = (1 << 30) <= a < (3 << 30)                 # top two bits 01 or 10
     z = a - (1 << 31) if fold else wrap(a, ANGLE_BITS)
     x, y = start, 0
-    for i in range(iterations):
-        d = 1 if z >= 0 else -1
-        x, y = x - d * shr(y, i), y + d * shr(x, i)
-        z -= d * table[i]
+    for i, atan in enumerate(table):
+        if z >= 0:
+            x, y, z = x - (y >> i), y + (x >> i), z - atan
+        else:
+            x, y, z = x + (y >> i), y - (x >> i), z + atan
     return (-y, -x) if fold else (y, x)
 
 
@@ -286,9 +294,23 @@ def sincos_q15(angle, width: int = 32, iterations: int = 16):
     ValueError
         As :func:`cordic_sincos` and :func:`to_q15`.
     """
+    if type(angle) is int and 0 <= angle <= U32_MAX:   # one plain int (the firmware's angle, every window)
+        width, table, start = _q15_rotation(width, iterations)
+        s, c = _rotate_int(angle, table, start)
+        n = width - 17
+        return sat(round_shr(s, n), 16), sat(round_shr(c, n), 16)   # to_q15 (|s|, |c| < 2^(WIDTH-1))
     width = int_param(width, 17, WIDTH_MAX, "width (Q1.15 conversion needs WIDTH >= 17)")
     s, c = cordic_sincos(angle, width, iterations)
     return to_q15(s, width), to_q15(c, width)
+
+
+@functools.lru_cache(maxsize=None, typed=True)
+def _q15_rotation(width, iterations) -> tuple[int, tuple[int, ...], int]:
+    """``(WIDTH, ATAN table, x0)`` of :func:`sincos_q15`, checked once per parameter pair (an exception is not
+    cached: a bad pair raises every time)."""
+    width = int_param(width, 17, WIDTH_MAX, "width (Q1.15 conversion needs WIDTH >= 17)")
+    width, iterations = _check_width_iterations(width, iterations)
+    return width, _atan_table(iterations), _x0(width, iterations)
 
 
 def demod_weight(counter, half: int, step: int, width: int = 32, iterations: int = 32):

@@ -37,16 +37,20 @@ class GateGenerator:
         ``DEAD_TICKS`` register value (clamped to ``dead_min``).
     dead_min : int
         ``DEAD_MIN`` synthesis parameter.
+    switch_ticks : bool
+        Record the instants of the ideal switch signals' changes for :meth:`take_switch_ticks` (the
+        blanking of ``OS_BLANK`` reads them); False skips that bookkeeping.
     """
 
-    def __init__(self, dead_ticks: int, dead_min: int = DEAD_MIN_DEFAULT):
+    def __init__(self, dead_ticks: int, dead_min: int = DEAD_MIN_DEFAULT, switch_ticks: bool = True):
         self.dead = effective_dead_ticks(dead_ticks, dead_min)
+        self.track_switches = switch_ticks
         self.level = [0, 0, 0]              # ideal switch signal s of each leg
         self.since = [0, 0, 0]              # tick from which s (and the enable) has been stable
         self.pending: list[tuple[int, int] | None] = [None, None, None]  # (turn-on tick, gate bit)
         self.enabled = False
         self.horizon = 0                    # everything before this tick has been added
-        self._events: list[tuple[int, int, int]] = []   # final (tick, bit, value), unordered
+        self._events: list[tuple[int, int, int]] = []   # final (tick, value, bit), unordered
         self._switch_ticks: list[int] = []  # ticks at which some ideal switch signal changed
         self.mask = 0                       # gate mask after the last edge taken out
 
@@ -57,10 +61,10 @@ class GateGenerator:
         if pend is not None and pend[0] >= tick:
             self.pending[leg] = None          # the pulse was too short: never turned on
         elif pend is not None:
-            self._events.append((pend[0], pend[1], 1))
+            self._events.append((pend[0], 1, pend[1]))
             self.pending[leg] = None
         on_bit = 2 * leg + (0 if self.level[leg] else 1)
-        self._events.append((tick, on_bit, 0))  # turn-off (a no-op if it never turned on)
+        self._events.append((tick, 0, on_bit))  # turn-off (a no-op if it never turned on)
         self.level[leg] = level
         self.since[leg] = tick
         if self.enabled:
@@ -82,10 +86,12 @@ class GateGenerator:
                 first, mid, mid_level = (1 if cmp == half else 0), start + half - cmp, 1
             if first != self.level[leg]:
                 self._change(leg, start, first)
-                self._switch_ticks.append(start)
+                if self.track_switches:
+                    self._switch_ticks.append(start)
             if 0 < cmp < half and mid_level != self.level[leg]:
                 self._change(leg, mid, mid_level)
-                self._switch_ticks.append(mid)
+                if self.track_switches:
+                    self._switch_ticks.append(mid)
         self.horizon = start + half
 
     def set_enabled(self, tick: int, enabled: bool) -> None:
@@ -104,10 +110,10 @@ class GateGenerator:
                 self.since[leg] = start
             else:
                 if pend is not None and pend[0] < tick:
-                    self._events.append((pend[0], pend[1], 1))
+                    self._events.append((pend[0], 1, pend[1]))
                 self.pending[leg] = None
-                self._events.append((tick, 2 * leg, 0))
-                self._events.append((tick, 2 * leg + 1, 0))
+                self._events.append((tick, 0, 2 * leg))
+                self._events.append((tick, 0, 2 * leg + 1))
 
     # ---- outputs -------------------------------------------------------------------------------
     def take_edges(self, until: int) -> tuple[np.ndarray, np.ndarray]:
@@ -121,15 +127,16 @@ class GateGenerator:
         for leg in range(3):
             pend = self.pending[leg]
             if pend is not None and pend[0] < until:
-                self._events.append((pend[0], pend[1], 1))
+                self._events.append((pend[0], 1, pend[1]))
                 self.pending[leg] = None
         now = [e for e in self._events if e[0] < until]
         self._events = [e for e in self._events if e[0] >= until]
-        # at one tick, turn-offs before turn-ons; the mask after the tick is what the plant sees
-        now.sort(key=lambda e: (e[0], e[2]))
+        # at one tick, turn-offs (value 0) before turn-ons; the mask after the tick is what the plant sees (the
+        # order of the bits within one tick and value changes no mask)
+        now.sort()
         ticks, masks = [], []
         mask = self.mask
-        for tick, bit, value in now:
+        for tick, value, bit in now:
             new = (mask | (1 << bit)) if value else (mask & ~(1 << bit))
             if new == mask:
                 continue
@@ -144,6 +151,8 @@ class GateGenerator:
 
     def take_switch_ticks(self, until: int) -> np.ndarray:
         """Ticks (sorted) before ``until`` at which some leg's ideal switch signal changed."""
+        if not self.track_switches:
+            raise ValueError("switch ticks asked of a gate generator made with switch_ticks=False")
         now = sorted(t for t in self._switch_ticks if t < until)
         self._switch_ticks = [t for t in self._switch_ticks if t >= until]
         return np.array(now, dtype=np.int64)

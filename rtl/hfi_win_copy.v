@@ -17,6 +17,11 @@
 //
 // Reads (wstrb = 0) of a copied word: hit = 1 (combinational, for the SoC's decode), ready one clock after
 // sel (held by the master until ready), rdata the word of the copy as it stood at that clock's edge.
+//
+// The copy holds only the N copied words, packed in address order (slot k: the k-th set bit of the mask).
+// Two tables made at elaboration from the mask map slots to word addresses (the take) and word addresses to
+// slots (the read: one look-up and one 32-bit selection, instead of a compare per copied word in every clock,
+// which cost the co-simulation 10 % of its speed; docs/soc.md).
 // After rst every copied word reads 0 (as hfi_dsp's after its reset) until the first window.
 // Writes and the other words go through hfi_cdc_bus (the parent decodes hit). The copied registers are
 // read-only, so a write to them changes nothing either way.
@@ -24,7 +29,9 @@ module hfi_win_copy (
     input  wire          clk,
     input  wire          rst,
     // the source, in another clock: word i = the read value of the register at byte address 4*i
+    /* verilator lint_off UNUSEDSIGNAL */    // only the copied words are read
     input  wire [2047:0] src,
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire          src_tog,
     // the read port, in clk
     input  wire          sel,
@@ -38,41 +45,78 @@ module hfi_win_copy (
 /* verilator lint_on UNUSEDPARAM */
     localparam [63:0] WORDS = HFI_WINDOW_COPY_WORDS;   // bit i: a copy of the word at byte address 4*i
 
+    // the number of copied words, and the two tables
+    function integer copied(input [63:0] m);
+        integer j;
+        begin
+            copied = 0;
+            for (j = 0; j < 64; j = j + 1)
+                copied = copied + {31'd0, m[j]};
+        end
+    endfunction
+    localparam integer N = copied(WORDS);
+    function [6*64-1:0] address_of_slot(input [63:0] m);   // slot k: bits 6k +: 6
+        integer j;
+        reg [5:0] k;
+        begin
+            address_of_slot = {6*64{1'b0}};
+            k = 6'd0;
+            for (j = 0; j < 64; j = j + 1)
+                if (m[j]) begin
+                    address_of_slot[6*k +: 6] = j[5:0];
+                    k = k + 6'd1;
+                end
+        end
+    endfunction
+    function [7*64-1:0] slot_of_address(input [63:0] m);   // word address a: bits 7a +: 7 = {copied, slot}
+        integer j;
+        reg [5:0] k;
+        begin
+            slot_of_address = {7*64{1'b0}};
+            k = 6'd0;
+            for (j = 0; j < 64; j = j + 1)
+                if (m[j]) begin
+                    slot_of_address[7*j +: 7] = {1'b1, k};
+                    k = k + 6'd1;
+                end
+        end
+    endfunction
+    localparam [6*64-1:0] ADDRESS = address_of_slot(WORDS);
+    localparam [7*64-1:0] SLOT = slot_of_address(WORDS);
+
     wire tog_s;
     reg  tog_q;
     hfi_cdc_sync u_tog_sync (.clk(clk), .d(src_tog), .q(tog_s));
     wire take = tog_s != tog_q;
 
-    reg [2047:0] copy;
-    integer i;
+    wire [32*N-1:0] src_words;                          // the copied words of src, packed by slot
+    genvar g;
+    generate
+        for (g = 0; g < N; g = g + 1) begin : g_src
+            assign src_words[32*g +: 32] = src[32*ADDRESS[6*g +: 6] +: 32];
+        end
+    endgenerate
+    reg [32*N-1:0] copy;
     always @(posedge clk) begin
         if (rst) begin
             tog_q <= 1'b0;
-            copy <= 2048'd0;
+            copy <= {32*N{1'b0}};
         end else begin
             tog_q <= tog_s;
             if (take)
-                for (i = 0; i < 64; i = i + 1)
-                    if (WORDS[i])
-                        copy[32*i +: 32] <= src[32*i +: 32];
+                copy <= src_words;
         end
     end
 
-    assign hit = WORDS[addr[7:2]] && addr[1:0] == 2'b00;
-    reg [31:0] word;
-    always @(*) begin
-        word = 32'd0;
-        for (i = 0; i < 64; i = i + 1)
-            if (WORDS[i] && addr[7:2] == i[5:0])
-                word = copy[32*i +: 32];
-    end
+    wire [6:0] entry = SLOT[7*addr[7:2] +: 7];         // {copied, slot}
+    assign hit = entry[6] && addr[1:0] == 2'b00;
     always @(posedge clk) begin
         if (rst) begin
             ready <= 1'b0;
             rdata <= 32'd0;
         end else begin
             ready <= sel && hit && !ready;
-            rdata <= word;
+            rdata <= copy[32*entry[5:0] +: 32];
         end
     end
 endmodule

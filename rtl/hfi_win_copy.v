@@ -19,9 +19,9 @@
 // sel (held by the master until ready), rdata the word of the copy as it stood at that clock's edge.
 //
 // The copy holds only the N copied words, packed in address order (slot k: the k-th set bit of the mask).
-// Two tables made at elaboration from the mask map slots to word addresses (the take) and word addresses to
-// slots (the read: one look-up and one 32-bit selection, instead of a compare per copied word in every clock,
-// which cost the co-simulation 10 % of its speed; docs/soc.md).
+// A table made at elaboration from the mask gives each word address its slot: the take packs src by it, and a
+// read is one look-up and one 32-bit selection (instead of a compare per copied word in every clock, which cost
+// the co-simulation 10 % of its speed; docs/soc.md).
 // After rst every copied word reads 0 (as hfi_dsp's after its reset) until the first window.
 // Writes and the other words go through hfi_cdc_bus (the parent decodes hit). The copied registers are
 // read-only, so a write to them changes nothing either way.
@@ -45,7 +45,7 @@ module hfi_win_copy (
 /* verilator lint_on UNUSEDPARAM */
     localparam [63:0] WORDS = HFI_WINDOW_COPY_WORDS;   // bit i: a copy of the word at byte address 4*i
 
-    // the number of copied words, and the two tables
+    // the number of copied words, and the slot of each word address
     function integer copied(input [63:0] m);
         integer j;
         begin
@@ -55,19 +55,6 @@ module hfi_win_copy (
         end
     endfunction
     localparam integer N = copied(WORDS);
-    function [6*64-1:0] address_of_slot(input [63:0] m);   // slot k: bits 6k +: 6
-        integer j;
-        reg [5:0] k;
-        begin
-            address_of_slot = {6*64{1'b0}};
-            k = 6'd0;
-            for (j = 0; j < 64; j = j + 1)
-                if (m[j]) begin
-                    address_of_slot[6*k +: 6] = j[5:0];
-                    k = k + 6'd1;
-                end
-        end
-    endfunction
     function [7*64-1:0] slot_of_address(input [63:0] m);   // word address a: bits 7a +: 7 = {copied, slot}
         integer j;
         reg [5:0] k;
@@ -81,7 +68,6 @@ module hfi_win_copy (
                 end
         end
     endfunction
-    localparam [6*64-1:0] ADDRESS = address_of_slot(WORDS);
     localparam [7*64-1:0] SLOT = slot_of_address(WORDS);
 
     wire tog_s;
@@ -92,8 +78,10 @@ module hfi_win_copy (
     wire [32*N-1:0] src_words;                          // the copied words of src, packed by slot
     genvar g;
     generate
-        for (g = 0; g < N; g = g + 1) begin : g_src
-            assign src_words[32*g +: 32] = src[32*ADDRESS[6*g +: 6] +: 32];
+        for (g = 0; g < 64; g = g + 1) begin : g_src
+            if (WORDS[g]) begin : g_word
+                assign src_words[32*SLOT[7*g +: 6] +: 32] = src[32*g +: 32];
+            end
         end
     endgenerate
     reg [32*N-1:0] copy;

@@ -543,6 +543,17 @@ def reset_setups(b: Bench) -> list[tuple[int, int, int, int]]:
     return [*fixed_pairs(b.rng_clk), *clock_pairs(b.rng_clk, 4)[-2:]]
 
 
+async def start_after_reset(b: Bench, k: int, setup: tuple[int, int, int, int], long_first: bool):
+    """Setup ``k`` of the reset tests: its clocks, the first window's timing (``long_first_window``), a reset,
+    then the source running (its task)."""
+    ts, tm, off_s, off_m = setup
+    b.where = f"setup {k}"
+    await b.set_clocks(ts, tm, off_s, off_m)
+    long_first_window(b, long_first)
+    await b.reset()
+    return b.run_source()
+
+
 @cocotb.test()
 async def reads_zero_after_reset(dut):
     """After reset every copied word reads 0 until the first toggle, whatever the source's words hold (junk
@@ -551,12 +562,8 @@ async def reads_zero_after_reset(dut):
     b = Bench(dut, "reads_zero_after_reset", 2)
     await b.start()
     setups = reset_setups(b)
-    for k, (ts, tm, off_s, off_m) in enumerate(setups):
-        b.where = f"setup {k}"
-        await b.set_clocks(ts, tm, off_s, off_m)
-        long_first_window(b, True)
-        await b.reset()
-        task = b.run_source()
+    for k, setup in enumerate(setups):
+        task = await start_after_reset(b, k, setup, True)
         await reads_after_reset(b)
         await b.traffic(max(20, b.n_random // 10))
         await b.settle(task)
@@ -609,12 +616,9 @@ async def reset_in_the_middle(dut):
     await b.start()
     setups = reset_setups(b)
     n = max(20, b.n_random // 10)
-    for k, (ts, tm, off_s, off_m) in enumerate(setups):
-        b.where = f"setup {k}"
-        await b.set_clocks(ts, tm, off_s, off_m)
-        long_first_window(b, False)
-        await b.reset()
-        task = b.run_source()
+    for k, setup in enumerate(setups):
+        ts = setup[0]
+        task = await start_after_reset(b, k, setup, False)
         await b.traffic(n)
         for _ in range(3):
             before = b.stats["reads"]

@@ -58,9 +58,6 @@ outputs (docs/methods.md), ``inj_phase`` the rotating injection's phase in the w
 ``cic_qa/qb`` and ``env_a/b`` the differencing and CIC block's outputs (``golden.fpga.diff_cic``), ``win_fault`` and
 ``win_adc`` the registers ``WIN_FAULT`` and ``WIN_ADC`` as the firmware read them (spec 2.2, 3.7, 3.13)."""
 
-_ROW_FIELDS = WINDOW_FIELDS[:WINDOW_FIELDS.index("theta_e")]
-"""The columns the loop records itself, in the order of its per-window row (the rest: ``truth_columns``)."""
-
 
 OUTPUT_FIELDS = ("v_d", "v_q", "v_h", "sin", "cos", "enable", "i_d_ref", "i_q_ref")
 """Per-window register writes of the firmware (golden.firmware.supervisor.Outputs): written after window
@@ -201,7 +198,7 @@ class ClosedLoop:
         speed_ref = speed_references(sc, hw, self.scales).tolist()
         n_win = len(speed_ref)
         ds_from = (math.inf if sc.control.switch_to_ds_at is None else sc.control.switch_to_ds_at) * tick_hz
-        rows = []                                         # one tuple per window: the _ROW_FIELDS
+        rec = {name: np.zeros(n_win, dtype=np.int64) for name in WINDOW_FIELDS}
         truths = []
         s_ticks, s_a, s_b, s_vdc = [], [], [], []
         edge_ticks, edge_masks = [], []
@@ -304,19 +301,29 @@ class ClosedLoop:
             s_a.append(adc_a)
             s_b.append(adc_b)
             s_vdc.append(out["vdc"])
-            rows.append((
-                zc + P, win.gamma, win.gamma_d, win.n_samples, win.sum_id, win.sum_iq, win.wsum,
-                fw.i_d, fw.i_q, fw.i_d_ref, fw.i_q_ref, o.v_d, o.v_q, o.sin, o.cos, fw.theta_hat, fw.omega_f,
-                speed_ref[k], fw.mode, fw.fault, adc_mode, *cmp_top, *cmp_bot, fw.active, fw.est_theta[0],
-                fw.est_theta[1], fw.est_omega[0], fw.est_omega[1], inj_phase, q_a, q_b, e_a, e_b, win.vector,
-                win.vector_next, win.top_ia, win.top_ib, win.vdc, win.status, win.frozen))
+            r = rec
+            r["tick"][k] = zc + P
+            r["gamma"][k], r["gamma_d"][k], r["n_samples"][k] = win.gamma, win.gamma_d, win.n_samples
+            r["sum_id"][k], r["sum_iq"][k], r["wsum"][k] = win.sum_id, win.sum_iq, win.wsum
+            r["i_d"][k], r["i_q"][k], r["i_d_ref"][k], r["i_q_ref"][k] = fw.i_d, fw.i_q, fw.i_d_ref, fw.i_q_ref
+            r["v_d"][k], r["v_q"][k], r["sin"][k], r["cos"][k] = o.v_d, o.v_q, o.sin, o.cos
+            r["theta_hat"][k], r["omega_f"][k], r["speed_ref"][k] = fw.theta_hat, fw.omega_f, speed_ref[k]
+            r["mode"][k], r["fault"][k], r["adc_mode"][k] = fw.mode, fw.fault, adc_mode
+            r["est"][k], r["theta_lo"][k], r["theta_hi"][k] = fw.active, fw.est_theta[0], fw.est_theta[1]
+            r["omega_lo"][k], r["omega_hi"][k] = fw.est_omega[0], fw.est_omega[1]
+            r["inj_phase"][k] = inj_phase
+            r["cic_qa"][k], r["cic_qb"][k], r["env_a"][k], r["env_b"][k] = q_a, q_b, e_a, e_b
+            r["vector"][k], r["vector_next"][k] = win.vector, win.vector_next
+            r["top_ia"][k], r["top_ib"][k] = win.top_ia, win.top_ib
+            r["vdc"][k] = win.vdc
+            r["win_fault"][k], r["win_adc"][k] = win.status, win.frozen
+            r["cmp_top_a"][k], r["cmp_top_b"][k], r["cmp_top_c"][k] = cmp_top
+            r["cmp_bot_a"][k], r["cmp_bot_b"][k], r["cmp_bot_c"][k] = cmp_bot
             truths.append(truth)
             if bar is not None:
                 bar.update(k + 1, fw)
         if bar is not None:
             bar.close()
-        table = np.array(rows, dtype=np.int64).reshape(n_win, len(_ROW_FIELDS))
-        rec = {name: table[:, j].copy() for j, name in enumerate(_ROW_FIELDS)}   # contiguous columns
         rec.update(truth_columns(np.array(truths, dtype=STATE_DTYPE), self.scales.pole_pairs))
         samples = {"tick": np.concatenate(s_ticks), "adc_a": np.concatenate(s_a).astype(np.uint16),
                    "adc_b": np.concatenate(s_b).astype(np.uint16), "adc_vdc": np.concatenate(s_vdc).astype(np.uint16)}

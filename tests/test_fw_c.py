@@ -1441,10 +1441,13 @@ def _lut_to_c(lut: FluxLut):
 def random_hfo(rng: np.random.Generator) -> HfoParams:
     """hfo_proj integers over the ranges control.h documents (struct fw_hfo_params), around the host's values
     (varatharajan2020_torquestep) with the extremes frequent; the host's LUT (or a coarser/finer grid of the
-    same map) with its f_shift and l_shift."""
+    same map) with its f_shift and l_shift, or (one in four) with any f_shift of control.h's range 0..16: at 16 the
+    map's flux beyond the grid exceeds s32, where the C's Park of the flux leaves the fixed-point unit."""
     h = _hfo_host()
     luts = _syrm_luts()
     lut = luts[int(rng.integers(0, len(luts)))]
+    if rng.random() < 0.25:
+        lut = replace(lut, f_shift=int(rng.integers(0, 17)))
     return replace(h, lut=lut, c_lag=draw_one(rng, 0, 1 << 16, (h.c_lag, 0)),
                    r_f=draw_one(rng, 0, 1 << 26, (h.r_f,)), dt_f=draw_one(rng, 0, 1 << 28, (h.dt_f, 0)),
                    vth_f=draw_one(rng, 0, 1 << 28, (h.vth_f, 0)), c_g=draw_one(rng, 0, 1 << 16, (h.c_g,)),

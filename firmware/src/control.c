@@ -949,18 +949,46 @@ static int64_t shr_any64(int64_t x, int32_t n)
     return n >= 63 ? (x < 0 ? -1 : 0) : x >> n;
 }
 
-/* golden.firmware.estimator.park of int64 components (|a|, |b| < 2^46: the products below 2^62) */
-static void park64(int64_t a, int64_t b, int32_t s, int32_t c, int64_t *d, int64_t *q)
+/* -2^n <= x < 2^n (1 <= n <= 31): x fits the fixed-point unit's int32 operands with room (its usual case) */
+static inline int fits_bits64(int64_t x, int n)
+{
+    return (uint64_t)x + ((uint64_t)1 << n) < ((uint64_t)1 << (n + 1));
+}
+
+/* golden.firmware.estimator.park of int64 components (|a|, |b| < 2^46: the products below 2^62), in int64 */
+static __attribute__((noinline)) void park64_wide(int64_t a, int64_t b, int32_t s, int32_t c, int64_t *d, int64_t *q)
 {
     *d = round_shr64(a * c + b * s, 15);
     *q = round_shr64(b * c - a * s, 15);
 }
 
-/* golden.firmware.estimator.inv_park of int64 components (saturated to s32 as golden) */
-static void inv_park64(int64_t d, int64_t q, int32_t s, int32_t c, int32_t *al, int32_t *be)
+/* park64_wide, inlined for the usual case -2^29 <= a, b < 2^29 on the fixed-point unit: |a c| + |b s| <= 2^45
+ * (|s|, |c| <= 2^15), so the rounded sums are within 2^30 and its 32-bit saturation never acts */
+STEP_INLINE void park64(int64_t a, int64_t b, int32_t s, int32_t c, int64_t *d, int64_t *q)
+{
+    if (fits_bits64(a, 29) && fits_bits64(b, 29)) {
+        *d = FX_DOT((int32_t)a, c, (int32_t)b, s, 15, 32);
+        *q = FX_CROSS((int32_t)b, c, (int32_t)a, s, 15, 32);
+    } else {
+        park64_wide(a, b, s, c, d, q);
+    }
+}
+
+/* golden.firmware.estimator.inv_park of int64 components (saturated to s32 as golden), in int64 */
+static __attribute__((noinline)) void inv_park64_wide(int64_t d, int64_t q, int32_t s, int32_t c, int32_t *al,
+                                                      int32_t *be)
 {
     *al = sat32(round_shr64(d * c - q * s, 15));
     *be = sat32(round_shr64(d * s + q * c, 15));
+}
+
+/* inv_park64_wide, inlined: inv_park (the fixed-point unit's) when both components fit in int32 */
+STEP_INLINE void inv_park64(int64_t d, int64_t q, int32_t s, int32_t c, int32_t *al, int32_t *be)
+{
+    if ((int32_t)d == d && (int32_t)q == q)
+        inv_park((int32_t)d, (int32_t)q, s, c, al, be);
+    else
+        inv_park64_wide(d, q, s, c, al, be);
 }
 
 static int64_t abs64(int64_t x)
@@ -1138,6 +1166,21 @@ static int32_t bit_length64(int64_t x)
     return (uint64_t)x >> 32 ? 32 + bit_length32((uint32_t)((uint64_t)x >> 32)) : bit_length32((uint32_t)x);
 }
 
+/* HybridFluxProjection.step's eq. (5), one component: sat(psi + a - shr(r_f i, 16) + shr(c_g (lam - psi), 16), 32);
+ * on the fixed-point unit when lam - psi fits its int32 operand (the usual case: both are far from the limits) */
+static int32_t hfo_euler(int32_t psi, int32_t a, int32_t i, int32_t lam, const struct fw_hfo_params *hp)
+{
+    int64_t diff = (int64_t)lam - psi;
+
+    if ((int32_t)diff != diff)
+        return sat32((int64_t)psi + a - (((int64_t)hp->r_f * i) >> 16) + (((int64_t)hp->c_g * diff) >> 16));
+    FX_ACC(acc);
+    FX_MUL(acc, hp->c_g, (int32_t)diff, 16);
+    FX_MSU(acc, hp->r_f, i, 16);
+    FX_ADD(acc, psi, 0, a);
+    return FX_FLR(acc, 0, 32);
+}
+
 /* golden.firmware.hfo_proj.HybridFluxProjection.step (Varatharajan et al. 2020, Secs. II-B, III-C, IV): the
  * hybrid flux observer, the current model from the LUT, the projection's coefficients, the low-speed error,
  * APP, fusion and PLL; the same operations in the same order (int64_t throughout). */
@@ -1156,10 +1199,8 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
 
     fw_applied_flux(e->vec_old, e->vec, e->i_al, e->i_be, hp->dt_f, hp->vth_f, &a_al, &a_be);
     /* 1. eq. (5) */
-    int32_t psi_al = sat32((int64_t)e->psi_al + a_al - (((int64_t)hp->r_f * e->i_al) >> 16)
-                           + (((int64_t)hp->c_g * ((int64_t)e->lam_al - e->psi_al)) >> 16));
-    int32_t psi_be = sat32((int64_t)e->psi_be + a_be - (((int64_t)hp->r_f * e->i_be) >> 16)
-                           + (((int64_t)hp->c_g * ((int64_t)e->lam_be - e->psi_be)) >> 16));
+    int32_t psi_al = hfo_euler(e->psi_al, a_al, e->i_al, e->lam_al, hp);
+    int32_t psi_be = hfo_euler(e->psi_be, a_be, e->i_be, e->lam_be, hp);
     /* 2. the current model */
     int32_t s, c;
     int64_t i_d, i_q;
@@ -1192,7 +1233,10 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
         park64((int64_t)psi_al - e->psi_al, (int64_t)psi_be - e->psi_be, sm, cm, &dpd, &dpq);
         park64((int64_t)lam_al - lp_al, (int64_t)lam_be - lp_be, sm, cm, &dlam_d, &dlam_q);
         int64_t e_d = dpd - dlam_d;
-        int64_t strength = round_shr64(a1 * dpq - a2 * dpd, 12); /* eq. (29) */
+        /* eq. (29); on the unit for |dpd|, |dpq| <= 2^27: |a1 dpq| + |a2 dpd| <= 2^43 (|a1|, |a2| <= 2^15) */
+        int64_t strength = fits_bits64(dpd, 27) && fits_bits64(dpq, 27)
+                               ? FX_CROSS(a1, (int32_t)dpq, a2, (int32_t)dpd, 12, 32)
+                               : round_shr64(a1 * dpq - a2 * dpd, 12);
         valid = abs64(strength) > ((int64_t)hp->phi_min << FW_FLUX_FRAC);
         if (valid) {
             /* sat32(q) as sat_bits(q, 21): |q| >= 2^20 gives |hfo_to_bin| > 10^10 > eps_max either way, so
@@ -1313,6 +1357,26 @@ void fw_flux_reference(const struct fw_fcs_params *p, int32_t i_s, int32_t *d, i
     *q = i_s < 0 ? -qq : qq;
 }
 
+/* deadbeat_voltage's eq. (14), one component: sat(round_shr(ref - p2, FLUX_FRAC) + shr(r_v i, 16), 32) with
+ * p2 = psi + a1 + a2 - 2 shr(r_f i, 16) (eq. (13), two periods ahead), on the fixed-point unit. The second term
+ * m = shr(r_v i, 16) is an integer, so it joins the rounded one as m 2^FLUX_FRAC inside the rounding; |m| < 2^31
+ * (int32 r_v, s16 top currents: the TOP_I field). */
+static int32_t deadbeat_component(const struct fw_fcs_params *p, int32_t ref, int32_t psi, int32_t a1, int32_t a2,
+                                  int32_t i)
+{
+    _Static_assert(FW_FLUX_FRAC == 8, "the unit adds m << FW_FLUX_FRAC: a whole byte");
+    const int32_t m = FX_SHR(p->r_v, i, 16, 0);
+    FX_ACC(acc);
+
+    FX_MUL(acc, p->r_f, i, 16);
+    FX_MAC(acc, p->r_f, i, 16);
+    FX_ADD(acc, m, 8, ref);
+    FX_MSU(acc, psi, 1, 0);
+    FX_MSU(acc, a1, 1, 0);
+    FX_MSU(acc, a2, 1, 0);
+    return FX_RND(acc, FW_FLUX_FRAC, 32);
+}
+
 /* golden.firmware.fcs_law.deadbeat_voltage (Varatharajan et al. 2020, eqs. (13)-(14)) */
 void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t psi_be, int32_t i_al, int32_t i_be,
                          int32_t before, int32_t vector, int32_t nxt, uint32_t theta, int32_t omega,
@@ -1322,14 +1386,11 @@ void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t 
 
     fw_applied_flux(before, vector, i_al, i_be, p->dt_f, p->vth_f, &a1a, &a1b);
     fw_applied_flux(vector, nxt, i_al, i_be, p->dt_f, p->vth_f, &a2a, &a2b);
-    int64_t r_a = ((int64_t)p->r_f * i_al) >> 16, r_b = ((int64_t)p->r_f * i_be) >> 16;
-    int64_t p2a = (int64_t)psi_al + a1a + a2a - 2 * r_a;
-    int64_t p2b = (int64_t)psi_be + a1b + a2b - 2 * r_b;
     fw_flux_reference(p, i_s, &d_ref, &q_ref);
     fw_sincos_q15(theta + (uint32_t)(omega >> 1), &s, &c);
     inv_park(d_ref, q_ref, s, c, &ref_a, &ref_b);
-    int32_t v_a = sat32(round_shr64(ref_a - p2a, FW_FLUX_FRAC) + (((int64_t)p->r_v * i_al) >> 16));
-    int32_t v_b = sat32(round_shr64(ref_b - p2b, FW_FLUX_FRAC) + (((int64_t)p->r_v * i_be) >> 16));
+    int32_t v_a = deadbeat_component(p, ref_a, psi_al, a1a, a2a, i_al);
+    int32_t v_b = deadbeat_component(p, ref_b, psi_be, a1b, a2b, i_be);
     int64_t d, q;
     fw_sincos_q15(theta, &s, &c);
     park64(v_a, v_b, s, c, &d, &q);

@@ -5,16 +5,19 @@ plays the CPU's side of LiteX's CFU port: it presents one instruction at a time 
 function id ``{funct7, funct3}`` and rs1, rs2) and takes the answers with a random ``rsp_ready`` (the core's
 memory stage can be stuck), and checks, for every instruction:
 
-- the answer against the model (accumulating instructions answer 0, RND/FLR the model's value), in order, one
-  answer per command;
+- the answer against the model (accumulating instructions answer 0, RND/FLR/DIV the model's value), in order,
+  one answer per command;
 - the timing the firmware's cycle counts rest on: with ``rsp_ready`` high, MUL/MAC/MSU/ADD/SET are answered in
-  the clock after their command and taken back to back (a command every clock), RND/FLR three clocks after;
-- no command is taken while an answer waits for the CPU or an RND/FLR is in flight.
+  the clock after their command and taken back to back (a command every clock), RND/FLR three clocks after, DIV
+  five clocks after when its quotient saturates, else 5 + w (:func:`div_latency`);
+- no command is taken while an answer waits for the CPU or an RND/FLR/DIV is in flight.
 
 Random programs: HFI_RANDOM_N instructions (default 100 000 under Verilator) drawn as the firmware's idioms
-(a MUL then MAC/MSU/ADD then RND/FLR) and as any sequence, with operands of every size and the corners
-(INT32_MIN, INT32_MAX, 0, +-1, powers of two), shifts 0..63 and widths 0..63; directed: each instruction's
-corners (the 64-bit wrap of the sums and of the rounding, k = 0 and 63, widths 0, 1, 32, 33).
+(a MUL or SET then MAC/MSU/ADD then RND/FLR, or SET then DIV as the firmware's saturated quotients) and as any
+sequence, with operands of every size and the corners (INT32_MIN, INT32_MAX, 0, +-1, powers of two), shifts
+0..63 and widths 0..63, divisors of every size and sign (0 and the quotients just below and at the limit too);
+directed: each instruction's corners (the 64-bit wrap of the sums and of the rounding, k = 0 and 63, widths 0,
+1, 32, 33; DIV: INT64_MIN by -1, a zero divisor, widths 0, 1, 2, 32, 63).
 """
 
 from __future__ import annotations
@@ -26,16 +29,41 @@ import numpy as np
 from cocotb.clock import Clock
 from cocotb.triggers import ReadOnly, RisingEdge
 
-from hfi.cfu import CfuModel
+from golden.fixed import wrap
+from hfi.cfu import CfuModel, div_width
 from hfi.soc_platform import CFU_OPS
 
 PERIOD_NS = 20
 INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 SPECIAL = (0, 1, -1, 2, -2, INT32_MIN, INT32_MAX, INT32_MIN + 1, 1 << 30, -(1 << 30), 32767, -32768, 1 << 15)
 OPS = CFU_OPS
-READS = (OPS["RND"], OPS["FLR"])
+READS = (OPS["RND"], OPS["FLR"], OPS["DIV"])
 READ_LATENCY = 3
 """Clocks from an RND/FLR command to its answer (rtl/hfi_cfu.v: the read skips the product stage)."""
+
+
+def div_latency(n: int, d: int, k: int) -> int:
+    """Clocks from a DIV command to its answer: 5 when the quotient saturates (the compare of floor(|n| /
+    2^(w-1)) with |d|), else 5 + w (w - 1 quotient bits, one per clock, and the sign)."""
+    w = div_width(k)
+    return 5 if (abs(n) >> (w - 1)) >= abs(d) else 5 + w
+
+
+def divisor(rng: np.random.Generator, n: int) -> tuple[int, int]:
+    """(rs1, rs2) of a DIV: a 64-bit divisor of every size and sign; often one that puts the quotient of ``n``
+    just below, at or above a width's limit, sometimes 0."""
+    u = rng.random()
+    if u < 0.05:
+        d = 0
+    elif u < 0.4 and n != 0:
+        w = int(rng.choice([16, 18, 21, 22, 32, 2]))
+        d = max(abs(n) >> (w - 1), 1) + int(rng.integers(-2, 3))
+        d = (d if d != 0 else 1) * (1 if rng.random() < 0.5 else -1)
+    else:
+        b = int(rng.integers(0, 63))
+        d = int(rng.integers(-(1 << b), (1 << b) + 1)) << int(rng.integers(0, 2))
+    d = max(min(d, (1 << 63) - 1), -(1 << 63))
+    return d >> 32, d & 0xFFFF_FFFF
 
 
 def operand(rng: np.random.Generator) -> int:
@@ -68,10 +96,19 @@ def program(rng: np.random.Generator, n: int) -> list[tuple[int, int, int, int]]
                 op = int(rng.choice([OPS["MAC"], OPS["MSU"], OPS["ADD"]]))
                 out.append((op, k if rng.random() < 0.8 else int(rng.integers(0, 64)), operand(rng), operand(rng)))
             rk = int(rng.choice([0, 8, 15, 16, 28])) if rng.random() < 0.7 else int(rng.integers(0, 64))
-            out.append((int(rng.choice(READS)), rk, width(rng), operand(rng)))
+            out.append((int(rng.choice(READS[:2])), rk, width(rng), operand(rng)))
+        elif rng.random() < 0.5:                     # a saturated quotient: SET the dividend, DIV
+            hi, lo = operand(rng), operand(rng)
+            if rng.random() < 0.5:                   # a dividend of any size
+                b = int(rng.integers(0, 63))
+                v = int(rng.integers(-(1 << b), (1 << b) + 1))
+                hi, lo = v >> 32, v & 0xFFFF_FFFF
+            out.append((OPS["SET"], 0, hi, lo))
+            w = int(rng.choice([16, 18, 21, 22])) if rng.random() < 0.7 else int(rng.integers(0, 64))
+            out.append((OPS["DIV"], w, *divisor(rng, (hi << 32) + (lo & 0xFFFF_FFFF))))
         else:
             op = int(rng.integers(0, 8))
-            a = width(rng) if op in READS else operand(rng)
+            a = width(rng) if op in READS[:2] else operand(rng)
             out.append((op, int(rng.integers(0, 64)), a, operand(rng)))
     return out[:n]
 
@@ -89,7 +126,14 @@ def directed() -> list[tuple[int, int, int, int]]:
          (OPS["ADD"], 63, 1, 0), (OPS["FLR"], 32, 0, 0), (OPS["ADD"], 0, M, X), (OPS["FLR"], 0, 0, 0),
          (OPS["MUL"], 0, 1 << 20, 1 << 20), (OPS["RND"], 0, 32, 0), (OPS["RND"], 0, 1, 0), (OPS["RND"], 0, 2, 0),
          (OPS["RND"], 8, 21, 0), (OPS["FLR"], 40, 32, 0), (OPS["RND"], 40, 32, 0),
-         (7, 5, 123, 456), (OPS["FLR"], 0, 0, 0)]                          # reserved: answers 0, acc kept
+         (OPS["SET"], 0, M, 0), (OPS["DIV"], 32, -1, -1), (OPS["DIV"], 63, -1, -1),    # INT64_MIN / -1
+         (OPS["DIV"], 0, 0, 0), (OPS["DIV"], 1, 0, 1), (OPS["DIV"], 2, 0, 1),       # / 0, widths 0, 1, 2
+         (OPS["FLR"], 32, 0, 0),                                                # DIV keeps acc
+         (OPS["SET"], 0, 0, 0), (OPS["DIV"], 16, 0, 0), (OPS["DIV"], 16, 0, 7),    # 0 / 0, 0 / 7
+         (OPS["SET"], 0, 0, 32767 * 5), (OPS["DIV"], 16, 0, 5), (OPS["DIV"], 16, 0, 4),  # at, above the limit
+         (OPS["SET"], 0, -1, -32768 * 5), (OPS["DIV"], 16, 0, 5), (OPS["DIV"], 16, -1, -5),
+         (OPS["SET"], 0, X, -1), (OPS["DIV"], 32, M, 0), (OPS["DIV"], 32, X, -1),   # INT64_MAX / INT64_MIN, / itself
+         (OPS["SET"], 0, 1 << 20, 12345), (OPS["DIV"], 22, 0, 1 << 31), (OPS["DIV"], 22, 0, 3)]
     return p
 
 
@@ -103,7 +147,7 @@ class Cpu:
 
     async def run(self, prog: list[tuple[int, int, int, int]]) -> int:
         dut = self.dut
-        pending: list[tuple[int, int, int]] = []     # (expected answer, op, clock of its command)
+        pending: list[tuple[int, int, int, int]] = []     # (expected answer, op, clock of its command, latency)
         i = 0
         checked = 0
         while i < len(prog) or pending:
@@ -126,17 +170,19 @@ class Cpu:
             if fire and (pending and (pending[-1][1] in READS or int(dut.rsp_valid.value) and not ready)):
                 raise AssertionError(f"clock {self.clock}: a command taken while an answer is due")
             if take:
-                want, op, at = pending.pop(0)
+                want, op, at, want_lat = pending.pop(0)
                 got = int(dut.rsp_outputs_0.value.to_signed())
                 assert got == want, (f"instruction {checked} (op {op}, command at clock {at}): answer {got}, "
                                      f"model {want}")
                 if self.p_ready >= 1.0:
                     lat = self.clock - at
-                    assert lat == (READ_LATENCY if op in READS else 1), f"op {op}: answered {lat} clocks after its command"
+                    assert lat == want_lat, f"op {op}: answered {lat} clocks after its command, {want_lat} expected"
                 checked += 1
             if fire:
                 op, k, a, b = prog[i]
-                pending.append((self.model.step(op, k, a, b), op, self.clock))
+                lat = 1 if op not in READS else READ_LATENCY if op != OPS["DIV"] else \
+                    div_latency(self.model.acc, (wrap(a, 32) << 32) + (b & 0xFFFF_FFFF), k)
+                pending.append((self.model.step(op, k, a, b), op, self.clock, lat))
                 i += 1
             await RisingEdge(dut.clk)
             self.clock += 1

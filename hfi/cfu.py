@@ -18,19 +18,22 @@ ADD    ``acc += (a << kb) + b``                                   0
 SET    ``acc = (a << 32) + (b as uint32)`` (k ignored)            0
 RND    ``sat(round_shr(acc, k), a)``                              result
 FLR    ``sat(acc >> k, a)``                                       result
+DIV    ``sat(c_div(acc, d), w)``, ``d = (a << 32) + (b as uint32)``  result
 =====  =========================================================  ========
 
 ``>>`` is the arithmetic shift (floor), ``round_shr`` rounds half up (``golden.fixed.round_shr``), the sums
 wrap modulo 2^64 (the firmware's int64, whose documented ranges never overflow). The saturation's width is
 the low 6 bits of ``a``: 1..32 saturate to that many bits (``golden.fixed.sat``); 0 and 33..63 take the low
-32 bits of the value as they are (the C cast ``(int32_t)``). funct3 7 is reserved: it answers 0 and leaves the
-accumulator. The C side is firmware/src/fw_fx.h: the same operations as macros, inline assembly on the SoC
+32 bits of the value as they are (the C cast ``(int32_t)``). DIV divides the accumulator by the 64-bit ``d``
+(truncating, ``golden.fixed.c_div``) and saturates to ``w`` bits, ``w`` = ``k`` clamped to 2..32; a zero divisor
+answers the limit of the accumulator's sign (``2^(w-1) - 1`` for 0 and above, ``-2^(w-1)`` below); the accumulator is
+kept (the 003 observer's saturated quotients, docs/soc.md "The 003 observer's divisions"). The C side is firmware/src/fw_fx.h: the same operations as macros, inline assembly on the SoC
 (``-DFW_CFU``) and plain int64 C in the host build.
 """
 
 from __future__ import annotations
 
-from golden.fixed import sat, wrap
+from golden.fixed import c_div, sat, wrap
 from hfi.soc_platform import CFU_OPS
 
 def _s64(x: int) -> int:
@@ -46,6 +49,20 @@ def result(acc: int, k: int, bits: int, rounding: bool) -> int:
     v = _s64(acc + (1 << (k - 1))) >> k if rounding and k else acc >> k    # the 64-bit adder wraps
     w = bits & 63
     return sat(v, w) if 1 <= w <= 32 else _s32(v)
+
+
+def div_width(k: int) -> int:
+    """DIV's saturation width from its ``k`` (0..63): clamped to 2..32."""
+    return min(max(k, 2), 32)
+
+
+def quotient(n: int, d: int, k: int) -> int:
+    """DIV's answer: ``sat(c_div(n, d), w)`` (int64 ``n``, ``d``), ``w = div_width(k)``; ``d = 0``: the limit of
+    ``n``'s sign."""
+    w = div_width(k)
+    if d == 0:
+        return (1 << (w - 1)) - 1 if n >= 0 else -(1 << (w - 1))
+    return sat(c_div(n, d), w)
 
 
 class CfuModel:
@@ -72,4 +89,6 @@ class CfuModel:
             return result(self.acc, k, a, True)
         elif op == CFU_OPS["FLR"]:
             return result(self.acc, k, a, False)
+        elif op == CFU_OPS["DIV"]:
+            return quotient(self.acc, (a << 32) + (b & 0xFFFF_FFFF), k)
         return 0

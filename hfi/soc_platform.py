@@ -89,9 +89,9 @@ custom-0 instructions of the fixed-point unit rtl/hfi_cfu.v (docs/soc.md, "The f
 CFU_OPCODE = 0x0B
 """Major opcode of the fixed-point instructions: RISC-V custom-0, R-type, as LiteX's CFU port decodes it
 (``function_id = {funct7, funct3}``)."""
-CFU_OPS = {"MUL": 0, "MAC": 1, "MSU": 2, "ADD": 3, "RND": 4, "FLR": 5, "SET": 6}
+CFU_OPS = {"MUL": 0, "MAC": 1, "MSU": 2, "ADD": 3, "RND": 4, "FLR": 5, "SET": 6, "DIV": 7}
 """funct3 of each fixed-point instruction (hfi/cfu.py gives each one's arithmetic; funct7 holds the shift
-``k``, 0..63); funct3 7 is reserved (answers 0, leaves the accumulator)."""
+``k``, 0..63, or DIV's width)."""
 CPU_DCACHE_BYTES = 4096
 """Data cache of the core (the package's configuration, which the generator keeps): direct-mapped, so data
 this far apart shares a line (scripts/fw_profile.py reports its refills per object)."""

@@ -7,10 +7,13 @@
 //          ADD          acc += (rs1 <<< kb) + rs2
 //          SET          acc = {rs1, rs2}
 //          RND / FLR    answer sat(round_shr(acc, k), rs1[5:0]) / sat(acc >>> k, rs1[5:0])
+//          DIV          answer sat(trunc(acc / {rs1, rs2}), w), w = k clamped to 2..32 (a zero divisor: the limit
+//                       of acc's sign); acc is kept
 // with k = funct7[5:0] and kb = k rounded down to a multiple of 8 (a byte shift: one level of multiplexers beside
-// the accumulator's adder); saturation width 1..32, 0 and 33..63 answer the low word unsaturated; funct3 7 is
-// reserved: it answers 0 and leaves acc. Every instruction is answered, in order: MUL..SET in the clock after the
-// command (the CPU's memory stage, so they issue one per clock), RND/FLR three clocks after it (two stall clocks).
+// the accumulator's adder); saturation width 1..32, 0 and 33..63 answer the low word unsaturated. Every
+// instruction is answered, in order: MUL..SET in the clock after the command (the CPU's memory stage, so they
+// issue one per clock), RND/FLR three clocks after it (two stall clocks), DIV five clocks after it when the
+// quotient saturates, else 5 + w (a restoring division, one quotient bit per clock).
 // Accumulating instructions, one heavy element per stage (the CPU clock closes with its margin on the ECP5:
 // docs/soc.md): 1 operands; 2 the product (or the ADD value (rs1 <<< kb) + rs2, or SET's); 3 acc updated by the
 // byte-shifted product or the value. A read skips the product: its command loads its own registers (the rounding
@@ -18,8 +21,10 @@
 // (the instruction in stage 2 forwarded: acc, the stage's value and the rounding constant in one carry-save add
 // and one carry chain), shifted by the whole bytes of k; then the rest of the shift (k mod 8) and the saturation,
 // the answer. An instruction in stage 1 when a read is taken is in stage 2 in the read's first clock, so the sum
-// holds every older instruction.
-// No command is taken while an RND/FLR is in flight or an answer waits for the CPU, so answers stay in order.
+// holds every older instruction. A DIV is taken as a read with k = 0 (its sum is acc itself), and the divider
+// (below) takes that sum: |n| and |d|, then the saturation's compare (floor(|n| / 2^(w-1)) >= |d|), then w - 1
+// steps of one compare-and-subtract each (the remainder below |d|, so 65 bits), then the sign.
+// No command is taken while an RND/FLR/DIV is in flight or an answer waits for the CPU, so answers stay in order.
 module hfi_cfu (
     input  wire        clk,
     input  wire        rst,
@@ -38,9 +43,10 @@ module hfi_cfu (
 
     wire [2:0] op = cmd_function_id[2:0];
     wire [5:0] k = cmd_function_id[8:3];
-    wire is_read = op == `HFI_CFU_RND || op == `HFI_CFU_FLR;
-    reg rd_busy;                                       // an RND/FLR from its command until its answer is taken
-    reg rsp_is_read;                                   // the answer waiting is an RND/FLR's
+    wire is_div = op == `HFI_CFU_DIV;
+    wire is_read = op == `HFI_CFU_RND || op == `HFI_CFU_FLR || is_div;   // answers a value, after stall clocks
+    reg rd_busy;                                       // an RND/FLR/DIV from its command until its answer is taken
+    reg rsp_is_read;                                   // the answer waiting is an RND/FLR/DIV's
     assign cmd_ready = !rd_busy && !(rsp_valid && !rsp_ready);
     wire fire = cmd_valid && cmd_ready;
 
@@ -86,6 +92,7 @@ module hfi_cfu (
 
     // ---------------------------------------------------------------- a read: its registers, its sum
     reg               r_v;                                     // a read taken in the last clock
+    reg               r_div;                                   // and it is a DIV
     reg  [5:0]        r_k, r_w;
     reg  signed [63:0] r_rc;                                   // the rounding constant (0 for FLR, k = 0)
     // acc_next + r_rc as one carry-save layer and one carry chain (neg enters the free carry bit 0)
@@ -95,13 +102,32 @@ module hfi_cfu (
     wire        [5:0]  r_kb = {r_k[5:3], 3'b000};
 
     // ---------------------------------------------------------------- stage 3: acc; the read's answer
-    reg               s3_v;                                    // an RND/FLR's sum in stage 3
+    reg               s3_v;                                    // an RND/FLR/DIV's sum in stage 3
+    reg               s3_div;                                  // a DIV's (its dividend: not answered here)
     reg  [2:0]        s3_k;                                    // k mod 8: the rest of the read's shift
     reg  signed [63:0] s3_sum, s3_hi;                          // (acc + rounding constant) >>> (k - k mod 8)
     reg               s3_sat;
     wire signed [63:0] value = s3_sum >>> s3_k;
     wire signed [63:0] lo = -s3_hi - 64'sd1;
     wire [31:0] answer = !s3_sat ? value[31:0] : value > s3_hi ? s3_hi[31:0] : value < lo ? lo[31:0] : value[31:0];
+
+    // ---------------------------------------------------------------- DIV: a restoring division
+    localparam [2:0] DV_IDLE = 3'd0, DV_ABS = 3'd1, DV_SHIFT = 3'd2, DV_STEP = 3'd3, DV_SIGN = 3'd4;
+    reg  [2:0]        dv_st;                                   // ABS: |n|, |d| ready; SHIFT: n split at bit w-1
+    reg  [63:0]       dv_d;                                    // the divisor {rs1, rs2}, from the command
+    reg  [5:0]        dv_w;                                    // the width, 2..32
+    reg  [63:0]       dv_a, dv_b;                              // |n|, |d| (unsigned: 2^63 fits)
+    reg               dv_neg;                                  // the quotient's sign
+    reg  [63:0]       dv_rem;                                  // the remainder, below dv_b from DV_STEP on
+    reg  [63:0]       dv_low;                                  // the dividend's bits still to bring down, from bit 63
+    reg  [31:0]       dv_q;
+    reg  [31:0]       dv_satv;                                 // the saturated answer, -2^(w-1) or 2^(w-1) - 1
+    reg  [4:0]        dv_n;                                    // steps left
+    wire [64:0]       dv_t = {dv_rem, dv_low[63]};             // the remainder with the next bit brought down
+    wire [65:0]       dv_diff = {1'b0, dv_t} - {2'b00, dv_b};
+    wire              dv_ge = !dv_diff[65];
+    wire [5:0]        k_w = k < 6'd2 ? 6'd2 : k > 6'd32 ? 6'd32 : k;
+    wire [5:0]        dv_w1 = dv_w - 6'd1;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -114,6 +140,7 @@ module hfi_cfu (
             rsp_valid <= 1'b0;
             rsp_is_read <= 1'b0;
             rsp_outputs_0 <= 32'd0;
+            dv_st <= DV_IDLE;
         end else begin
             s1_v <= fire && !is_read;
             if (fire && !is_read) begin
@@ -123,10 +150,15 @@ module hfi_cfu (
                 s1_b <= cmd_inputs_1;
             end
             r_v <= fire && is_read;
+            r_div <= fire && is_div;
             if (fire && is_read) begin
-                r_k <= k;
+                r_k <= is_div ? 6'd0 : k;
                 r_w <= cmd_inputs_0[5:0];
                 r_rc <= op == `HFI_CFU_RND && k != 6'd0 ? 64'sd1 <<< (k - 6'd1) : 64'sd0;
+            end
+            if (fire && is_div) begin
+                dv_d <= {cmd_inputs_0, cmd_inputs_1};
+                dv_w <= k_w;
             end
             s2_v <= s1_v;
             if (s1_v) begin
@@ -140,6 +172,7 @@ module hfi_cfu (
             end
             acc <= acc_next;
             s3_v <= r_v;
+            s3_div <= r_div;
             if (r_v) begin
                 s3_k <= r_k[2:0];
                 s3_sum <= r_sum >>> r_kb;
@@ -159,10 +192,52 @@ module hfi_cfu (
                 rsp_is_read <= 1'b0;
                 rsp_outputs_0 <= 32'd0;
             end
-            if (s3_v) begin
+            if (s3_v && !s3_div) begin
                 rsp_valid <= 1'b1;
                 rsp_is_read <= 1'b1;
                 rsp_outputs_0 <= answer;
+            end
+            // the divider (a DIV's sum in stage 3 starts it; one command in flight at a time)
+            case (dv_st)
+                DV_ABS: begin
+                    dv_rem <= dv_a >> dv_w1;
+                    dv_low <= dv_a << (6'd0 - dv_w1);              // 65 - w: bits w-2..0 to the top
+                    dv_satv <= dv_neg ? 32'd0 - (32'd1 << dv_w1) : (32'd1 << dv_w1) - 32'd1;
+                    dv_st <= DV_SHIFT;
+                end
+                DV_SHIFT: begin                             // the saturation's compare
+                    dv_q <= 32'd0;
+                    dv_n <= dv_w1[4:0];
+                    if (dv_rem >= dv_b) begin
+                        rsp_valid <= 1'b1;
+                        rsp_is_read <= 1'b1;
+                        rsp_outputs_0 <= dv_satv;
+                        dv_st <= DV_IDLE;
+                    end else begin
+                        dv_st <= DV_STEP;
+                    end
+                end
+                DV_STEP: begin
+                    dv_rem <= dv_ge ? dv_diff[63:0] : dv_t[63:0];
+                    dv_q <= {dv_q[30:0], dv_ge};
+                    dv_low <= dv_low << 1;
+                    dv_n <= dv_n - 5'd1;
+                    if (dv_n == 5'd1)
+                        dv_st <= DV_SIGN;
+                end
+                DV_SIGN: begin
+                    rsp_valid <= 1'b1;
+                    rsp_is_read <= 1'b1;
+                    rsp_outputs_0 <= dv_neg ? 32'd0 - dv_q : dv_q;
+                    dv_st <= DV_IDLE;
+                end
+                default: ;
+            endcase
+            if (s3_v && s3_div) begin
+                dv_a <= s3_sum[63] ? 64'd0 - s3_sum : s3_sum;
+                dv_b <= dv_d[63] ? 64'd0 - dv_d : dv_d;
+                dv_neg <= s3_sum[63] ^ dv_d[63];
+                dv_st <= DV_ABS;
             end
         end
     end

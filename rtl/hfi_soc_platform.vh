@@ -21,4 +21,5 @@
 `define HFI_CFU_RND 3'd4              // funct3 of the fixed-point instruction RND (hfi/cfu.py)
 `define HFI_CFU_FLR 3'd5              // funct3 of the fixed-point instruction FLR (hfi/cfu.py)
 `define HFI_CFU_SET 3'd6              // funct3 of the fixed-point instruction SET (hfi/cfu.py)
+`define HFI_CFU_DIV 3'd7              // funct3 of the fixed-point instruction DIV (hfi/cfu.py)
 `endif

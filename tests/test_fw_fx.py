@@ -35,6 +35,7 @@ int main(void)
         case HFI_CFU_SET: FX_SET(acc, a, b); break;
         case HFI_CFU_RND: r = FX_RND(acc, k, a); break;
         case HFI_CFU_FLR: r = FX_FLR(acc, k, a); break;
+        case HFI_CFU_DIV: r = FX_DIV(acc, (int64_t)((uint64_t)(uint32_t)a << 32 | (uint32_t)b), k); break;
         case 8: r = FX_DOT(a, b, (int32_t)k - 1000, 7, 15, 32); break;   /* the two-product idioms */
         case 9: r = FX_CROSS(a, b, (int32_t)k - 1000, 7, 15, 21); break;
         case 10: r = FX_SHR(a, b, 16, 0); break;
@@ -73,21 +74,48 @@ def _s32(rng, n):
 
 
 def test_host_macros_equal_the_unit_model(runner):
-    """20 000 random instructions of every kind (shifts 0..63, widths 0..63)."""
+    """20 000 random instructions of every kind (shifts 0..63, widths 0..63; DIV's divisors from the two words, zero
+    sometimes)."""
     rng = np.random.default_rng(int(os.environ.get("HFI_SEED", "12345")))
     n = 20_000
-    ops, ks = rng.integers(0, 7, size=n).tolist(), rng.integers(0, 64, size=n).tolist()
+    ops, ks = rng.integers(0, 8, size=n).tolist(), rng.integers(0, 64, size=n).tolist()
     a, b = _s32(rng, n), _s32(rng, n)
     prog = []
     for i in range(n):
         op = ops[i]
         if op in (CFU_OPS["RND"], CFU_OPS["FLR"]):
             prog.append((op, ks[i], int(rng.choice([0, 1, 16, 21, 26, 32, 33, 63])), 0))
+        elif op == CFU_OPS["DIV"] and rng.random() < 0.1:
+            prog.append((op, ks[i], 0, 0))
         else:
             prog.append((op, ks[i], a[i], b[i]))
     model = CfuModel()
     want = [model.step(op, k, x, y) for op, k, x, y in prog]
+    assert sum(op == CFU_OPS["DIV"] and x == y == 0 for op, _, x, y in prog) > 10
     assert runner(prog) == want
+
+
+def test_div_model_is_the_saturated_quotient():
+    """hfi/cfu.py's DIV (the reference of the unit and of the host macro) = sat(c_div(n, d), w) of golden.fixed,
+    the firmware's saturated quotients (fw_sat_div64), on 20 000 dividends and divisors of every size and sign,
+    the quotients around each width's limit."""
+    from golden.fixed import c_div, sat
+    from hfi.cfu import quotient
+
+    rng = np.random.default_rng(11)
+    hits = 0
+    for _ in range(20_000):
+        n = int(rng.integers(-(1 << 62), 1 << 62)) >> int(rng.integers(0, 63))
+        w = int(rng.choice([2, 16, 18, 21, 22, 32]))
+        d = int(rng.integers(-(1 << 62), 1 << 62)) >> int(rng.integers(0, 63)) if rng.random() < 0.5 else \
+            (max(abs(n) >> (w - 1), 1) + int(rng.integers(-1, 2))) * int(rng.choice([-1, 1]))
+        if d == 0:
+            continue
+        want = sat(c_div(n, d), w)
+        hits += abs(want) in ((1 << (w - 1)) - 1, 1 << (w - 1))
+        assert quotient(n, d, w) == want, (n, d, w)
+    assert quotient(5, 0, 16) == 32767 and quotient(-5, 0, 16) == -32768 and quotient(0, 0, 2) == 1
+    assert hits > 2000, hits
 
 
 def test_two_product_idioms_equal_golden(runner):

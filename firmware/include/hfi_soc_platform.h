@@ -18,5 +18,6 @@
 #define HFI_CFU_RND 4
 #define HFI_CFU_FLR 5
 #define HFI_CFU_SET 6
+#define HFI_CFU_DIV 7
 
 #endif

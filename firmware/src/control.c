@@ -312,6 +312,20 @@ int32_t fw_sat_div64(int64_t n, int64_t d, int32_t bits)
     return neg ? -(int32_t)q : (int32_t)q;
 }
 
+/* fw_sat_div64 where the 003 observer needs it (a constant bits): the fixed-point unit's DIV on the SoC (rtl/hfi_cfu.v,
+ * hfi/cfu.py: the same sat(c_div(n, d), bits), in 5 + bits clocks), the software above elsewhere */
+#ifdef FW_CFU
+#define SAT_DIV64(n, d, bits)                                                                                          \
+    __extension__({                                                                                                    \
+        const int64_t sd_n_ = (n), sd_d_ = (d);                                                                        \
+        FX_ACC(sd_acc_);                                                                                               \
+        FX_SET(sd_acc_, (int32_t)(sd_n_ >> 32), (int32_t)sd_n_);                                                       \
+        FX_DIV(sd_acc_, sd_d_, bits);                                                                                  \
+    })
+#else
+#define SAT_DIV64(n, d, bits) fw_sat_div64((n), (d), (bits))
+#endif
+
 /* golden.fixed.round_shr(x, n) of an int64, n >= 1 */
 static int64_t round_shr64(int64_t x, int n)
 {
@@ -939,8 +953,8 @@ void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, 
         *a1 = *a2 = 0;
         return;
     }
-    *a1 = fw_sat_div64((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) * 4096, det, 16);
-    *a2 = fw_sat_div64((ldq * (ld + lq) + dld * lq - dldq * ldq) * 4096, det, 16);
+    *a1 = SAT_DIV64((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) * 4096, det, 16);
+    *a2 = SAT_DIV64((ldq * (ld + lq) + dld * lq - dldq * ldq) * 4096, det, 16);
 }
 
 /* golden.fixed.shr(x, n) of an int64 for any n >= 0 (n >= 63: the sign) */
@@ -1215,7 +1229,7 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     fw_projection_coefficients(&pt, lut->l_shift, &a1, &a2);
     /* 6. fusion weight */
     /* sat_bits(., 18) keeps [0, 65536] whole, so the clamp gives c_div's result */
-    int64_t f = fw_sat_div64(((int64_t)hp->g_b + hp->wg_b - abs64(w_i)) * 65536, 2 * (int64_t)hp->wg_b, 18);
+    int64_t f = SAT_DIV64(((int64_t)hp->g_b + hp->wg_b - abs64(w_i)) * 65536, 2 * (int64_t)hp->wg_b, 18);
     f = f < 0 ? 0 : f > 65536 ? 65536 : f;
     /* 4. low speed */
     int64_t eps_h = 0;
@@ -1244,9 +1258,9 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
             int32_t q;
 
             if (abs64(strength) >= hp->s_knee)
-                q = fw_sat_div64(e_d * 65536, strength, 21);
+                q = SAT_DIV64(e_d * 65536, strength, 21);
             else
-                q = fw_sat_div64(sat_bits(e_d, 24) * strength * 65536, (int64_t)hp->s_knee * hp->s_knee, 21);
+                q = SAT_DIV64(sat_bits(e_d, 24) * strength * 65536, (int64_t)hp->s_knee * hp->s_knee, 21);
             eps_h = hfo_limit(hfo_to_bin(q), hp->eps_max);
             e->th_meas = e->th + (uint32_t)eps_h;
         } else if (hp->hold && e->since < hp->n_max) {
@@ -1276,11 +1290,11 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
         x_q = sat_bits(x_q >> nb, 16);
         int64_t sq = a_d * a_d + a_q * a_q;
         if (sq > 0) {
-            int64_t q1 = fw_sat_div64((a_d * x_d + a_q * x_q) * 65536, sq, 21);
-            int64_t q2 = fw_sat_div64((a_q * x_d - a_d * x_q) * 65536, sq, 21);
+            int64_t q1 = SAT_DIV64((a_d * x_d + a_q * x_q) * 65536, sq, 21);
+            int64_t q2 = SAT_DIV64((a_q * x_d - a_d * x_q) * 65536, sq, 21);
             /* c_div(q2 g_b, w_i) as sat_bits(., 22): beyond it |q1 - .| >= 2^20 on the same side (|q1| < 2^20),
              * where the limit's result is the same (above) */
-            eps_t = hfo_limit(hfo_to_bin(sat32(q1 - fw_sat_div64(q2 * hp->g_b, w_i, 22))), hp->eps_max);
+            eps_t = hfo_limit(hfo_to_bin(sat32(q1 - SAT_DIV64(q2 * hp->g_b, w_i, 22))), hp->eps_max);
         }
     }
     int32_t eps = sat32((f * eps_h + (65536 - f) * eps_t) >> 16);

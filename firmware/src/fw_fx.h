@@ -10,6 +10,7 @@
  *   FX_SET(acc, hi, lo)             acc = (hi << 32) + (uint32_t)lo    (an int64 value, from its two words)
  *   FX_RND(acc, k, bits)            sat(round_shr(acc, k), bits)   as int32 (k 0..63; bits 1..32; 0: the low word)
  *   FX_FLR(acc, k, bits)            sat(acc >> k, bits)
+ *   FX_DIV(acc, d, bits)            sat(c_div(acc, d), bits)       (d int64 != 0; bits a constant 2..32; acc kept)
  *
  * and, on their own accumulator, the two-product idioms (values, each a single expression):
  *   FX_DOT(a, b, c, d, k, bits)     sat(round_shr(a * b + c * d, k), bits)
@@ -53,6 +54,19 @@
 #define FX_SET(acc, hi, lo) do { (void)(acc); FX_INSN_(HFI_CFU_SET, 0, hi, lo); } while (0)
 #define FX_RND(acc, k, bits) ((void)(acc), FX_READ_(HFI_CFU_RND, k, bits))
 #define FX_FLR(acc, k, bits) ((void)(acc), FX_READ_(HFI_CFU_FLR, k, bits))
+/* the divisor's words in rs1 (high) and rs2 (low), the width in funct7 */
+#define FX_DIV(acc, d, bits)                                                                                           \
+    __extension__({                                                                                                    \
+        _Static_assert((bits) >= 2 && (bits) <= 32, "FX_DIV: the unit saturates to 2..32 bits");                       \
+        const int64_t fx_dv_ = (d);                                                                                    \
+        int32_t fx_q_;                                                                                                 \
+        (void)(acc);                                                                                                   \
+        __asm__ volatile(".insn r %1, %2, %3, %0, %4, %5"                                                            \
+                         : "=r"(fx_q_)                                                                                 \
+                         : "i"(HFI_CFU_OPCODE), "i"(HFI_CFU_DIV), "i"(bits), "r"((int32_t)(fx_dv_ >> 32)),             \
+                           "r"((int32_t)fx_dv_));                                                                      \
+        fx_q_;                                                                                                         \
+    })
 
 #else
 
@@ -65,6 +79,7 @@
 #define FX_SET(acc, hi, lo) ((acc) = (int64_t)(((uint64_t)(uint32_t)(hi) << 32) | (uint32_t)(lo)))
 #define FX_RND(acc, k, bits) fx_result_((acc), (k), (bits), 1)
 #define FX_FLR(acc, k, bits) fx_result_((acc), (k), (bits), 0)
+#define FX_DIV(acc, d, bits) fx_quotient_((acc), (d), (bits))
 
 /* RND / FLR of hfi/cfu.py: the rounding's add wraps as the unit's 64-bit adder does */
 static inline int32_t fx_result_(int64_t acc, int k, int32_t bits, int rounding)
@@ -76,6 +91,19 @@ static inline int32_t fx_result_(int64_t acc, int k, int32_t bits, int rounding)
         return (int32_t)(uint32_t)(uint64_t)v;
     int64_t hi = ((int64_t)1 << (w - 1)) - 1;
     return (int32_t)(v > hi ? hi : v < -hi - 1 ? -hi - 1 : v);
+}
+
+/* DIV of hfi/cfu.py: the width k clamped to 2..32; a zero divisor gives the limit of the dividend's sign */
+static inline int32_t fx_quotient_(int64_t n, int64_t d, int k)
+{
+    int w = k < 2 ? 2 : k > 32 ? 32 : k;
+    uint64_t a = n < 0 ? 0u - (uint64_t)n : (uint64_t)n, b = d < 0 ? 0u - (uint64_t)d : (uint64_t)d;
+    int neg = (n < 0) != (d < 0);
+
+    if ((a >> (w - 1)) >= b) /* |c_div(n, d)| >= 2^(w-1), or d = 0 */
+        return neg ? (int32_t)(0u - ((uint32_t)1 << (w - 1))) : (int32_t)(((uint32_t)1 << (w - 1)) - 1u);
+    uint32_t q = (uint32_t)(a / b);
+    return neg ? (int32_t)(0u - q) : (int32_t)q;
 }
 
 #endif

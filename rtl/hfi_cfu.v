@@ -22,8 +22,8 @@
 // and one carry chain), shifted by the whole bytes of k; then the rest of the shift (k mod 8) and the saturation,
 // the answer. An instruction in stage 1 when a read is taken is in stage 2 in the read's first clock, so the sum
 // holds every older instruction. A DIV is taken as a read with k = 0 (its sum is acc itself), and the divider
-// (below) takes that sum: |n| and |d|, then the saturation's compare (floor(|n| / 2^(w-1)) >= |d|), then w - 1
-// steps of one compare-and-subtract each (the remainder below |d|, so 65 bits), then the sign.
+// (below) takes that sum: |n| and |d|, then |d| 2^(w-1) (the one variable shift), then w compare-and-subtract
+// steps, one per clock (the first one found: the saturation, answered at once), then the sign.
 // No command is taken while an RND/FLR/DIV is in flight or an answer waits for the CPU, so answers stay in order.
 module hfi_cfu (
     input  wire        clk,
@@ -112,20 +112,21 @@ module hfi_cfu (
     wire [31:0] answer = !s3_sat ? value[31:0] : value > s3_hi ? s3_hi[31:0] : value < lo ? lo[31:0] : value[31:0];
 
     // ---------------------------------------------------------------- DIV: a restoring division
-    localparam [2:0] DV_IDLE = 3'd0, DV_ABS = 3'd1, DV_SHIFT = 3'd2, DV_STEP = 3'd3, DV_SIGN = 3'd4;
-    reg  [2:0]        dv_st;                                   // ABS: |n|, |d| ready; SHIFT: n split at bit w-1
+    // Quotient bits from j = w-1 down to 0, each a compare of the remainder with |d| 2^j (dv_bs, shifted right by one
+    // per clock): a bit at j = w-1 means |quotient| >= 2^(w-1), the saturation, answered at once.
+    localparam [1:0] DV_IDLE = 2'd0, DV_SHIFT = 2'd1, DV_STEP = 2'd2, DV_SIGN = 2'd3;
+    reg  [1:0]        dv_st;                                   // SHIFT: |n|, |d| ready; STEP: a compare per clock
+    reg               dv_first;                                // the compare at j = w-1 (the saturation's)
     reg  [63:0]       dv_d;                                    // the divisor {rs1, rs2}, from the command
     reg  [5:0]        dv_w;                                    // the width, 2..32
-    reg  [63:0]       dv_a, dv_b;                              // |n|, |d| (unsigned: 2^63 fits)
+    reg  [63:0]       dv_a, dv_b;                              // |n| (then the remainder), |d| (unsigned: 2^63 fits)
+    reg  [94:0]       dv_bs;                                   // |d| 2^j
     reg               dv_neg;                                  // the quotient's sign
-    reg  [63:0]       dv_rem;                                  // the remainder, below dv_b from DV_STEP on
-    reg  [63:0]       dv_low;                                  // the dividend's bits still to bring down, from bit 63
     reg  [31:0]       dv_q;
     reg  [31:0]       dv_satv;                                 // the saturated answer, -2^(w-1) or 2^(w-1) - 1
-    reg  [4:0]        dv_n;                                    // steps left
-    wire [64:0]       dv_t = {dv_rem, dv_low[63]};             // the remainder with the next bit brought down
-    wire [65:0]       dv_diff = {1'b0, dv_t} - {2'b00, dv_b};
-    wire              dv_ge = !dv_diff[65];
+    reg  [4:0]        dv_n;                                    // compares left after this one
+    wire [64:0]       dv_diff = {1'b0, dv_a} - {1'b0, dv_bs[63:0]};
+    wire              dv_ge = dv_bs[94:64] == 31'd0 && !dv_diff[64];
     wire [5:0]        k_w = k < 6'd2 ? 6'd2 : k > 6'd32 ? 6'd32 : k;
     wire [5:0]        dv_w1 = dv_w - 6'd1;
 
@@ -199,31 +200,30 @@ module hfi_cfu (
             end
             // the divider (a DIV's sum in stage 3 starts it; one command in flight at a time)
             case (dv_st)
-                DV_ABS: begin
-                    dv_rem <= dv_a >> dv_w1;
-                    dv_low <= dv_a << (6'd0 - dv_w1);              // 65 - w: bits w-2..0 to the top
+                DV_SHIFT: begin
+                    dv_bs <= {31'd0, dv_b} << dv_w1;
                     dv_satv <= dv_neg ? 32'd0 - (32'd1 << dv_w1) : (32'd1 << dv_w1) - 32'd1;
-                    dv_st <= DV_SHIFT;
-                end
-                DV_SHIFT: begin                             // the saturation's compare
                     dv_q <= 32'd0;
                     dv_n <= dv_w1[4:0];
-                    if (dv_rem >= dv_b) begin
+                    dv_first <= 1'b1;
+                    dv_st <= DV_STEP;
+                end
+                DV_STEP: begin
+                    dv_first <= 1'b0;
+                    if (dv_first && dv_ge) begin                // |quotient| >= 2^(w-1): saturated
                         rsp_valid <= 1'b1;
                         rsp_is_read <= 1'b1;
                         rsp_outputs_0 <= dv_satv;
                         dv_st <= DV_IDLE;
                     end else begin
-                        dv_st <= DV_STEP;
+                        if (dv_ge)
+                            dv_a <= dv_diff[63:0];
+                        dv_q <= {dv_q[30:0], dv_ge};
+                        dv_bs <= dv_bs >> 1;
+                        dv_n <= dv_n - 5'd1;
+                        if (dv_n == 5'd0)
+                            dv_st <= DV_SIGN;
                     end
-                end
-                DV_STEP: begin
-                    dv_rem <= dv_ge ? dv_diff[63:0] : dv_t[63:0];
-                    dv_q <= {dv_q[30:0], dv_ge};
-                    dv_low <= dv_low << 1;
-                    dv_n <= dv_n - 5'd1;
-                    if (dv_n == 5'd1)
-                        dv_st <= DV_SIGN;
                 end
                 DV_SIGN: begin
                     rsp_valid <= 1'b1;
@@ -237,7 +237,7 @@ module hfi_cfu (
                 dv_a <= s3_sum[63] ? 64'd0 - s3_sum : s3_sum;
                 dv_b <= dv_d[63] ? 64'd0 - dv_d : dv_d;
                 dv_neg <= s3_sum[63] ^ dv_d[63];
-                dv_st <= DV_ABS;
+                dv_st <= DV_SHIFT;
             end
         end
     end

@@ -966,7 +966,9 @@ static int64_t shr_any64(int64_t x, int32_t n)
 /* -2^n <= x < 2^n (1 <= n <= 31): x fits the fixed-point unit's int32 operands with room (its usual case) */
 static inline int fits_bits64(int64_t x, int n)
 {
-    return (uint64_t)x + ((uint64_t)1 << n) < ((uint64_t)1 << (n + 1));
+    const int32_t lo = (int32_t)x, hi = (int32_t)((uint64_t)x >> 32);
+
+    return hi == lo >> 31 && (uint32_t)lo + (1u << n) < (2u << n); /* the high word only the low word's sign */
 }
 
 /* golden.firmware.estimator.park of int64 components (|a|, |b| < 2^46: the products below 2^62), in int64 */
@@ -1125,38 +1127,55 @@ void fw_lut_point(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, struc
 }
 #endif
 
-/* golden.firmware.applied_flux.applied_flux (0 <= dt_f, vth_f <= 2^28, s16 currents). Each e_x is a sum of
- * +-dt_f and +-vth_f (|e_x| <= 2^29: int32), the products by the signs as selections; the phases' signs from the
- * int32 saturation of the exact products (it keeps the sign); (v << FLUX_FRAC) + round_shr(S, 15) as
- * round_shr(S + v 2^(15 + FLUX_FRAC), 15), the added term a multiple of 2^15. */
+/* golden.firmware.applied_flux.applied_flux's phase current signs: of i_a, of 56756 i_be - 32768 i_al (i_b) and of
+ * -32768 i_al - 56756 i_be (i_c), the exact products' signs from their int32 saturation (it keeps the sign) */
+STEP_INLINE void phase_signs(int32_t i_al, int32_t i_be, int32_t sg[3])
+{
+    const int32_t sb = FX_CROSS(56756, i_be, 32768, i_al, 0, 32), sc = FX_DOT(32768, i_al, 56756, i_be, 0, 32);
+
+    sg[0] = (i_al > 0) - (i_al < 0);
+    sg[1] = (sb > 0) - (sb < 0);
+    sg[2] = (sc < 0) - (sc > 0);
+}
+
+/* golden.firmware.applied_flux.applied_flux with the phases' current signs sg (0 <= dt_f, vth_f <= 2^28). A phase's
+ * e_x = (-ds dt_f if ds sg > 0) - sg vth_f, ds its switch's change, is -sg t_x with t_x = vth_f + dt_f when it
+ * switched in the current's direction (turned on for sg > 0, off for sg < 0), vth_f otherwise; the sums of e_x on
+ * the fixed-point unit as sums of t_x (<= 2^29) times -sg_x and the coefficient; no branch on the data (the signs
+ * change from step to step: a branch on them is mispredicted about every other time).
+ * (v << FLUX_FRAC) + round_shr(S, 15) as round_shr(S + v 2^(15 + FLUX_FRAC), 15), the added term a multiple of 2^15. */
+static __attribute__((noinline)) void applied_flux_signed(int32_t old, int32_t new_state, const int32_t sg[3],
+                                                          int32_t dt_f, int32_t vth_f, int32_t *f_al, int32_t *f_be)
+{
+    const int32_t on = new_state & ~old, off = old & ~new_state;
+    int32_t t[3];
+
+    for (int x = 0; x < 3; x++) {
+        const int32_t pos = -(sg[x] > 0);                     /* all ones when the current is positive */
+        const int32_t bit = ((on & pos) | (off & ~pos)) >> x & 1;
+
+        t[x] = vth_f + (dt_f & -bit);
+    }
+    FX_ACC(acc);
+    FX_MUL(acc, t[0], -2 * 10923 * sg[0], 0);
+    FX_MAC(acc, t[1], 10923 * sg[1], 0);
+    FX_MAC(acc, t[2], 10923 * sg[2], 0);
+    FX_MAC(acc, state_vx[new_state & 7], 1 << (15 + FW_FLUX_FRAC), 0);
+    *f_al = FX_RND(acc, 15, 0);
+    FX_MUL(acc, t[1], -18919 * sg[1], 0);
+    FX_MAC(acc, t[2], 18919 * sg[2], 0);
+    FX_MAC(acc, state_vy[new_state & 7], 1 << (15 + FW_FLUX_FRAC), 0);
+    *f_be = FX_RND(acc, 15, 0);
+}
+
+/* golden.firmware.applied_flux.applied_flux (0 <= dt_f, vth_f <= 2^28, s16 currents) */
 void fw_applied_flux(int32_t old, int32_t new_state, int32_t i_al, int32_t i_be, int32_t dt_f, int32_t vth_f,
                      int32_t *f_al, int32_t *f_be)
 {
-    int32_t v_al, v_be, e[3];
-    int32_t signs[3] = {(i_al > 0) - (i_al < 0), 0, 0};
-    int32_t sb = FX_CROSS(56756, i_be, 32768, i_al, 0, 32), sc = FX_DOT(32768, i_al, 56756, i_be, 0, 32);
+    int32_t sg[3];
 
-    signs[1] = (sb > 0) - (sb < 0);
-    signs[2] = (sc < 0) - (sc > 0); /* the sign of -32768 i_al - 56756 i_be */
-    fw_state_voltage(new_state, &v_al, &v_be);
-    for (int x = 0; x < 3; x++) {
-        int32_t ds = ((new_state >> x) & 1) - ((old >> x) & 1), sg = signs[x];
-        int32_t ex = sg > 0 ? -vth_f : sg < 0 ? vth_f : 0;
-
-        if (ds != 0 && ds == sg)                    /* ds sg > 0: -ds dt_f */
-            ex += ds > 0 ? -dt_f : dt_f;
-        e[x] = ex;
-    }
-    FX_ACC(acc);
-    FX_MUL(acc, e[0], 2 * 10923, 0);
-    FX_MSU(acc, e[1], 10923, 0);
-    FX_MSU(acc, e[2], 10923, 0);
-    FX_MAC(acc, v_al, 1 << (15 + FW_FLUX_FRAC), 0);
-    *f_al = FX_RND(acc, 15, 0);
-    FX_MUL(acc, e[1], 18919, 0);
-    FX_MSU(acc, e[2], 18919, 0);
-    FX_MAC(acc, v_be, 1 << (15 + FW_FLUX_FRAC), 0);
-    *f_be = FX_RND(acc, 15, 0);
+    phase_signs(i_al, i_be, sg);
+    applied_flux_signed(old, new_state, sg, dt_f, vth_f, f_al, f_be);
 }
 
 /* golden.firmware.hfo_proj._to_bin: radians (Q16) to binary angle (|x| <= 2^31: below 2^61) */
@@ -1195,6 +1214,17 @@ static int32_t hfo_euler(int32_t psi, int32_t a, int32_t i, int32_t lam, const s
     return FX_FLR(acc, 0, 32);
 }
 
+/* HybridFluxProjection.step's step 0, one component: (int32_t)(r + shr(c_lag (r - r_prev), 16)) on the fixed-point
+ * unit (r, r_prev s16: TOP_I; the difference fits its operand) */
+static int32_t hfo_lag(int32_t r, int32_t r_prev, int32_t c_lag)
+{
+    FX_ACC(acc);
+
+    FX_MUL(acc, c_lag, r - r_prev, 16);
+    FX_ADD(acc, r, 0, 0);
+    return FX_FLR(acc, 0, 0);
+}
+
 /* golden.firmware.hfo_proj.HybridFluxProjection.step (Varatharajan et al. 2020, Secs. II-B, III-C, IV): the
  * hybrid flux observer, the current model from the LUT, the projection's coefficients, the low-speed error,
  * APP, fusion and PLL; the same operations in the same order (int64_t throughout). */
@@ -1207,8 +1237,7 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     int64_t w_i = e->integ >> 24;
     int32_t r_al = m->win->top_ia, r_be = m->win->top_ib; /* TOP_I, as sampled */
     /* 0. the current at the top, corrected for the sensors' lag */
-    int32_t i_al = (int32_t)(r_al + (((int64_t)hp->c_lag * ((int64_t)r_al - e->r_al)) >> 16));
-    int32_t i_be = (int32_t)(r_be + (((int64_t)hp->c_lag * ((int64_t)r_be - e->r_be)) >> 16));
+    int32_t i_al = hfo_lag(r_al, e->r_al, hp->c_lag), i_be = hfo_lag(r_be, e->r_be, hp->c_lag);
     int32_t a_al, a_be;
 
     fw_applied_flux(e->vec_old, e->vec, e->i_al, e->i_be, hp->dt_f, hp->vth_f, &a_al, &a_be);
@@ -1297,10 +1326,16 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
             eps_t = hfo_limit(hfo_to_bin(sat32(q1 - SAT_DIV64(q2 * hp->g_b, w_i, 22))), hp->eps_max);
         }
     }
-    int32_t eps = sat32((f * eps_h + (65536 - f) * eps_t) >> 16);
-    /* 7. PLL */
+    /* the fusion on the unit: 0 <= f <= 2^16, |eps_h|, |eps_t| <= eps_max (int32) */
+    FX_ACC(acc);
+    FX_MUL(acc, (int32_t)f, (int32_t)eps_h, 0);
+    FX_MAC(acc, 65536 - (int32_t)f, (int32_t)eps_t, 0);
+    int32_t eps = FX_FLR(acc, 16, 32);
+    /* 7. PLL: w = sat32(shr(kp eps, 16) + shr(integ, 24)), shr(integ, 24) = (hi << 8) + (lo >> 24) of its words */
     e->integ = sat_add64(e->integ, (int64_t)hp->ki * eps);
-    int32_t w = sat32((((int64_t)hp->kp * eps) >> 16) + (e->integ >> 24));
+    FX_MUL(acc, hp->kp, eps, 16);
+    FX_ADD(acc, (int32_t)((uint64_t)e->integ >> 32), 8, (int32_t)((uint32_t)e->integ >> 24));
+    int32_t w = FX_FLR(acc, 0, 32);
     e->th += (uint32_t)w;
     /* 8. state and outputs */
     e->psi_al = psi_al;
@@ -1321,7 +1356,7 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     e->constrain = f > 0 && e->n_rej > hp->n_max && e->cons_wait == 0;
     e->cons_wait = e->constrain ? 2 : (e->cons_wait - 1 > 0 ? e->cons_wait - 1 : 0);
     e->omega = w;
-    e->theta = e->th + (uint32_t)(((int64_t)w * hp->k_delay) >> 16);
+    e->theta = e->th + (uint32_t)FX_SHR(w, hp->k_delay, 16, 0);
     *theta = e->theta;
     *omega = e->omega;
 }
@@ -1396,10 +1431,11 @@ void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t 
                          int32_t before, int32_t vector, int32_t nxt, uint32_t theta, int32_t omega,
                          int32_t i_s, int32_t *v_d, int32_t *v_q)
 {
-    int32_t a1a, a1b, a2a, a2b, d_ref, q_ref, s, c, ref_a, ref_b;
+    int32_t a1a, a1b, a2a, a2b, d_ref, q_ref, s, c, ref_a, ref_b, sg[3];
 
-    fw_applied_flux(before, vector, i_al, i_be, p->dt_f, p->vth_f, &a1a, &a1b);
-    fw_applied_flux(vector, nxt, i_al, i_be, p->dt_f, p->vth_f, &a2a, &a2b);
+    phase_signs(i_al, i_be, sg);                     /* the same currents at both switching instants */
+    applied_flux_signed(before, vector, sg, p->dt_f, p->vth_f, &a1a, &a1b);
+    applied_flux_signed(vector, nxt, sg, p->dt_f, p->vth_f, &a2a, &a2b);
     fw_flux_reference(p, i_s, &d_ref, &q_ref);
     fw_sincos_q15(theta + (uint32_t)(omega >> 1), &s, &c);
     inv_park(d_ref, q_ref, s, c, &ref_a, &ref_b);

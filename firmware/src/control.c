@@ -982,7 +982,7 @@ static __attribute__((noinline)) void park64_wide(int64_t a, int64_t b, int32_t 
  * (|s|, |c| <= 2^15), so the rounded sums are within 2^30 and its 32-bit saturation never acts */
 STEP_INLINE void park64(int64_t a, int64_t b, int32_t s, int32_t c, int64_t *d, int64_t *q)
 {
-    if (fits_bits64(a, 29) && fits_bits64(b, 29)) {
+    if (FX_USUAL && fits_bits64(a, 29) && fits_bits64(b, 29)) {
         *d = FX_DOT((int32_t)a, c, (int32_t)b, s, 15, 32);
         *q = FX_CROSS((int32_t)b, c, (int32_t)a, s, 15, 32);
     } else {
@@ -1001,7 +1001,7 @@ static __attribute__((noinline)) void inv_park64_wide(int64_t d, int64_t q, int3
 /* inv_park64_wide, inlined: inv_park (the fixed-point unit's) when both components fit in int32 */
 STEP_INLINE void inv_park64(int64_t d, int64_t q, int32_t s, int32_t c, int32_t *al, int32_t *be)
 {
-    if ((int32_t)d == d && (int32_t)q == q)
+    if (FX_USUAL && (int32_t)d == d && (int32_t)q == q)
         inv_park((int32_t)d, (int32_t)q, s, c, al, be);
     else
         inv_park64_wide(d, q, s, c, al, be);
@@ -1205,7 +1205,7 @@ static int32_t hfo_euler(int32_t psi, int32_t a, int32_t i, int32_t lam, const s
 {
     int64_t diff = (int64_t)lam - psi;
 
-    if ((int32_t)diff != diff)
+    if (!FX_USUAL || (int32_t)diff != diff)
         return sat32((int64_t)psi + a - (((int64_t)hp->r_f * i) >> 16) + (((int64_t)hp->c_g * diff) >> 16));
     FX_ACC(acc);
     FX_MUL(acc, hp->c_g, (int32_t)diff, 16);
@@ -1277,7 +1277,7 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
         park64((int64_t)lam_al - lp_al, (int64_t)lam_be - lp_be, sm, cm, &dlam_d, &dlam_q);
         int64_t e_d = dpd - dlam_d;
         /* eq. (29); on the unit for |dpd|, |dpq| <= 2^27: |a1 dpq| + |a2 dpd| <= 2^43 (|a1|, |a2| <= 2^15) */
-        int64_t strength = fits_bits64(dpd, 27) && fits_bits64(dpq, 27)
+        int64_t strength = FX_USUAL && fits_bits64(dpd, 27) && fits_bits64(dpq, 27)
                                ? FX_CROSS(a1, (int32_t)dpq, a2, (int32_t)dpd, 12, 32)
                                : round_shr64(a1 * dpq - a2 * dpd, 12);
         valid = abs64(strength) > ((int64_t)hp->phi_min << FW_FLUX_FRAC);

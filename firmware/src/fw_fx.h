@@ -108,6 +108,17 @@ static inline int32_t fx_quotient_(int64_t n, int64_t d, int k)
 
 #endif
 
+/* FX_USUAL: 1 where a caller's usual-case path on the unit (operands known to fit its int32 registers, beside a general
+ * int64 path: control.c's park64, inv_park64, hfo_euler, eq. (29)'s strength) is compiled: the SoC build with the unit
+ * and the host build, whose tests check both paths against golden (tests/test_fw_c.py); 0 in the SoC build without
+ * the unit, where the two paths are the same int64 C and only the general one is kept (that image must fit the RAM
+ * with the software sin/cos and flux-map look-up beside it). */
+#if defined(FW_CFU) || !defined(__riscv)
+#define FX_USUAL 1
+#else
+#define FX_USUAL 0
+#endif
+
 #define FX_DOT(a, b, c, d, k, bits)                                                                                    \
     __extension__({ FX_ACC(fx_d_); FX_MUL(fx_d_, a, b, 0); FX_MAC(fx_d_, c, d, 0); FX_RND(fx_d_, k, bits); })
 #define FX_CROSS(a, b, c, d, k, bits)                                                                                  \

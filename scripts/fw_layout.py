@@ -5,9 +5,11 @@ The 000 and 002 steps fit the cache with the groups before it (tests/test_fw_lay
 17 KiB of code per period, so some of its lines must share cache lines with the shared group's, and which ones decides
 how many are refilled every period (docs/soc.md, "The instruction cache"). This tool measures and chooses:
 
-1. builds the image (its link map, ``out/firmware/hfi_fw.map``) and runs the slowed 003 drive
-   (:func:`hfi.soc_copies.varatharajan2020_2khz`) on the rtl backend with the program-counter profile
-   (scripts/fw_profile.py): CPU clocks per period of every instruction word;
+1. builds the image (its link map, ``out/firmware/hfi_fw.map``) and runs the 003 drive
+   (``scenarios/varatharajan2020_torquestep.toml`` at its own 10 kHz: start-up, RUN and the 2 p.u. torque step at
+   0.8 s) on the rtl backend with the program-counter profile (scripts/fw_profile.py): CPU clocks per period of every
+   instruction word (until 2026-11-30 the drive's step did not fit its period, and the tool ran the slowed copy
+   :func:`hfi.soc_copies.varatharajan2020_2khz`, whose start-up and cache use differ from the real drive's);
 2. takes the input sections from the first one of the ``/* 003 */`` group to the end of ``.text`` (the 003 method's
    functions and the code no step runs: start-up, sync, turn, the flying start, the library's division) and searches
    their order (moves of one section, from the present order and from ``--restarts`` shuffled ones, fixed seed) for
@@ -16,7 +18,7 @@ how many are refilled every period (docs/soc.md, "The instruction cache"). This 
    builds and profiles again, and keeps it only if the measured refills are fewer (the cost ranks orders only
    roughly: docs/soc.md, "The 003 group's order"); otherwise link.ld is put back.
 
-    python scripts/fw_layout.py [--duration 0.3] [--restarts 8] [--seed 1] [--write]
+    python scripts/fw_layout.py [--duration 1.0] [--restarts 8] [--seed 1] [--write]
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ sys.path.insert(0, str(ROOT))
 
 from hfi import soc_platform  # noqa: E402
 from hfi.rtl_backend import FW_OUT, RtlBackendError, RtlClosedLoop, build_firmware  # noqa: E402
-from hfi.soc_copies import varatharajan2020_2khz  # noqa: E402
+from golden.scenario import load_scenario  # noqa: E402
 
 LINK_LD = ROOT / "firmware" / "link.ld"
 LINE_BYTES = 32
@@ -186,11 +188,15 @@ def first_listed(text: str, sections: list[Section]) -> Section:
     raise ValueError("link.ld: no section of the /* 003 */ group is in the image")
 
 
+SCENARIO = ROOT / "scenarios" / "varatharajan2020_torquestep.toml"
+"""The drive whose step the 003 group's order is chosen for."""
+
+
 def profile(duration: float) -> tuple[np.ndarray, float, dict]:
-    """Build the image and profile the slowed 003 drive for ``duration`` s: CPU clocks per period of every
-    instruction word, instruction-cache lines refilled per period, and the run's ``soc`` block."""
+    """Build the image and profile the 003 drive (:data:`SCENARIO`) for ``duration`` s: CPU clocks per period of
+    every instruction word, instruction-cache lines refilled per period, and the run's ``soc`` block."""
     build_firmware()
-    sc = dataclasses.replace(varatharajan2020_2khz(), duration=duration)
+    sc = dataclasses.replace(load_scenario(SCENARIO), duration=duration)
     loop = RtlClosedLoop(sc)
     res = loop.run(progress=False, profile=True)
     n = len(res.t)
@@ -202,7 +208,7 @@ def profile(duration: float) -> tuple[np.ndarray, float, dict]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--duration", type=float, default=0.3, help="simulated seconds profiled (default 0.3)")
+    ap.add_argument("--duration", type=float, default=1.0, help="simulated seconds profiled (default 1.0)")
     ap.add_argument("--restarts", type=int, default=8, help="shuffled starting orders (default 8)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--write", action="store_true",

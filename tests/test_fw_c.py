@@ -255,7 +255,8 @@ def test_window_means_every_divisor():
 
 
 @pytest.mark.parametrize("sum_id, sum_iq, n", [
-    (-7, 7, 2), (-1, 1, 2), (-65535, 65534, 65535), (S32_MIN, S32_MAX, 1), (S32_MIN, S32_MAX, 3),
+    (-7, 7, 2), (-1, 1, 2), (-3, 3, 2), (S32_MIN, S32_MAX, 2), (-65535, 65534, 65535), (S32_MIN, S32_MAX, 1),
+    (S32_MIN, S32_MAX, 3),
     (S32_MIN, -1, U16_MAX), (123, -456, 0), (S32_MIN, S32_MAX, 0)])
 def test_window_means_corners(sum_id, sum_iq, n):
     """Truncation toward zero of negative sums, n = 0, the s32 extremes."""

@@ -105,10 +105,13 @@ static int32_t bit_length32(uint32_t x)
  * keeps the second term below 1/d, so floor(x M / 2^s) is floor(x / d) for x >= 0 and one below trunc(x / d)
  * for x < 0 (the term is > 0 and x / d lies on or below the integer it truncates to). Granlund & Montgomery,
  * "Division by invariant integers using multiplication", PLDI 1994, Sec. 5; M < 2^31 fits a signed mulh.
- * tests/test_fw_c.py checks it against golden for every d at the edges of the fast range. */
+ * d = 1, 2 (the 003 drive's windows: one or two samples) without a divide: x, and trunc(x / 2) as
+ * (x + 1) >> 1 for x < 0. tests/test_fw_c.py checks it against golden for every d at the edges of the fast range. */
 static int32_t div_by(const struct fw_divisor *div, int32_t x)
 {
-    if ((uint32_t)x + (1u << 30) >= (1u << 31) || div->n < 3u) /* |x| >= 2^30 (or d = 1, 2): the divide */
+    if (div->n < 3u)
+        return div->n == 1u ? x : (x + (int32_t)((uint32_t)x >> 31)) >> 1;
+    if ((uint32_t)x + (1u << 30) >= (1u << 31))               /* |x| >= 2^30: the divide */
         return x / (int32_t)div->n;
     int32_t hi = (int32_t)(((int64_t)x * div->m) >> 32);     /* one mulh */
 
@@ -1127,43 +1130,54 @@ void fw_lut_point(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q, struc
 }
 #endif
 
-/* golden.firmware.applied_flux.applied_flux's phase current signs: of i_a, of 56756 i_be - 32768 i_al (i_b) and of
- * -32768 i_al - 56756 i_be (i_c), the exact products' signs from their int32 saturation (it keeps the sign) */
-STEP_INLINE void phase_signs(int32_t i_al, int32_t i_be, int32_t sg[3])
+/* golden.firmware.applied_flux.applied_flux, split in what depends on the currents (once per instant) and on the
+ * states. A phase's e_x = (-ds dt_f if ds sg_x > 0) - sg_x vth_f (ds its switch's change, sg_x its current's sign)
+ * is -sg_x (vth_f + bit_x dt_f), bit_x = 1 when it switched in the current's direction (turned on for sg_x > 0, off
+ * for sg_x < 0). The flux sums c . e (c = 10923 (2, -1, -1) for alpha, 18919 (0, 1, -1) for beta) are therefore
+ * a vth_f + b dt_f, a = sum c_x (-sg_x) from the signs alone, b = the sum of w_x = c_x (-sg_x) over the phases that
+ * switched in their current's direction: no multiply and no branch on the data per state pair. */
+struct phase_flux {
+    int32_t a_al, a_be;       /* |a| <= 4 10923: a vth_f, b dt_f below 2^44 */
+    int32_t w_al[3], w_be[3]; /* w_be[0] = 0 */
+    int32_t pos, neg;         /* the phases whose current is positive, negative (bit x = phase x) */
+};
+
+/* the phases' current signs, of i_a, of 56756 i_be - 32768 i_al (i_b) and of -32768 i_al - 56756 i_be (i_c) (the
+ * exact products' signs from their int32 saturation, which keeps the sign), and the weights above */
+STEP_INLINE void phase_flux_of(int32_t i_al, int32_t i_be, struct phase_flux *pf)
 {
     const int32_t sb = FX_CROSS(56756, i_be, 32768, i_al, 0, 32), sc = FX_DOT(32768, i_al, 56756, i_be, 0, 32);
+    const int32_t s0 = (i_al > 0) - (i_al < 0), s1 = (sb > 0) - (sb < 0), s2 = (sc < 0) - (sc > 0);
 
-    sg[0] = (i_al > 0) - (i_al < 0);
-    sg[1] = (sb > 0) - (sb < 0);
-    sg[2] = (sc < 0) - (sc > 0);
+    pf->w_al[0] = -2 * 10923 * s0;
+    pf->w_al[1] = 10923 * s1;
+    pf->w_al[2] = 10923 * s2;
+    pf->w_be[0] = 0;
+    pf->w_be[1] = -18919 * s1;
+    pf->w_be[2] = 18919 * s2;
+    pf->a_al = pf->w_al[0] + pf->w_al[1] + pf->w_al[2];
+    pf->a_be = pf->w_be[1] + pf->w_be[2];
+    pf->pos = (s0 > 0) | (s1 > 0) << 1 | (s2 > 0) << 2;
+    pf->neg = (s0 < 0) | (s1 < 0) << 1 | (s2 < 0) << 2;
 }
 
-/* golden.firmware.applied_flux.applied_flux with the phases' current signs sg (0 <= dt_f, vth_f <= 2^28). A phase's
- * e_x = (-ds dt_f if ds sg > 0) - sg vth_f, ds its switch's change, is -sg t_x with t_x = vth_f + dt_f when it
- * switched in the current's direction (turned on for sg > 0, off for sg < 0), vth_f otherwise; the sums of e_x on
- * the fixed-point unit as sums of t_x (<= 2^29) times -sg_x and the coefficient; no branch on the data (the signs
- * change from step to step: a branch on them is mispredicted about every other time).
- * (v << FLUX_FRAC) + round_shr(S, 15) as round_shr(S + v 2^(15 + FLUX_FRAC), 15), the added term a multiple of 2^15. */
-static __attribute__((noinline)) void applied_flux_signed(int32_t old, int32_t new_state, const int32_t sg[3],
-                                                          int32_t dt_f, int32_t vth_f, int32_t *f_al, int32_t *f_be)
+/* applied_flux from the currents' phase_flux (0 <= dt_f, vth_f <= 2^28): (v << FLUX_FRAC) + round_shr(a vth_f + b dt_f,
+ * 15) as round_shr(a vth_f + b dt_f + v 2^(15 + FLUX_FRAC), 15), the added term a multiple of 2^15 */
+static __attribute__((noinline)) void applied_flux_of(int32_t old, int32_t new_state, const struct phase_flux *pf,
+                                                      int32_t dt_f, int32_t vth_f, int32_t *f_al, int32_t *f_be)
 {
-    const int32_t on = new_state & ~old, off = old & ~new_state;
-    int32_t t[3];
-
-    for (int x = 0; x < 3; x++) {
-        const int32_t pos = -(sg[x] > 0);                     /* all ones when the current is positive */
-        const int32_t bit = ((on & pos) | (off & ~pos)) >> x & 1;
-
-        t[x] = vth_f + (dt_f & -bit);
-    }
+    const int32_t sel = (new_state & ~old & pf->pos) | (old & ~new_state & pf->neg);
+    const int32_t m0 = -(sel & 1), m1 = -(sel >> 1 & 1), m2 = -(sel >> 2 & 1);
+    const int32_t b_al = (pf->w_al[0] & m0) + (pf->w_al[1] & m1) + (pf->w_al[2] & m2);
+    const int32_t b_be = (pf->w_be[1] & m1) + (pf->w_be[2] & m2);
     FX_ACC(acc);
-    FX_MUL(acc, t[0], -2 * 10923 * sg[0], 0);
-    FX_MAC(acc, t[1], 10923 * sg[1], 0);
-    FX_MAC(acc, t[2], 10923 * sg[2], 0);
+
+    FX_MUL(acc, pf->a_al, vth_f, 0);
+    FX_MAC(acc, b_al, dt_f, 0);
     FX_MAC(acc, state_vx[new_state & 7], 1 << (15 + FW_FLUX_FRAC), 0);
     *f_al = FX_RND(acc, 15, 0);
-    FX_MUL(acc, t[1], -18919 * sg[1], 0);
-    FX_MAC(acc, t[2], 18919 * sg[2], 0);
+    FX_MUL(acc, pf->a_be, vth_f, 0);
+    FX_MAC(acc, b_be, dt_f, 0);
     FX_MAC(acc, state_vy[new_state & 7], 1 << (15 + FW_FLUX_FRAC), 0);
     *f_be = FX_RND(acc, 15, 0);
 }
@@ -1172,10 +1186,10 @@ static __attribute__((noinline)) void applied_flux_signed(int32_t old, int32_t n
 void fw_applied_flux(int32_t old, int32_t new_state, int32_t i_al, int32_t i_be, int32_t dt_f, int32_t vth_f,
                      int32_t *f_al, int32_t *f_be)
 {
-    int32_t sg[3];
+    struct phase_flux pf;
 
-    phase_signs(i_al, i_be, sg);
-    applied_flux_signed(old, new_state, sg, dt_f, vth_f, f_al, f_be);
+    phase_flux_of(i_al, i_be, &pf);
+    applied_flux_of(old, new_state, &pf, dt_f, vth_f, f_al, f_be);
 }
 
 /* golden.firmware.hfo_proj._to_bin: radians (Q16) to binary angle (|x| <= 2^31: below 2^61) */
@@ -1431,11 +1445,12 @@ void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t 
                          int32_t before, int32_t vector, int32_t nxt, uint32_t theta, int32_t omega,
                          int32_t i_s, int32_t *v_d, int32_t *v_q)
 {
-    int32_t a1a, a1b, a2a, a2b, d_ref, q_ref, s, c, ref_a, ref_b, sg[3];
+    int32_t a1a, a1b, a2a, a2b, d_ref, q_ref, s, c, ref_a, ref_b;
+    struct phase_flux pf;
 
-    phase_signs(i_al, i_be, sg);                     /* the same currents at both switching instants */
-    applied_flux_signed(before, vector, sg, p->dt_f, p->vth_f, &a1a, &a1b);
-    applied_flux_signed(vector, nxt, sg, p->dt_f, p->vth_f, &a2a, &a2b);
+    phase_flux_of(i_al, i_be, &pf);                  /* the same currents at both switching instants */
+    applied_flux_of(before, vector, &pf, p->dt_f, p->vth_f, &a1a, &a1b);
+    applied_flux_of(vector, nxt, &pf, p->dt_f, p->vth_f, &a2a, &a2b);
     fw_flux_reference(p, i_s, &d_ref, &q_ref);
     fw_sincos_q15(theta + (uint32_t)(omega >> 1), &s, &c);
     inv_park(d_ref, q_ref, s, c, &ref_a, &ref_b);

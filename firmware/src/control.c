@@ -942,6 +942,14 @@ int32_t fw_cic_i_d(const struct fw_params *p)
 
 /* ---- the 003 method: state voltages, flux LUT, applied flux, hfo_proj, fcs_mpc ---------------------- */
 
+/* -2^n <= x < 2^n (1 <= n <= 31): x fits the fixed-point unit's int32 operands with room (its usual case) */
+static inline int fits_bits64(int64_t x, int n)
+{
+    const int32_t lo = (int32_t)x, hi = (int32_t)((uint64_t)x >> 32);
+
+    return hi == lo >> 31 && (uint32_t)lo + (1u << n) < (2u << n); /* the high word only the low word's sign */
+}
+
 /* golden.firmware.hfo_proj.projection_coefficients (eqs. (28)-(30), corrected): the normalised inductances
  * below 2^20 in magnitude (the table's l_shift brings the inductance tables below 2^15), so every product
  * and the numerators shifted by 12 are below 2^57. */
@@ -956,6 +964,24 @@ void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, 
         *a1 = *a2 = 0;
         return;
     }
+    /* on the unit: each product of two of the values (below 2^20, above) times 4096 as the product of both shifted
+     * by 6 (each factor below 2^27), the numerator in the accumulator divided there */
+    if (FX_USUAL) {
+        const int32_t d6 = (int32_t)ld << 6, q6 = (int32_t)lq << 6, x6 = (int32_t)ldq << 6;
+        const int32_t dd6 = (int32_t)dld << 6, dx6 = (int32_t)dldq << 6;
+        FX_ACC(acc);
+
+        FX_MUL(acc, d6, d6 - q6, 0);
+        FX_MAC(acc, 2 * x6, x6, 0);
+        FX_MAC(acc, dd6, x6, 0);
+        FX_MSU(acc, dx6, d6, 0);
+        *a1 = FX_DIV(acc, det, 16);
+        FX_MUL(acc, x6, d6 + q6, 0);
+        FX_MAC(acc, dd6, q6, 0);
+        FX_MSU(acc, dx6, x6, 0);
+        *a2 = FX_DIV(acc, det, 16);
+        return;
+    }
     *a1 = SAT_DIV64((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) * 4096, det, 16);
     *a2 = SAT_DIV64((ldq * (ld + lq) + dld * lq - dldq * ldq) * 4096, det, 16);
 }
@@ -964,14 +990,6 @@ void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, 
 static int64_t shr_any64(int64_t x, int32_t n)
 {
     return n >= 63 ? (x < 0 ? -1 : 0) : x >> n;
-}
-
-/* -2^n <= x < 2^n (1 <= n <= 31): x fits the fixed-point unit's int32 operands with room (its usual case) */
-static inline int fits_bits64(int64_t x, int n)
-{
-    const int32_t lo = (int32_t)x, hi = (int32_t)((uint64_t)x >> 32);
-
-    return hi == lo >> 31 && (uint32_t)lo + (1u << n) < (2u << n); /* the high word only the low word's sign */
 }
 
 /* golden.firmware.estimator.park of int64 components (|a|, |b| < 2^46: the products below 2^62), in int64 */

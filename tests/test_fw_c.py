@@ -1561,7 +1561,8 @@ def _fcs_to_c(p: FcsParams):
 
 
 def test_flux_reference_and_deadbeat_random(seed):
-    """fw_flux_reference / fw_deadbeat_voltage = flux_reference / deadbeat_voltage on N_RANDOM inputs: random
+    """fw_flux_reference / fw_deadbeat_voltage = flux_reference / deadbeat_voltage (and its sin, cos = sincos_q15 of the
+    angle) on N_RANDOM inputs: random
     law parameters (a new set every 10), observed flux (s32, mostly the motor's), TOP_I s16, the states
     before top k, from it and from top k + 1 (VECTOR.NEXT), the angle, speed and current command; the voltage
     limit's shifts often."""
@@ -1574,6 +1575,7 @@ def test_flux_reference_and_deadbeat_random(seed):
     theta = draw(rng, n, 0, U32_MAX)
     omega, i_s = (draw(rng, n, S32_MIN, S32_MAX, (0,)) for _ in range(2))
     vd, vq = _out_pair()
+    sn, cs = _out_pair()
     limited = 0
     for k in range(n):
         if k % 10 == 0:
@@ -1584,7 +1586,8 @@ def test_flux_reference_and_deadbeat_random(seed):
         want = deadbeat_voltage(p, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], nxt[k], theta[k],
                                 omega[k], i_s[k])
         lib.fw_deadbeat_voltage(cp, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], nxt[k], theta[k],
-                                omega[k], i_s[k], vd, vq)
+                                omega[k], i_s[k], vd, vq, sn, cs)
+        assert (sn[0], cs[0]) == sincos_q15(theta[k]), (k, theta[k])
         assert (vd[0], vq[0]) == want, (k, p, psi[0][k], psi[1][k], i_al[k], i_be[k], before[k], vector[k], nxt[k],
                                          theta[k], omega[k], i_s[k])
         limited += max(abs(want[0]), abs(want[1])) > p.v_lim // 2

@@ -1461,7 +1461,7 @@ static int32_t deadbeat_component(const struct fw_fcs_params *p, int32_t ref, in
 /* golden.firmware.fcs_law.deadbeat_voltage (Varatharajan et al. 2020, eqs. (13)-(14)) */
 void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t psi_be, int32_t i_al, int32_t i_be,
                          int32_t before, int32_t vector, int32_t nxt, uint32_t theta, int32_t omega,
-                         int32_t i_s, int32_t *v_d, int32_t *v_q)
+                         int32_t i_s, int32_t *v_d, int32_t *v_q, int32_t *sin_q15, int32_t *cos_q15)
 {
     int32_t a1a, a1b, a2a, a2b, d_ref, q_ref, s, c, ref_a, ref_b;
     struct phase_flux pf;
@@ -1476,6 +1476,8 @@ void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t 
     int32_t v_b = deadbeat_component(p, ref_b, psi_be, a1b, a2b, i_be);
     int64_t d, q;
     fw_sincos_q15(theta, &s, &c);
+    *sin_q15 = s;
+    *cos_q15 = c;
     park64(v_a, v_b, s, c, &d, &q);
     while (abs64(d) > p->v_lim || abs64(q) > p->v_lim) {
         d >>= 1;
@@ -2366,12 +2368,12 @@ static __attribute__((noinline)) void fcs_outputs(struct fw_state *st, const str
     if (ops->flux)
         ops->flux(st, &f);
     fw_deadbeat_voltage(&p->fcs, f.psi_al, f.psi_be, win->top_ia, win->top_ib, st->vec_before, win->vector,
-                        win->vector_next, st->theta_hat, st->est_omega[st->active], i_s, &v_d, &v_q);
+                        win->vector_next, st->theta_hat, st->est_omega[st->active], i_s, &v_d, &v_q, &out->sin,
+                        &out->cos);
     st->vec_before = win->vector;
     out->v_d = v_d;
     out->v_q = v_q;
     out->v_h = 0;
-    fw_sincos_q15(st->theta_hat, &out->sin, &out->cos);
     out->enable = 1;
     out->i_d_ref = 0;
     out->i_q_ref = 0;

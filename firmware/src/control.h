@@ -669,11 +669,12 @@ void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, 
 /* golden.firmware.applied_flux.applied_flux */
 void fw_applied_flux(int32_t old, int32_t new_state, int32_t i_al, int32_t i_be, int32_t dt_f, int32_t vth_f,
                      int32_t *f_al, int32_t *f_be);
-/* golden.firmware.fcs_law.flux_reference / deadbeat_voltage (nxt: VECTOR.NEXT) */
+/* golden.firmware.fcs_law.flux_reference / deadbeat_voltage (nxt: VECTOR.NEXT); the deadbeat's sin, cos: of theta
+ * (golden.fpga.cordic.sincos_q15), the output records' angle (Firmware._fcs_outputs), computed once */
 void fw_flux_reference(const struct fw_fcs_params *p, int32_t i_s, int32_t *d, int32_t *q);
 void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t psi_be, int32_t i_al, int32_t i_be,
                          int32_t before, int32_t vector, int32_t nxt, uint32_t theta, int32_t omega,
-                         int32_t i_s, int32_t *v_d, int32_t *v_q);
+                         int32_t i_s, int32_t *v_d, int32_t *v_q, int32_t *sin_q15, int32_t *cos_q15);
 
 /* The estimator plug-in interface (golden.firmware.estimator.Estimator), one entry per method in
  * fw_methods[] (control.c). Each member reads and writes only its own state block of fw_state and

@@ -6,7 +6,7 @@ values a block computes are compared with the golden closed loop window by windo
 every gate edge, by the replays of test_dsp_replay.py (rotating injection, period square wave with the CIC) on
 the build with every block in; the direct-vector mode by hfi_modulator's bench (test_modulator.py, its
 direct_random and direct_cases against golden direct_state / direct_compares) and the 003 drive's identity test on
-the SoC (tests/test_rtl_identity.py, varatharajan2020_2khz). Each test also runs tb_hfi_dsp's window-copy check
+the SoC (tests/test_rtl_identity.py, varatharajan2020_early_step). Each test also runs tb_hfi_dsp's window-copy check
 (tb_dsp_replay.window_copy_check) over its windows, in both builds."""
 
 from __future__ import annotations

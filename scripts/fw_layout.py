@@ -8,8 +8,8 @@ how many are refilled every period (docs/soc.md, "The instruction cache"). This 
 1. builds the image (its link map, ``out/firmware/hfi_fw.map``) and runs the 003 drive
    (``scenarios/varatharajan2020_torquestep.toml`` at its own 10 kHz: start-up, RUN and the 2 p.u. torque step at
    0.8 s) on the rtl backend with the program-counter profile (scripts/fw_profile.py): CPU clocks per period of every
-   instruction word (until 2026-11-30 the drive's step did not fit its period, and the tool ran the slowed copy
-   :func:`hfi.soc_copies.varatharajan2020_2khz`, whose start-up and cache use differ from the real drive's);
+   instruction word (until 2026-11-30 the drive's step did not fit its period, and the tool ran a copy slowed to
+   2 kHz, whose start-up and cache use differ from the real drive's);
 2. takes the input sections from the first one of the ``/* 003 */`` group to the end of ``.text`` (the 003 method's
    functions and the code no step runs: start-up, sync, turn, the flying start, the library's division) and searches
    their order (moves of one section, from the present order and from ``--restarts`` shuffled ones, fixed seed) for

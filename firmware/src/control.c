@@ -276,6 +276,18 @@ void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15)
     *sin_q15 = cordic_to_q15(y);
     *cos_q15 = cordic_to_q15(x);
 }
+
+static uint32_t sincos_angle; /* fw_sincos_start's angle */
+
+void fw_sincos_start(uint32_t angle)
+{
+    sincos_angle = angle;
+}
+
+void fw_sincos_take(int32_t *sin_q15, int32_t *cos_q15)
+{
+    fw_sincos_q15(sincos_angle, sin_q15, cos_q15);
+}
 #endif
 
 /* golden.fixed.sat(x, bits) for 1 <= bits <= 32 of an int64 */
@@ -1268,6 +1280,7 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     const struct fw_flux_lut *lut = &hp->lut;
     int64_t w_i = e->integ >> 24;
     int32_t r_al = m->win->top_ia, r_be = m->win->top_ib; /* TOP_I, as sampled */
+    fw_sincos_start(e->th);                                /* taken in step 2: the CORDIC runs meanwhile */
     /* 0. the current at the top, corrected for the sensors' lag */
     int32_t i_al = hfo_lag(r_al, e->r_al, hp->c_lag), i_be = hfo_lag(r_be, e->r_be, hp->c_lag);
     int32_t a_al, a_be;
@@ -1281,7 +1294,8 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     int64_t i_d, i_q;
     struct fw_lut_point pt;
     int32_t lam_al, lam_be;
-    fw_sincos_q15(e->th, &s, &c);
+    fw_sincos_take(&s, &c);
+    fw_sincos_start(e->th - (uint32_t)w_i);                /* step 4's previous instant (unused when f = 0) */
     park64(i_al, i_be, s, c, &i_d, &i_q);
     fw_lut_point(lut, (int32_t)i_d, (int32_t)i_q, &pt);
     inv_park64(pt.lam_d, pt.lam_q, s, c, &lam_al, &lam_be);
@@ -1300,11 +1314,12 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
         int32_t sp, cp, sm, cm, lp_al, lp_be;
         int64_t pd, pq, lpd, lpq, dpd, dpq, dlam_d, dlam_q;
 
-        fw_sincos_q15(e->th - (uint32_t)w_i, &sp, &cp);
+        fw_sincos_take(&sp, &cp);                          /* e->th - w_i */
+        fw_sincos_start(e->th - (uint32_t)(w_i >> 1));
         park64(e->i_al, e->i_be, sp, cp, &pd, &pq);
         fw_lut_flux(lut, (int32_t)pd, (int32_t)pq, &lpd, &lpq);
         inv_park64(lpd, lpq, sp, cp, &lp_al, &lp_be);
-        fw_sincos_q15(e->th - (uint32_t)(w_i >> 1), &sm, &cm);
+        fw_sincos_take(&sm, &cm);                          /* e->th - w_i / 2 */
         park64((int64_t)psi_al - e->psi_al, (int64_t)psi_be - e->psi_be, sm, cm, &dpd, &dpq);
         park64((int64_t)lam_al - lp_al, (int64_t)lam_be - lp_be, sm, cm, &dlam_d, &dlam_q);
         int64_t e_d = dpd - dlam_d;
@@ -1466,16 +1481,18 @@ void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t 
     int32_t a1a, a1b, a2a, a2b, d_ref, q_ref, s, c, ref_a, ref_b;
     struct phase_flux pf;
 
+    fw_sincos_start(theta + (uint32_t)(omega >> 1));  /* the CORDIC runs while the applied flux is summed */
     phase_flux_of(i_al, i_be, &pf);                  /* the same currents at both switching instants */
     applied_flux_of(before, vector, &pf, p->dt_f, p->vth_f, &a1a, &a1b);
     applied_flux_of(vector, nxt, &pf, p->dt_f, p->vth_f, &a2a, &a2b);
     fw_flux_reference(p, i_s, &d_ref, &q_ref);
-    fw_sincos_q15(theta + (uint32_t)(omega >> 1), &s, &c);
+    fw_sincos_take(&s, &c);
+    fw_sincos_start(theta);
     inv_park(d_ref, q_ref, s, c, &ref_a, &ref_b);
     int32_t v_a = deadbeat_component(p, ref_a, psi_al, a1a, a2a, i_al);
     int32_t v_b = deadbeat_component(p, ref_b, psi_be, a1b, a2b, i_be);
     int64_t d, q;
-    fw_sincos_q15(theta, &s, &c);
+    fw_sincos_take(&s, &c);
     *sin_q15 = s;
     *cos_q15 = c;
     park64(v_a, v_b, s, c, &d, &q);

@@ -629,6 +629,10 @@ int32_t fw_lowpass_out(int64_t f);
 int32_t fw_pi_step(int64_t *integ, int32_t ref, int32_t meas, const struct fw_pi_params *p);
 /* golden.fpga.cordic.sincos_q15(angle, 32, 16): the firmware's sin/cos of theta_hat, Q1.15 */
 void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15);
+/* the same in two halves, so that the SoC's CORDIC (18 clocks) runs while the CPU does other work: fw_sincos_start(angle),
+ * then fw_sincos_take gives fw_sincos_q15(angle); no other sin/cos in between */
+void fw_sincos_start(uint32_t angle);
+void fw_sincos_take(int32_t *sin_q15, int32_t *cos_q15);
 /* the accelerators' CAPS register (the SoC build with them only: fw_acc.c) */
 uint32_t fw_acc_caps(void);
 /* golden.firmware.vector.vector_angle: |x|, |y| <= 2^28 */

@@ -31,6 +31,20 @@ void fw_sincos_q15(uint32_t angle, int32_t *sin_q15, int32_t *cos_q15)
     *cos_q15 = (int16_t)((v & HFI_ACC__SINCOS__COS_bm) >> HFI_ACC__SINCOS__COS_bp);
 }
 
+/* fw_sincos_q15 in two halves: the write starts the CORDIC, the read waits for it (control.h) */
+void fw_sincos_start(uint32_t angle)
+{
+    ACC(SIN_ANGLE) = angle;
+}
+
+void fw_sincos_take(int32_t *sin_q15, int32_t *cos_q15)
+{
+    uint32_t v = ACC(SINCOS);
+
+    *sin_q15 = (int16_t)((v & HFI_ACC__SINCOS__SIN_bm) >> HFI_ACC__SINCOS__SIN_bp);
+    *cos_q15 = (int16_t)((v & HFI_ACC__SINCOS__COS_bm) >> HFI_ACC__SINCOS__COS_bp);
+}
+
 /* golden.firmware.vector.vector_angle(x, y); the callers keep |x|, |y| <= 2^28 (the unit saturates to it) */
 void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
 {

@@ -327,9 +327,9 @@ int32_t fw_sat_div64(int64_t n, int64_t d, int32_t bits)
     return neg ? -(int32_t)q : (int32_t)q;
 }
 
-/* fw_sat_div64 where the 003 observer needs it (a constant bits): the fixed-point unit's DIV on the SoC (rtl/hfi_cfu.v,
- * hfi/cfu.py: the same sat(c_div(n, d), bits), in 5 + bits clocks), the software above elsewhere */
-#ifdef FW_CFU
+/* sat_bits(c_div(n, d), bits) where the 003 observer needs it (d != 0, a constant bits <= 22): the fixed-point unit's
+ * DIV on the SoC (rtl/hfi_cfu.v, hfi/cfu.py, in 5 + bits clocks), fw_sat_div64 above in the SoC build without the unit,
+ * the unit's model in the host build (fw_fx.h FX_DIV) */
 #define SAT_DIV64(n, d, bits)                                                                                          \
     __extension__({                                                                                                    \
         const int64_t sd_n_ = (n), sd_d_ = (d);                                                                        \
@@ -337,9 +337,6 @@ int32_t fw_sat_div64(int64_t n, int64_t d, int32_t bits)
         FX_SET(sd_acc_, (int32_t)(sd_n_ >> 32), (int32_t)sd_n_);                                                       \
         FX_DIV(sd_acc_, sd_d_, bits);                                                                                  \
     })
-#else
-#define SAT_DIV64(n, d, bits) fw_sat_div64((n), (d), (bits))
-#endif
 
 /* golden.fixed.round_shr(x, n) of an int64, n >= 1 */
 static int64_t round_shr64(int64_t x, int n)
@@ -963,14 +960,15 @@ static inline int fits_bits64(int64_t x, int n)
 }
 
 /* golden.firmware.hfo_proj.projection_coefficients (eqs. (28)-(30), corrected): the normalised inductances
- * below 2^20 in magnitude (the table's l_shift brings the inductance tables below 2^15), so every product
- * and the numerators shifted by 12 are below 2^57. */
+ * below 2^20 in magnitude (the table's l_shift brings the inductance tables below 2^15), so they are int32 values
+ * and every product and the numerators shifted by 12 are below 2^57. */
 static int64_t shr_any64(int64_t x, int32_t n);
 void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, int32_t *a1, int32_t *a2)
 {
-    int64_t ld = shr_any64(pt->l_d, l_shift), lq = shr_any64(pt->l_q, l_shift), ldq = shr_any64(pt->l_dq, l_shift);
-    int64_t dld = shr_any64(pt->dl_d, l_shift), dldq = shr_any64(pt->dl_dq, l_shift);
-    int64_t det = ld * lq - ldq * ldq;
+    const int32_t ld = (int32_t)shr_any64(pt->l_d, l_shift), lq = (int32_t)shr_any64(pt->l_q, l_shift);
+    const int32_t ldq = (int32_t)shr_any64(pt->l_dq, l_shift), dld = (int32_t)shr_any64(pt->dl_d, l_shift);
+    const int32_t dldq = (int32_t)shr_any64(pt->dl_dq, l_shift);
+    const int64_t det = (int64_t)ld * lq - (int64_t)ldq * ldq;
 
     if (det <= 0) {
         *a1 = *a2 = 0;
@@ -978,24 +976,18 @@ void fw_projection_coefficients(const struct fw_lut_point *pt, int32_t l_shift, 
     }
     /* on the unit: each product of two of the values (below 2^20, above) times 4096 as the product of both shifted
      * by 6 (each factor below 2^27), the numerator in the accumulator divided there */
-    if (FX_USUAL) {
-        const int32_t d6 = (int32_t)ld << 6, q6 = (int32_t)lq << 6, x6 = (int32_t)ldq << 6;
-        const int32_t dd6 = (int32_t)dld << 6, dx6 = (int32_t)dldq << 6;
-        FX_ACC(acc);
+    const int32_t d6 = ld * 64, q6 = lq * 64, x6 = ldq * 64, dd6 = dld * 64, dx6 = dldq * 64;
+    FX_ACC(acc);
 
-        FX_MUL(acc, d6, d6 - q6, 0);
-        FX_MAC(acc, 2 * x6, x6, 0);
-        FX_MAC(acc, dd6, x6, 0);
-        FX_MSU(acc, dx6, d6, 0);
-        *a1 = FX_DIV(acc, det, 16);
-        FX_MUL(acc, x6, d6 + q6, 0);
-        FX_MAC(acc, dd6, q6, 0);
-        FX_MSU(acc, dx6, x6, 0);
-        *a2 = FX_DIV(acc, det, 16);
-        return;
-    }
-    *a1 = SAT_DIV64((ld * ld - ld * lq + 2 * ldq * ldq + dld * ldq - dldq * ld) * 4096, det, 16);
-    *a2 = SAT_DIV64((ldq * (ld + lq) + dld * lq - dldq * ldq) * 4096, det, 16);
+    FX_MUL(acc, d6, d6 - q6, 0);
+    FX_MAC(acc, 2 * x6, x6, 0);
+    FX_MAC(acc, dd6, x6, 0);
+    FX_MSU(acc, dx6, d6, 0);
+    *a1 = FX_DIV(acc, det, 16);
+    FX_MUL(acc, x6, d6 + q6, 0);
+    FX_MAC(acc, dd6, q6, 0);
+    FX_MSU(acc, dx6, x6, 0);
+    *a2 = FX_DIV(acc, det, 16);
 }
 
 /* golden.fixed.shr(x, n) of an int64 for any n >= 0 (n >= 63: the sign) */
@@ -1355,22 +1347,33 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
 
         park64(psi_al, psi_be, s, c, &pd, &pq);
         int64_t x_d = pd - pt.lam_d, x_q = pq - pt.lam_q;
-        int64_t a_d = -pt.lam_q + ((pt.l_d * i_q - pt.l_dq * i_d) >> lut->shift);
-        int64_t a_q = pt.lam_d + ((pt.l_dq * i_q - pt.l_q * i_d) >> lut->shift);
+        /* l_* fit s32 (interpolations of the s28 tables with fractions in 0..1), |i_d|, |i_q| <= 2^18 (control.h):
+         * each product one mul and one mulh */
+        const int32_t ld = (int32_t)pt.l_d, lq = (int32_t)pt.l_q, ldq = (int32_t)pt.l_dq;
+        const int32_t id = (int32_t)i_d, iq = (int32_t)i_q;
+        int64_t a_d = -pt.lam_q + (((int64_t)ld * iq - (int64_t)ldq * id) >> lut->shift);
+        int64_t a_q = pt.lam_d + (((int64_t)ldq * iq - (int64_t)lq * id) >> lut->shift);
         int64_t mx = abs64(a_d) > abs64(a_q) ? abs64(a_d) : abs64(a_q);
         int32_t nb = bit_length64(mx) - 15;
         nb = nb > 0 ? nb : 0;
-        a_d >>= nb;
-        a_q >>= nb;
-        x_d = sat_bits(x_d >> nb, 16);
-        x_q = sat_bits(x_q >> nb, 16);
-        int64_t sq = a_d * a_d + a_q * a_q;
+        /* |a_d|, |a_q| <= 2^15 now, x_d, x_q s16: the sums of products below 2^47 on the fixed-point unit, the
+         * dividends' factor 65536 in the operand (x << 16 fits int32) */
+        const int32_t ad = (int32_t)(a_d >> nb), aq = (int32_t)(a_q >> nb);
+        const int32_t xd = (int32_t)sat_bits(x_d >> nb, 16), xq = (int32_t)sat_bits(x_q >> nb, 16);
+        const int64_t sq = (int64_t)(ad * ad) + aq * aq;
         if (sq > 0) {
-            int64_t q1 = SAT_DIV64((a_d * x_d + a_q * x_q) * 65536, sq, 21);
-            int64_t q2 = SAT_DIV64((a_q * x_d - a_d * x_q) * 65536, sq, 21);
+            FX_ACC(acc);
+
+            FX_MUL(acc, ad, xd * 65536, 0);
+            FX_MAC(acc, aq, xq * 65536, 0);
+            const int32_t q1 = FX_DIV(acc, sq, 21);
+            FX_MUL(acc, aq, xd * 65536, 0);
+            FX_MSU(acc, ad, xq * 65536, 0);
+            const int32_t q2 = FX_DIV(acc, sq, 21);
             /* c_div(q2 g_b, w_i) as sat_bits(., 22): beyond it |q1 - .| >= 2^20 on the same side (|q1| < 2^20),
              * where the limit's result is the same (above) */
-            eps_t = hfo_limit(hfo_to_bin(sat32(q1 - SAT_DIV64(q2 * hp->g_b, w_i, 22))), hp->eps_max);
+            FX_MUL(acc, q2, hp->g_b, 0);
+            eps_t = hfo_limit(hfo_to_bin(sat32((int64_t)q1 - FX_DIV(acc, w_i, 22))), hp->eps_max);
         }
     }
     /* the fusion on the unit: 0 <= f <= 2^16, |eps_h|, |eps_t| <= eps_max (int32) */

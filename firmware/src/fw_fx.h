@@ -10,7 +10,7 @@
  *   FX_SET(acc, hi, lo)             acc = (hi << 32) + (uint32_t)lo    (an int64 value, from its two words)
  *   FX_RND(acc, k, bits)            sat(round_shr(acc, k), bits)   as int32 (k 0..63; bits 1..32; 0: the low word)
  *   FX_FLR(acc, k, bits)            sat(acc >> k, bits)
- *   FX_DIV(acc, d, bits)            sat(c_div(acc, d), bits)       (d int64 != 0; bits a constant 2..32; acc kept)
+ *   FX_DIV(acc, d, bits)            sat(c_div(acc, d), bits)       (d int64 != 0; bits a constant 2..22; acc kept)
  *
  * and, on their own accumulator, the two-product idioms (values, each a single expression):
  *   FX_DOT(a, b, c, d, k, bits)     sat(round_shr(a * b + c * d, k), bits)
@@ -57,7 +57,7 @@
 /* the divisor's words in rs1 (high) and rs2 (low), the width in funct7 */
 #define FX_DIV(acc, d, bits)                                                                                           \
     __extension__({                                                                                                    \
-        _Static_assert((bits) >= 2 && (bits) <= 32, "FX_DIV: the unit saturates to 2..32 bits");                       \
+        _Static_assert((bits) >= 2 && (bits) <= 22, "FX_DIV: 2..22 bits (fw_sat_div64 where the unit is not)");      \
         const int64_t fx_dv_ = (d);                                                                                    \
         int32_t fx_q_;                                                                                                 \
         (void)(acc);                                                                                                   \
@@ -79,7 +79,12 @@
 #define FX_SET(acc, hi, lo) ((acc) = (int64_t)(((uint64_t)(uint32_t)(hi) << 32) | (uint32_t)(lo)))
 #define FX_RND(acc, k, bits) fx_result_((acc), (k), (bits), 1)
 #define FX_FLR(acc, k, bits) fx_result_((acc), (k), (bits), 0)
+#ifdef __riscv /* the SoC build without the unit: control.c's software (no libgcc 64-bit division; d != 0, bits <= 22) */
+int32_t fw_sat_div64(int64_t n, int64_t d, int32_t bits);
+#define FX_DIV(acc, d, bits) fw_sat_div64((acc), (d), (bits))
+#else
 #define FX_DIV(acc, d, bits) fx_quotient_((acc), (d), (bits))
+#endif
 
 /* RND / FLR of hfi/cfu.py: the rounding's add wraps as the unit's 64-bit adder does */
 static inline int32_t fx_result_(int64_t acc, int k, int32_t bits, int rounding)
@@ -93,7 +98,8 @@ static inline int32_t fx_result_(int64_t acc, int k, int32_t bits, int rounding)
     return (int32_t)(v > hi ? hi : v < -hi - 1 ? -hi - 1 : v);
 }
 
-/* DIV of hfi/cfu.py: the width k clamped to 2..32; a zero divisor gives the limit of the dividend's sign */
+/* DIV of hfi/cfu.py: the width k clamped to 2..32; a zero divisor gives the limit of the dividend's sign (the host's
+ * FX_DIV, which tests/test_fw_fx.py checks against the model) */
 static inline int32_t fx_quotient_(int64_t n, int64_t d, int k)
 {
     int w = k < 2 ? 2 : k > 32 ? 32 : k;

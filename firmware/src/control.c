@@ -1263,7 +1263,8 @@ static int32_t hfo_lag(int32_t r, int32_t r_prev, int32_t c_lag)
 
 /* golden.firmware.hfo_proj.HybridFluxProjection.step (Varatharajan et al. 2020, Secs. II-B, III-C, IV): the
  * hybrid flux observer, the current model from the LUT, the projection's coefficients, the low-speed error,
- * APP, fusion and PLL; the same operations in the same order (int64_t throughout). */
+ * APP, fusion and PLL; the same operations in the same order (in int64_t, on the fixed-point unit where the
+ * operands fit its int32 registers). */
 void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
                  int32_t *omega)
 {
@@ -1360,7 +1361,7 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
          * dividends' factor 65536 in the operand (x << 16 fits int32) */
         const int32_t ad = (int32_t)(a_d >> nb), aq = (int32_t)(a_q >> nb);
         const int32_t xd = (int32_t)sat_bits(x_d >> nb, 16), xq = (int32_t)sat_bits(x_q >> nb, 16);
-        const int64_t sq = (int64_t)(ad * ad) + aq * aq;
+        const int64_t sq = (int64_t)(ad * ad) + (int64_t)(aq * aq);   /* each square <= 2^30, the sum up to 2^31 */
         if (sq > 0) {
             FX_ACC(acc);
 

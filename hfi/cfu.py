@@ -27,8 +27,9 @@ the low 6 bits of ``a``: 1..32 saturate to that many bits (``golden.fixed.sat``)
 32 bits of the value as they are (the C cast ``(int32_t)``). DIV divides the accumulator by the 64-bit ``d``
 (truncating, ``golden.fixed.c_div``) and saturates to ``w`` bits, ``w`` = ``k`` clamped to 2..32; a zero divisor
 answers the limit of the accumulator's sign (``2^(w-1) - 1`` for 0 and above, ``-2^(w-1)`` below); the accumulator is
-kept (the 003 observer's saturated quotients, docs/soc.md "The 003 observer's divisions"). The C side is firmware/src/fw_fx.h: the same operations as macros, inline assembly on the SoC
-(``-DFW_CFU``) and plain int64 C in the host build.
+kept (the 003 observer's saturated quotients, docs/soc.md "The 003 observer's divisions"). The C side is
+firmware/src/fw_fx.h: the same operations as macros, inline assembly on the SoC (``-DFW_CFU``) and plain int64 C
+in the host build.
 """
 
 from __future__ import annotations

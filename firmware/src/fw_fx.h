@@ -79,7 +79,8 @@
 #define FX_SET(acc, hi, lo) ((acc) = (int64_t)(((uint64_t)(uint32_t)(hi) << 32) | (uint32_t)(lo)))
 #define FX_RND(acc, k, bits) fx_result_((acc), (k), (bits), 1)
 #define FX_FLR(acc, k, bits) fx_result_((acc), (k), (bits), 0)
-#ifdef __riscv /* the SoC build without the unit: control.c's software (no libgcc 64-bit division; d != 0, bits <= 22) */
+/* the SoC build without the unit: control.c's software (no libgcc 64-bit division; d != 0, bits <= 22) */
+#ifdef __riscv
 int32_t fw_sat_div64(int64_t n, int64_t d, int32_t bits);
 #define FX_DIV(acc, d, bits) fw_sat_div64((acc), (d), (bits))
 #else

@@ -80,6 +80,11 @@ def _between(low: int, high: int) -> Check:
     return lambda x: None if low <= x <= high else f"must be between {low} and {high}"
 
 
+def _below_half_turn(x: float) -> str | None:
+    """An angle limit the firmware holds as a binary angle (int32: below half a turn)."""
+    return None if 0 < x < math.pi else "must be > 0 and below 180 deg (the firmware's int32 binary angle)"
+
+
 def _even_2_to_16(x: int) -> str | None:
     return None if 2 <= x <= 16 and x % 2 == 0 else "must be an even integer in 2..16 (the plant's range)"
 
@@ -343,7 +348,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "lut_coarse": Field("integer", check=_between(0, 4), default=1),
         "lut_max_d": _q("current", _positive, default=10.0),
         "lut_max_q": _q("current", _positive, default=4.5),
-        "eps_max": _q("angle", _positive, default=math.pi / 18),
+        "eps_max": _q("angle", _below_half_turn, default=math.pi / 18),
         "i_lag": _q("time", _non_negative, default=0.0),
         "hold": Field("choice", choices={"off": 0, "on": 1}, default="on"),
         "map_scale_d": Field("number", check=_between(0.5, 2.0), default=1.0),

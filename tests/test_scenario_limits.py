@@ -215,6 +215,13 @@ def test_phi_min_within_its_u16():
     assert fq(65535 * 540 / 2**15, "V") in msg
 
 
+def test_error_limit_below_half_a_turn():
+    base = preset_file("varatharajan2020_torquestep.toml")
+    msg = problem({"estimator.hfo_proj": {"eps_max": "180 deg"}}, "estimator.hfo_proj.eps_max", base=base)
+    assert "below 180 deg" in msg
+    accepted({"estimator.hfo_proj": {"eps_max": "179 deg"}}, base=base)
+
+
 # ---- rates and speeds -----------------------------------------------------------------------------
 def test_speed_rate_at_most_the_pwm_rate():
     msg = problem({"control": {"speed_rate": "10 kHz"}}, "control.speed_rate")

@@ -11,7 +11,11 @@ the UART log (``IDLE``: firmware/src/main.c) are shown apart. ``--lines FUNC`` (
 function's clocks by source line (the DWARF line table of ``objdump -l``: an inlined helper's statements count
 to the helper's own line), largest first, with the line's text.
 
-    python scripts/fw_profile.py [--scenario FILE] [--duration 0.1] [--top 25] [--f-sw HZ] [--lines FUNC]...
+    python scripts/fw_profile.py [--scenario FILE] [--duration 0.1] [--from T] [--top 25] [--f-sw HZ] [--lines FUNC]...
+
+``--from T`` profiles only the periods after ``T`` simulated seconds (a stretch of a run, e.g. the 003 drive's
+fusion band): the scenario runs twice, to ``T`` and to ``--duration``, and the first run's counts are subtracted
+(the co-simulation is deterministic: both runs are the same up to ``T``).
 
 ``--f-sw`` runs the scenario at another switching frequency (everything else as written): a slower copy
 measures a step that overruns the scenario's own period (the co-simulation stops then).
@@ -28,9 +32,10 @@ import shutil
 import subprocess
 import sys
 
-
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+import numpy as np  # noqa: E402
 
 from golden.scenario import ScenarioError, load_scenario  # noqa: E402
 from hfi import soc_platform  # noqa: E402
@@ -128,6 +133,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenario", default=os.path.join(HERE, "..", "scenarios", "fullload_start.toml"))
     ap.add_argument("--duration", type=float, default=0.1, help="simulated seconds (default 0.1)")
+    ap.add_argument("--from", dest="start", type=float, default=0.0,
+                    help="profile only the periods after this many simulated seconds (default 0)")
     ap.add_argument("--top", type=int, default=25, help="functions listed (default 25)")
     ap.add_argument("--f-sw", type=float, default=None,
                     help="switching frequency in Hz instead of the scenario's (a slower copy of a step that overruns)")
@@ -137,17 +144,30 @@ def main(argv=None) -> int:
     if not args.duration > 0 or args.top < 1 or (args.f_sw is not None and not args.f_sw > 0):
         print("fw_profile: --duration and --f-sw must be > 0 and --top >= 1", file=sys.stderr)
         return 1
+    if not 0 <= args.start < args.duration:
+        print(f"fw_profile: --from must be in [0, --duration) (got {args.start} s, --duration {args.duration} s)",
+              file=sys.stderr)
+        return 1
     try:
         sc = dataclasses.replace(load_scenario(args.scenario), duration=args.duration)
         if args.f_sw is not None:
             sc = dataclasses.replace(sc, pwm=dataclasses.replace(sc.pwm, f_sw=args.f_sw))
         loop = RtlClosedLoop(sc)
         res = loop.run(progress=False, profile=True)
+        prof = dict(loop.profile)
+        n_win = len(res.t)
+        if args.start > 0:
+            image = (FW_OUT / "hfi_fw.elf").read_bytes()
+            head = RtlClosedLoop(dataclasses.replace(sc, duration=args.start))
+            n_win -= len(head.run(progress=False, profile=True).t)
+            if (FW_OUT / "hfi_fw.elf").read_bytes() != image:
+                raise ValueError("the firmware image changed between the two runs of --from (sources edited?): "
+                                 "run again")
+            prof = {k: v.astype(np.int64) - head.profile[k].astype(np.int64) for k, v in prof.items()}
     except (ScenarioError, RtlBackendError, ValueError, OSError) as exc:
         print(f"fw_profile: {exc}", file=sys.stderr)
         return 1
-    cycles, fetch = loop.profile["cycles"], loop.profile["fetch"]
-    n_win = len(res.t)
+    cycles, fetch = prof["cycles"], prof["fetch"]
     base = soc_platform.RAM_BASE
     elf = str(FW_OUT / "hfi_fw.elf")
     symbols = functions(elf)
@@ -165,7 +185,8 @@ def main(argv=None) -> int:
     idle = sum(r[1] for r in rows if r[0] in IDLE)
     busy = sum(r[1] for r in rows) - idle
     soc = res.soc
-    print(f"scenario {sc.name}: {n_win} periods; firmware step (handler) {soc['fw_cycles_mean']} CPU clocks mean, "
+    span = f" after {args.start} s" if args.start > 0 else ""
+    print(f"scenario {sc.name}: {n_win} periods{span}; firmware step (handler) {soc['fw_cycles_mean']} CPU clocks mean, "
           f"{soc['fw_cycles_max']} worst; profiled outside the idle loop: {busy:.0f} per period")
     print(f"{'function':28s} {'clocks/period':>13s} {'share':>7s} {'lines/period':>12s} {'bytes':>6s}")
     for name, c, f, size in sorted((r for r in rows if r[0] not in IDLE), key=lambda r: -r[1])[:args.top]:
@@ -173,7 +194,7 @@ def main(argv=None) -> int:
     lines = sum(r[2] for r in rows if r[0] not in IDLE)
     print(f"{'(the step)':28s} {busy:13.1f} {100.0:6.1f}% {lines:12.1f}")
     print(f"{'start-up, idle loop, log':28s} {idle:13.1f}")
-    dfetch = loop.profile["dfetch"]
+    dfetch = prof["dfetch"]
     drows = []
     for start, end, name in data_objects(str(FW_OUT / "hfi_fw.elf")):
         a, b = (start - base) // 4, max((end - base) // 4, (start - base) // 4 + 1)

@@ -1679,6 +1679,30 @@ def test_hfo_step_random(seed, chunk):
     assert min(count.values()) > 100, count
 
 
+def test_hfo_idle_writes_nothing(seed):
+    """fw_hfo_idle and fw_idle (the idle loop's work, beside golden: docs/methods.md) leave every byte of the state
+    as it was, from random states with the PLL's speed anywhere and (every other one) just below the fusion band's
+    lower edge, where the step warms the 003 step's code."""
+    rng = np.random.default_rng(seed + 67)
+    pair = HfoPair()
+    warmed = 0
+    for q in range(400):
+        if q % 20 == 0:
+            p = random_hfo(rng) if q % 40 else _hfo_host()
+            pair.cp.low = METHOD_HFO_PROJ
+        state = _random_hfo_state(rng, p)
+        edge = p.g_b - p.wg_b
+        if q % 2 and edge >= 4:                             # inside the warmed range: the step runs on a copy
+            w = int(rng.integers(edge // 2 + 1, edge + 1)) * (1 if rng.random() < 0.5 else -1)
+            state["integ"] = (w << 24) + int(rng.integers(0, 1 << 24))
+            warmed += 1
+        pair.load(p, state)
+        before = bytes(ffi.buffer(pair.st))
+        (lib.fw_hfo_idle if q % 3 else lib.fw_idle)(pair.st, pair.cp)
+        assert bytes(ffi.buffer(pair.st)) == before, (seed, q)
+    assert warmed > 100
+
+
 def test_hfo_sync_turn_random(seed):
     """fw_hfo_sync / fw_hfo_turn = HybridFluxProjection.sync / turn on N_RANDOM random angles and speeds, from
     a new random state every 20 operations."""

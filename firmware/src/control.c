@@ -1214,19 +1214,19 @@ void fw_applied_flux(int32_t old, int32_t new_state, int32_t i_al, int32_t i_be,
     applied_flux_of(old, new_state, &pf, dt_f, vth_f, f_al, f_be);
 }
 
-/* golden.firmware.hfo_proj._to_bin: radians (Q16) to binary angle (|x| <= 2^31: below 2^61) */
-static int64_t hfo_to_bin(int64_t x_q16)
+/* HybridFluxProjection._limit: min(max(e, -eps_max), eps_max) */
+static int32_t hfo_limit(int32_t e, int32_t eps_max)
 {
-    return (x_q16 * 683565276) >> 16; /* RAD_BIN */
+    e = e > -eps_max ? e : -eps_max;
+    return e < eps_max ? e : eps_max;
 }
 
-/* HybridFluxProjection._limit: min(max(e, -eps_max), eps_max) */
-static int64_t hfo_limit(int64_t e, int32_t eps_max)
+/* _limit(_to_bin(x)) of golden.firmware.hfo_proj: radians (Q16, int32) to binary angle (shr(x RAD_BIN, 16)), limited
+ * to eps_max; the product on the fixed-point unit, saturated to s32 there (the limit of a saturated value is that
+ * of the value: [-eps_max, eps_max] lies within s32) */
+static int32_t hfo_angle(int32_t x_q16, int32_t eps_max)
 {
-    int64_t m = eps_max;
-
-    e = e > -m ? e : -m;
-    return e < m ? e : m;
+    return hfo_limit(FX_SHR(x_q16, 683565276, 16, 32), eps_max); /* RAD_BIN */
 }
 
 /* the bit length of x >= 0 (Python int.bit_length) */
@@ -1235,16 +1235,43 @@ static int32_t bit_length64(int64_t x)
     return (uint64_t)x >> 32 ? 32 + bit_length32((uint32_t)((uint64_t)x >> 32)) : bit_length32((uint32_t)x);
 }
 
+/* HybridFluxProjection.step's step 5 (APP), its operands normalised to 15 bits: nb = max(bit_length(max(|a_d|,
+ * |a_q|)) - 15, 0), then a >> nb and sat(x >> nb, 16); in 32-bit words when all four fit int32 (the usual case) */
+STEP_INLINE void app_normalise(int64_t a_d, int64_t a_q, int64_t x_d, int64_t x_q, int32_t *ad, int32_t *aq,
+                               int32_t *xd, int32_t *xq)
+{
+    if (FX_USUAL && (int32_t)a_d == a_d && (int32_t)a_q == a_q && (int32_t)x_d == x_d && (int32_t)x_q == x_q) {
+        const int32_t d = (int32_t)a_d, q = (int32_t)a_q;
+        const uint32_t md = d < 0 ? 0u - (uint32_t)d : (uint32_t)d, mq = q < 0 ? 0u - (uint32_t)q : (uint32_t)q;
+        int32_t nb = bit_length32(md > mq ? md : mq) - 15;
+        nb = nb > 0 ? nb : 0;
+        const int32_t vd = (int32_t)x_d >> nb, vq = (int32_t)x_q >> nb;
+        *ad = d >> nb;
+        *aq = q >> nb;
+        *xd = vd > 32767 ? 32767 : vd < -32768 ? -32768 : vd;
+        *xq = vq > 32767 ? 32767 : vq < -32768 ? -32768 : vq;
+        return;
+    }
+    const int64_t md = abs64(a_d), mq = abs64(a_q);
+    int32_t nb = bit_length64(md > mq ? md : mq) - 15;
+    nb = nb > 0 ? nb : 0;
+    *ad = (int32_t)(a_d >> nb);
+    *aq = (int32_t)(a_q >> nb);
+    *xd = (int32_t)sat_bits(x_d >> nb, 16);
+    *xq = (int32_t)sat_bits(x_q >> nb, 16);
+}
+
 /* HybridFluxProjection.step's eq. (5), one component: sat(psi + a - shr(r_f i, 16) + shr(c_g (lam - psi), 16), 32);
  * on the fixed-point unit when lam - psi fits its int32 operand (the usual case: both are far from the limits) */
 static int32_t hfo_euler(int32_t psi, int32_t a, int32_t i, int32_t lam, const struct fw_hfo_params *hp)
 {
-    int64_t diff = (int64_t)lam - psi;
+    int32_t diff;
 
-    if (!FX_USUAL || (int32_t)diff != diff)
-        return sat32((int64_t)psi + a - (((int64_t)hp->r_f * i) >> 16) + (((int64_t)hp->c_g * diff) >> 16));
+    if (!FX_USUAL || __builtin_sub_overflow(lam, psi, &diff))
+        return sat32((int64_t)psi + a - (((int64_t)hp->r_f * i) >> 16)
+                     + (((int64_t)hp->c_g * ((int64_t)lam - psi)) >> 16));
     FX_ACC(acc);
-    FX_MUL(acc, hp->c_g, (int32_t)diff, 16);
+    FX_MUL(acc, hp->c_g, diff, 16);
     FX_MSU(acc, hp->r_f, i, 16);
     FX_ADD(acc, psi, 0, a);
     return FX_FLR(acc, 0, 32);
@@ -1264,15 +1291,14 @@ static int32_t hfo_lag(int32_t r, int32_t r_prev, int32_t c_lag)
 /* golden.firmware.hfo_proj.HybridFluxProjection.step (Varatharajan et al. 2020, Secs. II-B, III-C, IV): the
  * hybrid flux observer, the current model from the LUT, the projection's coefficients, the low-speed error,
  * APP, fusion and PLL; the same operations in the same order (in int64_t, on the fixed-point unit where the
- * operands fit its int32 registers). */
-void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
-                 int32_t *omega)
+ * operands fit its int32 registers). On the method's own state and parameters and the window's TOP_I and
+ * VECTOR, so that fw_hfo_idle can run it on a copy. */
+static __attribute__((noinline)) void hfo_step(struct fw_hfo_state *e, const struct fw_hfo_params *hp,
+                                               const struct fw_window *win, uint32_t *theta, int32_t *omega)
 {
-    struct fw_hfo_state *e = &st->hfo;
-    const struct fw_hfo_params *hp = &p->hfo;
     const struct fw_flux_lut *lut = &hp->lut;
     int64_t w_i = e->integ >> 24;
-    int32_t r_al = m->win->top_ia, r_be = m->win->top_ib; /* TOP_I, as sampled */
+    int32_t r_al = win->top_ia, r_be = win->top_ib;       /* TOP_I, as sampled */
     fw_sincos_start(e->th);                                /* taken in step 2: the CORDIC runs meanwhile */
     /* 0. the current at the top, corrected for the sensors' lag */
     int32_t i_al = hfo_lag(r_al, e->r_al, hp->c_lag), i_be = hfo_lag(r_be, e->r_be, hp->c_lag);
@@ -1296,9 +1322,12 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     int32_t a1, a2;
     fw_projection_coefficients(&pt, lut->l_shift, &a1, &a2);
     /* 6. fusion weight */
-    /* sat_bits(., 18) keeps [0, 65536] whole, so the clamp gives c_div's result */
-    int64_t f = SAT_DIV64(((int64_t)hp->g_b + hp->wg_b - abs64(w_i)) * 65536, 2 * (int64_t)hp->wg_b, 18);
-    f = f < 0 ? 0 : f > 65536 ? 65536 : f;
+    /* golden's clamp of c_div(n 2^16, 2 wg_b) (wg_b >= 1): 0 for n <= 0, 2^16 for n >= 2 wg_b, and in between the
+     * quotient itself (0..2^16): the divide only inside the band */
+    const int64_t f_n = (int64_t)hp->g_b + hp->wg_b - abs64(w_i);
+    const int64_t f_d = 2 * (int64_t)hp->wg_b;
+    const int32_t f = f_n <= 0 ? 0 : f_n >= f_d ? 65536 : SAT_DIV64(f_n * 65536, f_d, 18);
+    fw_idle_work = f == 65536 && 8 * (f_n - f_d) < (int64_t)hp->g_b - hp->wg_b; /* fw_hfo_idle: warm it */
     /* 4. low speed */
     int64_t eps_h = 0;
     int valid = 0;
@@ -1322,15 +1351,15 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
                                : round_shr64(a1 * dpq - a2 * dpd, 12);
         valid = abs64(strength) > ((int64_t)hp->phi_min << FW_FLUX_FRAC);
         if (valid) {
-            /* sat32(q) as sat_bits(q, 21): |q| >= 2^20 gives |hfo_to_bin| > 10^10 > eps_max either way, so
-             * the limit's result is the same (hfo_to_bin is monotonic) */
+            /* sat32(q) as sat_bits(q, 21): |q| >= 2^20 gives |_to_bin| > 10^10 > eps_max either way, so
+             * the limit's result is the same (_to_bin is monotonic) */
             int32_t q;
 
             if (abs64(strength) >= hp->s_knee)
                 q = SAT_DIV64(e_d * 65536, strength, 21);
             else
                 q = SAT_DIV64(sat_bits(e_d, 24) * strength * 65536, (int64_t)hp->s_knee * hp->s_knee, 21);
-            eps_h = hfo_limit(hfo_to_bin(q), hp->eps_max);
+            eps_h = hfo_angle(q, hp->eps_max);
             e->th_meas = e->th + (uint32_t)eps_h;
         } else if (hp->hold && e->since < hp->n_max) {
             eps_h = hfo_limit((int32_t)(e->th_meas - e->th), hp->eps_max);
@@ -1354,13 +1383,10 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
         const int32_t id = (int32_t)i_d, iq = (int32_t)i_q;
         int64_t a_d = -pt.lam_q + (((int64_t)ld * iq - (int64_t)ldq * id) >> lut->shift);
         int64_t a_q = pt.lam_d + (((int64_t)ldq * iq - (int64_t)lq * id) >> lut->shift);
-        int64_t mx = abs64(a_d) > abs64(a_q) ? abs64(a_d) : abs64(a_q);
-        int32_t nb = bit_length64(mx) - 15;
-        nb = nb > 0 ? nb : 0;
+        int32_t ad, aq, xd, xq;
+        app_normalise(a_d, a_q, x_d, x_q, &ad, &aq, &xd, &xq);
         /* |a_d|, |a_q| <= 2^15 now, x_d, x_q s16: the sums of products below 2^47 on the fixed-point unit, the
          * dividends' factor 65536 in the operand (x << 16 fits int32) */
-        const int32_t ad = (int32_t)(a_d >> nb), aq = (int32_t)(a_q >> nb);
-        const int32_t xd = (int32_t)sat_bits(x_d >> nb, 16), xq = (int32_t)sat_bits(x_q >> nb, 16);
         const int64_t sq = (int64_t)(ad * ad) + (int64_t)(aq * aq);   /* each square <= 2^30, the sum up to 2^31 */
         if (sq > 0) {
             FX_ACC(acc);
@@ -1374,13 +1400,13 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
             /* c_div(q2 g_b, w_i) as sat_bits(., 22): beyond it |q1 - .| >= 2^20 on the same side (|q1| < 2^20),
              * where the limit's result is the same (above) */
             FX_MUL(acc, q2, hp->g_b, 0);
-            eps_t = hfo_limit(hfo_to_bin(sat32((int64_t)q1 - FX_DIV(acc, w_i, 22))), hp->eps_max);
+            eps_t = hfo_angle(sat32((int64_t)q1 - FX_DIV(acc, w_i, 22)), hp->eps_max);
         }
     }
     /* the fusion on the unit: 0 <= f <= 2^16, |eps_h|, |eps_t| <= eps_max (int32) */
     FX_ACC(acc);
-    FX_MUL(acc, (int32_t)f, (int32_t)eps_h, 0);
-    FX_MAC(acc, 65536 - (int32_t)f, (int32_t)eps_t, 0);
+    FX_MUL(acc, f, (int32_t)eps_h, 0);
+    FX_MAC(acc, 65536 - f, (int32_t)eps_t, 0);
     int32_t eps = FX_FLR(acc, 16, 32);
     /* 7. PLL: w = sat32(shr(kp eps, 16) + shr(integ, 24)), shr(integ, 24) = (hi << 8) + (lo >> 24) of its words */
     e->integ = sat_add64(e->integ, (int64_t)hp->ki * eps);
@@ -1396,12 +1422,12 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     e->i_al = i_al;
     e->i_be = i_be;
     e->vec_old = e->vec;
-    e->vec = m->win->vector;
+    e->vec = win->vector;
     e->r_al = r_al;
     e->r_be = r_be;
     e->eps_h = (int32_t)eps_h;
     e->eps_t = (int32_t)eps_t;
-    e->f = (int32_t)f;
+    e->f = f;
     e->fcs_a1 = a1;
     e->fcs_a2 = a2;
     e->constrain = f > 0 && e->n_rej > hp->n_max && e->cons_wait == 0;
@@ -1410,6 +1436,44 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
     e->theta = e->th + (uint32_t)FX_SHR(w, hp->k_delay, 16, 0);
     *theta = e->theta;
     *omega = e->omega;
+}
+
+/* a tail call: the step's frames lie where they did before hfo_step was apart (the 4 KiB data cache) */
+void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
+                 int32_t *omega)
+{
+    hfo_step(&st->hfo, &p->hfo, m->win, theta, omega);
+}
+
+/* The idle loop's part (fw_idle), beside golden (which has no caches): the step's code in the instruction cache
+ * before the fusion band. The step runs APP from the band's lower edge |w_i| > g_b - wg_b on; until then that code
+ * has not run, its cache lines belong to others, and the band's first step refilled them (4081 CPU clocks, 82 % of
+ * the 10 kHz period, where the band's other steps take up to 3594: docs/soc.md). From 7/8 of that speed on (the step
+ * sets fw_idle_work), the idle loop runs the step once per period on a copy of the state with the PLL's speed inside
+ * the band (both estimators and the fusion run; the copy's step clears fw_idle_work), the window's currents the last
+ * ones: nothing is written but the copy, and the accelerators' and the fixed-point unit's results are its own (an
+ * interrupted sequence only spoils the copy's: the step starts each of its own). The next step pays for it (the
+ * copy's APP evicts lines of the low-speed code: about 180 CPU clocks), so the zone is narrow: from half the edge on,
+ * the 2 p.u. torque step's speed transient put 15 steps above 3500. Empty where FW_IDLE_WARM is 0. */
+void fw_hfo_idle(const struct fw_state *st, const struct fw_params *p)
+{
+#if FW_IDLE_WARM
+    const struct fw_hfo_params *hp = &p->hfo;
+    struct fw_hfo_state copy = st->hfo;
+    struct fw_window win = {0};
+
+    win.top_ia = copy.r_al;
+    win.top_ib = copy.r_be;
+    win.vector = copy.vec;
+    uint32_t theta;
+    int32_t omega;
+
+    copy.integ = (int64_t)hp->g_b << 24;
+    hfo_step(&copy, hp, &win, &theta, &omega);
+#else
+    (void)st;
+    (void)p;
+#endif
 }
 
 /* golden.firmware.hfo_proj.HybridFluxProjection.turn */
@@ -1510,12 +1574,12 @@ void fw_deadbeat_voltage(const struct fw_fcs_params *p, int32_t psi_al, int32_t 
 
 /* golden.firmware.methods.CLASSES: the members of the plug-in interface, by method id. */
 static const struct fw_est_ops fw_methods[FW_METHODS] STEP_TABLE = {
-    [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync, fw_sqw_i_d, 0},
-    [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d, 0},
-    [FW_METHOD_ROT_BPF] = {fw_rot_step, fw_rot_turn, fw_rot_sync, fw_rot_i_d, 0},
-    [FW_METHOD_EEMF_SMO] = {fw_smo_step, fw_smo_turn, fw_smo_sync, fw_smo_i_d, 0},
-    [FW_METHOD_SQW_CIC] = {fw_cic_step, fw_cic_turn, fw_cic_sync, fw_cic_i_d, 0},
-    [FW_METHOD_HFO_PROJ] = {fw_hfo_step, fw_hfo_turn, fw_hfo_sync, fw_hfo_i_d, fw_hfo_flux},
+    [FW_METHOD_SQW_BANGBANG] = {fw_sqw_step, fw_sqw_turn, fw_sqw_sync, fw_sqw_i_d, 0, 0},
+    [FW_METHOD_RFO] = {fw_rfo_step, fw_rfo_turn, fw_rfo_sync, fw_rfo_i_d, 0, 0},
+    [FW_METHOD_ROT_BPF] = {fw_rot_step, fw_rot_turn, fw_rot_sync, fw_rot_i_d, 0, 0},
+    [FW_METHOD_EEMF_SMO] = {fw_smo_step, fw_smo_turn, fw_smo_sync, fw_smo_i_d, 0, 0},
+    [FW_METHOD_SQW_CIC] = {fw_cic_step, fw_cic_turn, fw_cic_sync, fw_cic_i_d, 0, 0},
+    [FW_METHOD_HFO_PROJ] = {fw_hfo_step, fw_hfo_turn, fw_hfo_sync, fw_hfo_i_d, fw_hfo_flux, fw_hfo_idle},
 };
 
 /* Whether a method's injection is on while it is in charge, by method id (generated, fw_methods.h). */
@@ -1526,6 +1590,21 @@ static int32_t slot_method(const struct fw_params *p, int32_t slot)
 {
     return slot == FW_SLOT_LOW ? p->low : p->high;
 }
+
+volatile int32_t fw_idle_work __attribute__((section(".state_vars"))); /* beside main.c's HANDLER_VAR */
+
+#if FW_IDLE_WARM
+void fw_idle(const struct fw_state *st, const struct fw_params *p)
+{
+    fw_idle_work = 0;
+    for (int32_t slot = FW_SLOT_LOW; slot <= FW_SLOT_HIGH; slot++) {
+        const int32_t method = slot_method(p, slot);
+
+        if (method > 0 && method < FW_METHODS && fw_methods[method].idle)
+            fw_methods[method].idle(st, p);
+    }
+}
+#endif
 
 /* ---- self-commissioning: the identification program's executor (golden.firmware.ident.Ident) ----- */
 

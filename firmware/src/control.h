@@ -692,7 +692,30 @@ struct fw_est_ops {
     /* a flux-observing method (MethodInfo.flux): psi_al, psi_be, fcs_a1, fcs_a2, constrain after step
      * (Estimator's attributes); NULL for the others (all 0) */
     void (*flux)(const struct fw_state *st, struct fw_est_flux *f);
+    /* the idle loop's work for the method (main.c, fw_idle: between the steps, interrupted by them): reads the
+     * state, writes nothing (e.g. warms the step's code in the instruction cache); NULL for most */
+    void (*idle)(const struct fw_state *st, const struct fw_params *p);
 };
+
+/* FW_IDLE_WARM: 1 where the idle loop warms a method's code (fw_hfo_idle): the SoC build with the accelerators (the
+ * 003 drive's) and the host build (its tests); the build without them has neither the room nor the 003 drive at
+ * its own rate (docs/boards.md) */
+#if defined(FW_ACC) || !defined(__riscv)
+#define FW_IDLE_WARM 1
+#else
+#define FW_IDLE_WARM 0
+#endif
+
+/* Set by a method's step when its idle op has work before the next step (fw_hfo_idle: below the 003 drive's fusion
+ * band), cleared by fw_idle: the idle loop (main.c run) calls fw_idle only then, so at other times it runs no code
+ * beyond its own (no instruction-cache line of a step evicted). */
+extern volatile int32_t fw_idle_work;
+
+#if FW_IDLE_WARM
+/* The idle loop's work (main.c run, between the control steps, while fw_idle_work is set): each configured
+ * method's idle op. */
+void fw_idle(const struct fw_state *st, const struct fw_params *p);
+#endif
 
 /* Method sqw_bangbang (golden.firmware.sqw_bangbang.SquareWaveBangBang) */
 void fw_sqw_step(struct fw_state *st, const struct fw_params *p, const struct fw_meas *m, uint32_t *theta,
@@ -734,6 +757,7 @@ void fw_hfo_turn(struct fw_state *st, uint32_t delta);
 void fw_hfo_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta, int32_t omega);
 int32_t fw_hfo_i_d(const struct fw_params *p);
 void fw_hfo_flux(const struct fw_state *st, struct fw_est_flux *f);
+void fw_hfo_idle(const struct fw_state *st, const struct fw_params *p);
 
 /* golden.firmware.supervisor.Firmware(params) and Firmware.step(win, speed_ref). fw_init keeps st->ident (the
  * caller sets it first: the identification program in its p, or NULL) and with a program starts in FW_IDENT.

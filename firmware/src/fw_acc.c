@@ -57,7 +57,9 @@ void fw_vector_angle(int32_t x, int32_t y, uint32_t *angle, int32_t *mag)
 /* The unit reads the tables from the RAM, where the configuration block holds them: the grid and the
  * tables' addresses are written when a look-up names a table other than the last one (the configuration
  * block is written once before the firmware starts, so a table's address names its contents). */
-static const struct fw_flux_lut *acc_lut;
+/* in .state_vars (firmware/link.ld): read every 003 step, its data-cache line must not move with the code's size (in
+ * .bss, after the code and the constants, it once landed on the step's stack frames' line: 2 refills per period) */
+static const struct fw_flux_lut *acc_lut __attribute__((section(".state_vars")));
 
 static void acc_lookup(const struct fw_flux_lut *lut, int32_t i_d, int32_t i_q)
 {

@@ -281,10 +281,11 @@ static __attribute__((noinline)) void show_mode(int32_t mode)
     uart_puts("\n");
 }
 
-/* Start the DSP, then report mode changes forever (the idle loop). Not inlined, and placed by firmware/link.ld
- * right after the steps' code with uart_puts: their lines share the instruction cache with the 000 step's least
- * used ones (fw_mtpa_lookup, run once per speed-loop period), so the idle loop, also while a log line goes out,
- * does not evict the control step's code between interrupts. */
+/* Start the DSP, then report mode changes and run the methods' idle work (fw_idle: e.g. the 003 step's code warmed
+ * in the instruction cache before it is needed) forever (the idle loop). Not inlined, and placed by firmware/link.ld
+ * right after the steps' code with uart_puts and fw_idle: their lines share the instruction cache with the 000
+ * step's least used ones (fw_mtpa_lookup, run once per speed-loop period), so the idle loop, also while a log line
+ * goes out, does not evict the control step's code between interrupts. */
 static __attribute__((noinline, noreturn)) void run(void)
 {
     uint32_t t0 = rdcycle();
@@ -299,6 +300,10 @@ static __attribute__((noinline, noreturn)) void run(void)
             shown_mode = mode;
             show_mode(mode);
         }
+#if FW_IDLE_WARM
+        if (fw_idle_work && mode != FW_FAULT)
+            fw_idle(&st, &cfg.fw);
+#endif
     }
 }
 

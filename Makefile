@@ -18,10 +18,17 @@ BACKEND ?= rtl
 run: setup
 	$(ENV) .venv/bin/hfi run scenarios/fullload_start.toml --backend $(BACKEND)
 
-# pytest exit code 5 ("no tests collected") counts as a failure.
+# pytest exit code 5 ("no tests collected") counts as a failure. make test leaves out the tests marked deep and runs
+# the cocotb random runs at the suite's depth (cocotb_tests/hdl_runner.py); make deep runs every test at full depth
+# (HFI_DEEP=1: 100 000 random vectors per block under Verilator, the gate-level replay): README, Tests.
+PYTEST = rc=0; $(ENV) .venv/bin/python -m pytest -q -p no:cacheprovider -n $(PYTEST_JOBS) --dist loadgroup
+PYTEST_RC = if [[ $$rc -eq 5 ]]; then echo "make $@: pytest collected no tests" >&2; exit 1; fi; exit $$rc
 test: setup
-	rc=0; $(ENV) .venv/bin/python -m pytest -q -p no:cacheprovider -n $(PYTEST_JOBS) --dist loadgroup $(PYTEST_ARGS) || rc=$$?; \
-	if [[ $$rc -eq 5 ]]; then echo "make test: pytest collected no tests" >&2; exit 1; fi; exit $$rc
+	$(PYTEST) -m "not deep" $(PYTEST_ARGS) || rc=$$?; $(PYTEST_RC)
+
+.PHONY: deep
+deep: setup
+	export HFI_DEEP=1; $(PYTEST) $(PYTEST_ARGS) || rc=$$?; $(PYTEST_RC)
 
 # The plant and closed-loop benchmarks (scripts/bench_plant.py, bench_golden.py, bench_rtl.py, bench_hls.py).
 bench: setup
@@ -61,7 +68,7 @@ synth: setup
 	$(ENV) .venv/bin/python scripts/synth_report.py
 
 # Gate-level replay (docs/rtl.md): the ECP5 netlist of hfi_dsp with Yosys's cell models (Verilator) replays
-# the RTL replay's 0.2 s of golden closed loop, bit-exact; make test runs a short one. Part of make synth.
+# the RTL replay's 0.2 s of golden closed loop, bit-exact; make deep runs a short one. Part of make synth.
 .PHONY: gatelevel
 gatelevel: setup
 	$(ENV) .venv/bin/python scripts/gatelevel.py

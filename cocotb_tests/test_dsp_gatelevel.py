@@ -6,7 +6,9 @@ routes) with the cell models Yosys ships replays the first SHORT_S of the RTL re
 tb_dsp_replay.py): every window result (GAMMA, GAMMA_D, SUM_ID, SUM_IQ, WSUM, N_SAMPLES), every gate
 edge and every sampling instant must equal the golden trace. The flow, its caches (netlist keyed by
 rtl/, Verilated simulator keyed by the netlist) and the long replay (make gatelevel, 1004 windows) are
-in scripts/gatelevel.py; docs/rtl.md "Gate-level replay" has the times.
+in scripts/gatelevel.py; docs/rtl.md "Gate-level replay" has the times. The replay runs in ``make deep``, not in
+``make test``: from a clean clone it synthesizes and builds the netlist's simulator first (4.5 min of a core on the
+reference machine, a third of the suite's budget; README "Tests").
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ def test_gatelevel_sources_are_the_netlist():
     assert gatelevel.cell_models_dir() / "cells_sim.v" in files and gatelevel.MULT_MODEL in files
 
 
+@pytest.mark.deep
 @pytest.mark.long
 def test_gatelevel_replay_short(tmp_path):
     r = gatelevel.replay(SHORT_S, tmp_path / "run")

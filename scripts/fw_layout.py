@@ -5,17 +5,19 @@ The 000 and 002 steps fit the cache with the groups before it (tests/test_fw_lay
 17 KiB of code per period, so some of its lines must share cache lines with the shared group's, and which ones decides
 how many are refilled every period (docs/soc.md, "The instruction cache"). This tool measures and chooses:
 
-1. builds the image (its link map, ``out/firmware/hfi_fw.map``) and runs the 003 drive
-   (``scenarios/varatharajan2020_torquestep.toml`` at its own 10 kHz: start-up, RUN and the 2 p.u. torque step at
-   0.8 s) on the rtl backend with the program-counter profile (scripts/fw_profile.py): CPU clocks per period of every
-   instruction word (until 2026-11-30 the drive's step did not fit its period, and the tool ran a copy slowed to
-   2 kHz, whose start-up and cache use differ from the real drive's);
+1. builds the image (its link map, ``out/firmware/hfi_fw.map``) and runs the 003 drive on the rtl backend with the
+   program-counter profile (scripts/fw_profile.py), two stretches (:data:`STRETCHES`):
+   ``scenarios/varatharajan2020_torquestep.toml`` at its own 10 kHz (start-up, RUN and the 2 p.u. torque step at
+   0.8 s) and the fusion band of ``varatharajan2020_speedrange.toml`` (0.53-0.59 s, where APP runs): CPU clocks per
+   period of every instruction word in each (until 2026-11-30 the drive's step did not fit its period, and the tool
+   ran a copy slowed to 2 kHz, whose start-up and cache use differ from the real drive's; until 2026-12-01 it
+   weighed the torque step alone, where APP never runs, so APP's lines were placed blindly);
 2. takes the input sections from the first one of the ``/* 003 */`` group to the end of ``.text`` (the 003 method's
    functions and the code no step runs: start-up, sync, turn, the flying start, the library's division) and searches
    their order (moves of one section, from the present order and from ``--restarts`` shuffled ones, fixed seed) for
-   the least :func:`conflict_cost`, with ``.text`` no longer than it was;
+   the least sum of both stretches' :func:`conflict_cost`, with ``.text`` no longer than it was;
 3. prints the order with each section's address and cache offset; ``--write`` puts it into link.ld's ``003`` group,
-   builds and profiles again, and keeps it only if the measured refills are fewer (the cost ranks orders only
+   builds and profiles again, and keeps it only if the measured refills (summed over both stretches) are fewer (the cost ranks orders only
    roughly: docs/soc.md, "The 003 group's order"); otherwise link.ld is put back.
 
     python scripts/fw_layout.py [--duration 1.0] [--restarts 8] [--seed 1] [--write]
@@ -37,8 +39,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from hfi import soc_platform  # noqa: E402
-from hfi.rtl_backend import FW_OUT, RtlBackendError, RtlClosedLoop, build_firmware  # noqa: E402
+from hfi.rtl_backend import FW_OUT, RtlBackendError, build_firmware  # noqa: E402
 from golden.scenario import load_scenario  # noqa: E402
+
+sys.path.insert(0, str(ROOT / "scripts"))
+import fw_profile  # noqa: E402
 
 LINK_LD = ROOT / "firmware" / "link.ld"
 LINE_BYTES = 32
@@ -130,21 +135,25 @@ def conflict_cost(lines: dict[int, float]) -> float:
     return sum(sum(v) - max(v) for v in sets.values() if len(v) > 1)
 
 
-def search(head: list[Section], tail: list[Section], clocks: np.ndarray, restarts: int, seed: int,
+def search(head: list[Section], tail: list[Section], profiles: list[np.ndarray], restarts: int, seed: int,
            progress: bool = True) -> tuple[list[Section], float, float]:
-    """The order of ``tail`` (placed from its first section's address, after the fixed ``head``) with the least
-    :func:`conflict_cost` found by moving one section at a time until no move lowers it, from the present order
+    """The order of ``tail`` (placed from its first section's address, after the fixed ``head``) with the least sum
+    over ``profiles`` (clocks per period of every instruction word, one array per profiled stretch) of
+    :func:`conflict_cost`, found by moving one section at a time until no move lowers it, from the present order
     and ``restarts`` shuffled ones; never longer than the present. Returns the order, its cost and the present's."""
-    fixed = line_clocks(head, [s.addr for s in head], clocks)
+    fixed = [line_clocks(head, [s.addr for s in head], clocks) for clocks in profiles]
     start = tail[0].addr
     _, end0 = place(tail, start)
 
     def cost(order: list[Section]) -> tuple[float, int]:
         addrs, end = place(order, start)
-        lines = dict(fixed)
-        for line, c in line_clocks(order, addrs, clocks).items():
-            lines[line] = lines.get(line, 0.0) + c
-        return conflict_cost(lines), end
+        total = 0.0
+        for clocks, lines0 in zip(profiles, fixed):
+            lines = dict(lines0)
+            for line, c in line_clocks(order, addrs, clocks).items():
+                lines[line] = lines.get(line, 0.0) + c
+            total += conflict_cost(lines)
+        return total, end
 
     c0, _ = cost(tail)
     rng = random.Random(seed)
@@ -188,22 +197,28 @@ def first_listed(text: str, sections: list[Section]) -> Section:
     raise ValueError("link.ld: no section of the /* 003 */ group is in the image")
 
 
-SCENARIO = ROOT / "scenarios" / "varatharajan2020_torquestep.toml"
-"""The drive whose step the 003 group's order is chosen for."""
+STRETCHES = ((ROOT / "scenarios" / "varatharajan2020_torquestep.toml", 0.0, None),
+             (ROOT / "scenarios" / "varatharajan2020_speedrange.toml", 0.53, 0.59))
+"""The stretches of the 003 drive whose steps the 003 group's order is chosen for, each (scenario, from, to) in
+simulated seconds (``None``: ``--duration``): the torque step (start-up, RUN at standstill, the 2 p.u. step: the low
+speed estimator alone) and the speed range's fusion band (both estimators, APP and the fusion weight's divide;
+docs/soc.md, "The fusion band")."""
 
 
-def profile(duration: float) -> tuple[np.ndarray, float, dict]:
-    """Build the image and profile the 003 drive (:data:`SCENARIO`) for ``duration`` s: CPU clocks per period of
-    every instruction word, instruction-cache lines refilled per period, and the run's ``soc`` block."""
+def profile(duration: float) -> tuple[list[np.ndarray], list[float]]:
+    """Build the image and profile every stretch of :data:`STRETCHES` (its ``to`` ``None`` -> ``duration``): per
+    stretch, CPU clocks per period of every instruction word and instruction-cache lines refilled per period."""
     build_firmware()
-    sc = dataclasses.replace(load_scenario(SCENARIO), duration=duration)
-    loop = RtlClosedLoop(sc)
-    res = loop.run(progress=False, profile=True)
-    n = len(res.t)
-    refills = float(loop.profile["fetch"].sum()) / (LINE_BYTES // 4) / n
-    print(f"fw_layout: {sc.name} at {sc.pwm.f_sw:.0f} Hz, {n} periods: step {res.soc['fw_cycles_mean']:.0f} CPU "
-          f"clocks mean, {res.soc['fw_cycles_max']} worst, {refills:.1f} lines refilled per period", flush=True)
-    return loop.profile["cycles"] / n, refills, res.soc
+    clocks, refills = [], []
+    for path, t0, t1 in STRETCHES:
+        sc = dataclasses.replace(load_scenario(path), duration=t1 if t1 is not None else duration)
+        prof, n, res = fw_profile.profile_stretch(sc, t0)
+        clocks.append(prof["cycles"] / n)
+        refills.append(float(prof["fetch"].sum()) / (LINE_BYTES // 4) / n)
+        print(f"fw_layout: {sc.name} from {t0:g} s to {sc.duration:g} s, {n} periods at {sc.pwm.f_sw:.0f} Hz: step "
+              f"{res.soc['fw_cycles_mean']:.0f} CPU clocks mean, {res.soc['fw_cycles_max']} worst over the whole run, "
+              f"{refills[-1]:.1f} lines refilled per period in the stretch", flush=True)
+    return clocks, refills
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -219,7 +234,7 @@ def main(argv: list[str] | None = None) -> int:
         print("fw_layout: --duration must be > 0 and --restarts >= 0", file=sys.stderr)
         return 1
     try:
-        clocks, refills0, _ = profile(args.duration)
+        clocks, refills0 = profile(args.duration)
         sections = map_sections(FW_OUT / "hfi_fw.map")
         text = LINK_LD.read_text()
         first = first_listed(text, sections)
@@ -230,7 +245,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{'section':40s} {'address':>8s} {'cache':>6s} {'clocks/period':>13s}")
         for s, a in zip(order, addrs):
             w0 = (s.addr - soc_platform.RAM_BASE) // 4
-            c = float(clocks[w0:w0 + s.size // 4].sum())
+            c = float(sum(k[w0:w0 + s.size // 4].sum() for k in clocks))
             print(f"{s.name + (' ' + s.source.split('/')[-1] if 'libgcc' in s.source else ''):40s} {a:8x} "
                   f"{a % soc_platform.CPU_ICACHE_BYTES:6x} {c:13.1f}")
         print(f"fw_layout: expected refills per period {cost:.1f} (present order {cost0:.1f}), .text ends at {end:#x}")
@@ -238,18 +253,19 @@ def main(argv: list[str] | None = None) -> int:
             a, b = group_bounds(text)
             LINK_LD.write_text(text[:a] + "".join(f"        {s.link_line()}\n" for s in order) + text[b:])
             try:
-                _, refills, _ = profile(args.duration)
+                _, refills = profile(args.duration)
             except (RtlBackendError, ValueError, OSError):
                 LINK_LD.write_text(text)
                 raise
-            if refills < refills0:
-                print(f"fw_layout: kept in {LINK_LD.relative_to(ROOT)}: {refills0:.1f} -> {refills:.1f} lines refilled "
-                      "per period")
+            was, now = " + ".join(f"{r:.1f}" for r in refills0), " + ".join(f"{r:.1f}" for r in refills)
+            if sum(refills) < sum(refills0):
+                print(f"fw_layout: kept in {LINK_LD.relative_to(ROOT)}: {was} -> {now} lines refilled per period "
+                      "(one number per stretch)")
             else:
                 LINK_LD.write_text(text)
                 build_firmware()
-                print(f"fw_layout: not kept ({refills:.1f} lines refilled per period, the present order "
-                      f"{refills0:.1f}); {LINK_LD.relative_to(ROOT)} unchanged")
+                print(f"fw_layout: not kept ({now} lines refilled per period, the present order {was}); "
+                      f"{LINK_LD.relative_to(ROOT)} unchanged")
     except (RtlBackendError, ValueError, OSError) as exc:
         print(f"fw_layout: {exc}", file=sys.stderr)
         return 1

@@ -129,6 +129,25 @@ def data_objects(elf: str, chunk: int = 512) -> list[tuple[int, int, str]]:
     return sorted(objs)
 
 
+def profile_stretch(sc, start: float = 0.0) -> tuple[dict, int, object]:
+    """The program-counter profile (``cycles``, ``fetch``: counts per instruction word, int64) of the periods of
+    ``sc`` after ``start`` simulated seconds, their number and the whole run's result: with ``start`` > 0 the
+    scenario runs twice, to ``start`` and to its end, and the first run's counts are subtracted (ValueError if the
+    firmware image changed between the two runs)."""
+    loop = RtlClosedLoop(sc)
+    res = loop.run(progress=False, profile=True)
+    prof = {k: v.astype(np.int64) for k, v in loop.profile.items()}
+    n_win = len(res.t)
+    if start > 0:
+        image = (FW_OUT / "hfi_fw.elf").read_bytes()
+        head = RtlClosedLoop(dataclasses.replace(sc, duration=start))
+        n_win -= len(head.run(progress=False, profile=True).t)
+        if (FW_OUT / "hfi_fw.elf").read_bytes() != image:
+            raise ValueError("the firmware image changed between the two runs of --from (sources edited?): run again")
+        prof = {k: v - head.profile[k].astype(np.int64) for k, v in prof.items()}
+    return prof, n_win, res
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenario", default=os.path.join(HERE, "..", "scenarios", "fullload_start.toml"))
@@ -152,18 +171,7 @@ def main(argv=None) -> int:
         sc = dataclasses.replace(load_scenario(args.scenario), duration=args.duration)
         if args.f_sw is not None:
             sc = dataclasses.replace(sc, pwm=dataclasses.replace(sc.pwm, f_sw=args.f_sw))
-        loop = RtlClosedLoop(sc)
-        res = loop.run(progress=False, profile=True)
-        prof = dict(loop.profile)
-        n_win = len(res.t)
-        if args.start > 0:
-            image = (FW_OUT / "hfi_fw.elf").read_bytes()
-            head = RtlClosedLoop(dataclasses.replace(sc, duration=args.start))
-            n_win -= len(head.run(progress=False, profile=True).t)
-            if (FW_OUT / "hfi_fw.elf").read_bytes() != image:
-                raise ValueError("the firmware image changed between the two runs of --from (sources edited?): "
-                                 "run again")
-            prof = {k: v.astype(np.int64) - head.profile[k].astype(np.int64) for k, v in prof.items()}
+        prof, n_win, res = profile_stretch(sc, args.start)
     except (ScenarioError, RtlBackendError, ValueError, OSError) as exc:
         print(f"fw_profile: {exc}", file=sys.stderr)
         return 1

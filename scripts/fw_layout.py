@@ -135,24 +135,37 @@ def conflict_cost(lines: dict[int, float]) -> float:
     return sum(sum(v) - max(v) for v in sets.values() if len(v) > 1)
 
 
+def eviction_cost(before: dict[int, float], step: dict[int, float]) -> float:
+    """Expected refills of a step whose lines did not run in the stretch ``before`` it (lines -> clocks, as
+    :func:`line_clocks`): each such line of ``step`` (its share, as in :func:`conflict_cost`) whose cache set a line
+    of ``before`` used (the start-up modes evict the RUN path's code, warmed at boot, before the first step in RUN)."""
+    used = {line % SETS for line in before}
+    return sum(min(1.0, c / LINE_CLOCKS) for line, c in step.items() if line not in before and line % SETS in used)
+
+
 def search(head: list[Section], tail: list[Section], profiles: list[np.ndarray], restarts: int, seed: int,
-           progress: bool = True) -> tuple[list[Section], float, float]:
+           entries: list[tuple[np.ndarray, np.ndarray]] = (), progress: bool = True) -> tuple[list[Section], float, float]:
     """The order of ``tail`` (placed from its first section's address, after the fixed ``head``) with the least sum
     over ``profiles`` (clocks per period of every instruction word, one array per profiled stretch) of
-    :func:`conflict_cost`, found by moving one section at a time until no move lowers it, from the present order
+    :func:`conflict_cost` plus, for each of ``entries`` (the stretch before a step and the step), the step's
+    :func:`eviction_cost`, found by moving one section at a time until no move lowers it, from the present order
     and ``restarts`` shuffled ones; never longer than the present. Returns the order, its cost and the present's."""
-    fixed = [line_clocks(head, [s.addr for s in head], clocks) for clocks in profiles]
+    arrays = list(profiles) + [a for pair in entries for a in pair]
+    fixed = [line_clocks(head, [s.addr for s in head], clocks) for clocks in arrays]
     start = tail[0].addr
     _, end0 = place(tail, start)
 
     def cost(order: list[Section]) -> tuple[float, int]:
         addrs, end = place(order, start)
-        total = 0.0
-        for clocks, lines0 in zip(profiles, fixed):
+        maps = []
+        for clocks, lines0 in zip(arrays, fixed):
             lines = dict(lines0)
             for line, c in line_clocks(order, addrs, clocks).items():
                 lines[line] = lines.get(line, 0.0) + c
-            total += conflict_cost(lines)
+            maps.append(lines)
+        total = sum(conflict_cost(m) for m in maps[:len(profiles)])
+        rest = maps[len(profiles):]
+        total += sum(eviction_cost(rest[2 * k], rest[2 * k + 1]) for k in range(len(entries)))
         return total, end
 
     c0, _ = cost(tail)
@@ -203,13 +216,18 @@ STRETCHES = ((ROOT / "scenarios" / "varatharajan2020_torquestep.toml", 0.0, None
 simulated seconds (``None``: ``--duration``): the torque step (start-up, RUN at standstill, the 2 p.u. step: the low
 speed estimator alone) and the speed range's fusion band (both estimators, APP and the fusion weight's divide;
 docs/soc.md, "The fusion band")."""
+ENTRIES = ((ROOT / "scenarios" / "varatharajan2020_torquestep.toml", 0.01, 0.25),)
+"""Single steps whose code the steps before them evicted, each (scenario, from, at): the step at ``at`` s against
+the stretch from ``from`` (after the boot's warm-up) to ``at``: the torque step's first step in RUN."""
 
 
-def profile(duration: float) -> tuple[list[np.ndarray], list[float]]:
-    """Build the image and profile every stretch of :data:`STRETCHES` (its ``to`` ``None`` -> ``duration``): per
-    stretch, CPU clocks per period of every instruction word and instruction-cache lines refilled per period."""
+def profile(duration: float) -> tuple[list[np.ndarray], list[float], list[tuple[np.ndarray, np.ndarray]]]:
+    """Build the image and profile every stretch of :data:`STRETCHES` (its ``to`` ``None`` -> ``duration``) and
+    every step of :data:`ENTRIES`: per stretch, CPU clocks per period of every instruction word and
+    instruction-cache lines refilled per period (an entry's step: its refills, one number after the stretches'); per
+    entry, the clocks of the stretch before it and of the step."""
     build_firmware()
-    clocks, refills = [], []
+    clocks, refills, entries = [], [], []
     for path, t0, t1 in STRETCHES:
         sc = dataclasses.replace(load_scenario(path), duration=t1 if t1 is not None else duration)
         prof, n, res = fw_profile.profile_stretch(sc, t0)
@@ -218,7 +236,14 @@ def profile(duration: float) -> tuple[list[np.ndarray], list[float]]:
         print(f"fw_layout: {sc.name} from {t0:g} s to {sc.duration:g} s, {n} periods at {sc.pwm.f_sw:.0f} Hz: step "
               f"{res.soc['fw_cycles_mean']:.0f} CPU clocks mean, {res.soc['fw_cycles_max']} worst over the whole run, "
               f"{refills[-1]:.1f} lines refilled per period in the stretch", flush=True)
-    return clocks, refills
+    for path, t0, t1 in ENTRIES:
+        sc = load_scenario(path)
+        before, n, _ = fw_profile.profile_stretch(dataclasses.replace(sc, duration=t1), t0)
+        step, m, res = fw_profile.profile_stretch(dataclasses.replace(sc, duration=t1 + 1.0 / sc.pwm.f_sw), t1)
+        entries.append((before["cycles"] / n, step["cycles"] / m))
+        refills.append(float(step["fetch"].sum()) / (LINE_BYTES // 4) / m)
+        print(f"fw_layout: {sc.name}, the step at {t1:g} s: {refills[-1]:.1f} lines refilled", flush=True)
+    return clocks, refills, entries
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -234,13 +259,13 @@ def main(argv: list[str] | None = None) -> int:
         print("fw_layout: --duration must be > 0 and --restarts >= 0", file=sys.stderr)
         return 1
     try:
-        clocks, refills0 = profile(args.duration)
+        clocks, refills0, entries = profile(args.duration)
         sections = map_sections(FW_OUT / "hfi_fw.map")
         text = LINK_LD.read_text()
         first = first_listed(text, sections)
         head = [s for s in sections if s.addr < first.addr]
         tail = [s for s in sections if s.addr >= first.addr]
-        order, cost, cost0 = search(head, tail, clocks, args.restarts, args.seed)
+        order, cost, cost0 = search(head, tail, clocks, args.restarts, args.seed, entries)
         addrs, end = place(order, first.addr)
         print(f"{'section':40s} {'address':>8s} {'cache':>6s} {'clocks/period':>13s}")
         for s, a in zip(order, addrs):
@@ -253,7 +278,7 @@ def main(argv: list[str] | None = None) -> int:
             a, b = group_bounds(text)
             LINK_LD.write_text(text[:a] + "".join(f"        {s.link_line()}\n" for s in order) + text[b:])
             try:
-                _, refills = profile(args.duration)
+                _, refills, _ = profile(args.duration)
             except (RtlBackendError, ValueError, OSError):
                 LINK_LD.write_text(text)
                 raise

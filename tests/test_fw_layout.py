@@ -131,6 +131,17 @@ def test_layout_tool_cost_counts_the_lines_that_share_a_set():
     assert fl.conflict_cost({0: 8.0, 1: 8.0, n + 2: 8.0}) == 0.0           # three sets, one line each
 
 
+def test_layout_tool_eviction_cost_charges_lines_new_to_the_step():
+    """eviction_cost: a line of the step that did not run before it is charged its share when a line that ran before
+    it used its set; a line that ran before, or one in a set nothing used, costs nothing."""
+    fl = _fw_layout()
+    n = fl.SETS
+    before = {0: 8.0, 1: 8.0}
+    assert fl.eviction_cost(before, {n: 8.0}) == 1.0                      # new line, set 0 used before
+    assert fl.eviction_cost(before, {n + 1: 2.0}) == 0.25                 # its share: 2 clocks over 8
+    assert fl.eviction_cost(before, {0: 8.0, 2: 8.0, n + 5: 8.0}) == 0.0   # ran before; sets 2 and 5 unused
+
+
 def test_link_script_names_only_sections_the_image_has():
     """Every line of link.ld's last group names a section of the image's link map (a renamed function would
     otherwise fall silently to the catch-all, out of the chosen order)."""

@@ -19,8 +19,8 @@ how many are refilled every period (docs/soc.md, "The instruction cache"). This 
    (:data:`ENTRIES`: its lines the start-up modes evicted since the boot's warm-up), with ``.text`` no longer than it
    was;
 3. prints the order with each section's address and cache offset; ``--write`` puts it into link.ld's ``003`` group,
-   builds and profiles again, and keeps it only if the measured refills (summed over both stretches) are fewer (the cost ranks orders only
-   roughly: docs/soc.md, "The 003 group's order"); otherwise link.ld is put back.
+   builds and profiles again, and keeps it only if the measured refills (summed over the stretches and the entry
+   step) are fewer (the cost ranks orders only roughly: docs/soc.md, "The 003 group's order"); otherwise link.ld is put back.
 
     python scripts/fw_layout.py [--duration 1.0] [--restarts 8] [--seed 1] [--write]
 """

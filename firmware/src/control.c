@@ -1327,7 +1327,9 @@ static __attribute__((noinline)) void hfo_step(struct fw_hfo_state *e, const str
     const int64_t f_n = (int64_t)hp->g_b + hp->wg_b - abs64(w_i);
     const int64_t f_d = 2 * (int64_t)hp->wg_b;
     const int32_t f = f_n <= 0 ? 0 : f_n >= f_d ? 65536 : SAT_DIV64(f_n * 65536, f_d, 18);
-    fw_idle_work = f == 65536 && 8 * (f_n - f_d) < (int64_t)hp->g_b - hp->wg_b; /* fw_hfo_idle: warm it */
+    /* fw_hfo_idle: warm it from 7/8 of the band's lower edge on, and stop at 31/32 */
+    fw_idle_work = f == 65536 && 8 * (f_n - f_d) < (int64_t)hp->g_b - hp->wg_b &&
+                   32 * (f_n - f_d) >= (int64_t)hp->g_b - hp->wg_b;
     /* 4. low speed */
     int64_t eps_h = 0;
     int valid = 0;
@@ -1448,13 +1450,15 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
 /* The idle loop's part (fw_idle), beside golden (which has no caches): the step's code in the instruction cache
  * before the fusion band. The step runs APP from the band's lower edge |w_i| > g_b - wg_b on; until then that code
  * has not run, its cache lines belong to others, and the band's first step refilled them (4081 CPU clocks, 82 % of
- * the 10 kHz period, where the band's other steps take up to 3594: docs/soc.md). From 7/8 of that speed on (the step
- * sets fw_idle_work), the idle loop runs the step once per period on a copy of the state with the PLL's speed inside
+ * the 10 kHz period, where the band's other steps take up to 3594: docs/soc.md). From 7/8 to 31/32 of that speed (the
+ * step sets fw_idle_work), the idle loop runs the step once per period on a copy of the state with the PLL's speed inside
  * the band (both estimators and the fusion run; the copy's step clears fw_idle_work), the window's currents the last
  * ones: nothing is written but the copy, and the accelerators' and the fixed-point unit's results are its own (an
  * interrupted sequence only spoils the copy's: the step starts each of its own). The next step pays for it (the
  * copy's APP evicts lines of the low-speed code: about 180 CPU clocks), so the zone is narrow: from half the edge on,
- * the 2 p.u. torque step's speed transient put 15 steps above 3500. Empty where FW_IDLE_WARM is 0. */
+ * the 2 p.u. torque step's speed transient put 15 steps above 3500. It ends below the edge: the steps of the last
+ * 1/32 run without it and restore their own lines (APP's stay, the step's code does not evict them), so the band's
+ * first step no longer pays for the last copy (3556 -> 3391 CPU clocks). Empty where FW_IDLE_WARM is 0. */
 void fw_hfo_idle(const struct fw_state *st, const struct fw_params *p)
 {
 #if FW_IDLE_WARM

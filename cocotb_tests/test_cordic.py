@@ -80,7 +80,7 @@ def test_cordic(sim, width, iterations, tmp_path, request):
         hdl_runner.run_cocotb(
             sim=sim, toplevel=SWEEP_TOP, sources=[*hdl_runner.rtl_sources("hfi_cordic.v"), wrapper],
             tb_module="tb_cordic", build_dir=build_dir, env=env, expect_tests=N_COCOTB_TESTS,
-            random_n=random_n)
+            random_n=random_n, public_all=True)    # tb_cordic drives the instance under test inside the sweep
     else:
         hdl_runner.run_cocotb(
             sim=sim, toplevel=TOP, sources=hdl_runner.rtl_sources("hfi_cordic.v"), tb_module="tb_cordic",

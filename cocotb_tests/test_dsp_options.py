@@ -27,4 +27,5 @@ def test_dsp_options(tmp_path, on):
                         TB_DIR / "hdl" / "tb_hfi_dsp.v"],
                tb_module="tb_dsp_options", build_dir=build,
                parameters={"ADC_BITS": bits, "ROT_INJ": on, "DIFF_CIC": on, "FCS_MPC": on},
-               env={"HFI_OPTIONS_ON": on}, build_args=["--timing"], expect_tests=3)
+               env={"HFI_OPTIONS_ON": on}, build_args=["--timing"], expect_tests=3,
+               public_all=True)    # tb_dsp_options reads hfi_dsp's compares (dut.dut.cmp_*)

@@ -39,4 +39,5 @@ def test_soc_ctl(sim, tmp_path):
         sources=[*hdl_runner.rtl_sources(*RTL_FILES), hdl_runner.TB_DIR / "hdl" / "tb_soc_ctl_ram.v"],
         tb_module="tb_soc_ctl", build_dir=build,
         parameters={"RAM_WORDS": RAM_WORDS, "RAM_INIT": f'"{image}"'},
-        env={"HFI_RAM_INIT": image}, expect_tests=N_TESTS, random_n=RANDOM_N[sim])
+        env={"HFI_RAM_INIT": image}, expect_tests=N_TESTS, random_n=RANDOM_N[sim],
+        public_all=True)    # tb_soc_ctl deposits into the cycle counter, dut.u_ctl.cycles

@@ -55,6 +55,7 @@ for _p in (ROOT, ROOT / "scripts", TB_DIR):
         sys.path.insert(0, str(_p))
 import synth_module  # noqa: E402  (read-only: module_files; synth_report: the ECP5 script, the tool runner)
 import synth_report as sr  # noqa: E402
+from hdl_runner import public_top_vlt  # noqa: E402
 
 TOP = "hfi_dsp"
 NETLIST_TOP = "hfi_dsp_netlist"
@@ -73,12 +74,11 @@ TB_MODULE = "tb_dsp_replay"
 LONG_S = 0.201
 """The long replay (make gatelevel): the duration of cocotb_tests/test_dsp_replay.py (1004 windows)."""
 SYNTH_TIMEOUT_S = 10 * 60
-PUBLIC_VLT = '`verilator_config\npublic_flat_rw -module "tb_hfi_dsp" -var "*"\n'
 VERILATOR_ARGS = ("--threads", "1", "--timing", "--no-public-flat-rw", "-DNO_INCLUDES",
                   "-Wno-fatal", "-Wno-lint", "-Wno-style", "-Wno-SPECIFYIGN")
 """As the RTL replay (one thread, the clock inside the simulator), and: no signal of the netlist public
 (cocotb's --public-flat-rw would keep every cell's internal wires: 226 MB of C++ instead of 21 MB; the
-testbench's ports, all tb_dsp_replay touches, are made public by PUBLIC_VLT), cells_sim.v without its
+testbench's ports, all tb_dsp_replay touches, made public by hdl_runner.public_top_vlt), cells_sim.v without its
 includes, the cell models' lint warnings not fatal."""
 INCLUDE_RE = re.compile(r'^\s*`include\s+"([^"]+)"', re.M)
 CELL_RE = re.compile(r"^  (\\\S+|[A-Za-z_]\S*) (?:#\(|\\?\S+ +\()$", re.M)
@@ -278,7 +278,7 @@ def build_simulator(netlist_key: str, adc_bits: int) -> Path:
         if not shutil.which("verilator"):
             raise GateLevelError("verilator not found (run scripts/setup.sh)")
     args = [*VERILATOR_ARGS]
-    key = _digest(netlist_key, PUBLIC_VLT, " ".join(args), f"ADC_BITS={adc_bits}", metadata.version("verilator"),
+    key = _digest(netlist_key, public_top_vlt(TB_TOP), " ".join(args), f"ADC_BITS={adc_bits}", metadata.version("verilator"),
                   metadata.version("cocotb"), *(p.read_bytes() for p in sources()[1:]))
     stamp = SIM_BUILD / "build.sha256"
     with _locked(".sim.lock"):
@@ -289,7 +289,7 @@ def build_simulator(netlist_key: str, adc_bits: int) -> Path:
               f"(about 2 min on 2 cores; ccache makes a rebuild of the same netlist faster)", flush=True)
         shutil.rmtree(SIM_BUILD, ignore_errors=True)
         SIM_BUILD.mkdir(parents=True)
-        (SIM_BUILD / "tb_public.vlt").write_text(PUBLIC_VLT)
+        (SIM_BUILD / "tb_public.vlt").write_text(public_top_vlt(TB_TOP))
         t0 = time.perf_counter()
         try:
             with _build_env():

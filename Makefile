@@ -20,11 +20,12 @@ run: setup
 
 # pytest exit code 5 ("no tests collected") counts as a failure. make test leaves out the tests marked deep and runs
 # the cocotb random runs at the suite's depth (cocotb_tests/hdl_runner.py); make deep runs every test at full depth
-# (HFI_DEEP=1: 100 000 random vectors per block under Verilator, the gate-level replay): README, Tests.
+# (HFI_DEEP=1: 100 000 random vectors per block under Verilator, the gate-level replay): README, Tests. make test
+# builds the co-simulation without the profile-guided training (HFI_SIM_PGO=0: hfi/rtl_backend.py build_sim).
 PYTEST = rc=0; $(ENV) .venv/bin/python -m pytest -q -p no:cacheprovider -n $(PYTEST_JOBS) --dist loadgroup
 PYTEST_RC = if [[ $$rc -eq 5 ]]; then echo "make $@: pytest collected no tests" >&2; exit 1; fi; exit $$rc
 test: setup
-	$(PYTEST) -m "not deep" $(PYTEST_ARGS) || rc=$$?; $(PYTEST_RC)
+	export HFI_SIM_PGO=0; $(PYTEST) -m "not deep" $(PYTEST_ARGS) || rc=$$?; $(PYTEST_RC)
 
 .PHONY: deep
 deep: setup

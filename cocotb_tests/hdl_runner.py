@@ -7,8 +7,8 @@ Random vectors: the testbenches draw from ``numpy.random.default_rng(seed)`` wit
 random_seed()``: ``HFI_SEED`` from the environment if set, else a fresh seed; the seed is printed (and
 recorded in the test log) so a failure can be replayed with ``HFI_SEED=<seed> make test``.
 ``HFI_RANDOM_N`` overrides the number of random vectors (default under Verilator :data:`RANDOM_N_SUITE` in ``make
-test`` and :data:`RANDOM_N` in ``make deep``, which sets ``HFI_DEEP=1``; :data:`RANDOM_N_ICARUS` under Icarus, which
-runs about ten times slower).
+test`` and :data:`RANDOM_N` in ``make deep``, which sets ``HFI_DEEP=1``; under Icarus, which runs about ten times
+slower, :data:`RANDOM_N_ICARUS_SUITE` and :data:`RANDOM_N_ICARUS`).
 
 Verilator builds are shared (:func:`shared_build`): tests that build the same top from the same sources with the
 same parameters and arguments (the five safety cases and the four replays of ``tb_hfi_dsp``, ...) compile it once
@@ -41,7 +41,10 @@ RANDOM_N_SUITE = 20_000
 """Random vectors per datapath module under Verilator in ``make test`` (README "Tests": the suite's 15 minutes on 2
 cores; the depth of issue 4 runs in ``make deep``)."""
 RANDOM_N_ICARUS = 10_000
-"""Random vectors per datapath module under Icarus (the second simulator; about 10x slower)."""
+"""Random vectors per datapath module under Icarus (the second simulator; about 10x slower) in ``make deep``."""
+RANDOM_N_ICARUS_SUITE = 2_000
+"""The same in ``make test``: Icarus checks that the RTL means the same to a second simulator, the random depth is
+Verilator's (docs/rtl.md, Verification)."""
 SIMULATORS = ("verilator", "icarus")
 BUILD_CACHE = ROOT / "out" / "cocotb_builds"
 """Where the shared Verilator builds live (:func:`shared_build`), one directory per build key."""
@@ -83,7 +86,7 @@ def random_count(sim: str) -> int:
     if env:
         return int(env)
     if sim != "verilator":
-        return RANDOM_N_ICARUS
+        return RANDOM_N_ICARUS if deep() else RANDOM_N_ICARUS_SUITE
     return RANDOM_N if deep() else RANDOM_N_SUITE
 
 

@@ -4,7 +4,7 @@ parameter point below.
 
 * ``test_adc_if_default``: the default parameters (12 bits, t_CONV 12 clocks, SCLK 50 MHz) as top level,
   ``hdl_runner.random_count`` random conversions (under Verilator ``RANDOM_N_SUITE`` in ``make test``,
-  ``RANDOM_N`` in ``make deep``; ``RANDOM_N_ICARUS`` under Icarus);
+  ``RANDOM_N`` in ``make deep``; ``RANDOM_N_ICARUS_SUITE`` and ``RANDOM_N_ICARUS`` under Icarus);
 * ``test_adc_if_sweep``: ADC_BITS x CONV_TICKS x SCLK_HALF = {1, 12, 16} x {1, 12, 40} x {1, 2, 5} in one
   build (a generated wrapper with 27 instances running concurrently), fewer conversions per point,
   plus the self-check of the BFM's protocol checks;

@@ -1,5 +1,5 @@
 """pytest side of the fixed-point instruction unit's tests: cocotb_tests/tb_cfu.py on rtl/hfi_cfu.v, both
-simulators (HFI_RANDOM_N random instructions: 100 000 under Verilator, 10 000 under Icarus)."""
+simulators (HFI_RANDOM_N random instructions: ``hdl_runner.random_count``, the suite's or ``make deep``'s depth)."""
 
 from __future__ import annotations
 

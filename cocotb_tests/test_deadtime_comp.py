@@ -1,7 +1,7 @@
 """cocotb tests of rtl/hfi_deadtime_comp.v against golden/fpga/deadtime_comp.py ``compensate``.
 
-The testbench is cocotb_tests/tb_deadtime_comp.py: HFI_RANDOM_N random compare sets (100 000 under
-Verilator, 10 000 under Icarus by default) and the directed cases (extremes, i_x around the RTL's
+The testbench is cocotb_tests/tb_deadtime_comp.py: HFI_RANDOM_N random compare sets (``hdl_runner.random_count``:
+100 000 under Verilator, 10 000 under Icarus in ``make deep``) and the directed cases (extremes, i_x around the RTL's
 saturation bound, start while busy, reset in mid-operation).
 """
 

@@ -3,8 +3,8 @@ Verilator and Icarus through the wrapper cocotb_tests/hdl/tb_flux_lut_ram.v (the
 from rtl/hfi_ram.v's port b, wired as in hfi_soc), and lint.
 
 The cocotb coroutines are in tb_flux_lut.py (directed, random_lookups, extreme_tables, reset_mid_operation,
-start_while_busy); HFI_RANDOM_N look-ups (default hdl_runner.RANDOM_N on Verilator, RANDOM_N_ICARUS on
-Icarus) against golden ``lut_point`` on the real motor table and random tables, each load at new random
+start_while_busy); HFI_RANDOM_N look-ups (default ``hdl_runner.random_count``: the suite's or ``make deep``'s depth
+per simulator) against golden ``lut_point`` on the real motor table and random tables, each load at new random
 byte bases in the RAM.
 """
 

@@ -9,7 +9,7 @@ import hdl_runner
 
 
 @pytest.mark.parametrize("deep, sim, expected", [(None, "verilator", 20_000), ("0", "verilator", 20_000),
-                                                 ("1", "verilator", 100_000), (None, "icarus", 10_000),
+                                                 ("1", "verilator", 100_000), (None, "icarus", 2_000),
                                                  ("1", "icarus", 10_000)])
 def test_random_count_follows_the_depth(monkeypatch, deep, sim, expected):
     monkeypatch.delenv("HFI_RANDOM_N", raising=False)

@@ -1,7 +1,7 @@
 """rtl/hfi_vector.v against golden/firmware/vector.py (spec 5.3): cocotb on Verilator and Icarus, and lint.
 
 The cocotb coroutines are in tb_vector.py. Random pairs: hdl_runner's default counts (under Verilator 100 000 in
-``make deep``, the project rule for a bit-true block, and 20 000 in ``make test``; 10 000 under Icarus);
+``make deep``, the project rule for a bit-true block, and 20 000 in ``make test``; 10 000 and 2 000 under Icarus);
 ``HFI_RANDOM_N`` overrides both. The include file rtl/hfi_cordic_tables.vh is found through hdl_runner's include path
 (``rtl/``), as for hfi_cordic.v.
 """

@@ -76,3 +76,34 @@ def test_unknown_or_bad_options_are_refused():
         build_sim(options={"CIC": 0})
     with pytest.raises(RtlBackendError, match="build option ROT_INJ=2"):
         build_sim(options={"ROT_INJ": 2})
+
+
+def test_the_suite_builds_without_the_profile_guided_training(monkeypatch, tmp_path):
+    """The default scenario's system is built profile-guided (an instrumented build, the training run, a second
+    compile); with HFI_SIM_PGO=0 (`make test`) a plain build beside it (``<variant>_plain``), unless the profile-guided
+    one is up to date, which then serves. The compiler and the training are recorded here, not run."""
+    from hfi import rtl_backend
+
+    calls = []
+
+    def fake_run(cmd, what, cwd=ROOT):
+        calls.append(what)
+        if "-o" in cmd:                                  # a Verilator build: its library and object directory
+            Path(cmd[cmd.index("--Mdir") + 1]).mkdir(parents=True, exist_ok=True)
+            Path(cmd[cmd.index("-o") + 1]).write_bytes(b"lib")
+
+    monkeypatch.setattr(rtl_backend, "_run", fake_run)
+    monkeypatch.setattr(rtl_backend, "OUT_SIM", tmp_path)
+    monkeypatch.setenv("HFI_SIM_PGO", "0")
+    plain = build_sim(options=NONE)
+    assert plain.parent.name.endswith("_plain") and calls == ["Verilator build of hfi_soc"]
+    monkeypatch.delenv("HFI_SIM_PGO")
+    calls.clear()
+    guided = build_sim(options=NONE)
+    assert guided.parent.name == plain.parent.name.removesuffix("_plain")
+    assert calls == ["Verilator build of hfi_soc", "training run of the profile-guided build",
+                     "Verilator build of hfi_soc"]
+    monkeypatch.setenv("HFI_SIM_PGO", "0")
+    calls.clear()
+    assert build_sim(options=NONE) == guided and calls == []          # up to date: it serves
+    assert build_sim(options=EVERY_BLOCK).parent.name == "fast" and calls == ["Verilator build of hfi_soc"]

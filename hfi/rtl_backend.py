@@ -219,8 +219,9 @@ def build_sim(fst: bool = False, profile: bool = False, options: dict[str, int] 
     if verilator is None:
         raise RtlBackendError("verilator is not on PATH: run `make setup` and `source scripts/env.sh`")
     # profile-guided for the system of the default scenario (PGO_TRAIN's: the build `make run` and `make bench`
-    # simulate; `make test` a plain one, below); the other systems' builds, the waveform and profile variants, the commissioning RAM and the SoC
-    # without the accelerators are compiled once (a profile of their own would need a training run of their own)
+    # simulate; `make test` a plain one, below); the other systems' builds, the waveform and profile variants, the
+    # commissioning RAM and the SoC without the accelerators are compiled once (a profile of their own would need a
+    # training run of their own)
     pgo = not (fst or profile) and params == _pgo_system()
     # hidden visibility and no semantic interposition: calls inside the library bind locally, without the PLT (its
     # interface is soc_sim.h's, pushed default there): 8-20 % more clocks per second (docs/soc.md, "Measured")

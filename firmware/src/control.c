@@ -1450,9 +1450,9 @@ void fw_hfo_step(struct fw_state *st, const struct fw_params *p, const struct fw
 /* The idle loop's part (fw_idle), beside golden (which has no caches): the step's code in the instruction cache
  * before the fusion band. The step runs APP from the band's lower edge |w_i| > g_b - wg_b on; until then that code
  * has not run, its cache lines belong to others, and the band's first step refilled them (4081 CPU clocks, 82 % of
- * the 10 kHz period, where the band's other steps take up to 3594: docs/soc.md). From 7/8 to 31/32 of that speed (the
- * step sets fw_idle_work), the idle loop runs the step once per period on a copy of the state with the PLL's speed inside
- * the band (both estimators and the fusion run; the copy's step clears fw_idle_work), the window's currents the last
+ * the 10 kHz period, where the band's other steps take up to 3594: docs/soc.md). From 7/8 to 31/32 of that speed
+ * (the step sets fw_idle_work), the idle loop runs the step once per period on a copy of the state with the PLL's
+ * speed inside the band (both estimators and the fusion run; the copy's step clears fw_idle_work), the window's currents the last
  * ones: nothing is written but the copy, and the accelerators' and the fixed-point unit's results are its own (an
  * interrupted sequence only spoils the copy's: the step starts each of its own). The next step pays for it (the
  * copy's APP evicts lines of the low-speed code: about 180 CPU clocks), so the zone is narrow: from half the edge on,

@@ -307,6 +307,8 @@ def _firmware_params(sc: Scenario) -> FirmwareParams:
         i_trip=sc_.current(ctl.i_trip),
         w_up=sc_.speed_mech(est.handover_up), w_down=sc_.speed_mech(est.handover_down),
         merge=lowpass_coef(1.0 / (2 * math.pi * est.merge_time), f_sw), fixed_angle=fixed,
+        wd_delta=round(est.watchdog_angle / (2 * math.pi) * 2**32), wd_speed=sc_.speed_mech(est.watchdog_speed),
+        wd_hold=round(est.watchdog_hold * f_sw),
         rot=rot_bpf_params(sc) if METHOD_ROT_BPF in methods else None,
         smo=eemf_smo_params(sc) if METHOD_EEMF_SMO in methods else None,
         cic=sqw_cic_params(sc) if METHOD_SQW_CIC in methods else None,

@@ -85,6 +85,15 @@ def _below_half_turn(x: float) -> str | None:
     return None if 0 < x < math.pi else "must be > 0 and below 180 deg (the firmware's int32 binary angle)"
 
 
+def _off_or_below_half_turn(x: float) -> str | None:
+    """An angle threshold the firmware holds as a binary angle, 0 meaning off."""
+    return None if 0 <= x < math.pi else "must be >= 0 (0: off) and below 180 deg (the firmware's int32 binary angle)"
+
+
+def _hold_time(x: float) -> str | None:
+    return None if 0 <= x <= 10 else "must be between 0 and 10 s"
+
+
 def _even_2_to_16(x: int) -> str | None:
     return None if 2 <= x <= 16 and x % 2 == 0 else "must be an even integer in 2..16 (the plant's range)"
 
@@ -285,6 +294,9 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "handover_up": _q("speed", _non_negative, default=350 * math.pi / 30),
         "handover_down": _q("speed", _non_negative, default=300 * math.pi / 30),
         "merge_time": _q("time", _positive, default=0.02),
+        "watchdog_angle": _q("angle", _off_or_below_half_turn, default=0.0),
+        "watchdog_speed": _q("speed", _non_negative, default=100 * math.pi / 30),
+        "watchdog_hold": _q("time", _hold_time, default=0.05),
         "sqw_bangbang": _TABLE,
         "rfo": _TABLE,
         "rot_bpf": _TABLE,
@@ -541,7 +553,9 @@ class ControlSettings:
 class EstimatorSettings:
     """The estimator slots (``estimator.*``, docs/methods.md): ``low`` and ``high`` method names
     (``high`` may be ``"none"``), the hand-over speeds [rad/s mechanical] and the merge time constant [s];
-    ``params``: method name -> that method's own table (SI values, defaults filled in)."""
+    ``params``: method name -> that method's own table (SI values, defaults filled in); the hand-over's watchdog
+    (docs/methods.md): the angle between the two slots beyond which it acts [rad electrical, 0: off], the speed
+    above which it acts [rad/s mechanical] and how long its hand-over holds [s]."""
 
     low: str
     high: str
@@ -549,6 +563,9 @@ class EstimatorSettings:
     handover_down: float
     merge_time: float
     params: dict
+    watchdog_angle: float = 0.0
+    watchdog_speed: float = 0.0
+    watchdog_hold: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -1128,6 +1145,9 @@ def _check_estimator(reader: _Reader) -> None:
     if reader.get("protection.catch_probe") and not reader.get("protection.catch_time"):
         reader.error("protection.catch_probe", "the short-circuit probe is the flying start's first step: it needs "
                      "protection.catch_time > 0")
+    if reader.get("estimator.watchdog_angle") and reader.get("estimator.high") in (None, "none"):
+        reader.error("estimator.watchdog_angle", "the hand-over's watchdog compares the two slots' angles: it needs "
+                     "a high-speed estimator (estimator.high)")
     up, down = reader.get("estimator.handover_up"), reader.get("estimator.handover_down")
     if up is not None and down is not None and down > up:
         reader.error("estimator.handover_down",
@@ -1254,7 +1274,8 @@ def _make_scenario(reader: _Reader, plant: dict, source: str) -> Scenario:
             get("estimator.low"), get("estimator.high"), get("estimator.handover_up"),
             get("estimator.handover_down"), get("estimator.merge_time"),
             {name: {key: get(f"estimator.{name}.{key}") for key in SCHEMA[f"estimator.{name}"]}
-             for name in METHODS}),
+             for name in METHODS},
+            get("estimator.watchdog_angle"), get("estimator.watchdog_speed"), get("estimator.watchdog_hold")),
         preset=reader.values.get("motor.preset"),
         source=source,
         faults=tuple(sorted(get("faults") or [], key=lambda f: f.at)),

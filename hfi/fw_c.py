@@ -44,7 +44,7 @@ STATE_FIELDS = ("mode", "n", "theta_hat", "flipped", "speed_f", "speed_int", "id
                 "pol_pos", "pol_neg", "i_d", "i_q", "i_d_ref", "i_q_ref", "active", "offset", "speed_cnt", "i_s_ref", "i_s_cmd",
                 "vec_before", "fault", "asc", "emf_d", "emf_q", "track_f", "ovl_n", "ovl_e", "e0", "hf_ref", "hf_f",
                 "vdc_lo_n", "vdc_hi_n", "frz_a", "frz_b", "restarts",
-                "lobs_w", "lobs_i")
+                "lobs_w", "lobs_i", "wd_n")
 """Scalar fields shared by ``struct fw_state`` and :class:`~golden.firmware.supervisor.Firmware`
 (besides the slot outputs ``est_theta``/``est_omega``, the output history ``act``/``prev`` and each
 method's state block, named by the method's ``PARAMS``)."""

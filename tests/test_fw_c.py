@@ -839,7 +839,13 @@ def random_params(rng: np.random.Generator, fixed: bool, prot: bool = False) -> 
         speed_div=draw_one(rng, 1, 20, (1, 10)), i_slew=draw_one(rng, 0, 1 << 30, (0, 1, 33)),
         prot=random_prot(rng) if prot else ProtParams(),
         lobs=random_lobs(rng) if rng.random() < 0.5 else LoadObsParams(),
-        **(random_ff(rng) if rng.random() < 0.5 else {}))
+        **(random_ff(rng) if rng.random() < 0.5 else {}), **(random_wd(rng) if rng.random() < 0.5 else {}))
+
+
+def random_wd(rng: np.random.Generator) -> dict:
+    """The hand-over's watchdog on: any angle gap (its edges too), speed and hold."""
+    return dict(wd_delta=draw_one(rng, 1, 1 << 31, (1, 1 << 31, 0x1000_0000)),
+                wd_speed=draw_one(rng, 0, S32_MAX, (0, 1 << 20)), wd_hold=draw_one(rng, 0, 1 << 16, (0, 1, 250)))
 
 
 def random_ff(rng: np.random.Generator) -> dict:
@@ -1092,12 +1098,13 @@ def test_window_counter_saturates_at_int32_max():
     pair.check_state()
 
 
-def _running(active: int, speed_f: int, w_up: int, w_down: int) -> Firmware:
+def _running(active: int, speed_f: int, w_up: int, w_down: int, **wd) -> Firmware:
     """A firmware in RUN with the rotor flux observer as the high slot, the given slot in charge and
-    filtered speed (Q16 state), distinct angles in the two slots."""
+    filtered speed (Q16 state), distinct angles in the two slots (0x0800_0000 apart: 11.25 deg); ``wd``: the
+    watchdog's parameters."""
     rfo = RfoParams(r_s=2923, l_s=11_700_000, psi_f=11_000_000, k_c=5519, k_min=411, k_r=205887, pll_kp=13107,
                     pll_ki=167772, i_d=-2621, l_dq=-1_252_000)
-    fw = Firmware(_params(high=METHOD_RFO, rfo=rfo, w_up=w_up, w_down=w_down, merge=2000))
+    fw = Firmware(_params(high=METHOD_RFO, rfo=rfo, w_up=w_up, w_down=w_down, merge=2000, **wd))
     fw.mode, fw.n, fw.active, fw.speed_f = MODE_RUN, 5, active, speed_f
     fw.slots[SLOT_LOW].theta = fw.est_theta[SLOT_LOW] = 0x1000_0000
     fw.slots[SLOT_HIGH].theta = fw.est_theta[SLOT_HIGH] = 0x1800_0000
@@ -1135,6 +1142,32 @@ def test_hand_over_down_syncs_the_low_slot_and_restarts_the_injection():
     assert out.v_h == fw.p.v_h and out.i_d_ref == 0
     pair.step(_win(gamma=5, sum_id=0, sum_iq=0), 0)      # the hold step: gamma ignored, PLL speed added
     assert lo.hold == 0
+
+
+@pytest.mark.parametrize("gap_limit, speed_limit, takes", [
+    (0x0400_0000, 1 << 20, True),      # 5.6 deg < 11.25 deg apart, 2^24 LSB/period above the speed limit: acts
+    (0x0C00_0000, 1 << 20, False),     # the angles within 16.9 deg: no
+    (0x0400_0000, 1 << 28, False),     # below its speed: no
+])
+def test_watchdog_hands_over_when_the_slots_disagree(gap_limit, speed_limit, takes):
+    """The watchdog (docs/methods.md): low slot in charge below w_up, the slots 11.25 deg apart; beyond
+    wd_delta above wd_speed the high slot takes charge at its own angle (offset 0) and holds for wd_hold
+    periods, even at zero speed; C = golden in every step."""
+    fw0 = _running(SLOT_LOW, (1 << 24) << 16, w_up=1 << 29, w_down=1 << 28, wd_delta=gap_limit,
+                   wd_speed=speed_limit, wd_hold=3)
+    pair = Pair(fw0.p, fw0)
+    fw = pair.fw
+    pair.step(_win(gamma=0, sum_id=0, sum_iq=0), 0)
+    assert fw.active == pair.st.active == (SLOT_HIGH if takes else SLOT_LOW)
+    if not takes:
+        return
+    assert fw.offset == 0 and fw.theta_hat == fw.est_theta[SLOT_HIGH] and fw.wd_n == 3
+    fw.speed_f = pair.st.speed_f = 0                      # far below w_down: the hold keeps the high slot
+    for n in (2, 1, 0):
+        pair.step(_win(gamma=0, sum_id=0, sum_iq=0), 0)
+        assert (fw.active, fw.wd_n) == (SLOT_HIGH, n)
+    pair.step(_win(gamma=0, sum_id=0, sum_iq=0), 0)        # the hold over: the ordinary hand-back
+    assert fw.active == SLOT_LOW
 
 
 # ---- the 000 blocks: band-pass/notch section, MTPA table, injection voltage ---------------------------------

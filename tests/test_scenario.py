@@ -503,6 +503,26 @@ def test_the_fcs_mpc_law_and_its_estimator_go_together():
     assert sc.control.law == "fcs_mpc" and sc.estimator.low == "hfo_proj"
 
 
+def test_the_hand_over_watchdog_keys():
+    """estimator.watchdog_*: refused without a high slot (nothing to compare with), outside 0..180 deg, below 0
+    rpm and beyond 10 s; on, they become the firmware's binary angle, speed LSB and periods."""
+    got = problems({"control": {}, "estimator": {"watchdog_angle": "35 deg"}})
+    assert any(p.startswith("estimator.watchdog_angle: the hand-over's watchdog compares the two slots' angles")
+               for p in got)
+    for key, value in (("watchdog_angle", "180 deg"), ("watchdog_angle", "-1 deg"), ("watchdog_speed", "-1 rpm"),
+                       ("watchdog_hold", "11 s")):
+        got = problems({"control": {}, "estimator": {"high": "rfo", key: value}})
+        assert any(p.startswith(f"estimator.{key}") for p in got), (key, got)
+    from golden.control_config import firmware_params
+    sc = scenario({"control": {}, "estimator": {"high": "rfo", "watchdog_angle": "45 deg", "watchdog_speed": "100 rpm",
+                                                "watchdog_hold": "50 ms"}})
+    p = firmware_params(sc)
+    pp, f_sw = sc.plant["mech"]["pole_pairs"], sc.pwm.f_sw
+    assert (p.wd_delta, p.wd_hold) == (2**29, round(0.05 * f_sw))
+    assert p.wd_speed == round(100 / 60 * pp / f_sw * 2**32)
+    assert firmware_params(scenario({"control": {}, "estimator": {"high": "rfo"}})).wd_delta == 0   # off by default
+
+
 def test_the_flying_start_needs_a_high_speed_estimator_and_the_foc_law():
     """protection.catch_time > 0 is refused without estimator.high (nothing could catch the rotor) and under the
     fcs_mpc law (the catch holds the currents at zero with the current PIs); with both it becomes catch_n periods."""

@@ -2126,18 +2126,40 @@ static void sync_slot(struct fw_state *st, const struct fw_params *p, int32_t sl
     st->est_omega[slot] = omega;
 }
 
-/* Firmware._hand_over (Benevieri et al. 2023, Sec. IV-F) */
+/* magnitude of an s32 as u32 (abs for every s32, INT32_MIN included) */
+static inline uint32_t mag32(int32_t x)
+{
+    return x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
+}
+
+/* Firmware._hand_over (Benevieri et al. 2023, Sec. IV-F), with the watchdog (wd_delta != 0) */
 static void hand_over(struct fw_state *st, const struct fw_params *p)
 {
     if (p->high == FW_METHOD_NONE)
         return;
-    int32_t w = fw_lowpass_out(st->speed_f);
-    uint32_t mag = w < 0 ? 0u - (uint32_t)w : (uint32_t)w;   /* abs(omega_f) for every s32 */
+    uint32_t mag = mag32(fw_lowpass_out(st->speed_f));
 
-    if (st->active == FW_SLOT_LOW && mag > (uint32_t)p->w_up) {
-        st->active = FW_SLOT_HIGH;
-        st->offset = (int32_t)(st->est_theta[FW_SLOT_LOW] - st->est_theta[FW_SLOT_HIGH]);
-    } else if (st->active == FW_SLOT_HIGH && mag < (uint32_t)p->w_down) {
+    if (p->wd_delta) {
+        if (st->wd_n > 0) {
+            st->wd_n--;
+            return;
+        }
+        uint32_t hi = mag32(st->est_omega[FW_SLOT_HIGH]);
+        mag = hi > mag ? hi : mag;
+    }
+    if (st->active == FW_SLOT_LOW) {
+        int32_t gap = (int32_t)(st->est_theta[FW_SLOT_LOW] - st->est_theta[FW_SLOT_HIGH]);
+        int wrong = p->wd_delta && mag32(gap) > p->wd_delta;
+
+        if (mag > (uint32_t)p->w_up) {
+            st->active = FW_SLOT_HIGH;
+            st->offset = wrong ? 0 : gap;
+        } else if (wrong && mag > (uint32_t)p->wd_speed) {
+            st->active = FW_SLOT_HIGH;
+            st->offset = 0;
+            st->wd_n = p->wd_hold;
+        }
+    } else if (mag < (uint32_t)p->w_down) {
         uint32_t theta = angle_in_use(st);
 
         st->active = FW_SLOT_LOW;

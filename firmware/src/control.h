@@ -484,6 +484,10 @@ struct fw_params {
     int32_t ff_nom;          /* dc-link voltage feed-forward (golden.firmware.dc_feedforward): 0 = off */
     int32_t ff_lo;
     int32_t ff_hi;
+    uint32_t wd_delta;       /* the hand-over's watchdog (docs/methods.md): the slots' angle gap beyond which it acts
+                              * (0 = off, below 2^31), the speed above which it acts and the periods its hand-over holds */
+    int32_t wd_speed;
+    int32_t wd_hold;
 };
 
 /* A divisor and its magic number for fw_window_means (control.c, div_magic): m and t are valid for n >= 3 and
@@ -574,6 +578,8 @@ struct fw_state {
     struct fw_smo_state smo;
     struct fw_cic_state cic;
     struct fw_hfo_state hfo;
+    int32_t wd_n;                  /* the hand-over's watchdog: periods its hand-over still holds (after the blocks:
+                                    * the members before keep their offsets, the cache layout of the state) */
     struct fw_ident *ident;        /* the identification program and its executor's state (golden:
                                     * FirmwareParams.ident, Firmware.ident); NULL: none. Set by the caller before
                                     * fw_init, which keeps it (the only member it does not clear; with FW_NO_IDENT

@@ -143,6 +143,12 @@ class FirmwareParams:
         Hand-over speeds on the filtered speed [speed LSB], 0 <= w_down <= w_up.
     merge : int
         Per-period decay of the hand-over angle offset (Q16, 0..65536).
+    wd_delta, wd_speed, wd_hold : int
+        The hand-over's watchdog (docs/methods.md, "The watchdog"; ``wd_delta = 0``: off): with the low slot
+        in charge in RUN, when ``max(|omega_f|, |high slot's omega|) > wd_speed`` [speed LSB] and the two slots'
+        angles differ by more than ``wd_delta`` [binary angle, 0..2^31], the high slot takes charge at its own
+        angle and keeps it for ``wd_hold`` periods. With it on, the hand-over speeds compare that larger speed,
+        and an upward hand-over whose offset exceeds ``wd_delta`` takes the high slot's angle too.
     fixed_angle : int or None
         Binary angle for the open-loop test; None for normal operation.
     inj_rot, inj_cd, inj_sd : int
@@ -229,6 +235,9 @@ class FirmwareParams:
     ff_lo: int = 0
     ff_hi: int = 0
     ident: IdentParams | None = None
+    wd_delta: int = 0
+    wd_speed: int = 0
+    wd_hold: int = 0
 
 
 @dataclass(frozen=True)
@@ -309,6 +318,7 @@ class Firmware:
     pr_theta: int = 0
     pr_delta: int = 0
     restarts: int = 0                # automatic restarts done
+    wd_n: int = 0                    # the hand-over's watchdog: periods its hand-over still holds
     ident: Ident | None = None       # the identification program's executor (FirmwareParams.ident)
     slots: list = field(init=False)
 
@@ -585,15 +595,25 @@ class Firmware:
         return uwrap(self.est_theta[SLOT_HIGH] + self.offset, 32)
 
     def _hand_over(self) -> None:
-        """Benevieri et al. 2023, Sec. IV-F: switch slots at w_up / w_down (hysteresis), bumpless."""
+        """Benevieri et al. 2023, Sec. IV-F: switch slots at w_up / w_down (hysteresis), bumpless; with the
+        watchdog on (``wd_delta``), also when the two slots' angles disagree (FirmwareParams, docs/methods.md)."""
         p, hi = self.p, self.slots[SLOT_HIGH]
         if hi is None:
             return
         w = abs(self.omega_f)
-        if self.active == SLOT_LOW and w > p.w_up:
-            self.active = SLOT_HIGH
-            self.offset = wrap(self.est_theta[SLOT_LOW] - self.est_theta[SLOT_HIGH], 32)
-        elif self.active == SLOT_HIGH and w < p.w_down:
+        if p.wd_delta:
+            if self.wd_n > 0:
+                self.wd_n -= 1
+                return
+            w = max(w, abs(self.est_omega[SLOT_HIGH]))
+        if self.active == SLOT_LOW:
+            gap = wrap(self.est_theta[SLOT_LOW] - self.est_theta[SLOT_HIGH], 32)
+            wrong = p.wd_delta and abs(gap) > p.wd_delta
+            if w > p.w_up:
+                self.active, self.offset = SLOT_HIGH, 0 if wrong else gap
+            elif wrong and w > p.wd_speed:
+                self.active, self.offset, self.wd_n = SLOT_HIGH, 0, p.wd_hold
+        elif w < p.w_down:
             theta = self._angle()
             self.active, self.w_catch = SLOT_LOW, 0           # a flying start's raised speed limit ends here
             self._sync(SLOT_LOW, theta, self.est_omega[SLOT_HIGH])

@@ -2132,11 +2132,11 @@ static inline uint32_t mag32(int32_t x)
     return x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
 }
 
-/* Firmware._hand_over (Benevieri et al. 2023, Sec. IV-F), with the watchdog (wd_delta != 0) */
-static void hand_over(struct fw_state *st, const struct fw_params *p)
+/* Firmware._hand_over (Benevieri et al. 2023, Sec. IV-F), with the watchdog (wd_delta != 0); the caller tests
+ * p->high. Not inlined: its code lies after the 003 group (link.ld), so that the 003 step's cache layout does not
+ * depend on its size. */
+static __attribute__((noinline)) void hand_over(struct fw_state *st, const struct fw_params *p)
 {
-    if (p->high == FW_METHOD_NONE)
-        return;
     uint32_t mag = mag32(fw_lowpass_out(st->speed_f));
 
     if (p->wd_delta) {
@@ -2613,7 +2613,8 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         if (st->mode == FW_RUN) {
             int32_t code;
 
-            hand_over(st, p);
+            if (p->high != FW_METHOD_NONE)
+                hand_over(st, p);
             run_refs(st, p, speed_ref, &i_d_ref, &i_q_ref);
             int32_t v_d = act0(st)->v_d, v_q = act0(st)->v_q;
 

@@ -22,7 +22,10 @@ how many are refilled every period (docs/soc.md, "The instruction cache"). This 
    builds and profiles again, and keeps it only if the measured refills (summed over the stretches and the entry
    step) are fewer (the cost ranks orders only roughly: docs/soc.md, "The 003 group's order"); otherwise link.ld is put back.
 
-    python scripts/fw_layout.py [--duration 1.0] [--restarts 8] [--seed 1] [--write]
+    python scripts/fw_layout.py [--duration 1.0] [--restarts 8] [--seed 1] [--weights W...] [--write]
+
+``--weights`` (one per stretch, then one per entry step; default all 1) weighs each number in the cost and in the
+keep test: the step whose clocks are nearest the budget can count more (2026-12-01: the fusion band).
 """
 
 from __future__ import annotations
@@ -146,13 +149,18 @@ def eviction_cost(before: dict[int, float], step: dict[int, float]) -> float:
 
 
 def search(head: list[Section], tail: list[Section], profiles: list[np.ndarray], restarts: int, seed: int,
-           entries: list[tuple[np.ndarray, np.ndarray]] = (), progress: bool = True) -> tuple[list[Section], float, float]:
-    """The order of ``tail`` (placed from its first section's address, after the fixed ``head``) with the least sum
+           entries: list[tuple[np.ndarray, np.ndarray]] = (), progress: bool = True,
+           weights: tuple[float, ...] | None = None) -> tuple[list[Section], float, float]:
+    """The order of ``tail`` (placed from its first section's address, after the fixed ``head``) with the least
+    (``weights``-weighted: one per profile, then one per entry; default all 1) sum
     over ``profiles`` (clocks per period of every instruction word, one array per profiled stretch) of
     :func:`conflict_cost` plus, for each of ``entries`` (the stretch before a step and the step), the step's
     :func:`eviction_cost`, found by moving one section at a time until no move lowers it, from the present order
     and ``restarts`` shuffled ones; never longer than the present. Returns the order, its cost and the present's."""
     arrays = list(profiles) + [a for pair in entries for a in pair]
+    weights = tuple(weights) if weights is not None else (1.0,) * (len(profiles) + len(entries))
+    if len(weights) != len(profiles) + len(entries):
+        raise ValueError(f"{len(weights)} weights for {len(profiles)} stretches and {len(entries)} entry steps")
     fixed = [line_clocks(head, [s.addr for s in head], clocks) for clocks in arrays]
     start = tail[0].addr
     _, end0 = place(tail, start)
@@ -165,9 +173,10 @@ def search(head: list[Section], tail: list[Section], profiles: list[np.ndarray],
             for line, c in line_clocks(order, addrs, clocks).items():
                 lines[line] = lines.get(line, 0.0) + c
             maps.append(lines)
-        total = sum(conflict_cost(m) for m in maps[:len(profiles)])
+        total = sum(w * conflict_cost(m) for w, m in zip(weights, maps[:len(profiles)]))
         rest = maps[len(profiles):]
-        total += sum(eviction_cost(rest[2 * k], rest[2 * k + 1]) for k in range(len(entries)))
+        total += sum(weights[len(profiles) + k] * eviction_cost(rest[2 * k], rest[2 * k + 1])
+                     for k in range(len(entries)))
         return total, end
 
     c0, _ = cost(tail)
@@ -253,10 +262,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--duration", type=float, default=1.0, help="simulated seconds profiled (default 1.0)")
     ap.add_argument("--restarts", type=int, default=8, help="shuffled starting orders (default 8)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--weights", type=float, nargs="+", default=None, metavar="W",
+                    help="one weight per stretch, then per entry step (default all 1)")
     ap.add_argument("--write", action="store_true",
                     help="write the order into link.ld's 003 group, measure it, and keep it only if it refills fewer "
                          "lines than the present order")
     args = ap.parse_args(argv)
+    if args.weights is not None and (len(args.weights) != len(STRETCHES) + len(ENTRIES) or min(args.weights) < 0):
+        print(f"fw_layout: --weights takes {len(STRETCHES) + len(ENTRIES)} numbers >= 0 (the stretches, then the entry "
+              "steps)", file=sys.stderr)
+        return 1
     if not args.duration > 0 or args.restarts < 0:
         print("fw_layout: --duration must be > 0 and --restarts >= 0", file=sys.stderr)
         return 1
@@ -267,7 +282,7 @@ def main(argv: list[str] | None = None) -> int:
         first = first_listed(text, sections)
         head = [s for s in sections if s.addr < first.addr]
         tail = [s for s in sections if s.addr >= first.addr]
-        order, cost, cost0 = search(head, tail, clocks, args.restarts, args.seed, entries)
+        order, cost, cost0 = search(head, tail, clocks, args.restarts, args.seed, entries, weights=args.weights)
         addrs, end = place(order, first.addr)
         print(f"{'section':40s} {'address':>8s} {'cache':>6s} {'clocks/period':>13s}")
         for s, a in zip(order, addrs):
@@ -285,7 +300,8 @@ def main(argv: list[str] | None = None) -> int:
                 LINK_LD.write_text(text)
                 raise
             was, now = " + ".join(f"{r:.1f}" for r in refills0), " + ".join(f"{r:.1f}" for r in refills)
-            if sum(refills) < sum(refills0):
+            w = args.weights or (1.0,) * len(refills)
+            if sum(a * r for a, r in zip(w, refills)) < sum(a * r for a, r in zip(w, refills0)):
                 print(f"fw_layout: kept in {LINK_LD.relative_to(ROOT)}: {was} -> {now} lines refilled per period "
                       "(one number per stretch)")
             else:

@@ -2133,8 +2133,8 @@ static inline uint32_t mag32(int32_t x)
 }
 
 /* Firmware._hand_over (Benevieri et al. 2023, Sec. IV-F), with the watchdog (wd_delta != 0); the caller tests
- * p->high. Not inlined: its code lies after the 003 group (link.ld), so that the 003 step's cache layout does not
- * depend on its size. */
+ * p->high. Not inlined: a section of its own at the end of link.ld's shared group, so that fw_step's size (and with
+ * it every address after it, the 003 group's cache layout) does not depend on its size. */
 static __attribute__((noinline)) void hand_over(struct fw_state *st, const struct fw_params *p)
 {
     uint32_t mag = mag32(fw_lowpass_out(st->speed_f));

@@ -14,7 +14,7 @@ how many are refilled every period (docs/soc.md, "The instruction cache"). This 
    weighed the torque step alone, where APP never runs, so APP's lines were placed blindly);
 2. takes the input sections from the first one of the ``/* 003 */`` group to the end of ``.text`` (the 003 method's
    functions and the code no step runs: start-up, sync, turn, the flying start, the library's division) and searches
-   their order (moves of one section, from the present order and from ``--restarts`` shuffled ones, fixed seed) for
+   their order (moves of one section and swaps of two, from the present order and from ``--restarts`` shuffled ones, fixed seed) for
    the least sum of both stretches' :func:`conflict_cost` and the :func:`eviction_cost` of the first step in RUN
    (:data:`ENTRIES`: its lines the start-up modes evicted since the boot's warm-up), with ``.text`` no longer than it
    was;
@@ -155,7 +155,8 @@ def search(head: list[Section], tail: list[Section], profiles: list[np.ndarray],
     (``weights``-weighted: one per profile, then one per entry; default all 1) sum
     over ``profiles`` (clocks per period of every instruction word, one array per profiled stretch) of
     :func:`conflict_cost` plus, for each of ``entries`` (the stretch before a step and the step), the step's
-    :func:`eviction_cost`, found by moving one section at a time until no move lowers it, from the present order
+    :func:`eviction_cost`, found by moving one section, or swapping two, at a time until no such change lowers it (a
+    swap keeps the sections between them in place where a move shifts them all), from the present order
     and ``restarts`` shuffled ones; never longer than the present. Returns the order, its cost and the present's."""
     arrays = list(profiles) + [a for pair in entries for a in pair]
     weights = tuple(weights) if weights is not None else (1.0,) * (len(profiles) + len(entries))
@@ -192,11 +193,17 @@ def search(head: list[Section], tail: list[Section], profiles: list[np.ndarray],
                 for j in range(len(cur)):
                     if i == j:
                         continue
-                    cand = list(cur)
-                    cand.insert(j, cand.pop(i))
-                    c, end = cost(cand)
-                    if c < cc - 1e-9 and end <= end0:
-                        cur, cc, improved = cand, c, True
+                    for swap in (False, True):
+                        if swap and j < i:
+                            continue
+                        cand = list(cur)
+                        if swap:
+                            cand[i], cand[j] = cand[j], cand[i]
+                        else:
+                            cand.insert(j, cand.pop(i))
+                        c, end = cost(cand)
+                        if c < cc - 1e-9 and end <= end0:
+                            cur, cc, improved = cand, c, True
         if cc < best_cost:
             best, best_cost = cur, cc
         if progress:

@@ -142,6 +142,32 @@ def test_layout_tool_eviction_cost_charges_lines_new_to_the_step():
     assert fl.eviction_cost(before, {0: 8.0, 2: 8.0, n + 5: 8.0}) == 0.0   # ran before; sets 2 and 5 unused
 
 
+def test_layout_tool_search_swaps_two_sections():
+    """search also swaps two sections, which keeps those between them in place: four one-line sections A, B (that run)
+    and C, D (that do not) after lines that run in cache sets 1 and 3; A sits in set 1. No move of one section
+    leaves both A and B out of sets 1 and 3 (checked here over every move); swapping A with D does, and search
+    finds it from the present order alone."""
+    import numpy as np
+    fl = _fw_layout()
+    lib = "/usr/lib/libgcc.a(_x.o)"                                   # word-aligned sections
+    cache = soc_platform.CPU_ICACHE_BYTES
+    head = [fl.Section(".text.h1", cache + 32, 32, lib), fl.Section(".text.h3", cache + 96, 32, lib)]
+    tail = [fl.Section(f".text.{n}", 32 * (k + 1), 32, lib) for k, n in enumerate("abcd")]
+    clocks = np.zeros((cache + 128 - soc_platform.RAM_BASE) // 4)
+    for s in head + tail[:2]:
+        clocks[(s.addr - soc_platform.RAM_BASE) // 4] = 8.0
+    fixed = fl.line_clocks(head, [s.addr for s in head], clocks)
+
+    def cost(order):
+        return fl.conflict_cost({**fixed, **fl.line_clocks(order, fl.place(order, 32)[0], clocks)})
+
+    assert cost(tail) == 1.0
+    moves = [tail[:i] + tail[i + 1:] for i in range(4)]
+    assert min(cost(m[:j] + [tail[i]] + m[j:]) for i, m in enumerate(moves) for j in range(4)) == 1.0
+    order, c, c0 = fl.search(head, tail, [clocks], restarts=0, seed=1, progress=False)
+    assert (c0, c) == (1.0, 0.0) and [s.name[6:] for s in order] == ["d", "b", "c", "a"]
+
+
 def test_link_script_names_only_sections_the_image_has():
     """Every line of link.ld's last group names a section of the image's link map (a renamed function would
     otherwise fall silently to the catch-all, out of the chosen order)."""

@@ -1,8 +1,7 @@
 """The firmware's C control algorithms (firmware/src/control.c, host build) equal the golden model bit for bit.
 
 Every C function is called once per input through cffi (hfi/fw_c.py) and compared with its golden
-twin of golden/firmware/ (and golden.fpga.cordic.sincos_q15): at least 100 000 random inputs each in ``make deep``
-(20 000 in ``make test``: :data:`N_RANDOM`), drawn
+twin of golden/firmware/ (and golden.fpga.cordic.sincos_q15): at least 100 000 random inputs each, drawn
 over the full legal ranges of the golden docstrings with the extremes and the saturating cases frequent,
 plus directed corner cases. fw_step is compared with Firmware.step on random parameter sets and window
 sequences that visit every supervisor state, every state field and every output after every step.
@@ -15,7 +14,6 @@ from __future__ import annotations
 
 import functools
 import gc
-import os
 import shutil
 import typing
 from dataclasses import fields as dataclass_fields, replace
@@ -68,9 +66,7 @@ S64_MIN, S64_MAX = -(1 << 63), (1 << 63) - 1
 U16_MAX, U32_MAX = (1 << 16) - 1, (1 << 32) - 1
 S16_MIN, S16_MAX = -(1 << 15), (1 << 15) - 1
 F_MIN, F_MAX = -(1 << 47), (1 << 47) - 1        # speed-filter state: shr(F, 16) in s32
-N_RANDOM = 100_000 if os.environ.get("HFI_DEEP", "") not in ("", "0") else 20_000
-"""Random inputs per C-against-golden test: 100 000 in ``make deep`` (``HFI_DEEP=1``), 20 000 in ``make test`` (the
-suite's 15 minutes on 2 cores), as the cocotb tests' vectors (cocotb_tests/hdl_runner.py, ``RANDOM_N``)."""
+N_RANDOM = 100_000
 METHODS_BY_ID = tuple(sorted(m.method for m in METHODS.values()))
 LOW_METHODS = tuple(sorted(m.method for m in METHODS.values() if SLOT_LOW in m.slots))
 HIGH_METHODS = tuple(sorted(m.method for m in METHODS.values() if SLOT_HIGH in m.slots))

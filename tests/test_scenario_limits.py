@@ -160,6 +160,14 @@ def test_pulse_is_free_without_the_current_polarity_test():
     accepted({"control": {"i_pulse": "7 A", "polarity": "pilot"}})
 
 
+@pytest.mark.parametrize("value", ["10 A", "2.7e304 A"])
+def test_pulse_within_the_sensor_range_without_the_current_polarity_test(value):
+    """Unused with another polarity method, but still turned into the firmware's parameter: 2.7e304 A (found by
+    tests/test_scenario_fuzz.py) overflowed the conversion with a traceback; refused at the sensors' range (10 A)."""
+    msg = problem({"control": {"i_pulse": value, "polarity": "pilot"}}, "control.i_pulse")
+    assert "sensors.adc_range = " + fq(10.0, "A") in msg and "no sample could measure it" in msg
+
+
 def test_dtc_zone_within_the_range():
     msg = problem({"control": {"dead_time_comp": "on", "dtc_zone": "11 A"}}, "control.dtc_zone")
     assert fq(10.0, "A") in msg

@@ -15,6 +15,8 @@ Every helper accepts a Python int or an int64 numpy array and returns the same k
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -122,8 +124,13 @@ def c_div(a, b):
 def to_fixed(value: float, frac_bits: int, bits: int | None = None) -> int:
     """Nearest integer to ``value * 2^frac_bits`` (half away from zero), saturated to ``bits`` if given.
 
-    For configuration constants computed from physical parameters (gains, scales), never in a datapath.
+    For configuration constants computed from physical parameters (gains, scales), never in a datapath. A value
+    whose scaled magnitude is not finite (infinite, NaN, or beyond a float: a scenario value of 1e153 Hz) is a
+    ValueError, which the callers name with the scenario keys it came from (control_config._named).
     """
-    raw = int(np.floor(abs(value) * (1 << frac_bits) + 0.5))
+    scaled = abs(value) * (1 << frac_bits)
+    if not math.isfinite(scaled):
+        raise ValueError(f"{value!r} times 2^{frac_bits} is not a finite number: no fixed-point constant holds it")
+    raw = int(np.floor(scaled + 0.5))
     raw = -raw if value < 0 else raw
     return raw if bits is None else sat(raw, bits)

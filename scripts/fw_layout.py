@@ -14,10 +14,10 @@ how many are refilled every period (docs/soc.md, "The instruction cache"). This 
    weighed the torque step alone, where APP never runs, so APP's lines were placed blindly);
 2. takes the input sections from the first one of the ``/* 003 */`` group to the end of ``.text`` (the 003 method's
    functions and the code no step runs: start-up, sync, turn, the flying start, the library's division) and searches
-   their order (moves of one section and swaps of two, from the present order and from ``--restarts`` shuffled ones, fixed seed) for
-   the least sum of both stretches' :func:`conflict_cost` and the :func:`eviction_cost` of the first step in RUN
-   (:data:`ENTRIES`: its lines the start-up modes evicted since the boot's warm-up), with ``.text`` no longer than it
-   was;
+   their order (moves of one section and swaps of two, from the present order and from ``--restarts`` shuffled ones,
+   fixed seed) for the least sum of both stretches' :func:`conflict_cost` and the :func:`eviction_cost` of the first
+   step in RUN (:data:`ENTRIES`: its lines the start-up modes evicted since the boot's warm-up), with ``.text`` no
+   longer than it was;
 3. prints the order with each section's address and cache offset; ``--write`` puts it into link.ld's ``003`` group,
    builds and profiles again, and keeps it only if the measured refills (summed over the stretches and the entry
    step) are fewer (the cost ranks orders only roughly: docs/soc.md, "The 003 group's order"); otherwise link.ld is put back.

@@ -249,7 +249,8 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
     Current PIs: technical optimum on the nominal L and R (k_p = L·ω_c, k_i = R·ω_c, ω_c = 2π·current_bw).
     Speed PI: k_p = J·ω_s / (K_t·p) [A per electrical rad/s], integral zero at ω_s/4 (ω_s = 2π·speed_bw),
     with K_t = 1.5·p·ψ_f. A magnetic model the controller's tables cannot invert (the MTPA point, the flux tables)
-    is reported with its source (a PlantError, a ValueError: one line on the command line).
+    is reported with its source (a PlantError, a ValueError: one line on the command line); so is a value that
+    overflows a float on the way (a ValueError), where no check names its key.
     """
     try:
         return _firmware_params(sc)
@@ -257,6 +258,11 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
         source = ("[model.saturation]" if sc.model is not None and sc.model.saturation is not None
                   else "[model]" if sc.model is not None else "the motor's magnetic model")
         raise PlantError(f"{source}: the controller's tables cannot invert it: {exc}") from exc
+    except (OverflowError, ZeroDivisionError) as exc:
+        # the net under the keyed checks (limits.py, _named, motion_gains): a value no check names overflows a float
+        # here rather than as a traceback (tests/test_scenario_fuzz.py searches for them)
+        raise ValueError(f"a scenario value is beyond the range the firmware's parameters are computed in "
+                         f"({exc})") from exc
 
 
 def _firmware_params(sc: Scenario) -> FirmwareParams:
@@ -602,14 +608,17 @@ def motion_gains(sc: Scenario, observer_bw: float, torque_ff: bool, method: str)
     a = 2 * math.pi * observer_bw
     turn = 2**32 / (2 * math.pi)                                 # binary angle per radian
     acc = p * 1.5 * p / cm.J * T * T * turn                 # n_p T_e / J per (N*m / 1.5 n_p) per period^2
-    g = {"c1": to_fixed((a * T) ** 3, 24), "c2": to_fixed(3 * (a * T) ** 2, 24), "c3": to_fixed(3 * a * T, 16),
-         "c_t": to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24) if torque_ff else 0,
-         "c_r": to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if torque_ff else 0}
+    why = "observer_bw, the motor's saliency or its J out of the range the firmware's integers hold"
+    try:
+        g = {"c1": to_fixed((a * T) ** 3, 24), "c2": to_fixed(3 * (a * T) ** 2, 24), "c3": to_fixed(3 * a * T, 16),
+             "c_t": to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24) if torque_ff else 0,
+             "c_r": to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if torque_ff else 0}
+    except (OverflowError, ValueError) as exc:     # (a T)^3 beyond a float: tests/test_scenario_fuzz.py, 2026-12-01
+        raise ValueError(f"estimator {method}: a gain is beyond a float ({exc}; a T = {a * T:.3g}): {why}") from None
     for name, v in g.items():
         lim = MOTION_LIMITS.get(name, 1 << 31)
         if not -lim <= v < lim:
-            raise ValueError(f"estimator {method}: {name} = {v} is outside +-{lim} (observer_bw, the motor's "
-                             "saliency or its J out of the range the firmware's integers hold)")
+            raise ValueError(f"estimator {method}: {name} = {v} is outside +-{lim} ({why})")
     return g
 
 

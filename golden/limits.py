@@ -135,9 +135,11 @@ def _check_tick(reader, plant: dict) -> float | None:
     return None
 
 
-def _ticks(seconds: float, tick: float) -> int:
-    """A duration as control_config.py turns it into a register value: rounded to whole ticks."""
-    return round(seconds * tick)
+def _ticks(seconds: float, tick: float) -> int | float:
+    """A duration as control_config.py turns it into a register value: rounded to whole ticks; ``inf`` when the
+    product is beyond a float (1.8e300 s: found by tests/test_scenario_fuzz.py), which every register check refuses."""
+    ticks = seconds * tick
+    return round(ticks) if math.isfinite(ticks) else math.inf
 
 
 def _check_pwm(reader, tick: float) -> None:

@@ -998,7 +998,8 @@ def _to_ticks(reader: _Reader, path: str, tick_hz: float) -> int | None:
     seconds = reader.values.get(path)
     if seconds is None or "pwm.tick_hz" in reader.invalid:
         return None
-    ticks = math.floor(seconds * tick_hz * (1 + 1e-9))
+    scaled = seconds * tick_hz * (1 + 1e-9)
+    ticks = math.floor(scaled) if math.isfinite(scaled) else math.inf      # inf: beyond a float, refused below
     text = format_quantity(seconds, "s")
     clock = f"pwm.tick_hz = {format_quantity(tick_hz, 'Hz')}"
     if ticks < 1:

@@ -166,7 +166,23 @@ def scales(sc: Scenario) -> Scales:
                   angle_period_deg=180.0 if sc.plant["mag"]["psi_f"] == 0 else 360.0)
 
 
+def _beyond_float(exc: ArithmeticError) -> ValueError:
+    """The net under the keyed checks (golden/limits.py, :func:`_named`, :func:`motion_gains`): a scenario value that
+    no check names overflows a float or divides by zero while the registers or the firmware's integers are computed
+    (tests/test_scenario_fuzz.py searches for them); one line instead of a traceback."""
+    return ValueError(f"a scenario value is beyond the range the register values and the firmware's parameters are "
+                      f"computed in ({exc})")
+
+
 def hardware_config(sc: Scenario) -> HardwareConfig:
+    """The hfi_dsp start-up register values of ``sc`` (a value beyond a float on the way: :func:`_beyond_float`)."""
+    try:
+        return _hardware_config(sc)
+    except (OverflowError, ZeroDivisionError) as exc:
+        raise _beyond_float(exc) from exc
+
+
+def _hardware_config(sc: Scenario) -> HardwareConfig:
     tick_hz, ctl = sc.pwm.tick_hz, sc.control
     half = round(tick_hz / (2 * sc.pwm.f_sw))
     sc_ = scales(sc)
@@ -259,10 +275,7 @@ def firmware_params(sc: Scenario) -> FirmwareParams:
                   else "[model]" if sc.model is not None else "the motor's magnetic model")
         raise PlantError(f"{source}: the controller's tables cannot invert it: {exc}") from exc
     except (OverflowError, ZeroDivisionError) as exc:
-        # the net under the keyed checks (limits.py, _named, motion_gains): a value no check names overflows a float
-        # here rather than as a traceback (tests/test_scenario_fuzz.py searches for them)
-        raise ValueError(f"a scenario value is beyond the range the firmware's parameters are computed in "
-                         f"({exc})") from exc
+        raise _beyond_float(exc) from exc
 
 
 def _firmware_params(sc: Scenario) -> FirmwareParams:

@@ -80,6 +80,12 @@ def _between(low: int, high: int) -> Check:
     return lambda x: None if low <= x <= high else f"must be between {low} and {high}"
 
 
+def _model_factor(x: float) -> str | None:
+    """A ``[model_error]`` factor: a wrong controller, not a different motor (0.01..100; the comparison's errors are
+    +-20 %). Found by tests/test_scenario_fuzz.py (2026-12-01): 5e-324 divided by zero in the HF current's scale."""
+    return None if 0.01 <= x <= 100.0 else "must be between 0.01 and 100 (a factor on the controller's motor data)"
+
+
 def _below_half_turn(x: float) -> str | None:
     """An angle limit the firmware holds as a binary angle (int32: below half a turn)."""
     return None if 0 < x < math.pi else "must be > 0 and below 180 deg (the firmware's int32 binary angle)"
@@ -425,7 +431,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         **{name: Field("number", check=_non_negative) for name in ("a_dd", "a_qq", "a_dq")},
         **{exp: Field("integer", check=_between(0, 64)) for exp in ("S", "T", "U", "V")},
     },
-    "model_error": {name: Field("number", check=_positive, default=1.0) for name in ("R_s", "L_d", "L_q", "psi_f", "J")},
+    "model_error": {name: Field("number", check=_model_factor, default=1.0)
+                    for name in ("R_s", "L_d", "L_q", "psi_f", "J")},
     "simulation": {
         "max_substep": _q("time", _positive),
         "max_substep_commutation": _q("time", _positive),

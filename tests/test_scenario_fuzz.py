@@ -141,6 +141,7 @@ def test_check_refuses_what_a_run_would_with_the_key(tmp_path, capsys):
     ("estimator.rot_bpf.observer_bw", 8.982391602669073e+105, "estimator rot_bpf: a gain is beyond a float"),
     ("control.sample_interval", 1.797693134862316e+300, "control.sample_interval: "),
     ("simulation.max_substep", 1.7976931330646225e+300, "simulation.max_substep: "),
+    ("model_error.L_d", 5e-324, "model_error.L_d: "),
 ])
 def test_values_found_by_the_fuzz_are_refused_with_their_key(path, value, key):
     """Values the arbitrary-value search found (2026-12-01) that overflowed a float with a traceback (OverflowError):
@@ -148,7 +149,7 @@ def test_values_found_by_the_fuzz_are_refused_with_their_key(path, value, key):
     magnitude is not finite), the polarity pulse of the 000 drive, unused with its pilot polarity but still
     converted (golden/limits.py: below the sensors' range), the 000 motion observer's (a T)^3 at 9e105 Hz
     (control_config.motion_gains), a sample interval and a plant substep of 1.8e300 s in ticks (limits._ticks,
-    scenario._to_ticks)."""
+    scenario._to_ticks), and a model-error factor of 5e-324 that divided by zero (factors within 0.01..100)."""
     name = "tap2023_fullload.toml" if path.startswith(("control.i_pulse", "estimator")) else "fullload_start.toml"
     with pytest.raises(ValueError, match=re.escape(key)):
         sc = parse_scenario(with_value(BASES[name], path, value), source="fuzz")

@@ -195,7 +195,8 @@ def test_model_error_of_ones_is_bit_exact_and_bad_factors_are_refused():
     text = str(exc.value)
     # L_d and L_q are equally close to L_x: either suggestion is right
     assert re.search(r"model_error\.L_x: unknown key \(did you mean 'L_[dq]'\?\)", text), text
-    assert "model_error.psi_f: must be > 0, got 0" in text and "model_error.J" in text
+    assert "model_error.psi_f: must be between 0.01 and 100 (a factor on the controller's motor data), got 0" in text
+    assert "model_error.J" in text
 
 
 def test_predicted_hf_current_of_a_model_without_an_inductance_parameter():

@@ -91,12 +91,16 @@ prove: setup
 # Register fuzzing (docs/fuzz.md): FUZZ_TRANSACTIONS random AXI4-Lite transactions on hfi_dsp with every
 # clock checked (no shoot-through, no gate on while a fault or STO/DESAT holds, bus answered), then as many
 # accesses on the SoC's native bus (hfi_soc_ctl, hfi_soc_acc); FUZZ_SEED=<n> replays a run (default: a
-# fresh seed, printed). make test runs short ones.
+# fresh seed, printed). make test runs short ones. Then FUZZ_SCENARIO_EXAMPLES arbitrary scenario values (Hypothesis,
+# a new search each time; a failure prints its example): each is refused in one line or accepted, never a traceback.
 FUZZ_TRANSACTIONS ?= 1000000
+FUZZ_SCENARIO_EXAMPLES ?= 100000
 .PHONY: fuzz
 fuzz: setup
 	$(ENV) FUZZ_TRANSACTIONS=$(FUZZ_TRANSACTIONS) $(if $(FUZZ_SEED),FUZZ_SEED=$(FUZZ_SEED)) \
-	    .venv/bin/python -m pytest -q -s -p no:cacheprovider cocotb_tests/test_reg_fuzz.py cocotb_tests/test_soc_bus_fuzz.py
+	    FUZZ_SCENARIO_EXAMPLES=$(FUZZ_SCENARIO_EXAMPLES) \
+	    .venv/bin/python -m pytest -q -s -p no:cacheprovider cocotb_tests/test_reg_fuzz.py cocotb_tests/test_soc_bus_fuzz.py \
+	    tests/test_scenario_fuzz.py::test_arbitrary_values_are_accepted_or_refused
 
 # Register maps: rtl/regs/hfi_regs.rdl, hfi_soc.rdl and hfi_acc.rdl -> C headers, golden/regmap.py, socmap.py + accmap.py, docs, Verilog constants.
 .PHONY: regs

@@ -31,6 +31,12 @@ test: setup
 deep: setup
 	export HFI_DEEP=1; $(PYTEST) $(PYTEST_ARGS) || rc=$$?; $(PYTEST_RC)
 
+# The suite's wall time beside the machine's speed (the plant benchmark before and after), scaled to the speed the
+# 15 minutes were set at (scripts/suite_time.py, docs/testing.md). Run it on an otherwise idle machine.
+.PHONY: suite-time
+suite-time: setup
+	$(ENV) .venv/bin/python scripts/suite_time.py --jobs $(PYTEST_JOBS) -- $(PYTEST_ARGS)
+
 # The plant and closed-loop benchmarks (scripts/bench_plant.py, bench_golden.py, bench_rtl.py, bench_hls.py).
 bench: setup
 	$(ENV) .venv/bin/hfi bench

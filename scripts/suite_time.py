@@ -9,7 +9,7 @@ docs/testing.md), before and after, and prints
 
     suite: wall W, CPU C; machine: plant X (before) .. Y (after); at the reference speed R: W * mean(X, Y) / R
 
-where R is REFERENCE_PLANT_X, the plant benchmark of the machine on which the targets were set. The suite runs as
+where R is hfi.machine_speed.REFERENCE_PLANT_X, the plant benchmark of the machine on which the targets were set. The suite runs as
 `make test` runs it (`pytest -m "not deep"` on every core with `HFI_SIM_PGO=0`), without the setup: run `make setup`
 first. ``--wall SECONDS`` normalises a time measured elsewhere (CI's) with the calibration taken now, and runs no
 suite.
@@ -37,10 +37,7 @@ import bench_plant  # noqa: E402
 
 from golden.scenario import load_scenario  # noqa: E402
 from hfi.argtypes import positive_finite, positive_int  # noqa: E402
-
-REFERENCE_PLANT_X = 6.4
-"""The plant benchmark's realtime factor (`scripts/bench_plant.py`, batch API) on the machine the suite's 15 minutes
-were set on: issue 21's text, filed with issues 14 to 20 on 2026-11-25 ("the plant alone about 6.4x")."""
+from hfi.machine_speed import REFERENCE_PLANT_X, slowdown  # noqa: E402
 TARGET_S = 15 * 60
 """`make test` within 15 minutes on 2 cores."""
 CALIBRATION_S = 2.0
@@ -95,11 +92,11 @@ def main() -> int:
         print("machine speed after ...", flush=True)
         x1 = machine_speed()
         print(f"  plant {x1:.2f}x real time", flush=True)
-    x = 0.5 * (x0 + x1)
-    scaled = wall * x / REFERENCE_PLANT_X
+    slow = slowdown(0.5 * (x0 + x1))
+    scaled = wall / slow
     cpu_text = f", CPU {clock(cpu)}" if cpu is not None else ""
     print(f"suite: wall {clock(wall)}{cpu_text}" + (f", pytest exit status {rc}" if rc else ""))
-    print(f"machine: plant {x0:.2f}x .. {x1:.2f}x real time, {REFERENCE_PLANT_X / x:.2f} times slower than the "
+    print(f"machine: plant {x0:.2f}x .. {x1:.2f}x real time, {slow:.2f} times slower than the "
           f"reference ({REFERENCE_PLANT_X:g}x)")
     print(f"at the reference speed: {clock(scaled)} (target {clock(TARGET_S)}: "
           f"{'met' if scaled <= TARGET_S else 'not met'})")

@@ -11,6 +11,7 @@ import pytest
 
 from hfi import cli
 from hfi.cli import BENCH_SCRIPTS, main
+from hfi.machine_speed import REFERENCE_PLANT_X
 
 ROOT = Path(__file__).resolve().parents[1]
 HFI = Path(sys.executable).parent / "hfi"
@@ -260,9 +261,11 @@ def test_bench_runs_the_four_benchmarks_of_make_bench():
 
 
 def test_bench_summary_holds_each_last_line_against_its_target(tmp_path, monkeypatch, capsys):
-    """hfi bench echoes every benchmark's output and ends with each one's last value against the issue's target
-    (scripts stood in for by ones that print a line and a value)."""
-    values = {"bench_plant.py": 4.25, "bench_golden.py": 1.02, "bench_rtl.py": 2.5, "bench_hls.py": 10.0}
+    """hfi bench echoes every benchmark's output and ends with each one's last value against the issue's target,
+    measured and scaled to the reference machine by the plant benchmark (scripts stood in for by ones that print a
+    line and a value; the plant at half the reference speed: every value doubled)."""
+    values = {"bench_plant.py": REFERENCE_PLANT_X / 2, "bench_golden.py": 0.6, "bench_rtl.py": 2.0,
+              "bench_hls.py": 10.0}
     (tmp_path / "scripts").mkdir()
     for name, v in values.items():
         (tmp_path / "scripts" / name).write_text(f"print('running {name}')\nprint('x_per_y: {v}')\n")
@@ -270,8 +273,11 @@ def test_bench_summary_holds_each_last_line_against_its_target(tmp_path, monkeyp
     assert cli.main(["bench"]) == 0
     out = capsys.readouterr().out
     assert "running bench_rtl.py" in out
-    summary = out.split("== summary (issue 21's targets)\n")[1].splitlines()
-    assert summary == ["the plant alone, x real time        4.250",
-                       "golden backend, x real time         1.020  target >= 1: met",
-                       "rtl backend, M clocks/s             2.500  target >= 5: NOT met",
-                       "hls backend, x real time           10.000  target >= 10: met"]
+    head, summary = out.split("== summary (issue 21's targets; ")[1].split("\n", 1)
+    assert head == ("this machine 2.00 times slower than the reference by the plant benchmark: the last column "
+                    "scales to it, docs/testing.md)")
+    assert summary.splitlines() == [
+        f"the plant alone, x real time     {REFERENCE_PLANT_X / 2:8.3f}",
+        "golden backend, x real time         0.600  target >= 1: NOT met  at the reference speed    1.200: met",
+        "rtl backend, M clocks/s             2.000  target >= 5: NOT met  at the reference speed    4.000: NOT met",
+        "hls backend, x real time           10.000  target >= 10: met      at the reference speed   20.000: met"]

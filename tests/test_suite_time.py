@@ -40,3 +40,11 @@ def test_bad_arguments_are_refused_in_one_line(suite_time, monkeypatch, capsys, 
     with pytest.raises(SystemExit) as exc:
         suite_time.main()
     assert exc.value.code == 2 and message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("plant_x", [0.0, -1.0, float("nan")])
+def test_a_plant_benchmark_that_is_no_speed_is_refused(plant_x):
+    from hfi.machine_speed import slowdown
+
+    with pytest.raises(ValueError, match="expected a realtime factor > 0"):
+        slowdown(plant_x)

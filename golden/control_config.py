@@ -443,7 +443,25 @@ def protection_params(sc: Scenario) -> ProtParams:
         catch_n=catch_n, probe_min=probe_min,
         hf_k=shift(pr.hf_time), hf_tol=to_fixed(pr.hf_response, 16),
         frz_n=round(pr.frozen_time * sc_.f_sw), frz_min=pr.frozen_samples,
-        **dc_link_limits(sc))
+        **slip_limits(sc, mag["psi_f"]), **dc_link_limits(sc))
+
+
+def slip_limits(sc: Scenario, psi_f: float) -> dict:
+    """``slip_w``, ``slip_n`` of the slip check (golden.firmware.protection.slip_check): only with a high slot
+    (``estimator.high``) and a magnet (``psi_f`` > 0, the controller's nominal flux); the speed
+    ``protection.slip_speed``, absent: the one at which the back-EMF ``p omega psi_f`` equals the inverter's
+    dead-time voltage ``V_dc t_d f_sw`` (182 r/min on the Table I drive; below it the model-based observer's angle
+    is no reference; 0: off), armed for ``slip_time`` (at least one period)."""
+    pr = sc.protection
+    if sc.estimator.high == "none" or psi_f <= 0:
+        return {"slip_w": 0, "slip_n": 0}
+    sc_ = scales(sc)
+    if pr.slip_speed is not None:
+        speed = pr.slip_speed
+    else:
+        speed = sc.plant["inv"]["V_dc"] * sc.pwm.dead_time * sc.pwm.f_sw / (sc_.pole_pairs * psi_f)
+    w = min(sc_.speed_mech(speed), 2**31 - 1)
+    return {"slip_w": w, "slip_n": min(max(round(pr.slip_time * sc_.f_sw), 1), 2**31 - 1) if w else 0}
 
 
 def dc_link_limits(sc: Scenario) -> dict:

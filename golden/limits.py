@@ -427,7 +427,8 @@ def _check_speeds(reader, plant: dict, f_sw: float) -> None:
             reader.error(f"reference.speed[{i}][1]", f"{abs(w) * rpm:g} rpm is not below {limit * rpm:g} rpm, {why}")
             break
     if reader.get("estimator.high") not in (None, "none"):
-        for key in ("handover_up", "handover_down", "watchdog_speed"):
-            w = reader.get(f"estimator.{key}")
+        for key in ("estimator.handover_up", "estimator.handover_down", "estimator.watchdog_speed",
+                    "protection.slip_speed"):
+            w = reader.get(key)
             if w is not None and w >= limit:
-                reader.error(f"estimator.{key}", f"{w * rpm:g} rpm is not below {limit * rpm:g} rpm, {why}")
+                reader.error(key, f"{w * rpm:g} rpm is not below {limit * rpm:g} rpm, {why}")

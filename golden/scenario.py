@@ -398,6 +398,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "dc_link_time": _q("time", _positive, default=0.6e-3),
         "frozen_time": _q("time", _non_negative, default=0.8e-3),
         "frozen_samples": Field("integer", check=_between(2, 65535), default=16),
+        "slip_speed": _q("speed", _non_negative),
+        "slip_time": _q("time", _positive, default=5e-3),
     },
     # Self-commissioning (`hfi commission`, golden.commission): absent keys are derived from the scenario
     "commission": {
@@ -602,6 +604,8 @@ class ProtectionSettings:
     dc_link_time: float
     frozen_time: float
     frozen_samples: int
+    slip_speed: float | None
+    slip_time: float
 
 
 @dataclass(frozen=True)

@@ -428,6 +428,33 @@ def test_emf_residual_random(seed):
         assert (e_d[0], e_q[0]) == emf_residual(p, v_d, v_q, i_d, i_q, w), (seed, k, p, v_d, v_q, i_d, i_q, w)
 
 
+def test_slip_check_random_sequences(seed):
+    """The slip check (protection.slip_check) over sequences: the slots' gap around 45 and 90 deg and at half a turn,
+    speeds of either sign around the arming speed, the high slot in charge now and then; the state and the code
+    equal at every period, and the check both trips and holds back."""
+    rng = np.random.default_rng(seed + 43)
+    c, st = ffi.new("struct fw_prot_params *"), ffi.new("struct fw_state *")
+    seen = set()
+    edges = (0, protection.SLIP_AGREE - 1, protection.SLIP_AGREE, protection.SLIP_TRIP, protection.SLIP_TRIP + 1,
+             -protection.SLIP_AGREE, -protection.SLIP_TRIP - 1, S32_MIN, S32_MAX)
+    for q in range(N_RANDOM // 200):
+        p = random_prot(rng)
+        fw_c._fill(c, p)
+        gold = Firmware(_params())
+        st.slip_left = gold.slip_left = 0
+        for k in range(30):
+            low = int(rng.random() < 0.9)
+            gap = draw_one(rng, S32_MIN, S32_MAX, edges)
+            near = [max(min(v, S32_MAX), S32_MIN) for v in (-p.slip_w - 2, p.slip_w + 2, p.slip_w + 1, -p.slip_w - 1)]
+            w_f, w_hi = (draw_one(rng, near[0], near[1], (0, p.slip_w, near[2], near[3]))
+                         if rng.random() < 0.5 else draw_one(rng, S32_MIN, S32_MAX) for _ in range(2))
+            want = protection.slip_check(gold, p, bool(low), gap, w_f, w_hi)
+            got = lib.fw_slip_check(st, c, low, gap, w_f, w_hi)
+            assert (got, st.slip_left) == (want, gold.slip_left), (seed, q, k, p, low, gap, w_f, w_hi)
+            seen.add((want, gold.slip_left > 0))
+    assert {(protection.FAULT_LOCK_LOSS, True), (protection.FAULT_NONE, True), (protection.FAULT_NONE, False)} <= seen
+
+
 def test_protect_step_random_sequences(seed):
     """Sequences of checks with one parameter set each, the HF response check's reference learned over a few periods
     first (``hf_learn``); every fault code is reached."""
@@ -884,7 +911,8 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
                       vdc_lo=vdc_lo, vdc_hi=draw_one(rng, vdc_lo, 65535, (vdc_lo, 65535)),
                       vdc_n=draw_one(rng, 0, 20, (0, 1, 5)),
                       frz_n=draw_one(rng, 0, 12, (0, 1, 4)), frz_min=draw_one(rng, 0, 300, (2, 16)),
-                      probe_min=draw_one(rng, 0, 1 << 16, (0, 0, 1, 130)))
+                      probe_min=draw_one(rng, 0, 1 << 16, (0, 0, 1, 130)),
+                      slip_w=draw_one(rng, 0, S32_MAX, (0, 0, 1, 10_416_233)), slip_n=draw_one(rng, 0, 60, (0, 1, 25)))
 
 
 def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:

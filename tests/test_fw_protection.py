@@ -11,8 +11,8 @@ import pytest
 from golden.control_config import firmware_params, protection_params, scales
 from golden.firmware.pi import PiParams
 from golden.firmware.protection import (FAULT_LOCK_LOSS, FAULT_NONE, FAULT_OVERLOAD, FAULT_OVERSPEED,
-                                        FAULT_HF_RESPONSE, FAULT_TRACKING, ProtParams, emf_residual, hf_learn,
-                                        protect_step)
+                                        FAULT_HF_RESPONSE, FAULT_TRACKING, SLIP_AGREE, SLIP_TRIP, ProtParams,
+                                        emf_residual, hf_learn, protect_step, slip_check)
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.supervisor import MODE_CONVERGE, MODE_FAULT, MODE_RUN, Firmware, FirmwareParams, Outputs
 from golden.fpga.cordic import sincos_q15
@@ -214,6 +214,51 @@ def test_protection_params_of_the_default_scenario():
     assert protection_params(off) == ProtParams()
     flying = replace(off, protection=replace(off.protection, catch_time=0.04, catch_probe=0.05))   # the probe stays
     assert protection_params(flying) == ProtParams(catch_n=200, probe_min=round(0.05 / s.i_lsb), psi_f=p.psi_f)
+
+
+class _SlipState:
+    slip_left = 0
+
+
+@pytest.mark.parametrize("after", [1, 4, 5, 9])
+def test_the_slip_check_trips_only_within_its_time_of_an_agreement(after):
+    """Agreement (within 45 deg, both speeds above slip_w, one sign) arms the check for slip_n = 5 periods: a gap
+    beyond 90 deg ``after`` periods later trips while armed (1..4 periods after), not at 5 or later."""
+    p, st = ProtParams(slip_w=1000, slip_n=5), _SlipState()
+    assert slip_check(st, p, True, SLIP_AGREE - 1, 1001, 1200) == FAULT_NONE and st.slip_left == 5
+    for _ in range(after - 1):
+        assert slip_check(st, p, True, SLIP_AGREE, 1001, 1200) == FAULT_NONE     # 45 deg: no agreement, no trip
+    want = FAULT_LOCK_LOSS if after < 5 else FAULT_NONE
+    assert slip_check(st, p, True, -SLIP_TRIP - 1, 1001, 1200) == want and st.slip_left == max(5 - after, 0)
+
+
+@pytest.mark.parametrize("low, w_f, w_hi", [(True, 1000, 1200), (True, 1200, 1000), (True, -1200, 1200),
+                                            (True, 0, 0), (False, 1200, 1200)])
+def test_the_slip_check_is_not_armed_by_slow_opposite_or_high_slot_periods(low, w_f, w_hi):
+    """No agreement arms it with a speed at or below slip_w, speeds of opposite signs, or the high slot in charge
+    (which disarms it): the gap of half a turn that follows does not trip."""
+    p, st = ProtParams(slip_w=1000, slip_n=5), _SlipState()
+    assert slip_check(st, p, low, 0, w_f, w_hi) == FAULT_NONE and st.slip_left == 0
+    assert slip_check(st, p, True, -2**31, 1200, 1200) == FAULT_NONE
+
+
+def test_the_slip_check_is_off_without_its_speed():
+    st = _SlipState()
+    st.slip_left = 3
+    assert slip_check(st, ProtParams(slip_w=0, slip_n=5), True, 2**31 - 1, 1200, 1200) == FAULT_NONE
+    assert st.slip_left == 3
+
+
+def test_slip_limits_from_the_scenario():
+    """With the rotor flux observer beside the HF estimator (fullrange_noload): the speed where p omega psi_f equals
+    V_dc t_d f_sw (560 V, 4 us, 5 kHz: 11.2 V) and 5 ms = 25 periods; none on the default drive (no high slot)."""
+    sc = load_scenario("scenarios/fullrange_noload.toml")
+    s, p = scales(sc), protection_params(sc)
+    assert (p.slip_w, p.slip_n) == (round(560 * 4e-6 * 5e3 / PSI_F / s.w_lsb), 25)
+    default = protection_params(load_scenario("scenarios/fullload_start.toml"))
+    assert (default.slip_w, default.slip_n) == (0, 0)
+    off = replace(sc, protection=replace(sc.protection, slip_speed=0.0))
+    assert (protection_params(off).slip_w, protection_params(off).slip_n) == (0, 0)
 
 
 def test_the_soc_status_register_names_the_modes_and_faults_in_order():

@@ -1919,6 +1919,8 @@ void fw_emf_residual(const struct fw_prot_params *p, int32_t v_d, int32_t v_q, i
 }
 
 #define OVL_CAP (1 << 30) /* protection.OVL_CAP */
+#define SLIP_AGREE (1u << 29) /* protection.SLIP_AGREE: 45 deg */
+#define SLIP_TRIP (1u << 30)  /* protection.SLIP_TRIP: 90 deg */
 
 /* n + 1 while cond, up to OVL_CAP; 0 otherwise */
 /* golden shr(a - b, k) for 0 <= k <= 30 without the 33-bit difference: shr(a, k) - shr(b, k), less one when a's low
@@ -2132,23 +2134,47 @@ static inline uint32_t mag32(int32_t x)
     return x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
 }
 
+/* protection.slip_check: one RUN period of the slip check with a high slot (gap: the low slot's angle less the high
+ * slot's); the last agreement (within 45 deg, speeds of one sign both above slip_w) arms it for slip_n periods. Not
+ * inlined: hand_over with the call still fits its 512 bytes (-falign-functions=64), so that no code after it moves
+ * (the 003 group's cache layout, firmware/link.ld); it lies at the end of .text, with the code not named there. */
+__attribute__((noinline)) int32_t fw_slip_check(struct fw_state *st, const struct fw_prot_params *p, int32_t low_in_charge, int32_t gap,
+                      int32_t omega_f, int32_t omega_hi)
+{
+    if (!p->slip_w)
+        return FW_FAULT_NONE;
+    if (!low_in_charge) {
+        st->slip_left = 0;
+        return FW_FAULT_NONE;
+    }
+    if (mag32(gap) < SLIP_AGREE && (omega_f > 0) == (omega_hi > 0) && mag32(omega_f) > (uint32_t)p->slip_w &&
+        mag32(omega_hi) > (uint32_t)p->slip_w)
+        st->slip_left = p->slip_n;
+    else if (st->slip_left > 0)
+        st->slip_left--;
+    return mag32(gap) > SLIP_TRIP && st->slip_left > 0 ? FW_FAULT_LOCK_LOSS : FW_FAULT_NONE;
+}
+
 /* Firmware._hand_over (Benevieri et al. 2023, Sec. IV-F), with the watchdog (wd_delta != 0); the caller tests
  * p->high. Not inlined: a section of its own at the end of link.ld's shared group, so that fw_step's size (and with
  * it every address after it, the 003 group's cache layout) does not depend on its size. */
-static __attribute__((noinline)) void hand_over(struct fw_state *st, const struct fw_params *p)
+static __attribute__((noinline)) int32_t hand_over(struct fw_state *st, const struct fw_params *p)
 {
-    uint32_t mag = mag32(fw_lowpass_out(st->speed_f));
+    const int32_t omega_f = fw_lowpass_out(st->speed_f);
+    const int32_t gap = (int32_t)(st->est_theta[FW_SLOT_LOW] - st->est_theta[FW_SLOT_HIGH]);
+    const int32_t slip = fw_slip_check(st, &p->prot, st->active == FW_SLOT_LOW, gap, omega_f,
+                                       st->est_omega[FW_SLOT_HIGH]);
+    uint32_t mag = mag32(omega_f);
 
     if (p->wd_delta) {
         if (st->wd_n > 0) {
             st->wd_n--;
-            return;
+            return slip;
         }
         uint32_t hi = mag32(st->est_omega[FW_SLOT_HIGH]);
         mag = hi > mag ? hi : mag;
     }
     if (st->active == FW_SLOT_LOW) {
-        int32_t gap = (int32_t)(st->est_theta[FW_SLOT_LOW] - st->est_theta[FW_SLOT_HIGH]);
         int wrong = p->wd_delta && mag32(gap) > p->wd_delta;
 
         if (mag > (uint32_t)p->w_up) {
@@ -2166,6 +2192,7 @@ static __attribute__((noinline)) void hand_over(struct fw_state *st, const struc
         st->w_catch = 0; /* a flying start's raised speed limit ends here */
         sync_slot(st, p, FW_SLOT_LOW, theta, st->est_omega[FW_SLOT_HIGH]);
     }
+    return slip;
 }
 
 /* Firmware._decide_polarity; once per start (not inlined, like fw_hf_learn) */
@@ -2611,10 +2638,10 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
         st->speed_f = fw_lowpass_step(st->speed_f, st->est_omega[st->active], p->speed_lp);
         i_d_ref = supervise(st, p, win, &pilot, &v_pilot);
         if (st->mode == FW_RUN) {
-            int32_t code;
+            int32_t code, slip = FW_FAULT_NONE;
 
             if (p->high != FW_METHOD_NONE)
-                hand_over(st, p);
+                slip = hand_over(st, p);
             run_refs(st, p, speed_ref, &i_d_ref, &i_q_ref);
             int32_t v_d = act0(st)->v_d, v_q = act0(st)->v_q;
 
@@ -2625,6 +2652,8 @@ void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_win
             code = fw_protect_step(st, &p->prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev,
                                    fw_lowpass_out(st->speed_f), speed_ref, abs64(st->i_s_ref) >= p->speed_pi.limit,
                                    hf_on, win->gamma_d);
+            if (code == FW_FAULT_NONE)
+                code = slip;
             if (frozen != FW_FAULT_NONE || code != FW_FAULT_NONE)
                 trip(st, p, frozen != FW_FAULT_NONE ? frozen : code);
         }

@@ -68,6 +68,8 @@ struct fw_prot_params {
     int32_t frz_min;         /* the fewest samples a window needs to count */
     int32_t probe_min;       /* the flying start's short-circuit probe: the least pulse current that finds the rotor
                               * (0: no probe; golden.firmware.catch_probe) */
+    int32_t slip_w;          /* slip check: the speed above which the slots' agreement arms it, speed LSB (0: off) */
+    int32_t slip_n;          /* the periods an agreement keeps it armed */
 };
 
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
@@ -580,6 +582,7 @@ struct fw_state {
     struct fw_hfo_state hfo;
     int32_t wd_n;                  /* the hand-over's watchdog: periods its hand-over still holds (after the blocks:
                                     * the members before keep their offsets, the cache layout of the state) */
+    int32_t slip_left;             /* the slip check (protection.slip_check): periods the last agreement still arms it */
     struct fw_ident *ident;        /* the identification program and its executor's state (golden:
                                     * FirmwareParams.ident, Firmware.ident); NULL: none. Set by the caller before
                                     * fw_init, which keeps it (the only member it does not clear; with FW_NO_IDENT
@@ -778,6 +781,8 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
 void fw_hf_learn(struct fw_state *st, const struct fw_prot_params *p, int32_t gamma_d);
 int32_t fw_dc_link_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t vdc);
 int32_t fw_frozen_check(struct fw_state *st, const struct fw_prot_params *p, uint32_t frozen, uint32_t n_samples);
+int32_t fw_slip_check(struct fw_state *st, const struct fw_prot_params *p, int32_t low_in_charge, int32_t gap,
+                      int32_t omega_f, int32_t omega_hi);
 void fw_dc_feedforward(struct fw_outputs *out, uint32_t vdc, int32_t ff_nom, int32_t ff_lo, int32_t ff_hi);
 const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,

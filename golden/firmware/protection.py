@@ -52,6 +52,18 @@ references it gave and the filtered speed of the estimator in charge.
                       to the nominal link; :func:`dc_link_check` names a link beyond its limits), and a
                       slipping angle turns d_hat towards q (L_q != L_d).
 
+``lock_loss``         (the slip check, with two estimator slots, :func:`slip_check`) the low-speed slot in charge
+                      and the high-speed slot beside it more than 90 deg apart (``SLIP_TRIP``) within
+                      ``slip_n`` periods of a period in which they agreed: within 45 deg (``SLIP_AGREE``), their
+                      speeds (the filtered speed in use and the high slot's own) of one sign and both above
+                      ``slip_w``. An HF estimator is blind to the magnet's direction: beyond 90 deg it runs on to
+                      the opposite polarity, where it holds the rotor half a turn off and the torque reverses
+                      (docs/faults.md, "Polarity slips"); the model-based observer beside it sees the magnet, and
+                      above the speed where the back-EMF exceeds the inverter's dead-time voltage it stays within
+                      tens of degrees, so a slot that leaves it by 90 deg within a few milliseconds of agreeing is
+                      the one that slipped. Only a recent agreement arms the check: where the observer is off on
+                      its own (low speed, a load transient) the slots disagree without having agreed first.
+
 The software overcurrent on the window means (``i_trip``) is checked in every mode by the supervisor
 itself (``FAULT_OVERCURRENT``), and so are the hardware's own trips (``FAULT_HARDWARE``: a fault latch of
 ``STATUS`` set, ``WindowResult.status``; the hardware has already turned the gates off) and the dc link
@@ -126,6 +138,9 @@ class ProtParams:
     probe_min : int
         The flying start's short-circuit probe (golden.firmware.catch_probe, with ``catch_n``): the least window
         mean of a pulse's first quarter that finds the rotor [current LSB] (0: no probe).
+    slip_w, slip_n : int
+        The slip check (:func:`slip_check`): the speed above which the slots' agreement arms it [speed LSB]
+        (0: off) and the periods an agreement keeps it armed.
     """
 
     r: int = 0
@@ -153,6 +168,8 @@ class ProtParams:
     frz_n: int = 0
     frz_min: int = 0
     probe_min: int = 0
+    slip_w: int = 0
+    slip_n: int = 0
 
 
 def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> tuple[int, int]:
@@ -177,6 +194,30 @@ def hf_learn(st, p: ProtParams, gamma_d: int) -> None:
     """One CONVERGE period of the HF response check's reference: ``hf_ref += shr(GAMMA_D - hf_ref, hf_k)`` (s32)."""
     if p.hf_tol:
         st.hf_ref = sat(st.hf_ref + shr(gamma_d - st.hf_ref, p.hf_k), 32)
+
+
+SLIP_AGREE = 1 << 29
+"""The slip check: two slots within 45 deg (binary angle) agree."""
+SLIP_TRIP = 1 << 30
+"""The slip check: two slots more than 90 deg apart (binary angle) disagree: the HF estimator's edge of lock."""
+
+
+def slip_check(st, p: ProtParams, low_in_charge: bool, gap: int, omega_f: int, omega_hi: int) -> int:
+    """One RUN period of the slip check (module docstring) with a high slot: ``gap`` the low slot's angle less the
+    high slot's (s32 binary angle), ``omega_f`` the filtered speed in use, ``omega_hi`` the high slot's speed.
+    ``st.slip_left`` counts the periods the last agreement still arms it (0: disarmed; 0 too while the high slot
+    is in charge, and at power-up and every restart). Returns ``FAULT_LOCK_LOSS`` or ``FAULT_NONE``."""
+    if not p.slip_w:
+        return FAULT_NONE
+    if not low_in_charge:
+        st.slip_left = 0
+        return FAULT_NONE
+    if (abs(gap) < SLIP_AGREE and (omega_f > 0) == (omega_hi > 0)
+            and min(abs(omega_f), abs(omega_hi)) > p.slip_w):
+        st.slip_left = p.slip_n
+    elif st.slip_left > 0:
+        st.slip_left -= 1
+    return FAULT_LOCK_LOSS if abs(gap) > SLIP_TRIP and st.slip_left > 0 else FAULT_NONE
 
 
 def dc_link_check(st, p: ProtParams, vdc: int) -> int:

@@ -93,7 +93,7 @@ from golden.firmware.methods import CLASSES
 from golden.firmware.mtpa import mtpa_lookup
 from golden.firmware.pi import PiParams, pi_step
 from golden.firmware.protection import (FAULT_HARDWARE, FAULT_IDENT, FAULT_NONE, FAULT_OVERCURRENT, ProtParams,
-                                       dc_link_check, frozen_check, hf_learn, protect_step)
+                                       dc_link_check, frozen_check, hf_learn, protect_step, slip_check)
 from golden.firmware.rfo import RfoParams
 from golden.firmware.rot_bpf import RotParams
 from golden.firmware.sqw_bangbang import SqwParams
@@ -319,6 +319,7 @@ class Firmware:
     pr_delta: int = 0
     restarts: int = 0                # automatic restarts done
     wd_n: int = 0                    # the hand-over's watchdog: periods its hand-over still holds
+    slip_left: int = 0               # the slip check (golden.firmware.protection.slip_check): periods still armed
     ident: Ident | None = None       # the identification program's executor (FirmwareParams.ident)
     slots: list = field(init=False)
 
@@ -400,13 +401,14 @@ class Firmware:
             self.speed_f = lowpass_step(self.speed_f, self.est_omega[self.active], p.speed_lp)
             i_d_ref, i_q_ref, pilot = self._supervise(win)
             if self.mode == MODE_RUN:
-                self._hand_over()
+                slip = self._hand_over()
                 i_d_ref, i_q_ref = self._run_refs(speed_ref)
                 fcs = p.law == LAW_FCS_MPC and p.prot.emf_tol != 0      # only the lock check reads it
                 v_d, v_q = self._applied_dq(win, now) if fcs else (now.v_d, now.v_q)
                 frozen = frozen_check(self, p.prot, win.frozen, win.n_samples)   # the sensor first: the cause
                 code = protect_step(self, p.prot, v_d, v_q, i_d, i_q, i_d_prev, i_q_prev, self.omega_f,
                                     speed_ref, abs(self.i_s_ref) >= p.speed_pi.limit, hf)
+                code = code if code != FAULT_NONE else slip
                 if frozen != FAULT_NONE or code != FAULT_NONE:
                     self._trip(frozen if frozen != FAULT_NONE else code)
             self.theta_hat = self._angle()
@@ -594,20 +596,22 @@ class Firmware:
             return self.est_theta[SLOT_LOW]
         return uwrap(self.est_theta[SLOT_HIGH] + self.offset, 32)
 
-    def _hand_over(self) -> None:
+    def _hand_over(self) -> int:
         """Benevieri et al. 2023, Sec. IV-F: switch slots at w_up / w_down (hysteresis), bumpless; with the
-        watchdog on (``wd_delta``), also when the two slots' angles disagree (FirmwareParams, docs/methods.md)."""
+        watchdog on (``wd_delta``), also when the two slots' angles disagree (FirmwareParams, docs/methods.md).
+        Before, the slip check (golden.firmware.protection.slip_check) on the slots as they are; returns its code."""
         p, hi = self.p, self.slots[SLOT_HIGH]
         if hi is None:
-            return
+            return FAULT_NONE
+        gap = wrap(self.est_theta[SLOT_LOW] - self.est_theta[SLOT_HIGH], 32)
+        slip = slip_check(self, p.prot, self.active == SLOT_LOW, gap, self.omega_f, self.est_omega[SLOT_HIGH])
         w = abs(self.omega_f)
         if p.wd_delta:
             if self.wd_n > 0:
                 self.wd_n -= 1
-                return
+                return slip
             w = max(w, abs(self.est_omega[SLOT_HIGH]))
         if self.active == SLOT_LOW:
-            gap = wrap(self.est_theta[SLOT_LOW] - self.est_theta[SLOT_HIGH], 32)
             wrong = p.wd_delta and abs(gap) > p.wd_delta
             if w > p.w_up:
                 self.active, self.offset = SLOT_HIGH, 0 if wrong else gap
@@ -617,6 +621,7 @@ class Firmware:
             theta = self._angle()
             self.active, self.w_catch = SLOT_LOW, 0           # a flying start's raised speed limit ends here
             self._sync(SLOT_LOW, theta, self.est_omega[SLOT_HIGH])
+        return slip
 
     def _supervise(self, win: WindowResult) -> tuple[int, int, int | None]:
         """Start-up state machine; returns (i_d*, i_q*, pilot voltage or None) before the speed loop."""

@@ -118,6 +118,20 @@ def test_flying_start_identical():
     assert hls.windows["est"][0] == 1 and np.diff(hls.windows["est"]).tolist().count(-1) == 1
 
 
+def test_a_slip_check_trip_is_identical():
+    """The fault matrix's 30 % gain error at 250 r/min without load (hfi.faults), until 0.82 s: the HF estimator
+    slips away from the rotor flux observer beside it and the slip check trips (lock_loss) 4.65 ms after the onset;
+    the C hand_over and fw_slip_check on the hls backend, identical in every window to the golden model."""
+    from golden.firmware.protection import FAULT_LOCK_LOSS
+    from hfi import faults
+
+    sc = faults.scenario(faults.FAULTS["sensor gain x0.7 (a)"], 250.0, False, 0.82)
+    gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
+    _assert_identical(gold, hls)
+    fault = hls.windows["fault"]
+    assert fault[-1] == FAULT_LOCK_LOSS and hls.t[np.flatnonzero(fault)[0]] == pytest.approx(faults.ONSET_S + 4.65e-3)
+
+
 def test_tap2023_flying_start_identical():
     """The 000 drive switched on at 800 r/min (scenarios/tap2023_flying.toml), its first 0.2 s: CATCH and braking
     on the rotor flux observer with the active flux's magnitude, the hand-back to the rotating injection."""

@@ -2138,8 +2138,8 @@ static inline uint32_t mag32(int32_t x)
  * slot's); the last agreement (within 45 deg, speeds of one sign both above slip_w) arms it for slip_n periods. Not
  * inlined: hand_over with the call still fits its 512 bytes (-falign-functions=64), so that no code after it moves
  * (the 003 group's cache layout, firmware/link.ld); it lies at the end of .text, with the code not named there. */
-__attribute__((noinline)) int32_t fw_slip_check(struct fw_state *st, const struct fw_prot_params *p, int32_t low_in_charge, int32_t gap,
-                      int32_t omega_f, int32_t omega_hi)
+__attribute__((noinline)) int32_t fw_slip_check(struct fw_state *st, const struct fw_prot_params *p,
+                                                int32_t low_in_charge, int32_t gap, int32_t omega_f, int32_t omega_hi)
 {
     if (!p->slip_w)
         return FW_FAULT_NONE;

@@ -31,7 +31,7 @@ test: setup
 deep: setup
 	export HFI_DEEP=1; $(PYTEST) $(PYTEST_ARGS) || rc=$$?; $(PYTEST_RC)
 
-# The suite's wall time beside the machine's speed (the plant benchmark before and after), scaled to the speed the
+# make test's wall time beside the machine's speed (the plant benchmark before and after), scaled to the speed the
 # 15 minutes were set at (scripts/suite_time.py, docs/testing.md). Run it on an otherwise idle machine.
 .PHONY: suite-time
 suite-time: setup

@@ -9,10 +9,10 @@ docs/testing.md), before and after, and prints
 
     suite: wall W, CPU C; machine: plant X (before) .. Y (after); at the reference speed R: W * mean(X, Y) / R
 
-where R is hfi.machine_speed.REFERENCE_PLANT_X, the plant benchmark of the machine on which the targets were set. The suite runs as
-`make test` runs it (`pytest -m "not deep"` on every core with `HFI_SIM_PGO=0`), without the setup: run `make setup`
-first. ``--wall SECONDS`` normalises a time measured elsewhere (CI's) with the calibration taken now, and runs no
-suite.
+where R is hfi.machine_speed.REFERENCE_PLANT_X, the plant benchmark of the machine on which the targets were set. The
+suite is the README's command itself, `make test` (its setup step a no-op once done: run `make setup` first), with
+``PYTEST_JOBS`` and ``PYTEST_ARGS`` from ``--jobs`` and the arguments after ``--``. ``--wall SECONDS`` normalises a
+time measured elsewhere (CI's) with the calibration taken now, and runs no suite.
 
 Usage: scripts/suite_time.py [--jobs N] [--wall SECONDS] [-- PYTEST_ARGS...]
 """
@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import os
 import resource
+import shlex
 import subprocess
 import sys
 import time
@@ -38,6 +39,7 @@ import bench_plant  # noqa: E402
 from golden.scenario import load_scenario  # noqa: E402
 from hfi.argtypes import positive_finite, positive_int  # noqa: E402
 from hfi.machine_speed import REFERENCE_PLANT_X, slowdown  # noqa: E402
+
 TARGET_S = 15 * 60
 """`make test` within 15 minutes on 2 cores."""
 CALIBRATION_S = 2.0
@@ -62,13 +64,11 @@ def clock(seconds: float) -> str:
 
 
 def run_suite(jobs: str, pytest_args: list[str]) -> tuple[int, float, float]:
-    """``(exit status, wall s, CPU s)`` of the suite as `make test` runs it (Makefile, target test)."""
-    env = dict(os.environ, HFI_SIM_PGO="0")
-    cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-n", jobs, "--dist", "loadgroup",
-           "-m", "not deep", *pytest_args]
+    """``(exit status, wall s, CPU s)`` of `make test` (Makefile, target test)."""
+    cmd = ["make", "-C", str(ROOT), "test", f"PYTEST_JOBS={jobs}", f"PYTEST_ARGS={shlex.join(pytest_args)}"]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.monotonic()
-    rc = subprocess.call(cmd, cwd=ROOT, env=env)
+    rc = subprocess.call(cmd)
     wall = time.monotonic() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
@@ -95,7 +95,7 @@ def main() -> int:
     slow = slowdown(0.5 * (x0 + x1))
     scaled = wall / slow
     cpu_text = f", CPU {clock(cpu)}" if cpu is not None else ""
-    print(f"suite: wall {clock(wall)}{cpu_text}" + (f", pytest exit status {rc}" if rc else ""))
+    print(f"suite: wall {clock(wall)}{cpu_text}" + (f", make test exit status {rc}" if rc else ""))
     print(f"machine: plant {x0:.2f}x .. {x1:.2f}x real time, {slow:.2f} times slower than the "
           f"reference ({REFERENCE_PLANT_X:g}x)")
     print(f"at the reference speed: {clock(scaled)} (target {clock(TARGET_S)}: "

@@ -270,3 +270,17 @@ def test_the_source_version_covers_every_module_a_run_imports():
     files = {"hfi/__init__.py" if m == "hfi" else m.replace(".", "/") + ".py" for m in loaded}
     assert files <= set(sw.CODE), sorted(files - set(sw.CODE))
     assert "hfi/compare.py" not in sw.CODE                 # a report's change keeps the runs
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "sweeps").glob("*.toml")), ids=lambda p: p.name)
+def test_every_shipped_spec_expands_into_valid_scenarios(path):
+    """Each sweep spec of sweeps/ loads, and every point of its design (its first seed) is a scenario the
+    validation accepts: a spec the docs cite cannot rot unnoticed."""
+    spec = sw.load_spec(path)
+    js = sw.jobs(spec, "test")
+    assert js and not [j.error for j in js if j.error]
+    first = {}
+    for j in js:
+        first.setdefault(j.point, j)
+    for j in first.values():
+        parse_scenario(j.tree, f"{path.name} point {j.point}")

@@ -189,25 +189,37 @@ def _add(seq: Seq, steps, gaps, label: str = "") -> list[tuple]:
     return seq.results[first:]
 
 
+def _rate_coverage(steps: list, n: int) -> bool:
+    """Whether ``steps`` change the effective rate more than ``n // 1000`` times with 2 kept in more than 40 % of
+    them (the random test's coverage)."""
+    ms = [cic_m(s[3]) for s in steps]
+    return sum(1 for a, b in zip(ms, ms[1:]) if a != b) > n // 1000 and ms.count(2) > 0.4 * len(ms)
+
+
 @cocotb.test()
 async def random_steps(dut):
     """HFI_RANDOM_N random steps (currents with many -32768 / 32767, random plus, CIC_M mostly 2 with
-    random u8 writes at random steps), every output of every step compared with the golden model."""
+    random u8 writes at random steps), and on until they change the rate more than HFI_RANDOM_N / 1000 times
+    with 2 in more than 40 % of them, at most 20 times as long (at the 2 000 steps of Icarus in `make test` 91
+    of 3 000 seeds changed it twice or less: the check, per run, failed 3 % of correct runs); every output of
+    every step compared with the golden model."""
     rng = seeded_rng()
     n = int(os.environ["HFI_RANDOM_N"])
     steps = testvectors.random_steps(rng, n)
+    while not _rate_coverage(steps, n) and len(steps) < 20 * n:
+        steps += testvectors.random_steps(rng, max(n // 4, 1))
     await _start(dut)
     seq = Seq(rng)
-    res = _add(seq, steps, _gaps(rng, n), "(random)")
+    res = _add(seq, steps, _gaps(rng, len(steps)), "(random)")
     await seq.run(dut, "random")
     ms = [cic_m(s[3]) for s in steps]
     restarts = sum(1 for a, b in zip(ms, ms[1:]) if a != b)
     writes = sum(1 for a, b in zip(steps, steps[1:]) if a[3] != b[3])
     ext = sum(1 for s in steps for i in s[:2] if i in (-32768, 32767))
     cocotb.log.info("%d steps, %d CIC_M writes (%d rate changes), %d extreme currents, max |q| %d, "
-                    "max |e| %d", n, writes, restarts, ext, max(abs(x) for r in res for x in r[:2]),
+                    "max |e| %d", len(steps), writes, restarts, ext, max(abs(x) for r in res for x in r[:2]),
                     max(abs(x) for r in res for x in r[2:]))
-    assert restarts > n // 1000 and ms.count(2) > 0.4 * n, "the random CIC_M does not change as intended"
+    assert _rate_coverage(steps, n), "the random CIC_M does not change as intended"
 
 
 @cocotb.test()

@@ -189,11 +189,17 @@ def _add(seq: Seq, steps, gaps, label: str = "") -> list[tuple]:
     return seq.results[first:]
 
 
+def _rate_changes(steps: list) -> tuple[list[int], int]:
+    """The effective rate of each step and how often it changes."""
+    ms = [cic_m(s[3]) for s in steps]
+    return ms, sum(1 for a, b in zip(ms, ms[1:]) if a != b)
+
+
 def _rate_coverage(steps: list, n: int) -> bool:
     """Whether ``steps`` change the effective rate more than ``n // 1000`` times with 2 kept in more than 40 % of
     them (the random test's coverage)."""
-    ms = [cic_m(s[3]) for s in steps]
-    return sum(1 for a, b in zip(ms, ms[1:]) if a != b) > n // 1000 and ms.count(2) > 0.4 * len(ms)
+    ms, restarts = _rate_changes(steps)
+    return restarts > n // 1000 and ms.count(2) > 0.4 * len(ms)
 
 
 @cocotb.test()
@@ -212,8 +218,7 @@ async def random_steps(dut):
     seq = Seq(rng)
     res = _add(seq, steps, _gaps(rng, len(steps)), "(random)")
     await seq.run(dut, "random")
-    ms = [cic_m(s[3]) for s in steps]
-    restarts = sum(1 for a, b in zip(ms, ms[1:]) if a != b)
+    _, restarts = _rate_changes(steps)
     writes = sum(1 for a, b in zip(steps, steps[1:]) if a[3] != b[3])
     ext = sum(1 for s in steps for i in s[:2] if i in (-32768, 32767))
     cocotb.log.info("%d steps, %d CIC_M writes (%d rate changes), %d extreme currents, max |q| %d, "

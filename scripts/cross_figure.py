@@ -21,23 +21,27 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from hfi.compare import kept  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-PAIRS = (("cross_001_on_002", "001 method on the Table I SPMSM (5 kHz)"),
-         ("cross_002_on_001", "002 method on the 001 IPMSM (1 kHz), step rule"),
-         ("cross_002_on_001_slew", "002 method on the 001 IPMSM (1 kHz), slew rule"),
-         ("cross_002_on_000", "002 method on the 000 PMaSynRM (10 kHz), SNR + slew rules"))
-"""(sweep name, panel title), in the order of docs/compare.md."""
+PAIRS = (("cross_001_on_002", {}, "001 method on the Table I SPMSM (5 kHz)"),
+         ("cross_002_on_001", {"estimator.sqw_bangbang.K_bb": "40 rad/s"},
+          "002 method on the 001 IPMSM (1 kHz), step rule"),
+         ("cross_002_on_001", {"estimator.sqw_bangbang.K_bb": "68.6 rad/s"},
+          "002 method on the 001 IPMSM (1 kHz), slew rule"),
+         ("cross_002_on_000", {}, "002 method on the 000 PMaSynRM (10 kHz), SNR + slew rules"))
+"""(sweep name, the values of its other axes a panel draws, panel title), in the order of docs/compare.md."""
 CHECK_OFF = 1.0
 """``protection.hf_response`` of the runs drawn where the sweep varies it."""
 
 
-def rows_of(name: str) -> list[dict]:
-    """The result rows of sweep ``name`` (out/sweep/<name>/results.parquet), with the check out of the way."""
+def rows_of(name: str, axes: dict) -> list[dict]:
+    """The result rows of sweep ``name`` (out/sweep/<name>/results.parquet) with the check out of the way and the
+    values ``axes`` of its other axes."""
     import pyarrow.parquet as pq
     path = ROOT / "out" / "sweep" / name / "results.parquet"
     if not path.is_file():
         raise FileNotFoundError(f"{path}: run `hfi sweep sweeps/{name}.toml` first")
     rows = pq.read_table(path).to_pylist()
-    return [r for r in rows if r.get("protection.hf_response", CHECK_OFF) == CHECK_OFF]
+    want = {"protection.hf_response": CHECK_OFF, **axes}
+    return [r for r in rows if all(r.get(k, v) == v for k, v in want.items())]
 
 
 def main(argv=None) -> int:
@@ -45,7 +49,9 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "figures" / "compare_cross_pairs.png")
     args = ap.parse_args(argv)
     try:
-        data = [(title, rows_of(name)) for name, title in PAIRS]
+        data = [(title, rows_of(name, axes)) for name, axes, title in PAIRS]
+        if not all(rows for _, rows in data):
+            raise FileNotFoundError("a panel has no rows: run its sweep again (sweeps/cross_*.toml)")
     except (FileNotFoundError, OSError) as exc:
         print(f"cross_figure: {exc}", file=sys.stderr)
         return 1

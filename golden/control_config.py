@@ -541,10 +541,12 @@ def hfo_proj_params(sc: Scenario) -> HfoParams:
 
 
 def sqw_params(sc: Scenario) -> SqwParams:
-    """``estimator.sqw_bangbang``: bang-bang step and PLL gains (Benevieri et al. 2023, Table II)."""
+    """``estimator.sqw_bangbang``: bang-bang step and PLL gains (Benevieri et al. 2023, Table II); ``i_d =
+    -i_d_min`` [current LSB]."""
     t, f_sw = sc.estimator.params["sqw_bangbang"], sc.pwm.f_sw
     kp, ki = _named("estimator.sqw_bangbang.pll_kp, pll_ki", pll_gains, t["pll_kp"], t["pll_ki"], f_sw)
-    return SqwParams(k_bb=_named("estimator.sqw_bangbang.K_bb", k_bb_raw, t["K_bb"], f_sw), pll_kp=kp, pll_ki=ki)
+    return SqwParams(k_bb=_named("estimator.sqw_bangbang.K_bb", k_bb_raw, t["K_bb"], f_sw), pll_kp=kp, pll_ki=ki,
+                     i_d=-scales(sc).current(t["i_d_min"]))
 
 
 def rfo_params(sc: Scenario) -> RfoParams:

@@ -256,7 +256,10 @@ def _check_currents(reader, plant: dict, i_range: float, tick: float | None) -> 
             reader.error("control.i_pulse", f"{_q(i_pulse, 'A')} (the polarity test's d-current) must be {why}")
         for method in _methods(reader):
             path = f"estimator.{method.name}.i_d_min"
-            i_d = reader.get(path) if method.name in ("rfo", "eemf_smo") else None
+            try:
+                i_d = reader.get(path)
+            except KeyError:        # the method keeps no d-current of its own
+                continue
             if i_d is not None and i_d >= trip:
                 reader.error(path, f"{_q(i_d, 'A')} (the d-current kept while {method.name} is in charge) "
                                    f"must be {why}")

@@ -315,6 +315,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "K_bb": _q("speed", _positive, default=200.0),
         "pll_kp": Field("number", check=_positive, default=200.0),
         "pll_ki": Field("number", check=_positive, default=10000.0),
+        "i_d_min": _q("current", _non_negative, default=0.0),
     },
     "estimator.rfo": {
         "flux_bw": _q("frequency", _positive, default=70.0),

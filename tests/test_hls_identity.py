@@ -215,6 +215,25 @@ def test_varatharajan2020_direct_vector_identical():
     assert w["load_torque"][-1] > 14.0                                          # the load step is in the run
 
 
+def test_square_wave_on_the_syrm_identical():
+    """The 002 method on the 003 SyRM (sweeps/cross_002_on_003.toml, its first point, 0.3 s): no polarity test, the
+    HF estimator's magnetizing current (``estimator.sqw_bangbang.i_d_min``) asked from CONVERGE on, MTPA in RUN:
+    identical to golden, and the d-current reference in CONVERGE and RELAX is the estimator's, -0.3 A in LSB."""
+    import hfi.sweep as sw
+    from golden.control_config import scales
+    from golden.firmware.supervisor import MODE_CONVERGE, MODE_RELAX, MODE_RUN
+    from golden.scenario import parse_scenario
+
+    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_002_on_003.toml"), "test")[0]
+    sc = dataclasses.replace(parse_scenario(job.tree, "cross_002_on_003"), duration=0.3)
+    gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
+    _assert_identical(gold, hls)
+    mode, i_d_ref = hls.windows["mode"], hls.windows["i_d_ref"]
+    assert {MODE_CONVERGE, MODE_RELAX, MODE_RUN} <= set(np.unique(mode).tolist())
+    start = (mode == MODE_CONVERGE) | (mode == MODE_RELAX)
+    assert set(np.unique(i_d_ref[start][1:]).tolist()) == {-scales(sc).current(0.3)}
+
+
 @pytest.mark.parametrize("change, message", [
     ({"inj_rot": 2}, "inj_rot = 2 must be 0 or 1"),
     ({"inj_rot": 1, "inj_step": 1 << 32}, "inj_step = 4294967296 is not a u32 INJ_STEP register value"),

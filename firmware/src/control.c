@@ -551,8 +551,7 @@ void fw_sqw_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
 
 int32_t fw_sqw_i_d(const struct fw_params *p)
 {
-    (void)p;
-    return 0;
+    return p->sqw.i_d;
 }
 
 /* ---- estimator rfo (golden.firmware.rfo) ------------------------------------------------------------ */
@@ -2384,7 +2383,7 @@ static int32_t supervise(struct fw_state *st, const struct fw_params *p, const s
         if (st->mode == FW_CONVERGE && st->n >= p->n_converge)
             next_mode(st, FW_RELAX);
         relax(st, p);
-        return 0;
+        return fw_methods[slot_method(p, st->active)].i_d(p); /* magnetized as the estimator asks */
     }
     return supervise_pulses(st, p, win);
 }

@@ -106,6 +106,7 @@ struct fw_sqw_params {
     uint32_t k_bb;
     int32_t pll_kp;
     int32_t pll_ki;
+    int32_t i_d;             /* current LSB, <= 0: the magnetizing current of a reluctance machine (0 on magnets) */
 };
 
 struct fw_sqw_state {

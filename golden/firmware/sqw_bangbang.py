@@ -28,11 +28,14 @@ SYNC_HOLD = 1
 
 @dataclass(frozen=True)
 class SqwParams:
-    """``k_bb`` bang-bang step [binary angle per period] (u32, < 2^31); ``pll_kp`` Q16, ``pll_ki`` Q24."""
+    """``k_bb`` bang-bang step [binary angle per period] (u32, < 2^31); ``pll_kp`` Q16, ``pll_ki`` Q24; ``i_d``
+    the d-current it asks for while in charge [current LSB, <= 0]: 0 on a magnet motor, a magnetizing current on
+    a reluctance machine, whose saliency appears only once its ribs saturate (docs/methods.md)."""
 
     k_bb: int
     pll_kp: int
     pll_ki: int
+    i_d: int = 0
 
 
 class SquareWaveBangBang(Estimator):
@@ -47,6 +50,7 @@ class SquareWaveBangBang(Estimator):
         self.pll = PllState(0, 0, 0)
         self.omega = 0
         self.hold = 0
+        self.i_d = p.i_d
 
     def step(self, m: Measurement) -> None:
         p = self.p

@@ -34,6 +34,8 @@ States (``MODE_*``):
               back-EMF's voltage, and the catch goes on from there; else as without it.
 ``CONVERGE``  low-speed estimator in charge, current references 0: theta_hat settles on the +-d axis.
               Its last window already asks for +I_p, so both polarity pulses last ``n_pulse`` windows.
+              Without a polarity test (``POL_NONE``, a reluctance machine) i_d* is the estimator's
+              ``Estimator.i_d`` here and in RELAX: the magnetizing current whose saturation makes the saliency.
 ``POL_POS``   i_d* = +I_p; after ``n_settle`` windows gamma_d is summed (HF d-current response).
 ``POL_NEG``   i_d* = -I_p, summed the same way. A larger response means a smaller incremental
               inductance, i.e. saturation, i.e. the magnet's north: if the -I_p sum is the larger,
@@ -636,7 +638,7 @@ class Firmware:
             if self.mode == MODE_CONVERGE and self.n >= p.n_converge:
                 self._next(MODE_RELAX)
             self._relax()
-            return 0, 0, None
+            return self.slots[self.active].i_d, 0, None     # a reluctance machine: magnetized as the estimator asks
         if self.mode == MODE_CONVERGE:
             if self.n >= p.n_converge:
                 self._next(MODE_POL_POS)

@@ -542,11 +542,64 @@ def hfo_proj_params(sc: Scenario) -> HfoParams:
 
 def sqw_params(sc: Scenario) -> SqwParams:
     """``estimator.sqw_bangbang``: bang-bang step and PLL gains (Benevieri et al. 2023, Table II); ``i_d =
-    -i_d_min`` [current LSB]."""
+    -i_d_min`` [current LSB]; with ``cross_saturation = "on"`` the table of :func:`cross_saturation_table`."""
     t, f_sw = sc.estimator.params["sqw_bangbang"], sc.pwm.f_sw
     kp, ki = _named("estimator.sqw_bangbang.pll_kp, pll_ki", pll_gains, t["pll_kp"], t["pll_ki"], f_sw)
+    shift, table = cross_saturation_table(sc) if t["cross_saturation"] == "on" else (0, ())
     return SqwParams(k_bb=_named("estimator.sqw_bangbang.K_bb", k_bb_raw, t["K_bb"], f_sw), pll_kp=kp, pll_ki=ki,
-                     i_d=-scales(sc).current(t["i_d_min"]))
+                     i_d=-scales(sc).current(t["i_d_min"]), xs_shift=shift, xs_gamma=table)
+
+
+def cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
+    """``(xs_shift, xs_gamma)``: the response across d_hat (``GAMMA``) that the controller's magnetic model gives with
+    d_hat *on* the d-axis, at the current references the drive asks for, on the grid of the MTPA table over
+    ``|i_q|`` from 0 to ``control.i_max`` (docs/methods.md, "Cross-saturation").
+
+    At ``|i_q| = q``: ``i_d`` the smaller of ``-estimator.sqw_bangbang.i_d_min`` and, with ``control.mtpa = "on"``,
+    the MTPA point's whose q current is ``q`` (:func:`golden.firmware.mtpa.mtpa_point` on the nominal motor, as the
+    MTPA table); the inverse incremental inductance across the axes ``Gamma_dq(i_d, q)`` (1/H) of the algebraic
+    model (:func:`golden.saturation_fit.jacobian` at its fluxes); times the hardware's HF gain for the square wave
+    (:func:`golden.hf_gain.hf_response`: ``GAMMA_D`` of 1 H at ``V_H``, with the sensors' lag), rounded, within s16.
+    The table holds ``gain * Gamma_dq``: on the d-axis the cross term reads as a ``GAMMA`` of that sign (checked in
+    closed loop on the 003 SyRM, 2026-12-02: with the opposite sign the offset doubles and the rotor is lost at rated
+    load). Raises ValueError (naming the key) without an algebraic model: a linear one has no cross-saturation to
+    take out."""
+    from golden.firmware.mtpa import MTPA_LEN, mtpa_point, table_grid
+    from golden.hf_gain import hf_response, sensor_bandwidth
+    from golden.saturation_fit import fluxes, jacobian
+
+    key = "estimator.sqw_bangbang.cross_saturation"
+    cm = controller_motor(sc)
+    if cm.mag["kind"] != MAG_KINDS["algebraic"]:
+        raise ValueError(f"{key} = \"on\" needs a controller model with cross-saturation: the motor preset's or "
+                         f"[model.saturation]'s algebraic model (this one is linear: nothing to take out)")
+    ctl, sc_ = sc.control, scales(sc)
+    hw = hardware_config(sc)
+    v_h = min(sc_.voltage(sc.injection.V_h), 32767)
+    gain = hf_response(hw, sc_, sc.pwm.tick_hz, v_h, 0, 32767, sensor_bw=sensor_bandwidth(sc))[0]
+    i_d_min = sc.estimator.params["sqw_bangbang"]["i_d_min"]
+    nom = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * ctl.i_max)
+
+    def i_d_at(q: float) -> float:
+        """The d-current reference [A] at the q current ``q`` >= 0 [A] (docstring)."""
+        if ctl.mtpa != "on":
+            return -i_d_min
+        lo, hi = q, 4.0 * q + 1e-9                  # the MTPA magnitude whose q current is q, by bisection
+        while mtpa_point(hi, nom["psi_f"], nom["L_d"], nom["L_q"])[1] < q:
+            hi *= 2.0
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if mtpa_point(mid, nom["psi_f"], nom["L_d"], nom["L_q"])[1] < q else (lo, mid)
+        return min(mtpa_point(hi, nom["psi_f"], nom["L_d"], nom["L_q"])[0], -i_d_min)
+
+    shift, n = table_grid(min(sc_.current(ctl.i_max), 32767), MTPA_LEN, "cross-saturation table")
+    table = []
+    for k in range(n):
+        q = min(k << shift, 32767) * sc_.i_lsb
+        psi_d, psi_q = fluxes(cm.mag, i_d_at(q), q)
+        g_dq = float(jacobian(cm.mag, psi_d, psi_q)[1])
+        table.append(min(max(to_fixed(gain * g_dq, 0), -32768), 32767))
+    return shift, tuple(table)
 
 
 def rfo_params(sc: Scenario) -> RfoParams:

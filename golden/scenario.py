@@ -316,6 +316,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "pll_kp": Field("number", check=_positive, default=200.0),
         "pll_ki": Field("number", check=_positive, default=10000.0),
         "i_d_min": _q("current", _non_negative, default=0.0),
+        "cross_saturation": Field("choice", choices=("off", "on"), default="off"),
     },
     "estimator.rfo": {
         "flux_bw": _q("frequency", _positive, default=70.0),

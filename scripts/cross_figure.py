@@ -26,7 +26,11 @@ PAIRS = (("cross_001_on_002", {}, "001 method on the Table I SPMSM (5 kHz)"),
           "002 method on the 001 IPMSM (1 kHz), step rule"),
          ("cross_002_on_001", {"estimator.sqw_bangbang.K_bb": "68.6 rad/s"},
           "002 method on the 001 IPMSM (1 kHz), slew rule"),
-         ("cross_002_on_000", {}, "002 method on the 000 PMaSynRM (10 kHz), SNR + slew rules"))
+         ("cross_002_on_000", {}, "002 method on the 000 PMaSynRM (10 kHz), SNR + slew rules"),
+         ("cross_002_on_003", {"control.current_bw": "150 Hz"},
+          "002 method on the 003 SyRM (10 kHz), 0.3 A on d, current PIs 150 Hz"),
+         ("cross_002_on_003", {"control.current_bw": "40 Hz"},
+          "002 method on the 003 SyRM (10 kHz), 0.3 A on d, current PIs 40 Hz"))
 """(sweep name, the values of its other axes a panel draws, panel title), in the order of docs/compare.md."""
 CHECK_OFF = 1.0
 """``protection.hf_response`` of the runs drawn where the sweep varies it."""
@@ -59,8 +63,12 @@ def main(argv=None) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(data), figsize=(4.0 * len(data), 4.2), sharey=True, squeeze=False)
-    for ax, (title, rows) in zip(axes[0], data):
+    ncols = 3
+    nrows = -(-len(data) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.0 * ncols, 4.2 * nrows), sharey=True, squeeze=False)
+    for ax in axes.flat[len(data):]:
+        ax.set_visible(False)
+    for ax, (title, rows) in zip(axes.flat, data):
         speeds = sorted({r["reference.speed.scale"] for r in rows})
         for k, speed in enumerate(speeds):
             loads = sorted({r["load.torque.scale"] for r in rows if r["reference.speed.scale"] == speed})
@@ -84,9 +92,10 @@ def main(argv=None) -> int:
         ax.set_yscale("log")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
-    axes[0][0].set_ylabel("angle error [deg el]: median RMS (dot), worst peak (bar)\n"
+    for row in axes:
+        row[0].set_ylabel("angle error [deg el]: median RMS (dot), worst peak (bar)\n"
                           "x: share of seeds that lost lock or tripped")
-    fig.suptitle("The methods on each other's motors (HF response check out of the way; 10 seeds a point)",
+    fig.suptitle("The methods on each other's motors (HF response check out of the way or off; 10 seeds a point)",
                  fontsize=10)
     fig.tight_layout()
     args.out.parent.mkdir(parents=True, exist_ok=True)

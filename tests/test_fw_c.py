@@ -846,8 +846,10 @@ def random_params(rng: np.random.Generator, fixed: bool, prot: bool = False) -> 
     step = draw_one(rng, 0, U32_MAX, (214_748_365,))
     (inj_sd, inj_cd), (inj_s2, inj_c2) = sincos_q15(step), sincos_q15(2 * step % (1 << 32))
     shift, t_d, t_q = random_mtpa(rng) if rng.random() < 0.5 else (0, (), ())
+    xs_shift, xs_gamma, _ = random_mtpa(rng) if rng.random() < 0.5 else (0, (), ())
     return FirmwareParams(
-        low=low, high=high, sqw=(SqwParams(k_bb, pll_kp, pll_ki, i_d=draw_one(rng, -S32_MAX, 0, (0, -2621)))
+        low=low, high=high, sqw=(SqwParams(k_bb, pll_kp, pll_ki, i_d=draw_one(rng, -S32_MAX, 0, (0, -2621)), xs_shift=xs_shift,
+                        xs_gamma=xs_gamma)
              if low == METHOD_SQW_BANGBANG else None),
         rfo=random_rfo(rng) if high == METHOD_RFO else None,
         rot=random_rot(rng) if low == METHOD_ROT_BPF else None,

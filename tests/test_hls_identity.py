@@ -216,22 +216,28 @@ def test_varatharajan2020_direct_vector_identical():
 
 
 def test_square_wave_on_the_syrm_identical():
-    """The 002 method on the 003 SyRM (sweeps/cross_002_on_003.toml, its first point, 0.3 s): no polarity test, the
-    HF estimator's magnetizing current (``estimator.sqw_bangbang.i_d_min``) asked from CONVERGE on, MTPA in RUN:
-    identical to golden, and the d-current reference in CONVERGE and RELAX is the estimator's, -0.3 A in LSB."""
+    """The 002 method on the 003 SyRM (sweeps/cross_002_on_003.toml at standstill, the rated-load point with the
+    cross-saturation table, 1.8 s: the load ramp to 1.7 s): no polarity test, the HF estimator's magnetizing
+    current (``estimator.sqw_bangbang.i_d_min``) asked from CONVERGE on, MTPA in RUN, the table read at the q
+    currents of the load: identical to golden; the d-current reference in CONVERGE and RELAX is the estimator's,
+    -0.3 A in LSB, and the q current reaches the table's third point."""
     import hfi.sweep as sw
-    from golden.control_config import scales
+    from golden.control_config import scales, sqw_params
     from golden.firmware.supervisor import MODE_CONVERGE, MODE_RELAX, MODE_RUN
     from golden.scenario import parse_scenario
 
-    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_002_on_003.toml"), "test")[0]
-    sc = dataclasses.replace(parse_scenario(job.tree, "cross_002_on_003"), duration=0.3)
+    job = next(j for j in sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_002_on_003.toml"), "test")
+               if j.settings == {"reference.speed": ("scale", 0), "load.torque": ("scale", 1.0),
+                                 "control.current_bw": ("value", "40 Hz"),
+                                 "estimator.sqw_bangbang.cross_saturation": ("value", "on")})
+    sc = dataclasses.replace(parse_scenario(job.tree, "cross_002_on_003"), duration=1.8)
     gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
     _assert_identical(gold, hls)
     mode, i_d_ref = hls.windows["mode"], hls.windows["i_d_ref"]
     assert {MODE_CONVERGE, MODE_RELAX, MODE_RUN} <= set(np.unique(mode).tolist())
     start = (mode == MODE_CONVERGE) | (mode == MODE_RELAX)
     assert set(np.unique(i_d_ref[start][1:]).tolist()) == {-scales(sc).current(0.3)}
+    assert np.max(np.abs(hls.windows["i_q"])) > 2 << sqw_params(sc).xs_shift
 
 
 @pytest.mark.parametrize("change, message", [

@@ -521,8 +521,16 @@ void fw_sqw_step(struct fw_state *st, const struct fw_params *p, const struct fw
         e->hold--;
         e->theta += (uint32_t)e->pll.omega;
     } else {
-        /* Benevieri et al. 2023, Fig. 1: bang-bang on gamma, integrated to theta_hat; PLL -> speed */
-        e->theta = fw_bangbang_step(e->theta, m->win->gamma, p->sqw.k_bb);
+        /* Benevieri et al. 2023, Fig. 1: bang-bang on gamma, integrated to theta_hat; PLL -> speed; gamma less the
+         * response the machine's cross-saturation gives on the d-axis (golden cross_saturation_gamma) */
+        int32_t gamma = m->win->gamma;
+        if (p->sqw.xs_len) {
+            int32_t g0, unused;
+            uint32_t a = m->i_q < 0 ? 0u - (uint32_t)m->i_q : (uint32_t)m->i_q;
+            mtpa_lookup(a, p->sqw.xs_shift, p->sqw.xs_len, p->sqw.xs_gamma, p->sqw.xs_gamma, &g0, &unused);
+            gamma = sat32((int64_t)gamma - (m->i_q < 0 ? -(int64_t)g0 : (int64_t)g0));
+        }
+        e->theta = fw_bangbang_step(e->theta, gamma, p->sqw.k_bb);
     }
     fw_pll_step(&e->pll, e->theta, p->sqw.pll_kp, p->sqw.pll_ki);
     e->omega = e->pll.omega;

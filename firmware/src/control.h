@@ -107,6 +107,9 @@ struct fw_sqw_params {
     int32_t pll_kp;
     int32_t pll_ki;
     int32_t i_d;             /* current LSB, <= 0: the magnetizing current of a reluctance machine (0 on magnets) */
+    int32_t xs_shift;        /* the cross-saturation table (golden SqwParams): grid step 2^xs_shift current LSB, */
+    int32_t xs_gamma[33];    /* GAMMA LSB (s16) at |i_q| = k << xs_shift, */
+    int32_t xs_len;          /* its points: 0 (off) or 2..33 */
 };
 
 struct fw_sqw_state {

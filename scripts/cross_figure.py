@@ -27,10 +27,12 @@ PAIRS = (("cross_001_on_002", {}, "001 method on the Table I SPMSM (5 kHz)"),
          ("cross_002_on_001", {"estimator.sqw_bangbang.K_bb": "68.6 rad/s"},
           "002 method on the 001 IPMSM (1 kHz), slew rule"),
          ("cross_002_on_000", {}, "002 method on the 000 PMaSynRM (10 kHz), SNR + slew rules"),
-         ("cross_002_on_003", {"control.current_bw": "150 Hz"},
-          "002 method on the 003 SyRM (10 kHz), 0.3 A on d, current PIs 150 Hz"),
-         ("cross_002_on_003", {"control.current_bw": "40 Hz"},
-          "002 method on the 003 SyRM (10 kHz), 0.3 A on d, current PIs 40 Hz"))
+         ("cross_002_on_003", {"control.current_bw": "150 Hz", "estimator.sqw_bangbang.cross_saturation": "off"},
+          "002 method on the 003 SyRM (10 kHz), PIs 150 Hz"),
+         ("cross_002_on_003", {"control.current_bw": "40 Hz", "estimator.sqw_bangbang.cross_saturation": "off"},
+          "002 method on the 003 SyRM, PIs 40 Hz"),
+         ("cross_002_on_003", {"control.current_bw": "40 Hz", "estimator.sqw_bangbang.cross_saturation": "on"},
+          "002 on the 003 SyRM, PIs 40 Hz + cross-saturation table"))
 """(sweep name, the values of its other axes a panel draws, panel title), in the order of docs/compare.md."""
 CHECK_OFF = 1.0
 """``protection.hf_response`` of the runs drawn where the sweep varies it."""
@@ -95,7 +97,8 @@ def main(argv=None) -> int:
     for row in axes:
         row[0].set_ylabel("angle error [deg el]: median RMS (dot), worst peak (bar)\n"
                           "x: share of seeds that lost lock or tripped")
-    fig.suptitle("The methods on each other's motors (HF response check out of the way or off; 10 seeds a point)",
+    fig.suptitle("The methods on each other's motors (HF response check out of the way or off; 10 seeds a point, "
+                 "5 on the SyRM)",
                  fontsize=10)
     fig.tight_layout()
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -19,6 +19,7 @@ from pathlib import Path
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from hfi.compare import kept  # noqa: E402
+from hfi.report import save_figure  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 PAIRS = (("cross_001_on_002", {}, "001 method on the Table I SPMSM (5 kHz)"),
@@ -100,11 +101,8 @@ def main(argv=None) -> int:
     fig.suptitle("The methods on each other's motors (HF response check out of the way or off; 10 seeds a point, "
                  "5 on the SyRM)",
                  fontsize=10)
-    fig.tight_layout()
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(args.out, dpi=110)
-    plt.close(fig)
-    print(f"wrote {args.out}")
+    print(f"wrote {save_figure(fig, str(args.out.parent), args.out.name)}")
     return 0
 
 

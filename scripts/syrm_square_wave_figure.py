@@ -72,6 +72,7 @@ def main(argv=None) -> int:
     from golden.control_config import firmware_params, scales
     from golden.firmware.supervisor import MODE_RUN
     from hfi.paper import RPM
+    from hfi.report import save_figure
 
     fig, axes = plt.subplots(2, 3, figsize=(15, 8.5))
     runs = []
@@ -119,11 +120,8 @@ def main(argv=None) -> int:
     axes[1][2].set_visible(False)
     fig.suptitle("The 002 method (square wave at 10 kHz, bang-bang + PLL, 0.3 A on d) on the 003 SyRM: "
                  "10 % of rated speed, rated load", fontsize=10)
-    fig.tight_layout()
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(args.out, dpi=100)
-    plt.close(fig)
-    print(f"wrote {args.out}")
+    print(f"wrote {save_figure(fig, str(args.out.parent), args.out.name)}")
     return 0
 
 

@@ -240,6 +240,28 @@ def test_square_wave_on_the_syrm_identical():
     assert np.max(np.abs(hls.windows["i_q"])) > 2 << sqw_params(sc).xs_shift
 
 
+def test_rotating_injection_on_the_spmsm_identical():
+    """The 000 method on the 002 system's Table I SPMSM (sweeps/cross_000_on_002.toml at standstill, rated load,
+    21 V, the dead-time compensation's zone 0.2 A; 1.8 s: the load ramp to 1.7 s): the rotating injection at 500 Hz
+    on a 5 kHz carrier (a 10-step staircase), N = 10, the notch at 500 Hz in the current loops, the 002 drive's
+    saturation polarity test: identical to golden; the injection's phase steps a tenth of a turn per period, and the
+    low slot holds the rotor within 10 deg at the end."""
+    import hfi.sweep as sw
+    from golden.firmware.supervisor import MODE_CONVERGE, MODE_RUN
+    from golden.scenario import parse_scenario
+
+    job = next(j for j in sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_000_on_002.toml"), "test")
+               if j.settings == {"reference.speed": ("scale", 0), "load.torque": ("scale", 1.0),
+                                 "injection.V_h": ("value", "21 V"), "control.dtc_zone": ("value", "0.2 A")})
+    sc = dataclasses.replace(parse_scenario(job.tree, "cross_000_on_002"), duration=1.8)
+    gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
+    _assert_identical(gold, hls)
+    assert hls.hw.inj_rot == 1 and hls.hw.inj_step == inj_step(500.0, 5000.0)
+    assert set(np.diff(hls.windows["inj_phase"].astype(np.int64)) % (1 << 32)) == {hls.hw.inj_step}
+    assert {MODE_CONVERGE, MODE_RUN} <= set(np.unique(hls.windows["mode"]).tolist())
+    assert abs(hls.angle_error_deg()[-1]) < 10.0
+
+
 @pytest.mark.parametrize("change, message", [
     ({"inj_rot": 2}, "inj_rot = 2 must be 0 or 1"),
     ({"inj_rot": 1, "inj_step": 1 << 32}, "inj_step = 4294967296 is not a u32 INJ_STEP register value"),

@@ -23,6 +23,10 @@ from hfi.report import save_figure  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 PAIRS = (("cross_001_on_002", {}, "001 method on the Table I SPMSM (5 kHz)"),
+         ("cross_000_on_002", {"injection.V_h": "21 V", "pwm.dead_time": "4 us"},
+          "000 method on the Table I SPMSM (5 kHz), 21 V, 4 us dead time"),
+         ("cross_000_on_002", {"injection.V_h": "21 V", "pwm.dead_time": "0.5 us"},
+          "000 method on the Table I SPMSM, 21 V, 0.5 us dead time"),
          ("cross_002_on_001", {"estimator.sqw_bangbang.K_bb": "40 rad/s"},
           "002 method on the 001 IPMSM (1 kHz), step rule"),
          ("cross_002_on_001", {"estimator.sqw_bangbang.K_bb": "68.6 rad/s"},
@@ -99,7 +103,7 @@ def main(argv=None) -> int:
         row[0].set_ylabel("angle error [deg el]: median RMS (dot), worst peak (bar)\n"
                           "x: share of seeds that lost lock or tripped")
     fig.suptitle("The methods on each other's motors (HF response check out of the way or off; 10 seeds a point, "
-                 "5 on the SyRM)",
+                 "5 for the 000 method and on the SyRM)",
                  fontsize=10)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     print(f"wrote {save_figure(fig, str(args.out.parent), args.out.name)}")

@@ -242,17 +242,17 @@ def test_square_wave_on_the_syrm_identical():
 
 def test_rotating_injection_on_the_spmsm_identical():
     """The 000 method on the 002 system's Table I SPMSM (sweeps/cross_000_on_002.toml at standstill, rated load,
-    21 V, the dead-time compensation's zone 0.2 A; 1.8 s: the load ramp to 1.7 s): the rotating injection at 500 Hz
-    on a 5 kHz carrier (a 10-step staircase), N = 10, the notch at 500 Hz in the current loops, the 002 drive's
-    saturation polarity test: identical to golden; the injection's phase steps a tenth of a turn per period, and the
-    low slot holds the rotor within 10 deg at the end."""
+    21 V, the 0.5 us stage, the dead-time compensation's zone 0.2 A; 1.8 s: the load ramp to 1.7 s): the rotating
+    injection at 500 Hz on a 5 kHz carrier (a 10-step staircase), N = 10, the notch at 500 Hz in the current loops,
+    the 002 drive's saturation polarity test: identical to golden; the injection's phase steps a tenth of a turn
+    per period, and the low slot holds the rotor within 10 deg at the end."""
     import hfi.sweep as sw
     from golden.firmware.supervisor import MODE_CONVERGE, MODE_RUN
     from golden.scenario import parse_scenario
 
     job = next(j for j in sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_000_on_002.toml"), "test")
                if j.settings == {"reference.speed": ("scale", 0), "load.torque": ("scale", 1.0),
-                                 "injection.V_h": ("value", "21 V"), "control.dtc_zone": ("value", "0.2 A")})
+                                 "injection.V_h": ("value", "21 V"), "pwm.dead_time": ("value", "0.5 us")})
     sc = dataclasses.replace(parse_scenario(job.tree, "cross_000_on_002"), duration=1.8)
     gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
     _assert_identical(gold, hls)

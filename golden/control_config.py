@@ -425,7 +425,7 @@ def protection_params(sc: Scenario) -> ProtParams:
     else:
         asc = v_dc / (math.sqrt(3) * sc_.pole_pairs * mag["psi_f"]) if mag["psi_f"] > 0 else 0.0
     psi_nom = mag["psi_f"] if mag["psi_f"] > 0 else mag["L_q"] * ctl.i_max   # the back-EMF per speed
-    shift = lambda tau: min(max(round(math.log2(tau * sc_.f_sw)), 0), 30)   # noqa: E731
+    shift = lambda tau: filter_shift(tau, sc_.f_sw)   # noqa: E731
     return ProtParams(
         r=to_fixed(cm.R_s * sc_.i_lsb / sc_.v_lsb, 16),
         ld=to_fixed(mag["L_d"] * sc_.i_lsb * flux, 16), lq=to_fixed(mag["L_q"] * sc_.i_lsb * flux, 16),
@@ -443,7 +443,41 @@ def protection_params(sc: Scenario) -> ProtParams:
         catch_n=catch_n, probe_min=probe_min,
         hf_k=shift(pr.hf_time), hf_tol=to_fixed(pr.hf_response, 16),
         frz_n=round(pr.frozen_time * sc_.f_sw), frz_min=pr.frozen_samples,
-        **slip_limits(sc, mag["psi_f"]), **dc_link_limits(sc))
+        **slip_limits(sc, mag["psi_f"]), **dc_link_limits(sc), **load_limits(sc))
+
+
+def filter_shift(tau: float, f_sw: float) -> int:
+    """The shift ``k`` (0..30) of a first-order filter ``f += shr(x - f, k)`` run once per period whose time
+    constant ``2^k / f_sw`` is nearest to ``tau`` [s] in the logarithm."""
+    return min(max(round(math.log2(tau * f_sw)), 0), 30)
+
+
+def load_limits(sc: Scenario) -> dict:
+    """``ld_ct``, ``ld_cr``, ``ld_k``, ``ld_max`` of the overload check's load part (golden.firmware.protection): the
+    torque's acceleration per current (:func:`torque_acceleration` of the controller's nominal motor at half
+    ``i_max``, as the other checks), the filter ``load_time`` and the limit ``load_max`` times the acceleration of
+    the largest torque that model gives at ``control.i_max`` (its MTPA point, :func:`max_torque`), in speed LSB
+    per period (0: off)."""
+    pr = sc.protection
+    if pr.load_max <= 0:
+        return {"ld_ct": 0, "ld_cr": 0, "ld_k": 0, "ld_max": 0}
+    cm = controller_motor(sc)
+    mag = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * sc.control.i_max)
+    c_t, c_r = torque_acceleration(sc, mag)
+    a_max = cm.pole_pairs * max_torque(mag, cm.pole_pairs, sc.control.i_max) / cm.J / sc.pwm.f_sw**2
+    return {"ld_ct": c_t, "ld_cr": c_r, "ld_k": filter_shift(pr.load_time, sc.pwm.f_sw),
+            "ld_max": min(to_fixed(pr.load_max * a_max * 2**32 / (2 * math.pi), 0), 2**31 - 1)}
+
+
+def max_torque(mag: dict, pole_pairs: int, i_max: float) -> float:
+    """The largest torque ``1.5 p (psi_f i_q + (L_d - L_q) i_d i_q)`` of the nominal constants of ``mag`` on the
+    circle ``|i| = i_max`` [N m] (the MTPA point; 1001 current angles from q towards -d and +d)."""
+    best = 0.0
+    for k in range(1001):
+        beta = (k / 1000 - 0.5) * math.pi             # i_d = -i sin(beta), i_q = i cos(beta)
+        i_d, i_q = -i_max * math.sin(beta), i_max * math.cos(beta)
+        best = max(best, 1.5 * pole_pairs * (mag["psi_f"] * i_q + (mag["L_d"] - mag["L_q"]) * i_d * i_q))
+    return best
 
 
 def slip_limits(sc: Scenario, psi_f: float) -> dict:
@@ -688,17 +722,13 @@ def motion_gains(sc: Scenario, observer_bw: float, torque_ff: bool, method: str)
     of the controller's motor (:func:`controller_motor`): ``c_t`` per current LSB (Q24 binary angle per
     period^2), ``c_r`` per LSB^2 (Q40); both 0 without ``torque_ff``. Raises ValueError (naming ``method``)
     when a gain leaves the range the firmware's integers hold."""
-    sc_, T = scales(sc), 1.0 / sc.pwm.f_sw
-    cm = controller_motor(sc)
-    mag, p = cm.mag, cm.pole_pairs
+    T = 1.0 / sc.pwm.f_sw
     a = 2 * math.pi * observer_bw
-    turn = 2**32 / (2 * math.pi)                                 # binary angle per radian
-    acc = p * 1.5 * p / cm.J * T * T * turn                 # n_p T_e / J per (N*m / 1.5 n_p) per period^2
     why = "observer_bw, the motor's saliency or its J out of the range the firmware's integers hold"
     try:
+        c_t, c_r = torque_acceleration(sc, controller_motor(sc).mag) if torque_ff else (0, 0)
         g = {"c1": to_fixed((a * T) ** 3, 24), "c2": to_fixed(3 * (a * T) ** 2, 24), "c3": to_fixed(3 * a * T, 16),
-             "c_t": to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24) if torque_ff else 0,
-             "c_r": to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40) if torque_ff else 0}
+             "c_t": c_t, "c_r": c_r}
     except (OverflowError, ValueError) as exc:     # (a T)^3 beyond a float: tests/test_scenario_fuzz.py, 2026-12-01
         raise ValueError(f"estimator {method}: a gain is beyond a float ({exc}; a T = {a * T:.3g}): {why}") from None
     for name, v in g.items():
@@ -706,6 +736,18 @@ def motion_gains(sc: Scenario, observer_bw: float, torque_ff: bool, method: str)
         if not -lim <= v < lim:
             raise ValueError(f"estimator {method}: {name} = {v} is outside +-{lim} ({why})")
     return g
+
+
+def torque_acceleration(sc: Scenario, mag: dict) -> tuple[int, int]:
+    """``n_p T_e / J`` with ``T_e = 1.5 n_p (psi_f i_q + (L_d - L_q) i_d i_q)`` of the constants ``mag`` of the
+    controller's motor (:func:`controller_motor`: its J and pole pairs) in binary angle per period^2: per current
+    LSB (Q24) and per LSB^2 (Q40); the motion observer's feed-forward and the overload check's load part."""
+    sc_, T = scales(sc), 1.0 / sc.pwm.f_sw
+    cm = controller_motor(sc)
+    p = cm.pole_pairs
+    turn = 2**32 / (2 * math.pi)                                 # binary angle per radian
+    acc = p * 1.5 * p / cm.J * T * T * turn                 # n_p T_e / J per (N*m / 1.5 n_p) per period^2
+    return to_fixed(acc * mag["psi_f"] * sc_.i_lsb, 24), to_fixed(acc * (mag["L_d"] - mag["L_q"]) * sc_.i_lsb**2, 40)
 
 
 def sqw_cic_delay(cic_m: int, l_d: float, l_q: float) -> float:

@@ -402,6 +402,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "frozen_samples": Field("integer", check=_between(2, 65535), default=16),
         "slip_speed": _q("speed", _non_negative),
         "slip_time": _q("time", _positive, default=5e-3),
+        "load_max": Field("number", check=_non_negative, default=1.4),
+        "load_time": _q("time", _positive, default=20e-3),
     },
     # Self-commissioning (`hfi commission`, golden.commission): absent keys are derived from the scenario
     "commission": {
@@ -608,6 +610,8 @@ class ProtectionSettings:
     frozen_samples: int
     slip_speed: float | None
     slip_time: float
+    load_max: float
+    load_time: float
 
 
 @dataclass(frozen=True)

@@ -466,6 +466,7 @@ def test_protect_step_random_sequences(seed):
         fw_c._fill(c, p)
         gold = Firmware(_params())
         st.emf_d = st.emf_q = st.track_f = st.ovl_n = st.ovl_e = st.e0 = st.hf_ref = st.hf_f = 0
+        st.ld_w = st.ld_n = st.ld_f = 0
         at_limit = rng.random() < 0.5
         level = draw_one(rng, S32_MIN >> (q % 20), S32_MAX >> (q % 20), (1_786_000, 0))   # a GAMMA_D level
         for k in range(int(rng.integers(0, 6))):
@@ -481,9 +482,10 @@ def test_protect_step_random_sequences(seed):
             hf = max(min(hf, S32_MAX), S32_MIN)
             want = protect_step(gold, p, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, bool(limit), hf if hf_on else None)
             got = lib.fw_protect_step(st, c, v_d, v_q, i_d, i_q, i_dr, i_qr, w, ref, limit, hf_on, hf)
-            assert (got, st.emf_d, st.emf_q, st.track_f, st.ovl_n, st.ovl_e, st.e0, st.hf_f) == \
-                (want, gold.emf_d, gold.emf_q, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0, gold.hf_f), \
-                (seed, q, k, p)
+            assert (got, st.emf_d, st.emf_q, st.track_f, st.ovl_n, st.ovl_e, st.e0, st.hf_f, st.ld_w, st.ld_n,
+                    st.ld_f) == \
+                (want, gold.emf_d, gold.emf_q, gold.track_f, gold.ovl_n, gold.ovl_e, gold.e0, gold.hf_f, gold.ld_w,
+                 gold.ld_n, gold.ld_f), (seed, q, k, p)
             seen.add(want)
     assert seen == set(range(len(FAULT_NAMES))) - {protection.FAULT_OVERCURRENT, protection.FAULT_HARDWARE,
                                                     protection.FAULT_IDENT, protection.FAULT_UNDERVOLTAGE,
@@ -915,7 +917,10 @@ def random_prot(rng: np.random.Generator) -> ProtParams:
                       vdc_n=draw_one(rng, 0, 20, (0, 1, 5)),
                       frz_n=draw_one(rng, 0, 12, (0, 1, 4)), frz_min=draw_one(rng, 0, 300, (2, 16)),
                       probe_min=draw_one(rng, 0, 1 << 16, (0, 0, 1, 130)),
-                      slip_w=draw_one(rng, 0, S32_MAX, (0, 0, 1, 10_416_233)), slip_n=draw_one(rng, 0, 60, (0, 1, 25)))
+                      slip_w=draw_one(rng, 0, S32_MAX, (0, 0, 1, 10_416_233)), slip_n=draw_one(rng, 0, 60, (0, 1, 25)),
+                      ld_ct=draw_one(rng, -(1 << 46), 1 << 46, (0, 154_343_571, 4_199_825_053)),
+                      ld_cr=draw_one(rng, -(1 << 32), 1 << 32, (0, -17_586_767, -1_327_144_717)),
+                      ld_k=draw_one(rng, 0, 30, (0, 5)), ld_max=draw_one(rng, 0, S32_MAX, (0, 0, 1, 38, 126_622)))
 
 
 def random_cic_q(rng: np.random.Generator, count: int) -> np.ndarray:

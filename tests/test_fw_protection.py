@@ -216,6 +216,52 @@ def test_protection_params_of_the_default_scenario():
     assert protection_params(flying) == ProtParams(catch_n=200, probe_min=round(0.05 / s.i_lsb), psi_f=p.psi_f)
 
 
+def test_the_load_check_reads_the_motion_equation():
+    """The overload check's load part: ``a = shr(ld_ct i_q + shr(ld_cr i_d i_q, 16), 24) - d omega`` per period
+    through the shift filter. With ``ld_ct`` = 1.5 speed LSB per period per current LSB (Q24), no reluctance term and
+    no filter (k = 0): the first period takes the speed only; a rotor that speeds up by 40 LSB a period under 100
+    current LSB (150 of torque's acceleration) leaves 110 to a load; one that slows down by 40 brakes against 190,
+    beyond a limit of 150."""
+    p = replace(P, ld_ct=3 << 23, ld_cr=0, ld_k=0, ld_max=150)
+    st = Firmware(_params())
+    step = lambda w, i_d, i_q: protect_step(st, p, 0, 0, i_d, i_q, 0, 0, w, w, False)   # noqa: E731
+    assert step(5000, 0, 100) == FAULT_NONE and (st.ld_w, st.ld_n, st.ld_f) == (5000, 1, 150)   # at the limit
+    assert step(5040, 0, 100) == FAULT_NONE and (st.ld_w, st.ld_f) == (5040, 110)
+    assert step(5000, 0, 100) == FAULT_OVERLOAD and (st.ld_w, st.ld_f) == (5000, 190)
+    assert step(5000, 0, -100) == FAULT_NONE and st.ld_f == -150
+    assert step(5000, 0, -101) == FAULT_OVERLOAD and st.ld_f == -152                # floor(-151.5)
+    assert step(5000, 0, 40000) == FAULT_OVERLOAD and st.ld_f == (3 * 32767) >> 1    # i_q saturated to s16
+    # the reluctance term: ld_cr = 1 (Q40) per LSB^2 gives i_d i_q; with -10 and 12: -120
+    pr = replace(p, ld_ct=0, ld_cr=1 << 40)
+    st2 = Firmware(_params())
+    assert protect_step(st2, pr, 0, 0, -10, 12, 0, 0, 7, 7, False) == FAULT_NONE and st2.ld_f == -120
+    # filtered (k = 2): a constant 200 from 0 reaches 200 (1 - (3/4)^n), floored: beyond 150 after 5 periods
+    st3 = Firmware(_params())
+    p3 = replace(p, ld_ct=2 << 24, ld_k=2)
+    codes = [protect_step(st3, p3, 0, 0, 0, 100, 0, 0, 0, 0, False) for _ in range(5)]
+    assert codes == [FAULT_NONE] * 4 + [FAULT_OVERLOAD]
+    assert protect_step(Firmware(_params()), replace(p, ld_max=0), 0, 0, 0, 30000, 0, 0, 0, 0, False) == FAULT_NONE
+
+
+def test_load_limits_from_the_scenario():
+    """The load part's integers for the default scenario: the motion equation's ``n_p T_e / J`` of the Table I
+    motor (J = 4e-3 kg m^2, 4 pole pairs) in binary angle per period^2, and the limit: the acceleration
+    of its MTPA torque at i_max = 3 A (closed form) times 1.4, 20 ms -> 128 periods; off with ``load_max = 0``."""
+    sc = load_scenario("scenarios/fullload_start.toml")
+    s, p = scales(sc), protection_params(sc)
+    acc = 4 * 1.5 * 4 / 4e-3 / F_SW**2 * 2**32 / (2 * math.pi)
+    assert p.ld_ct == pytest.approx(acc * PSI_F * s.i_lsb * 2**24, abs=1)
+    assert p.ld_cr == pytest.approx(acc * (L_D - L_Q) * s.i_lsb**2 * 2**40, abs=1)
+    dl = L_Q - L_D
+    i_d = (PSI_F - math.sqrt(PSI_F**2 + 8 * dl**2 * 3.0**2)) / (4 * dl)          # MTPA on |i| = 3 A
+    i_q = math.sqrt(3.0**2 - i_d**2)
+    t_max = 1.5 * 4 * (PSI_F * i_q - dl * i_d * i_q)
+    assert p.ld_max == pytest.approx(1.4 * 4 * t_max / 4e-3 / F_SW**2 * 2**32 / (2 * math.pi), abs=1)
+    assert p.ld_k == 7
+    off = replace(sc, protection=replace(sc.protection, load_max=0.0))
+    assert (protection_params(off).ld_ct, protection_params(off).ld_max) == (0, 0)
+
+
 class _SlipState:
     slip_left = 0
 

@@ -1967,6 +1967,18 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
         st->e0 = err;
     }
     st->ovl_e = count_while(st->ovl_e, at_limit && (int64_t)err - st->e0 > p->ovl_w);
+    if (p->ld_max) { /* the load's acceleration: n_p T_e / J less the speed's change (|products| < 2^62) */
+        if (!st->ld_n) {
+            st->ld_w = omega_f;
+            st->ld_n = 1;
+        }
+        const int64_t id16 = sat16(i_d), iq16 = sat16(i_q);
+        const int64_t torque = (p->ld_ct * iq16 + ((p->ld_cr * (id16 * iq16)) >> 16)) >> 24;
+        int32_t load = sat32(torque - ((int64_t)omega_f - st->ld_w));
+
+        st->ld_f = sat32(st->ld_f + (((int64_t)load - st->ld_f) >> p->ld_k));
+        st->ld_w = omega_f;
+    }
     if (p->hf_tol) {
         if (!hf_on || st->hf_ref <= 0)
             st->hf_f = 0;
@@ -1979,7 +1991,8 @@ int32_t fw_protect_step(struct fw_state *st, const struct fw_prot_params *p, int
         return FW_FAULT_LOCK_LOSS;
     if (p->track_tol && st->track_f > p->track_tol)
         return FW_FAULT_TRACKING;
-    if ((p->ovl_n && st->ovl_n >= p->ovl_n) || (p->ovl_m && st->ovl_e >= p->ovl_m))
+    if ((p->ovl_n && st->ovl_n >= p->ovl_n) || (p->ovl_m && st->ovl_e >= p->ovl_m)
+        || (p->ld_max && abs64(st->ld_f) > p->ld_max))
         return FW_FAULT_OVERLOAD;
     if (p->hf_tol && st->hf_f > (((int64_t)st->hf_ref * p->hf_tol) >> 16))
         return FW_FAULT_HF_RESPONSE;

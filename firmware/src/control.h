@@ -70,6 +70,10 @@ struct fw_prot_params {
                               * (0: no probe; golden.firmware.catch_probe) */
     int32_t slip_w;          /* slip check: the speed above which the slots' agreement arms it, speed LSB (0: off) */
     int32_t slip_n;          /* the periods an agreement keeps it armed */
+    int64_t ld_ct;           /* overload check's load part: n_p T_e / J per current LSB, Q24, and per LSB^2, Q40 */
+    int64_t ld_cr;
+    int32_t ld_k;            /* its filter: time constant 2^ld_k periods */
+    int32_t ld_max;          /* its limit on the load's acceleration, speed LSB per period (0: off) */
 };
 
 /* Current-loop laws (golden.firmware.fcs_law.LAW_*). */
@@ -560,6 +564,9 @@ struct fw_state {
     int32_t ovl_n;
     int32_t ovl_e;
     int32_t e0;                 /* |speed error| when the speed PI reached its limit */
+    int32_t ld_w;               /* overload check's load part: the last filtered speed, whether it holds one (0 at */
+    int32_t ld_n;               /* every start) and the filtered load acceleration */
+    int32_t ld_f;
     int32_t w_catch;            /* the speed a flying start caught, 0..2^31-1 (overspeed counts from it until the
                                  * hand-over down) */
     int32_t hf_ref;             /* HF response check: GAMMA_D learned in CONVERGE, the filtered deviation from it */

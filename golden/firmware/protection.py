@@ -35,6 +35,16 @@ references it gave and the filtered speed of the estimator in charge.
                       by more than ``ovl_w`` since the count started, the count starts again (the drive is
                       making progress: a long acceleration, or a flying start braking a rotor an active load
                       has spun up, at the current limit for longer than ``ovl_n``; ``ovl_w = 0``: never).
+                      Its third part, the load beyond the drive: the load's share of the acceleration from the
+                      motion equation ``J d omega/dt = T_e - T_L``, in speed LSB per period,
+                      ``a = shr(ld_ct i_q + shr(ld_cr i_d i_q, 16), 24) - (omega_f - omega_f[k-1])`` (``i_d, i_q``
+                      the window means saturated to s16; ``ld_ct``, ``ld_cr``: ``n_p T_e / J`` of the nominal
+                      motor per current LSB and LSB^2, Q24 and Q40, as the motion observer's feed-forward), through
+                      a first-order filter (``ld_k``), ``|f| > ld_max`` (a share beyond the acceleration the drive's
+                      largest torque gives: no current it can give holds that load). It needs no speed reference,
+                      so a reference step never fires it, and it sees the load's acceleration as it starts, where
+                      the speed error takes the speed loop's time to grow (a load driving the motor at three times
+                      the rated torque: docs/faults.md). The first period of RUN only takes the speed.
 
 ``hf_response``       the d-axis response of the square-wave injection (``GAMMA_D``, the window's sum of the
                       current along d_hat times the carrier's sign: INJ_SQW_D methods) against its level
@@ -141,6 +151,10 @@ class ProtParams:
     slip_w, slip_n : int
         The slip check (:func:`slip_check`): the speed above which the slots' agreement arms it [speed LSB]
         (0: off) and the periods an agreement keeps it armed.
+    ld_ct, ld_cr, ld_k, ld_max : int
+        The overload check's load part: ``n_p T_e / J`` per current LSB (Q24, ``|ld_ct| <= 2^46``) and per LSB^2
+        (Q40, ``|ld_cr| <= 2^32``) in speed LSB per period, the filter's shift (0..30) and the limit on the
+        filtered load acceleration [speed LSB per period] (0: off).
     """
 
     r: int = 0
@@ -170,6 +184,10 @@ class ProtParams:
     probe_min: int = 0
     slip_w: int = 0
     slip_n: int = 0
+    ld_ct: int = 0
+    ld_cr: int = 0
+    ld_k: int = 0
+    ld_max: int = 0
 
 
 def emf_residual(p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, omega: int) -> tuple[int, int]:
@@ -253,9 +271,10 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
                  i_q_ref: int, omega_f: int, speed_ref: int, at_limit: bool, hf: int | None = None) -> int:
     """One RUN period of the checks, in the order overspeed, lock loss, tracking, overload, HF response; returns
     the first fault found (``FAULT_NONE``: none). ``st`` holds the filter states ``emf_d``, ``emf_q``,
-    ``track_f``, ``hf_f`` (s32, the filtered values themselves; a filter whose check is off stays), the counts
-    ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached, ``e0``, the caught speed ``w_catch``
-    (the supervisor's), and the HF response check's
+    ``track_f``, ``hf_f``, ``ld_f`` (s32, the filtered values themselves; a filter whose check is off stays), the
+    counts ``ovl_n``, ``ovl_e`` and the speed error when the limit was reached, ``e0``, the last speed ``ld_w``
+    and whether it holds one, ``ld_n`` (0 at every start), the caught speed ``w_catch`` (the supervisor's), and
+    the HF response check's
     reference ``hf_ref`` (the supervisor's :class:`~golden.firmware.supervisor.Firmware`); all are stepped every
     period. ``hf``: the window's ``GAMMA_D`` when the square wave was on for all of it, else None."""
     if p.emf_tol:                                     # a check that is off costs nothing
@@ -269,6 +288,14 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
     if st.ovl_n == 1 or (at_limit and p.ovl_w and st.e0 - err > p.ovl_w):   # at the limit from here, or progress
         st.ovl_n, st.e0 = 1, err
     st.ovl_e = min(st.ovl_e + 1, OVL_CAP) if at_limit and err - st.e0 > p.ovl_w else 0
+    if p.ld_max:
+        if not st.ld_n:                               # the first period of RUN: no speed before it
+            st.ld_w, st.ld_n = omega_f, 1
+        i_d16, i_q16 = sat(i_d, 16), sat(i_q, 16)
+        torque = shr(p.ld_ct * i_q16 + shr(p.ld_cr * (i_d16 * i_q16), 16), 24)    # n_p T_e / J
+        load = sat(torque - (omega_f - st.ld_w), 32)                               # ... less n_p J d omega/dt / J
+        st.ld_f = sat(st.ld_f + shr(load - st.ld_f, p.ld_k), 32)
+        st.ld_w = omega_f
     if p.hf_tol:
         if hf is None or st.hf_ref <= 0:
             st.hf_f = 0
@@ -280,7 +307,8 @@ def protect_step(st, p: ProtParams, v_d: int, v_q: int, i_d: int, i_q: int, i_d_
         return FAULT_LOCK_LOSS
     if p.track_tol and st.track_f > p.track_tol:
         return FAULT_TRACKING
-    if (p.ovl_n and st.ovl_n >= p.ovl_n) or (p.ovl_m and st.ovl_e >= p.ovl_m):
+    if (p.ovl_n and st.ovl_n >= p.ovl_n) or (p.ovl_m and st.ovl_e >= p.ovl_m) or (p.ld_max and
+                                                                                 abs(st.ld_f) > p.ld_max):
         return FAULT_OVERLOAD
     if p.hf_tol and st.hf_f > shr(st.hf_ref * p.hf_tol, 16):
         return FAULT_HF_RESPONSE

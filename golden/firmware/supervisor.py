@@ -305,6 +305,9 @@ class Firmware:
     ovl_n: int = 0
     ovl_e: int = 0
     e0: int = 0
+    ld_w: int = 0                    # overload check's load part: the last filtered speed, whether it holds one,
+    ld_n: int = 0                    # and the filtered load acceleration
+    ld_f: int = 0
     w_catch: int = 0                 # a flying start's caught speed (overspeed counts from it to the hand-over down)
     hf_ref: int = 0                  # HF response check: learned GAMMA_D and the filtered deviation from it
     hf_f: int = 0

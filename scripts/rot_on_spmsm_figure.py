@@ -72,6 +72,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "figures" / "compare_rotating_on_spmsm.png")
     args = ap.parse_args(argv)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -120,8 +121,7 @@ def main(argv=None) -> int:
         ax.set_xlabel("t [s]")
     fig.suptitle("The 000 method (rotating injection 21 V at 500 Hz) on the Table I SPMSM at standstill: "
                  "the dead time, not the estimator", fontsize=10)
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    print(f"wrote {save_figure(fig, str(args.out.parent), args.out.name)}")
+    print("wrote", save_figure(fig, str(args.out.parent), args.out.name))
     return 0
 
 

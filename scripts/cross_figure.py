@@ -23,6 +23,7 @@ from hfi.report import save_figure  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 PAIRS = (("cross_001_on_002", {}, "001 method on the Table I SPMSM (5 kHz)"),
+         ("cross_001_on_000", {}, "001 method on the 000 PMaSynRM (10 kHz), SNR rule"),
          ("cross_000_on_002", {"injection.V_h": "21 V", "pwm.dead_time": "4 us"},
           "000 method on the Table I SPMSM (5 kHz), 21 V, 4 us dead time"),
          ("cross_000_on_002", {"injection.V_h": "21 V", "pwm.dead_time": "0.5 us"},

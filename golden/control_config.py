@@ -465,13 +465,23 @@ def load_limits(sc: Scenario) -> dict:
     mag = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * sc.control.i_max)
     c_t, c_r = torque_acceleration(sc, mag)
     a_max = cm.pole_pairs * max_torque(mag, cm.pole_pairs, sc.control.i_max) / cm.J / sc.pwm.f_sw**2
-    return {"ld_ct": c_t, "ld_cr": c_r, "ld_k": filter_shift(pr.load_time, sc.pwm.f_sw),
-            "ld_max": min(to_fixed(pr.load_max * a_max * 2**32 / (2 * math.pi), 0), 2**31 - 1)}
+    ld_max = min(to_fixed(pr.load_max * a_max * 2**32 / (2 * math.pi), 0), 2**31 - 1)
+    why = (f"with this motor's J = {cm.J:.4g} kg m^2, its torque at control.i_max and pwm.f_sw "
+           "(docs/scenario.md; load_max = 0 turns the check off)")
+    for name, v, lim in (("ld_ct", c_t, MOTION_LIMITS["c_t"]), ("ld_cr", c_r, MOTION_LIMITS["c_r"])):
+        if not -lim <= v < lim:
+            raise ValueError(f"protection.load_max: the torque's gain {name} = {v} is outside the range the "
+                             f"firmware's products hold, {why}")
+    if ld_max < 1:
+        raise ValueError(f"protection.load_max: the limit rounds to 0 speed LSB per period (the check would be "
+                         f"off), {why}")
+    return {"ld_ct": c_t, "ld_cr": c_r, "ld_k": filter_shift(pr.load_time, sc.pwm.f_sw), "ld_max": ld_max}
 
 
 def max_torque(mag: dict, pole_pairs: int, i_max: float) -> float:
     """The largest torque ``1.5 p (psi_f i_q + (L_d - L_q) i_d i_q)`` of the nominal constants of ``mag`` on the
-    circle ``|i| = i_max`` [N m] (the MTPA point; 1001 current angles from q towards -d and +d)."""
+    circle ``|i| = i_max`` [N m] (the MTPA point; 1001 current angles from q towards -d and +d: either sign of
+    saliency, where golden.firmware.mtpa.mtpa_point takes i_d = 0 for L_q <= L_d)."""
     best = 0.0
     for k in range(1001):
         beta = (k / 1000 - 0.5) * math.pi             # i_d = -i sin(beta), i_q = i cos(beta)

@@ -260,6 +260,12 @@ def test_load_limits_from_the_scenario():
     assert p.ld_k == 7
     off = replace(sc, protection=replace(sc.protection, load_max=0.0))
     assert (protection_params(off).ld_ct, protection_params(off).ld_max) == (0, 0)
+    tiny = replace(sc, protection=replace(sc.protection, load_max=1e-9))          # would round to "off"
+    with pytest.raises(ValueError, match="protection.load_max: the limit rounds to 0"):
+        protection_params(tiny)
+    feather = replace(sc, plant={**sc.plant, "mech": {**sc.plant["mech"], "J": 1e-12}})   # gains beyond the C range
+    with pytest.raises(ValueError, match="protection.load_max: the torque's gain ld_ct"):
+        protection_params(feather)
 
 
 class _SlipState:

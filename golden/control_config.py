@@ -791,7 +791,7 @@ def sqw_cic_params(sc: Scenario) -> CicParams:
     (Q24 binary angle per binary angle), ``c3 = 3 a T`` (Q16); torque feed-forward ``n_p T_e / J`` with
     ``T_e = 1.5 n_p (psi_f i_q + (L_d - L_q) i_d i_q)``: ``c_t`` per current LSB (Q24 binary angle per
     period^2), ``c_r`` per LSB^2 (Q40); ``q_min``: the ``vector_angle`` magnitude of ``cic_m`` envelope
-    values of ``q_min`` each. Raises ValueError on a motor without saliency."""
+    values of ``q_min`` each; ``i_d = -i_d_min`` [current LSB]. Raises ValueError on a motor without saliency."""
     t, sc_, f_sw = sc.estimator.params["sqw_cic"], scales(sc), sc.pwm.f_sw
     mag = controller_motor(sc).mag
     if mag["L_q"] == mag["L_d"]:
@@ -799,8 +799,9 @@ def sqw_cic_params(sc: Scenario) -> CicParams:
     gains = motion_gains(sc, t["observer_bw"], t["torque_ff"] == "on", "sqw_cic")
     p_ = CicParams(g=to_fixed(mag["L_q"] / (mag["L_q"] - mag["L_d"]), 16), **gains,
                    k_delay=to_fixed(sqw_cic_delay(t["cic_m"], mag["L_d"], mag["L_q"]), 16),
-                   q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw))
-    for name in ("g", "k_delay", "q_min", "n_hold"):       # the ranges of struct fw_cic_params (control.h)
+                   q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw),
+                   i_d=-sc_.current(t["i_d_min"]))
+    for name in ("g", "k_delay", "q_min", "n_hold", "i_d"):       # the ranges of struct fw_cic_params (control.h)
         v = getattr(p_, name)
         if not -(1 << 31) <= v < 1 << 31:
             raise ValueError(f"estimator sqw_cic: {name} = {v} is outside the s32 range the firmware holds")

@@ -355,6 +355,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "torque_ff": Field("choice", choices={"off": 0, "on": 1}, default="on"),
         "q_min": _q("current", _non_negative, default=0.1),
         "hold": _q("time", _non_negative, default=0.004),
+        "i_d_min": _q("current", _non_negative, default=0.0),
     },
     "estimator.hfo_proj": {
         "g": _q("frequency", _positive, default=10.0),

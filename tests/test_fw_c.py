@@ -811,14 +811,14 @@ ROT_MOTION_HOST = {"c1": 2, "c2": 1272, "c3": 988, "c_t": 3_733_178, "c_r": -44_
 
 def random_cic(rng: np.random.Generator) -> CicParams:
     """sqw_cic integers over the ranges control.h documents (struct fw_cic_params: any int32 but c_t, c_r,
-    |c_t| <= 2^46, |c_r| <= 2^32), the extremes and the host's values (CIC_HOST) frequent."""
+    |c_t| <= 2^46, |c_r| <= 2^32, and i_d <= 0), the extremes and the host's values (CIC_HOST) frequent."""
     h = CIC_HOST
     g, c1, c2, c3, k_delay = (draw_one(rng, S32_MIN, S32_MAX, (v,)) for v in (h.g, h.c1, h.c2, h.c3, h.k_delay))
     return CicParams(g=g, c1=c1, c2=c2, c3=c3, c_t=draw_one(rng, -CIC_CT_MAX, CIC_CT_MAX, (h.c_t, 0)),
                      c_r=draw_one(rng, -CIC_CR_MAX, CIC_CR_MAX, (h.c_r, 0)),
                      k_delay=k_delay, q_min=draw_one(rng, S32_MIN, S32_MAX, (h.q_min, 0)),
                      n_hold=draw_one(rng, -2, 12, (h.n_hold, 0)) if rng.random() < 0.8
-                     else draw_one(rng, S32_MIN, S32_MAX))
+                     else draw_one(rng, S32_MIN, S32_MAX), i_d=draw_one(rng, -S32_MAX, 0, (0, -2621)))
 
 
 def random_mtpa(rng: np.random.Generator) -> tuple[int, tuple, tuple]:

@@ -20,14 +20,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import hfi.sweep as sw
 from golden import control_config
 from golden.closedloop import ClosedLoop
 from golden.control_config import sqw_cic_delay, sqw_cic_params
 from golden.firmware.estimator import Measurement
 from golden.firmware.sqw_cic import SquareWaveCic
+from golden.firmware.supervisor import MODE_CONVERGE, Firmware
 from golden.fpga.demodulator import WindowResult
 from golden.fpga.diff_cic import M_MAX, DiffCic
-from golden.scenario import load_scenario
+from golden.scenario import load_scenario, parse_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 NOLOAD = ROOT / "scenarios" / "xue2022_noload.toml"
@@ -109,6 +111,22 @@ def test_sqw_cic_refuses_integers_the_firmware_cannot_hold():
     plant = dict(sc.plant, mag=dict(sc.plant["mag"], L_q=sc.plant["mag"]["L_d"] * 1.00001))
     with pytest.raises(ValueError, match="g = .* is outside"):
         sqw_cic_params(dataclasses.replace(sc, plant=plant))
+
+
+@pytest.mark.parametrize("amps", [0.0, 0.3])
+def test_sqw_cic_asks_for_its_magnetizing_current(amps):
+    """``estimator.sqw_cic.i_d_min`` (default 0, the paper's): the d-current the supervisor asks for while the
+    method is in charge, before RUN too on a reluctance machine (no polarity test: CONVERGE asks for the
+    estimator's d-current), whose saliency appears only with it (sweeps/cross_001_on_003.toml, docs/compare.md)."""
+    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_001_on_003.toml"), "test")[0]
+    sw._set(job.tree, "estimator.sqw_cic.i_d_min", f"{amps} A")
+    sc = parse_scenario(job.tree, "cross_001_on_003")
+    expected = -round(amps * 2**15 / sc.plant["sens"]["adc_range"])      # the current LSB: adc_range / 2^15
+    assert sqw_cic_params(sc).i_d == expected
+    fw = Firmware(control_config.firmware_params(sc))
+    link = control_config.dc_link_limits(sc)                              # the nominal link: no dc-link trip
+    out = fw.step(WindowResult(0, 0, 0, 0, 0, 1, 0, 0, 0, vdc=(link["vdc_lo"] + link["vdc_hi"]) // 2), speed_ref=0)
+    assert (fw.mode, out.i_d_ref) == (MODE_CONVERGE, expected)
 
 
 def _imposed(rpm: float) -> str:

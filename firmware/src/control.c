@@ -949,11 +949,10 @@ void fw_cic_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
     e->omega = omega;
 }
 
-/* golden.firmware.sqw_cic.SquareWaveCic.i_d (Xue et al. 2022): no d-current of its own (Estimator.i_d = 0). */
+/* golden.firmware.sqw_cic.SquareWaveCic.i_d: estimator.sqw_cic.i_d_min (0, Xue et al. 2022's, on a magnet motor) */
 int32_t fw_cic_i_d(const struct fw_params *p)
 {
-    (void)p;
-    return 0;
+    return p->cic.i_d;
 }
 
 /* ---- the 003 method: state voltages, flux LUT, applied flux, hfo_proj, fcs_mpc ---------------------- */

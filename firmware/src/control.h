@@ -248,6 +248,7 @@ struct fw_cic_params {
     int32_t k_delay;
     int32_t q_min;
     int32_t n_hold;
+    int32_t i_d;             /* the d-current it asks for while in charge (<= 0; in the struct's former padding) */
 };
 
 struct fw_cic_state {

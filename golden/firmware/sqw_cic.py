@@ -20,7 +20,9 @@ rotor's d-axis. Once per control period:
    plus the time to the middle of the window the angle is used in; docs/methods.md derives it).
 
 ``sync(theta, omega)``: the observer continues from ``theta`` at ``omega`` (``z = 0``) and ignores the
-error for ``n_hold`` periods; ``turn(delta)`` turns both angles.
+error for ``n_hold`` periods; ``turn(delta)`` turns both angles. ``i_d``: the d-current it asks for while in
+charge (``estimator.sqw_cic.i_d_min``; 0, the paper's, on a magnet motor; a magnetizing current on a reluctance
+machine, whose saliency appears only once its ribs saturate, as for ``sqw_bangbang``).
 """
 
 from __future__ import annotations
@@ -37,7 +39,8 @@ from golden.fixed import sat, shr, uwrap, wrap
 class CicParams:
     """Integers of the estimator (host side: :func:`golden.control_config.sqw_cic_params`); see the module
     docstring for each one's scale. ``q_min``: the smallest ``mag`` of ``vector_angle`` that gives an
-    angle; ``n_hold``: periods without error after a restart."""
+    angle; ``n_hold``: periods without error after a restart; ``i_d``: the d-current it asks for while in charge
+    [current LSB, <= 0]."""
 
     g: int
     c1: int
@@ -48,6 +51,7 @@ class CicParams:
     k_delay: int
     q_min: int
     n_hold: int
+    i_d: int = 0
 
 
 class SquareWaveCic(Estimator):
@@ -66,6 +70,11 @@ class SquareWaveCic(Estimator):
         self.mag = 0
         self.theta = 0
         self.omega = 0
+
+    @property
+    def i_d(self) -> int:
+        """Estimator.i_d: ``estimator.sqw_cic.i_d_min`` (a parameter, no state: C ``fw_cic_i_d``)."""
+        return self.p.i_d
 
     def step(self, m: Measurement) -> None:
         p = self.p

@@ -38,7 +38,8 @@ PAIRS = (("cross_001_on_002", {}, "001 method on the Table I SPMSM (5 kHz)"),
          ("cross_002_on_003", {"control.current_bw": "40 Hz", "estimator.sqw_bangbang.cross_saturation": "off"},
           "002 method on the 003 SyRM, PIs 40 Hz"),
          ("cross_002_on_003", {"control.current_bw": "40 Hz", "estimator.sqw_bangbang.cross_saturation": "on"},
-          "002 on the 003 SyRM, PIs 40 Hz + cross-saturation table"))
+          "002 on the 003 SyRM, PIs 40 Hz + cross-saturation table"),
+         ("cross_001_on_003", {}, "001 method on the 003 SyRM (10 kHz), PIs 40 Hz, 0.3 A on d"))
 """(sweep name, the values of its other axes a panel draws, panel title), in the order of docs/compare.md."""
 CHECK_OFF = 1.0
 """``protection.hf_response`` of the runs drawn where the sweep varies it."""

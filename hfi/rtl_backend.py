@@ -619,6 +619,8 @@ class RtlClosedLoop:
             "fw_cycles_target": int(fw_budget_share(P / sc.pwm.tick_hz) * P / soc_platform.CPU_CLOCK_DIVIDER),
             "fw_cycles_run_mean": round(float(t["cycles"][in_run].mean()), 1) if in_run.any() else None,
             "fw_cycles_run_max": int(t["cycles"][in_run].max()) if in_run.any() else None,
+            "fw_cycles_run_max_at_s": (round(float(w["tick"][in_run][np.argmax(t["cycles"][in_run])]) / sc.pwm.tick_hz, 6)
+                                       if in_run.any() else None),
             "irq_to_commit_cycles_max": int(commit_lat.max()) if (commit_lat >= 0).all() else None,
             "deadline_cycles": int(P - soc_platform.IRQ_LATENCY),
             "enable_margin_ticks": enable_margin,

@@ -36,7 +36,7 @@ from golden.firmware.rot_bpf import TRACK_OBSERVER, TRACK_PLL, RotParams
 from golden.firmware.sqw_bangbang import SqwParams
 from golden.firmware.sqw_cic import CicParams
 from golden.firmware.supervisor import POL_CURRENT, POL_NONE, POL_PILOT, FirmwareParams
-from golden.flux_tables import flux_lut, flux_reference_table, nominal_motor
+from golden.flux_tables import flux_lut, flux_reference_table, hf_inductances, nominal_motor
 from golden.scenario import HIGH_ESTIMATORS, LOW_ESTIMATORS
 from golden.fixed import shr, to_fixed, uwrap, wrap
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK, effective_os_ticks
@@ -237,10 +237,10 @@ def period_injection(sc: Scenario) -> bool:
 def rot_hf_current(sc: Scenario) -> int:
     """Tap et al. 2023, eq. (11): the positive-sequence HF current ``V_h L_0 / (w_h L_d L_q)`` [current LSB]
     of the rotating injection, which the firmware adds to the dead-time compensation's current."""
-    mag, sc_ = controller_motor(sc).mag, scales(sc)
-    w_h = 2 * math.pi * sc.estimator.params["rot_bpf"]["f_inj"]
-    return min(sc_.current(sc.injection.V_h * 0.5 * (mag["L_d"] + mag["L_q"]) / (w_h * mag["L_d"] * mag["L_q"])),
-               32767)
+    sc_, t = scales(sc), sc.estimator.params["rot_bpf"]
+    l_d, l_q = hf_inductances(controller_motor(sc).mag, -t["i_d_min"])
+    w_h = 2 * math.pi * t["f_inj"]
+    return min(sc_.current(sc.injection.V_h * 0.5 * (l_d + l_q) / (w_h * l_d * l_q)), 32767)
 
 
 def _named(keys: str, make, *args):
@@ -594,34 +594,26 @@ def sqw_params(sc: Scenario) -> SqwParams:
                      i_d=-scales(sc).current(t["i_d_min"]), xs_shift=shift, xs_gamma=table)
 
 
-def cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
-    """``(xs_shift, xs_gamma)``: the response across d_hat (``GAMMA``) that the controller's magnetic model gives with
-    d_hat *on* the d-axis, at the current references the drive asks for, on the grid of the MTPA table over
-    ``|i_q|`` from 0 to ``control.i_max`` (docs/methods.md, "Cross-saturation").
+def _cross_saturation_grid(sc: Scenario, method: str) -> tuple[int, list[tuple[float, float, float]]]:
+    """``(shift, [(g_dd, g_dq, g_qq), ...])``: the inverse incremental inductance matrix (1/H) of the controller's
+    algebraic model (:func:`golden.saturation_fit.jacobian` at its fluxes) along the current references the drive asks
+    for, on the grid of the MTPA table over ``|i_q|`` from 0 to ``control.i_max``, for the tables of
+    ``estimator.<method>.cross_saturation`` (docs/methods.md, "Cross-saturation").
 
-    At ``|i_q| = q``: ``i_d`` the smaller of ``-estimator.sqw_bangbang.i_d_min`` and, with ``control.mtpa = "on"``,
-    the MTPA point's whose q current is ``q`` (:func:`golden.firmware.mtpa.mtpa_point` on the nominal motor, as the
-    MTPA table); the inverse incremental inductance across the axes ``Gamma_dq(i_d, q)`` (1/H) of the algebraic
-    model (:func:`golden.saturation_fit.jacobian` at its fluxes); times the hardware's HF gain for the square wave
-    (:func:`golden.hf_gain.hf_response`: ``GAMMA_D`` of 1 H at ``V_H``, with the sensors' lag), rounded, within s16.
-    The table holds ``gain * Gamma_dq``: on the d-axis the cross term reads as a ``GAMMA`` of that sign (checked in
-    closed loop on the 003 SyRM, 2026-12-02: with the opposite sign the offset doubles and the rotor is lost at rated
-    load). Raises ValueError (naming the key) without an algebraic model: a linear one has no cross-saturation to
+    At ``|i_q| = q``: ``i_d`` the smaller of ``-estimator.<method>.i_d_min`` and, with ``control.mtpa = "on"``, the
+    MTPA point's whose q current is ``q`` (:func:`golden.firmware.mtpa.mtpa_point` on the nominal motor, as the MTPA
+    table). Raises ValueError (naming the key) without an algebraic model: a linear one has no cross-saturation to
     take out."""
     from golden.firmware.mtpa import MTPA_LEN, mtpa_point, table_grid
-    from golden.hf_gain import hf_response, sensor_bandwidth
     from golden.saturation_fit import fluxes, jacobian
 
-    key = "estimator.sqw_bangbang.cross_saturation"
+    key = f"estimator.{method}.cross_saturation"
     cm = controller_motor(sc)
     if cm.mag["kind"] != MAG_KINDS["algebraic"]:
         raise ValueError(f"{key} = \"on\" needs a controller model with cross-saturation: the motor preset's or "
                          f"[model.saturation]'s algebraic model (this one is linear: nothing to take out)")
     ctl, sc_ = sc.control, scales(sc)
-    hw = hardware_config(sc)
-    v_h = min(sc_.voltage(sc.injection.V_h), 32767)
-    gain = hf_response(hw, sc_, sc.pwm.tick_hz, v_h, 0, 32767, sensor_bw=sensor_bandwidth(sc))[0]
-    i_d_min = sc.estimator.params["sqw_bangbang"]["i_d_min"]
+    i_d_min = sc.estimator.params[method]["i_d_min"]
     nom = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * ctl.i_max)
 
     def i_d_at(q: float) -> float:
@@ -637,12 +629,46 @@ def cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
         return min(mtpa_point(hi, nom["psi_f"], nom["L_d"], nom["L_q"])[0], -i_d_min)
 
     shift, n = table_grid(min(sc_.current(ctl.i_max), 32767), MTPA_LEN, "cross-saturation table")
-    table = []
+    grid = []
     for k in range(n):
         q = min(k << shift, 32767) * sc_.i_lsb
         psi_d, psi_q = fluxes(cm.mag, i_d_at(q), q)
-        g_dq = float(jacobian(cm.mag, psi_d, psi_q)[1])
-        table.append(min(max(to_fixed(gain * g_dq, 0), -32768), 32767))
+        grid.append(tuple(float(g) for g in jacobian(cm.mag, psi_d, psi_q)))
+    return shift, grid
+
+
+def cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
+    """``(xs_shift, xs_gamma)``: the response across d_hat (``GAMMA``) that the controller's magnetic model gives with
+    d_hat *on* the d-axis, at the current references the drive asks for (:func:`_cross_saturation_grid`): the inverse
+    incremental inductance across the axes ``Gamma_dq`` times the hardware's HF gain for the square wave
+    (:func:`golden.hf_gain.hf_response`: ``GAMMA_D`` of 1 H at ``V_H``, with the sensors' lag), rounded, within s16.
+    The table holds ``gain * Gamma_dq``: on the d-axis the cross term reads as a ``GAMMA`` of that sign (checked in
+    closed loop on the 003 SyRM, 2026-12-02: with the opposite sign the offset doubles and the rotor is lost at rated
+    load)."""
+    from golden.hf_gain import hf_response, sensor_bandwidth
+
+    shift, grid = _cross_saturation_grid(sc, "sqw_bangbang")
+    sc_ = scales(sc)
+    v_h = min(sc_.voltage(sc.injection.V_h), 32767)
+    gain = hf_response(hardware_config(sc), sc_, sc.pwm.tick_hz, v_h, 0, 32767, sensor_bw=sensor_bandwidth(sc))[0]
+    return shift, tuple(min(max(to_fixed(gain * g_dq, 0), -32768), 32767) for _, g_dq, _ in grid)
+
+
+def rot_cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
+    """``(xs_shift, xs_angle)``: the turn of the rotating injection's negative sequence that the controller's model's
+    cross-saturation gives with the estimate *on* the d-axis, at the current references the drive asks for
+    (:func:`_cross_saturation_grid`), in units of ``2^16`` binary angle of that sequence's phase (twice the
+    electrical angle), within s16. With the inverse incremental inductance matrix ``Gamma`` the HF current of the
+    rotating vector ``z`` is ``(g_dd + g_qq)/2 z + ((g_dd - g_qq)/2 + j g_dq) conj(z)`` in the rotor frame, so the
+    negative sequence's phase is ``2 theta + arg((g_dd - g_qq)/2 + j g_dq)``; the table holds that argument less its
+    value without the cross term (0 or pi: the saliency's sign, in ``offset``), ``atan2(2 s g_dq, s (g_dd - g_qq))``
+    with ``s`` the sign of ``g_dd - g_qq`` (docs/methods.md, "Cross-saturation")."""
+    shift, grid = _cross_saturation_grid(sc, "rot_bpf")
+    table = []
+    for g_dd, g_dq, g_qq in grid:
+        s = 1.0 if g_dd >= g_qq else -1.0
+        turn = math.atan2(2 * s * g_dq, s * (g_dd - g_qq)) / (2 * math.pi)
+        table.append(min(max(to_fixed(turn, 16), -32768), 32767))
     return shift, tuple(table)
 
 
@@ -698,7 +724,8 @@ def rot_bpf_delay(bpf: biquad.BiquadCoef, f_inj: float, n_avg: int, f_sw: float,
 
 
 def rot_bpf_params(sc: Scenario) -> RotParams:
-    """``estimator.rot_bpf``: the 000 method's integers (golden.firmware.rot_bpf)."""
+    """``estimator.rot_bpf``: the 000 method's integers (golden.firmware.rot_bpf); with ``cross_saturation = "on"``
+    the table of :func:`rot_cross_saturation_table`."""
     t, f_sw = sc.estimator.params["rot_bpf"], sc.pwm.f_sw
     cm = controller_motor(sc)
     mag, p = cm.mag, cm.pole_pairs
@@ -711,13 +738,16 @@ def rot_bpf_params(sc: Scenario) -> RotParams:
     # the negative sequence's phase: +-pi/2 by the saliency's sign (docs/methods.md), less the stator
     # resistance's share, which eqs. (8)-(11) neglect: arg 1/((R + j w L_d)(R + j w L_q)) + pi
     w_h, r = 2 * math.pi * t["f_inj"], cm.R_s
-    d_r = math.atan(r / (w_h * mag["L_d"])) + math.atan(r / (w_h * mag["L_q"]))
-    offset = (2**30 if mag["L_q"] > mag["L_d"] else 3 * 2**30) - to_fixed(d_r / (2 * math.pi), 32)
+    l_d, l_q = hf_inductances(mag, -t["i_d_min"])          # at the magnetizing current on a map
+    d_r = math.atan(r / (w_h * l_d)) + math.atan(r / (w_h * l_q))
+    offset = (2**30 if l_q > l_d else 3 * 2**30) - to_fixed(d_r / (2 * math.pi), 32)
     observer = t["tracking"] == "observer"
     gains = motion_gains(sc, t["observer_bw"], True, "rot_bpf") if observer else {}
+    shift, table = rot_cross_saturation_table(sc) if t["cross_saturation"] == "on" else (0, ())
     return RotParams(q_cos=q_cos, q_sin=q_sin, bpf=bpf, n_avg=t["n_avg"], offset=offset % 2**32, pll_kp=kp, pll_ki=ki,
                      k_delay=to_fixed(delay, 16), n_hold=round(t["hold"] * f_sw),
-                     tracking=TRACK_OBSERVER if observer else TRACK_PLL, **gains)
+                     tracking=TRACK_OBSERVER if observer else TRACK_PLL, i_d=-scales(sc).current(t["i_d_min"]),
+                     xs_shift=shift, xs_angle=table, **gains)
 
 
 MOTION_LIMITS = {"c_t": 1 << 46, "c_r": 1 << 32}
@@ -729,14 +759,19 @@ def motion_gains(sc: Scenario, observer_bw: float, torque_ff: bool, method: str)
     """The motion observer's integers (golden.firmware.motion) for the poles at ``-a``, ``a = 2 pi
     observer_bw``: ``c1 = a^3 T^3``, ``c2 = 3 a^2 T^2`` (Q24 binary angle per binary angle), ``c3 = 3 a T``
     (Q16); the torque feed-forward ``n_p T_e / J`` with ``T_e = 1.5 n_p (psi_f i_q + (L_d - L_q) i_d i_q)``
-    of the controller's motor (:func:`controller_motor`): ``c_t`` per current LSB (Q24 binary angle per
+    of the controller's nominal motor (:func:`~golden.flux_tables.nominal_motor` at half ``i_max``, as the overload
+    check's load part: a linear model's own constants, a map's apparent inductances; until 2026-12-02 a map's
+    defaults' 5.59 / 6.26 mH were read, which left the 003 SyRM's feed-forward about 700 times too small):
+    ``c_t`` per current LSB (Q24 binary angle per
     period^2), ``c_r`` per LSB^2 (Q40); both 0 without ``torque_ff``. Raises ValueError (naming ``method``)
     when a gain leaves the range the firmware's integers hold."""
     T = 1.0 / sc.pwm.f_sw
     a = 2 * math.pi * observer_bw
     why = "observer_bw, the motor's saliency or its J out of the range the firmware's integers hold"
+    cm = controller_motor(sc)
+    nom = nominal_motor(cm.mag, cm.pole_pairs, 0.5 * sc.control.i_max)   # a map's apparent L_d, L_q
     try:
-        c_t, c_r = torque_acceleration(sc, controller_motor(sc).mag) if torque_ff else (0, 0)
+        c_t, c_r = torque_acceleration(sc, nom) if torque_ff else (0, 0)
         g = {"c1": to_fixed((a * T) ** 3, 24), "c2": to_fixed(3 * (a * T) ** 2, 24), "c3": to_fixed(3 * a * T, 16),
              "c_t": c_t, "c_r": c_r}
     except (OverflowError, ValueError) as exc:     # (a T)^3 beyond a float: tests/test_scenario_fuzz.py, 2026-12-01
@@ -787,18 +822,19 @@ def sqw_cic_params(sc: Scenario) -> CicParams:
     """``estimator.sqw_cic`` and the motor's nominal data: the 001 method's integers (golden.firmware.sqw_cic).
 
     ``g = L_q / (L_q - L_d)`` (Q16): the inverse slope of the angle of the quadrature signal against the
-    angle error; observer poles at ``-a``, ``a = 2 pi observer_bw``: ``c1 = a^3 T^3``, ``c2 = 3 a^2 T^2``
+    angle error, with the inductances the square wave meets (:func:`~golden.flux_tables.hf_inductances` at
+    ``-i_d_min``: on a map the incremental ones at the magnetizing current); observer poles at ``-a``, ``a = 2 pi observer_bw``: ``c1 = a^3 T^3``, ``c2 = 3 a^2 T^2``
     (Q24 binary angle per binary angle), ``c3 = 3 a T`` (Q16); torque feed-forward ``n_p T_e / J`` with
     ``T_e = 1.5 n_p (psi_f i_q + (L_d - L_q) i_d i_q)``: ``c_t`` per current LSB (Q24 binary angle per
     period^2), ``c_r`` per LSB^2 (Q40); ``q_min``: the ``vector_angle`` magnitude of ``cic_m`` envelope
     values of ``q_min`` each; ``i_d = -i_d_min`` [current LSB]. Raises ValueError on a motor without saliency."""
     t, sc_, f_sw = sc.estimator.params["sqw_cic"], scales(sc), sc.pwm.f_sw
-    mag = controller_motor(sc).mag
-    if mag["L_q"] == mag["L_d"]:
+    l_d, l_q = hf_inductances(controller_motor(sc).mag, -t["i_d_min"])   # at the magnetizing current on a map
+    if l_q == l_d:
         raise ValueError("estimator sqw_cic needs a salient motor (L_d != L_q): the envelope carries no angle")
     gains = motion_gains(sc, t["observer_bw"], t["torque_ff"] == "on", "sqw_cic")
-    p_ = CicParams(g=to_fixed(mag["L_q"] / (mag["L_q"] - mag["L_d"]), 16), **gains,
-                   k_delay=to_fixed(sqw_cic_delay(t["cic_m"], mag["L_d"], mag["L_q"]), 16),
+    p_ = CicParams(g=to_fixed(l_q / (l_q - l_d), 16), **gains,
+                   k_delay=to_fixed(sqw_cic_delay(t["cic_m"], l_d, l_q), 16),
                    q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw),
                    i_d=-sc_.current(t["i_d_min"]))
     for name in ("g", "k_delay", "q_min", "n_hold", "i_d"):       # the ranges of struct fw_cic_params (control.h)

@@ -335,6 +335,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "hold": _q("time", _non_negative, default=0.008),
         "tracking": Field("choice", choices={"pll": 0, "observer": 1}, default="pll"),
         "observer_bw": _q("frequency", _positive, default=8.0),
+        "i_d_min": _q("current", _non_negative, default=0.0),
+        "cross_saturation": Field("choice", choices=("off", "on"), default="off"),
     },
     "estimator.eemf_smo": {
         "model": Field("choice", choices={"Lq": 0, "Ld": 1}, default="Lq"),

@@ -774,19 +774,22 @@ def random_coef(rng: np.random.Generator) -> BiquadCoef:
 
 
 def random_rot(rng: np.random.Generator) -> RotParams:
-    """rot_bpf integers over their documented ranges (golden.firmware.rot_bpf), the 000 values frequent; half
+    """rot_bpf integers over their documented ranges (golden.firmware.rot_bpf; i_d <= 0, the magnetizing current of
+    estimator.rot_bpf.i_d_min; half with a cross-saturation table), the 000 values frequent; half
     the sets track with the motion observer (its gains over struct fw_cic_params' ranges, the tap2023_step
     values ROT_MOTION_HOST frequent)."""
     q_sin, q_cos = sincos_q15(draw_one(rng, 0, U32_MAX, (3_972_844_748,)))
     h = ROT_MOTION_HOST
     c1, c2, c3 = (draw_one(rng, S32_MIN, S32_MAX, (h[k],)) for k in ("c1", "c2", "c3"))
+    xs_shift, xs_angle, _ = random_mtpa(rng) if rng.random() < 0.5 else (0, (), ())
     return RotParams(q_cos=q_cos, q_sin=q_sin, bpf=random_coef(rng), n_avg=draw_one(rng, 1, rot_bpf.N_MAX, (20,)),
                      offset=draw_one(rng, 0, U32_MAX, (1 << 30, 3 << 30)), pll_kp=draw_one(rng, 0, S32_MAX, (655,)),
                      pll_ki=draw_one(rng, 0, S32_MAX, (419,)), k_delay=draw_one(rng, -(1 << 24) + 1, (1 << 24) - 1,
                                                                                 (2_033_024,)),
                      n_hold=draw_one(rng, 0, 30, (0, 1)), tracking=int(rng.integers(0, 2)), c1=c1, c2=c2, c3=c3,
                      c_t=draw_one(rng, -CIC_CT_MAX, CIC_CT_MAX, (h["c_t"], 0)),
-                     c_r=draw_one(rng, -CIC_CR_MAX, CIC_CR_MAX, (h["c_r"], 0)))
+                     c_r=draw_one(rng, -CIC_CR_MAX, CIC_CR_MAX, (h["c_r"], 0)),
+                     i_d=draw_one(rng, -S32_MAX, 0, (0, -491)), xs_shift=xs_shift, xs_angle=xs_angle)
 
 
 def random_smo(rng: np.random.Generator) -> SmoParams:

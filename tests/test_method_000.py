@@ -17,20 +17,24 @@ from pathlib import Path
 
 import pytest
 
-from golden.control_config import eemf_smo_params, firmware_params, rot_bpf_delay, rot_bpf_params
+import hfi.sweep as sw
+from golden.control_config import (dc_link_limits, eemf_smo_params, firmware_params, rot_bpf_delay,
+                                   rot_bpf_params, rot_cross_saturation_table, rot_hf_current)
 from golden.firmware import biquad
 from golden.firmware.biquad import BiquadState, biquad_step
 from golden.firmware.eemf_smo import EemfSmo
 from golden.firmware.estimator import Measurement
 from golden.firmware.mtpa import mtpa_lookup, mtpa_table
-from golden.firmware.rot_bpf import TRACK_OBSERVER, TRACK_PLL, RotatingBpf
+from golden.firmware.rot_bpf import TRACK_OBSERVER, TRACK_PLL, RotatingBpf, cross_saturation_turn
+from golden.firmware.supervisor import MODE_CONVERGE, Firmware
 from golden.fixed import wrap
 from golden.fpga.cordic import sincos_q15
 from golden.fpga.demodulator import WindowResult
-from golden.scenario import load_scenario
+from golden.scenario import load_scenario, parse_scenario
 
 F_S = 10e3
-SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "tap2023_fullload.toml"
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIO = ROOT / "scenarios" / "tap2023_fullload.toml"
 TURN = 2**32
 
 
@@ -280,3 +284,93 @@ def test_firmware_params_of_the_scenario():
     w = 2 * math.pi * 500
     d_r = math.atan(5.9 / (w * 0.067)) + math.atan(5.9 / (w * 0.182))       # 2.2 deg: R's share
     assert p.rot.offset == (1 << 30) - round(d_r / (2 * math.pi) * TURN)    # L_q > L_d: +pi/2 (docs/methods.md)
+
+
+@pytest.mark.parametrize("amps", [0.0, 0.3])
+def test_rot_bpf_asks_for_its_magnetizing_current(amps):
+    """``estimator.rot_bpf.i_d_min`` (default 0, the paper's): the d-current the supervisor asks for while the method
+    is in charge, before RUN too on a reluctance machine (no polarity test: CONVERGE asks for the estimator's
+    d-current), whose saliency appears only with it (sweeps/cross_000_on_003.toml, docs/compare.md)."""
+    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_000_on_003.toml"), "test")[0]
+    sw._set(job.tree, "estimator.rot_bpf.i_d_min", f"{amps} A")
+    sc = parse_scenario(job.tree, "cross_000_on_003")
+    expected = -round(amps * 2**15 / sc.plant["sens"]["adc_range"])      # the current LSB: adc_range / 2^15
+    assert rot_bpf_params(sc).i_d == RotatingBpf(rot_bpf_params(sc)).i_d == expected
+    fw = Firmware(firmware_params(sc))
+    link = dc_link_limits(sc)                                              # the nominal link: no dc-link trip
+    fw.step(WindowResult(0, 0, 0, 0, 0, 1, 0, 0, 0, vdc=(link["vdc_lo"] + link["vdc_hi"]) // 2), speed_ref=0)
+    assert (fw.mode, fw.i_d_ref) == (MODE_CONVERGE, expected)     # (Outputs.i_d_ref adds the HF current's prediction)
+
+
+def test_rot_bpf_on_a_map_takes_the_incremental_inductances():
+    """On the SyRM at its 0.3 A the negative sequence's resistance share (the offset) and the positive-sequence
+    current the dead-time compensation adds (Tap et al. 2023, eq. (11)) take the incremental inductances at that
+    current, from the algebraic model's own Jacobian (golden.saturation_fit), not the defaults' 5.59 / 6.26 mH of
+    the map's parameter dict."""
+    from golden.saturation_fit import fluxes, jacobian
+
+    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_000_on_003.toml"), "test")[0]
+    sc = parse_scenario(job.tree, "cross_000_on_003")
+    mag = sc.plant["mag"]
+    g_dd, _, g_qq = jacobian(mag, *fluxes(mag, -0.3, 0.0))
+    l_d, l_q = 1 / float(g_dd), 1 / float(g_qq)
+    w, r = 2 * math.pi * 500, sc.plant["R_s"]
+    d_r = math.atan(r / (w * l_d)) + math.atan(r / (w * l_q))                # 1.2 deg, not the defaults' 27
+    assert rot_bpf_params(sc).offset == (1 << 30) - round(d_r / (2 * math.pi) * TURN)
+    i_lsb = sc.plant["sens"]["adc_range"] / 2**15
+    assert rot_hf_current(sc) == round(21.6 * 0.5 * (l_d + l_q) / (w * l_d * l_q) / i_lsb)   # 50 mA
+
+
+def _syrm_xs(**settings):
+    """The first point of the 000-on-SyRM sweep with the cross-saturation table on and ``settings`` (dotted keys)."""
+    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_000_on_003.toml"), "test")[0]
+    sw._set(job.tree, "estimator.rot_bpf.cross_saturation", "on")
+    for key, value in settings.items():
+        sw._set(job.tree, key, value)
+    return parse_scenario(job.tree, "cross_000_on_003")
+
+
+def test_rot_cross_saturation_table_is_the_plants_turn():
+    """The table against an independent computation: the plant's own magnetic model (the C plant's ``mag_eval``,
+    not golden.saturation_fit's Python) at the operating point the drive asks for, which for a magnet-free machine's
+    MTPA is ``i_d = -|i_q|`` in closed form (at least the 0.3 A): the argument of the negative sequence's coefficient
+    ``(g_dd - g_qq)/2 + j g_dq`` less its value without the cross term, in 2^16 binary angle."""
+    from golden.plant.binding import mag_eval
+    from golden.plant.fluxmap import psi_from_current
+
+    sc = _syrm_xs()
+    shift, table = rot_cross_saturation_table(sc)
+    lsb = sc.plant["sens"]["adc_range"] / 2**15
+    expected = []
+    for k in range(len(table)):
+        q = (k << shift) * lsb
+        psi = psi_from_current(sc.plant["mag"], min(-q, -0.3), q)
+        _, _, g_dd, g_dq, _, g_qq = mag_eval(sc.plant["mag"], psi[0], psi[1])
+        s = 1 if g_dd >= g_qq else -1                                      # the SyRM: L_d < L_q, s = 1
+        expected.append(round(math.atan2(2 * s * g_dq, s * (g_dd - g_qq)) / (2 * math.pi) * 2**16))
+    assert table[0] == 0 and list(table) == expected
+    assert min(table) < -1000                     # 5.5 deg of the sequence's phase: worth correcting
+
+
+def test_rot_cross_saturation_turns_the_error_by_the_table():
+    """The estimator takes ``sign(i_q) a0(|i_q|) 2^16`` off the sequence's phase (half of it off the angle error):
+    the table (0, 1000) on a grid of 16 LSB gives 500 at |i_q| = 8 (linear interpolation), so the error of the
+    same window moves by -+(500 << 15) against the estimator without a table."""
+    base = rot_params(0.067, 0.182)
+    xs = replace(base, xs_shift=4, xs_angle=(0, 1000))
+    assert (cross_saturation_turn(xs, 8), cross_saturation_turn(xs, -8), cross_saturation_turn(base, 8)) == \
+        (500 << 16, -(500 << 16), 0)
+    for i_q in (8, -8):
+        errs = []
+        for p in (base, xs):
+            est = RotatingBpf(p)
+            est.step(Measurement(WindowResult(0, 0, 0, 0, 0, 1, 0), 300, i_q, 0, 32767, 0, 0, 0, 32767))
+            errs.append(est.err)
+        assert wrap(errs[1] - errs[0], 31) == (-(500 << 15) if i_q > 0 else 500 << 15)
+
+
+def test_rot_cross_saturation_refuses_a_linear_model():
+    sc = load_scenario(SCENARIO)
+    sc.estimator.params["rot_bpf"]["cross_saturation"] = "on"
+    with pytest.raises(ValueError, match="estimator.rot_bpf.cross_saturation"):
+        rot_bpf_params(sc)

@@ -129,6 +129,56 @@ def test_sqw_cic_asks_for_its_magnetizing_current(amps):
     assert (fw.mode, out.i_d_ref) == (MODE_CONVERGE, expected)
 
 
+def _syrm_at_bias(amps: float):
+    """The 001 method on the 003 SyRM (sweeps/cross_001_on_003.toml's first run) with ``amps`` of magnetizing current,
+    and the incremental inductances (L_d, L_q) [H] at rest with it from the algebraic model's own Jacobian
+    (golden.saturation_fit: an implementation apart from the plant's, golden.plant.fluxmap)."""
+    from golden.saturation_fit import fluxes, jacobian
+
+    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_001_on_003.toml"), "test")[0]
+    sw._set(job.tree, "estimator.sqw_cic.i_d_min", f"{amps} A")
+    sc = parse_scenario(job.tree, "cross_001_on_003")
+    mag = sc.plant["mag"]
+    g_dd, g_dq, g_qq = jacobian(mag, *fluxes(mag, -amps, 0.0))
+    assert g_dq == 0.0                                           # no cross term at i_q = 0
+    return sc, 1.0 / float(g_dd), 1.0 / float(g_qq)
+
+
+@pytest.mark.parametrize("amps", [0.0, 0.3, 1.0])
+def test_sqw_cic_slope_and_delay_on_a_map(amps):
+    """On a reluctance machine's map the slope ``g = L_q / (L_q - L_d)`` and the delay take the incremental
+    inductances the square wave meets at the magnetizing current (golden.flux_tables.hf_inductances), not the
+    defaults' 5.59 / 6.26 mH that the map's parameter dict also carries (g was 9.3 on the SyRM, 8.6 times the 1.08
+    of its 0.3 A: docs/methods.md, "The inductances an HF method is tuned on")."""
+    sc, l_d, l_q = _syrm_at_bias(amps)
+    p = sqw_cic_params(sc)
+    assert p.g == round(l_q / (l_q - l_d) * 2**16)
+    assert p.k_delay == round(sqw_cic_delay(2, l_d, l_q) * 2**16)
+    if amps == 0.3:
+        assert (round(l_d, 4), round(l_q, 4), round(p.g / 2**16, 3)) == (0.0759, 1.0205, 1.080)
+
+
+def test_torque_feed_forward_on_a_map():
+    """The motion observer's feed-forward ``c_t i_q + c_r i_d i_q`` (golden.firmware.motion) on the SyRM gives, at the
+    map's MTPA point of half ``control.i_max``, the torque of the map's own fluxes there, ``1.5 p (psi_d i_q - psi_q
+    i_d)``, as the acceleration ``p T_e / J`` in binary angle per period^2 (the apparent inductances of the nominal
+    motor; before 2026-12-02 the defaults' 5.59 / 6.26 mH made it about 700 times too small)."""
+    from golden.flux_tables import mtpa_point
+    from golden.saturation_fit import fluxes
+
+    sc, _, _ = _syrm_at_bias(0.3)
+    p, lsb = sqw_cic_params(sc), control_config.scales(sc).i_lsb
+    mag, pp, J = sc.plant["mag"], int(sc.plant["mech"]["pole_pairs"]), sc.plant["mech"]["J"]
+    i_d, i_q = mtpa_point(mag, 0.5 * sc.control.i_max, pp)[:2]
+    psi_d, psi_q = (float(x) for x in fluxes(mag, i_d, i_q))
+    torque = 1.5 * pp * (psi_d * i_q - psi_q * i_d)
+    want = pp * torque / J / sc.pwm.f_sw**2 * TURN / (2 * math.pi)          # binary angle per period^2
+    d, q = i_d / lsb, i_q / lsb                                              # current LSB
+    got = (p.c_t * q) / 2**24 + (p.c_r * d * q) / 2**40
+    assert p.c_t == 0                                                        # no magnet
+    assert abs(got - want) <= abs(d * q) / 2**41 + 1e-9 * abs(want)         # c_r's rounding to Q40
+
+
 def _imposed(rpm: float) -> str:
     """xue2022_noload on an ideal inverter with the speed imposed at ``rpm`` (scenario text)."""
     text = NOLOAD.read_text()

@@ -152,6 +152,7 @@ def test_trip_above_the_sensor_range():
     ({"estimator": {"high": "rfo", "rfo": {"i_d_min": "6.5 A"}}}, "estimator.rfo.i_d_min"),
     ({"estimator": {"sqw_bangbang": {"i_d_min": "6 A"}}}, "estimator.sqw_bangbang.i_d_min"),
     ({"estimator": {"low": "sqw_cic", "sqw_cic": {"i_d_min": "6 A"}}}, "estimator.sqw_cic.i_d_min"),
+    ({"estimator": {"low": "rot_bpf", "rot_bpf": {"i_d_min": "6 A"}}}, "estimator.rot_bpf.i_d_min"),
 ])
 def test_currents_below_the_trip(extra, path):
     msg = problem(extra, path)

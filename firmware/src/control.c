@@ -759,8 +759,15 @@ void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw
     if (e->hold > 0) {
         e->hold--;
         e->err = 0;
-    } else { /* eq. (17), normalised */
-        e->err = (int32_t)(psi - rp->offset - 2u * tracked) >> 1;
+    } else { /* eq. (17), normalised; psi less the cross-saturation's turn (golden cross_saturation_turn) */
+        uint32_t xs = 0u;
+        if (rp->xs_len) {
+            int32_t a0, unused;
+            uint32_t a = m->i_q < 0 ? 0u - (uint32_t)m->i_q : (uint32_t)m->i_q;
+            fw_mtpa_lookup(a, rp->xs_shift, rp->xs_len, rp->xs_angle, rp->xs_angle, &a0, &unused);
+            xs = (uint32_t)(m->i_q < 0 ? -a0 : a0) << 16; /* |a0| < 2^15 */
+        }
+        e->err = (int32_t)(psi - rp->offset - xs - 2u * tracked) >> 1;
     }
     if (observer) {
         fw_motion_step(&e->theta_o, &e->w, &e->z, &e->omega, e->err, m->i_d, m->i_q, rp->c1, rp->c2, rp->c3, rp->c_t,
@@ -798,10 +805,10 @@ void fw_rot_sync(struct fw_state *st, const struct fw_params *p, uint32_t theta,
     e->hold = p->rot.n_hold;
 }
 
+/* golden.firmware.rot_bpf.RotatingBpf.i_d: estimator.rot_bpf.i_d_min (0, Tap et al. 2023's, on a magnet motor) */
 int32_t fw_rot_i_d(const struct fw_params *p)
 {
-    (void)p;
-    return 0;
+    return p->rot.i_d;
 }
 
 /* ---- estimator eemf_smo (golden.firmware.eemf_smo; Tap et al. 2023, Sec. II-F) ---------------------------- */

@@ -175,6 +175,10 @@ struct fw_rot_params {
     int32_t c3;
     int64_t c_t;
     int64_t c_r;
+    int32_t i_d;             /* the d-current it asks for while in charge (<= 0) */
+    int32_t xs_shift;        /* the cross-saturation table (golden RotParams): grid step 2^xs_shift current LSB, */
+    int32_t xs_angle[33];    /* the negative sequence's turn in 2^16 binary angle (s16) at |i_q| = k << xs_shift, */
+    int32_t xs_len;          /* its points: 0 (off) or 2..33 (golden.firmware.mtpa.MTPA_LEN) */
 };
 
 struct fw_rot_state {

@@ -13,7 +13,7 @@
 #include "control.h"
 
 /* Identification of the block: "HFIC" and the layout version. */
-enum fw_config_id { FW_CONFIG_MAGIC = 0x43494648, FW_CONFIG_VERSION = 13 };
+enum fw_config_id { FW_CONFIG_MAGIC = 0x43494648, FW_CONFIG_VERSION = 14 };
 
 /* hfi_dsp start-up register values (golden.control_config.HardwareConfig) and the control flags. */
 struct fw_hw_config {

@@ -24,7 +24,10 @@ docs/spec.md 3.5) and reports the phase of each window (``INJ_PHASE``). Once per
    normalised: ``err = shr(wrap(psi - offset - 2 pll.theta, 32), 1)``, the electrical angle error
    ``theta - theta_pll`` taken the short way round modulo half a turn (the HF response cannot tell
    ``theta`` from ``theta + pi``; polarity detection does). Its slope is 1 whatever the injection
-   amplitude, saliency and filter gain, which eq. (17)'s ``|i| sin 2(theta - theta_hat)`` is not;
+   amplitude, saliency and filter gain, which eq. (17)'s ``|i| sin 2(theta - theta_hat)`` is not. With the
+   cross-saturation table (``xs_angle``, off when empty; beyond the paper) ``psi`` is taken less
+   :func:`cross_saturation_turn` at the window-mean ``i_q``: the turn of the negative sequence that the machine's
+   cross-saturation gives with the estimate on the d-axis (docs/methods.md, "Cross-saturation");
 8. tracking, by ``tracking``: ``TRACK_PLL`` (the paper's, Fig. 6): ``pll = pll_step(pll, uwrap(pll.theta +
    err), kp, ki)`` (:mod:`golden.firmware.pll`), ``omega = pll.omega``, the tracked angle ``pll.theta``;
    ``TRACK_OBSERVER`` (beyond the paper): the motion observer with the torque feed-forward
@@ -47,11 +50,12 @@ does not change.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from golden.firmware.biquad import BiquadCoef, BiquadState, biquad_step
 from golden.firmware.estimator import METHOD_ROT_BPF, Estimator, Measurement, inv_park
 from golden.firmware.motion import motion_step, motion_sync
+from golden.firmware.mtpa import MTPA_LEN, mtpa_lookup
 from golden.firmware.pll import PllState, pll_step
 from golden.firmware.vector import vector_angle
 from golden.fixed import round_shr, sat, shr, uwrap, wrap
@@ -74,7 +78,10 @@ class RotParams:
     ``offset``: u32 binary angle of the negative-sequence phase at ``theta = 0`` (``2^30`` for
     ``L_q > L_d``, ``3 * 2^30`` otherwise); ``pll_kp`` Q16, ``pll_ki`` Q24; ``k_delay`` Q16 periods
     (|k_delay| < 2^24); ``n_hold`` periods after ``sync``; ``tracking`` ``TRACK_PLL`` or ``TRACK_OBSERVER``;
-    ``c1, c2, c3, c_t, c_r`` the motion observer's gains (:mod:`golden.firmware.motion`; 0 with the PLL)."""
+    ``c1, c2, c3, c_t, c_r`` the motion observer's gains (:mod:`golden.firmware.motion`; 0 with the PLL);
+    ``i_d`` the d-current it asks for while in charge [current LSB, <= 0]; ``xs_shift``, ``xs_angle``: the
+    cross-saturation table (0..20, 0 or 2..MTPA_LEN s16 values in 2^16 binary angle of the negative sequence; empty:
+    off) and ``xs_len`` its length (derived)."""
 
     q_cos: int
     q_sin: int
@@ -91,6 +98,27 @@ class RotParams:
     c3: int = 0
     c_t: int = 0
     c_r: int = 0
+    i_d: int = 0
+    xs_shift: int = 0
+    xs_angle: tuple = ()
+    xs_len: int = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if not (0 <= self.xs_shift <= 20 and len(self.xs_angle) in (0, *range(2, MTPA_LEN + 1))
+                and all(-32768 <= a <= 32767 for a in self.xs_angle)):
+            raise ValueError(f"xs_shift {self.xs_shift}, the cross-saturation table's length {len(self.xs_angle)} "
+                             f"or a value out of range (0..20; 0 or 2..{MTPA_LEN}; s16)")
+        object.__setattr__(self, "xs_len", len(self.xs_angle))
+
+
+def cross_saturation_turn(p: RotParams, i_q: int) -> int:
+    """``sign(i_q) a0(|i_q|) 2^16``: the turn of the negative sequence [binary angle, int] that the machine's
+    cross-saturation gives at the q current ``i_q`` with the estimate on the d-axis (the table's value, looked up and
+    interpolated by :func:`golden.firmware.mtpa.mtpa_lookup`), 0 without a table."""
+    if not p.xs_angle:
+        return 0
+    a0 = mtpa_lookup(abs(i_q), p.xs_shift, p.xs_angle, p.xs_angle)[0]
+    return (-a0 if i_q < 0 else a0) << 16
 
 
 class RotatingBpf(Estimator):
@@ -117,6 +145,13 @@ class RotatingBpf(Estimator):
         self.theta = 0
         self.omega = 0
 
+    @property
+    def i_d(self) -> int:
+        """Estimator.i_d: ``estimator.rot_bpf.i_d_min`` (0, Tap et al.'s, on a magnet motor; a reluctance
+        machine's magnetizing current, whose saliency appears only once its ribs saturate). A parameter, no
+        state: C ``fw_rot_i_d``."""
+        return self.p.i_d
+
     def step(self, m: Measurement) -> None:
         p = self.p
         i_al, i_be = inv_park(m.i_d, m.i_q, m.sin, m.cos)
@@ -142,7 +177,7 @@ class RotatingBpf(Estimator):
             self.hold -= 1
             self.err = 0
         else:                                                             # eq. (17), normalised
-            self.err = shr(wrap(psi - p.offset - 2 * tracked, 32), 1)
+            self.err = shr(wrap(psi - p.offset - cross_saturation_turn(p, m.i_q) - 2 * tracked, 32), 1)
         if observer:
             motion_step(self, self.err, m.i_d, m.i_q, p)
             tracked = self.theta_o

@@ -287,10 +287,11 @@ def plot_angles(sc: Scenario, res: ClosedLoopResult, out_dir: str) -> str:
     return save_figure(fig, out_dir, "angles.png")
 
 
-def save_figure(fig, out_dir: str, name: str) -> str:
-    """Lay out, save as ``out_dir/name`` (110 dpi) and close ``fig``; returns the path."""
+def save_figure(fig, out_dir: str, name: str, top: float = 1.0) -> str:
+    """Lay out (the axes below ``top``, a fraction of the height: room for a suptitle), save as ``out_dir/name``
+    (110 dpi) and close ``fig``; returns the path."""
     path = os.path.join(out_dir, name)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, top))
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path

@@ -39,7 +39,11 @@ PAIRS = (("cross_001_on_002", {}, "001 method on the Table I SPMSM (5 kHz)"),
           "002 method on the 003 SyRM, PIs 40 Hz"),
          ("cross_002_on_003", {"control.current_bw": "40 Hz", "estimator.sqw_bangbang.cross_saturation": "on"},
           "002 on the 003 SyRM, PIs 40 Hz + cross-saturation table"),
-         ("cross_001_on_003", {}, "001 method on the 003 SyRM (10 kHz), PIs 40 Hz, 0.3 A on d"))
+         ("cross_001_on_003", {}, "001 method on the 003 SyRM (10 kHz), PIs 40 Hz, 0.3 A on d"),
+         ("cross_000_on_003", {"estimator.rot_bpf.cross_saturation": "off"},
+          "000 method on the 003 SyRM (10 kHz), PIs 40 Hz, 0.3 A on d"),
+         ("cross_000_on_003", {"estimator.rot_bpf.cross_saturation": "on"},
+          "000 on the 003 SyRM, + cross-saturation table"))
 """(sweep name, the values of its other axes a panel draws, panel title), in the order of docs/compare.md."""
 CHECK_OFF = 1.0
 """``protection.hf_response`` of the runs drawn where the sweep varies it."""
@@ -108,7 +112,7 @@ def main(argv=None) -> int:
                  "5 for the 000 method and on the SyRM)",
                  fontsize=10)
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    print(f"wrote {save_figure(fig, str(args.out.parent), args.out.name)}")
+    print(f"wrote {save_figure(fig, str(args.out.parent), args.out.name, top=1 - 0.35 / fig.get_figheight())}")
     return 0
 
 

@@ -672,6 +672,18 @@ def rot_cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
     return shift, tuple(table)
 
 
+def cic_cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
+    """``(xs_shift, xs_angle)``: the angle of the square wave's envelope against the d-axis that the controller's
+    model's cross-saturation gives with the estimate *on* the d-axis, at the current references the drive asks for
+    (:func:`_cross_saturation_grid`), in units of ``2^16`` binary angle (electrical), within s16. The square wave on
+    d moves the current by ``Gamma`` times the voltage: along ``(g_dd, g_dq)`` in the rotor frame, so the envelope
+    points ``atan2(g_dq, g_dd)`` off d, and the observer, which settles where the envelope's angle equals its own,
+    settles there less the table (docs/methods.md, "Cross-saturation")."""
+    shift, grid = _cross_saturation_grid(sc, "sqw_cic")
+    return shift, tuple(min(max(to_fixed(math.atan2(g_dq, g_dd) / (2 * math.pi), 16), -32768), 32767)
+                        for g_dd, g_dq, _ in grid)
+
+
 def rfo_params(sc: Scenario) -> RfoParams:
     """``estimator.rfo`` and the motor's nominal data: the flux-observer integers (golden.firmware.rfo).
 
@@ -833,10 +845,11 @@ def sqw_cic_params(sc: Scenario) -> CicParams:
     if l_q == l_d:
         raise ValueError("estimator sqw_cic needs a salient motor (L_d != L_q): the envelope carries no angle")
     gains = motion_gains(sc, t["observer_bw"], t["torque_ff"] == "on", "sqw_cic")
+    shift, table = cic_cross_saturation_table(sc) if t["cross_saturation"] == "on" else (0, ())
     p_ = CicParams(g=to_fixed(l_q / (l_q - l_d), 16), **gains,
                    k_delay=to_fixed(sqw_cic_delay(t["cic_m"], l_d, l_q), 16),
                    q_min=t["cic_m"] * sc_.current(t["q_min"]), n_hold=round(t["hold"] * f_sw),
-                   i_d=-sc_.current(t["i_d_min"]))
+                   i_d=-sc_.current(t["i_d_min"]), xs_shift=shift, xs_angle=table)
     for name in ("g", "k_delay", "q_min", "n_hold", "i_d"):       # the ranges of struct fw_cic_params (control.h)
         v = getattr(p_, name)
         if not -(1 << 31) <= v < 1 << 31:

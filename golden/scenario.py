@@ -358,6 +358,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "q_min": _q("current", _non_negative, default=0.1),
         "hold": _q("time", _non_negative, default=0.004),
         "i_d_min": _q("current", _non_negative, default=0.0),
+        "cross_saturation": Field("choice", choices=("off", "on"), default="off"),
     },
     "estimator.hfo_proj": {
         "g": _q("frequency", _positive, default=10.0),

@@ -814,14 +814,17 @@ ROT_MOTION_HOST = {"c1": 2, "c2": 1272, "c3": 988, "c_t": 3_733_178, "c_r": -44_
 
 def random_cic(rng: np.random.Generator) -> CicParams:
     """sqw_cic integers over the ranges control.h documents (struct fw_cic_params: any int32 but c_t, c_r,
-    |c_t| <= 2^46, |c_r| <= 2^32, and i_d <= 0), the extremes and the host's values (CIC_HOST) frequent."""
+    |c_t| <= 2^46, |c_r| <= 2^32, and i_d <= 0; half with a cross-saturation table), the extremes and the host's
+    values (CIC_HOST) frequent."""
     h = CIC_HOST
     g, c1, c2, c3, k_delay = (draw_one(rng, S32_MIN, S32_MAX, (v,)) for v in (h.g, h.c1, h.c2, h.c3, h.k_delay))
+    xs_shift, xs_angle, _ = random_mtpa(rng) if rng.random() < 0.5 else (0, (), ())
     return CicParams(g=g, c1=c1, c2=c2, c3=c3, c_t=draw_one(rng, -CIC_CT_MAX, CIC_CT_MAX, (h.c_t, 0)),
                      c_r=draw_one(rng, -CIC_CR_MAX, CIC_CR_MAX, (h.c_r, 0)),
                      k_delay=k_delay, q_min=draw_one(rng, S32_MIN, S32_MAX, (h.q_min, 0)),
                      n_hold=draw_one(rng, -2, 12, (h.n_hold, 0)) if rng.random() < 0.8
-                     else draw_one(rng, S32_MIN, S32_MAX), i_d=draw_one(rng, -S32_MAX, 0, (0, -2621)))
+                     else draw_one(rng, S32_MIN, S32_MAX), i_d=draw_one(rng, -S32_MAX, 0, (0, -2621)),
+                     xs_shift=xs_shift, xs_angle=xs_angle)
 
 
 def random_mtpa(rng: np.random.Generator) -> tuple[int, tuple, tuple]:
@@ -1317,10 +1320,11 @@ class CicPair(_EstimatorPair):
 def _cic_cancel_case(rng: np.random.Generator, p: CicParams, qa: int, qb: int, sign: int):
     """Params and state in which w + z leaves int64 but w + z + c2 e + ff does not (the wraps of the C's two
     adds cancel): e saturated against the sign of z (theta_o a quarter turn off psi, g = c2 ~ 2^31), the
-    feed-forward c_t i_q ~ 2^61 the same way, z ~ sign 2^62, w ~ sign 2^63; c_r = 0, hold = 0, q_min = 0."""
+    feed-forward c_t i_q ~ 2^61 the same way, z ~ sign 2^62, w ~ sign 2^63; c_r = 0, hold = 0, q_min = 0, no
+    cross-saturation table."""
     psi, _ = vector_angle(max(min(qa, (1 << 28) - 1), -(1 << 28)), max(min(qb, (1 << 28) - 1), -(1 << 28)))
     p = replace(p, g=S32_MAX, c1=draw_one(rng, -(1 << 20), 1 << 20), c2=S32_MAX - int(rng.integers(0, 1 << 20)),
-                c_t=-sign * (CIC_CT_MAX - int(rng.integers(0, 1 << 30))), c_r=0, q_min=0)
+                c_t=-sign * (CIC_CT_MAX - int(rng.integers(0, 1 << 30))), c_r=0, q_min=0, xs_angle=())
     r, r2 = (int(v) for v in rng.integers(0, 1 << 60, size=2))
     state = dict(theta_o=uwrap(psi + sign * (1 << 30), 32), hold=0, z=sign * ((1 << 62) + r),
                  w=S64_MAX - r2 if sign > 0 else S64_MIN + r2)
@@ -1451,7 +1455,10 @@ def test_cic_params_of_the_scenario():
     assert all(S32_MIN <= getattr(c, f) <= S32_MAX for f in ("g", "c1", "c2", "c3", "k_delay", "q_min", "n_hold"))
     assert abs(c.c_t) <= CIC_CT_MAX and abs(c.c_r) <= CIC_CR_MAX, c
     cp = fw_c.params_to_c(ffi, p)
-    assert {f.name: getattr(cp.cic, f.name) for f in dataclass_fields(c)} == vars(c)
+    table = {f.name for f in dataclass_fields(c) if isinstance(getattr(c, f.name), tuple)}    # the xs table (empty)
+    assert {f.name: getattr(cp.cic, f.name) for f in dataclass_fields(c) if f.name not in table} == \
+        {k: v for k, v in vars(c).items() if k not in table}
+    assert all(tuple(getattr(cp.cic, f)[0:len(getattr(c, f))]) == getattr(c, f) for f in table)
     rng = np.random.default_rng(7)
     pair, theta_r, step = Pair(p), 0.35, 2 * np.pi * 4 * 100 / 60 / 1000      # electrical rad per period
     running = 0

@@ -25,10 +25,11 @@ from golden import control_config
 from golden.closedloop import ClosedLoop
 from golden.control_config import sqw_cic_delay, sqw_cic_params
 from golden.firmware.estimator import Measurement
-from golden.firmware.sqw_cic import SquareWaveCic
+from golden.firmware.sqw_cic import CicParams, SquareWaveCic
 from golden.firmware.supervisor import MODE_CONVERGE, Firmware
 from golden.fpga.demodulator import WindowResult
 from golden.fpga.diff_cic import M_MAX, DiffCic
+from golden.fixed import wrap
 from golden.scenario import load_scenario, parse_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -177,6 +178,53 @@ def test_torque_feed_forward_on_a_map():
     got = (p.c_t * q) / 2**24 + (p.c_r * d * q) / 2**40
     assert p.c_t == 0                                                        # no magnet
     assert abs(got - want) <= abs(d * q) / 2**41 + 1e-9 * abs(want)         # c_r's rounding to Q40
+
+
+def test_cic_cross_saturation_table_is_the_plants_angle():
+    """The table against an independent computation: the plant's own magnetic model (the C plant's ``mag_eval``,
+    not golden.saturation_fit's Python) at the operating point the drive asks for, which for a magnet-free machine's
+    MTPA is ``i_d = -|i_q|`` in closed form (at least the 0.3 A): the angle ``atan2(g_dq, g_dd)`` of the current
+    change a voltage on d makes, in 2^16 binary angle."""
+    from golden.control_config import cic_cross_saturation_table
+    from golden.plant.binding import mag_eval
+    from golden.plant.fluxmap import psi_from_current
+
+    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_001_on_003.toml"), "test")[0]
+    sw._set(job.tree, "estimator.sqw_cic.cross_saturation", "on")
+    sc = parse_scenario(job.tree, "cross_001_on_003")
+    shift, table = cic_cross_saturation_table(sc)
+    assert sqw_cic_params(sc).xs_angle == table and sqw_cic_params(sc).xs_shift == shift
+    lsb = sc.plant["sens"]["adc_range"] / 2**15
+    expected = []
+    for k in range(len(table)):
+        q = (k << shift) * lsb
+        psi = psi_from_current(sc.plant["mag"], min(-q, -0.3), q)
+        _, _, g_dd, g_dq, _, _ = mag_eval(sc.plant["mag"], psi[0], psi[1])
+        expected.append(round(math.atan2(g_dq, g_dd) / (2 * math.pi) * 2**16))
+    assert table[0] == 0 and list(table) == expected
+    assert min(table) < -500                      # 2.7 deg: worth correcting
+
+
+def test_cic_cross_saturation_turns_the_error_by_the_table():
+    """The estimator takes ``sign(i_q) a0(|i_q|) 2^16`` off the envelope's angle before the slope ``g``: the table
+    (0, 1000) on a grid of 16 LSB gives 500 at |i_q| = 8, so with ``g`` = 1.0 (Q16) the error of the same window
+    moves by -+(500 << 16) against the estimator without a table."""
+    base = CicParams(g=1 << 16, c1=0, c2=0, c3=0, c_t=0, c_r=0, k_delay=0, q_min=0, n_hold=0)
+    xs = dataclasses.replace(base, xs_shift=4, xs_angle=(0, 1000))
+    for i_q in (8, -8):
+        errs = []
+        for p in (base, xs):
+            est = SquareWaveCic(p)
+            est.step(Measurement(WindowResult(0, 0, 0, 0, 0, 1, 0, cic_qa=3000, cic_qb=1000), 0, i_q, 0, 32767, 0, 0))
+            errs.append(est.err)
+        assert wrap(errs[1] - errs[0], 32) == (-(500 << 16) if i_q > 0 else 500 << 16)
+
+
+def test_cic_cross_saturation_refuses_a_linear_model():
+    sc = load_scenario(NOLOAD)
+    sc.estimator.params["sqw_cic"]["cross_saturation"] = "on"
+    with pytest.raises(ValueError, match="estimator.sqw_cic.cross_saturation"):
+        sqw_cic_params(sc)
 
 
 def _imposed(rpm: float) -> str:

@@ -59,16 +59,27 @@ def test_a_method_that_needs_none_runs_as_on_the_full_build(tmp_path):
 
 
 
-def test_the_image_without_accelerators_refuses_the_probe(tmp_path):
-    """The image without the accelerators has no room for the flying start's probe (firmware/Makefile FW_NO_PROBE):
-    a scenario that asks for it (scenarios/flying_start.toml, catch_probe 50 mA) is refused with the line, the gates
-    never on."""
+def _syrm_with_table():
+    """The first run of the 002-on-SyRM sweep with the square wave's cross-saturation table on, 2 ms."""
+    import hfi.sweep as sw
+    from golden.scenario import parse_scenario
+
+    job = sw.jobs(sw.load_spec(ROOT / "sweeps" / "cross_002_on_003.toml"), "test")[0]
+    sw._set(job.tree, "estimator.sqw_bangbang.cross_saturation", "on")
+    return dataclasses.replace(parse_scenario(job.tree, "cross_002_on_003"), duration=0.002)
+
+
+@pytest.mark.parametrize("what", ["probe", "xs"])
+def test_the_image_without_accelerators_refuses_the_probe_and_the_tables(tmp_path, what):
+    """The image without the accelerators has no room for the flying start's probe nor the cross-saturation look-up
+    (firmware/Makefile FW_NO_PROBE, FW_NO_XS): a scenario that asks for one (scenarios/flying_start.toml, catch_probe
+    50 mA; the 002 method on the SyRM with its table) is refused with the line, the gates never on."""
+    sc = short("flying_start.toml", 0.002) if what == "probe" else _syrm_with_table()
     with pytest.raises(RtlBackendError) as e:
-        RtlClosedLoop(short("flying_start.toml", 0.002)).run(progress=False, workdir=tmp_path, acc=False, cfu=False)
+        RtlClosedLoop(sc).run(progress=False, workdir=tmp_path, acc=False, cfu=False)
     text = str(e.value)
     assert "tick 0" in text
-    assert ("hfi_fw: this image has no flying-start probe: protection.catch_probe must be 0; gates stay off\n"
-            in text)
+    assert "hfi_fw: not in this image: protection.catch_probe, estimator.*.cross_saturation; gates stay off\n" in text
 
 
 def test_unknown_or_bad_options_are_refused():

@@ -493,6 +493,32 @@ STEP_INLINE void mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int
     *i_q = t_q[k] + (int32_t)shr64((int64_t)(t_q[k + 1] - t_q[k]) * f, shift);
 }
 
+/* Whether a method's cross-saturation table is filled (main.c refuses it in the image without them, FW_NO_XS). */
+int fw_uses_xs_tables(const struct fw_params *p)
+{
+    return p->sqw.xs_len || p->rot.xs_len || p->cic.xs_len;
+}
+
+#ifndef FW_NO_XS /* the image without the accelerators has no room for them (firmware/Makefile) */
+/* golden.firmware.mtpa.odd_lookup: sign(i_q) t(|i_q|) of a table over |i_q|, mtpa_lookup's clamp and interpolation
+ * (2 <= len <= FW_MTPA_LEN, 0 <= shift <= 20; the table in int16_t for the RAM image's size: the result's magnitude
+ * is below 2^15). Out of line: the cross-saturation tables of the sqw_bangbang, rot_bpf and sqw_cic steps, which
+ * only a reluctance machine's drive fills. */
+static __attribute__((noinline)) int32_t odd_lookup(int32_t i_q, int32_t shift, int32_t len, const int16_t *t)
+{
+    uint32_t a = i_q < 0 ? 0u - (uint32_t)i_q : (uint32_t)i_q;
+    uint32_t end = (uint32_t)(len - 1) << shift;
+    uint32_t x = a < end ? a : end;
+    int32_t k = (int32_t)(x >> shift);
+
+    if (k > len - 2)
+        k = len - 2;
+    int32_t f = (int32_t)(x - ((uint32_t)k << shift)); /* as mtpa_lookup */
+    int32_t v = t[k] + (int32_t)shr64((int64_t)(t[k + 1] - t[k]) * f, shift);
+    return i_q < 0 ? -v : v;
+}
+#endif
+
 void fw_mtpa_lookup(uint32_t i_s, int32_t shift, int32_t len, const int32_t *t_d, const int32_t *t_q, int32_t *i_d,
                     int32_t *i_q)
 {
@@ -524,12 +550,10 @@ void fw_sqw_step(struct fw_state *st, const struct fw_params *p, const struct fw
         /* Benevieri et al. 2023, Fig. 1: bang-bang on gamma, integrated to theta_hat; PLL -> speed; gamma less the
          * response the machine's cross-saturation gives on the d-axis (golden cross_saturation_gamma) */
         int32_t gamma = m->win->gamma;
-        if (p->sqw.xs_len) {
-            int32_t g0, unused;
-            uint32_t a = m->i_q < 0 ? 0u - (uint32_t)m->i_q : (uint32_t)m->i_q;
-            mtpa_lookup(a, p->sqw.xs_shift, p->sqw.xs_len, p->sqw.xs_gamma, p->sqw.xs_gamma, &g0, &unused);
-            gamma = sat32((int64_t)gamma - (m->i_q < 0 ? -(int64_t)g0 : (int64_t)g0));
-        }
+#ifndef FW_NO_XS
+        if (p->sqw.xs_len)
+            gamma = sat32((int64_t)gamma - odd_lookup(m->i_q, p->sqw.xs_shift, p->sqw.xs_len, p->sqw.xs_gamma));
+#endif
         e->theta = fw_bangbang_step(e->theta, gamma, p->sqw.k_bb);
     }
     fw_pll_step(&e->pll, e->theta, p->sqw.pll_kp, p->sqw.pll_ki);
@@ -760,13 +784,11 @@ void fw_rot_step(struct fw_state *st, const struct fw_params *p, const struct fw
         e->hold--;
         e->err = 0;
     } else { /* eq. (17), normalised; psi less the cross-saturation's turn (golden cross_saturation_turn) */
-        uint32_t xs = 0u;
-        if (rp->xs_len) {
-            int32_t a0, unused;
-            uint32_t a = m->i_q < 0 ? 0u - (uint32_t)m->i_q : (uint32_t)m->i_q;
-            fw_mtpa_lookup(a, rp->xs_shift, rp->xs_len, rp->xs_angle, rp->xs_angle, &a0, &unused);
-            xs = (uint32_t)(m->i_q < 0 ? -a0 : a0) << 16; /* |a0| < 2^15 */
-        }
+#ifndef FW_NO_XS
+        uint32_t xs = rp->xs_len ? (uint32_t)odd_lookup(m->i_q, rp->xs_shift, rp->xs_len, rp->xs_angle) << 16 : 0u;
+#else
+        const uint32_t xs = 0u;
+#endif
         e->err = (int32_t)(psi - rp->offset - xs - 2u * tracked) >> 1;
     }
     if (observer) {
@@ -924,8 +946,13 @@ void fw_cic_step(struct fw_state *st, const struct fw_params *p, const struct fw
         err = 0;
     } else if (e->mag < cp->q_min) {
         err = 0;
-    } else { /* Fig. 10, scaled to slope 1 */
-        err = sat32(((int64_t)cp->g * (int32_t)(psi - e->theta_o)) >> 16);
+    } else { /* Fig. 10, scaled to slope 1; psi less the cross-saturation's angle (golden mtpa.odd_lookup) */
+#ifndef FW_NO_XS
+        uint32_t xs = cp->xs_len ? (uint32_t)odd_lookup(m->i_q, cp->xs_shift, cp->xs_len, cp->xs_angle) << 16 : 0u;
+#else
+        const uint32_t xs = 0u;
+#endif
+        err = sat32(((int64_t)cp->g * (int32_t)(psi - xs - e->theta_o)) >> 16);
     }
     e->err = err;
     fw_motion_step(&e->theta_o, &e->w, &e->z, &e->omega, err, m->i_d, m->i_q, cp->c1, cp->c2, cp->c3, cp->c_t,

@@ -112,7 +112,7 @@ struct fw_sqw_params {
     int32_t pll_ki;
     int32_t i_d;             /* current LSB, <= 0: the magnetizing current of a reluctance machine (0 on magnets) */
     int32_t xs_shift;        /* the cross-saturation table (golden SqwParams): grid step 2^xs_shift current LSB, */
-    int32_t xs_gamma[33];    /* GAMMA LSB (s16) at |i_q| = k << xs_shift, */
+    int16_t xs_gamma[33];    /* GAMMA LSB (s16) at |i_q| = k << xs_shift, */
     int32_t xs_len;          /* its points: 0 (off) or 2..33 */
 };
 
@@ -177,7 +177,7 @@ struct fw_rot_params {
     int64_t c_r;
     int32_t i_d;             /* the d-current it asks for while in charge (<= 0) */
     int32_t xs_shift;        /* the cross-saturation table (golden RotParams): grid step 2^xs_shift current LSB, */
-    int32_t xs_angle[33];    /* the negative sequence's turn in 2^16 binary angle (s16) at |i_q| = k << xs_shift, */
+    int16_t xs_angle[33];    /* the negative sequence's turn in 2^16 binary angle at |i_q| = k << xs_shift (s16), */
     int32_t xs_len;          /* its points: 0 (off) or 2..33 (golden.firmware.mtpa.MTPA_LEN) */
 };
 
@@ -253,6 +253,9 @@ struct fw_cic_params {
     int32_t q_min;
     int32_t n_hold;
     int32_t i_d;             /* the d-current it asks for while in charge (<= 0; in the struct's former padding) */
+    int32_t xs_shift;        /* the cross-saturation table (golden CicParams): grid step 2^xs_shift current LSB, */
+    int16_t xs_angle[33];    /* the envelope's angle off d in 2^16 binary angle at |i_q| = k << xs_shift (s16), */
+    int32_t xs_len;          /* its points: 0 (off) or 2..33 (golden.firmware.mtpa.MTPA_LEN) */
 };
 
 struct fw_cic_state {
@@ -804,5 +807,6 @@ const char *fw_fault_name(int32_t code);
 void fw_step(struct fw_state *st, const struct fw_params *p, const struct fw_window *win, int32_t speed_ref,
              struct fw_outputs *out);
 int fw_reads_gamma(const struct fw_state *st, const struct fw_params *p);
+int fw_uses_xs_tables(const struct fw_params *p);
 
 #endif

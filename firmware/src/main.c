@@ -328,9 +328,9 @@ int main(void)
         for (;;)
             ;
     }
-#ifdef FW_NO_PROBE
-    if (cfg.fw.prot.probe_min) {
-        uart_puts("hfi_fw: this image has no flying-start probe: protection.catch_probe must be 0; gates stay off\n");
+#ifdef FW_NO_PROBE /* and FW_NO_XS: one line for both, the image's RAM has room for one (firmware/Makefile) */
+    if (cfg.fw.prot.probe_min || fw_uses_xs_tables(&cfg.fw)) {
+        uart_puts("hfi_fw: not in this image: protection.catch_probe, estimator.*.cross_saturation; gates stay off\n");
         for (;;)
             ;
     }

@@ -36,6 +36,23 @@ def mtpa_lookup(i_s: int, shift: int, t_d: tuple, t_q: tuple) -> tuple[int, int]
             t_q[k] + shr((t_q[k + 1] - t_q[k]) * f, shift))
 
 
+def check_odd_table(shift: int, table: tuple, what: str) -> None:
+    """A table over ``|i_q|`` on this module's grid (the estimators' cross-saturation tables): ``shift`` 0..20 and 0
+    (off) or 2..MTPA_LEN s16 values; ValueError naming ``what`` otherwise."""
+    if not (0 <= shift <= 20 and len(table) in (0, *range(2, MTPA_LEN + 1)) and all(-32768 <= v <= 32767 for v in table)):
+        raise ValueError(f"{what}: xs_shift {shift}, the table's length {len(table)} or a value out of range "
+                         f"(0..20; 0 or 2..{MTPA_LEN}; s16)")
+
+
+def odd_lookup(i_q: int, shift: int, table: tuple) -> int:
+    """``sign(i_q) t(|i_q|)``: a table over ``|i_q|`` (:func:`mtpa_lookup`'s look-up and interpolation) extended to
+    an odd function of ``i_q``, as a machine's cross-saturation is; 0 for an empty table."""
+    if not table:
+        return 0
+    t = mtpa_lookup(abs(i_q), shift, table, table)[0]
+    return -t if i_q < 0 else t
+
+
 def mtpa_point(i_s: float, psi_f: float, L_d: float, L_q: float) -> tuple[float, float]:
     """The MTPA split ``(i_d, i_q)`` [A] of a current magnitude ``i_s`` >= 0 [A] (module docstring);
     ``(0, i_s)`` for a machine without reluctance torque (``L_q <= L_d``: the optimum is i_d = 0 or the

@@ -55,7 +55,7 @@ from dataclasses import dataclass, field
 from golden.firmware.biquad import BiquadCoef, BiquadState, biquad_step
 from golden.firmware.estimator import METHOD_ROT_BPF, Estimator, Measurement, inv_park
 from golden.firmware.motion import motion_step, motion_sync
-from golden.firmware.mtpa import MTPA_LEN, mtpa_lookup
+from golden.firmware.mtpa import check_odd_table, odd_lookup
 from golden.firmware.pll import PllState, pll_step
 from golden.firmware.vector import vector_angle
 from golden.fixed import round_shr, sat, shr, uwrap, wrap
@@ -104,21 +104,15 @@ class RotParams:
     xs_len: int = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if not (0 <= self.xs_shift <= 20 and len(self.xs_angle) in (0, *range(2, MTPA_LEN + 1))
-                and all(-32768 <= a <= 32767 for a in self.xs_angle)):
-            raise ValueError(f"xs_shift {self.xs_shift}, the cross-saturation table's length {len(self.xs_angle)} "
-                             f"or a value out of range (0..20; 0 or 2..{MTPA_LEN}; s16)")
+        check_odd_table(self.xs_shift, self.xs_angle, "the cross-saturation table")
         object.__setattr__(self, "xs_len", len(self.xs_angle))
 
 
 def cross_saturation_turn(p: RotParams, i_q: int) -> int:
     """``sign(i_q) a0(|i_q|) 2^16``: the turn of the negative sequence [binary angle, int] that the machine's
     cross-saturation gives at the q current ``i_q`` with the estimate on the d-axis (the table's value, looked up and
-    interpolated by :func:`golden.firmware.mtpa.mtpa_lookup`), 0 without a table."""
-    if not p.xs_angle:
-        return 0
-    a0 = mtpa_lookup(abs(i_q), p.xs_shift, p.xs_angle, p.xs_angle)[0]
-    return (-a0 if i_q < 0 else a0) << 16
+    interpolated by :func:`golden.firmware.mtpa.odd_lookup`), 0 without a table."""
+    return odd_lookup(i_q, p.xs_shift, p.xs_angle) << 16
 
 
 class RotatingBpf(Estimator):

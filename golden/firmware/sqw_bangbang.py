@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 from golden.firmware.bangbang import bangbang_step
 from golden.firmware.estimator import METHOD_SQW_BANGBANG, Estimator, Measurement
-from golden.firmware.mtpa import MTPA_LEN, mtpa_lookup
+from golden.firmware.mtpa import check_odd_table, odd_lookup
 from golden.firmware.pll import PllState, pll_step
 from golden.fixed import sat, uwrap
 
@@ -49,19 +49,13 @@ class SqwParams:
     xs_len: int = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if not (0 <= self.xs_shift <= 20 and len(self.xs_gamma) in (0, *range(2, MTPA_LEN + 1))
-                and all(-32768 <= g <= 32767 for g in self.xs_gamma)):
-            raise ValueError(f"xs_shift {self.xs_shift}, the cross-saturation table's length {len(self.xs_gamma)} "
-                             f"or a value out of range (0..20; 0 or 2..{MTPA_LEN}; s16)")
+        check_odd_table(self.xs_shift, self.xs_gamma, "the cross-saturation table")
         object.__setattr__(self, "xs_len", len(self.xs_gamma))
 
 
 def cross_saturation_gamma(p: SqwParams, i_q: int) -> int:
     """``sign(i_q) g0(|i_q|)``: the table's response across d_hat at the q current ``i_q`` (s32), 0 without a table."""
-    if not p.xs_gamma:
-        return 0
-    g0 = mtpa_lookup(abs(i_q), p.xs_shift, p.xs_gamma, p.xs_gamma)[0]
-    return -g0 if i_q < 0 else g0
+    return odd_lookup(i_q, p.xs_shift, p.xs_gamma)
 
 
 class SquareWaveBangBang(Estimator):

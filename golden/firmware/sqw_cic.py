@@ -12,7 +12,10 @@ rotor's d-axis. Once per control period:
    16), 32)`` with ``theta_o`` the observer's angle and ``g = L_q / (L_q - L_d)`` (Q16). Eq. (6) gives
    ``q e^{-j theta_hat} ~ L_avg - L_dif e^{j 2 (theta - theta_hat)}``, whose angle is ``(1 - L_d/L_q)``
    times the angle error for small errors, not the error itself; 0 while ``hold > 0`` (after a restart,
-   until the CIC holds envelopes of the new injection) and while ``mag < q_min``;
+   until the CIC holds envelopes of the new injection) and while ``mag < q_min``. With the cross-saturation table
+   (``xs_angle``, off when empty; beyond the paper) ``psi`` is taken less ``odd_lookup(i_q) 2^16``
+   (:func:`golden.firmware.mtpa.odd_lookup` at the window-mean ``i_q``): the angle of the envelope that the
+   machine's cross-saturation gives with the estimate on the d-axis (docs/methods.md, "Cross-saturation");
 3. the Luenberger observer of eqs. (9)-(12) with the torque feed-forward, poles at ``-a``
    (:mod:`golden.firmware.motion`: ``motion_step(self, e, i_d, i_q, p)`` on ``theta_o, w, z, omega``);
 4. delay compensation: ``theta = uwrap(theta_o + shr(omega * k_delay, 16), 32)``, ``k_delay`` (Q16
@@ -27,9 +30,10 @@ machine, whose saliency appears only once its ribs saturate, as for ``sqw_bangba
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from golden.firmware.estimator import METHOD_SQW_CIC, Estimator, Measurement
+from golden.firmware.mtpa import check_odd_table, odd_lookup
 from golden.firmware.motion import motion_step, motion_sync
 from golden.firmware.vector import vector_angle
 from golden.fixed import sat, shr, uwrap, wrap
@@ -40,7 +44,8 @@ class CicParams:
     """Integers of the estimator (host side: :func:`golden.control_config.sqw_cic_params`); see the module
     docstring for each one's scale. ``q_min``: the smallest ``mag`` of ``vector_angle`` that gives an
     angle; ``n_hold``: periods without error after a restart; ``i_d``: the d-current it asks for while in charge
-    [current LSB, <= 0]."""
+    [current LSB, <= 0]; ``xs_shift``, ``xs_angle``: the cross-saturation table (0..20, 0 or 2..MTPA_LEN s16 values
+    in 2^16 binary angle; empty: off) and ``xs_len`` its length (derived)."""
 
     g: int
     c1: int
@@ -52,6 +57,13 @@ class CicParams:
     q_min: int
     n_hold: int
     i_d: int = 0
+    xs_shift: int = 0
+    xs_angle: tuple = ()
+    xs_len: int = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        check_odd_table(self.xs_shift, self.xs_angle, "the cross-saturation table")
+        object.__setattr__(self, "xs_len", len(self.xs_angle))
 
 
 class SquareWaveCic(Estimator):
@@ -85,7 +97,8 @@ class SquareWaveCic(Estimator):
         elif self.mag < p.q_min:
             e = 0
         else:                                             # Fig. 10, scaled to slope 1
-            e = sat(shr(p.g * wrap(psi - self.theta_o, 32), 16), 32)
+            e = sat(shr(p.g * wrap(psi - (odd_lookup(m.i_q, p.xs_shift, p.xs_angle) << 16) - self.theta_o, 32),
+                        16), 32)
         self.err = e
         motion_step(self, e, m.i_d, m.i_q, p)             # eqs. (9)-(12): poles at -a, torque feed-forward
         self.theta = uwrap(self.theta_o + shr(self.omega * p.k_delay, 16), 32)

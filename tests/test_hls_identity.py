@@ -240,6 +240,26 @@ def test_square_wave_on_the_syrm_identical():
     assert np.max(np.abs(hls.windows["i_q"])) > 2 << sqw_params(sc).xs_shift
 
 
+@pytest.mark.parametrize("pair, key", [("cross_000_on_003", "estimator.rot_bpf.cross_saturation"),
+                                       ("cross_001_on_003", "estimator.sqw_cic.cross_saturation")])
+def test_the_other_hf_methods_on_the_syrm_identical(pair, key):
+    """The 000 and 001 methods on the 003 SyRM with their cross-saturation tables (the sweeps' standstill, rated-load
+    point, 1.8 s: the load ramp to 1.7 s): the magnetizing current from CONVERGE on, MTPA in RUN, the table read at
+    the q currents of the load (C's odd_lookup on int16_t tables): identical to golden, and the q current reaches
+    the table's third point."""
+    import hfi.sweep as sw
+    from golden.control_config import rot_bpf_params, sqw_cic_params
+    from golden.scenario import parse_scenario
+
+    job = next(j for j in sw.jobs(sw.load_spec(ROOT / "sweeps" / f"{pair}.toml"), "test")
+               if j.settings == {"reference.speed": ("scale", 0), "load.torque": ("scale", 1.0), key: ("value", "on")})
+    sc = dataclasses.replace(parse_scenario(job.tree, pair), duration=1.8)
+    gold, hls = ClosedLoop(sc).run(progress=False), HlsClosedLoop(sc).run(progress=False)
+    _assert_identical(gold, hls)
+    p = rot_bpf_params(sc) if "rot_bpf" in key else sqw_cic_params(sc)
+    assert p.xs_len > 2 and np.max(np.abs(hls.windows["i_q"])) > 2 << p.xs_shift
+
+
 def test_rotating_injection_on_the_spmsm_identical():
     """The 000 method on the 002 system's Table I SPMSM (sweeps/cross_000_on_002.toml at standstill, rated load,
     21 V, the 0.5 us stage, the dead-time compensation's zone 0.2 A; 1.8 s: the load ramp to 1.7 s): the rotating

@@ -38,7 +38,7 @@ from golden.firmware.sqw_cic import CicParams
 from golden.firmware.supervisor import POL_CURRENT, POL_NONE, POL_PILOT, FirmwareParams
 from golden.flux_tables import flux_lut, flux_reference_table, hf_inductances, nominal_motor
 from golden.scenario import HIGH_ESTIMATORS, LOW_ESTIMATORS
-from golden.fixed import shr, to_fixed, uwrap, wrap
+from golden.fixed import sat, shr, to_fixed, uwrap, wrap
 from golden.fpga.adc_trigger import MODE_DS, MODE_OS, MODE_OS_BLANK, effective_os_ticks
 from golden.fpga.cordic import cw_angle_step, sincos_q15
 from golden.fpga.deadtime_comp import recip_half
@@ -651,7 +651,7 @@ def cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
     sc_ = scales(sc)
     v_h = min(sc_.voltage(sc.injection.V_h), 32767)
     gain = hf_response(hardware_config(sc), sc_, sc.pwm.tick_hz, v_h, 0, 32767, sensor_bw=sensor_bandwidth(sc))[0]
-    return shift, tuple(min(max(to_fixed(gain * g_dq, 0), -32768), 32767) for _, g_dq, _ in grid)
+    return shift, tuple(sat(to_fixed(gain * g_dq, 0), 16) for _, g_dq, _ in grid)
 
 
 def rot_cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
@@ -668,7 +668,7 @@ def rot_cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
     for g_dd, g_dq, g_qq in grid:
         s = 1.0 if g_dd >= g_qq else -1.0
         turn = math.atan2(2 * s * g_dq, s * (g_dd - g_qq)) / (2 * math.pi)
-        table.append(min(max(to_fixed(turn, 16), -32768), 32767))
+        table.append(sat(to_fixed(turn, 16), 16))
     return shift, tuple(table)
 
 
@@ -680,8 +680,7 @@ def cic_cross_saturation_table(sc: Scenario) -> tuple[int, tuple[int, ...]]:
     points ``atan2(g_dq, g_dd)`` off d, and the observer, which settles where the envelope's angle equals its own,
     settles there less the table (docs/methods.md, "Cross-saturation")."""
     shift, grid = _cross_saturation_grid(sc, "sqw_cic")
-    return shift, tuple(min(max(to_fixed(math.atan2(g_dq, g_dd) / (2 * math.pi), 16), -32768), 32767)
-                        for g_dd, g_dq, _ in grid)
+    return shift, tuple(sat(to_fixed(math.atan2(g_dq, g_dd) / (2 * math.pi), 16), 16) for g_dd, g_dq, _ in grid)
 
 
 def rfo_params(sc: Scenario) -> RfoParams:

@@ -57,6 +57,14 @@ faults: setup
 compare: setup
 	$(ENV) .venv/bin/hfi compare
 
+# The scale sweep of issue 21 (docs/sweep.md "Measured"): 2000 runs of the 002 start-up on the local cluster, the
+# same sweep through a scheduler address (Dask's scheduler and worker commands, scripts/sweep_cluster.py), the figure.
+.PHONY: sweep-scale
+sweep-scale: setup
+	$(ENV) .venv/bin/hfi sweep sweeps/startup_2000.toml
+	$(ENV) .venv/bin/python scripts/sweep_cluster.py sweeps/startup_2000.toml
+	$(ENV) .venv/bin/python scripts/startup_2000_figure.py --out out/sweep/startup_2000/startup_2000.png
+
 # Self-commissioning of the four papers' motors (docs/commissioning.md): out/commission/<scenario>/commission.json,
 # commissioned.toml, figures; then the rotor angle and polarity from 20 random standstill angles per PM motor.
 # COMMISSION_BACKEND=rtl runs the identification on the soft core (about 11 minutes per motor; docs/commissioning.md).

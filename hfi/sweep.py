@@ -558,6 +558,7 @@ def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | No
     """Run every job of ``spec`` not yet in ``out/runs`` on Dask, write ``out/results.parquet``; return the
     rows in job order. ``client``: a ``distributed.Client`` to use (and leave open), instead of connecting
     to ``scheduler`` or starting a local cluster of ``workers`` processes."""
+    t0 = time.monotonic()
     version = source_version()
     todo_all = jobs(spec, version)
     cache = out / "runs"
@@ -603,7 +604,8 @@ def sweep(spec: Spec, out: Path, scheduler: str | None = None, workers: int | No
     table = [{**_param_columns(j), "run_key": j.key, **rows[j.key]} for j in todo_all]
     write_table(table, out / "results.parquet")
     failed = [r for r in table if r["error"]]
-    log(f"results: {out / 'results.parquet'} ({len(table)} rows, {len(failed)} failed)")
+    log(f"results: {out / 'results.parquet'} ({len(table)} rows, {len(failed)} failed), "
+        f"{time.monotonic() - t0:.1f} s wall")
     for r in failed[:5]:
         seed = "" if r["seed"] is None else f" seed {r['seed']}"
         log(f"  point {r['point']}{seed}: {' '.join(r['error'].split())[:300]}")

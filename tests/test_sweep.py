@@ -212,6 +212,32 @@ def test_a_sweep_on_dask_equals_direct_runs_resumes_and_keeps_failures(tmp_path,
     assert "point 2: ScenarioError: sweep t (base.toml): 1 problem: injection.V_h: must be >= 0, got '-5 V'" in text
 
 
+def test_a_scheduler_address_gives_the_rows_of_the_local_cluster(tmp_path, capsys):
+    """The cluster path: scripts/sweep_cluster.py starts `dask scheduler` and `dask worker` processes and runs
+    `hfi sweep --scheduler ADDRESS` against them; every column but the wall times equals the local cluster's."""
+    import importlib.util
+
+    import psutil
+    spec_ = importlib.util.spec_from_file_location("sweep_cluster", ROOT / "scripts" / "sweep_cluster.py")
+    script = importlib.util.module_from_spec(spec_)
+    spec_.loader.exec_module(script)
+    path = spec_file(tmp_path, '"injection.V_h" = ["20 V"]', duration="20 ms",
+                     sweep='name = "c"\nseeds = 2\nwindows = [["10 ms", "20 ms"]]')
+    local = sw.sweep(sw.load_spec(path), tmp_path / "local", workers=1, dashboard=False, progress=False)
+    capsys.readouterr()
+    assert script.main([str(path), "--workers", "1", "--out", str(tmp_path / "cluster"), "--quiet"]) == 0
+    text = capsys.readouterr().out
+    assert "sweep_cluster: scheduler tcp://127.0.0.1:" in text and "1 points x 2 seeds = 2 runs on golden; 0 cached, 2 to run" in text
+    remote = pq.read_table(tmp_path / "cluster" / "results.parquet").to_pylist()
+    wall = {"wall_s", "realtime_factor", "run_wall_s"}
+    assert len(remote) == 2 and not any(r["error"] for r in remote)
+    assert [{k: v for k, v in r.items() if k not in wall} for r in remote] == \
+        [{k: v for k, v in r.items() if k not in wall} for r in local]
+    assert not [p for p in psutil.Process().children(recursive=True) if "dask" in " ".join(p.cmdline())]
+    assert script.main([str(tmp_path / "missing.toml"), "--quiet"]) == 2
+    assert capsys.readouterr().err.startswith("sweep_cluster: ")
+
+
 def test_the_command_reports_a_bad_spec_on_stderr(tmp_path, capsys):
     path = spec_file(tmp_path, '"injection.V_h" = []')
     assert main(["sweep", str(path)]) == 1

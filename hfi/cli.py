@@ -6,7 +6,7 @@
     hfi paper [--short] [--only GROUPS] [--jobs N] [--out DIR]
     hfi bench
     hfi faults [--short] [--only ROWS] [--jobs N] [--out DIR]
-    hfi sweep SPEC [--scheduler ADDRESS] [--workers N] [--out DIR] [--quiet]
+    hfi sweep SPEC [--scheduler ADDRESS] [--workers N] [--out DIR] [--set KEY=VALUE]... [--quiet]
     hfi compare [--seeds N] [--systems IDS] [--scheduler ADDRESS] [--workers N] [--out DIR] [--no-cost] [--quiet]
 
 Every error is one line on stderr and exit status 1 (no traceback).
@@ -153,9 +153,9 @@ def cmd_commission(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from hfi.sweep import SweepError, load_spec, sweep   # imports Dask only when needed
+    from hfi.sweep import SweepError, load_spec, parse_set, sweep   # imports Dask only when needed
     try:
-        spec = load_spec(args.spec)
+        spec = load_spec(args.spec, parse_set(args.set))
     except SweepError as exc:
         print(f"hfi sweep: {exc}", file=sys.stderr)
         return 1
@@ -296,7 +296,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (default: a local cluster "
                    "with one single-threaded worker process per core)")
     p.add_argument("--workers", type=positive_int, metavar="N", help="local cluster's worker processes (default: the cores)")
-    p.add_argument("--out", metavar="DIR", help="output directory (default out/sweep/<name>)")
+    p.add_argument("--out", metavar="DIR", help="output directory (default out/sweep/<name>, with --set "
+                   "out/sweep/<name>+KEY=VALUE...)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="one more [set] value for every "
+                   "run (a TOML value, or text: --set control.speed_bw='12 Hz'); repeatable")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_sweep)
 

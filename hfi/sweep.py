@@ -34,6 +34,7 @@ import itertools
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import time
@@ -181,8 +182,32 @@ def _axis(key: str, raw: object, design: str, problems: list[str]) -> Axis | Non
     return Axis(key, kind, tuple(items))
 
 
-def load_spec(path: str | Path) -> Spec:
-    """Read and validate a sweep spec; SweepError listing every problem."""
+def parse_set(items: list[str]) -> dict:
+    """``KEY=VALUE`` items of the command line's ``--set`` as a ``[set]`` table: VALUE as a TOML value where it
+    is one (``400``, ``"12 Hz"``, ``[["0 s", "0 N*m"]]``), else as text (``12 Hz``, the shell having eaten the
+    quotes). ValueError for an item without ``=``."""
+    table = {}
+    for item in items:
+        key, eq, value = item.partition("=")
+        if not eq or not key.strip():
+            raise ValueError(f"--set {item!r}: expected KEY=VALUE (a dotted scenario key, docs/scenario.md)")
+        try:
+            table[key.strip()] = tomllib.loads(f"v = {value}")["v"]
+        except tomllib.TOMLDecodeError:
+            table[key.strip()] = value.strip()
+    return table
+
+
+def set_suffix(overrides: dict) -> str:
+    """The output folder's suffix for command-line ``--set`` values: ``+key=value`` each, in a file name's
+    characters (a sweep with other values must not overwrite the spec's own table)."""
+    return "".join("+" + re.sub(r"[^A-Za-z0-9._=-]", "", f"{k}={json.dumps(v) if not isinstance(v, str) else v}")
+                   for k, v in overrides.items())
+
+
+def load_spec(path: str | Path, overrides: dict | None = None) -> Spec:
+    """Read and validate a sweep spec; SweepError listing every problem. ``overrides``: ``[set]`` values that
+    replace or extend the spec's own (the command line's ``--set``); the name then gets :func:`set_suffix`."""
     path = Path(path)
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
@@ -256,6 +281,7 @@ def load_spec(path: str | Path) -> Spec:
     if not isinstance(fixed, dict):
         problems.append(f"set: expected a table of dotted scenario keys, got {type_name(fixed)}")
         fixed = {}
+    fixed = {**fixed, **(overrides or {})}
     for key, value in fixed.items():
         if not _is_key(key):
             problems.append(f"set.{key!r}: not a scenario key (docs/scenario.md lists them)")
@@ -290,6 +316,8 @@ def load_spec(path: str | Path) -> Spec:
     name = sw.get("name", path.stem)
     if not isinstance(name, str) or not name or name in (".", "..") or "/" in name or "\\" in name:
         problems.append(f"sweep.name: {name!r} must be a plain name (the results go to out/sweep/<name>)")
+    elif overrides:
+        name += set_suffix(overrides)
     if problems:
         raise SweepError(str(path), problems)
     return Spec(name, scenario_path, backend, design, tuple(axes), seeds, samples,

@@ -6,7 +6,7 @@ ADDRESS`` against them and stops them.
 It shows the cluster path of ``hfi sweep`` on one machine: the sweep connects to an address, as it would to
 a scheduler on another host, instead of starting its own local cluster (docs/sweep.md "Measured").
 
-    python scripts/sweep_cluster.py SPEC [--workers N] [--out DIR] [--quiet]
+    python scripts/sweep_cluster.py SPEC [--workers N] [--out DIR] [--set KEY=VALUE]... [--quiet]
 """
 
 from __future__ import annotations
@@ -84,16 +84,17 @@ def main(argv=None) -> int:
     ap.add_argument("spec", metavar="SPEC", help="sweep spec (TOML, docs/sweep.md)")
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="worker processes (default: all cores)")
     ap.add_argument("--out", metavar="DIR", help="output directory (default out/sweep/<name>_cluster)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="as hfi sweep's --set")
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     args = ap.parse_args(argv)
     if args.workers < 1:
         ap.error(f"--workers must be >= 1, got {args.workers}")
     out = args.out
     if out is None:
-        from hfi.sweep import SweepError, load_spec
+        from hfi.sweep import SweepError, load_spec, parse_set
         try:
-            out = str(ROOT / "out" / "sweep" / f"{load_spec(args.spec).name}_cluster")
-        except SweepError as exc:
+            out = str(ROOT / "out" / "sweep" / f"{load_spec(args.spec, parse_set(args.set)).name}_cluster")
+        except (SweepError, ValueError) as exc:
             print(f"sweep_cluster: {exc}", file=sys.stderr)
             return 2
     with tempfile.TemporaryDirectory(prefix="hfi-dask-") as tmp:
@@ -102,7 +103,8 @@ def main(argv=None) -> int:
         print(f"sweep_cluster: scheduler {address}, {args.workers} worker processes "
               f"({time.monotonic() - t0:.1f} s to start)", flush=True)
         try:
-            argv = ["sweep", args.spec, "--scheduler", address, "--out", out] + (["--quiet"] if args.quiet else [])
+            argv = (["sweep", args.spec, "--scheduler", address, "--out", out] + [f"--set={x}" for x in args.set]
+                    + (["--quiet"] if args.quiet else []))
             return hfi_main(argv)
         finally:
             stop(procs)

@@ -135,6 +135,27 @@ def test_set_replaces_base_values_before_the_axes_scale_them(tmp_path):
         sw.load_spec(spec_file(tmp_path, '"load.torque" = { scale = [2] }', sweep='[set]\n"control.i_maximum" = 1'))
 
 
+def test_command_line_set_values_override_the_spec_and_name_their_own_output(tmp_path, capsys):
+    assert sw.parse_set(["control.speed_bw=12 Hz", 'injection.V_h="30 V"', "estimator.sqw_bangbang.pll_kp=400",
+                         'load.torque=[["0 s", "0 N*m"], ["1 s", "1 N*m"]]']) == {
+        "control.speed_bw": "12 Hz", "injection.V_h": "30 V", "estimator.sqw_bangbang.pll_kp": 400,
+        "load.torque": [["0 s", "0 N*m"], ["1 s", "1 N*m"]]}
+    with pytest.raises(ValueError, match="--set 'speed': expected KEY=VALUE"):
+        sw.parse_set(["speed"])
+    path = spec_file(tmp_path, '"load.torque" = { scale = [2] }',
+                     sweep='name = "s"\n[set]\n"load.torque" = [["0 s", "0 N*m"], ["1 s", "1.5 N*m"]]\n"control.i_max" = "4 A"')
+    spec = sw.load_spec(path, sw.parse_set(["control.i_max=5 A", "control.speed_bw=12 Hz"]))
+    assert spec.name == "s+control.i_max=5A+control.speed_bw=12Hz"
+    (job,) = sw.jobs(spec, "v")
+    assert (job.tree["control"]["i_max"], job.tree["control"]["speed_bw"]) == ("5 A", "12 Hz")
+    assert job.tree["load"]["torque"] == [["0 s", "0 N*m"], ["1 s", "3 N*m"]]     # the spec's own [set], scaled
+    assert job.key != sw.jobs(sw.load_spec(path), "v")[0].key
+    with pytest.raises(sw.SweepError, match="set.'control.i_maximum': not a scenario key"):
+        sw.load_spec(path, {"control.i_maximum": 1})
+    assert main(["sweep", str(path), "--set", "i_max"]) == 1
+    assert capsys.readouterr().err == "hfi sweep: --set 'i_max': expected KEY=VALUE (a dotted scenario key, docs/scenario.md)\n"
+
+
 def test_seeds_and_initial_angles(tmp_path):
     spec = sw.load_spec(spec_file(tmp_path, '"injection.V_h" = ["20 V"]', sweep="seeds = 3"))
     jobs = sw.jobs(spec, "v")

@@ -198,11 +198,21 @@ def parse_set(items: list[str]) -> dict:
     return table
 
 
+SET_SUFFIX_MAX = 60
+"""Longest ``+key=value`` of an output folder's name; a longer one (a profile) names its value by a hash."""
+
+
 def set_suffix(overrides: dict) -> str:
     """The output folder's suffix for command-line ``--set`` values: ``+key=value`` each, in a file name's
     characters (a sweep with other values must not overwrite the spec's own table)."""
-    return "".join("+" + re.sub(r"[^A-Za-z0-9._=-]", "", f"{k}={json.dumps(v) if not isinstance(v, str) else v}")
-                   for k, v in overrides.items())
+    parts = []
+    for k, v in overrides.items():
+        text = v if isinstance(v, str) else json.dumps(v)
+        part = re.sub(r"[^A-Za-z0-9._=-]", "", f"{k}={text}")
+        if len(part) > SET_SUFFIX_MAX:
+            part = re.sub(r"[^A-Za-z0-9._=-]", "", f"{k}=") + hashlib.sha256(text.encode()).hexdigest()[:12]
+        parts.append("+" + part)
+    return "".join(parts)
 
 
 def load_spec(path: str | Path, overrides: dict | None = None) -> Spec:

@@ -46,6 +46,14 @@ def _wait_for(what: str, ready, procs: list[subprocess.Popen], logs: list[Path])
         time.sleep(0.2)
 
 
+def _address(sched_file: Path) -> str | None:
+    """The scheduler's address from its file, once the file is there and whole (it is not written atomically)."""
+    try:
+        return json.loads(sched_file.read_text())["address"]
+    except (OSError, ValueError, KeyError):
+        return None
+
+
 def start(workers: int, directory: Path) -> tuple[str, list[subprocess.Popen]]:
     """A scheduler on 127.0.0.1 (a free port) and ``workers`` single-threaded worker processes; returns the
     scheduler's address once every worker has joined, and the processes to stop."""
@@ -54,9 +62,8 @@ def start(workers: int, directory: Path) -> tuple[str, list[subprocess.Popen]]:
     procs = [_dask("scheduler", "--host", "127.0.0.1", "--port", "0", "--dashboard-address", ":0",
                    "--scheduler-file", str(sched_file), log=logs[0])]
     try:
-        _wait_for("the scheduler", sched_file.exists, procs, logs[:1])
-        time.sleep(0.2)                                   # the file is written whole, but not atomically
-        address = json.loads(sched_file.read_text())["address"]
+        _wait_for("the scheduler", lambda: _address(sched_file) is not None, procs, logs[:1])
+        address = _address(sched_file)
         procs.append(_dask("worker", address, "--nworkers", str(workers), "--nthreads", "1",
                            "--local-directory", str(directory), log=logs[1]))
         from distributed import Client
@@ -99,7 +106,11 @@ def main(argv=None) -> int:
             return 2
     with tempfile.TemporaryDirectory(prefix="hfi-dask-") as tmp:
         t0 = time.monotonic()
-        address, procs = start(args.workers, Path(tmp))
+        try:
+            address, procs = start(args.workers, Path(tmp))
+        except RuntimeError as exc:
+            print(f"sweep_cluster: {exc}", file=sys.stderr)
+            return 2
         print(f"sweep_cluster: scheduler {address}, {args.workers} worker processes "
               f"({time.monotonic() - t0:.1f} s to start)", flush=True)
         try:

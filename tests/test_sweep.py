@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import hashlib
+import json
 import math
 from pathlib import Path
 
@@ -150,6 +152,9 @@ def test_command_line_set_values_override_the_spec_and_name_their_own_output(tmp
     assert (job.tree["control"]["i_max"], job.tree["control"]["speed_bw"]) == ("5 A", "12 Hz")
     assert job.tree["load"]["torque"] == [["0 s", "0 N*m"], ["1 s", "3 N*m"]]     # the spec's own [set], scaled
     assert job.key != sw.jobs(sw.load_spec(path), "v")[0].key
+    profile = [[f"{t} s", f"{t / 10} N*m"] for t in range(10)]          # longer than sw.SET_SUFFIX_MAX
+    assert sw.set_suffix({"load.torque": profile}) == \
+        "+load.torque=" + hashlib.sha256(json.dumps(profile).encode()).hexdigest()[:12]
     with pytest.raises(sw.SweepError, match="set.'control.i_maximum': not a scenario key"):
         sw.load_spec(path, {"control.i_maximum": 1})
     assert main(["sweep", str(path), "--set", "i_max"]) == 1

@@ -34,8 +34,15 @@ BINS = 4
 
 
 def lost(row: dict) -> bool:
-    """Not locked (the error passed 60 deg after start-up) or ended in a fault: the comparison's rule."""
-    return bool(row["error"]) or not row["locked"] or row["final_mode"] != "RUN"
+    """Not locked (the error passed 60 deg after start-up) or tripped: the comparison's rule (hfi.compare.kept)."""
+    from hfi.compare import kept
+    return not kept(row)
+
+
+def loss_rate(x: np.ndarray, gone: np.ndarray, edges: np.ndarray) -> list[float]:
+    """The share of runs lost [%] in each bin of ``x`` between ``edges`` (the last bin closed)."""
+    idx = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, len(edges) - 2)
+    return [100 * gone[idx == b].mean() if (idx == b).any() else 0.0 for b in range(len(edges) - 1)]
 
 
 def main(argv=None) -> int:
@@ -46,10 +53,13 @@ def main(argv=None) -> int:
                     help="the same sweep on another drive (hfi sweep --set), drawn beside the base in the last panel")
     ap.add_argument("--out", default=str(ROOT / "docs" / "figures" / "startup_2000.png"))
     args = ap.parse_args(argv)
-    missing = [f for f in args.variant if not os.path.exists(f)]
     if not os.path.exists(args.table):
         print(f"startup_2000_figure: {args.table} not found: run `hfi sweep sweeps/startup_2000.toml` first",
               file=sys.stderr)
+        return 2
+    missing = [f for f in args.variant if not os.path.exists(f)]
+    if missing:
+        print(f"startup_2000_figure: --variant {missing[0]}: not found (run hfi sweep ... --set first)", file=sys.stderr)
         return 2
     import matplotlib
     matplotlib.use("Agg")
@@ -58,9 +68,6 @@ def main(argv=None) -> int:
 
     from hfi.report import save_figure
 
-    if missing:
-        print(f"startup_2000_figure: --variant {missing[0]}: not found (run hfi sweep ... --set first)", file=sys.stderr)
-        return 2
     rows = pq.read_table(args.table).to_pylist()
     variants = [(Path(f).parent.name.partition("+")[2].replace("+", ", ") or Path(f).parent.name, pq.read_table(f).to_pylist())
                 for f in args.variant]
@@ -74,8 +81,7 @@ def main(argv=None) -> int:
         ax.set_ylabel("angle error RMS [deg el]", color="tab:blue")
         share = ax.twinx()
         edges = np.linspace(x.min(), x.max(), BINS + 1)
-        idx = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, BINS - 1)
-        rate = [100 * gone[idx == b].mean() if (idx == b).any() else 0 for b in range(BINS)]
+        rate = loss_rate(x, gone, edges)
         share.bar((edges[:-1] + edges[1:]) / 2, rate, width=0.8 * (edges[1] - edges[0]), color="tab:red", alpha=0.25)
         share.set_ylabel("runs lost [%]", color="tab:red")
         share.set_ylim(0, max(5.0, 1.2 * max(rate)))
@@ -87,8 +93,7 @@ def main(argv=None) -> int:
     for k, (name, rs) in enumerate(tables):
         x = np.array([r["pwm.dead_time.scale"] for r in rs], dtype=float)
         g = np.array([lost(r) for r in rs])
-        idx = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, BINS - 1)
-        rate = [100 * g[idx == b].mean() if (idx == b).any() else 0 for b in range(BINS)]
+        rate = loss_rate(x, g, edges)
         ok = [r for r in rs if not lost(r)]
         stats = f"{g.sum()} lost, kept {np.median([r['win0.err_rms_deg'] for r in ok]):.2f} deg"
         last.bar(edges[:-1] + (k + 0.5) * width + 0.1 * (edges[1] - edges[0]), rate, width=width, label=f"{name}: {stats}")
